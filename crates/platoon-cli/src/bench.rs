@@ -1,0 +1,173 @@
+//! `platoon info` and `platoon bench`.
+
+use std::fmt::Write as _;
+use std::time::Duration;
+
+use anyhow::Result;
+use platoon_core::frame::FrameParams;
+use platoon_core::gpu_scene::{
+    GpuScene, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE,
+};
+use platoon_tracer::{Tracer, TracerOptions};
+
+use crate::{prepare, PrepareOptions, Prepared};
+
+/// The text of `platoon info`.
+pub fn describe(p: &Prepared) -> String {
+    let s = &p.scene;
+    let g = &p.gpu;
+    let count = |kind: u32| g.lights.iter().filter(|l| l.ids[0] == kind).count();
+    let mut out = String::new();
+    let source = s
+        .source
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|| "built-in Cornell box".into());
+    let _ = writeln!(out, "scene:        {source}");
+    let _ = writeln!(
+        out,
+        "triangles:    {} ({} instanced)",
+        s.meshes.iter().map(|m| m.triangle_count()).sum::<usize>(),
+        g.triangle_count
+    );
+    let _ = writeln!(out, "meshes:       {}", s.meshes.len());
+    let _ = writeln!(out, "instances:    {}", g.instances.len());
+    let _ = writeln!(out, "materials:    {}", s.materials.len());
+    let _ = writeln!(out, "textures:     {}", s.textures.len());
+    let _ = writeln!(
+        out,
+        "lights:       {} emissive triangles, {} point, {} spot, {} directional, {} environment",
+        count(LIGHT_TRIANGLE),
+        count(LIGHT_POINT),
+        count(LIGHT_SPOT),
+        count(LIGHT_DIRECTIONAL),
+        count(LIGHT_ENVIRONMENT)
+    );
+    let _ = writeln!(out, "environment:  {}", p.env_label);
+    let _ = writeln!(out, "cameras:      {}", s.cameras.len());
+    let _ = writeln!(
+        out,
+        "animations:   {} ({} channels, {:.3} s)",
+        s.animations.len(),
+        s.animations.iter().map(|a| a.channels.len()).sum::<usize>(),
+        s.animations
+            .iter()
+            .map(|a| a.duration())
+            .fold(0.0, f32::max)
+    );
+    let _ = writeln!(out, "skins:        {}", s.skins.len());
+    let _ = writeln!(out, "features:     {}", g.features);
+    let _ = writeln!(
+        out,
+        "kernel:       {}",
+        platoon_tracer::kernel_label(g.features)
+    );
+    for w in &s.warnings {
+        let _ = writeln!(out, "warning:      {w}");
+    }
+    if let Some(n) = &p.note {
+        let _ = writeln!(out, "note:         {n}");
+    }
+    out
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    v[v.len() / 2]
+}
+
+struct Measure {
+    samples_per_s: f64,
+    rays_per_s: f64,
+    seconds: f64,
+}
+
+fn measure(tracer: &mut Tracer, params: &FrameParams, repeat: u32) -> Result<Measure> {
+    let mut warm = params.clone();
+    warm.spp = 1;
+    tracer.render(&warm, 0, warm.height, &mut |_| {})?;
+    let mut times = Vec::new();
+    let mut rays = Vec::new();
+    for _ in 0..repeat {
+        let band = tracer.render(params, 0, params.height, &mut |_| {})?;
+        let t = band.wall_time.as_secs_f64();
+        times.push(t);
+        rays.push(band.rays as f64 / t);
+    }
+    let t = median(times);
+    let samples = params.width as f64 * params.height as f64 * params.spp as f64;
+    Ok(Measure {
+        samples_per_s: samples / t,
+        rays_per_s: median(rays),
+        seconds: t,
+    })
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
+    let options = TracerOptions {
+        device,
+        ..Default::default()
+    };
+    println!("platoon bench: {spp} spp per render, median of {repeat}, 256x256");
+    let cornell = prepare(platoon_core::cornell::scene(), &PrepareOptions::default())?;
+    let mut tracer = Tracer::new(&options, &cornell.gpu)?;
+    println!("device: {}", tracer.device_info().name);
+    println!(
+        "{:<34} {:>12} {:>12} {:>9}",
+        "scene", "Msamples/s", "Mrays/s", "seconds"
+    );
+    for (label, depth) in [
+        ("cornell box, depth 8", Some(8)),
+        ("cornell box, unbounded", None),
+    ] {
+        let mut params = FrameParams::new(256, 256, spp, cornell.camera);
+        if let Some(d) = depth {
+            params.max_depth = d;
+        }
+        let m = measure(&mut tracer, &params, repeat)?;
+        println!(
+            "{label:<34} {:>12.3} {:>12.3} {:>9.3}",
+            m.samples_per_s / 1e6,
+            m.rays_per_s / 1e6,
+            m.seconds
+        );
+    }
+    drop(tracer);
+
+    let dir = tempfile::tempdir()?;
+    for (label, unique) in [
+        ("sphere field 100k, instanced", false),
+        ("sphere field 100k, unique", true),
+    ] {
+        let path = dir.path().join(format!("field-{unique}.glb"));
+        std::fs::write(
+            &path,
+            platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, unique)),
+        )?;
+        let p = prepare(crate::load_scene(Some(&path))?, &PrepareOptions::default())?;
+        let mut tracer = Tracer::new(&options, &p.gpu)?;
+        let params = FrameParams::new(256, 256, spp, p.camera);
+        let m = measure(&mut tracer, &params, repeat)?;
+        println!(
+            "{label:<34} {:>12.3} {:>12.3} {:>9.3}",
+            m.samples_per_s / 1e6,
+            m.rays_per_s / 1e6,
+            m.seconds
+        );
+        print_build_times(&p.gpu, label);
+    }
+    Ok(())
+}
+
+fn print_build_times(g: &GpuScene, label: &str) {
+    println!(
+        "  BVH build ({label}): {} triangles, bottom level {:.1} ms, top level {:.2} ms",
+        g.triangle_count,
+        ms(g.build_times.meshes),
+        ms(g.build_times.instances)
+    );
+}

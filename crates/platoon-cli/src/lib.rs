@@ -1,0 +1,240 @@
+//! The library API the `platoon` command is a thin layer over: load a scene (glTF or the
+//! built-in Cornell box), choose its environment and camera, flatten it for the devices, render
+//! a frame with a tracer and describe the result.
+
+pub mod bench;
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context as _, Result};
+use glam::Vec3;
+use platoon_core::camera::Camera;
+use platoon_core::environment::{EnvMap, Environment};
+use platoon_core::frame::{assemble, Band, FrameParams};
+use platoon_core::gpu_scene::GpuScene;
+use platoon_core::output::Film;
+use platoon_core::scene::{Posed, Scene};
+use platoon_tracer::{Tracer, TracerOptions};
+
+pub use platoon_core as core;
+pub use platoon_tracer as tracer;
+
+/// The distant light of a render.
+#[derive(Clone, Debug, Default)]
+pub enum EnvChoice {
+    /// The scene's own (none for glTF); a scene without any light gets [`DEFAULT_SKY`].
+    #[default]
+    Scene,
+    File(PathBuf),
+    Color(Vec3),
+}
+
+/// Radiance of the uniform sky given to scenes that have no light at all.
+pub const DEFAULT_SKY: f32 = 1.0;
+
+pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
+    match path {
+        None => Ok(platoon_core::cornell::scene()),
+        Some(p) => Ok(platoon_core::gltf_load::load(p)?),
+    }
+}
+
+/// A scene posed and flattened for the devices, with its camera.
+pub struct Prepared {
+    pub scene: Scene,
+    pub posed: Posed,
+    pub gpu: GpuScene,
+    pub camera: Camera,
+    /// Set when platoon chose the lighting (the scene had none).
+    pub note: Option<String>,
+    pub env_label: String,
+    pub prepare_time: Duration,
+}
+
+pub struct PrepareOptions {
+    pub env: EnvChoice,
+    /// Animation time in seconds.
+    pub time: f32,
+    pub camera: Option<usize>,
+    pub aperture_radius: f32,
+    pub focus_distance: Option<f32>,
+}
+
+impl Default for PrepareOptions {
+    fn default() -> Self {
+        PrepareOptions {
+            env: EnvChoice::Scene,
+            time: 0.0,
+            camera: None,
+            aperture_radius: 0.0,
+            focus_distance: None,
+        }
+    }
+}
+
+pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
+    let start = Instant::now();
+    let mut note = None;
+    let env_label;
+    match &options.env {
+        EnvChoice::File(path) => {
+            scene.environment = Some(Environment::Map(EnvMap::load(path)?));
+            env_label = path.display().to_string();
+        }
+        EnvChoice::Color(c) => {
+            if c.min_element() < 0.0 || !c.is_finite() {
+                bail!("--env-color must be three finite non-negative numbers");
+            }
+            scene.environment = Some(Environment::Constant(*c));
+            env_label = format!("constant {},{},{}", c.x, c.y, c.z);
+        }
+        EnvChoice::Scene => env_label = "none".into(),
+    }
+    let posed = scene.pose(options.time);
+    let has_emission = posed.instances.iter().any(|i| {
+        posed.meshes[i.mesh]
+            .triangle_materials
+            .iter()
+            .any(|&m| scene.materials[m as usize].is_emissive())
+    });
+    let env_label = if scene.environment.is_none() && !has_emission && posed.lights.is_empty() {
+        scene.environment = Some(Environment::Constant(Vec3::splat(DEFAULT_SKY)));
+        note = Some(format!(
+            "the scene has no lights: lighting it with a uniform white sky of radiance {DEFAULT_SKY} (use --env or --env-color to choose)"
+        ));
+        format!("default uniform sky {DEFAULT_SKY}")
+    } else {
+        env_label
+    };
+    let gpu = GpuScene::build(&scene, &posed, scene.environment.as_ref());
+    let mut camera =
+        Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
+    camera.aperture_radius = options.aperture_radius.max(0.0);
+    if let Some(f) = options.focus_distance {
+        if !(f > 0.0) {
+            bail!("--focus-distance must be positive");
+        }
+        camera.focus_distance = f;
+    }
+    Ok(Prepared {
+        scene,
+        posed,
+        gpu,
+        camera,
+        note,
+        env_label,
+        prepare_time: start.elapsed(),
+    })
+}
+
+/// A rendered frame and what it cost.
+pub struct Rendered {
+    pub film: Film,
+    pub bands: Vec<Band>,
+    pub wall_time: Duration,
+    pub device: String,
+    pub kernel_defines: Vec<&'static str>,
+}
+
+impl Rendered {
+    pub fn rays(&self) -> u64 {
+        self.bands.iter().map(|b| b.rays).sum()
+    }
+    pub fn rejected_samples(&self) -> u64 {
+        self.bands.iter().map(|b| b.rejected_samples).sum()
+    }
+    pub fn gpu_time(&self) -> Duration {
+        self.bands.iter().map(|b| b.gpu_time).sum()
+    }
+}
+
+/// Renders the frame on one tracer as the given bands (one band covering the frame is usual).
+pub fn render_bands(
+    tracer: &mut Tracer,
+    params: &FrameParams,
+    bands: &[(u32, u32)],
+    progress: &mut dyn FnMut(u32),
+) -> Result<Rendered> {
+    let start = Instant::now();
+    let mut out = Vec::new();
+    for &(y0, y1) in bands {
+        out.push(
+            tracer
+                .render(params, y0, y1, progress)
+                .context("render failed")?,
+        );
+    }
+    Ok(Rendered {
+        film: assemble(params, &out),
+        bands: out,
+        wall_time: start.elapsed(),
+        device: tracer.device_info().name.clone(),
+        kernel_defines: tracer.kernel_defines(params),
+    })
+}
+
+/// Renders a prepared scene on one device.
+pub fn render(
+    prepared: &Prepared,
+    options: &TracerOptions,
+    params: &FrameParams,
+    progress: &mut dyn FnMut(u32),
+) -> Result<Rendered> {
+    let mut tracer = Tracer::new(options, &prepared.gpu)?;
+    render_bands(&mut tracer, params, &[(0, params.height)], progress)
+}
+
+/// The metadata written into EXR outputs.
+pub fn metadata(
+    prepared: &Prepared,
+    params: &FrameParams,
+    rendered: &Rendered,
+    sampling: &str,
+) -> Vec<(String, String)> {
+    let mut features = prepared.gpu.features;
+    features.thin_lens = params.camera.aperture_radius > 0.0;
+    let source = prepared
+        .scene
+        .source
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|| "built-in Cornell box".into());
+    vec![
+        ("scene".into(), source),
+        ("spp".into(), params.spp.to_string()),
+        ("width".into(), params.width.to_string()),
+        ("height".into(), params.height.to_string()),
+        ("seed".into(), params.seed.to_string()),
+        ("frame".into(), params.frame.to_string()),
+        ("max_depth".into(), params.max_depth.to_string()),
+        ("russian_roulette_depth".into(), params.rr_depth.to_string()),
+        (
+            "render_time_s".into(),
+            format!("{:.3}", rendered.wall_time.as_secs_f64()),
+        ),
+        (
+            "gpu_time_s".into(),
+            format!("{:.3}", rendered.gpu_time().as_secs_f64()),
+        ),
+        ("device".into(), rendered.device.clone()),
+        ("features".into(), features.to_string()),
+        ("kernel_defines".into(), rendered.kernel_defines.join(",")),
+        ("sampling".into(), sampling.into()),
+        ("environment".into(), prepared.env_label.clone()),
+        (
+            "rejected_samples".into(),
+            rendered.rejected_samples().to_string(),
+        ),
+        ("approximations".into(), approximations(params)),
+    ]
+}
+
+/// Every approximation in effect, so a reader of the image knows what it is not.
+pub fn approximations(params: &FrameParams) -> String {
+    let mut a = vec!["roughness<0.01 rendered as perfectly specular".to_string()];
+    if params.max_depth < platoon_core::frame::DEFAULT_MAX_DEPTH {
+        a.push(format!("path depth capped at {}", params.max_depth));
+    }
+    a.join("; ")
+}

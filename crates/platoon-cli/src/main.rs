@@ -1,0 +1,265 @@
+//! `platoon`: render, inspect and benchmark scenes from the command line.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{bail, Context as _, Result};
+use clap::{Parser, Subcommand, ValueEnum};
+use glam::Vec3;
+use indicatif::{ProgressBar, ProgressStyle};
+use platoon::core::frame::FrameParams;
+use platoon::tracer::{Sampling, TracerOptions};
+use platoon::{EnvChoice, PrepareOptions};
+
+#[derive(Parser)]
+#[command(
+    name = "platoon",
+    version,
+    about = "Physically based path tracer on every Vulkan device"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SamplingArg {
+    Mis,
+    Bsdf,
+    Light,
+}
+
+#[derive(clap::Args)]
+struct SceneArgs {
+    /// glTF scene (.gltf or .glb); the built-in Cornell box when omitted.
+    scene: Option<PathBuf>,
+    /// Equirectangular environment map (.exr or .hdr).
+    #[arg(long, conflicts_with = "env_color")]
+    env: Option<PathBuf>,
+    /// Constant environment radiance, as R,G,B.
+    #[arg(long, value_parser = parse_rgb)]
+    env_color: Option<Vec3>,
+    /// Animation time in seconds.
+    #[arg(long, default_value_t = 0.0)]
+    time: f32,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to an EXR (linear, with metadata) or PNG (tone-mapped sRGB).
+    Render {
+        #[command(flatten)]
+        scene: SceneArgs,
+        #[arg(long, default_value_t = 64)]
+        spp: u32,
+        #[arg(long, default_value_t = 512)]
+        width: u32,
+        #[arg(long, default_value_t = 512)]
+        height: u32,
+        /// Longest path in segments (1: emitters only, 2: direct light). Default: effectively unbounded.
+        #[arg(long)]
+        max_depth: Option<u32>,
+        #[arg(long, default_value_t = 0)]
+        seed: u32,
+        /// Index of the scene camera; the scene is framed from its bounds when it has none.
+        #[arg(long)]
+        camera: Option<usize>,
+        /// Thin-lens aperture radius in scene units (0: pinhole).
+        #[arg(long, default_value_t = 0.0)]
+        aperture: f32,
+        /// Distance to the plane in focus (default: the scene centre).
+        #[arg(long)]
+        focus_distance: Option<f32>,
+        /// Vulkan device index (see `platoon devices`).
+        #[arg(long, default_value_t = 0)]
+        device: usize,
+        /// Estimator: MIS of light and BSDF sampling (default), or either alone.
+        #[arg(long, value_enum, default_value = "mis")]
+        sampling: SamplingArg,
+        /// Enable the Khronos validation layer.
+        #[arg(long)]
+        validation: bool,
+        #[arg(long, short, default_value = "render.png")]
+        out: PathBuf,
+    },
+    /// Print a scene's contents and the feature set its kernel is compiled with.
+    Info {
+        #[command(flatten)]
+        scene: SceneArgs,
+    },
+    /// List the Vulkan devices.
+    Devices,
+    /// Measure samples/s, rays/s and BVH build times.
+    Bench {
+        /// Samples per pixel of each measured render.
+        #[arg(long, default_value_t = 16)]
+        spp: u32,
+        #[arg(long, default_value_t = 0)]
+        device: usize,
+        /// Repetitions of each measurement (the median is reported).
+        #[arg(long, default_value_t = 3)]
+        repeat: u32,
+    },
+}
+
+fn parse_rgb(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{s}: {e}"))?;
+    match v.as_slice() {
+        [r, g, b] => Ok(Vec3::new(*r, *g, *b)),
+        [c] => Ok(Vec3::splat(*c)),
+        _ => Err(format!("{s}: expected R,G,B")),
+    }
+}
+
+fn env_choice(args: &SceneArgs) -> EnvChoice {
+    match (&args.env, args.env_color) {
+        (Some(p), _) => EnvChoice::File(p.clone()),
+        (None, Some(c)) => EnvChoice::Color(c),
+        _ => EnvChoice::Scene,
+    }
+}
+
+fn check_output(out: &Path) -> Result<()> {
+    let ext = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    if ext != "exr" && ext != "png" {
+        bail!("{}: output must end in .exr or .png", out.display());
+    }
+    let dir = out
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !dir.is_dir() {
+        bail!(
+            "{}: output folder {} does not exist",
+            out.display(),
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Render {
+            scene,
+            spp,
+            width,
+            height,
+            max_depth,
+            seed,
+            camera,
+            aperture,
+            focus_distance,
+            device,
+            sampling,
+            validation,
+            out,
+        } => {
+            check_output(&out)?;
+            if width == 0 || height == 0 || spp == 0 {
+                bail!("--width, --height and --spp must be positive");
+            }
+            let loaded = platoon::load_scene(scene.scene.as_deref())?;
+            let options = PrepareOptions {
+                env: env_choice(&scene),
+                time: scene.time,
+                camera,
+                aperture_radius: aperture,
+                focus_distance,
+            };
+            let prepared = platoon::prepare(loaded, &options)?;
+            if let Some(note) = &prepared.note {
+                eprintln!("note: {note}");
+            }
+            let mut params = FrameParams::new(width, height, spp, prepared.camera);
+            params.seed = seed;
+            if let Some(d) = max_depth {
+                params.max_depth = d.max(1);
+            }
+            let (sampling, sampling_name) = match sampling {
+                SamplingArg::Mis => (Sampling::Mis, "mis"),
+                SamplingArg::Bsdf => (Sampling::Bsdf, "bsdf"),
+                SamplingArg::Light => (Sampling::Light, "light"),
+            };
+            let tracer_options = TracerOptions {
+                device,
+                validation,
+                sampling,
+            };
+            let bar = ProgressBar::new(spp as u64);
+            bar.set_style(
+                ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp {msg}")
+                    .unwrap(),
+            );
+            let rendered = platoon::render(&prepared, &tracer_options, &params, &mut |done| {
+                bar.set_position(done as u64)
+            })?;
+            bar.finish_and_clear();
+            let meta = platoon::metadata(&prepared, &params, &rendered, sampling_name);
+            platoon::core::output::write_image(&out, &rendered.film, &meta)?;
+            let secs = rendered.wall_time.as_secs_f64();
+            eprintln!(
+                "{}: {}x{} at {} spp in {:.2} s on {} ({:.2} M samples/s, {:.2} M rays/s, {} rejected samples)",
+                out.display(),
+                width,
+                height,
+                spp,
+                secs,
+                rendered.device,
+                (width as f64 * height as f64 * spp as f64) / secs / 1e6,
+                rendered.rays() as f64 / secs / 1e6,
+                rendered.rejected_samples()
+            );
+            Ok(())
+        }
+        Command::Info { scene } => {
+            let loaded = platoon::load_scene(scene.scene.as_deref())?;
+            let prepared = platoon::prepare(
+                loaded,
+                &PrepareOptions {
+                    env: env_choice(&scene),
+                    time: scene.time,
+                    ..Default::default()
+                },
+            )?;
+            print!("{}", platoon::bench::describe(&prepared));
+            Ok(())
+        }
+        Command::Devices => {
+            let devices = platoon::tracer::list_devices()?;
+            if devices.is_empty() {
+                bail!("no Vulkan devices found (install mesa-vulkan-drivers for lavapipe)");
+            }
+            for d in devices {
+                println!(
+                    "{}: {} ({}), driver {}, Vulkan {}",
+                    d.index, d.name, d.device_type, d.driver, d.api_version
+                );
+            }
+            Ok(())
+        }
+        Command::Bench {
+            spp,
+            device,
+            repeat,
+        } => platoon::bench::run(spp, device, repeat.max(1)).context("bench failed"),
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,217 @@
+//! Keyframe animation (glTF samplers: STEP, LINEAR, CUBICSPLINE) and linear-blend skinning on
+//! the CPU. Skinned meshes are re-posed into a fresh object-space mesh each time the scene is posed.
+
+use glam::{Mat4, Quat, Vec3, Vec4};
+
+use crate::scene::{Mesh, Node, Skin};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Interpolation {
+    Step,
+    Linear,
+    CubicSpline,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Property {
+    Translation,
+    Rotation,
+    Scale,
+    /// Morph-target weights: loaded and counted, not applied (no morph targets are rendered).
+    Weights,
+}
+
+#[derive(Clone, Debug)]
+pub struct Channel {
+    pub node: usize,
+    pub property: Property,
+    pub interpolation: Interpolation,
+    pub times: Vec<f32>,
+    /// Flat output values; for CUBICSPLINE each key holds (in-tangent, value, out-tangent).
+    pub values: Vec<f32>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Animation {
+    pub name: String,
+    pub channels: Vec<Channel>,
+}
+
+impl Animation {
+    pub fn duration(&self) -> f32 {
+        self.channels
+            .iter()
+            .filter_map(|c| c.times.last().copied())
+            .fold(0.0, f32::max)
+    }
+
+    /// Writes the animated TRS of every channel at `time` into `nodes`.
+    pub fn apply(&self, time: f32, nodes: &mut [Node]) {
+        for ch in &self.channels {
+            let Some(node) = nodes.get_mut(ch.node) else {
+                continue;
+            };
+            match ch.property {
+                Property::Translation => node.translation = Vec3::from_slice(&ch.sample::<3>(time)),
+                Property::Scale => node.scale = Vec3::from_slice(&ch.sample::<3>(time)),
+                Property::Rotation => {
+                    let q = ch.sample::<4>(time);
+                    node.rotation = Quat::from_array(q).normalize();
+                }
+                Property::Weights => {}
+            }
+        }
+    }
+}
+
+impl Channel {
+    fn key<const N: usize>(&self, i: usize, slot: usize) -> [f32; N] {
+        let stride = if self.interpolation == Interpolation::CubicSpline {
+            3
+        } else {
+            1
+        };
+        let base = (i * stride + slot) * N;
+        let mut out = [0.0; N];
+        out.copy_from_slice(&self.values[base..base + N]);
+        out
+    }
+
+    /// Value at `time`, clamped to the first and last keys.
+    pub fn sample<const N: usize>(&self, time: f32) -> [f32; N] {
+        let value_slot = if self.interpolation == Interpolation::CubicSpline {
+            1
+        } else {
+            0
+        };
+        let n = self.times.len();
+        if n == 0 {
+            return [0.0; N];
+        }
+        if time <= self.times[0] || n == 1 {
+            return self.key(0, value_slot);
+        }
+        if time >= self.times[n - 1] {
+            return self.key(n - 1, value_slot);
+        }
+        let i = self.times.partition_point(|&t| t <= time) - 1;
+        let (t0, t1) = (self.times[i], self.times[i + 1]);
+        let dt = t1 - t0;
+        let s = if dt > 0.0 { (time - t0) / dt } else { 0.0 };
+        let mut out = [0.0; N];
+        match self.interpolation {
+            Interpolation::Step => return self.key(i, 0),
+            Interpolation::Linear => {
+                let (a, b) = (self.key::<N>(i, 0), self.key::<N>(i + 1, 0));
+                if N == 4 {
+                    // Rotations interpolate spherically.
+                    let q = Quat::from_slice(&a).slerp(Quat::from_slice(&b), s);
+                    out.copy_from_slice(&q.to_array()[..N]);
+                } else {
+                    for k in 0..N {
+                        out[k] = a[k] + (b[k] - a[k]) * s;
+                    }
+                }
+            }
+            Interpolation::CubicSpline => {
+                // glTF spec, Appendix C: Hermite spline with tangents scaled by the key interval.
+                let (v0, b0) = (self.key::<N>(i, 1), self.key::<N>(i, 2));
+                let (a1, v1) = (self.key::<N>(i + 1, 0), self.key::<N>(i + 1, 1));
+                let (s2, s3) = (s * s, s * s * s);
+                for k in 0..N {
+                    out[k] = (2.0 * s3 - 3.0 * s2 + 1.0) * v0[k]
+                        + (s3 - 2.0 * s2 + s) * dt * b0[k]
+                        + (-2.0 * s3 + 3.0 * s2) * v1[k]
+                        + (s3 - s2) * dt * a1[k];
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Linear-blend skinning of `mesh` into world space (the skinned instance then has an identity
+/// transform, as glTF prescribes).
+pub fn skin_mesh(mesh: &Mesh, skin: &Skin, world: &[Mat4]) -> Mesh {
+    let joint_matrices: Vec<Mat4> = skin
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, &node)| {
+            world[node]
+                * skin
+                    .inverse_bind_matrices
+                    .get(j)
+                    .copied()
+                    .unwrap_or(Mat4::IDENTITY)
+        })
+        .collect();
+    let mut out = mesh.clone();
+    out.joints.clear();
+    out.weights.clear();
+    for v in 0..mesh.positions.len() {
+        let (Some(joints), Some(weights)) = (mesh.joints.get(v), mesh.weights.get(v)) else {
+            continue;
+        };
+        let mut m = Mat4::ZERO;
+        let total = weights.dot(Vec4::ONE);
+        for k in 0..4 {
+            if let Some(jm) = joint_matrices.get(joints[k] as usize) {
+                m += *jm * (weights[k] / if total > 0.0 { total } else { 1.0 });
+            }
+        }
+        out.positions[v] = m.transform_point3(mesh.positions[v]);
+        if let Some(n) = mesh.normals.get(v) {
+            out.normals[v] = m
+                .inverse()
+                .transpose()
+                .transform_vector3(*n)
+                .normalize_or_zero();
+        }
+        if let Some(t) = mesh.tangents.get(v) {
+            let tt = m.transform_vector3(t.truncate()).normalize_or_zero();
+            out.tangents[v] = tt.extend(t.w);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn linear_translation_interpolates_and_clamps() {
+        let ch = Channel {
+            node: 0,
+            property: Property::Translation,
+            interpolation: Interpolation::Linear,
+            times: vec![0.0, 2.0],
+            values: vec![0.0, 0.0, 0.0, 2.0, 4.0, 6.0],
+        };
+        assert_eq!(ch.sample::<3>(1.0), [1.0, 2.0, 3.0]);
+        assert_eq!(ch.sample::<3>(5.0), [2.0, 4.0, 6.0]);
+        assert_eq!(ch.sample::<3>(-1.0), [0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn cubic_spline_hits_keys_and_is_smooth() {
+        // Zero tangents: value goes 0 -> 1 along smoothstep.
+        let ch = Channel {
+            node: 0,
+            property: Property::Scale,
+            interpolation: Interpolation::CubicSpline,
+            times: vec![0.0, 1.0],
+            values: vec![0.0; 3]
+                .into_iter()
+                .chain([0.0; 3])
+                .chain([0.0; 3])
+                .chain([0.0; 3])
+                .chain([1.0; 3])
+                .chain([0.0; 3])
+                .collect(),
+        };
+        assert_eq!(ch.sample::<3>(0.5), [0.5, 0.5, 0.5]);
+        assert!((ch.sample::<3>(0.25)[0] - 0.15625).abs() < 1e-6);
+    }
+}

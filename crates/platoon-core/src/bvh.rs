@@ -1,0 +1,160 @@
+//! CPU-side BVHs: one BVH2 per mesh (bottom level) and one over instances (top level), built with
+//! obvhs and flattened into the node layout the GLSL traversal reads.
+//!
+//! Layout choice (BVH2 rather than CWBVH): see docs/ARCHITECTURE.md, "BVH layout".
+
+use std::time::{Duration, Instant};
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3, Vec3A};
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::Bvh2;
+use obvhs::triangle::Triangle;
+use obvhs::BvhBuildParams;
+use rayon::prelude::*;
+
+use crate::scene::Mesh;
+
+/// GPU node: bounds, and either two children at `index`, `index + 1` (count == 0) or `count`
+/// primitives starting at `index`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct BvhNode {
+    pub min: [f32; 3],
+    pub count: u32,
+    pub max: [f32; 3],
+    pub index: u32,
+}
+
+/// A flattened BVH over `order.len()` primitives: leaves index primitives in `order` order.
+#[derive(Clone, Debug, Default)]
+pub struct FlatBvh {
+    pub nodes: Vec<BvhNode>,
+    /// Original primitive index of each position referenced by leaves.
+    pub order: Vec<u32>,
+}
+
+impl FlatBvh {
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        match self.nodes.first() {
+            Some(n) => (Vec3::from_array(n.min), Vec3::from_array(n.max)),
+            None => (Vec3::ZERO, Vec3::ZERO),
+        }
+    }
+}
+
+fn flatten(bvh: &Bvh2) -> FlatBvh {
+    let nodes = bvh
+        .nodes
+        .iter()
+        .map(|n| BvhNode {
+            min: n.aabb.min.to_array(),
+            count: n.prim_count,
+            max: n.aabb.max.to_array(),
+            index: n.first_index,
+        })
+        .collect();
+    FlatBvh {
+        nodes,
+        order: bvh.primitive_indices.clone(),
+    }
+}
+
+/// The build preset: obvhs' "medium" (PLOC + reinsertion), without spatial pre-splits so that
+/// every triangle appears in exactly one leaf (triangles are reordered into leaf order).
+fn params() -> BvhBuildParams {
+    let mut p = BvhBuildParams::medium_build();
+    p.pre_split = false;
+    p
+}
+
+pub fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
+    if mesh.indices.is_empty() {
+        return FlatBvh::default();
+    }
+    let tris: Vec<Triangle> = mesh
+        .indices
+        .iter()
+        .map(|t| Triangle {
+            v0: Vec3A::from(mesh.positions[t[0] as usize]),
+            v1: Vec3A::from(mesh.positions[t[1] as usize]),
+            v2: Vec3A::from(mesh.positions[t[2] as usize]),
+        })
+        .collect();
+    let mut time = Duration::ZERO;
+    flatten(&obvhs::bvh2::builder::build_bvh2_from_tris(
+        &tris,
+        params(),
+        &mut time,
+    ))
+}
+
+/// Per-mesh BVHs, built in parallel on the CPU threads.
+pub fn build_mesh_bvhs(meshes: &[std::sync::Arc<Mesh>]) -> Vec<FlatBvh> {
+    meshes.par_iter().map(|m| build_mesh_bvh(m)).collect()
+}
+
+/// World-space box of an object-space box under `m`.
+pub fn transform_bounds(m: &Mat4, (lo, hi): (Vec3, Vec3)) -> Aabb {
+    let mut aabb = Aabb::empty();
+    for i in 0..8 {
+        let c = Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        );
+        aabb.extend(Vec3A::from(m.transform_point3(c)));
+    }
+    aabb
+}
+
+pub fn build_instance_bvh(boxes: &[Aabb]) -> FlatBvh {
+    if boxes.is_empty() {
+        return FlatBvh::default();
+    }
+    let mut time = Duration::ZERO;
+    let mut p = params();
+    // One instance per leaf keeps the leaf loop of the top level trivial.
+    p.max_prims_per_leaf = 1;
+    flatten(&obvhs::bvh2::builder::build_bvh2(boxes, p, &mut time))
+}
+
+/// Build timings, reported by `platoon bench`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BuildTimes {
+    pub meshes: Duration,
+    pub instances: Duration,
+}
+
+pub fn timed<T>(f: impl FnOnce() -> T) -> (T, Duration) {
+    let t = Instant::now();
+    let r = f();
+    (r, t.elapsed())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_triangle_is_in_exactly_one_leaf() {
+        let mut mesh = Mesh::default();
+        for i in 0..100 {
+            let o = Vec3::new(i as f32, (i * 7 % 13) as f32, 0.0);
+            let b = mesh.positions.len() as u32;
+            mesh.positions.extend([o, o + Vec3::X, o + Vec3::Y]);
+            mesh.indices.push([b, b + 1, b + 2]);
+        }
+        let bvh = build_mesh_bvh(&mesh);
+        let mut seen = vec![0; 100];
+        for n in &bvh.nodes {
+            for k in 0..n.count {
+                seen[bvh.order[(n.index + k) as usize] as usize] += 1;
+            }
+        }
+        assert!(seen.iter().all(|&s| s == 1));
+        let (lo, hi) = bvh.bounds();
+        assert_eq!(lo, Vec3::new(0.0, 0.0, 0.0));
+        assert_eq!(hi, Vec3::new(100.0, 13.0, 0.0));
+    }
+}

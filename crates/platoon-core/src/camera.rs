@@ -1,0 +1,84 @@
+//! The render camera: a glTF perspective camera, or one framed from the scene bounds.
+
+use glam::{Mat4, Vec3};
+
+use crate::scene::{Posed, Scene};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub camera_to_world: Mat4,
+    /// Vertical field of view in radians.
+    pub yfov: f32,
+    /// Thin-lens aperture radius in scene units; 0 is a pinhole.
+    pub aperture_radius: f32,
+    /// Distance to the plane in focus along the view direction.
+    pub focus_distance: f32,
+}
+
+impl Camera {
+    pub fn position(&self) -> Vec3 {
+        self.camera_to_world.transform_point3(Vec3::ZERO)
+    }
+
+    /// Looks from `eye` at `target`, +Y up (glTF cameras look down their -Z).
+    pub fn look_at(eye: Vec3, target: Vec3, yfov: f32) -> Camera {
+        let forward = (target - eye).normalize_or(-Vec3::Z);
+        let up = if forward.cross(Vec3::Y).length_squared() < 1e-8 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
+        let right = forward.cross(up).normalize();
+        let up = right.cross(forward);
+        Camera {
+            camera_to_world: Mat4::from_cols(
+                right.extend(0.0),
+                up.extend(0.0),
+                (-forward).extend(0.0),
+                eye.extend(1.0),
+            ),
+            yfov,
+            aperture_radius: 0.0,
+            focus_distance: (target - eye).length(),
+        }
+    }
+
+    /// Frames the bounding sphere of the posed scene from a raised three-quarter view.
+    pub fn framing(posed: &Posed) -> Camera {
+        let (lo, hi) = posed.bounds();
+        let center = (lo + hi) * 0.5;
+        let radius = ((hi - lo).length() * 0.5).max(1e-3);
+        let yfov = 45f32.to_radians();
+        let distance = radius / (yfov * 0.5).sin() * 1.05;
+        let dir = Vec3::new(0.45, 0.35, 1.0).normalize();
+        Camera::look_at(center + dir * distance, center, yfov)
+    }
+
+    /// Camera `index` of the scene (in node order), or a framing camera when it has none.
+    pub fn from_scene(
+        scene: &Scene,
+        posed: &Posed,
+        index: Option<usize>,
+    ) -> Result<Camera, String> {
+        match (index, posed.cameras.len()) {
+            (None, 0) => Ok(Camera::framing(posed)),
+            (Some(i), n) if i >= n => Err(format!(
+                "camera {i} does not exist: the scene has {n} camera(s)"
+            )),
+            (i, _) => {
+                let placed = &posed.cameras[i.unwrap_or(0)];
+                // Cameras may sit under scaled nodes: keep rotation and position only.
+                let (_, rot, pos) = placed.camera_to_world.to_scale_rotation_translation();
+                let camera_to_world = Mat4::from_rotation_translation(rot, pos);
+                let (lo, hi) = posed.bounds();
+                let focus = (pos - (lo + hi) * 0.5).length().max(1e-3);
+                Ok(Camera {
+                    camera_to_world,
+                    yfov: scene.cameras[placed.camera].yfov,
+                    aperture_radius: 0.0,
+                    focus_distance: focus,
+                })
+            }
+        }
+    }
+}

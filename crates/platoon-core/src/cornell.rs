@@ -1,0 +1,168 @@
+//! The built-in scene: the Cornell box (Goral et al. 1984 dimensions, in metres), Lambertian
+//! walls and one downward-facing area light. Built in code, so it ships inside the binary.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Quat, Vec3};
+
+use crate::camera::Camera;
+use crate::scene::{Material, Mesh, Node, Scene};
+
+/// A Lambertian material in glTF terms: dielectric with KHR_materials_specular factor 0.
+pub fn lambertian(name: &str, albedo: Vec3) -> Material {
+    Material {
+        name: name.into(),
+        base_color: albedo.extend(1.0),
+        metallic: 0.0,
+        roughness: 1.0,
+        specular: 0.0,
+        ..Material::default()
+    }
+}
+
+/// Adds quad (a, b, c, d), counter-clockwise seen from the side its normal points to.
+pub fn push_quad(mesh: &mut Mesh, [a, b, c, d]: [Vec3; 4], material: u32) {
+    let base = mesh.positions.len() as u32;
+    let n = (b - a).cross(c - a).normalize();
+    mesh.positions.extend([a, b, c, d]);
+    mesh.normals.extend([n; 4]);
+    mesh.indices.push([base, base + 1, base + 2]);
+    mesh.indices.push([base, base + 2, base + 3]);
+    mesh.triangle_materials.extend([material, material]);
+}
+
+/// Adds an axis-aligned box of the given size, rotated about Y and placed on the floor.
+fn push_box(mesh: &mut Mesh, center_xz: (f32, f32), size: Vec3, angle_deg: f32, material: u32) {
+    let m = Mat4::from_rotation_translation(
+        Quat::from_rotation_y(angle_deg.to_radians()),
+        Vec3::new(center_xz.0, size.y * 0.5, center_xz.1),
+    );
+    let h = size * 0.5;
+    let p = |x: f32, y: f32, z: f32| m.transform_point3(Vec3::new(x * h.x, y * h.y, z * h.z));
+    let faces = [
+        [
+            p(-1., 1., -1.),
+            p(-1., 1., 1.),
+            p(1., 1., 1.),
+            p(1., 1., -1.),
+        ], // top
+        [
+            p(-1., -1., 1.),
+            p(1., -1., 1.),
+            p(1., 1., 1.),
+            p(-1., 1., 1.),
+        ], // +z
+        [
+            p(1., -1., -1.),
+            p(-1., -1., -1.),
+            p(-1., 1., -1.),
+            p(1., 1., -1.),
+        ], // -z
+        [
+            p(1., -1., 1.),
+            p(1., -1., -1.),
+            p(1., 1., -1.),
+            p(1., 1., 1.),
+        ], // +x
+        [
+            p(-1., -1., -1.),
+            p(-1., -1., 1.),
+            p(-1., 1., 1.),
+            p(-1., 1., -1.),
+        ], // -x
+    ];
+    for f in faces {
+        push_quad(mesh, f, material);
+    }
+}
+
+pub fn scene() -> Scene {
+    let s = 5.55; // box size in metres
+    let mut mesh = Mesh {
+        name: "cornell".into(),
+        ..Default::default()
+    };
+    let (white, red, green, light) = (0, 1, 2, 3);
+    let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    push_quad(
+        &mut mesh,
+        [v(0., 0., 0.), v(0., 0., s), v(s, 0., s), v(s, 0., 0.)],
+        white,
+    ); // floor, +y
+    push_quad(
+        &mut mesh,
+        [v(0., s, 0.), v(s, s, 0.), v(s, s, s), v(0., s, s)],
+        white,
+    ); // ceiling, -y
+    push_quad(
+        &mut mesh,
+        [v(0., 0., s), v(0., s, s), v(s, s, s), v(s, 0., s)],
+        white,
+    ); // back, -z
+    push_quad(
+        &mut mesh,
+        [v(s, 0., 0.), v(s, 0., s), v(s, s, s), v(s, s, 0.)],
+        red,
+    ); // x = s, -x
+    push_quad(
+        &mut mesh,
+        [v(0., 0., 0.), v(0., s, 0.), v(0., s, s), v(0., 0., s)],
+        green,
+    ); // x = 0, +x
+    let (l0, l1, ly) = (2.13, 3.43, s - 0.001);
+    push_quad(
+        &mut mesh,
+        [
+            v(l0, ly, 2.27),
+            v(l1, ly, 2.27),
+            v(l1, ly, 3.32),
+            v(l0, ly, 3.32),
+        ],
+        light,
+    );
+    push_box(
+        &mut mesh,
+        (1.855, 1.69),
+        Vec3::new(1.65, 1.65, 1.65),
+        -18.0,
+        white,
+    );
+    push_box(
+        &mut mesh,
+        (3.685, 3.51),
+        Vec3::new(1.65, 3.3, 1.65),
+        15.0,
+        white,
+    );
+
+    let mut light_mat = lambertian("light", Vec3::splat(0.78));
+    light_mat.emissive = Vec3::new(17.0, 12.0, 4.0);
+    let mut node = Node::new("cornell");
+    node.mesh = Some(0);
+    let mut cam_node = Node::new("camera");
+    let cam = Camera::look_at(
+        v(s * 0.5, s * 0.5, -8.0),
+        v(s * 0.5, s * 0.5, 0.0),
+        39.3077f32.to_radians(),
+    );
+    let (_, r, t) = cam.camera_to_world.to_scale_rotation_translation();
+    cam_node.rotation = r;
+    cam_node.translation = t;
+    cam_node.camera = Some(0);
+    Scene {
+        nodes: vec![node, cam_node],
+        meshes: vec![Arc::new(mesh)],
+        materials: vec![
+            lambertian("white", Vec3::new(0.73, 0.73, 0.73)),
+            lambertian("red", Vec3::new(0.65, 0.05, 0.05)),
+            lambertian("green", Vec3::new(0.12, 0.45, 0.15)),
+            light_mat,
+        ],
+        cameras: vec![crate::scene::CameraModel {
+            name: "cornell".into(),
+            yfov: cam.yfov,
+            aspect_ratio: Some(1.0),
+        }],
+        ..Default::default()
+    }
+}

@@ -1,0 +1,98 @@
+//! The effects a scene calls for. Each one is a `#define` of the path-tracing kernel, so a scene
+//! without (say) transmission runs a kernel with no transmission code at all.
+
+use std::fmt;
+
+use crate::scene::{AlphaMode, Scene};
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct FeatureSet {
+    pub textures: bool,
+    pub normal_maps: bool,
+    pub transmission: bool,
+    pub alpha_mask: bool,
+    pub emissive_triangles: bool,
+    pub punctual_lights: bool,
+    pub environment_map: bool,
+    pub thin_lens: bool,
+}
+
+impl FeatureSet {
+    /// Features of the scene's materials and lights (thin lens and environment are render
+    /// options, set by the caller).
+    pub fn of_scene(scene: &Scene) -> FeatureSet {
+        let used: Vec<&crate::scene::Material> = {
+            let mut used = vec![false; scene.materials.len()];
+            for node in &scene.nodes {
+                if let Some(m) = node.mesh {
+                    for &t in &scene.meshes[m].triangle_materials {
+                        used[t as usize] = true;
+                    }
+                }
+            }
+            scene
+                .materials
+                .iter()
+                .zip(used)
+                .filter(|(_, u)| *u)
+                .map(|(m, _)| m)
+                .collect()
+        };
+        FeatureSet {
+            textures: used.iter().any(|m| m.textures().next().is_some()),
+            normal_maps: used.iter().any(|m| m.normal_texture.is_some()),
+            transmission: used.iter().any(|m| m.transmission > 0.0),
+            alpha_mask: used
+                .iter()
+                .any(|m| matches!(m.alpha_mode, AlphaMode::Mask(_))),
+            emissive_triangles: used.iter().any(|m| m.is_emissive()),
+            punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
+            environment_map: matches!(
+                scene.environment,
+                Some(crate::environment::Environment::Map(_))
+            ),
+            thin_lens: false,
+        }
+    }
+
+    fn entries(&self) -> [(&'static str, &'static str, bool); 8] {
+        [
+            ("textures", "HAS_TEXTURES", self.textures),
+            ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
+            ("transmission", "HAS_TRANSMISSION", self.transmission),
+            ("alpha-mask", "HAS_ALPHA_MASK", self.alpha_mask),
+            (
+                "emissive-triangles",
+                "HAS_EMISSIVE_TRIANGLES",
+                self.emissive_triangles,
+            ),
+            (
+                "punctual-lights",
+                "HAS_PUNCTUAL_LIGHTS",
+                self.punctual_lights,
+            ),
+            (
+                "environment-map",
+                "HAS_ENVIRONMENT_MAP",
+                self.environment_map,
+            ),
+            ("thin-lens", "HAS_THIN_LENS", self.thin_lens),
+        ]
+    }
+
+    /// Preprocessor defines selecting the kernel's code paths.
+    pub fn defines(&self) -> Vec<&'static str> {
+        self.entries().iter().filter(|e| e.2).map(|e| e.1).collect()
+    }
+}
+
+impl fmt::Display for FeatureSet {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let names: Vec<&str> = self.entries().iter().filter(|e| e.2).map(|e| e.0).collect();
+        if names.is_empty() {
+            write!(f, "(none)")
+        } else {
+            write!(f, "{}", names.join(","))
+        }
+    }
+}

@@ -1,0 +1,112 @@
+//! One frame, split into bands of pixel lines. A tracer (one device) renders bands; the core
+//! assembles them. Keeping this interface free of Vulkan lets the core drive any number of
+//! tracers and lets the balancer live here.
+
+use std::time::Duration;
+
+use crate::camera::Camera;
+use crate::output::Film;
+
+/// Samples each kernel dispatch adds per pixel. Fixed per frame, never derived from the band,
+/// so that floating-point summation order (and so the image, bit for bit) is the same whatever
+/// the split of the frame between devices.
+pub const DEFAULT_SAMPLES_PER_PASS: u32 = 4;
+
+/// Default path-length limit: high enough to be unbounded in practice (Russian roulette ends
+/// paths long before), low enough to stop a pathological scene. Reported in the output metadata.
+pub const DEFAULT_MAX_DEPTH: u32 = 1024;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameParams {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    /// Longest path in segments (Mitsuba's convention: 1 = emitters seen directly, 2 = direct light).
+    pub max_depth: u32,
+    /// Depth from which Russian roulette may end a path.
+    pub rr_depth: u32,
+    pub seed: u32,
+    pub frame: u32,
+    pub samples_per_pass: u32,
+    pub camera: Camera,
+}
+
+impl FrameParams {
+    pub fn new(width: u32, height: u32, spp: u32, camera: Camera) -> FrameParams {
+        FrameParams {
+            width,
+            height,
+            spp,
+            max_depth: DEFAULT_MAX_DEPTH,
+            rr_depth: 3,
+            seed: 0,
+            frame: 0,
+            samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
+            camera,
+        }
+    }
+}
+
+/// What a tracer returns for lines [y0, y1): per-pixel radiance sums over all samples.
+#[derive(Clone, Debug, Default)]
+pub struct Band {
+    pub y0: u32,
+    pub y1: u32,
+    pub sums: Vec<[f32; 3]>,
+    pub rays: u64,
+    /// Samples whose radiance was NaN or Inf, zeroed by the kernel.
+    pub rejected_samples: u64,
+    pub gpu_time: Duration,
+    pub wall_time: Duration,
+}
+
+pub type TracerError = Box<dyn std::error::Error + Send + Sync>;
+
+/// A device that renders bands of lines. Implemented by platoon-tracer for Vulkan devices.
+pub trait BandTracer {
+    fn render_band(
+        &mut self,
+        params: &FrameParams,
+        y0: u32,
+        y1: u32,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<Band, TracerError>;
+}
+
+/// Splits `height` lines into `parts` contiguous bands of near-equal size.
+pub fn equal_bands(height: u32, parts: u32) -> Vec<(u32, u32)> {
+    let parts = parts.max(1);
+    (0..parts)
+        .map(|i| (height * i / parts, height * (i + 1) / parts))
+        .filter(|(a, b)| b > a)
+        .collect()
+}
+
+/// Assembles bands covering [0, height) into the frame's average radiance.
+pub fn assemble(params: &FrameParams, bands: &[Band]) -> Film {
+    let w = params.width as usize;
+    let mut pixels = vec![[0.0f32; 3]; w * params.height as usize];
+    let inv = 1.0 / params.spp.max(1) as f32;
+    for b in bands {
+        let start = b.y0 as usize * w;
+        for (i, s) in b.sums.iter().enumerate() {
+            pixels[start + i] = s.map(|v| v * inv);
+        }
+    }
+    Film {
+        width: params.width,
+        height: params.height,
+        pixels,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equal_bands_cover_the_frame() {
+        assert_eq!(equal_bands(10, 3), vec![(0, 3), (3, 6), (6, 10)]);
+        assert_eq!(equal_bands(2, 4), vec![(0, 1), (1, 2)]);
+    }
+}

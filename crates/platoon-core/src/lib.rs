@@ -1,0 +1,24 @@
+//! platoon-core: everything of the renderer that is not Vulkan.
+//!
+//! The scene graph ([`scene`]), its loaders ([`gltf_load`], [`cornell`]), the environment
+//! ([`environment`]), the CPU-side BVHs ([`bvh`]), the flattening of a posed scene into plain
+//! GPU-ready arrays ([`gpu_scene`]) and the image outputs ([`output`]). The tracer crate consumes
+//! [`gpu_scene::GpuScene`] and knows nothing of glTF.
+
+pub mod animation;
+pub mod bvh;
+pub mod camera;
+pub mod cornell;
+pub mod environment;
+pub mod error;
+pub mod features;
+pub mod frame;
+pub mod gltf_load;
+pub mod gpu_scene;
+pub mod output;
+pub mod scene;
+pub mod tangents;
+
+pub use error::{Error, Result};
+pub use features::FeatureSet;
+pub use scene::Scene;

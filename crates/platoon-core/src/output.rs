@@ -1,0 +1,148 @@
+//! Image outputs: linear float EXR with render metadata, tone-mapped sRGB PNG. Both are written
+//! to a temporary file beside the target and renamed, so a failed write leaves no partial file.
+
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// A rendered frame: linear RGB radiance, row-major from the top row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl Film {
+    pub fn mean(&self) -> [f64; 3] {
+        let mut s = [0.0f64; 3];
+        for p in &self.pixels {
+            for k in 0..3 {
+                s[k] += p[k] as f64;
+            }
+        }
+        s.map(|v| v / self.pixels.len().max(1) as f64)
+    }
+    pub fn count_non_finite(&self) -> usize {
+        self.pixels
+            .iter()
+            .filter(|p| p.iter().any(|v| !v.is_finite()))
+            .count()
+    }
+}
+
+fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<&mut std::fs::File>) -> Result<()>,
+) -> Result<()> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".platoon-")
+        .suffix(".part")
+        .tempfile_in(dir)
+        .map_err(|e| Error::file(path, format!("cannot create output: {e}")))?;
+    {
+        let mut w = BufWriter::new(tmp.as_file_mut());
+        write(&mut w)?;
+        w.flush()
+            .map_err(|e| Error::file(path, format!("cannot write output: {e}")))?;
+    }
+    tmp.persist(path)
+        .map_err(|e| Error::file(path, format!("cannot write output: {}", e.error)))?;
+    Ok(())
+}
+
+/// Writes `film` as EXR or PNG according to the extension, with `metadata` (key, value) pairs
+/// stored as EXR string attributes (PNG: tEXt chunks are not written; use EXR for metadata).
+pub fn write_image(path: &Path, film: &Film, metadata: &[(String, String)]) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "exr" => write_atomically(path, |w| write_exr(path, w, film, metadata)),
+        "png" => write_atomically(path, |w| write_png(path, w, film)),
+        _ => Err(Error::file(path, "output must end in .exr or .png")),
+    }
+}
+
+fn write_exr(
+    path: &Path,
+    w: &mut (impl Write + std::io::Seek),
+    film: &Film,
+    metadata: &[(String, String)],
+) -> Result<()> {
+    use exr::prelude::*;
+    let width = film.width as usize;
+    let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+        let p = film.pixels[y * width + x];
+        (p[0], p[1], p[2])
+    });
+    let mut image = Image::from_channels((width, film.height as usize), channels);
+    for (k, v) in metadata {
+        image.attributes.other.insert(
+            Text::from(format!("platoon:{k}").as_str()),
+            AttributeValue::Text(Text::from(v.as_str())),
+        );
+    }
+    image
+        .write()
+        .to_buffered(w)
+        .map_err(|e| crate::Error::file(path, format!("cannot write EXR: {e}")))
+}
+
+/// ACES-fitted tone curve (Narkowicz 2015) followed by the sRGB transfer function.
+pub fn tonemap(c: f32) -> u8 {
+    let c = c.max(0.0);
+    let (a, b, cc, d, e) = (2.51, 0.03, 2.43, 0.59, 0.14);
+    let t = ((c * (a * c + b)) / (c * (cc * c + d) + e)).clamp(0.0, 1.0);
+    let s = if t <= 0.0031308 {
+        12.92 * t
+    } else {
+        1.055 * t.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0 + 0.5) as u8
+}
+
+fn write_png(path: &Path, w: &mut (impl Write + std::io::Seek), film: &Film) -> Result<()> {
+    let bytes: Vec<u8> = film.pixels.iter().flat_map(|p| p.map(tonemap)).collect();
+    let img = image::RgbImage::from_raw(film.width, film.height, bytes)
+        .ok_or_else(|| Error::file(path, "film size mismatch"))?;
+    img.write_to(w, image::ImageFormat::Png)
+        .map_err(|e| Error::file(path, format!("cannot write PNG: {e}")))
+}
+
+/// Reads an EXR written by [`write_image`] back (tests and tools).
+pub fn read_exr(path: &Path) -> Result<(Film, Vec<(String, String)>)> {
+    use exr::prelude::*;
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |res, _| (res.width(), vec![[0.0f32; 3]; res.width() * res.height()]),
+        |(w, px), pos, (r, g, b, _a): (f32, f32, f32, f32)| px[pos.y() * *w + pos.x()] = [r, g, b],
+    )
+    .map_err(|e| crate::Error::file(path, format!("cannot read EXR: {e}")))?;
+    let size = image.layer_data.size;
+    let mut meta: Vec<(String, String)> = image
+        .attributes
+        .other
+        .iter()
+        .filter_map(|(k, v)| match v {
+            AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+            _ => None,
+        })
+        .collect();
+    meta.sort();
+    Ok((
+        Film {
+            width: size.width() as u32,
+            height: size.height() as u32,
+            pixels: image.layer_data.channel_data.pixels.1,
+        },
+        meta,
+    ))
+}

@@ -1,0 +1,351 @@
+//! The scene graph: a node hierarchy over shared meshes, materials, textures, lights, cameras,
+//! skins and animations, as loaded from glTF. It is posed at a time by [`Scene::pose`].
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+
+use crate::environment::Environment;
+
+/// Triangle mesh in object space. Meshes are stored once and instanced by every node using them.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub name: String,
+    pub positions: Vec<Vec3>,
+    /// Per-vertex shading normals; empty when the source had none (flat shading).
+    pub normals: Vec<Vec3>,
+    /// Per-vertex tangents (xyz, w = bitangent sign); empty when not needed.
+    pub tangents: Vec<Vec4>,
+    /// TEXCOORD_0; empty when absent.
+    pub uvs: Vec<Vec2>,
+    pub indices: Vec<[u32; 3]>,
+    /// Material index of each triangle (a glTF mesh's primitives are merged into one mesh).
+    pub triangle_materials: Vec<u32>,
+    /// Skinning data (JOINTS_0 / WEIGHTS_0) when the mesh is skinned.
+    pub joints: Vec<[u16; 4]>,
+    pub weights: Vec<Vec4>,
+}
+
+impl Mesh {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureRef {
+    pub texture: u32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaMode {
+    Opaque,
+    Mask(f32),
+    /// Rendered as opaque: stochastic transparency is not implemented (reported by `info`).
+    Blend,
+}
+
+/// glTF metallic-roughness material with the extensions platoon supports.
+#[derive(Clone, Debug)]
+pub struct Material {
+    pub name: String,
+    pub base_color: Vec4,
+    pub base_color_texture: Option<TextureRef>,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub metallic_roughness_texture: Option<TextureRef>,
+    pub normal_texture: Option<TextureRef>,
+    pub normal_scale: f32,
+    /// Emissive factor already multiplied by KHR_materials_emissive_strength.
+    pub emissive: Vec3,
+    pub emissive_texture: Option<TextureRef>,
+    /// KHR_materials_specular.
+    pub specular: f32,
+    pub specular_texture: Option<TextureRef>,
+    pub specular_color: Vec3,
+    pub specular_color_texture: Option<TextureRef>,
+    /// KHR_materials_transmission.
+    pub transmission: f32,
+    pub transmission_texture: Option<TextureRef>,
+    /// KHR_materials_ior.
+    pub ior: f32,
+    pub alpha_mode: AlphaMode,
+    pub double_sided: bool,
+}
+
+impl Default for Material {
+    /// The glTF default material.
+    fn default() -> Self {
+        Material {
+            name: "default".into(),
+            base_color: Vec4::ONE,
+            base_color_texture: None,
+            metallic: 1.0,
+            roughness: 1.0,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            emissive: Vec3::ZERO,
+            emissive_texture: None,
+            specular: 1.0,
+            specular_texture: None,
+            specular_color: Vec3::ONE,
+            specular_color_texture: None,
+            transmission: 0.0,
+            transmission_texture: None,
+            ior: 1.5,
+            alpha_mode: AlphaMode::Opaque,
+            double_sided: false,
+        }
+    }
+}
+
+impl Material {
+    pub fn is_emissive(&self) -> bool {
+        self.emissive.max_element() > 0.0
+    }
+    pub fn textures(&self) -> impl Iterator<Item = TextureRef> + '_ {
+        [
+            self.base_color_texture,
+            self.metallic_roughness_texture,
+            self.normal_texture,
+            self.emissive_texture,
+            self.specular_texture,
+            self.specular_color_texture,
+            self.transmission_texture,
+        ]
+        .into_iter()
+        .flatten()
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Wrap {
+    Repeat,
+    MirroredRepeat,
+    ClampToEdge,
+}
+
+/// 8-bit RGBA texture; colour-space decoding happens where the texture is used.
+#[derive(Clone, Debug)]
+pub struct Texture {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    pub rgba8: Vec<u8>,
+    pub wrap_s: Wrap,
+    pub wrap_t: Wrap,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    Point,
+    Spot { inner_cone: f32, outer_cone: f32 },
+    Directional,
+}
+
+/// KHR_lights_punctual light. Intensity is used as radiometric (W/sr or W/m^2) one to one.
+#[derive(Clone, Debug)]
+pub struct PunctualLight {
+    pub name: String,
+    pub kind: LightKind,
+    pub color: Vec3,
+    pub intensity: f32,
+    /// 0 = unbounded.
+    pub range: f32,
+}
+
+/// Perspective camera; thin-lens parameters are platoon options (glTF has none).
+#[derive(Clone, Debug)]
+pub struct CameraModel {
+    pub name: String,
+    pub yfov: f32,
+    pub aspect_ratio: Option<f32>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Node {
+    pub name: String,
+    pub parent: Option<usize>,
+    pub translation: Vec3,
+    pub rotation: Quat,
+    pub scale: Vec3,
+    pub mesh: Option<usize>,
+    pub skin: Option<usize>,
+    pub camera: Option<usize>,
+    pub light: Option<usize>,
+}
+
+impl Node {
+    pub fn new(name: impl Into<String>) -> Self {
+        Node {
+            name: name.into(),
+            parent: None,
+            translation: Vec3::ZERO,
+            rotation: Quat::IDENTITY,
+            scale: Vec3::ONE,
+            mesh: None,
+            skin: None,
+            camera: None,
+            light: None,
+        }
+    }
+    pub fn local_matrix(&self) -> Mat4 {
+        Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation)
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Skin {
+    pub name: String,
+    pub joints: Vec<usize>,
+    pub inverse_bind_matrices: Vec<Mat4>,
+}
+
+/// The whole scene as loaded. Posing it (animation, skinning, world transforms) gives a [`Posed`].
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    pub source: Option<PathBuf>,
+    /// Nodes in topological order: a parent always comes before its children.
+    pub nodes: Vec<Node>,
+    pub meshes: Vec<Arc<Mesh>>,
+    pub materials: Vec<Material>,
+    pub textures: Vec<Texture>,
+    pub lights: Vec<PunctualLight>,
+    pub cameras: Vec<CameraModel>,
+    pub skins: Vec<Skin>,
+    pub animations: Vec<crate::animation::Animation>,
+    pub environment: Option<Environment>,
+    /// Warnings gathered while loading (unsupported but optional features).
+    pub warnings: Vec<String>,
+}
+
+/// One use of a mesh in world space.
+#[derive(Clone, Debug)]
+pub struct Instance {
+    pub mesh: usize,
+    pub object_to_world: Mat4,
+    pub node: usize,
+}
+
+#[derive(Clone, Debug)]
+pub struct PlacedLight {
+    pub light: usize,
+    pub position: Vec3,
+    /// Direction the light points to (-Z of its node).
+    pub direction: Vec3,
+}
+
+#[derive(Clone, Debug)]
+pub struct PlacedCamera {
+    pub camera: usize,
+    pub camera_to_world: Mat4,
+}
+
+/// The scene at one instant: every mesh in its final object space (skinned meshes re-posed),
+/// instances with world transforms, and placed lights and cameras.
+#[derive(Clone, Debug)]
+pub struct Posed {
+    pub meshes: Vec<Arc<Mesh>>,
+    pub instances: Vec<Instance>,
+    pub lights: Vec<PlacedLight>,
+    pub cameras: Vec<PlacedCamera>,
+}
+
+impl Scene {
+    pub fn triangle_count(&self) -> usize {
+        let posed_nodes = self.nodes.iter().filter_map(|n| n.mesh);
+        posed_nodes.map(|m| self.meshes[m].triangle_count()).sum()
+    }
+
+    /// World matrices of all nodes given their local matrices.
+    pub fn world_matrices(&self, local: &[Mat4]) -> Vec<Mat4> {
+        let mut world = Vec::with_capacity(self.nodes.len());
+        for (i, node) in self.nodes.iter().enumerate() {
+            let m = match node.parent {
+                Some(p) => world[p] * local[i],
+                None => local[i],
+            };
+            world.push(m);
+        }
+        world
+    }
+
+    /// Poses the scene at `time` seconds of its first animation (static scenes ignore time).
+    pub fn pose(&self, time: f32) -> Posed {
+        let mut nodes = self.nodes.clone();
+        if let Some(anim) = self.animations.first() {
+            anim.apply(time, &mut nodes);
+        }
+        let local: Vec<Mat4> = nodes.iter().map(Node::local_matrix).collect();
+        let world = self.world_matrices(&local);
+        let mut meshes = self.meshes.clone();
+        let mut instances = Vec::new();
+        let mut lights = Vec::new();
+        let mut cameras = Vec::new();
+        for (i, node) in nodes.iter().enumerate() {
+            if let Some(m) = node.mesh {
+                match node.skin {
+                    // glTF: a skinned mesh ignores its node's transform; joints place it.
+                    Some(s) => {
+                        let skinned =
+                            crate::animation::skin_mesh(&self.meshes[m], &self.skins[s], &world);
+                        meshes.push(Arc::new(skinned));
+                        instances.push(Instance {
+                            mesh: meshes.len() - 1,
+                            object_to_world: Mat4::IDENTITY,
+                            node: i,
+                        });
+                    }
+                    None => instances.push(Instance {
+                        mesh: m,
+                        object_to_world: world[i],
+                        node: i,
+                    }),
+                }
+            }
+            if let Some(l) = node.light {
+                let position = world[i].transform_point3(Vec3::ZERO);
+                let direction = world[i].transform_vector3(-Vec3::Z).normalize_or(-Vec3::Z);
+                lights.push(PlacedLight {
+                    light: l,
+                    position,
+                    direction,
+                });
+            }
+            if let Some(c) = node.camera {
+                cameras.push(PlacedCamera {
+                    camera: c,
+                    camera_to_world: world[i],
+                });
+            }
+        }
+        Posed {
+            meshes,
+            instances,
+            lights,
+            cameras,
+        }
+    }
+}
+
+impl Posed {
+    /// World-space bounds of all instanced geometry.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for inst in &self.instances {
+            for p in &self.meshes[inst.mesh].positions {
+                let w = inst.object_to_world.transform_point3(*p);
+                lo = lo.min(w);
+                hi = hi.max(w);
+            }
+        }
+        if lo.x > hi.x {
+            (Vec3::ZERO, Vec3::ZERO)
+        } else {
+            (lo, hi)
+        }
+    }
+}

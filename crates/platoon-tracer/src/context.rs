@@ -1,0 +1,253 @@
+//! Vulkan instance and logical device, with the Khronos validation layer on request (every
+//! message it emits is recorded so that tests can fail on any).
+
+use std::ffi::{c_void, CStr, CString};
+use std::sync::{Arc, Mutex};
+
+use ash::vk;
+
+use crate::{Error, Result, VkContext};
+
+/// One physical device as `platoon devices` lists it.
+#[derive(Clone, Debug)]
+pub struct DeviceInfo {
+    pub index: usize,
+    pub name: String,
+    pub device_type: String,
+    pub driver: String,
+    pub api_version: String,
+}
+
+pub(crate) struct Context {
+    pub entry: ash::Entry,
+    pub instance: ash::Instance,
+    pub physical: vk::PhysicalDevice,
+    pub device: ash::Device,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    pub info: DeviceInfo,
+    pub properties: vk::PhysicalDeviceProperties,
+    pub timestamp_bits: u32,
+    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    pub validation_messages: Arc<Mutex<Vec<String>>>,
+}
+
+unsafe extern "system" fn on_validation_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    if severity.intersects(
+        vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+            | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+    ) {
+        let messages = &*(user as *const Mutex<Vec<String>>);
+        let text = if data.is_null() || (*data).p_message.is_null() {
+            "(no message)".to_string()
+        } else {
+            CStr::from_ptr((*data).p_message)
+                .to_string_lossy()
+                .into_owned()
+        };
+        if let Ok(mut m) = messages.lock() {
+            m.push(text);
+        }
+    }
+    vk::FALSE
+}
+
+fn load_entry() -> Result<ash::Entry> {
+    unsafe { ash::Entry::load() }.map_err(|e| Error::Loader(e.to_string()))
+}
+
+fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance> {
+    let app_name = CString::new("platoon").unwrap();
+    let app = vk::ApplicationInfo::default()
+        .application_name(&app_name)
+        .api_version(vk::API_VERSION_1_2);
+    let layer = CString::new("VK_LAYER_KHRONOS_validation").unwrap();
+    let layers = if validation {
+        vec![layer.as_ptr()]
+    } else {
+        vec![]
+    };
+    let extensions = if validation {
+        vec![ash::ext::debug_utils::NAME.as_ptr()]
+    } else {
+        vec![]
+    };
+    if validation {
+        let available =
+            unsafe { entry.enumerate_instance_layer_properties() }.ctx("enumerating layers")?;
+        let found = available.iter().any(|l| {
+            l.layer_name_as_c_str()
+                .map(|n| n == layer.as_c_str())
+                .unwrap_or(false)
+        });
+        if !found {
+            return Err(Error::Loader("validation requested but VK_LAYER_KHRONOS_validation is not installed (vulkan-validationlayers)".into()));
+        }
+    }
+    let info = vk::InstanceCreateInfo::default()
+        .application_info(&app)
+        .enabled_layer_names(&layers)
+        .enabled_extension_names(&extensions);
+    unsafe { entry.create_instance(&info, None) }.ctx("creating the Vulkan instance")
+}
+
+fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> DeviceInfo {
+    let mut driver = vk::PhysicalDeviceDriverProperties::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+    unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
+    let p = props2.properties;
+    let name = p
+        .device_name_as_c_str()
+        .map(|c| c.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let driver_name = driver
+        .driver_name_as_c_str()
+        .map(|c| c.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let driver_info = driver
+        .driver_info_as_c_str()
+        .map(|c| c.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let device_type = match p.device_type {
+        vk::PhysicalDeviceType::DISCRETE_GPU => "discrete GPU",
+        vk::PhysicalDeviceType::INTEGRATED_GPU => "integrated GPU",
+        vk::PhysicalDeviceType::VIRTUAL_GPU => "virtual GPU",
+        vk::PhysicalDeviceType::CPU => "CPU",
+        _ => "other",
+    };
+    let v = p.api_version;
+    DeviceInfo {
+        index,
+        name,
+        device_type: device_type.into(),
+        driver: format!("{driver_name} {driver_info}").trim().to_string(),
+        api_version: format!(
+            "{}.{}.{}",
+            vk::api_version_major(v),
+            vk::api_version_minor(v),
+            vk::api_version_patch(v)
+        ),
+    }
+}
+
+/// Every Vulkan device of the machine, in the order `--device` indexes them.
+pub fn list_devices() -> Result<Vec<DeviceInfo>> {
+    let entry = load_entry()?;
+    let instance = create_instance(&entry, false)?;
+    let pds = unsafe { instance.enumerate_physical_devices() }.ctx("enumerating devices");
+    let out = pds.map(|pds| {
+        pds.iter()
+            .enumerate()
+            .map(|(i, &pd)| describe(&instance, i, pd))
+            .collect()
+    });
+    unsafe { instance.destroy_instance(None) };
+    out
+}
+
+impl Context {
+    pub fn new(device_index: usize, validation: bool) -> Result<Context> {
+        let entry = load_entry()?;
+        let instance = create_instance(&entry, validation)?;
+        let messages = Arc::new(Mutex::new(Vec::new()));
+        let debug = if validation {
+            let loader = ash::ext::debug_utils::Instance::new(&entry, &instance);
+            let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+                .message_severity(
+                    vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                        | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+                )
+                .message_type(
+                    vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                        | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                )
+                .pfn_user_callback(Some(on_validation_message))
+                .user_data(Arc::as_ptr(&messages) as *mut c_void);
+            let messenger = unsafe { loader.create_debug_utils_messenger(&info, None) }
+                .ctx("creating the debug messenger")?;
+            Some((loader, messenger))
+        } else {
+            None
+        };
+        let pds = unsafe { instance.enumerate_physical_devices() }.ctx("enumerating devices")?;
+        let Some(&physical) = pds.get(device_index) else {
+            return Err(Error::NoDevice {
+                index: device_index,
+                count: pds.len(),
+            });
+        };
+        let info = describe(&instance, device_index, physical);
+        let properties = unsafe { instance.get_physical_device_properties(physical) };
+        let unsupported = |message: &str| Error::Unsupported {
+            device: info.name.clone(),
+            message: message.into(),
+        };
+        if properties.api_version < vk::API_VERSION_1_2 {
+            return Err(unsupported("Vulkan 1.2 or newer is required"));
+        }
+        let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+        let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f12);
+        unsafe { instance.get_physical_device_features2(physical, &mut f2) };
+        let int64 = f2.features.shader_int64;
+        if f12.buffer_device_address == vk::FALSE || int64 == vk::FALSE {
+            return Err(unsupported(
+                "bufferDeviceAddress and shaderInt64 are required",
+            ));
+        }
+        let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
+        let Some(queue_family) = families
+            .iter()
+            .position(|f| f.queue_flags.contains(vk::QueueFlags::COMPUTE))
+        else {
+            return Err(unsupported("no compute queue"));
+        };
+        let timestamp_bits = families[queue_family].timestamp_valid_bits;
+        let priorities = [1.0f32];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family as u32)
+            .queue_priorities(&priorities)];
+        let mut enable12 =
+            vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
+        let features = vk::PhysicalDeviceFeatures::default().shader_int64(true);
+        let create = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queues)
+            .enabled_features(&features)
+            .push_next(&mut enable12);
+        let device = unsafe { instance.create_device(physical, &create, None) }
+            .ctx("creating the logical device")?;
+        let queue = unsafe { device.get_device_queue(queue_family as u32, 0) };
+        Ok(Context {
+            entry,
+            instance,
+            physical,
+            device,
+            queue,
+            queue_family: queue_family as u32,
+            info,
+            properties,
+            timestamp_bits,
+            debug,
+            validation_messages: messages,
+        })
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.device.destroy_device(None);
+            if let Some((loader, messenger)) = self.debug.take() {
+                loader.destroy_debug_utils_messenger(messenger, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+        let _ = &self.entry;
+    }
+}

@@ -1,0 +1,45 @@
+//! platoon-tracer: one Vulkan device. It owns the device's memory, the path-tracing pipelines
+//! (GLSL compiled at run time by shaderc, specialised per scene feature set) and the dispatch of
+//! a band of pixel lines. It receives only plain data from platoon-core.
+
+mod buffer;
+mod context;
+mod globals;
+mod kernel;
+mod tracer;
+
+pub use context::{list_devices, DeviceInfo};
+pub use kernel::{cache_dir, kernel_label, Sampling};
+pub use tracer::{Tracer, TracerOptions};
+
+/// Tracer failures; each says which device or file it concerns.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("Vulkan is not available: {0} (install libvulkan1 and mesa-vulkan-drivers)")]
+    Loader(String),
+    #[error("{context}: {result}")]
+    Vulkan {
+        context: &'static str,
+        result: ash::vk::Result,
+    },
+    #[error("no Vulkan device {index}: {count} device(s) found (see `platoon devices`)")]
+    NoDevice { index: usize, count: usize },
+    #[error("device {device}: {message}")]
+    Unsupported { device: String, message: String },
+    #[error("GPU memory: {0}")]
+    Memory(#[from] gpu_allocator::AllocationError),
+    #[error("shader compilation failed: {0}")]
+    Shader(String),
+}
+
+pub type Result<T> = std::result::Result<T, Error>;
+
+pub(crate) trait VkContext<T> {
+    fn ctx(self, context: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for std::result::Result<T, ash::vk::Result> {
+    fn ctx(self, context: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { context, result })
+    }
+}

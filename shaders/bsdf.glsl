@@ -1,0 +1,207 @@
+// The glTF BSDF (glTF 2.0 spec, appendix B, with KHR_materials_specular's fresnel_mix):
+//   dielectric = (1 - s * max(F)) * diffuse + s * F * specular_brdf          F: Schlick, f0 from ior
+//   metal      = Schlick(base_color) * specular_brdf
+//   glass      = rough dielectric BTDF/BRDF (Walter et al. 2007) with exact Fresnel, tinted by base colour
+//   bsdf       = mix(mix(dielectric, glass, transmission), metal, metallic)
+// GGX with height-correlated Smith G2; visible normals sampled by spherical caps (Dupuy & Benyoub 2023).
+// Roughness below MIN_ROUGHNESS makes the specular lobes perfect (delta) mirrors and refractors.
+// All vectors are in the local shading frame, n = +z on the front (outside) side.
+
+const float MIN_ROUGHNESS = 0.01;
+
+struct Bsdf {
+    vec3 base_color;
+    float alpha;
+    float ior;
+    float specular;
+    vec3 f0;            // dielectric specular-layer f0 (KHR_materials_specular)
+    bool delta;         // specular lobes are perfect
+    // lobe selection probabilities: dielectric diffuse, dielectric specular, metal, glass
+    vec4 p;
+    // lobe weights of the mix: dielectric, glass, metal
+    vec3 w;
+};
+
+float ggx_d(float a, float nh) {
+    float a2 = a * a;
+    float d = nh * nh * (a2 - 1.0) + 1.0;
+    return a2 / (PI * d * d);
+}
+
+float ggx_lambda(float a, vec3 w) {
+    float c2 = w.z * w.z;
+    float t2 = max(0.0, 1.0 - c2) / max(c2, 1e-12);
+    return 0.5 * (-1.0 + sqrt(1.0 + a * a * t2));
+}
+
+float ggx_g1(float a, vec3 w) { return 1.0 / (1.0 + ggx_lambda(a, w)); }
+float ggx_g2(float a, vec3 wo, vec3 wi) { return 1.0 / (1.0 + ggx_lambda(a, wo) + ggx_lambda(a, wi)); }
+
+// Density of visible normal h seen from wo (either hemisphere).
+float ggx_vndf_pdf(float a, vec3 wo, vec3 h) {
+    return ggx_g1(a, wo) / abs(wo.z) * ggx_d(a, h.z) * abs(dot(wo, h));
+}
+
+vec3 ggx_sample_vndf(float a, vec3 wo, vec2 u) {
+    vec3 wh = normalize(vec3(a * wo.x, a * wo.y, wo.z));
+    if (wh.z < 0.0) wh = -wh;
+    float phi = 2.0 * PI * u.x;
+    float z = (1.0 - u.y) * (1.0 + wh.z) - wh.z;
+    float st = sqrt(clamp(1.0 - z * z, 0.0, 1.0));
+    vec3 h = vec3(st * cos(phi), st * sin(phi), z) + wh;
+    return normalize(vec3(a * h.x, a * h.y, max(h.z, 1e-7)));
+}
+
+vec3 schlick(vec3 f0, float c) {
+    float m = clamp(1.0 - c, 0.0, 1.0);
+    float m2 = m * m;
+    return f0 + (1.0 - f0) * (m2 * m2 * m);
+}
+
+// Exact unpolarised Fresnel reflectance; eta = ior inside / ior outside, cos_i signed.
+float fresnel_dielectric(float cos_i, float eta) {
+    cos_i = clamp(cos_i, -1.0, 1.0);
+    if (cos_i < 0.0) { eta = 1.0 / eta; cos_i = -cos_i; }
+    float sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if (sin2_t >= 1.0) return 1.0;
+    float cos_t = sqrt(max(0.0, 1.0 - sin2_t));
+    float rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    float rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5 * (rp * rp + rs * rs);
+}
+
+// Refracts wo about n (n on either side); false on total internal reflection.
+bool refract_dir(vec3 wo, vec3 n, float eta, out float etap, out vec3 wi) {
+    float c = dot(n, wo);
+    if (c < 0.0) { eta = 1.0 / eta; c = -c; n = -n; }
+    float sin2_t = max(0.0, 1.0 - c * c) / (eta * eta);
+    if (sin2_t >= 1.0) return false;
+    float cos_t = sqrt(1.0 - sin2_t);
+    wi = -wo / eta + (c / eta - cos_t) * n;
+    etap = eta;
+    return true;
+}
+
+Bsdf make_bsdf(Surface s, vec3 wo) {
+    Bsdf b;
+    b.base_color = s.base_color;
+    float r = max(s.roughness, 0.0);
+    b.delta = r < MIN_ROUGHNESS;
+    b.alpha = r * r;
+    b.ior = s.ior;
+    b.specular = s.specular;
+    float f0 = (s.ior - 1.0) / (s.ior + 1.0);
+    b.f0 = min(vec3(f0 * f0) * s.specular_color, vec3(1.0));
+    b.w = vec3((1.0 - s.metallic) * (1.0 - s.transmission), (1.0 - s.metallic) * s.transmission, s.metallic);
+    float c = abs(wo.z);
+    float fs = s.specular * max3(schlick(b.f0, c));
+    vec4 p = vec4(b.w.x * (1.0 - fs) * luminance(s.base_color), b.w.x * fs, b.w.z * luminance(schlick(s.base_color, c)), b.w.y);
+    float sum = p.x + p.y + p.z + p.w;
+    b.p = sum > 0.0 ? p / sum : vec4(0.0);
+    return b;
+}
+
+bool bsdf_all_delta(Bsdf b) { return b.delta && b.p.x == 0.0; }
+
+// Non-delta part of the BSDF times |cos(wi)|, and the matching sampling pdf (solid angle).
+vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
+    pdf = 0.0;
+    vec3 f = vec3(0.0);
+    if (wo.z == 0.0 || wi.z == 0.0) return f;
+    // Opaque lobes shade both sides alike: mirror into wo's hemisphere.
+    if (wo.z * wi.z > 0.0) {
+        vec3 o = wo.z < 0.0 ? -wo : wo;
+        vec3 i = wo.z < 0.0 ? -wi : wi;
+        vec3 h = normalize(o + i);
+        float oh = dot(o, h);
+        vec3 fr = schlick(b.f0, oh);
+        f += b.w.x * (1.0 - b.specular * max3(fr)) * b.base_color * INV_PI * i.z;
+        pdf += b.p.x * i.z * INV_PI;
+        if (!b.delta) {
+            float spec = ggx_d(b.alpha, h.z) * ggx_g2(b.alpha, o, i) / (4.0 * o.z);
+            f += (b.w.x * b.specular * fr + b.w.z * schlick(b.base_color, oh)) * spec;
+            pdf += (b.p.y + b.p.z) * ggx_vndf_pdf(b.alpha, o, h) / (4.0 * oh);
+        }
+    }
+#ifdef HAS_TRANSMISSION
+    if (b.w.y > 0.0 && !b.delta) {
+        bool reflect = wo.z * wi.z > 0.0;
+        float etap = reflect ? 1.0 : (wo.z > 0.0 ? b.ior : 1.0 / b.ior);
+        vec3 h = wi * etap + wo;
+        if (dot(h, h) > 0.0) {
+            h = normalize(h);
+            if (h.z < 0.0) h = -h;
+            float oh = dot(wo, h), ih = dot(wi, h);
+            if (oh * wo.z > 0.0 && ih * wi.z > 0.0) {
+                float F = fresnel_dielectric(oh, b.ior);
+                float D = ggx_d(b.alpha, h.z);
+                float G = ggx_g2(b.alpha, wo, wi);
+                if (reflect) {
+                    f += vec3(b.w.y * D * G * F / (4.0 * abs(wo.z)));
+                    pdf += b.p.w * ggx_vndf_pdf(b.alpha, wo, h) / (4.0 * abs(oh)) * F;
+                } else {
+                    float denom = ih + oh / etap;
+                    denom *= denom;
+                    // Radiance is compressed by 1/etap^2 on entering a denser medium.
+                    float ft = D * (1.0 - F) * G * abs(ih * oh / (denom * wo.z)) / (etap * etap);
+                    f += b.w.y * b.base_color * ft;
+                    pdf += b.p.w * ggx_vndf_pdf(b.alpha, wo, h) * abs(ih) / denom * (1.0 - F);
+                }
+            }
+        }
+    }
+#endif
+    return f;
+}
+
+struct BsdfSample { vec3 wi; vec3 weight; float pdf; bool delta; };
+
+bool bsdf_sample(Bsdf b, vec3 wo, inout Rng rng, out BsdfSample bs) {
+    float ul = rng_next(rng);
+    vec2 u = rng_next2(rng);
+    bs.delta = false;
+    bs.pdf = 0.0;
+    if (wo.z == 0.0) return false;
+    float side = wo.z < 0.0 ? -1.0 : 1.0;
+    vec3 o = wo * side;
+    if (ul < b.p.x) {
+        bs.wi = sample_cosine_hemisphere(u) * vec3(1.0, 1.0, side);
+    } else if (ul < b.p.x + b.p.y + b.p.z) {
+        if (b.delta) {
+            bool metal = ul >= b.p.x + b.p.y;
+            vec3 fr = metal ? b.w.z * schlick(b.base_color, o.z) / b.p.z
+                            : b.w.x * b.specular * schlick(b.f0, o.z) / b.p.y;
+            bs.wi = vec3(-wo.x, -wo.y, wo.z);
+            bs.weight = fr;
+            bs.delta = true;
+            return true;
+        }
+        vec3 h = ggx_sample_vndf(b.alpha, o, u);
+        vec3 i = reflect(-o, h);
+        if (i.z <= 0.0) return false;
+        bs.wi = i * vec3(1.0, 1.0, side);
+    } else {
+#ifdef HAS_TRANSMISSION
+        if (b.p.w <= 0.0) return false;
+        vec3 h = b.delta ? vec3(0.0, 0.0, 1.0) : ggx_sample_vndf(b.alpha, wo, u);
+        float oh = dot(wo, h);
+        float F = fresnel_dielectric(oh, b.ior);
+        if (rng_next(rng) < F) {
+            bs.wi = reflect(-wo, h);
+            if (bs.wi.z * wo.z <= 0.0) return false;
+            if (b.delta) { bs.weight = vec3(b.w.y / b.p.w); bs.delta = true; return true; }
+        } else {
+            float etap;
+            if (!refract_dir(wo, h, b.ior, etap, bs.wi)) return false;
+            if (bs.wi.z * wo.z >= 0.0 || bs.wi.z == 0.0) return false;
+            if (b.delta) { bs.weight = b.w.y * b.base_color / (b.p.w * etap * etap); bs.delta = true; return true; }
+        }
+#else
+        return false;
+#endif
+    }
+    vec3 f = bsdf_eval(b, wo, bs.wi, bs.pdf);
+    if (!(bs.pdf > 0.0)) return false;
+    bs.weight = f / bs.pdf;
+    return true;
+}

@@ -1,0 +1,89 @@
+// Distant light: constant colour (uniform sphere sampling) or an equirectangular map
+// (piecewise-constant 2D importance sampling on luminance * sin(theta)).
+// Mapping: u = atan(d.x, -d.z) / 2pi + 0.5, v = acos(d.y) / pi (top row = +Y).
+
+vec2 direction_to_uv(vec3 d) {
+    float u = atan(d.x, -d.z) * (0.5 * INV_PI) + 0.5;
+    float v = acos(clamp(d.y, -1.0, 1.0)) * INV_PI;
+    return vec2(u, v);
+}
+
+vec3 uv_to_direction(vec2 uv) {
+    float phi = (uv.x - 0.5) * 2.0 * PI;
+    float theta = uv.y * PI;
+    float st = sin(theta);
+    return vec3(st * sin(phi), cos(theta), -st * cos(phi));
+}
+
+#ifdef HAS_ENVIRONMENT_MAP
+ivec2 env_texel(vec2 uv) {
+    uvec4 d = pc.g.dims;
+    return ivec2(min(uint(uv.x * float(d.z)), d.z - 1u), min(uint(uv.y * float(d.w)), d.w - 1u));
+}
+
+// Discrete probability of texel (x, y) times the texel count: the uv-space density.
+float env_uv_pdf(ivec2 t) {
+    uint w = pc.g.dims.z, h = pc.g.dims.w;
+    float pm = pc.g.env_marginal.v[t.y + 1] - pc.g.env_marginal.v[t.y];
+    uint row = uint(t.y) * (w + 1u);
+    float pc_ = pc.g.env_conditional.v[row + uint(t.x) + 1u] - pc.g.env_conditional.v[row + uint(t.x)];
+    return pm * float(h) * pc_ * float(w);
+}
+
+// First index i in [0, n) with cdf[i] <= u < cdf[i+1], skipping zero-width intervals.
+uint search_cdf(Floats cdf, uint base, uint n, float u) {
+    uint lo = 0u, hi = n;
+    while (lo + 1u < hi) {
+        uint mid = (lo + hi) >> 1;
+        if (cdf.v[base + mid] <= u) lo = mid; else hi = mid;
+    }
+    return lo;
+}
+#endif
+
+vec3 env_radiance(vec3 d) {
+    uint kind = pc.g.counts.w;
+    if (kind == 0u) return vec3(0.0);
+#ifdef HAS_ENVIRONMENT_MAP
+    if (kind == 2u) {
+        ivec2 t = env_texel(direction_to_uv(d));
+        return pc.g.env_texels.v[uint(t.y) * pc.g.dims.z + uint(t.x)].rgb;
+    }
+#endif
+    return pc.g.env_color.rgb;
+}
+
+// Solid-angle density of env_sample for direction d.
+float env_pdf(vec3 d) {
+#ifdef HAS_ENVIRONMENT_MAP
+    if (pc.g.counts.w == 2u) {
+        vec2 uv = direction_to_uv(d);
+        float st = sqrt(max(0.0, 1.0 - d.y * d.y));
+        if (st <= 0.0) return 0.0;
+        return env_uv_pdf(env_texel(uv)) / (2.0 * PI * PI * st);
+    }
+#endif
+    return 1.0 / (4.0 * PI);
+}
+
+vec3 env_sample(vec2 u, out float pdf) {
+#ifdef HAS_ENVIRONMENT_MAP
+    if (pc.g.counts.w == 2u) {
+        uint w = pc.g.dims.z, h = pc.g.dims.w;
+        uint y = search_cdf(pc.g.env_marginal, 0u, h, u.y);
+        float c0 = pc.g.env_marginal.v[y], c1 = pc.g.env_marginal.v[y + 1u];
+        float fy = c1 > c0 ? (u.y - c0) / (c1 - c0) : 0.5;
+        uint row = y * (w + 1u);
+        uint x = search_cdf(pc.g.env_conditional, row, w, u.x);
+        float d0 = pc.g.env_conditional.v[row + x], d1 = pc.g.env_conditional.v[row + x + 1u];
+        float fx = d1 > d0 ? (u.x - d0) / (d1 - d0) : 0.5;
+        vec2 uv = vec2((float(x) + clamp(fx, 0.0, 0.999999)) / float(w), (float(y) + clamp(fy, 0.0, 0.999999)) / float(h));
+        vec3 d = uv_to_direction(uv);
+        float st = sin(uv.y * PI);
+        pdf = st > 0.0 ? env_uv_pdf(ivec2(x, y)) / (2.0 * PI * PI * st) : 0.0;
+        return d;
+    }
+#endif
+    pdf = 1.0 / (4.0 * PI);
+    return sample_uniform_sphere(u);
+}

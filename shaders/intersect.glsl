@@ -1,0 +1,167 @@
+// Two-level BVH traversal with a watertight ray/triangle test (Woop, Benthin, Wald 2013).
+
+struct Ray { vec3 origin; vec3 dir; float tmax; };
+struct Hit { float t; float b1; float b2; uint instance; uint triangle; };
+
+// Wachter & Binder, Ray Tracing Gems ch. 6: move p off the surface along the geometric normal
+// by a few ULPs in integer space; near the origin, where ULPs vanish, by a tiny fixed amount.
+vec3 offset_ray(vec3 p, vec3 n) {
+    const float origin = 1.0 / 32.0;
+    const float float_scale = 1.0 / 65536.0;
+    const float int_scale = 256.0;
+    ivec3 of_i = ivec3(int_scale * n);
+    vec3 p_i = vec3(
+        intBitsToFloat(floatBitsToInt(p.x) + (p.x < 0.0 ? -of_i.x : of_i.x)),
+        intBitsToFloat(floatBitsToInt(p.y) + (p.y < 0.0 ? -of_i.y : of_i.y)),
+        intBitsToFloat(floatBitsToInt(p.z) + (p.z < 0.0 ? -of_i.z : of_i.z)));
+    return vec3(
+        abs(p.x) < origin ? p.x + float_scale * n.x : p_i.x,
+        abs(p.y) < origin ? p.y + float_scale * n.y : p_i.y,
+        abs(p.z) < origin ? p.z + float_scale * n.z : p_i.z);
+}
+
+// Per-ray constants of the watertight test, in the space the ray is traversed in.
+struct RayTri { vec3 org; vec3 inv_dir; int kx; int ky; int kz; vec3 shear; };
+
+RayTri ray_tri_setup(vec3 org, vec3 dir) {
+    RayTri r;
+    r.org = org;
+    vec3 ad = abs(dir);
+    r.kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+    r.kx = (r.kz + 1) % 3;
+    r.ky = (r.kx + 1) % 3;
+    if (dir[r.kz] < 0.0) { int tmp = r.kx; r.kx = r.ky; r.ky = tmp; }
+    r.shear = vec3(dir[r.kx] / dir[r.kz], dir[r.ky] / dir[r.kz], 1.0 / dir[r.kz]);
+    // Zero components would give 0 * inf = NaN in the slab test.
+    vec3 d = dir;
+    for (int k = 0; k < 3; ++k) if (ad[k] < 1e-30) d[k] = dir[k] < 0.0 ? -1e-30 : 1e-30;
+    r.inv_dir = 1.0 / d;
+    return r;
+}
+
+// Returns t and barycentrics (b1, b2) of v1 and v2 when hit in (0, tmax).
+bool intersect_triangle(RayTri r, vec3 v0, vec3 v1, vec3 v2, float tmax, out float t, out float b1, out float b2) {
+    vec3 A = v0 - r.org, B = v1 - r.org, C = v2 - r.org;
+    float Ax = A[r.kx] - r.shear.x * A[r.kz], Ay = A[r.ky] - r.shear.y * A[r.kz];
+    float Bx = B[r.kx] - r.shear.x * B[r.kz], By = B[r.ky] - r.shear.y * B[r.kz];
+    float Cx = C[r.kx] - r.shear.x * C[r.kz], Cy = C[r.ky] - r.shear.y * C[r.kz];
+    float U = Cx * By - Cy * Bx;
+    float V = Ax * Cy - Ay * Cx;
+    float W = Bx * Ay - By * Ax;
+    if ((U < 0.0 || V < 0.0 || W < 0.0) && (U > 0.0 || V > 0.0 || W > 0.0)) return false;
+    float det = U + V + W;
+    if (det == 0.0) return false;
+    float T = r.shear.z * (U * A[r.kz] + V * B[r.kz] + W * C[r.kz]);
+    float inv = 1.0 / det;
+    t = T * inv;
+    if (!(t > 0.0 && t < tmax)) return false;
+    b1 = V * inv;
+    b2 = W * inv;
+    return true;
+}
+
+// Slab test, conservative by 2*gamma(3) (Ize 2013) so that rounding never culls a real hit.
+float intersect_aabb(RayTri r, vec3 bmin, vec3 bmax, float tmax) {
+    vec3 t0 = (bmin - r.org) * r.inv_dir;
+    vec3 t1 = (bmax - r.org) * r.inv_dir;
+    float tn = max(max3(min(t0, t1)), 0.0);
+    float tf = min3(max(t0, t1)) * 1.0000003577;
+    return (tn <= tf && tn < tmax) ? tn : INF;
+}
+
+#ifdef HAS_ALPHA_MASK
+bool alpha_rejects(uint tri, float b1, float b2) {
+    Triangle T = pc.g.triangles.v[tri];
+    Material m = pc.g.materials.v[T.material];
+    if ((m.textures1.w & MATERIAL_ALPHA_MASK) == 0) return false;
+    float alpha = m.base_color.a;
+#ifdef HAS_TEXTURES
+    if (m.textures0.x >= 0) {
+        vec2 uv0 = vec2(pc.g.vertices.v[T.v.x].position_u.w, pc.g.vertices.v[T.v.x].normal_v.w);
+        vec2 uv1 = vec2(pc.g.vertices.v[T.v.y].position_u.w, pc.g.vertices.v[T.v.y].normal_v.w);
+        vec2 uv2 = vec2(pc.g.vertices.v[T.v.z].position_u.w, pc.g.vertices.v[T.v.z].normal_v.w);
+        vec2 uv = (1.0 - b1 - b2) * uv0 + b1 * uv1 + b2 * uv2;
+        alpha *= sample_texture(m.textures0.x, uv, true).a;
+    }
+#endif
+    return alpha < m.misc.x;
+}
+#endif
+
+// Bottom level: returns true on a hit closer than hit.t; with any_hit, at the first one.
+bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit hit) {
+    uint stack[64];
+    int sp = 0;
+    uint node = root;
+    bool found = false;
+    while (true) {
+        BvhNode n = pc.g.blas.v[node];
+        if (n.count > 0u) {
+            for (uint i = n.index; i < n.index + n.count; ++i) {
+                float t, b1, b2;
+                vec3 v0 = pc.g.tri_pos.v[3u * i].xyz, v1 = pc.g.tri_pos.v[3u * i + 1u].xyz, v2 = pc.g.tri_pos.v[3u * i + 2u].xyz;
+                if (intersect_triangle(r, v0, v1, v2, hit.t, t, b1, b2)) {
+#ifdef HAS_ALPHA_MASK
+                    if (alpha_rejects(i, b1, b2)) continue;
+#endif
+                    hit = Hit(t, b1, b2, instance, i);
+                    found = true;
+                    if (any_hit) return true;
+                }
+            }
+        } else {
+            BvhNode a = pc.g.blas.v[n.index], b = pc.g.blas.v[n.index + 1u];
+            float ta = intersect_aabb(r, a.bmin, a.bmax, hit.t);
+            float tb = intersect_aabb(r, b.bmin, b.bmax, hit.t);
+            uint near = n.index, far = n.index + 1u;
+            if (tb < ta) { float tt = ta; ta = tb; tb = tt; near = far; far = n.index; }
+            if (ta != INF) {
+                if (tb != INF && sp < 64) stack[sp++] = far;
+                node = near;
+                continue;
+            }
+        }
+        if (sp == 0) break;
+        node = stack[--sp];
+    }
+    return found;
+}
+
+bool trace(Ray ray, bool any_hit, out Hit hit) {
+    hit = Hit(ray.tmax, 0.0, 0.0, 0u, 0u);
+    if (pc.g.counts.z == 0u) return false;
+    RayTri world = ray_tri_setup(ray.origin, ray.dir);
+    uint stack[32];
+    int sp = 0;
+    uint node = 0u;
+    bool found = false;
+    if (intersect_aabb(world, pc.g.tlas.v[0].bmin, pc.g.tlas.v[0].bmax, hit.t) == INF) return false;
+    while (true) {
+        BvhNode n = pc.g.tlas.v[node];
+        if (n.count > 0u) {
+            for (uint i = n.index; i < n.index + n.count; ++i) {
+                Instance inst = pc.g.instances.v[i];
+                vec3 o = vec3(dot(inst.w2o[0], vec4(ray.origin, 1.0)), dot(inst.w2o[1], vec4(ray.origin, 1.0)), dot(inst.w2o[2], vec4(ray.origin, 1.0)));
+                vec3 d = vec3(dot(inst.w2o[0].xyz, ray.dir), dot(inst.w2o[1].xyz, ray.dir), dot(inst.w2o[2].xyz, ray.dir));
+                if (traverse_blas(ray_tri_setup(o, d), inst.blas_root, i, any_hit, hit)) {
+                    found = true;
+                    if (any_hit) return true;
+                }
+            }
+        } else {
+            BvhNode a = pc.g.tlas.v[n.index], b = pc.g.tlas.v[n.index + 1u];
+            float ta = intersect_aabb(world, a.bmin, a.bmax, hit.t);
+            float tb = intersect_aabb(world, b.bmin, b.bmax, hit.t);
+            uint near = n.index, far = n.index + 1u;
+            if (tb < ta) { float tt = ta; ta = tb; tb = tt; near = far; far = n.index; }
+            if (ta != INF) {
+                if (tb != INF && sp < 32) stack[sp++] = far;
+                node = near;
+                continue;
+            }
+        }
+        if (sp == 0) break;
+        node = stack[--sp];
+    }
+    return found;
+}

@@ -1,0 +1,131 @@
+// Next-event estimation: one light entry picked from the power CDF, then a point or direction
+// on it. Every pdf returned is in solid angle at the shading point and includes the pick.
+
+struct LightSample {
+    vec3 wi;        // unit direction to the light
+    vec3 target;    // offset point on the light (finite lights)
+    bool infinite;  // directional or environment: shadow ray to infinity
+    vec3 radiance;  // incident radiance (or irradiance-like value for delta lights)
+    float pdf;
+    bool delta;
+};
+
+uint pick_light(float u) {
+    uint n = pc.g.counts.x;
+    uint lo = 0u, hi = n;
+    while (lo + 1u < hi) {
+        uint mid = (lo + hi) >> 1;
+        if (pc.g.light_cdf.v[mid] <= u) lo = mid; else hi = mid;
+    }
+    return lo;
+}
+
+// Emitted radiance of an emissive triangle towards -dir, 0 from the back of one-sided emitters.
+vec3 triangle_emission(Surface s, vec3 dir) {
+    if (!s.double_sided && dot(s.ng, dir) >= 0.0) return vec3(0.0);
+    return s.emission;
+}
+
+#ifdef HAS_EMISSIVE_TRIANGLES
+// Solid-angle pdf of NEE picking the emissive triangle hit at distance t along unit `dir`.
+float triangle_light_pdf(Hit hit, vec3 ng_world, vec3 dir) {
+    Instance inst = pc.g.instances.v[hit.instance];
+    uint local = pc.g.tri_lights.v[hit.triangle];
+    if (inst.light_base == 0xffffffffu || local == 0xffffffffu) return 0.0;
+    Light l = pc.g.lights.v[inst.light_base + local];
+    float area = 0.5 * length(cross(l.b.xyz - l.a.xyz, l.c.xyz - l.a.xyz));
+    float cos_l = abs(dot(ng_world, dir));
+    if (area <= 0.0 || cos_l <= 0.0) return 0.0;
+    return l.emission.w * hit.t * hit.t / (cos_l * area);
+}
+#endif
+
+float environment_light_pdf(vec3 dir) {
+    uint n = pc.g.counts.x;
+    if (n == 0u || pc.g.counts.w == 0u) return 0.0;
+    // The environment is always the last entry.
+    Light l = pc.g.lights.v[n - 1u];
+    if (l.ids.x != LIGHT_ENVIRONMENT) return 0.0;
+    return l.emission.w * env_pdf(dir);
+}
+
+bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
+    float ul = rng_next(rng);
+    vec2 u = rng_next2(rng);
+    ls.pdf = 0.0;
+    ls.delta = false;
+    ls.infinite = false;
+    uint n = pc.g.counts.x;
+    if (n == 0u) return false;
+    Light l = pc.g.lights.v[pick_light(ul)];
+    float pmf = l.emission.w;
+    uint kind = l.ids.x;
+#ifdef HAS_EMISSIVE_TRIANGLES
+    if (kind == LIGHT_TRIANGLE) {
+        vec3 b = sample_triangle(u);
+        vec3 q = b.x * l.a.xyz + b.y * l.b.xyz + b.z * l.c.xyz;
+        vec3 cr = cross(l.b.xyz - l.a.xyz, l.c.xyz - l.a.xyz);
+        float area = 0.5 * length(cr);
+        if (area <= 0.0) return false;
+        vec3 nl = normalize(cr);
+        vec3 d = q - p;
+        float dist2 = dot(d, d);
+        if (dist2 <= 0.0) return false;
+        ls.wi = d * inversesqrt(dist2);
+        // Shade the sampled point as a surface, for textured and one-sided emission.
+        Surface s;
+        Triangle T = pc.g.triangles.v[l.ids.z];
+        Vertex v0 = pc.g.vertices.v[T.v.x], v1 = pc.g.vertices.v[T.v.y], v2 = pc.g.vertices.v[T.v.z];
+        s.uv = b.x * vec2(v0.position_u.w, v0.normal_v.w) + b.y * vec2(v1.position_u.w, v1.normal_v.w) + b.z * vec2(v2.position_u.w, v2.normal_v.w);
+        s.ng = nl;
+        apply_material(s, pc.g.materials.v[T.material]);
+        ls.radiance = triangle_emission(s, ls.wi);
+        float cos_l = abs(dot(nl, ls.wi));
+        if (cos_l <= 0.0 || all(equal(ls.radiance, vec3(0.0)))) return false;
+        ls.pdf = pmf * dist2 / (cos_l * area);
+        ls.target = offset_ray(q, dot(nl, ls.wi) < 0.0 ? nl : -nl);
+        return true;
+    }
+#endif
+#ifdef HAS_PUNCTUAL_LIGHTS
+    if (kind == LIGHT_POINT || kind == LIGHT_SPOT) {
+        vec3 d = l.a.xyz - p;
+        float dist2 = dot(d, d);
+        if (dist2 <= 0.0) return false;
+        ls.wi = d * inversesqrt(dist2);
+        float atten = 1.0 / dist2;
+        float range = l.b.w;
+        if (range > 0.0) {
+            float r = dist2 / (range * range);
+            atten *= clamp(1.0 - r * r, 0.0, 1.0) * clamp(1.0 - r * r, 0.0, 1.0);
+        }
+        if (kind == LIGHT_SPOT) {
+            float cd = dot(-ls.wi, l.b.xyz);
+            float f = clamp((cd - l.c.x) * l.c.y, 0.0, 1.0);
+            atten *= f * f;
+        }
+        ls.radiance = l.emission.rgb * atten;
+        ls.pdf = pmf;
+        ls.delta = true;
+        ls.target = l.a.xyz;
+        return atten > 0.0;
+    }
+    if (kind == LIGHT_DIRECTIONAL) {
+        ls.wi = -l.b.xyz;
+        ls.radiance = l.emission.rgb;
+        ls.pdf = pmf;
+        ls.delta = true;
+        ls.infinite = true;
+        return true;
+    }
+#endif
+    if (kind == LIGHT_ENVIRONMENT) {
+        float pdf;
+        ls.wi = env_sample(u, pdf);
+        ls.radiance = env_radiance(ls.wi);
+        ls.pdf = pmf * pdf;
+        ls.infinite = true;
+        return ls.pdf > 0.0;
+    }
+    return false;
+}

@@ -1,0 +1,138 @@
+#version 460
+// Unidirectional path tracing with next-event estimation and MIS (power heuristic), for the
+// band of lines [y0, y1) and the samples [sample_begin, sample_end) of each pixel.
+// Feature defines (HAS_*) and the estimator (SAMPLING_BSDF / SAMPLING_LIGHT, default MIS) are
+// injected by the tracer; see crates/platoon-core/src/features.rs.
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+#include "scene.glsl"
+#include "rng.glsl"
+#include "sampling.glsl"
+#include "textures.glsl"
+#include "intersect.glsl"
+#include "surface.glsl"
+#include "environment.glsl"
+#include "bsdf.glsl"
+#include "lights.glsl"
+
+// Weight of emission found by a BSDF-sampled ray, against the NEE pdf of the same light.
+float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
+    if (after_delta) return 1.0;
+#if defined(SAMPLING_BSDF)
+    return 1.0;
+#elif defined(SAMPLING_LIGHT)
+    return light_pdf > 0.0 ? 0.0 : 1.0;
+#else
+    return power_heuristic(bsdf_pdf, light_pdf);
+#endif
+}
+
+Ray camera_ray(uvec2 pixel, inout Rng rng) {
+    vec2 jitter = rng_next2(rng);
+    vec2 lens = rng_next2(rng);
+    vec2 size = vec2(pc.g.dims.xy);
+    vec2 ndc = vec2(2.0 * (float(pixel.x) + jitter.x) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + jitter.y) / size.y);
+    vec3 dir = pc.g.cam_forward.xyz + ndc.x * pc.g.cam_right.w * pc.g.cam_right.xyz + ndc.y * pc.g.cam_up.w * pc.g.cam_up.xyz;
+    vec3 origin = pc.g.cam_origin.xyz;
+#ifdef HAS_THIN_LENS
+    // dir has unit forward component, so the focus plane point is origin + dir * focus.
+    vec3 focus = origin + dir * pc.g.cam_forward.w;
+    vec2 d = sample_disk_concentric(lens) * pc.g.cam_origin.w;
+    origin += d.x * pc.g.cam_right.xyz + d.y * pc.g.cam_up.xyz;
+    dir = focus - origin;
+#endif
+    return Ray(origin, normalize(dir), INF);
+}
+
+vec3 trace_path(Ray ray, inout Rng rng, inout uint rays) {
+    vec3 L = vec3(0.0);
+    vec3 throughput = vec3(1.0);
+    bool after_delta = true;   // the camera ray is treated like a delta bounce
+    float bsdf_pdf = 0.0;
+    uint max_depth = pc.g.params.x;
+    uint rr_depth = pc.g.params.w;
+    for (uint depth = 0u;; ++depth) {
+        Hit hit;
+        rays++;
+        if (!trace(ray, false, hit)) {
+            if (pc.g.counts.w != 0u)
+                L += throughput * env_radiance(ray.dir) * emission_weight(after_delta, bsdf_pdf, environment_light_pdf(ray.dir));
+            break;
+        }
+        Surface s = surface_at(hit);
+#ifdef HAS_EMISSIVE_TRIANGLES
+        vec3 le = triangle_emission(s, ray.dir);
+        if (any(greaterThan(le, vec3(0.0))))
+            L += throughput * le * emission_weight(after_delta, bsdf_pdf, triangle_light_pdf(hit, s.ng, ray.dir));
+#endif
+        // depth + 1 segments so far; the next vertex would make depth + 2 (Mitsuba's max_depth).
+        if (depth + 1u >= max_depth) break;
+
+        vec3 t, b;
+        make_frame(s.ns, t, b);
+        vec3 wo = to_local(-ray.dir, t, b, s.ns);
+        Bsdf bsdf = make_bsdf(s, wo);
+        // The geometric side the ray arrived on; new rays leave from the side they head to.
+        vec3 ng_wo = dot(s.ng, ray.dir) < 0.0 ? s.ng : -s.ng;
+
+#ifndef SAMPLING_BSDF
+        if (!bsdf_all_delta(bsdf)) {
+            LightSample ls;
+            if (sample_light(s.position, rng, ls)) {
+                float pdf;
+                vec3 f = bsdf_eval(bsdf, wo, to_local(ls.wi, t, b, s.ns), pdf);
+                if (any(greaterThan(f, vec3(0.0)))) {
+                    vec3 o = offset_ray(s.position, dot(ls.wi, ng_wo) > 0.0 ? ng_wo : -ng_wo);
+                    Ray shadow = ls.infinite ? Ray(o, ls.wi, INF) : Ray(o, ls.target - o, 1.0);
+                    Hit sh;
+                    rays++;
+                    if (!trace(shadow, true, sh)) {
+#if defined(SAMPLING_LIGHT)
+                        float w = 1.0;
+#else
+                        float w = ls.delta ? 1.0 : power_heuristic(ls.pdf, pdf);
+#endif
+                        L += throughput * f * ls.radiance * (w / ls.pdf);
+                    }
+                }
+            }
+        }
+#endif
+
+        BsdfSample bs;
+        if (!bsdf_sample(bsdf, wo, rng, bs)) break;
+        throughput *= bs.weight;
+        after_delta = bs.delta;
+        bsdf_pdf = bs.pdf;
+        if (!any(greaterThan(throughput, vec3(0.0)))) break;
+        if (depth >= rr_depth) {
+            float survive = min(max3(throughput), 0.95);
+            if (rng_next(rng) >= survive) break;
+            throughput /= survive;
+        }
+        vec3 wi = to_world(bs.wi, t, b, s.ns);
+        ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo), wi, INF);
+    }
+    return L;
+}
+
+void main() {
+    uvec2 pixel = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + pc.y0);
+    uint width = pc.g.dims.x;
+    if (pixel.x >= width || pixel.y >= pc.y1) return;
+    vec3 sum = vec3(0.0);
+    uint rays = 0u;
+    uint rejected = 0u;
+    for (uint si = pc.sample_begin; si < pc.sample_end; ++si) {
+        Rng rng = rng_init(pixel, si, pc.g.params.y, pc.g.params.z);
+        vec3 L = trace_path(camera_ray(pixel, rng), rng, rays);
+        // NaN/Inf guard: such a sample contributes zero and is counted (pbrt-v4's policy).
+        if (any(isnan(L)) || any(isinf(L))) rejected++;
+        else sum += L;
+    }
+    uint index = pixel.y * width + pixel.x;
+    pc.g.accum.v[index] += vec4(sum, 0.0);
+    if (rejected > 0u) atomicAdd(pc.g.stats.v[0], rejected);
+    atomicAdd(pc.g.stats.v[4u + pixel.y], rays);
+}

@@ -1,0 +1,85 @@
+// Scene layout: mirrors crates/platoon-core/src/gpu_scene.rs and the Globals block of
+// crates/platoon-tracer/src/globals.rs. All arrays are reached through buffer device addresses,
+// so no array is bound by the 128 MiB storage-buffer range of lavapipe.
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+
+struct Vertex { vec4 position_u; vec4 normal_v; vec4 tangent; };
+struct Triangle { uvec3 v; uint material; };
+struct BvhNode { vec3 bmin; uint count; vec3 bmax; uint index; };
+struct Instance { vec4 w2o[3]; vec4 o2w[3]; uint blas_root; uint light_base; uint pad0; uint pad1; };
+struct Material {
+    vec4 base_color; vec4 emissive; vec4 params; vec4 specular;
+    ivec4 textures0; ivec4 textures1; vec4 misc;
+};
+struct Texture { uint offset; uint width; uint height; uint wrap; };
+struct Light { vec4 a; vec4 b; vec4 c; vec4 emission; uvec4 ids; };
+
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Vertices { Vertex v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Vec4s { vec4 v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Triangles { Triangle v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Uints { uint v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Floats { float v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Nodes { BvhNode v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Instances { Instance v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Materials { Material v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Textures { Texture v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Lights { Light v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer Accum { vec4 v[]; };
+// stats: [0] rejected (NaN/Inf) samples, [1..3] unused, [4 + y] rays traced in row y
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer Stats { uint v[]; };
+
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Globals {
+    Vertices vertices;
+    Vec4s tri_pos;
+    Triangles triangles;
+    Uints tri_lights;
+    Nodes blas;
+    Nodes tlas;
+    Instances instances;
+    Materials materials;
+    Textures textures;
+    Uints texels;
+    Lights lights;
+    Floats light_cdf;
+    Vec4s env_texels;
+    Floats env_marginal;
+    Floats env_conditional;
+    Accum accum;
+    Stats stats;
+    uint pad0;
+    uint pad1;
+    vec4 cam_origin;   // xyz, lens radius
+    vec4 cam_right;    // unit right, w = tan(fov_y/2) * aspect
+    vec4 cam_up;       // unit up, w = tan(fov_y/2)
+    vec4 cam_forward;  // unit forward, w = focus distance
+    vec4 env_color;    // rgb, w = integral of the env sampling function
+    uvec4 dims;        // width, height, env width, env height
+    uvec4 counts;      // lights, instances, tlas nodes, env kind (0 none, 1 constant, 2 map)
+    uvec4 params;      // max depth, frame, seed, russian-roulette start depth
+};
+
+layout(push_constant) uniform Push {
+    Globals g;
+    uint y0;
+    uint y1;
+    uint sample_begin;
+    uint sample_end;
+} pc;
+
+const float PI = 3.14159265358979323846;
+const float INV_PI = 0.31830988618379067154;
+const float INF = 1.0 / 0.0;
+
+const uint LIGHT_TRIANGLE = 0u;
+const uint LIGHT_POINT = 1u;
+const uint LIGHT_SPOT = 2u;
+const uint LIGHT_DIRECTIONAL = 3u;
+const uint LIGHT_ENVIRONMENT = 4u;
+
+const int MATERIAL_DOUBLE_SIDED = 1;
+const int MATERIAL_ALPHA_MASK = 2;
+
+float max3(vec3 v) { return max(v.x, max(v.y, v.z)); }
+float min3(vec3 v) { return min(v.x, min(v.y, v.z)); }
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }

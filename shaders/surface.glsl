@@ -1,0 +1,98 @@
+// The shading point of a hit: world position, normals, texture coordinates and the material
+// inputs of the glTF BSDF with every texture applied.
+
+struct Surface {
+    vec3 position;
+    vec3 ng;        // geometric normal, world, front side by winding (object handedness kept)
+    vec3 ns;        // shading normal, on the same side as ng
+    vec2 uv;
+    uint material;
+    vec3 base_color;
+    float metallic;
+    float roughness;
+    float transmission;
+    float ior;
+    float specular;
+    vec3 specular_color;
+    vec3 emission;
+    bool double_sided;
+};
+
+vec3 instance_point(Instance inst, vec3 p) {
+    return vec3(dot(inst.o2w[0], vec4(p, 1.0)), dot(inst.o2w[1], vec4(p, 1.0)), dot(inst.o2w[2], vec4(p, 1.0)));
+}
+vec3 instance_vector(Instance inst, vec3 v) {
+    return vec3(dot(inst.o2w[0].xyz, v), dot(inst.o2w[1].xyz, v), dot(inst.o2w[2].xyz, v));
+}
+// Normals transform by the inverse transpose: the world-to-object rows as columns.
+vec3 instance_normal(Instance inst, vec3 n) {
+    return inst.w2o[0].xyz * n.x + inst.w2o[1].xyz * n.y + inst.w2o[2].xyz * n.z;
+}
+
+// Material inputs at uv, shared by surface shading and emissive-light sampling.
+void apply_material(inout Surface s, Material m) {
+    s.base_color = m.base_color.rgb;
+    s.metallic = m.params.x;
+    s.roughness = m.params.y;
+    s.transmission = m.params.z;
+    s.ior = m.params.w;
+    s.specular = m.specular.w;
+    s.specular_color = m.specular.rgb;
+    s.emission = m.emissive.rgb;
+    s.double_sided = (m.textures1.w & MATERIAL_DOUBLE_SIDED) != 0;
+#ifdef HAS_TEXTURES
+    if (m.textures0.x >= 0) s.base_color *= sample_texture(m.textures0.x, s.uv, true).rgb;
+    if (m.textures0.y >= 0) {
+        vec4 mr = sample_texture(m.textures0.y, s.uv, false);
+        s.roughness *= mr.g;
+        s.metallic *= mr.b;
+    }
+    if (m.textures0.w >= 0) s.emission *= sample_texture(m.textures0.w, s.uv, true).rgb;
+    if (m.textures1.x >= 0) s.specular *= sample_texture(m.textures1.x, s.uv, false).a;
+    if (m.textures1.y >= 0) s.specular_color *= sample_texture(m.textures1.y, s.uv, true).rgb;
+    if (m.textures1.z >= 0) s.transmission *= sample_texture(m.textures1.z, s.uv, false).r;
+#endif
+#ifndef HAS_TRANSMISSION
+    s.transmission = 0.0;
+#endif
+}
+
+Surface surface_at(Hit hit) {
+    Surface s;
+    Instance inst = pc.g.instances.v[hit.instance];
+    Triangle T = pc.g.triangles.v[hit.triangle];
+    float b0 = 1.0 - hit.b1 - hit.b2;
+    vec3 p0 = pc.g.tri_pos.v[3u * hit.triangle].xyz;
+    vec3 p1 = pc.g.tri_pos.v[3u * hit.triangle + 1u].xyz;
+    vec3 p2 = pc.g.tri_pos.v[3u * hit.triangle + 2u].xyz;
+    // Barycentric interpolation is more accurate than origin + t * dir.
+    s.position = instance_point(inst, b0 * p0 + hit.b1 * p1 + hit.b2 * p2);
+    s.ng = normalize(instance_normal(inst, cross(p1 - p0, p2 - p0)));
+    Vertex v0 = pc.g.vertices.v[T.v.x], v1 = pc.g.vertices.v[T.v.y], v2 = pc.g.vertices.v[T.v.z];
+    s.uv = b0 * vec2(v0.position_u.w, v0.normal_v.w) + hit.b1 * vec2(v1.position_u.w, v1.normal_v.w) + hit.b2 * vec2(v2.position_u.w, v2.normal_v.w);
+    vec3 n = b0 * v0.normal_v.xyz + hit.b1 * v1.normal_v.xyz + hit.b2 * v2.normal_v.xyz;
+    s.ns = dot(n, n) > 1e-12 ? normalize(instance_normal(inst, n)) : s.ng;
+    if (dot(s.ns, s.ng) < 0.0) s.ns = -s.ns;
+    s.material = T.material;
+    Material m = pc.g.materials.v[T.material];
+    apply_material(s, m);
+#ifdef HAS_NORMAL_MAPS
+    if (m.textures0.z >= 0) {
+        vec4 t = b0 * v0.tangent + hit.b1 * v1.tangent + hit.b2 * v2.tangent;
+        vec3 tw = instance_vector(inst, t.xyz);
+        tw = tw - s.ns * dot(s.ns, tw);
+        if (dot(tw, tw) > 1e-12) {
+            tw = normalize(tw);
+            vec3 bw = cross(s.ns, tw) * (v0.tangent.w < 0.0 ? -1.0 : 1.0);
+            vec3 tn = sample_texture(m.textures0.z, s.uv, false).xyz * 2.0 - 1.0;
+            tn.xy *= m.emissive.w;
+            vec3 mapped = tn.x * tw + tn.y * bw + tn.z * s.ns;
+            if (dot(mapped, mapped) > 1e-12) {
+                mapped = normalize(mapped);
+                if (dot(mapped, s.ng) > 0.0) s.ns = mapped;
+            }
+        }
+    }
+#endif
+    return s;
+}
