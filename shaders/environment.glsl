@@ -17,46 +17,50 @@ vec3 uv_to_direction(vec2 uv) {
 
 #ifdef HAS_ENVIRONMENT_MAP
 ivec2 env_texel(vec2 uv) {
-    uvec4 d = pc.g.dims;
+    uvec4 d = F.dims;
     return ivec2(min(uint(uv.x * float(d.z)), d.z - 1u), min(uint(uv.y * float(d.w)), d.w - 1u));
 }
 
 // Discrete probability of texel (x, y) times the texel count: the uv-space density.
 float env_uv_pdf(ivec2 t) {
-    uint w = pc.g.dims.z, h = pc.g.dims.w;
+    uint w = F.dims.z, h = F.dims.w;
     float pm = pc.g.env_marginal.v[t.y + 1] - pc.g.env_marginal.v[t.y];
     uint row = uint(t.y) * (w + 1u);
     float pc_ = pc.g.env_conditional.v[row + uint(t.x) + 1u] - pc.g.env_conditional.v[row + uint(t.x)];
     return pm * float(h) * pc_ * float(w);
 }
 
+float env_cdf(bool marginal, uint i) {
+    return marginal ? pc.g.env_marginal.v[i] : pc.g.env_conditional.v[i];
+}
+
 // First index i in [0, n) with cdf[i] <= u < cdf[i+1], skipping zero-width intervals.
-uint search_cdf(Floats cdf, uint base, uint n, float u) {
+uint search_cdf(bool marginal, uint base, uint n, float u) {
     uint lo = 0u, hi = n;
     while (lo + 1u < hi) {
         uint mid = (lo + hi) >> 1;
-        if (cdf.v[base + mid] <= u) lo = mid; else hi = mid;
+        if (env_cdf(marginal, base + mid) <= u) lo = mid; else hi = mid;
     }
     return lo;
 }
 #endif
 
 vec3 env_radiance(vec3 d) {
-    uint kind = pc.g.counts.w;
+    uint kind = F.counts.w;
     if (kind == 0u) return vec3(0.0);
 #ifdef HAS_ENVIRONMENT_MAP
     if (kind == 2u) {
         ivec2 t = env_texel(direction_to_uv(d));
-        return pc.g.env_texels.v[uint(t.y) * pc.g.dims.z + uint(t.x)].rgb;
+        return pc.g.env_texels.v[uint(t.y) * F.dims.z + uint(t.x)].rgb;
     }
 #endif
-    return pc.g.env_color.rgb;
+    return F.env_color.rgb;
 }
 
 // Solid-angle density of env_sample for direction d.
 float env_pdf(vec3 d) {
 #ifdef HAS_ENVIRONMENT_MAP
-    if (pc.g.counts.w == 2u) {
+    if (F.counts.w == 2u) {
         vec2 uv = direction_to_uv(d);
         float st = sqrt(max(0.0, 1.0 - d.y * d.y));
         if (st <= 0.0) return 0.0;
@@ -68,13 +72,13 @@ float env_pdf(vec3 d) {
 
 vec3 env_sample(vec2 u, out float pdf) {
 #ifdef HAS_ENVIRONMENT_MAP
-    if (pc.g.counts.w == 2u) {
-        uint w = pc.g.dims.z, h = pc.g.dims.w;
-        uint y = search_cdf(pc.g.env_marginal, 0u, h, u.y);
+    if (F.counts.w == 2u) {
+        uint w = F.dims.z, h = F.dims.w;
+        uint y = search_cdf(true, 0u, h, u.y);
         float c0 = pc.g.env_marginal.v[y], c1 = pc.g.env_marginal.v[y + 1u];
         float fy = c1 > c0 ? (u.y - c0) / (c1 - c0) : 0.5;
         uint row = y * (w + 1u);
-        uint x = search_cdf(pc.g.env_conditional, row, w, u.x);
+        uint x = search_cdf(false, row, w, u.x);
         float d0 = pc.g.env_conditional.v[row + x], d1 = pc.g.env_conditional.v[row + x + 1u];
         float fx = d1 > d0 ? (u.x - d0) / (d1 - d0) : 0.5;
         vec2 uv = vec2((float(x) + clamp(fx, 0.0, 0.999999)) / float(w), (float(y) + clamp(fy, 0.0, 0.999999)) / float(h));

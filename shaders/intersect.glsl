@@ -77,10 +77,9 @@ bool alpha_rejects(uint tri, float b1, float b2) {
     float alpha = m.base_color.a;
 #ifdef HAS_TEXTURES
     if (m.textures0.x >= 0) {
-        vec2 uv0 = vec2(pc.g.vertices.v[T.v.x].position_u.w, pc.g.vertices.v[T.v.x].normal_v.w);
-        vec2 uv1 = vec2(pc.g.vertices.v[T.v.y].position_u.w, pc.g.vertices.v[T.v.y].normal_v.w);
-        vec2 uv2 = vec2(pc.g.vertices.v[T.v.z].position_u.w, pc.g.vertices.v[T.v.z].normal_v.w);
-        vec2 uv = (1.0 - b1 - b2) * uv0 + b1 * uv1 + b2 * uv2;
+        Vertex a = pc.g.vertices.v[T.v.x], b = pc.g.vertices.v[T.v.y], c = pc.g.vertices.v[T.v.z];
+        vec2 uv = (1.0 - b1 - b2) * vec2(a.position_u.w, a.normal_v.w) + b1 * vec2(b.position_u.w, b.normal_v.w)
+                + b2 * vec2(c.position_u.w, c.normal_v.w);
         alpha *= sample_texture(m.textures0.x, uv, true).a;
     }
 #endif
@@ -129,7 +128,7 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
 
 bool trace(Ray ray, bool any_hit, out Hit hit) {
     hit = Hit(ray.tmax, 0.0, 0.0, 0u, 0u);
-    if (pc.g.counts.z == 0u) return false;
+    if (F.counts.z == 0u) return false;
     RayTri world = ray_tri_setup(ray.origin, ray.dir);
     uint stack[32];
     int sp = 0;

@@ -11,7 +11,7 @@ struct LightSample {
 };
 
 uint pick_light(float u) {
-    uint n = pc.g.counts.x;
+    uint n = F.counts.x;
     uint lo = 0u, hi = n;
     while (lo + 1u < hi) {
         uint mid = (lo + hi) >> 1;
@@ -41,8 +41,8 @@ float triangle_light_pdf(Hit hit, vec3 ng_world, vec3 dir) {
 #endif
 
 float environment_light_pdf(vec3 dir) {
-    uint n = pc.g.counts.x;
-    if (n == 0u || pc.g.counts.w == 0u) return 0.0;
+    uint n = F.counts.x;
+    if (n == 0u || F.counts.w == 0u) return 0.0;
     // The environment is always the last entry.
     Light l = pc.g.lights.v[n - 1u];
     if (l.ids.x != LIGHT_ENVIRONMENT) return 0.0;
@@ -55,7 +55,7 @@ bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
     ls.pdf = 0.0;
     ls.delta = false;
     ls.infinite = false;
-    uint n = pc.g.counts.x;
+    uint n = F.counts.x;
     if (n == 0u) return false;
     Light l = pc.g.lights.v[pick_light(ul)];
     float pmf = l.emission.w;

@@ -31,15 +31,15 @@ float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
 Ray camera_ray(uvec2 pixel, inout Rng rng) {
     vec2 jitter = rng_next2(rng);
     vec2 lens = rng_next2(rng);
-    vec2 size = vec2(pc.g.dims.xy);
+    vec2 size = vec2(F.dims.xy);
     vec2 ndc = vec2(2.0 * (float(pixel.x) + jitter.x) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + jitter.y) / size.y);
-    vec3 dir = pc.g.cam_forward.xyz + ndc.x * pc.g.cam_right.w * pc.g.cam_right.xyz + ndc.y * pc.g.cam_up.w * pc.g.cam_up.xyz;
-    vec3 origin = pc.g.cam_origin.xyz;
+    vec3 dir = F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
+    vec3 origin = F.cam_origin.xyz;
 #ifdef HAS_THIN_LENS
     // dir has unit forward component, so the focus plane point is origin + dir * focus.
-    vec3 focus = origin + dir * pc.g.cam_forward.w;
-    vec2 d = sample_disk_concentric(lens) * pc.g.cam_origin.w;
-    origin += d.x * pc.g.cam_right.xyz + d.y * pc.g.cam_up.xyz;
+    vec3 focus = origin + dir * F.cam_forward.w;
+    vec2 d = sample_disk_concentric(lens) * F.cam_origin.w;
+    origin += d.x * F.cam_right.xyz + d.y * F.cam_up.xyz;
     dir = focus - origin;
 #endif
     return Ray(origin, normalize(dir), INF);
@@ -50,13 +50,13 @@ vec3 trace_path(Ray ray, inout Rng rng, inout uint rays) {
     vec3 throughput = vec3(1.0);
     bool after_delta = true;   // the camera ray is treated like a delta bounce
     float bsdf_pdf = 0.0;
-    uint max_depth = pc.g.params.x;
-    uint rr_depth = pc.g.params.w;
+    uint max_depth = F.params.x;
+    uint rr_depth = F.params.w;
     for (uint depth = 0u;; ++depth) {
         Hit hit;
         rays++;
         if (!trace(ray, false, hit)) {
-            if (pc.g.counts.w != 0u)
+            if (F.counts.w != 0u)
                 L += throughput * env_radiance(ray.dir) * emission_weight(after_delta, bsdf_pdf, environment_light_pdf(ray.dir));
             break;
         }
@@ -118,14 +118,15 @@ vec3 trace_path(Ray ray, inout Rng rng, inout uint rays) {
 }
 
 void main() {
+    load_frame_constants();
     uvec2 pixel = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + pc.y0);
-    uint width = pc.g.dims.x;
+    uint width = F.dims.x;
     if (pixel.x >= width || pixel.y >= pc.y1) return;
     vec3 sum = vec3(0.0);
     uint rays = 0u;
     uint rejected = 0u;
     for (uint si = pc.sample_begin; si < pc.sample_end; ++si) {
-        Rng rng = rng_init(pixel, si, pc.g.params.y, pc.g.params.z);
+        Rng rng = rng_init(pixel, si, F.params.y, F.params.z);
         vec3 L = trace_path(camera_ray(pixel, rng), rng, rays);
         // NaN/Inf guard: such a sample contributes zero and is counted (pbrt-v4's policy).
         if (any(isnan(L)) || any(isinf(L))) rejected++;

@@ -67,6 +67,27 @@ layout(push_constant) uniform Push {
     uint sample_end;
 } pc;
 
+// Per-render constants, copied from Globals once per invocation. Components are never read
+// through the buffer reference directly: Mesa 22.3 lavapipe miscompiles a scalar access to a
+// vector component behind a buffer reference (pc.g.dims.z returned dims.x); whole-vector and
+// whole-struct loads are correct.
+struct FrameConstants {
+    vec4 cam_origin; vec4 cam_right; vec4 cam_up; vec4 cam_forward; vec4 env_color;
+    uvec4 dims; uvec4 counts; uvec4 params;
+};
+FrameConstants F;
+
+void load_frame_constants() {
+    F.cam_origin = pc.g.cam_origin;
+    F.cam_right = pc.g.cam_right;
+    F.cam_up = pc.g.cam_up;
+    F.cam_forward = pc.g.cam_forward;
+    F.env_color = pc.g.env_color;
+    F.dims = pc.g.dims;
+    F.counts = pc.g.counts;
+    F.params = pc.g.params;
+}
+
 const float PI = 3.14159265358979323846;
 const float INV_PI = 0.31830988618379067154;
 const float INF = 1.0 / 0.0;

@@ -24,11 +24,16 @@ pub fn describe(p: &Prepared) -> String {
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| "built-in Cornell box".into());
     let _ = writeln!(out, "scene:        {source}");
+    let instanced: usize = p
+        .posed
+        .instances
+        .iter()
+        .map(|i| p.posed.meshes[i.mesh].triangle_count())
+        .sum();
     let _ = writeln!(
         out,
-        "triangles:    {} ({} instanced)",
-        s.meshes.iter().map(|m| m.triangle_count()).sum::<usize>(),
-        g.triangle_count
+        "triangles:    {} in meshes, {} in the rendered scene",
+        g.triangle_count, instanced
     );
     let _ = writeln!(out, "meshes:       {}", s.meshes.len());
     let _ = writeln!(out, "instances:    {}", g.instances.len());

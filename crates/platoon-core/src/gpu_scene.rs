@@ -166,12 +166,23 @@ impl GpuScene {
     /// Flattens `posed` (a pose of `scene`). `environment` is the distant light in effect.
     pub fn build(scene: &Scene, posed: &Posed, environment: Option<&Environment>) -> GpuScene {
         let mut g = GpuScene::default();
-        let (mesh_bvhs, mesh_time) = bvh::timed(|| bvh::build_mesh_bvhs(&posed.meshes));
+        // Only meshes some instance uses (a skinned mesh's bind pose is replaced by its pose).
+        let mut used = vec![false; posed.meshes.len()];
+        for i in &posed.instances {
+            used[i.mesh] = true;
+        }
+        let live_meshes: Vec<std::sync::Arc<crate::scene::Mesh>> = posed
+            .meshes
+            .iter()
+            .zip(&used)
+            .map(|(m, &u)| if u { m.clone() } else { Default::default() })
+            .collect();
+        let (mesh_bvhs, mesh_time) = bvh::timed(|| bvh::build_mesh_bvhs(&live_meshes));
 
         // Bottom level: vertices, triangles in leaf order, node indices made global.
         let mut blas_root = Vec::with_capacity(posed.meshes.len());
         let mut tri_base = Vec::with_capacity(posed.meshes.len());
-        for (mesh, flat) in posed.meshes.iter().zip(&mesh_bvhs) {
+        for (mesh, flat) in live_meshes.iter().zip(&mesh_bvhs) {
             let vbase = g.vertices.len() as u32;
             let tbase = g.triangles.len() as u32;
             let nbase = g.blas_nodes.len() as u32;
@@ -254,7 +265,7 @@ impl GpuScene {
         let mut power = Vec::new();
         for (new_index, &orig) in tlas.order.iter().enumerate() {
             let inst = live[orig as usize];
-            let mesh = &posed.meshes[inst.mesh];
+            let mesh = &live_meshes[inst.mesh];
             let tb = tri_base[inst.mesh] as usize;
             let tri_count = mesh.indices.len();
             let first_light = g.lights.len() as u32;
