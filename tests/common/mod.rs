@@ -95,3 +95,98 @@ pub fn mean_and_stderr(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let var = v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0);
     (mean, (var / n).sqrt())
 }
+
+use std::sync::Arc;
+
+use platoon::core::scene::{Material, Mesh, Node, Scene};
+
+pub fn mesh_from(data: &platoon_scenegen::MeshData, material: u32) -> Mesh {
+    let v3 = |p: &[f32; 3]| Vec3::from_array(*p);
+    Mesh {
+        name: "generated".into(),
+        positions: data.positions.iter().map(v3).collect(),
+        normals: data.normals.iter().map(v3).collect(),
+        indices: data
+            .indices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect(),
+        triangle_materials: vec![material; data.indices.len() / 3],
+        ..Default::default()
+    }
+}
+
+/// A scene of meshes (one node each, at the given translation and uniform scale) and a camera
+/// looking from `eye` at `target`.
+pub fn scene_of(
+    meshes: Vec<(Mesh, Vec3, f32)>,
+    materials: Vec<Material>,
+    eye: Vec3,
+    target: Vec3,
+    yfov: f32,
+) -> Scene {
+    let mut scene = Scene {
+        materials,
+        ..Default::default()
+    };
+    for (i, (mesh, t, s)) in meshes.into_iter().enumerate() {
+        scene.meshes.push(Arc::new(mesh));
+        let mut node = Node::new(format!("mesh{i}"));
+        node.mesh = Some(i);
+        node.translation = t;
+        node.scale = Vec3::splat(s);
+        scene.nodes.push(node);
+    }
+    let cam = platoon::core::camera::Camera::look_at(eye, target, yfov);
+    let (_, r, t) = cam.camera_to_world.to_scale_rotation_translation();
+    let mut node = Node::new("camera");
+    node.rotation = r;
+    node.translation = t;
+    node.camera = Some(0);
+    scene.nodes.push(node);
+    scene.cameras.push(platoon::core::scene::CameraModel {
+        name: "camera".into(),
+        yfov,
+        aspect_ratio: None,
+    });
+    scene
+}
+
+/// A unit sphere of `material`, filling most of the view.
+pub fn sphere_scene(material: Material) -> Scene {
+    let sphere = mesh_from(&platoon_scenegen::uv_sphere(32, 48), 0);
+    scene_of(
+        vec![(sphere, Vec3::ZERO, 1.0)],
+        vec![material],
+        Vec3::new(0.0, 0.0, 3.2),
+        Vec3::ZERO,
+        0.8,
+    )
+}
+
+/// Pixels whose centre ray hits a sphere of `radius` at the origin seen by `sphere_scene`.
+pub fn sphere_pixels(w: u32, h: u32, shrink: f32) -> Vec<usize> {
+    let tan = (0.8f32 * 0.5).tan();
+    let eye = Vec3::new(0.0, 0.0, 3.2);
+    let mut out = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let d = Vec3::new(
+                (2.0 * (x as f32 + 0.5) / w as f32 - 1.0) * tan,
+                (1.0 - 2.0 * (y as f32 + 0.5) / h as f32) * tan,
+                -1.0,
+            )
+            .normalize();
+            // Distance of the ray from the centre.
+            let closest = (eye - d * eye.dot(d)).length();
+            if closest < shrink {
+                out.push((y * w + x) as usize);
+            }
+        }
+    }
+    out
+}
+
+pub fn luminance(p: [f32; 3]) -> f64 {
+    (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0
+}

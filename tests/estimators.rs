@@ -1,0 +1,107 @@
+//! BSDF sampling alone, light sampling alone and their MIS combination are three estimators of
+//! the same integral: their images must agree within statistical error, region by region.
+
+mod common;
+
+use common::*;
+use glam::Vec3;
+use platoon::core::frame::FrameParams;
+use platoon::core::scene::Material;
+use platoon::tracer::Sampling;
+
+/// The Cornell box with a glossy plastic floor and a rough metal tall box, open to a dim sky.
+fn glossy_cornell() -> platoon::Prepared {
+    let mut scene = platoon::core::cornell::scene();
+    let floor = scene.materials.len() as u32;
+    scene.materials.push(Material {
+        name: "plastic".into(),
+        base_color: Vec3::new(0.7, 0.7, 0.6).extend(1.0),
+        metallic: 0.0,
+        roughness: 0.25,
+        ..Material::default()
+    });
+    scene.materials.push(Material {
+        name: "metal".into(),
+        base_color: Vec3::new(0.9, 0.7, 0.4).extend(1.0),
+        metallic: 1.0,
+        roughness: 0.35,
+        ..Material::default()
+    });
+    let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
+    let n = mesh.triangle_materials.len();
+    mesh.triangle_materials[0] = floor;
+    mesh.triangle_materials[1] = floor;
+    // The tall box is the last of the mesh's quads.
+    for m in &mut mesh.triangle_materials[n - 10..] {
+        *m = floor + 1;
+    }
+    prepare(scene, constant_env(0.3))
+}
+
+const SEEDS: u32 = 6;
+const BLOCK: u32 = 8;
+
+/// Per-block means for each seed.
+fn blocks(prepared: &platoon::Prepared, sampling: Sampling) -> Vec<Vec<f64>> {
+    let mut tracer = tracer(prepared, sampling);
+    let (w, h) = (32, 32);
+    (0..SEEDS)
+        .map(|seed| {
+            let mut params = FrameParams::new(w, h, 96, prepared.camera);
+            params.seed = seed;
+            let film = render_with(&mut tracer, &params);
+            let mut out = Vec::new();
+            for by in 0..h / BLOCK {
+                for bx in 0..w / BLOCK {
+                    let mut s = 0.0;
+                    for y in by * BLOCK..(by + 1) * BLOCK {
+                        for x in bx * BLOCK..(bx + 1) * BLOCK {
+                            s += luminance(film.pixels[(y * w + x) as usize]);
+                        }
+                    }
+                    out.push(s / (BLOCK * BLOCK) as f64);
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+fn summary(per_seed: &[Vec<f64>], block: usize) -> (f64, f64) {
+    mean_and_stderr(per_seed.iter().map(|b| b[block]))
+}
+
+#[test]
+fn bsdf_light_and_mis_estimators_agree() {
+    let prepared = glossy_cornell();
+    assert!(prepared.gpu.features.emissive_triangles);
+    let mis = blocks(&prepared, Sampling::Mis);
+    let bsdf = blocks(&prepared, Sampling::Bsdf);
+    let light = blocks(&prepared, Sampling::Light);
+    let mut worst = 0.0f64;
+    for b in 0..mis[0].len() {
+        let m = summary(&mis, b);
+        for (name, other) in [("bsdf", &bsdf), ("light", &light)] {
+            let o = summary(other, b);
+            let sigma = (m.1 * m.1 + o.1 * o.1).sqrt().max(1e-4);
+            let z = (m.0 - o.0).abs() / sigma;
+            worst = worst.max(z);
+            assert!(
+                z < 5.0,
+                "block {b}: mis {:.4} ± {:.4} vs {name} {:.4} ± {:.4} ({z:.1} sigma)",
+                m.0,
+                m.1,
+                o.0,
+                o.1
+            );
+        }
+    }
+    eprintln!("largest disagreement: {worst:.2} sigma");
+    // MIS must also be the most efficient of the three over the whole frame.
+    let total = |v: &Vec<Vec<f64>>| mean_and_stderr(v.iter().map(|b| b.iter().sum::<f64>()));
+    let (m, b, l) = (total(&mis), total(&bsdf), total(&light));
+    eprintln!(
+        "frame sums: mis {:.3} ± {:.3}, bsdf {:.3} ± {:.3}, light {:.3} ± {:.3}",
+        m.0, m.1, b.0, b.1, l.0, l.1
+    );
+}
