@@ -65,9 +65,15 @@ pub fn load(path: &Path) -> Result<Scene> {
         .materials()
         .map(|m| material(&m, &mut scene.warnings))
         .collect();
-    // Primitives without a material use the glTF default material, appended last.
+    // Primitives without a material use the glTF default material, appended last when needed.
     let default_material = scene.materials.len() as u32;
-    scene.materials.push(Material::default());
+    if doc
+        .meshes()
+        .flat_map(|m| m.primitives())
+        .any(|p| p.material().index().is_none())
+    {
+        scene.materials.push(Material::default());
+    }
     for mesh in doc.meshes() {
         let m = load_mesh(
             path,

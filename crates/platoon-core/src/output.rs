@@ -127,10 +127,12 @@ pub fn read_exr(path: &Path) -> Result<(Film, Vec<(String, String)>)> {
     )
     .map_err(|e| crate::Error::file(path, format!("cannot read EXR: {e}")))?;
     let size = image.layer_data.size;
+    // Custom attributes of a single-part file may come back as image or as layer attributes.
     let mut meta: Vec<(String, String)> = image
         .attributes
         .other
         .iter()
+        .chain(image.layer_data.attributes.other.iter())
         .filter_map(|(k, v)| match v {
             AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
             _ => None,

@@ -256,3 +256,8 @@ pub fn kernel_label(features: FeatureSet) -> String {
         format!("pathtrace.comp -D{}", d.join(" -D"))
     }
 }
+
+/// The SPIR-V of the kernel variant for a feature set and estimator (cached on disk).
+pub fn kernel_spirv(features: FeatureSet, sampling: Sampling) -> Result<Vec<u32>> {
+    spirv(&defines(features, sampling))
+}

@@ -9,7 +9,7 @@ mod kernel;
 mod tracer;
 
 pub use context::{list_devices, DeviceInfo};
-pub use kernel::{cache_dir, kernel_label, Sampling};
+pub use kernel::{cache_dir, kernel_label, kernel_spirv, Sampling};
 pub use tracer::{Tracer, TracerOptions};
 
 /// Tracer failures; each says which device or file it concerns.

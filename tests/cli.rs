@@ -1,0 +1,245 @@
+//! The `platoon` command end to end: renders, and every bad input gets a clear message naming
+//! the file, a non-zero exit and no output file.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn platoon(args: &[&str]) -> Output {
+    common::init();
+    Command::new(env!("CARGO_BIN_EXE_platoon"))
+        .args(args)
+        .output()
+        .expect("run platoon")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A one-triangle glTF with an external buffer, optionally with extra top-level JSON.
+fn write_gltf(dir: &Path, name: &str, extra: &str, material: &str) -> std::path::PathBuf {
+    let positions: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|f| f.to_le_bytes())
+        .collect();
+    std::fs::write(dir.join("tri.bin"), &positions).unwrap();
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}{material}}}]}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}],
+        "bufferViews":[{{"buffer":0,"byteLength":36}}],"buffers":[{{"uri":"tri.bin","byteLength":36}}]{extra}}}"#
+    );
+    let path = dir.join(name);
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+fn assert_fails_naming(args: &[&str], names: &str, out: &Path) {
+    let o = platoon(args);
+    let err = stderr(&o);
+    assert!(!o.status.success(), "succeeded: {args:?}");
+    assert!(err.contains(names), "message does not name {names}: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert!(!out.exists(), "an output file was written");
+    let Ok(entries) = std::fs::read_dir(out.parent().unwrap()) else {
+        return;
+    };
+    let leftovers: Vec<_> = entries
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".part"))
+        .collect();
+    assert!(leftovers.is_empty(), "temporary files left behind");
+}
+
+#[test]
+fn renders_the_built_in_scene_to_png_and_exr_with_metadata() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("cornell.png");
+    let o = platoon(&[
+        "render",
+        "--spp",
+        "4",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--validation",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image_dims(&png);
+    assert_eq!(img, (32, 32));
+    let exr = dir.path().join("cornell.exr");
+    let o = platoon(&[
+        "render",
+        "--spp",
+        "4",
+        "--width",
+        "16",
+        "--height",
+        "8",
+        "--seed",
+        "7",
+        "--out",
+        exr.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
+    assert_eq!((film.width, film.height), (16, 8));
+    let get = |k: &str| {
+        meta.iter()
+            .find(|(key, _)| key == &format!("platoon:{k}"))
+            .map(|(_, v)| v.clone())
+            .unwrap_or_default()
+    };
+    assert_eq!(get("spp"), "4", "{meta:?}");
+    assert_eq!(get("seed"), "7");
+    assert_eq!(get("features"), "emissive-triangles");
+    assert_eq!(get("max_depth"), "1024");
+    assert_eq!(get("rejected_samples"), "0");
+    assert!(get("device").contains("llvmpipe"));
+    assert!(get("render_time_s").parse::<f64>().unwrap() > 0.0);
+    assert!(film.mean()[0] > 0.01);
+}
+
+fn image_dims(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    (
+        u32::from_be_bytes(bytes[16..20].try_into().unwrap()),
+        u32::from_be_bytes(bytes[20..24].try_into().unwrap()),
+    )
+}
+
+#[test]
+fn renders_a_shared_scene_with_an_environment_and_reports_a_default_sky() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("teapot.png");
+    let teapot = common::shared("scenes/teapot.gltf");
+    let forest = common::shared("envmaps/forest.exr");
+    let o = platoon(&[
+        "render",
+        teapot.to_str().unwrap(),
+        "--env",
+        forest.to_str().unwrap(),
+        "--spp",
+        "2",
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("no lights"));
+    let o = platoon(&[
+        "render",
+        teapot.to_str().unwrap(),
+        "--spp",
+        "2",
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    assert!(stderr(&o).contains("no lights"), "{}", stderr(&o));
+}
+
+#[test]
+fn info_prints_counts_and_features() {
+    let o = platoon(&[
+        "info",
+        common::shared("scenes/CesiumMan.glb").to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success());
+    assert!(text.contains("4672"), "{text}");
+    assert!(text.contains("features:     textures"), "{text}");
+    assert!(text.contains("-DHAS_TEXTURES"), "{text}");
+    let o = platoon(&["devices"]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("llvmpipe"));
+}
+
+#[test]
+fn bad_inputs_fail_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = d.join("out.png");
+    let o = out.to_str().unwrap();
+    let missing = d.join("nope.glb");
+    assert_fails_naming(
+        &["render", missing.to_str().unwrap(), "--out", o],
+        "nope.glb",
+        &out,
+    );
+
+    let garbage = d.join("garbage.gltf");
+    std::fs::write(&garbage, b"this is not json").unwrap();
+    assert_fails_naming(
+        &["render", garbage.to_str().unwrap(), "--out", o],
+        "garbage.gltf",
+        &out,
+    );
+
+    let draco = write_gltf(
+        d,
+        "draco.gltf",
+        r#","extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"]"#,
+        "",
+    );
+    assert_fails_naming(
+        &["render", draco.to_str().unwrap(), "--out", o],
+        "KHR_draco_mesh_compression",
+        &out,
+    );
+    assert_fails_naming(&["info", draco.to_str().unwrap()], "draco.gltf", &out);
+
+    let textured = write_gltf(
+        d,
+        "textured.gltf",
+        r#","materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}],"textures":[{"source":0}],"images":[{"uri":"missing.png"}]"#,
+        r#","material":0"#,
+    );
+    assert_fails_naming(
+        &["render", textured.to_str().unwrap(), "--out", o],
+        "missing.png",
+        &out,
+    );
+
+    let ok = write_gltf(d, "ok.gltf", "", "");
+    std::fs::remove_file(d.join("tri.bin")).unwrap();
+    assert_fails_naming(
+        &["render", ok.to_str().unwrap(), "--out", o],
+        "tri.bin",
+        &out,
+    );
+
+    let bad_env = d.join("sky.exr");
+    std::fs::write(&bad_env, b"not an exr").unwrap();
+    assert_fails_naming(
+        &["render", "--env", bad_env.to_str().unwrap(), "--out", o],
+        "sky.exr",
+        &out,
+    );
+
+    let bad_out = d.join("out.jpg");
+    assert_fails_naming(
+        &["render", "--out", bad_out.to_str().unwrap()],
+        "out.jpg",
+        &bad_out,
+    );
+    let no_dir = d.join("missing-dir/out.png");
+    assert_fails_naming(
+        &["render", "--out", no_dir.to_str().unwrap()],
+        "missing-dir",
+        &no_dir,
+    );
+    assert_fails_naming(&["render", "--camera", "3", "--out", o], "camera 3", &out);
+}

@@ -1,0 +1,114 @@
+//! The shared glTF assets load with the right contents, and each gets the kernel it calls for.
+
+mod common;
+
+use common::*;
+use platoon::core::animation::Property;
+use platoon::tracer::{kernel_label, Sampling};
+
+#[test]
+fn cesium_man_loads_with_skin_texture_and_animation() {
+    let scene = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
+    assert_eq!(scene.meshes.len(), 1);
+    assert_eq!(scene.triangle_count(), 4672);
+    assert_eq!(scene.textures.len(), 1);
+    assert_eq!(scene.materials.len(), 1);
+    assert!(scene.materials[0].base_color_texture.is_some());
+    assert_eq!(scene.skins.len(), 1);
+    assert_eq!(scene.skins[0].joints.len(), 19);
+    assert_eq!(scene.animations.len(), 1);
+    let anim = &scene.animations[0];
+    assert_eq!(anim.channels.len(), 57);
+    assert!(
+        (anim.duration() - 2.0).abs() < 1e-3,
+        "duration {}",
+        anim.duration()
+    );
+    assert_eq!(
+        anim.channels
+            .iter()
+            .filter(|c| c.property == Property::Rotation)
+            .count(),
+        19
+    );
+    // The animation moves the skinned vertices.
+    let (a, b) = (scene.pose(0.0), scene.pose(0.5));
+    assert_ne!(a.bounds(), b.bounds());
+    let mesh_a = &a.meshes[a.instances[0].mesh];
+    let mesh_b = &b.meshes[b.instances[0].mesh];
+    let moved = mesh_a
+        .positions
+        .iter()
+        .zip(&mesh_b.positions)
+        .filter(|(p, q)| p.distance(**q) > 1e-3)
+        .count();
+    assert!(moved > 1000, "only {moved} vertices moved");
+    // Skinning keeps the figure its size (about 1.5 units tall).
+    let (lo, hi) = a.bounds();
+    let height = (hi - lo).max_element();
+    assert!((1.0..2.5).contains(&height), "posed height {height}");
+}
+
+#[test]
+fn retro_ufo_and_teapot_load_with_their_counts() {
+    let ufo = platoon::load_scene(Some(&shared("scenes/RetroUFO.glb"))).unwrap();
+    assert_eq!(ufo.meshes.len(), 77);
+    assert_eq!(ufo.triangle_count(), 16428);
+    assert_eq!(ufo.materials.len(), 7);
+    assert!(ufo.textures.is_empty());
+    let teapot = platoon::load_scene(Some(&shared("scenes/teapot.gltf"))).unwrap();
+    assert_eq!(teapot.triangle_count(), 9128);
+    // No material in the file: the glTF default (white, metallic 1, roughness 1).
+    assert_eq!(teapot.materials.len(), 1);
+    assert_eq!(teapot.materials[0].metallic, 1.0);
+}
+
+#[test]
+fn scenes_without_lights_get_a_default_sky_and_say_so() {
+    let p = prepare(
+        platoon::load_scene(Some(&shared("scenes/teapot.gltf"))).unwrap(),
+        platoon::EnvChoice::Scene,
+    );
+    assert!(p.note.as_deref().unwrap_or("").contains("no lights"));
+    assert_eq!(p.gpu.env.kind, 1);
+    let cornell = prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene);
+    assert!(cornell.note.is_none());
+    assert_eq!(cornell.gpu.env.kind, 0);
+}
+
+#[test]
+fn each_scene_gets_the_kernel_its_features_call_for() {
+    let env = || platoon::EnvChoice::File(shared("envmaps/forest.exr"));
+    let load = |s: &str| platoon::load_scene(Some(&shared(s))).unwrap();
+    let cesium = prepare(load("scenes/CesiumMan.glb"), platoon::EnvChoice::Scene);
+    let cesium_env = prepare(load("scenes/CesiumMan.glb"), env());
+    let ufo = prepare(load("scenes/RetroUFO.glb"), platoon::EnvChoice::Scene);
+    let teapot_env = prepare(load("scenes/teapot.gltf"), env());
+    let cornell = prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene);
+    assert_eq!(cesium.gpu.features.defines(), ["HAS_TEXTURES"]);
+    assert_eq!(
+        cesium_env.gpu.features.defines(),
+        ["HAS_TEXTURES", "HAS_ENVIRONMENT_MAP"]
+    );
+    assert!(ufo.gpu.features.defines().is_empty());
+    assert_eq!(teapot_env.gpu.features.defines(), ["HAS_ENVIRONMENT_MAP"]);
+    assert_eq!(cornell.gpu.features.defines(), ["HAS_EMISSIVE_TRIANGLES"]);
+    let labels: std::collections::HashSet<String> =
+        [&cesium, &cesium_env, &ufo, &teapot_env, &cornell]
+            .iter()
+            .map(|p| kernel_label(p.gpu.features))
+            .collect();
+    assert_eq!(labels.len(), 5);
+    // The compiled kernels differ too: each variant is its own SPIR-V, smaller without features.
+    init();
+    let spirv: Vec<Vec<u32>> = [&cesium, &cesium_env, &ufo, &teapot_env, &cornell]
+        .iter()
+        .map(|p| platoon::tracer::kernel_spirv(p.gpu.features, Sampling::Mis).unwrap())
+        .collect();
+    let distinct: std::collections::HashSet<&Vec<u32>> = spirv.iter().collect();
+    assert_eq!(distinct.len(), 5);
+    assert!(
+        spirv[2].len() < spirv[1].len(),
+        "the featureless kernel is not smaller"
+    );
+}
