@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs what platoon needs on Debian 12 that a machine with Rust may lack: the Vulkan loader,
+# Mesa's lavapipe (software Vulkan), the Khronos validation layer (tests), and the tools that
+# build shaderc from source (cmake, ninja, python3). Uses sudo only when not root.
+set -euo pipefail
+packages=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake ninja-build python3 g++ git)
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+    exit 0
+fi
+echo "installing: ${missing[*]}" >&2
+if [ "$(id -u)" -eq 0 ]; then sudo=(); else sudo=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq
+"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
