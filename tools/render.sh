@@ -5,4 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$HOME/.cache/platoon-target}
-cargo run --release --bin platoon -- render --out cornell.png "$@"
+# The dev profile builds dependencies optimised (see Cargo.toml) and shares its build with the
+# tests; the kernel itself runs on the Vulkan device either way.
+cargo run --bin platoon -- render --out cornell.png "$@"
