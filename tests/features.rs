@@ -1,0 +1,259 @@
+//! Effects beyond the basic path: punctual lights against their closed forms, alpha masks,
+//! textures larger than lavapipe's 128 MiB storage-buffer range, and the thin lens.
+
+mod common;
+
+use std::f32::consts::PI;
+
+use common::*;
+use glam::{Quat, Vec2, Vec3};
+use platoon::core::cornell::lambertian;
+use platoon::core::frame::FrameParams;
+use platoon::core::scene::{
+    AlphaMode, LightKind, Material, Node, PunctualLight, Texture, TextureRef, Wrap,
+};
+use platoon::tracer::Sampling;
+
+const RHO: f32 = 0.5;
+
+/// A 20 x 20 Lambertian ground seen straight down from height 2 (plus a tiny offset so the
+/// view is not exactly parallel to an axis).
+fn ground(
+    extra: Vec<(platoon::core::scene::Mesh, Vec3, f32)>,
+    mut materials: Vec<Material>,
+) -> platoon::core::Scene {
+    let mut meshes = vec![(
+        mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0),
+        Vec3::ZERO,
+        10.0,
+    )];
+    meshes.extend(extra);
+    materials.insert(0, lambertian("ground", Vec3::splat(RHO)));
+    scene_of(
+        meshes,
+        materials,
+        Vec3::new(0.001, 2.0, 0.0),
+        Vec3::ZERO,
+        1.0,
+    )
+}
+
+fn add_light(scene: &mut platoon::core::Scene, kind: LightKind, intensity: f32, position: Vec3) {
+    scene.lights.push(PunctualLight {
+        name: "l".into(),
+        kind,
+        color: Vec3::ONE,
+        intensity,
+        range: 0.0,
+    });
+    let mut node = Node::new("light");
+    node.light = Some(scene.lights.len() - 1);
+    node.translation = position;
+    node.rotation = Quat::from_rotation_x(-PI / 2.0); // -Z points down
+    scene.nodes.push(node);
+}
+
+/// Ground point under the centre of pixel (x, y) of a w x h view from `sphere_scene`-like
+/// camera at (0.001, 2, 0) looking down with vertical fov 1.0.
+fn ground_point(prepared: &platoon::Prepared, x: u32, y: u32, w: u32, h: u32) -> Vec3 {
+    let cam = prepared.camera.camera_to_world;
+    let tan = (prepared.camera.yfov * 0.5).tan();
+    let ndc = Vec2::new(
+        2.0 * (x as f32 + 0.5) / w as f32 - 1.0,
+        1.0 - 2.0 * (y as f32 + 0.5) / h as f32,
+    );
+    let d = (cam.transform_vector3(Vec3::new(
+        ndc.x * tan * w as f32 / h as f32,
+        ndc.y * tan,
+        -1.0,
+    )))
+    .normalize();
+    let o = cam.transform_point3(Vec3::ZERO);
+    o + d * (-o.y / d.y)
+}
+
+fn check_against(prepared: &platoon::Prepared, expected: impl Fn(Vec3) -> f32, tolerance: f32) {
+    let (w, h) = (24, 24);
+    let film = render(
+        prepared,
+        &FrameParams::new(w, h, 16, prepared.camera),
+        Sampling::Mis,
+    );
+    for y in 0..h {
+        for x in 0..w {
+            let want = expected(ground_point(prepared, x, y, w, h));
+            let got = film.pixels[(y * w + x) as usize][0];
+            assert!(
+                (got - want).abs() <= tolerance * want.max(0.05),
+                "pixel {x},{y}: {got} vs {want}"
+            );
+        }
+    }
+}
+
+#[test]
+fn point_light_matches_inverse_square_cosine_law() {
+    let mut scene = ground(vec![], vec![]);
+    let (i, height) = (3.0, 1.0);
+    add_light(&mut scene, LightKind::Point, i, Vec3::new(0.3, height, 0.2));
+    let prepared = prepare(scene, platoon::EnvChoice::Scene);
+    assert!(prepared.gpu.features.punctual_lights);
+    check_against(
+        &prepared,
+        |p| {
+            let d = Vec3::new(0.3, height, 0.2) - p;
+            RHO / PI * i * (d.y / d.length()) / d.length_squared()
+        },
+        0.05,
+    );
+}
+
+#[test]
+fn directional_and_spot_lights_match_their_closed_forms() {
+    let mut scene = ground(vec![], vec![]);
+    add_light(
+        &mut scene,
+        LightKind::Directional,
+        2.0,
+        Vec3::new(0.0, 5.0, 0.0),
+    );
+    let prepared = prepare(scene, platoon::EnvChoice::Scene);
+    check_against(&prepared, |_| RHO / PI * 2.0, 0.01);
+
+    // Spot straight down at height 1: full intensity inside the inner cone, none outside the outer.
+    let mut scene = ground(vec![], vec![]);
+    let (inner, outer) = (0.3f32, 0.4f32);
+    add_light(
+        &mut scene,
+        LightKind::Spot {
+            inner_cone: inner,
+            outer_cone: outer,
+        },
+        3.0,
+        Vec3::new(0.0, 1.0, 0.0),
+    );
+    let prepared = prepare(scene, platoon::EnvChoice::Scene);
+    let (w, h) = (24, 24);
+    let film = render(
+        &prepared,
+        &FrameParams::new(w, h, 16, prepared.camera),
+        Sampling::Mis,
+    );
+    let (mut inside, mut outside) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let p = ground_point(&prepared, x, y, w, h);
+            let d = Vec3::new(0.0, 1.0, 0.0) - p;
+            let angle = (d.y / d.length()).acos();
+            let got = film.pixels[(y * w + x) as usize][0];
+            if angle < inner * 0.8 {
+                let want = RHO / PI * 3.0 * (d.y / d.length()) / d.length_squared();
+                assert!((got - want).abs() < 0.05 * want, "inside: {got} vs {want}");
+                inside += 1;
+            } else if angle > outer * 1.2 {
+                assert_eq!(got, 0.0, "outside the cone");
+                outside += 1;
+            }
+        }
+    }
+    assert!(
+        inside > 10 && outside > 10,
+        "{inside} inside, {outside} outside"
+    );
+}
+
+#[test]
+fn alpha_masked_geometry_neither_shows_nor_shadows() {
+    const L: f32 = 0.8;
+    let cover = mesh_from(&platoon_scenegen::quad(1.0, 1.0), 1);
+    let masked = Material {
+        name: "masked".into(),
+        base_color: Vec3::ONE.extend(0.3),
+        alpha_mode: AlphaMode::Mask(0.5),
+        ..lambertian("m", Vec3::ONE)
+    };
+    let prepared = prepare(
+        ground(
+            vec![(cover.clone(), Vec3::new(0.0, 1.0, 0.0), 20.0)],
+            vec![masked.clone()],
+        ),
+        constant_env(L),
+    );
+    assert!(prepared.gpu.features.alpha_mask);
+    let film = render(
+        &prepared,
+        &FrameParams::new(16, 16, 32, prepared.camera),
+        Sampling::Mis,
+    );
+    let (m, se) = mean_and_stderr(film.pixels.iter().map(|p| luminance(*p)));
+    assert!(
+        (m - (RHO * L) as f64).abs() < 0.003 + 4.0 * se,
+        "masked cover changed the ground: {m}"
+    );
+    // An opaque cover (alpha above the cutoff) hides the ground and shadows it.
+    let opaque = Material {
+        base_color: Vec3::splat(0.2).extend(0.9),
+        ..masked
+    };
+    let prepared = prepare(
+        ground(vec![(cover, Vec3::new(0.0, 1.0, 0.0), 20.0)], vec![opaque]),
+        constant_env(L),
+    );
+    let film = render(
+        &prepared,
+        &FrameParams::new(16, 16, 32, prepared.camera),
+        Sampling::Mis,
+    );
+    assert!(film.mean()[0] < 0.5 * (RHO * L) as f64);
+}
+
+#[test]
+fn texture_larger_than_the_storage_buffer_range_renders() {
+    const L: f32 = 1.0;
+    // 6,100^2 RGBA8 texels = 148.8 MB, beyond lavapipe's 128 MiB maxStorageBufferRange.
+    let side = 6100u32;
+    let texture = Texture {
+        name: "big".into(),
+        width: side,
+        height: side,
+        rgba8: [128u8, 128, 128, 255].repeat((side * side) as usize),
+        wrap_s: Wrap::Repeat,
+        wrap_t: Wrap::Repeat,
+    };
+    assert!(texture.rgba8.len() > 128 << 20);
+    let mut scene = ground(vec![], vec![]);
+    std::sync::Arc::make_mut(&mut scene.meshes[0]).uvs =
+        vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
+    scene.textures.push(texture);
+    scene.materials[0].base_color_texture = Some(TextureRef { texture: 0 });
+    scene.materials[0].base_color = Vec3::ONE.extend(1.0);
+    let prepared = prepare(scene, constant_env(L));
+    assert!(prepared.gpu.features.textures);
+    let film = render(
+        &prepared,
+        &FrameParams::new(12, 12, 16, prepared.camera),
+        Sampling::Mis,
+    );
+    let srgb_128 = ((128.0f64 / 255.0 + 0.055) / 1.055).powf(2.4);
+    let (m, se) = mean_and_stderr(film.pixels.iter().map(|p| luminance(*p)));
+    assert!(
+        (m - srgb_128 * L as f64).abs() < 0.003 + 4.0 * se,
+        "textured ground {m}, want {}",
+        srgb_128 * L as f64
+    );
+}
+
+#[test]
+fn thin_lens_compiles_its_variant_and_keeps_a_uniform_plane_uniform() {
+    const L: f32 = 1.0;
+    let mut prepared = prepare(ground(vec![], vec![]), constant_env(L));
+    prepared.camera.aperture_radius = 0.2;
+    prepared.camera.focus_distance = 2.0;
+    let params = FrameParams::new(16, 16, 16, prepared.camera);
+    let t = tracer(&prepared, Sampling::Mis);
+    assert!(t.kernel_defines(&params).contains(&"HAS_THIN_LENS"));
+    drop(t);
+    let film = render(&prepared, &params, Sampling::Mis);
+    let (m, se) = mean_and_stderr(film.pixels.iter().map(|p| luminance(*p)));
+    assert!((m - (RHO * L) as f64).abs() < 0.003 + 4.0 * se, "{m}");
+}
