@@ -41,6 +41,35 @@ fn glossy_cornell() -> platoon::Prepared {
 const SEEDS: u32 = 6;
 const BLOCK: u32 = 8;
 
+/// A glossy sphere on a diffuse ground under an HDR sky with a sun (importance-sampled map).
+fn sphere_under_sunset() -> platoon::Prepared {
+    let sphere = mesh_from(&platoon_scenegen::uv_sphere(24, 32), 1);
+    let ground = mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0);
+    let scene = scene_of(
+        vec![
+            (sphere, Vec3::new(0.0, 1.0, 0.0), 1.0),
+            (ground, Vec3::ZERO, 6.0),
+        ],
+        vec![
+            platoon::core::cornell::lambertian("ground", Vec3::splat(0.6)),
+            Material {
+                name: "plastic".into(),
+                base_color: Vec3::new(0.8, 0.4, 0.3).extend(1.0),
+                metallic: 0.0,
+                roughness: 0.3,
+                ..Material::default()
+            },
+        ],
+        Vec3::new(0.5, 2.0, 4.0),
+        Vec3::new(0.0, 0.8, 0.0),
+        0.9,
+    );
+    prepare(
+        scene,
+        platoon::EnvChoice::File(shared("envmaps/sunset.exr")),
+    )
+}
+
 /// Per-block means for each seed.
 fn blocks(prepared: &platoon::Prepared, sampling: Sampling) -> Vec<Vec<f64>> {
     let mut tracer = tracer(prepared, sampling);
@@ -71,13 +100,10 @@ fn summary(per_seed: &[Vec<f64>], block: usize) -> (f64, f64) {
     mean_and_stderr(per_seed.iter().map(|b| b[block]))
 }
 
-#[test]
-fn bsdf_light_and_mis_estimators_agree() {
-    let prepared = glossy_cornell();
-    assert!(prepared.gpu.features.emissive_triangles);
-    let mis = blocks(&prepared, Sampling::Mis);
-    let bsdf = blocks(&prepared, Sampling::Bsdf);
-    let light = blocks(&prepared, Sampling::Light);
+fn assert_estimators_agree(prepared: &platoon::Prepared) {
+    let mis = blocks(prepared, Sampling::Mis);
+    let bsdf = blocks(prepared, Sampling::Bsdf);
+    let light = blocks(prepared, Sampling::Light);
     let mut worst = 0.0f64;
     for b in 0..mis[0].len() {
         let m = summary(&mis, b);
@@ -96,12 +122,24 @@ fn bsdf_light_and_mis_estimators_agree() {
             );
         }
     }
-    eprintln!("largest disagreement: {worst:.2} sigma");
-    // MIS must also be the most efficient of the three over the whole frame.
     let total = |v: &Vec<Vec<f64>>| mean_and_stderr(v.iter().map(|b| b.iter().sum::<f64>()));
     let (m, b, l) = (total(&mis), total(&bsdf), total(&light));
     eprintln!(
-        "frame sums: mis {:.3} ± {:.3}, bsdf {:.3} ± {:.3}, light {:.3} ± {:.3}",
+        "largest disagreement {worst:.2} sigma; frame sums: mis {:.3} ± {:.3}, bsdf {:.3} ± {:.3}, light {:.3} ± {:.3}",
         m.0, m.1, b.0, b.1, l.0, l.1
     );
+}
+
+#[test]
+fn estimators_agree_on_area_lights_with_glossy_and_diffuse_surfaces() {
+    let prepared = glossy_cornell();
+    assert!(prepared.gpu.features.emissive_triangles);
+    assert_estimators_agree(&prepared);
+}
+
+#[test]
+fn estimators_agree_under_an_importance_sampled_environment_map() {
+    let prepared = sphere_under_sunset();
+    assert!(prepared.gpu.features.environment_map);
+    assert_estimators_agree(&prepared);
 }
