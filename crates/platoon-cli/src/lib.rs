@@ -112,7 +112,7 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
         Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
     camera.aperture_radius = options.aperture_radius.max(0.0);
     if let Some(f) = options.focus_distance {
-        if !(f > 0.0) {
+        if f.is_nan() || f <= 0.0 {
             bail!("--focus-distance must be positive");
         }
         camera.focus_distance = f;

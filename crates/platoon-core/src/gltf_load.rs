@@ -109,7 +109,7 @@ fn percent_decode(s: &str) -> String {
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
     while i < bytes.len() {
-        if bytes[i] == b'%' && i + 2 < bytes.len() + 0 && i + 2 <= bytes.len() - 1 {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
             if let Ok(v) = u8::from_str_radix(&s[i + 1..i + 3], 16) {
                 out.push(v);
                 i += 3;
@@ -135,33 +135,17 @@ fn texture(t: &gltf::Texture, data: &gltf::image::Data) -> Texture {
     let px = &data.pixels;
     let n = (data.width * data.height) as usize;
     let mut rgba = Vec::with_capacity(n * 4);
-    let to8 = |hi: u8| hi; // 16-bit formats: keep the high byte (little-endian low byte first).
+    // 16-bit formats keep their high byte (little-endian: the second of each pair).
     for i in 0..n {
         let texel: [u8; 4] = match data.format {
             R8 => [px[i], px[i], px[i], 255],
             R8G8 => [px[2 * i], px[2 * i + 1], 0, 255],
             R8G8B8 => [px[3 * i], px[3 * i + 1], px[3 * i + 2], 255],
             R8G8B8A8 => [px[4 * i], px[4 * i + 1], px[4 * i + 2], px[4 * i + 3]],
-            R16 => [to8(px[2 * i + 1]); 3]
-                .map(|v| v)
-                .into_iter()
-                .chain([255])
-                .collect::<Vec<_>>()
-                .try_into()
-                .unwrap(),
-            R16G16 => [to8(px[4 * i + 1]), to8(px[4 * i + 3]), 0, 255],
-            R16G16B16 => [
-                to8(px[6 * i + 1]),
-                to8(px[6 * i + 3]),
-                to8(px[6 * i + 5]),
-                255,
-            ],
-            R16G16B16A16 => [
-                to8(px[8 * i + 1]),
-                to8(px[8 * i + 3]),
-                to8(px[8 * i + 5]),
-                to8(px[8 * i + 7]),
-            ],
+            R16 => [px[2 * i + 1], px[2 * i + 1], px[2 * i + 1], 255],
+            R16G16 => [px[4 * i + 1], px[4 * i + 3], 0, 255],
+            R16G16B16 => [px[6 * i + 1], px[6 * i + 3], px[6 * i + 5], 255],
+            R16G16B16A16 => [px[8 * i + 1], px[8 * i + 3], px[8 * i + 5], px[8 * i + 7]],
             R32G32B32FLOAT | R32G32B32A32FLOAT => {
                 let ch = if data.format == R32G32B32FLOAT { 3 } else { 4 };
                 let f = |k: usize| {
