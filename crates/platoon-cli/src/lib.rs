@@ -156,7 +156,6 @@ pub fn render_bands(
     bands: &[(u32, u32)],
     progress: &mut dyn FnMut(u32),
 ) -> Result<Rendered> {
-    let start = Instant::now();
     let mut out = Vec::new();
     for &(y0, y1) in bands {
         out.push(
@@ -167,8 +166,8 @@ pub fn render_bands(
     }
     Ok(Rendered {
         film: assemble(params, &out),
+        wall_time: out.iter().map(|b| b.wall_time).sum(),
         bands: out,
-        wall_time: start.elapsed(),
         device: tracer.device_info().name.clone(),
         kernel_defines: tracer.kernel_defines(params),
     })
