@@ -164,8 +164,81 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
             m.seconds
         );
         print_build_times(&p.gpu, label);
+        if unique {
+            compare_layouts(&p);
+        }
     }
     Ok(())
+}
+
+/// BVH2 against CWBVH on the CPU: the 100k-triangle field flattened to world space, one
+/// primary ray per pixel of a 256x256 view plus as many random rays from inside the scene.
+fn compare_layouts(p: &Prepared) {
+    use glam::{Vec3, Vec3A};
+    use obvhs::ray::Ray;
+    let mut tris = Vec::new();
+    for inst in &p.posed.instances {
+        let mesh = &p.posed.meshes[inst.mesh];
+        for t in &mesh.indices {
+            let v = t.map(|i| {
+                Vec3A::from(
+                    inst.object_to_world
+                        .transform_point3(mesh.positions[i as usize]),
+                )
+            });
+            tris.push(obvhs::triangle::Triangle {
+                v0: v[0],
+                v1: v[1],
+                v2: v[2],
+            });
+        }
+    }
+    let cam = p.camera.camera_to_world;
+    let origin = Vec3A::from(cam.transform_point3(Vec3::ZERO));
+    let tan = (p.camera.yfov * 0.5).tan();
+    let mut rays = Vec::new();
+    let mut state = 0x1234_5678u32;
+    let mut rnd = || {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state as f32 / u32::MAX as f32
+    };
+    for y in 0..256 {
+        for x in 0..256 {
+            let d = Vec3::new(
+                (x as f32 / 128.0 - 1.0) * tan,
+                (1.0 - y as f32 / 128.0) * tan,
+                -1.0,
+            );
+            rays.push(Ray::new_inf(
+                origin,
+                Vec3A::from(cam.transform_vector3(d).normalize()),
+            ));
+            let o = Vec3A::new(rnd() * 10.0 - 5.0, rnd() * 3.0, rnd() * 10.0 - 5.0);
+            let d = Vec3A::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize_or(Vec3A::Y);
+            rays.push(Ray::new_inf(o, d));
+        }
+    }
+    let c = platoon_core::bvh::compare_layouts(&tris, &rays);
+    println!(
+        "BVH layouts on the CPU (1 thread, {} triangles, {} rays; same hits: {}):",
+        tris.len(),
+        rays.len(),
+        c.hits_agree
+    );
+    println!(
+        "  BVH2:  {:>6.2} Mrays/s, nodes {:>6.2} MB, build {:>6.1} ms",
+        c.bvh2_rays_per_s / 1e6,
+        c.bvh2_node_bytes as f64 / 1e6,
+        ms(c.bvh2_build)
+    );
+    println!(
+        "  CWBVH: {:>6.2} Mrays/s, nodes {:>6.2} MB, build {:>6.1} ms",
+        c.cwbvh_rays_per_s / 1e6,
+        c.cwbvh_node_bytes as f64 / 1e6,
+        ms(c.cwbvh_build)
+    );
 }
 
 fn print_build_times(g: &GpuScene, label: &str) {
