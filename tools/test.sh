@@ -1,10 +1,17 @@
 #!/usr/bin/env bash
 # The whole test suite: installs missing system packages, then runs every test of the
-# workspace on lavapipe (forced, so other installed drivers do not change results).
+# workspace on lavapipe (forced, so other installed drivers do not change results), and ends
+# with one line totalling all test binaries.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 export VK_ICD_FILENAMES=$VK_DRIVER_FILES
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$HOME/.cache/platoon-target}
-cargo test --workspace --all-targets "$@"
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+status=0
+cargo test --workspace --all-targets "$@" 2>&1 | tee "$log" || status=$?
+awk '/^test result:/ { p += $4; f += $6; s += $8 }
+     END { printf "platoon: %d passed, %d failed, %d skipped\n", p, f, s }' "$log"
+exit "$status"
