@@ -69,6 +69,17 @@ float intersect_aabb(RayTri r, vec3 bmin, vec3 bmax, float tmax) {
     return (tn <= tf && tn < tmax) ? tn : INF;
 }
 
+// Tests the two children at `first` and `first + 1`; returns how many are hit before tmax,
+// with the nearer one in `near`.
+int order_children(RayTri r, BvhNode a, BvhNode b, uint first, float tmax, out uint near, out uint far) {
+    float ta = intersect_aabb(r, a.bmin, a.bmax, tmax);
+    float tb = intersect_aabb(r, b.bmin, b.bmax, tmax);
+    near = first;
+    far = first + 1u;
+    if (tb < ta) { float t = ta; ta = tb; tb = t; near = first + 1u; far = first; }
+    return ta == INF ? 0 : (tb == INF ? 1 : 2);
+}
+
 #ifdef HAS_ALPHA_MASK
 bool alpha_rejects(uint tri, float b1, float b2) {
     Triangle T = pc.g.triangles.v[tri];
@@ -109,13 +120,10 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
                 }
             }
         } else {
-            BvhNode a = pc.g.blas.v[n.index], b = pc.g.blas.v[n.index + 1u];
-            float ta = intersect_aabb(r, a.bmin, a.bmax, hit.t);
-            float tb = intersect_aabb(r, b.bmin, b.bmax, hit.t);
-            uint near = n.index, far = n.index + 1u;
-            if (tb < ta) { float tt = ta; ta = tb; tb = tt; near = far; far = n.index; }
-            if (ta != INF) {
-                if (tb != INF && sp < 64) stack[sp++] = far;
+            uint near, far;
+            int hits = order_children(r, pc.g.blas.v[n.index], pc.g.blas.v[n.index + 1u], n.index, hit.t, near, far);
+            if (hits > 0) {
+                if (hits == 2 && sp < 64) stack[sp++] = far;
                 node = near;
                 continue;
             }
@@ -148,13 +156,10 @@ bool trace(Ray ray, bool any_hit, out Hit hit) {
                 }
             }
         } else {
-            BvhNode a = pc.g.tlas.v[n.index], b = pc.g.tlas.v[n.index + 1u];
-            float ta = intersect_aabb(world, a.bmin, a.bmax, hit.t);
-            float tb = intersect_aabb(world, b.bmin, b.bmax, hit.t);
-            uint near = n.index, far = n.index + 1u;
-            if (tb < ta) { float tt = ta; ta = tb; tb = tt; near = far; far = n.index; }
-            if (ta != INF) {
-                if (tb != INF && sp < 32) stack[sp++] = far;
+            uint near, far;
+            int hits = order_children(world, pc.g.tlas.v[n.index], pc.g.tlas.v[n.index + 1u], n.index, hit.t, near, far);
+            if (hits > 0) {
+                if (hits == 2 && sp < 32) stack[sp++] = far;
                 node = near;
                 continue;
             }

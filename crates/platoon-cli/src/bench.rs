@@ -87,6 +87,13 @@ struct Measure {
     seconds: f64,
 }
 
+impl Measure {
+    fn print(&self, label: &str) {
+        let (s, r) = (self.samples_per_s / 1e6, self.rays_per_s / 1e6);
+        println!("{label:<34} {s:>12.3} {r:>12.3} {:>9.3}", self.seconds);
+    }
+}
+
 fn measure(tracer: &mut Tracer, params: &FrameParams, repeat: u32) -> Result<Measure> {
     let mut warm = params.clone();
     warm.spp = 1;
@@ -134,12 +141,7 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
             params.max_depth = d;
         }
         let m = measure(&mut tracer, &params, repeat)?;
-        println!(
-            "{label:<34} {:>12.3} {:>12.3} {:>9.3}",
-            m.samples_per_s / 1e6,
-            m.rays_per_s / 1e6,
-            m.seconds
-        );
+        m.print(label);
     }
     drop(tracer);
 
@@ -157,12 +159,7 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
         let mut tracer = Tracer::new(&options, &p.gpu)?;
         let params = FrameParams::new(256, 256, spp, p.camera);
         let m = measure(&mut tracer, &params, repeat)?;
-        println!(
-            "{label:<34} {:>12.3} {:>12.3} {:>9.3}",
-            m.samples_per_s / 1e6,
-            m.rays_per_s / 1e6,
-            m.seconds
-        );
+        m.print(label);
         print_build_times(&p.gpu, label);
         if unique {
             compare_layouts(&p);
