@@ -72,6 +72,14 @@ fn renders_the_built_in_scene_to_png_and_exr_with_metadata() {
     assert!(o.status.success(), "{}", stderr(&o));
     let img = image_dims(&png);
     assert_eq!(img, (32, 32));
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        assert_eq!(
+            std::fs::metadata(&png).unwrap().permissions().mode() & 0o777,
+            0o644
+        );
+    }
     let exr = dir.path().join("cornell.exr");
     let o = platoon(&[
         "render",

@@ -51,6 +51,12 @@ fn write_atomically(
         w.flush()
             .map_err(|e| Error::file(path, format!("cannot write output: {e}")))?;
     }
+    // Temporary files are created private (0600); an image is an ordinary file.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let _ = std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(0o644));
+    }
     tmp.persist(path)
         .map_err(|e| Error::file(path, format!("cannot write output: {}", e.error)))?;
     Ok(())
