@@ -54,6 +54,8 @@ pub struct Band {
     pub y1: u32,
     pub sums: Vec<[f32; 3]>,
     pub rays: u64,
+    /// Rays traced in each line of the band: the relative cost of the lines.
+    pub line_rays: Vec<u64>,
     /// Samples whose radiance was NaN or Inf, zeroed by the kernel.
     pub rejected_samples: u64,
     pub gpu_time: Duration,

@@ -6,16 +6,19 @@
 //! [`gpu_scene::GpuScene`] and knows nothing of glTF.
 
 pub mod animation;
+pub mod balance;
 pub mod bvh;
 pub mod camera;
 pub mod cornell;
 pub mod environment;
 pub mod error;
+pub mod fault;
 pub mod features;
 pub mod frame;
 pub mod gltf_load;
 pub mod gpu_scene;
 pub mod output;
+pub mod renderer;
 pub mod scene;
 pub mod tangents;
 

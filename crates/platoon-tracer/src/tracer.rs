@@ -492,10 +492,11 @@ impl Tracer {
         band.sums = data.iter().map(|p| [p[0], p[1], p[2]]).collect();
         let counters: &[u32] = bytemuck::cast_slice(stats_buf.mapped());
         band.rejected_samples = counters[0] as u64;
-        band.rays = counters[4 + y0 as usize..4 + y1 as usize]
+        band.line_rays = counters[4 + y0 as usize..4 + y1 as usize]
             .iter()
             .map(|&r| r as u64)
-            .sum();
+            .collect();
+        band.rays = band.line_rays.iter().sum();
         band.wall_time = wall.elapsed();
         Ok(band)
     }

@@ -1,0 +1,370 @@
+//! The frame loop over many tracers: each frame the balancer cuts the lines into one band per
+//! tracer, every tracer renders its band on its own thread, the core assembles the image. A
+//! tracer that fails (device lost, timeout, error) is dropped, its lines are rendered by the
+//! survivors in the same frame, and the failure is reported once.
+
+use std::time::{Duration, Instant};
+
+use crate::balance::{bands, idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use crate::frame::{assemble, Band, BandTracer, FrameParams, TracerError};
+use crate::output::Film;
+
+/// One tracer's part in a frame.
+#[derive(Clone, Debug)]
+pub struct TracerStats {
+    /// The tracer's index among those the renderer was created with.
+    pub tracer: usize,
+    /// The band the balancer gave it (empty for lines taken over from a failed tracer).
+    pub y0: u32,
+    pub y1: u32,
+    /// Lines it rendered in total, recovery work included.
+    pub lines: u32,
+    pub gpu_time: Duration,
+    pub wall_time: Duration,
+    /// Time it waited for the slowest tracer.
+    pub idle: Duration,
+    pub rays: u64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct TracerFailure {
+    pub tracer: usize,
+    pub frame: u32,
+    pub message: String,
+}
+
+pub struct FrameResult {
+    pub film: Film,
+    pub tracers: Vec<TracerStats>,
+    /// sum_i (T_max - T_i) / (n T_max) over the tracers' planned bands.
+    pub idle_fraction: f64,
+    /// Tracers that failed during this frame (each is reported in exactly one frame).
+    pub failures: Vec<TracerFailure>,
+    pub wall_time: Duration,
+    pub rejected_samples: u64,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error("no tracer left: {0}")]
+    NoTracers(String),
+}
+
+pub struct Renderer<T: BandTracer + Send> {
+    /// Surviving tracers with their original indices.
+    tracers: Vec<(usize, T)>,
+    balancer: Box<dyn Balancer>,
+    failures: Vec<TracerFailure>,
+}
+
+type Outcome = (usize, (u32, u32), Result<Band, TracerError>);
+
+/// Renders `work[i]` on tracer i, all at once, one thread each.
+fn run_bands<T: BandTracer + Send>(
+    tracers: &mut [(usize, T)],
+    work: &[(u32, u32)],
+    params: &FrameParams,
+) -> Vec<Outcome> {
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = tracers
+            .iter_mut()
+            .zip(work)
+            .enumerate()
+            .map(|(slot, ((_, tracer), &(y0, y1)))| {
+                scope.spawn(move || {
+                    let result = if y1 > y0 {
+                        tracer.render_band(params, y0, y1, &mut |_| {})
+                    } else {
+                        Ok(Band {
+                            y0,
+                            y1,
+                            ..Default::default()
+                        })
+                    };
+                    (slot, (y0, y1), result)
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .enumerate()
+            .map(|(slot, h)| {
+                h.join()
+                    .unwrap_or_else(|_| (slot, work[slot], Err("tracer thread panicked".into())))
+            })
+            .collect()
+    })
+}
+
+impl<T: BandTracer + Send> Renderer<T> {
+    pub fn new(tracers: Vec<T>, balancer: Box<dyn Balancer>) -> Renderer<T> {
+        Renderer {
+            tracers: tracers.into_iter().enumerate().collect(),
+            balancer,
+            failures: Vec::new(),
+        }
+    }
+
+    pub fn balancer_name(&self) -> &'static str {
+        self.balancer.name()
+    }
+
+    /// Original indices of the tracers still working.
+    pub fn alive(&self) -> Vec<usize> {
+        self.tracers.iter().map(|(i, _)| *i).collect()
+    }
+
+    /// Every failure so far.
+    pub fn failures(&self) -> &[TracerFailure] {
+        &self.failures
+    }
+
+    pub fn tracers_mut(&mut self) -> impl Iterator<Item = &mut T> {
+        self.tracers.iter_mut().map(|(_, t)| t)
+    }
+
+    pub fn render_frame(&mut self, params: &FrameParams) -> Result<FrameResult, RenderError> {
+        let start = Instant::now();
+        if self.tracers.is_empty() {
+            return Err(RenderError::NoTracers("every tracer has failed".into()));
+        }
+        let counts = self.balancer.plan(params.height, self.tracers.len());
+        let planned = bands(&counts);
+        let mut stats: Vec<TracerStats> = self
+            .tracers
+            .iter()
+            .zip(&planned)
+            .map(|((id, _), &(y0, y1))| TracerStats {
+                tracer: *id,
+                y0,
+                y1,
+                lines: 0,
+                gpu_time: Duration::ZERO,
+                wall_time: Duration::ZERO,
+                idle: Duration::ZERO,
+                rays: 0,
+            })
+            .collect();
+        let mut done: Vec<Band> = Vec::new();
+        let mut new_failures = Vec::new();
+        // Planned-band time of each tracer, for idle and for the balancer.
+        let mut first_round: Vec<f64> = vec![0.0; self.tracers.len()];
+        let mut round_work = planned.clone();
+        let mut queue: Vec<(u32, u32)> = Vec::new();
+        for round in 0.. {
+            let mut dead = Vec::new();
+            for (slot, (y0, y1), result) in run_bands(&mut self.tracers, &round_work, params) {
+                let id = self.tracers[slot].0;
+                match result {
+                    Ok(band) => {
+                        let s = stats
+                            .iter_mut()
+                            .find(|s| s.tracer == id)
+                            .expect("stats of a live tracer");
+                        s.lines += y1 - y0;
+                        s.gpu_time += band.gpu_time;
+                        s.wall_time += band.wall_time;
+                        s.rays += band.rays;
+                        if round == 0 {
+                            first_round[slot] = band.wall_time.as_secs_f64();
+                        }
+                        done.push(band);
+                    }
+                    Err(e) => {
+                        dead.push((slot, (y0, y1)));
+                        new_failures.push(TracerFailure {
+                            tracer: id,
+                            frame: params.frame,
+                            message: e.to_string(),
+                        });
+                    }
+                }
+            }
+            // Drop failed tracers, highest slot first so lower slots keep their meaning.
+            dead.sort_unstable_by(|a, b| b.0.cmp(&a.0));
+            let survivors = self.tracers.len() - dead.len();
+            for &(slot, (y0, y1)) in &dead {
+                self.tracers.remove(slot);
+                self.balancer.remove_tracer(slot);
+                first_round.remove(slot);
+                // The survivors take over the lost lines in this same frame.
+                let n = survivors.max(1) as u32;
+                queue.extend(
+                    (0..n)
+                        .map(|k| (y0 + (y1 - y0) * k / n, y0 + (y1 - y0) * (k + 1) / n))
+                        .filter(|(a, b)| b > a),
+                );
+            }
+            if queue.is_empty() {
+                break;
+            }
+            if self.tracers.is_empty() {
+                self.failures.extend(new_failures.iter().cloned());
+                let why: Vec<String> = new_failures
+                    .iter()
+                    .map(|f| format!("tracer {}: {}", f.tracer, f.message))
+                    .collect();
+                return Err(RenderError::NoTracers(why.join("; ")));
+            }
+            round_work = (0..self.tracers.len())
+                .map(|_| queue.pop().unwrap_or((0, 0)))
+                .collect();
+        }
+
+        stats.retain(|s| self.tracers.iter().any(|(id, _)| *id == s.tracer));
+        let times = first_round;
+        let max = times.iter().copied().fold(0.0, f64::max);
+        for (s, t) in stats.iter_mut().zip(&times) {
+            s.idle = Duration::from_secs_f64(max - t);
+        }
+        let mut line_costs = vec![0.0f64; params.height as usize];
+        for b in &done {
+            for (k, r) in b.line_rays.iter().enumerate() {
+                line_costs[b.y0 as usize + k] = *r as f64;
+            }
+        }
+        let observed: Vec<TracerFrame> = stats
+            .iter()
+            .zip(&times)
+            .map(|(s, &t)| TracerFrame {
+                y0: s.y0,
+                y1: s.y1,
+                seconds: t,
+            })
+            .collect();
+        // A frame with a failure measured a split that no longer exists: learn nothing from it.
+        if new_failures.is_empty() {
+            self.balancer.observe(&FrameMeasure {
+                height: params.height,
+                tracers: &observed,
+                line_costs: &line_costs,
+            });
+        }
+        self.failures.extend(new_failures.iter().cloned());
+        Ok(FrameResult {
+            film: assemble(params, &done),
+            idle_fraction: idle_fraction(&times),
+            rejected_samples: done.iter().map(|b| b.rejected_samples).sum(),
+            tracers: stats,
+            failures: new_failures,
+            wall_time: start.elapsed(),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::balance::{by_name, NAMES};
+    use crate::camera::Camera;
+    use crate::fault::{FailingTracer, MaybeFailing};
+
+    /// A CPU tracer whose pixels are a fixed function of (x, y, frame) and whose speed is set.
+    struct Fake {
+        slowness: u32,
+    }
+
+    impl BandTracer for Fake {
+        fn render_band(
+            &mut self,
+            p: &FrameParams,
+            y0: u32,
+            y1: u32,
+            _: &mut dyn FnMut(u32),
+        ) -> Result<Band, TracerError> {
+            let t = Instant::now();
+            let mut sums = Vec::new();
+            let mut line_rays = Vec::new();
+            for y in y0..y1 {
+                for x in 0..p.width {
+                    sums.push([(x * 7 + y * 13 + p.frame) as f32, y as f32, 1.0]);
+                }
+                line_rays.push(if y < p.height / 2 { 1 } else { 8 });
+            }
+            std::thread::sleep(Duration::from_micros(
+                (line_rays.iter().sum::<u64>() * self.slowness as u64 * 20) as u64,
+            ));
+            Ok(Band {
+                y0,
+                y1,
+                sums,
+                rays: line_rays.iter().sum(),
+                line_rays,
+                wall_time: t.elapsed(),
+                ..Default::default()
+            })
+        }
+    }
+
+    fn params(frame: u32) -> FrameParams {
+        let mut p = FrameParams::new(
+            4,
+            40,
+            1,
+            Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
+        );
+        p.frame = frame;
+        p
+    }
+
+    #[test]
+    fn every_balancer_assembles_the_same_frame() {
+        let reference = Renderer::new(vec![Fake { slowness: 1 }], by_name("none").unwrap())
+            .render_frame(&params(0))
+            .unwrap()
+            .film;
+        for name in NAMES {
+            let mut r = Renderer::new(
+                vec![
+                    Fake { slowness: 1 },
+                    Fake { slowness: 2 },
+                    Fake { slowness: 3 },
+                ],
+                by_name(name).unwrap(),
+            );
+            for _ in 0..3 {
+                let f = r.render_frame(&params(0)).unwrap();
+                assert_eq!(f.film, reference, "{name}");
+                assert_eq!(f.tracers.iter().map(|s| s.lines).sum::<u32>(), 40);
+                assert!(f.idle_fraction >= 0.0 && f.idle_fraction < 1.0);
+            }
+        }
+    }
+
+    #[test]
+    fn a_failing_tracer_loses_no_lines_and_is_reported_once() {
+        let tracers = vec![
+            MaybeFailing::Plain(Fake { slowness: 1 }),
+            MaybeFailing::Failing(FailingTracer {
+                inner: Fake { slowness: 1 },
+                fail_from_frame: 2,
+            }),
+            MaybeFailing::Plain(Fake { slowness: 1 }),
+        ];
+        let mut r = Renderer::new(tracers, by_name("cost-aware").unwrap());
+        let mut reported = Vec::new();
+        for frame in 0..6 {
+            let f = r.render_frame(&params(frame)).unwrap();
+            let expected = Renderer::new(vec![Fake { slowness: 1 }], by_name("none").unwrap())
+                .render_frame(&params(frame))
+                .unwrap()
+                .film;
+            assert_eq!(f.film, expected, "frame {frame} incomplete");
+            reported.extend(f.failures);
+            assert_eq!(f.tracers.len(), if frame < 2 { 3 } else { 2 });
+        }
+        assert_eq!(reported.len(), 1);
+        assert_eq!((reported[0].tracer, reported[0].frame), (1, 2));
+        assert_eq!(r.alive(), vec![0, 2]);
+    }
+
+    #[test]
+    fn all_tracers_failing_is_an_error_not_a_partial_frame() {
+        let tracers = vec![FailingTracer {
+            inner: Fake { slowness: 1 },
+            fail_from_frame: 0,
+        }];
+        let mut r = Renderer::new(tracers, by_name("none").unwrap());
+        assert!(r.render_frame(&params(0)).is_err());
+    }
+}
