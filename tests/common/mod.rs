@@ -47,6 +47,7 @@ pub fn tracer(prepared: &Prepared, sampling: Sampling) -> Tracer {
             device: 0,
             validation: true,
             sampling,
+            ..Default::default()
         },
         &prepared.gpu,
     )

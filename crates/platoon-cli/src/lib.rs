@@ -2,7 +2,10 @@
 //! built-in Cornell box), choose its environment and camera, flatten it for the devices, render
 //! a frame with a tracer and describe the result.
 
+pub mod balance_bench;
 pub mod bench;
+pub mod devices;
+pub mod plot;
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -14,6 +17,7 @@ use platoon_core::environment::{EnvMap, Environment};
 use platoon_core::frame::{assemble, Band, FrameParams};
 use platoon_core::gpu_scene::GpuScene;
 use platoon_core::output::Film;
+use platoon_core::renderer::Renderer;
 use platoon_core::scene::{Posed, Scene};
 use platoon_tracer::{Tracer, TracerOptions};
 
@@ -131,21 +135,29 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
 /// A rendered frame and what it cost.
 pub struct Rendered {
     pub film: Film,
-    pub bands: Vec<Band>,
+    /// Time until the last band was done (the slowest tracer's time).
     pub wall_time: Duration,
+    /// GPU time of all dispatches, summed over tracers.
+    pub gpu_time: Duration,
+    pub rays: u64,
+    pub rejected_samples: u64,
+    /// The devices, comma-separated.
     pub device: String,
     pub kernel_defines: Vec<&'static str>,
+    /// Per-tracer statistics of a multi-device frame (empty for one device).
+    pub tracers: Vec<platoon_core::renderer::TracerStats>,
+    pub balancer: Option<&'static str>,
 }
 
 impl Rendered {
     pub fn rays(&self) -> u64 {
-        self.bands.iter().map(|b| b.rays).sum()
+        self.rays
     }
     pub fn rejected_samples(&self) -> u64 {
-        self.bands.iter().map(|b| b.rejected_samples).sum()
+        self.rejected_samples
     }
     pub fn gpu_time(&self) -> Duration {
-        self.bands.iter().map(|b| b.gpu_time).sum()
+        self.gpu_time
     }
 }
 
@@ -156,7 +168,7 @@ pub fn render_bands(
     bands: &[(u32, u32)],
     progress: &mut dyn FnMut(u32),
 ) -> Result<Rendered> {
-    let mut out = Vec::new();
+    let mut out: Vec<Band> = Vec::new();
     for &(y0, y1) in bands {
         out.push(
             tracer
@@ -167,9 +179,13 @@ pub fn render_bands(
     Ok(Rendered {
         film: assemble(params, &out),
         wall_time: out.iter().map(|b| b.wall_time).sum(),
-        bands: out,
+        gpu_time: out.iter().map(|b| b.gpu_time).sum(),
+        rays: out.iter().map(|b| b.rays).sum(),
+        rejected_samples: out.iter().map(|b| b.rejected_samples).sum(),
         device: tracer.device_info().name.clone(),
         kernel_defines: tracer.kernel_defines(params),
+        tracers: Vec::new(),
+        balancer: None,
     })
 }
 
@@ -182,6 +198,39 @@ pub fn render(
 ) -> Result<Rendered> {
     let mut tracer = Tracer::new(options, &prepared.gpu)?;
     render_bands(&mut tracer, params, &[(0, params.height)], progress)
+}
+
+/// Renders one frame on a multi-device renderer.
+pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Result<Rendered> {
+    let frame = renderer.render_frame(params)?;
+    for f in &frame.failures {
+        eprintln!("warning: tracer {} failed in frame {} and was dropped; its lines were rendered by the others: {}", f.tracer, f.frame, f.message);
+    }
+    let names: Vec<String> = renderer
+        .tracers_mut()
+        .map(|t| t.device_info().name.clone())
+        .collect();
+    let defines = renderer
+        .tracers_mut()
+        .next()
+        .map(|t| t.kernel_defines(params))
+        .unwrap_or_default();
+    Ok(Rendered {
+        wall_time: frame
+            .tracers
+            .iter()
+            .map(|t| t.wall_time)
+            .max()
+            .unwrap_or_default(),
+        gpu_time: frame.tracers.iter().map(|t| t.gpu_time).sum(),
+        rays: frame.tracers.iter().map(|t| t.rays).sum(),
+        rejected_samples: frame.rejected_samples,
+        device: names.join(", "),
+        kernel_defines: defines,
+        tracers: frame.tracers,
+        balancer: Some(renderer.balancer_name()),
+        film: frame.film,
+    })
 }
 
 /// The metadata written into EXR outputs.
@@ -217,6 +266,10 @@ pub fn metadata(
             format!("{:.3}", rendered.gpu_time().as_secs_f64()),
         ),
         ("device".into(), rendered.device.clone()),
+        (
+            "balancer".into(),
+            rendered.balancer.unwrap_or("single device").into(),
+        ),
         ("features".into(), features.to_string()),
         ("kernel_defines".into(), rendered.kernel_defines.join(",")),
         ("sampling".into(), sampling.into()),

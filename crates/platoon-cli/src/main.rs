@@ -7,8 +7,10 @@ use anyhow::{bail, Context as _, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
+use platoon::core::balance;
 use platoon::core::frame::FrameParams;
-use platoon::tracer::{Sampling, TracerOptions};
+use platoon::devices::DeviceSpec;
+use platoon::tracer::Sampling;
 use platoon::{EnvChoice, PrepareOptions};
 
 #[derive(Parser)]
@@ -27,6 +29,12 @@ enum SamplingArg {
     Mis,
     Bsdf,
     Light,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ModeArg {
+    Replay,
+    Real,
 }
 
 #[derive(clap::Args)]
@@ -70,9 +78,14 @@ enum Command {
         /// Distance to the plane in focus (default: the scene centre).
         #[arg(long)]
         focus_distance: Option<f32>,
-        /// Vulkan device index (see `platoon devices`).
-        #[arg(long, default_value_t = 0)]
-        device: usize,
+        /// Devices: `all`, indices like `0,1` (see `platoon devices`), or `lavapipe:T1,T2,...`
+        /// (one software tracer per entry, with Ti threads each).
+        #[arg(long, default_value = "0")]
+        devices: DeviceSpec,
+        /// How lines are split between devices: none, robin-hood, perfect, perfect-smooth,
+        /// cycles, cost-aware.
+        #[arg(long, default_value = "cost-aware", value_parser = parse_balancer)]
+        balancer: String,
         /// Estimator: MIS of light and BSDF sampling (default), or either alone.
         #[arg(long, value_enum, default_value = "mis")]
         sampling: SamplingArg,
@@ -89,6 +102,45 @@ enum Command {
     },
     /// List the Vulkan devices.
     Devices,
+    /// Compare the line balancers over an orbiting camera (Brigade's Table 16 for platoon).
+    BalanceBench {
+        /// replay: recorded line costs against stated device speeds (deterministic);
+        /// real: tracers on Vulkan devices.
+        #[arg(long, value_enum, default_value = "replay")]
+        mode: ModeArg,
+        #[arg(long, default_value_t = 128)]
+        frames: u32,
+        #[arg(long, default_value_t = 96)]
+        width: u32,
+        #[arg(long, default_value_t = 96)]
+        height: u32,
+        #[arg(long, default_value_t = 2)]
+        spp: u32,
+        /// Replay: device speeds for the 2-device columns.
+        #[arg(long, value_delimiter = ',', default_value = "1.0,0.6")]
+        speeds2: Vec<f64>,
+        /// Replay: device speeds for the 3-device columns.
+        #[arg(long, value_delimiter = ',', default_value = "1.0,0.7,0.4")]
+        speeds3: Vec<f64>,
+        /// Real: tracers of the 2-device columns.
+        #[arg(long, default_value = "lavapipe:2,1")]
+        devices2: DeviceSpec,
+        /// Real: tracers of the 3-device columns.
+        #[arg(long, default_value = "lavapipe:2,1,1")]
+        devices3: DeviceSpec,
+        /// Replay cost maps from this folder (slow.csv, fast.csv) instead of the shipped ones.
+        #[arg(long)]
+        costs: Option<PathBuf>,
+        /// Record cost maps of real renders into this folder first (then replay uses them).
+        #[arg(long)]
+        record_costs: Option<PathBuf>,
+        /// Folder for balance.csv and balance.png.
+        #[arg(long, default_value = ".")]
+        out: PathBuf,
+        /// Print the cells as JSON on stdout (the table goes to stderr).
+        #[arg(long)]
+        json: bool,
+    },
     /// Measure samples/s, rays/s and BVH build times.
     Bench {
         /// Samples per pixel of each measured render.
@@ -100,6 +152,16 @@ enum Command {
         #[arg(long, default_value_t = 3)]
         repeat: u32,
     },
+}
+
+fn parse_balancer(s: &str) -> Result<String, String> {
+    match balance::by_name(s) {
+        Some(_) => Ok(s.to_string()),
+        None => Err(format!(
+            "unknown balancer {s}: one of {}",
+            balance::NAMES.join(", ")
+        )),
+    }
 }
 
 fn parse_rgb(s: &str) -> Result<Vec3, String> {
@@ -158,7 +220,8 @@ fn run(cli: Cli) -> Result<()> {
             camera,
             aperture,
             focus_distance,
-            device,
+            devices,
+            balancer,
             sampling,
             validation,
             out,
@@ -189,20 +252,43 @@ fn run(cli: Cli) -> Result<()> {
                 SamplingArg::Bsdf => (Sampling::Bsdf, "bsdf"),
                 SamplingArg::Light => (Sampling::Light, "light"),
             };
-            let tracer_options = TracerOptions {
-                device,
-                validation,
-                sampling,
-            };
-            let bar = ProgressBar::new(spp as u64);
-            bar.set_style(
-                ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp {msg}")
+            let options = platoon::devices::tracer_options(&devices, validation, sampling)?;
+            let rendered = if options.len() == 1 {
+                let bar = ProgressBar::new(spp as u64);
+                bar.set_style(
+                    ProgressStyle::with_template(
+                        "{elapsed_precise} [{bar:40}] {pos}/{len} spp {msg}",
+                    )
                     .unwrap(),
-            );
-            let rendered = platoon::render(&prepared, &tracer_options, &params, &mut |done| {
-                bar.set_position(done as u64)
-            })?;
-            bar.finish_and_clear();
+                );
+                let r = platoon::render(&prepared, &options[0], &params, &mut |done| {
+                    bar.set_position(done as u64)
+                })?;
+                bar.finish_and_clear();
+                r
+            } else {
+                let policy = balance::by_name(&balancer).expect("validated by clap");
+                let mut renderer = platoon::devices::renderer(
+                    &devices,
+                    &prepared.gpu,
+                    policy,
+                    validation,
+                    sampling,
+                )?;
+                let r = platoon::render_frame(&mut renderer, &params)?;
+                for t in &r.tracers {
+                    eprintln!(
+                        "  tracer {}: lines {}..{} ({} rendered), {:.3} s, idle {:.3} s",
+                        t.tracer,
+                        t.y0,
+                        t.y1,
+                        t.lines,
+                        t.wall_time.as_secs_f64(),
+                        t.idle.as_secs_f64()
+                    );
+                }
+                r
+            };
             let meta = platoon::metadata(&prepared, &params, &rendered, sampling_name);
             platoon::core::output::write_image(&out, &rendered.film, &meta)?;
             let secs = rendered.wall_time.as_secs_f64();
@@ -244,6 +330,74 @@ fn run(cli: Cli) -> Result<()> {
                     d.index, d.name, d.device_type, d.driver, d.api_version
                 );
             }
+            Ok(())
+        }
+        Command::BalanceBench {
+            mode,
+            frames,
+            width,
+            height,
+            spp,
+            speeds2,
+            speeds3,
+            devices2,
+            devices3,
+            costs,
+            record_costs,
+            out,
+            json,
+        } => {
+            use platoon::balance_bench::{self as bb, Mode};
+            if frames == 0 || width == 0 || height < 3 || spp == 0 {
+                bail!("--frames, --width, --spp must be positive and --height at least 3");
+            }
+            for (name, s) in [("--speeds2", &speeds2), ("--speeds3", &speeds3)] {
+                if s.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+                    bail!("{name}: speeds must be positive");
+                }
+            }
+            if !out.is_dir() {
+                bail!("{}: output folder does not exist", out.display());
+            }
+            let options = bb::Options {
+                mode: match mode {
+                    ModeArg::Replay => Mode::Replay,
+                    ModeArg::Real => Mode::Real,
+                },
+                frames,
+                width,
+                height,
+                spp,
+                speeds2,
+                speeds3,
+                devices2,
+                devices3,
+                costs,
+                record_costs,
+                out: out.clone(),
+            };
+            let cells = bb::run(&options)?;
+            let mode_name = if options.mode == Mode::Replay {
+                "replay"
+            } else {
+                "real"
+            };
+            let title =
+                format!("platoon balance-bench ({mode_name}, {frames} frames): idle % per frame");
+            let table = bb::table(&cells);
+            if json {
+                eprint!("{table}");
+                println!("{}", bb::json(&cells));
+            } else {
+                print!("{table}");
+            }
+            platoon::core::output::write_text(&out.join("balance.csv"), &bb::csv(&cells))?;
+            platoon::plot::write_png(&out.join("balance.png"), &cells, &title)?;
+            eprintln!(
+                "wrote {} and {}",
+                out.join("balance.csv").display(),
+                out.join("balance.png").display()
+            );
             Ok(())
         }
         Command::Bench {

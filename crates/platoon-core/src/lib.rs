@@ -19,6 +19,7 @@ pub mod gltf_load;
 pub mod gpu_scene;
 pub mod output;
 pub mod renderer;
+pub mod replay;
 pub mod scene;
 pub mod tangents;
 

@@ -62,6 +62,14 @@ fn write_atomically(
     Ok(())
 }
 
+/// Writes a text file (CSV, JSON) through a temporary file and a rename.
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    write_atomically(path, |w| {
+        w.write_all(text.as_bytes())
+            .map_err(|e| Error::file(path, format!("cannot write: {e}")))
+    })
+}
+
 /// Writes `film` as EXR or PNG according to the extension, with `metadata` (key, value) pairs
 /// stored as EXR string attributes (PNG: tEXt chunks are not written; use EXR for metadata).
 pub fn write_image(path: &Path, film: &Film, metadata: &[(String, String)]) -> Result<()> {

@@ -119,6 +119,11 @@ impl<T: BandTracer + Send> Renderer<T> {
         &self.failures
     }
 
+    /// The surviving tracers, for reuse under another balancer.
+    pub fn into_tracers(self) -> Vec<T> {
+        self.tracers.into_iter().map(|(_, t)| t).collect()
+    }
+
     pub fn tracers_mut(&mut self) -> impl Iterator<Item = &mut T> {
         self.tracers.iter_mut().map(|(_, t)| t)
     }

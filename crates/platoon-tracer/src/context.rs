@@ -150,8 +150,37 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>> {
     out
 }
 
+/// Serialises instance and device creation: LP_NUM_THREADS is process-wide and lavapipe reads
+/// it when a device is created, so it is set and read under this lock.
+static CREATION: Mutex<()> = Mutex::new(());
+
 impl Context {
-    pub fn new(device_index: usize, validation: bool) -> Result<Context> {
+    /// `lavapipe_threads`: llvmpipe worker threads of this context's own thread pool.
+    pub fn new(
+        device_index: usize,
+        validation: bool,
+        lavapipe_threads: Option<u32>,
+    ) -> Result<Context> {
+        let _guard = CREATION.lock().unwrap_or_else(|e| e.into_inner());
+        let previous = std::env::var_os("LP_NUM_THREADS");
+        if let Some(t) = lavapipe_threads {
+            // SAFETY: creation is serialised by CREATION; platoon reads no environment meanwhile.
+            unsafe { std::env::set_var("LP_NUM_THREADS", t.to_string()) };
+        }
+        let result = Context::create(device_index, validation);
+        if lavapipe_threads.is_some() {
+            // SAFETY: as above.
+            unsafe {
+                match previous {
+                    Some(v) => std::env::set_var("LP_NUM_THREADS", v),
+                    None => std::env::remove_var("LP_NUM_THREADS"),
+                }
+            }
+        }
+        result
+    }
+
+    fn create(device_index: usize, validation: bool) -> Result<Context> {
         let entry = load_entry()?;
         let instance = create_instance(&entry, validation)?;
         let messages = Arc::new(Mutex::new(Vec::new()));

@@ -24,6 +24,8 @@ pub struct TracerOptions {
     /// Enable VK_LAYER_KHRONOS_validation and record its messages.
     pub validation: bool,
     pub sampling: Sampling,
+    /// For lavapipe: worker threads of this tracer's own llvmpipe thread pool (LP_NUM_THREADS).
+    pub lavapipe_threads: Option<u32>,
 }
 
 struct SceneBuffers {
@@ -60,7 +62,7 @@ fn bytes<T: bytemuck::Pod>(v: &[T]) -> &[u8] {
 
 impl Tracer {
     pub fn new(options: &TracerOptions, scene: &GpuScene) -> Result<Tracer> {
-        let ctx = Context::new(options.device, options.validation)?;
+        let ctx = Context::new(options.device, options.validation, options.lavapipe_threads)?;
         let device = ctx.device.clone();
         let mut allocator = Allocator::new(&AllocatorCreateDesc {
             instance: ctx.instance.clone(),

@@ -11,35 +11,62 @@ const COST_RATE: f64 = 0.7;
 /// Weight of the newest frame in a tracer's speed (timings are noisy).
 const SPEED_RATE: f64 = 0.3;
 
+/// How far the cuts are extrapolated along their motion between the last two frames.
+const TREND: f64 = 0.5;
+
 #[derive(Default)]
 pub struct CostAware {
     line_cost: Vec<f64>,
+    /// `line_cost` as it was one frame earlier, to see where the cuts are moving.
+    previous_cost: Vec<f64>,
     speed: Vec<f64>,
 }
 
+/// Fractional line positions of the n - 1 cuts that give tracer i a share of the total cost
+/// proportional to its speed (linear within a line).
+fn fractional_cuts(cost: &[f64], speed: &[f64]) -> Vec<f64> {
+    let total: f64 = cost.iter().sum();
+    let speed_total: f64 = speed.iter().sum();
+    let mut cuts = Vec::with_capacity(speed.len().saturating_sub(1));
+    let (mut y, mut prefix, mut target) = (0usize, 0.0f64, 0.0f64);
+    for s in &speed[..speed.len().saturating_sub(1)] {
+        target += total * s / speed_total;
+        while y < cost.len() && prefix + cost[y] <= target {
+            prefix += cost[y];
+            y += 1;
+        }
+        let within = if y < cost.len() && cost[y] > 0.0 {
+            (target - prefix) / cost[y]
+        } else {
+            0.0
+        };
+        cuts.push(y as f64 + within.clamp(0.0, 1.0));
+    }
+    cuts
+}
+
 impl CostAware {
-    /// Boundaries that give tracer i a share of the total cost proportional to its speed.
+    /// Line counts from the predicted cuts: this frame's cuts moved on by their last motion.
     fn cut(&self, tracers: usize) -> Vec<u32> {
         let height = self.line_cost.len();
-        let total: f64 = self.line_cost.iter().sum();
-        let speed_total: f64 = self.speed.iter().sum();
+        let now = fractional_cuts(&self.line_cost, &self.speed);
+        let before = if self.previous_cost.len() == height {
+            fractional_cuts(&self.previous_cost, &self.speed)
+        } else {
+            now.clone()
+        };
         let mut counts = Vec::with_capacity(tracers);
-        let (mut y, mut prefix, mut target) = (0usize, 0.0f64, 0.0f64);
-        for i in 0..tracers {
-            if i + 1 == tracers {
-                counts.push((height - y) as u32);
-                break;
-            }
-            target += total * self.speed[i] / speed_total;
-            let start = y;
-            // Leave at least one line for each tracer still to come.
-            let limit = height - (tracers - 1 - i);
-            while y < limit && (y == start || prefix + self.line_cost[y] * 0.5 <= target) {
-                prefix += self.line_cost[y];
-                y += 1;
-            }
-            counts.push((y - start) as u32);
+        let mut start = 0usize;
+        for (i, (n, b)) in now.iter().zip(&before).enumerate() {
+            let predicted = (n + TREND * (n - b)).round() as isize;
+            // At least one line for this tracer and for each one still to come.
+            let lo = start as isize + 1;
+            let hi = (height - (tracers - 1 - i)) as isize;
+            let end = predicted.clamp(lo, hi) as usize;
+            counts.push((end - start) as u32);
+            start = end;
         }
+        counts.push((height - start) as u32);
         counts
     }
 }
@@ -74,7 +101,9 @@ impl Balancer for CostAware {
         let measured: Vec<f64> = frame.line_costs.iter().map(|c| c.max(floor)).collect();
         if self.line_cost.len() != h {
             self.line_cost = measured.clone();
+            self.previous_cost.clear();
         } else {
+            self.previous_cost = self.line_cost.clone();
             for (c, m) in self.line_cost.iter_mut().zip(&measured) {
                 *c += COST_RATE * (m - *c);
             }

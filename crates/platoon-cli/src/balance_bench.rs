@@ -1,0 +1,342 @@
+//! `platoon balance-bench`: Brigade's Table 16 for platoon. A camera orbits an outdoor scene
+//! (a sky above a field of spheres on a ground plane, so line costs differ strongly) for N
+//! frames, slow and fast, with 2 and 3 tracers, under every balancer; cells are mean idle %.
+//! `--mode replay` replays recorded per-line cost maps against stated device speeds
+//! (deterministic); `--mode real` renders on lavapipe tracers of different thread counts.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context as _, Result};
+use glam::Vec3;
+use platoon_core::balance::{by_name, NAMES};
+use platoon_core::camera::Camera;
+use platoon_core::frame::FrameParams;
+use platoon_core::renderer::Renderer;
+use platoon_core::replay::{replay, CostMap};
+use platoon_tracer::Sampling;
+
+use crate::devices::{create_tracers, DeviceSpec};
+use crate::{prepare, EnvChoice, PrepareOptions, Prepared};
+
+/// Recorded cost maps shipped with platoon (`--record-costs` makes new ones).
+const SHIPPED_SLOW: &str = include_str!("../../../scenes/costs/slow.csv");
+const SHIPPED_FAST: &str = include_str!("../../../scenes/costs/fast.csv");
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    Replay,
+    Real,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CameraSpeed {
+    Slow,
+    Fast,
+}
+
+impl CameraSpeed {
+    pub fn name(self) -> &'static str {
+        match self {
+            CameraSpeed::Slow => "slow",
+            CameraSpeed::Fast => "fast",
+        }
+    }
+    /// Orbit step per frame.
+    fn step_degrees(self) -> f32 {
+        match self {
+            CameraSpeed::Slow => 1.0,
+            CameraSpeed::Fast => 8.0,
+        }
+    }
+}
+
+#[derive(Clone)]
+pub struct Options {
+    pub mode: Mode,
+    pub frames: u32,
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    /// Replay: relative device speeds for 2 and 3 tracers.
+    pub speeds2: Vec<f64>,
+    pub speeds3: Vec<f64>,
+    /// Real: the tracers for 2 and 3 devices.
+    pub devices2: DeviceSpec,
+    pub devices3: DeviceSpec,
+    /// Replay: folder with slow.csv and fast.csv instead of the shipped maps.
+    pub costs: Option<PathBuf>,
+    /// Record new cost maps into this folder first (and replay those).
+    pub record_costs: Option<PathBuf>,
+    /// Where balance.csv and balance.png go.
+    pub out: PathBuf,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            mode: Mode::Replay,
+            frames: 128,
+            width: 96,
+            height: 96,
+            spp: 2,
+            speeds2: vec![1.0, 0.6],
+            speeds3: vec![1.0, 0.7, 0.4],
+            devices2: DeviceSpec::Lavapipe(vec![2, 1]),
+            devices3: DeviceSpec::Lavapipe(vec![2, 1, 1]),
+            costs: None,
+            record_costs: None,
+            out: PathBuf::from("."),
+        }
+    }
+}
+
+/// One cell of the table, with the per-frame idle fractions behind it.
+#[derive(Clone, Debug)]
+pub struct Cell {
+    pub balancer: &'static str,
+    pub devices: usize,
+    pub camera: CameraSpeed,
+    pub idle_pct: f64,
+    pub per_frame: Vec<f64>,
+}
+
+/// The outdoor scene: the 103k-triangle sphere field under a constant sky.
+pub fn outdoor_scene() -> Result<Prepared> {
+    let dir = tempfile::tempdir()?;
+    let path = dir.path().join("field.glb");
+    std::fs::write(
+        &path,
+        platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, false)),
+    )?;
+    let scene = crate::load_scene(Some(&path))?;
+    prepare(
+        scene,
+        &PrepareOptions {
+            env: EnvChoice::Color(Vec3::new(0.6, 0.75, 1.0)),
+            ..Default::default()
+        },
+    )
+}
+
+/// The orbiting camera of frame `f`: around the field, bobbing up and down so that the horizon
+/// (and with it the cost of every line) moves.
+pub fn orbit_camera(frame: u32, speed: CameraSpeed) -> Camera {
+    let a = (frame as f32 * speed.step_degrees()).to_radians();
+    let eye = Vec3::new(13.0 * a.cos(), 3.0 + 2.0 * (2.0 * a).sin(), 13.0 * a.sin());
+    Camera::look_at(eye, Vec3::new(0.0, 0.8, 0.0), 50f32.to_radians())
+}
+
+fn frame_params(o: &Options, frame: u32, speed: CameraSpeed) -> FrameParams {
+    let mut p = FrameParams::new(o.width, o.height, o.spp, orbit_camera(frame, speed));
+    p.frame = frame;
+    p
+}
+
+/// Renders the camera path on one tracer and records seconds per line (the band's measured time
+/// spread over its lines in proportion to the rays each traced).
+pub fn record(
+    o: &Options,
+    scene: &Prepared,
+    speed: CameraSpeed,
+    spec: &DeviceSpec,
+) -> Result<CostMap> {
+    let mut tracers = create_tracers(spec, &scene.gpu, false, Sampling::Mis)?;
+    let Some(tracer) = tracers.first_mut() else {
+        bail!("no tracer to record with")
+    };
+    let mut frames = Vec::new();
+    for f in 0..o.frames {
+        let params = frame_params(o, f, speed);
+        let band = tracer.render(&params, 0, o.height, &mut |_| {})?;
+        let seconds = band.wall_time.as_secs_f64();
+        let rays = band.rays.max(1) as f64;
+        frames.push(
+            band.line_rays
+                .iter()
+                .map(|&r| r as f64 / rays * seconds)
+                .collect(),
+        );
+    }
+    Ok(CostMap { frames })
+}
+
+fn cost_maps(o: &Options) -> Result<[(CameraSpeed, CostMap); 2]> {
+    let load = |speed: CameraSpeed, shipped: &str| -> Result<CostMap> {
+        Ok(match &o.costs {
+            Some(dir) => CostMap::load(&dir.join(format!("{}.csv", speed.name())))?,
+            None => CostMap::parse(
+                shipped,
+                Path::new(&format!("scenes/costs/{}.csv (shipped)", speed.name())),
+            )?,
+        })
+    };
+    Ok([
+        (CameraSpeed::Slow, load(CameraSpeed::Slow, SHIPPED_SLOW)?),
+        (CameraSpeed::Fast, load(CameraSpeed::Fast, SHIPPED_FAST)?),
+    ])
+}
+
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+pub fn run(o: &Options) -> Result<Vec<Cell>> {
+    if let Some(dir) = &o.record_costs {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create folder", dir.display()))?;
+        let scene = outdoor_scene()?;
+        for speed in [CameraSpeed::Slow, CameraSpeed::Fast] {
+            let map = record(o, &scene, speed, &DeviceSpec::Lavapipe(vec![1]))?;
+            let comment = format!(
+                "{} camera, {} frames, {}x{} at {} spp, one lavapipe thread",
+                speed.name(),
+                o.frames,
+                o.width,
+                o.height,
+                o.spp
+            );
+            let path = dir.join(format!("{}.csv", speed.name()));
+            platoon_core::output::write_text(&path, &map.to_text(&comment))?;
+        }
+    }
+    let mut cells = Vec::new();
+    match o.mode {
+        Mode::Replay => {
+            let maps = match &o.record_costs {
+                Some(dir) => cost_maps(&Options {
+                    costs: Some(dir.clone()),
+                    ..o.clone()
+                })?,
+                None => cost_maps(o)?,
+            };
+            for speeds in [&o.speeds2, &o.speeds3] {
+                for (camera, map) in &maps {
+                    let map = map.take(o.frames as usize);
+                    for name in NAMES {
+                        let per_frame = replay(&map, speeds, by_name(name).unwrap().as_mut());
+                        cells.push(Cell {
+                            balancer: name,
+                            devices: speeds.len(),
+                            camera: *camera,
+                            idle_pct: 100.0 * mean(&per_frame),
+                            per_frame,
+                        });
+                    }
+                }
+            }
+        }
+        Mode::Real => {
+            let scene = outdoor_scene()?;
+            for spec in [&o.devices2, &o.devices3] {
+                let mut tracers = create_tracers(spec, &scene.gpu, false, Sampling::Mis)?;
+                let devices = tracers.len();
+                for camera in [CameraSpeed::Slow, CameraSpeed::Fast] {
+                    for name in NAMES {
+                        let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
+                        let mut per_frame = Vec::new();
+                        for f in 0..o.frames {
+                            per_frame.push(
+                                renderer
+                                    .render_frame(&frame_params(o, f, camera))?
+                                    .idle_fraction,
+                            );
+                        }
+                        tracers = renderer.into_tracers();
+                        cells.push(Cell {
+                            balancer: name,
+                            devices,
+                            camera,
+                            idle_pct: 100.0 * mean(&per_frame),
+                            per_frame,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    Ok(cells)
+}
+
+/// Scaling efficiency T(1) / (n T(n)) of equal devices under `balancer`, replayed.
+pub fn replay_efficiency(map: &CostMap, n: usize, balancer: &str) -> f64 {
+    let mut b = by_name(balancer).unwrap();
+    let per_frame = replay(map, &vec![1.0; n], b.as_mut());
+    // With equal devices T(1) = sum of times = n * T_mean, so efficiency = T_mean / T_max = 1 - idle.
+    1.0 - mean(&per_frame)
+}
+
+pub fn cell<'a>(
+    cells: &'a [Cell],
+    balancer: &str,
+    devices: usize,
+    camera: CameraSpeed,
+) -> Option<&'a Cell> {
+    cells
+        .iter()
+        .find(|c| c.balancer == balancer && c.devices == devices && c.camera == camera)
+}
+
+/// The table in Brigade's Table 16 shape.
+pub fn table(cells: &[Cell]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<16} {:>9} {:>9} {:>9} {:>9}",
+        "idle %", "2-slow", "2-fast", "3-slow", "3-fast"
+    );
+    for name in NAMES {
+        let _ = write!(s, "{name:<16}");
+        for (d, c) in [
+            (2, CameraSpeed::Slow),
+            (2, CameraSpeed::Fast),
+            (3, CameraSpeed::Slow),
+            (3, CameraSpeed::Fast),
+        ] {
+            match cell(cells, name, d, c) {
+                Some(x) => {
+                    let _ = write!(s, " {:>9.2}", x.idle_pct);
+                }
+                None => {
+                    let _ = write!(s, " {:>9}", "-");
+                }
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+pub fn json(cells: &[Cell]) -> String {
+    let items: Vec<String> = cells
+        .iter()
+        .map(|c| {
+            format!(
+                r#"{{"balancer":"{}","devices":{},"camera":"{}","idle_pct":{:.4}}}"#,
+                c.balancer,
+                c.devices,
+                c.camera.name(),
+                c.idle_pct
+            )
+        })
+        .collect();
+    format!("[{}]", items.join(","))
+}
+
+pub fn csv(cells: &[Cell]) -> String {
+    let mut s = String::from("balancer,devices,camera,frame,idle_pct\n");
+    for c in cells {
+        for (f, i) in c.per_frame.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "{},{},{},{},{:.4}",
+                c.balancer,
+                c.devices,
+                c.camera.name(),
+                f,
+                100.0 * i
+            );
+        }
+    }
+    s
+}

@@ -1,0 +1,147 @@
+//! Deterministic replay of recorded per-line cost maps against stated device speeds, so that
+//! balancers can be compared free of machine noise. A cost map holds, for every frame of a
+//! camera path, the time each line took on the recording device (seconds); a device of speed s
+//! renders a line of cost c in c / s.
+
+use std::path::Path;
+
+use crate::balance::{bands, idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use crate::error::{Error, Result};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct CostMap {
+    /// frames[f][y]: cost of line y in frame f.
+    pub frames: Vec<Vec<f64>>,
+}
+
+impl CostMap {
+    pub fn height(&self) -> usize {
+        self.frames.first().map_or(0, |f| f.len())
+    }
+
+    /// One frame per line of text, comma-separated line costs; `#` lines are comments.
+    pub fn parse(text: &str, origin: &Path) -> Result<CostMap> {
+        let mut frames = Vec::new();
+        for (n, line) in text.lines().enumerate() {
+            let line = line.trim();
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            let costs: std::result::Result<Vec<f64>, _> =
+                line.split(',').map(|v| v.trim().parse::<f64>()).collect();
+            let costs = costs.map_err(|e| Error::file(origin, format!("line {}: {e}", n + 1)))?;
+            if costs.iter().any(|c| !c.is_finite() || *c < 0.0) {
+                return Err(Error::file(
+                    origin,
+                    format!("line {}: costs must be finite and non-negative", n + 1),
+                ));
+            }
+            if frames
+                .first()
+                .is_some_and(|f: &Vec<f64>| f.len() != costs.len())
+            {
+                return Err(Error::file(
+                    origin,
+                    format!("line {}: every frame needs the same number of lines", n + 1),
+                ));
+            }
+            frames.push(costs);
+        }
+        if frames.is_empty() || frames[0].len() < 3 {
+            return Err(Error::file(
+                origin,
+                "no frames, or frames of fewer than 3 lines",
+            ));
+        }
+        Ok(CostMap { frames })
+    }
+
+    pub fn load(path: &Path) -> Result<CostMap> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::file(path, format!("cannot read cost map: {e}")))?;
+        CostMap::parse(&text, path)
+    }
+
+    pub fn to_text(&self, comment: &str) -> String {
+        let mut s = format!(
+            "# {comment}\n# one frame per line: seconds per pixel line on the recording device\n"
+        );
+        for f in &self.frames {
+            let row: Vec<String> = f.iter().map(|c| format!("{c:.6e}")).collect();
+            s.push_str(&row.join(","));
+            s.push('\n');
+        }
+        s
+    }
+
+    /// The first `frames` frames, cycling if the map is shorter.
+    pub fn take(&self, frames: usize) -> CostMap {
+        CostMap {
+            frames: (0..frames)
+                .map(|i| self.frames[i % self.frames.len()].clone())
+                .collect(),
+        }
+    }
+}
+
+/// Idle fraction of every frame when `balancer` splits the recorded frames between devices of
+/// the given relative speeds.
+pub fn replay(costs: &CostMap, speeds: &[f64], balancer: &mut dyn Balancer) -> Vec<f64> {
+    let height = costs.height() as u32;
+    let mut idle = Vec::with_capacity(costs.frames.len());
+    for line_costs in &costs.frames {
+        let counts = balancer.plan(height, speeds.len());
+        let tracers: Vec<TracerFrame> = bands(&counts)
+            .iter()
+            .zip(speeds)
+            .map(|(&(y0, y1), s)| TracerFrame {
+                y0,
+                y1,
+                seconds: line_costs[y0 as usize..y1 as usize].iter().sum::<f64>() / s,
+            })
+            .collect();
+        let times: Vec<f64> = tracers.iter().map(|t| t.seconds).collect();
+        idle.push(idle_fraction(&times));
+        balancer.observe(&FrameMeasure {
+            height,
+            tracers: &tracers,
+            line_costs,
+        });
+    }
+    idle
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::balance::by_name;
+
+    #[test]
+    fn parses_what_it_writes_and_rejects_bad_maps() {
+        let map = CostMap {
+            frames: vec![vec![1.0, 2.0, 3.0], vec![0.5, 0.25, 0.125]],
+        };
+        assert_eq!(
+            CostMap::parse(&map.to_text("test"), Path::new("x")).unwrap(),
+            map
+        );
+        assert!(CostMap::parse("1,2,3\n1,2\n", Path::new("bad.csv"))
+            .unwrap_err()
+            .to_string()
+            .contains("bad.csv"));
+        assert!(CostMap::parse("1,x,3\n", Path::new("bad.csv")).is_err());
+        assert!(CostMap::parse("", Path::new("bad.csv")).is_err());
+    }
+
+    #[test]
+    fn equal_split_of_uniform_costs_on_equal_devices_never_idles() {
+        let map = CostMap {
+            frames: vec![vec![1.0; 30]; 5],
+        };
+        let idle = replay(&map, &[1.0, 1.0, 1.0], by_name("none").unwrap().as_mut());
+        assert!(idle.iter().all(|&i| i == 0.0));
+        // Unequal devices idle with an equal split: 1.0 vs 0.5 -> (2 - 1) / (2 * 2) = 25%.
+        let idle = replay(&map.take(3), &[1.0, 0.5], by_name("none").unwrap().as_mut());
+        assert!(idle.iter().all(|&i| (i - 0.25).abs() < 1e-12));
+    }
+}
