@@ -119,7 +119,7 @@ vec3 trace_path(Ray ray, inout Rng rng, inout uint rays) {
 
 void main() {
     load_frame_constants();
-    uvec2 pixel = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + pc.y0);
+    uvec2 pixel = uvec2(gl_GlobalInvocationID.x, pc.y0 + gl_GlobalInvocationID.y * pc.stride);
     uint width = F.dims.x;
     if (pixel.x >= width || pixel.y >= pc.y1) return;
     vec3 sum = vec3(0.0);

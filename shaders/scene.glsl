@@ -65,6 +65,9 @@ layout(push_constant) uniform Push {
     uint y1;
     uint sample_begin;
     uint sample_end;
+    // Lines y0, y0 + stride, y0 + 2 * stride, ... below y1 (1: a contiguous band).
+    uint stride;
+    uint pad;
 } pc;
 
 // Per-render constants, copied from Globals once per invocation. Components are never read

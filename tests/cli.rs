@@ -251,3 +251,95 @@ fn bad_inputs_fail_cleanly() {
     );
     assert_fails_naming(&["render", "--camera", "3", "--out", o], "camera 3", &out);
 }
+
+#[test]
+fn renders_on_several_tracers_and_runs_the_balance_bench() {
+    let dir = tempfile::tempdir().unwrap();
+    let one = dir.path().join("one.exr");
+    let two = dir.path().join("two.exr");
+    let common = [
+        "--spp", "2", "--width", "16", "--height", "20", "--seed", "3",
+    ];
+    let o = platoon(&[&["render", "--out", one.to_str().unwrap()][..], &common].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = platoon(
+        &[
+            &[
+                "render",
+                "--devices",
+                "lavapipe:1,1",
+                "--balancer",
+                "perfect",
+                "--out",
+                two.to_str().unwrap(),
+            ][..],
+            &common,
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("tracer 1: lines"), "{}", stderr(&o));
+    let (a, _) = platoon::core::output::read_exr(&one).unwrap();
+    let (b, meta) = platoon::core::output::read_exr(&two).unwrap();
+    assert!(a == b, "two tracers changed the image");
+    assert!(meta
+        .iter()
+        .any(|(k, v)| k == "platoon:balancer" && v == "perfect"));
+
+    let o = platoon(&[
+        "render",
+        "--balancer",
+        "fastest",
+        "--out",
+        one.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success() && stderr(&o).contains("unknown balancer fastest"));
+    let o = platoon(&[
+        "render",
+        "--devices",
+        "lavapipe:0",
+        "--out",
+        one.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success() && stderr(&o).contains("at least one thread"));
+
+    let d = dir.path().to_str().unwrap();
+    let o = platoon(&["balance-bench", "--frames", "12", "--json", "--out", d]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(json.matches("\"balancer\"").count(), 24, "{json}");
+    assert!(stderr(&o).contains("cost-aware"));
+    let csv = std::fs::read_to_string(dir.path().join("balance.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 24 * 12);
+    assert_eq!(image_dims(&dir.path().join("balance.png")), (1200, 800));
+
+    let o = platoon(&[
+        "balance-bench",
+        "--mode",
+        "real",
+        "--frames",
+        "3",
+        "--width",
+        "12",
+        "--height",
+        "9",
+        "--spp",
+        "1",
+        "--devices2",
+        "lavapipe:1,1",
+        "--devices3",
+        "lavapipe:1,1,1",
+        "--out",
+        d,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    for name in platoon::core::balance::NAMES {
+        assert!(
+            table
+                .lines()
+                .any(|l| l.starts_with(name) && l.split_whitespace().count() == 5),
+            "{table}"
+        );
+    }
+}

@@ -62,3 +62,25 @@ fn any_band_split_gives_the_same_bits() {
         assert_no_validation_messages(&tracer);
     }
 }
+
+#[test]
+fn interleaved_passes_give_the_contiguous_image() {
+    let prepared = cesium();
+    let mut tracer = tracer(&prepared, Sampling::Mis);
+    let params = FrameParams::new(12, 17, 3, prepared.camera);
+    let whole = tracer.render(&params, 0, 17, &mut |_| {}).unwrap();
+    let mut sums = vec![[0.0f32; 3]; whole.sums.len()];
+    for k in 0..3 {
+        let pass = tracer
+            .render_strided(&params, k, 17, 3, &mut |_| {})
+            .unwrap();
+        for (i, s) in pass.sums.iter().enumerate() {
+            let line = k as usize + i / 12;
+            if (line - k as usize) % 3 == 0 {
+                sums[i + k as usize * 12] = *s;
+            }
+        }
+    }
+    assert!(sums == whole.sums);
+    assert_no_validation_messages(&tracer);
+}

@@ -340,3 +340,69 @@ pub fn csv(cells: &[Cell]) -> String {
     }
     s
 }
+
+/// Mean idle % when each of the devices renders every n-th line (interleaving: no balancer,
+/// each device gets a similar mix of cheap and costly lines, but an equal count of them).
+pub fn interleaved_idle(map: &CostMap, speeds: &[f64]) -> f64 {
+    let n = speeds.len();
+    let per_frame: Vec<f64> = map
+        .frames
+        .iter()
+        .map(|costs| {
+            let times: Vec<f64> = (0..n)
+                .map(|i| costs.iter().skip(i).step_by(n).sum::<f64>() / speeds[i])
+                .collect();
+            platoon_core::balance::idle_fraction(&times)
+        })
+        .collect();
+    100.0 * mean(&per_frame)
+}
+
+/// The replayed idle % of interleaved lines, in the table's four columns.
+pub fn interleaved_row(o: &Options) -> Result<String> {
+    let maps = cost_maps(o)?;
+    let mut s = format!("{:<16}", "interleaved");
+    for speeds in [&o.speeds2, &o.speeds3] {
+        for (_, map) in &maps {
+            let _ = write!(
+                s,
+                " {:>9.2}",
+                interleaved_idle(&map.take(o.frames as usize), speeds)
+            );
+        }
+    }
+    Ok(s)
+}
+
+/// Time to render the outdoor frame on one tracer as one contiguous band and as `stride`
+/// interleaved passes (same pixels, same work): the cost of lost line coherence.
+pub fn coherence(o: &Options, spec: &DeviceSpec, stride: u32, repeat: u32) -> Result<(f64, f64)> {
+    let scene = outdoor_scene()?;
+    let mut tracers = create_tracers(spec, &scene.gpu, false, Sampling::Mis)?;
+    let Some(t) = tracers.first_mut() else {
+        bail!("no tracer")
+    };
+    let params = frame_params(o, 20, CameraSpeed::Slow);
+    t.render(&params, 0, o.height, &mut |_| {})?;
+    let (mut contiguous, mut interleaved) = (Vec::new(), Vec::new());
+    for _ in 0..repeat {
+        contiguous.push(
+            t.render(&params, 0, o.height, &mut |_| {})?
+                .wall_time
+                .as_secs_f64(),
+        );
+        let mut total = 0.0;
+        for k in 0..stride {
+            total += t
+                .render_strided(&params, k, o.height, stride, &mut |_| {})?
+                .wall_time
+                .as_secs_f64();
+        }
+        interleaved.push(total);
+    }
+    let med = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    Ok((med(contiguous), med(interleaved)))
+}

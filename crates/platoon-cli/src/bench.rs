@@ -145,6 +145,19 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
     }
     drop(tracer);
 
+    // Contiguous bands against interleaved lines: what interleaving costs in coherence.
+    let layout = crate::balance_bench::Options {
+        width: 192,
+        height: 144,
+        spp,
+        ..Default::default()
+    };
+    let one = crate::devices::DeviceSpec::Indices(vec![device]);
+    for stride in [2, 3] {
+        let (c, i) = crate::balance_bench::coherence(&layout, &one, stride, repeat)?;
+        println!("outdoor 192x144, {stride} interleaved passes vs one band: {:.3} s vs {:.3} s ({:+.1}%)", i, c, 100.0 * (i / c - 1.0));
+    }
+
     let dir = tempfile::tempdir()?;
     for (label, unique) in [
         ("sphere field 100k, instanced", false),

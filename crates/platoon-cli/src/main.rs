@@ -384,7 +384,11 @@ fn run(cli: Cli) -> Result<()> {
             };
             let title =
                 format!("platoon balance-bench ({mode_name}, {frames} frames): idle % per frame");
-            let table = bb::table(&cells);
+            let mut table = bb::table(&cells);
+            if options.mode == Mode::Replay {
+                table.push_str(&bb::interleaved_row(&options)?);
+                table.push('\n');
+            }
             if json {
                 eprint!("{table}");
                 println!("{}", bb::json(&cells));

@@ -42,6 +42,8 @@ pub(crate) struct Push {
     pub y1: u32,
     pub sample_begin: u32,
     pub sample_end: u32,
+    pub stride: u32,
+    pub _pad: u32,
 }
 
 const _: () = assert!(std::mem::size_of::<Globals>() == 144 + 8 * 16);

@@ -316,6 +316,20 @@ impl Tracer {
         y1: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
+        self.render_strided(params, y0, y1, 1, progress)
+    }
+
+    /// Renders lines y0, y0 + stride, ... below y1 (interleaved lines). The band's sums cover
+    /// [y0, y1) with the lines not rendered left at zero.
+    pub fn render_strided(
+        &mut self,
+        params: &FrameParams,
+        y0: u32,
+        y1: u32,
+        stride: u32,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<Band> {
+        let stride = stride.max(1);
         let (width, height) = (params.width, params.height);
         let y1 = y1.min(height);
         let y0 = y0.min(y1);
@@ -399,7 +413,7 @@ impl Tracer {
 
         let spp = params.spp;
         let per_pass = params.samples_per_pass.max(1);
-        let groups = (width.div_ceil(8), (y1 - y0).div_ceil(8));
+        let groups = (width.div_ceil(8), (y1 - y0).div_ceil(stride).div_ceil(8));
         let query_pool = self.query_pool;
         let period = self.ctx.properties.limits.timestamp_period as f64;
         let mut begin = 0;
@@ -411,6 +425,8 @@ impl Tracer {
                 y1,
                 sample_begin: begin,
                 sample_end: end,
+                stride,
+                _pad: 0,
             };
             self.submit(|d, cb| unsafe {
                 // Earlier passes wrote the accumulation buffer.

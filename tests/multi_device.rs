@@ -1,0 +1,129 @@
+//! Many tracers, one frame: identical bits for any number of tracers under every balancer, no
+//! lost lines when a tracer dies, and the balance benchmark's published ordering.
+
+mod common;
+
+use common::*;
+use platoon::balance_bench::{self as bb, CameraSpeed};
+use platoon::core::balance::{by_name, NAMES};
+use platoon::core::fault::{FailingTracer, MaybeFailing};
+use platoon::core::frame::FrameParams;
+use platoon::core::renderer::Renderer;
+use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::tracer::Sampling;
+
+fn scene() -> platoon::Prepared {
+    let scene = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
+    prepare(
+        scene,
+        platoon::EnvChoice::File(shared("envmaps/sunset.exr")),
+    )
+}
+
+#[test]
+fn images_are_bit_identical_for_one_two_and_three_tracers_under_every_balancer() {
+    init();
+    let prepared = scene();
+    let params = FrameParams::new(16, 24, 3, prepared.camera);
+    let reference = render(&prepared, &params, Sampling::Mis);
+    for spec in ["lavapipe:1,1", "lavapipe:2,1,1"] {
+        let spec: DeviceSpec = spec.parse().unwrap();
+        let mut tracers = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis).unwrap();
+        for name in NAMES {
+            let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
+            // Several frames, so that the balancers move the cuts between them.
+            for _ in 0..4 {
+                let frame = renderer.render_frame(&params).unwrap();
+                assert!(
+                    frame.film == reference,
+                    "{spec} under {name}: image differs"
+                );
+                assert_eq!(frame.tracers.iter().map(|t| t.lines).sum::<u32>(), 24);
+                assert_eq!(frame.rejected_samples, 0);
+            }
+            tracers = renderer.into_tracers();
+        }
+        for t in &tracers {
+            assert_no_validation_messages(t);
+        }
+    }
+}
+
+#[test]
+fn a_tracer_killed_mid_run_loses_no_line_of_any_frame() {
+    init();
+    let prepared = scene();
+    let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
+    let mut tracers: Vec<MaybeFailing<_>> =
+        create_tracers(&spec, &prepared.gpu, true, Sampling::Mis)
+            .unwrap()
+            .into_iter()
+            .map(MaybeFailing::Plain)
+            .collect();
+    let MaybeFailing::Plain(victim) = tracers.remove(1) else {
+        unreachable!()
+    };
+    tracers.insert(
+        1,
+        MaybeFailing::Failing(FailingTracer {
+            inner: victim,
+            fail_from_frame: 2,
+        }),
+    );
+    let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
+    let mut reference_tracer = tracer(&prepared, Sampling::Mis);
+    let mut reports = Vec::new();
+    for f in 0..5 {
+        let mut params = FrameParams::new(16, 24, 2, prepared.camera);
+        params.frame = f;
+        let frame = renderer.render_frame(&params).expect("frame completes");
+        assert!(
+            frame.film == render_with(&mut reference_tracer, &params),
+            "frame {f} is not complete"
+        );
+        reports.extend(frame.failures);
+    }
+    assert_eq!(reports.len(), 1, "the failure is reported exactly once");
+    assert_eq!((reports[0].tracer, reports[0].frame), (1, 2));
+    assert!(reports[0].message.contains("injected fault"));
+    assert_eq!(renderer.alive(), vec![0, 2]);
+}
+
+#[test]
+fn replay_shows_the_published_ordering_and_cost_aware_beats_perfect_smooth() {
+    let cells = bb::run(&bb::Options::default()).unwrap();
+    assert_eq!(cells.len(), 4 * NAMES.len());
+    for (devices, camera) in [
+        (2, CameraSpeed::Slow),
+        (2, CameraSpeed::Fast),
+        (3, CameraSpeed::Slow),
+        (3, CameraSpeed::Fast),
+    ] {
+        let idle = |name| bb::cell(&cells, name, devices, camera).unwrap().idle_pct;
+        assert!(
+            idle("cost-aware") < idle("perfect-smooth"),
+            "{devices}-{}: cost-aware {} vs perfect-smooth {}",
+            camera.name(),
+            idle("cost-aware"),
+            idle("perfect-smooth")
+        );
+        for name in NAMES.iter().filter(|n| **n != "none") {
+            assert!(
+                idle("none") > 3.0 * idle(name),
+                "none is not far worst in {devices}-{}",
+                camera.name()
+            );
+        }
+    }
+    // Robin Hood is the weakest balancer on the fast camera with 3 devices.
+    let worst = NAMES.iter().filter(|n| **n != "none").max_by(|a, b| {
+        let i = |n: &str| bb::cell(&cells, n, 3, CameraSpeed::Fast).unwrap().idle_pct;
+        i(a).total_cmp(&i(b))
+    });
+    assert_eq!(worst, Some(&"robin-hood"));
+    let json = bb::json(&cells);
+    assert!(
+        json.starts_with("[{\"balancer\":\"none\",\"devices\":2,\"camera\":\"slow\",\"idle_pct\":"),
+        "{json}"
+    );
+}
