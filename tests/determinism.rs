@@ -76,7 +76,7 @@ fn interleaved_passes_give_the_contiguous_image() {
             .unwrap();
         for (i, s) in pass.sums.iter().enumerate() {
             let line = k as usize + i / 12;
-            if (line - k as usize) % 3 == 0 {
+            if (line - k as usize).is_multiple_of(3) {
                 sums[i + k as usize * 12] = *s;
             }
         }

@@ -186,7 +186,7 @@ impl<T: BandTracer + Send> Renderer<T> {
                 }
             }
             // Drop failed tracers, highest slot first so lower slots keep their meaning.
-            dead.sort_unstable_by(|a, b| b.0.cmp(&a.0));
+            dead.sort_unstable_by_key(|d| std::cmp::Reverse(d.0));
             let survivors = self.tracers.len() - dead.len();
             for &(slot, (y0, y1)) in &dead {
                 self.tracers.remove(slot);
@@ -287,7 +287,7 @@ mod tests {
                 line_rays.push(if y < p.height / 2 { 1 } else { 8 });
             }
             std::thread::sleep(Duration::from_micros(
-                (line_rays.iter().sum::<u64>() * self.slowness as u64 * 20) as u64,
+                line_rays.iter().sum::<u64>() * self.slowness as u64 * 20,
             ));
             Ok(Band {
                 y0,
