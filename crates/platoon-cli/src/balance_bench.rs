@@ -406,3 +406,47 @@ pub fn coherence(o: &Options, spec: &DeviceSpec, stride: u32, repeat: u32) -> Re
     };
     Ok((med(contiguous), med(interleaved)))
 }
+
+/// Scaling efficiency T(1) / (n T(n)) of `n` equal one-thread lavapipe tracers under cost-aware,
+/// from mean frame times over the slow camera path (first frames skipped while the balancer
+/// settles).
+pub fn real_scaling_efficiency(o: &Options, n: usize) -> Result<f64> {
+    let scene = outdoor_scene()?;
+    let frames = o.frames.max(4);
+    let settle = (frames / 8).max(1);
+    let mean_time = |tracers: usize| -> Result<f64> {
+        let spec = DeviceSpec::Lavapipe(vec![1; tracers]);
+        let mut r = Renderer::new(
+            create_tracers(&spec, &scene.gpu, false, Sampling::Mis)?,
+            by_name("cost-aware").unwrap(),
+        );
+        let mut t = Vec::new();
+        for f in 0..frames {
+            let frame = r.render_frame(&frame_params(o, f, CameraSpeed::Slow))?;
+            if f >= settle {
+                t.push(frame.wall_time.as_secs_f64());
+            }
+        }
+        Ok(mean(&t))
+    };
+    let t1 = mean_time(1)?;
+    let tn = mean_time(n)?;
+    Ok(t1 / (n as f64 * tn))
+}
+
+/// The same from the cost maps: equal speeds, so T(1) = n T_mean and efficiency = 1 - idle.
+pub fn replay_scaling_row(o: &Options) -> Result<String> {
+    let maps = cost_maps(o)?;
+    let mut s = String::from("scaling efficiency, equal devices, cost-aware (replay):");
+    for n in [2, 3] {
+        for (camera, map) in &maps {
+            let _ = write!(
+                s,
+                " {n}-{} {:.1}%",
+                camera.name(),
+                100.0 * replay_efficiency(&map.take(o.frames as usize), n, "cost-aware")
+            );
+        }
+    }
+    Ok(s)
+}

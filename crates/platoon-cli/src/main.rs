@@ -388,6 +388,15 @@ fn run(cli: Cli) -> Result<()> {
             if options.mode == Mode::Replay {
                 table.push_str(&bb::interleaved_row(&options)?);
                 table.push('\n');
+                table.push_str(&bb::replay_scaling_row(&options)?);
+                table.push('\n');
+            } else {
+                table.push_str("scaling efficiency, equal lavapipe:1 tracers, cost-aware (real):");
+                for n in [2, 3] {
+                    let e = bb::real_scaling_efficiency(&options, n)?;
+                    table.push_str(&format!(" {n} tracers {:.1}%", 100.0 * e));
+                }
+                table.push('\n');
             }
             if json {
                 eprint!("{table}");
