@@ -23,9 +23,11 @@ use crate::{prepare, EnvChoice, PrepareOptions, Prepared};
 const SHIPPED_SLOW: &str = include_str!("../../../scenes/costs/slow.csv");
 const SHIPPED_FAST: &str = include_str!("../../../scenes/costs/fast.csv");
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Mode {
+    /// Recorded line costs against stated device speeds (deterministic).
     Replay,
+    /// Tracers on Vulkan devices.
     Real,
 }
 
@@ -51,43 +53,68 @@ impl CameraSpeed {
     }
 }
 
-#[derive(Clone)]
+/// The benchmark's settings; also the command line of `platoon balance-bench`.
+#[derive(Clone, Debug, clap::Args)]
 pub struct Options {
+    #[arg(long, value_enum, default_value = "replay")]
     pub mode: Mode,
+    #[arg(long, default_value_t = 128)]
     pub frames: u32,
+    #[arg(long, default_value_t = 96)]
     pub width: u32,
+    #[arg(long, default_value_t = 96)]
     pub height: u32,
+    #[arg(long, default_value_t = 2)]
     pub spp: u32,
-    /// Replay: relative device speeds for 2 and 3 tracers.
+    /// Replay: relative device speeds of the 2-device columns.
+    #[arg(long, value_delimiter = ',', default_value = "1.0,0.6")]
     pub speeds2: Vec<f64>,
+    /// Replay: relative device speeds of the 3-device columns.
+    #[arg(long, value_delimiter = ',', default_value = "1.0,0.7,0.4")]
     pub speeds3: Vec<f64>,
-    /// Real: the tracers for 2 and 3 devices.
+    /// Real: the tracers of the 2-device columns.
+    #[arg(long, default_value = "lavapipe:2,1")]
     pub devices2: DeviceSpec,
+    /// Real: the tracers of the 3-device columns.
+    #[arg(long, default_value = "lavapipe:2,1,1")]
     pub devices3: DeviceSpec,
-    /// Replay: folder with slow.csv and fast.csv instead of the shipped maps.
+    /// Replay cost maps from this folder (slow.csv, fast.csv) instead of the shipped ones.
+    #[arg(long)]
     pub costs: Option<PathBuf>,
-    /// Record new cost maps into this folder first (and replay those).
+    /// Record cost maps of real renders into this folder first (and replay those).
+    #[arg(long)]
     pub record_costs: Option<PathBuf>,
-    /// Where balance.csv and balance.png go.
+    /// Folder for balance.csv and balance.png.
+    #[arg(long, default_value = ".")]
     pub out: PathBuf,
 }
 
 impl Default for Options {
+    /// The command line's defaults.
     fn default() -> Self {
-        Options {
-            mode: Mode::Replay,
-            frames: 128,
-            width: 96,
-            height: 96,
-            spp: 2,
-            speeds2: vec![1.0, 0.6],
-            speeds3: vec![1.0, 0.7, 0.4],
-            devices2: DeviceSpec::Lavapipe(vec![2, 1]),
-            devices3: DeviceSpec::Lavapipe(vec![2, 1, 1]),
-            costs: None,
-            record_costs: None,
-            out: PathBuf::from("."),
+        #[derive(clap::Parser)]
+        struct Wrapper {
+            #[command(flatten)]
+            options: Options,
         }
+        <Wrapper as clap::Parser>::parse_from(["balance-bench"]).options
+    }
+}
+
+impl Options {
+    pub fn validate(&self) -> Result<()> {
+        if self.frames == 0 || self.width == 0 || self.height < 3 || self.spp == 0 {
+            bail!("--frames, --width, --spp must be positive and --height at least 3");
+        }
+        for (name, s) in [("--speeds2", &self.speeds2), ("--speeds3", &self.speeds3)] {
+            if s.is_empty() || s.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+                bail!("{name}: speeds must be positive");
+            }
+        }
+        if !self.out.is_dir() {
+            bail!("{}: output folder does not exist", self.out.display());
+        }
+        Ok(())
     }
 }
 

@@ -31,12 +31,6 @@ enum SamplingArg {
     Light,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum ModeArg {
-    Replay,
-    Real,
-}
-
 #[derive(clap::Args)]
 struct SceneArgs {
     /// glTF scene (.gltf or .glb); the built-in Cornell box when omitted.
@@ -104,39 +98,8 @@ enum Command {
     Devices,
     /// Compare the line balancers over an orbiting camera (Brigade's Table 16 for platoon).
     BalanceBench {
-        /// replay: recorded line costs against stated device speeds (deterministic);
-        /// real: tracers on Vulkan devices.
-        #[arg(long, value_enum, default_value = "replay")]
-        mode: ModeArg,
-        #[arg(long, default_value_t = 128)]
-        frames: u32,
-        #[arg(long, default_value_t = 96)]
-        width: u32,
-        #[arg(long, default_value_t = 96)]
-        height: u32,
-        #[arg(long, default_value_t = 2)]
-        spp: u32,
-        /// Replay: device speeds for the 2-device columns.
-        #[arg(long, value_delimiter = ',', default_value = "1.0,0.6")]
-        speeds2: Vec<f64>,
-        /// Replay: device speeds for the 3-device columns.
-        #[arg(long, value_delimiter = ',', default_value = "1.0,0.7,0.4")]
-        speeds3: Vec<f64>,
-        /// Real: tracers of the 2-device columns.
-        #[arg(long, default_value = "lavapipe:2,1")]
-        devices2: DeviceSpec,
-        /// Real: tracers of the 3-device columns.
-        #[arg(long, default_value = "lavapipe:2,1,1")]
-        devices3: DeviceSpec,
-        /// Replay cost maps from this folder (slow.csv, fast.csv) instead of the shipped ones.
-        #[arg(long)]
-        costs: Option<PathBuf>,
-        /// Record cost maps of real renders into this folder first (then replay uses them).
-        #[arg(long)]
-        record_costs: Option<PathBuf>,
-        /// Folder for balance.csv and balance.png.
-        #[arg(long, default_value = ".")]
-        out: PathBuf,
+        #[command(flatten)]
+        options: platoon::balance_bench::Options,
         /// Print the cells as JSON on stdout (the table goes to stderr).
         #[arg(long)]
         json: bool,
@@ -332,50 +295,11 @@ fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
-        Command::BalanceBench {
-            mode,
-            frames,
-            width,
-            height,
-            spp,
-            speeds2,
-            speeds3,
-            devices2,
-            devices3,
-            costs,
-            record_costs,
-            out,
-            json,
-        } => {
+        Command::BalanceBench { options, json } => {
             use platoon::balance_bench::{self as bb, Mode};
-            if frames == 0 || width == 0 || height < 3 || spp == 0 {
-                bail!("--frames, --width, --spp must be positive and --height at least 3");
-            }
-            for (name, s) in [("--speeds2", &speeds2), ("--speeds3", &speeds3)] {
-                if s.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-                    bail!("{name}: speeds must be positive");
-                }
-            }
-            if !out.is_dir() {
-                bail!("{}: output folder does not exist", out.display());
-            }
-            let options = bb::Options {
-                mode: match mode {
-                    ModeArg::Replay => Mode::Replay,
-                    ModeArg::Real => Mode::Real,
-                },
-                frames,
-                width,
-                height,
-                spp,
-                speeds2,
-                speeds3,
-                devices2,
-                devices3,
-                costs,
-                record_costs,
-                out: out.clone(),
-            };
+            options.validate()?;
+            let out = options.out.clone();
+            let frames = options.frames;
             let cells = bb::run(&options)?;
             let mode_name = if options.mode == Mode::Replay {
                 "replay"

@@ -136,31 +136,21 @@ impl Balancer for CostAware {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{bands, TracerFrame};
     use super::*;
+    use crate::replay::{replay, CostMap};
 
     #[test]
     fn cuts_equal_predicted_time_on_uneven_lines() {
         // Cheap sky on top, expensive geometry below; tracer 0 twice as fast as tracer 1.
         let costs: Vec<f64> = (0..100).map(|y| if y < 50 { 1.0 } else { 9.0 }).collect();
         let mut b = CostAware::default();
-        for _ in 0..10 {
-            let counts = b.plan(100, 2);
-            let frames: Vec<TracerFrame> = bands(&counts)
-                .iter()
-                .enumerate()
-                .map(|(i, &(y0, y1))| TracerFrame {
-                    y0,
-                    y1,
-                    seconds: costs[y0 as usize..y1 as usize].iter().sum::<f64>() / [2.0, 1.0][i],
-                })
-                .collect();
-            b.observe(&FrameMeasure {
-                height: 100,
-                tracers: &frames,
-                line_costs: &costs,
-            });
-        }
+        replay(
+            &CostMap {
+                frames: vec![costs.clone(); 10],
+            },
+            &[2.0, 1.0],
+            &mut b,
+        );
         let counts = b.plan(100, 2);
         let t0: f64 = costs[..counts[0] as usize].iter().sum::<f64>() / 2.0;
         let t1: f64 = costs[counts[0] as usize..].iter().sum::<f64>();
