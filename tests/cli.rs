@@ -313,6 +313,50 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     assert_eq!(csv.lines().count(), 1 + 24 * 12);
     assert_eq!(image_dims(&dir.path().join("balance.png")), (1200, 800));
 
+    let costs = dir.path().join("costs");
+    let record = [
+        "balance-bench",
+        "--record-costs",
+        costs.to_str().unwrap(),
+        "--frames",
+        "3",
+        "--width",
+        "12",
+        "--height",
+        "9",
+        "--spp",
+        "1",
+        "--out",
+        d,
+    ];
+    let o = platoon(&record);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for camera in ["slow", "fast"] {
+        let map =
+            platoon::core::replay::CostMap::load(&costs.join(format!("{camera}.csv"))).unwrap();
+        assert_eq!((map.frames.len(), map.height()), (3, 9));
+        assert!(
+            map.frames.iter().flatten().all(|c| *c >= 0.0)
+                && map.frames[0].iter().sum::<f64>() > 0.0
+        );
+    }
+    let o = platoon(&[
+        "balance-bench",
+        "--costs",
+        costs.to_str().unwrap(),
+        "--frames",
+        "3",
+        "--out",
+        d,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = platoon(&["balance-bench", "--costs", d, "--out", d]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("slow.csv"),
+        "{}",
+        stderr(&o)
+    );
+
     let o = platoon(&[
         "balance-bench",
         "--mode",
