@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs what platoon needs on Debian 12 that a machine with Rust may lack: the Vulkan loader,
 # Mesa's lavapipe (software Vulkan), the Khronos validation layer (tests), and the tools that
-# build shaderc from source (cmake, ninja, python3). Uses sudo only when not root.
+# build shaderc from source (cmake, ninja, python3), and the font of balance-bench plots.
+# Uses sudo only when not root.
 set -euo pipefail
-packages=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake ninja-build python3 g++ git)
+packages=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake ninja-build python3 g++ git fonts-dejavu-core)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
