@@ -20,38 +20,47 @@ vec3 offset_ray(vec3 p, vec3 n) {
         abs(p.z) < origin ? p.z + float_scale * n.z : p_i.z);
 }
 
-// Per-ray constants of the watertight test, in the space the ray is traversed in.
-struct RayTri { vec3 org; vec3 inv_dir; int kx; int ky; int kz; vec3 shear; };
+// Per-ray constants of the watertight test, in the space the ray is traversed in. The axis
+// permutation is applied with swizzles and selects, not dynamic vector indexing: lavapipe (LLVM)
+// spills dynamically indexed vectors to memory, which made the test several times slower.
+struct RayTri { vec3 org; vec3 inv_dir; int kz; bool swap_xy; vec3 shear; };
+
+// Permutes v so that the ray's dominant axis becomes z (Woop et al.: kx, ky, kz), swapping x and y
+// when the ray points down that axis, to keep the winding.
+vec3 permute(RayTri r, vec3 v) {
+    vec3 p = r.kz == 0 ? v.yzx : (r.kz == 1 ? v.zxy : v);
+    return r.swap_xy ? p.yxz : p;
+}
 
 RayTri ray_tri_setup(vec3 org, vec3 dir) {
     RayTri r;
     r.org = org;
     vec3 ad = abs(dir);
     r.kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    r.kx = (r.kz + 1) % 3;
-    r.ky = (r.kx + 1) % 3;
-    if (dir[r.kz] < 0.0) { int tmp = r.kx; r.kx = r.ky; r.ky = tmp; }
-    r.shear = vec3(dir[r.kx] / dir[r.kz], dir[r.ky] / dir[r.kz], 1.0 / dir[r.kz]);
+    r.swap_xy = false;
+    vec3 d = permute(r, dir);
+    r.swap_xy = d.z < 0.0;
+    d = r.swap_xy ? d.yxz : d;
+    r.shear = vec3(d.x / d.z, d.y / d.z, 1.0 / d.z);
     // Zero components would give 0 * inf = NaN in the slab test.
-    vec3 d = dir;
-    for (int k = 0; k < 3; ++k) if (ad[k] < 1e-30) d[k] = dir[k] < 0.0 ? -1e-30 : 1e-30;
-    r.inv_dir = 1.0 / d;
+    vec3 safe = mix(dir, mix(vec3(1e-30), vec3(-1e-30), lessThan(dir, vec3(0.0))), lessThan(ad, vec3(1e-30)));
+    r.inv_dir = 1.0 / safe;
     return r;
 }
 
 // Returns t and barycentrics (b1, b2) of v1 and v2 when hit in (0, tmax).
 bool intersect_triangle(RayTri r, vec3 v0, vec3 v1, vec3 v2, float tmax, out float t, out float b1, out float b2) {
-    vec3 A = v0 - r.org, B = v1 - r.org, C = v2 - r.org;
-    float Ax = A[r.kx] - r.shear.x * A[r.kz], Ay = A[r.ky] - r.shear.y * A[r.kz];
-    float Bx = B[r.kx] - r.shear.x * B[r.kz], By = B[r.ky] - r.shear.y * B[r.kz];
-    float Cx = C[r.kx] - r.shear.x * C[r.kz], Cy = C[r.ky] - r.shear.y * C[r.kz];
+    vec3 A = permute(r, v0 - r.org), B = permute(r, v1 - r.org), C = permute(r, v2 - r.org);
+    float Ax = A.x - r.shear.x * A.z, Ay = A.y - r.shear.y * A.z;
+    float Bx = B.x - r.shear.x * B.z, By = B.y - r.shear.y * B.z;
+    float Cx = C.x - r.shear.x * C.z, Cy = C.y - r.shear.y * C.z;
     float U = Cx * By - Cy * Bx;
     float V = Ax * Cy - Ay * Cx;
     float W = Bx * Ay - By * Ax;
     if ((U < 0.0 || V < 0.0 || W < 0.0) && (U > 0.0 || V > 0.0 || W > 0.0)) return false;
     float det = U + V + W;
     if (det == 0.0) return false;
-    float T = r.shear.z * (U * A[r.kz] + V * B[r.kz] + W * C[r.kz]);
+    float T = r.shear.z * (U * A.z + V * B.z + W * C.z);
     float inv = 1.0 / det;
     t = T * inv;
     if (!(t > 0.0 && t < tmax)) return false;
