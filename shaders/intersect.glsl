@@ -21,8 +21,8 @@ vec3 offset_ray(vec3 p, vec3 n) {
 }
 
 // Per-ray constants of the watertight test, in the space the ray is traversed in. The axis
-// permutation is applied with swizzles and selects, not dynamic vector indexing: lavapipe (LLVM)
-// spills dynamically indexed vectors to memory, which made the test several times slower.
+// permutation is applied with swizzles and selects rather than dynamic vector indexing (which
+// compilers may spill to memory); on lavapipe the two measured the same.
 struct RayTri { vec3 org; vec3 inv_dir; int kz; bool swap_xy; vec3 shear; };
 
 // Permutes v so that the ray's dominant axis becomes z (Woop et al.: kx, ky, kz), swapping x and y
