@@ -45,92 +45,111 @@ Ray camera_ray(uvec2 pixel, inout Rng rng) {
     return Ray(origin, normalize(dir), INF);
 }
 
-vec3 trace_path(Ray ray, inout Rng rng, inout uint rays) {
-    vec3 L = vec3(0.0);
-    vec3 throughput = vec3(1.0);
-    bool after_delta = true;   // the camera ray is treated like a delta bounce
-    float bsdf_pdf = 0.0;
+// One path in flight: what the bounce loop carries from one vertex to the next.
+struct Path {
+    Ray ray;
+    vec3 L;
+    vec3 throughput;
+    bool after_delta;  // the camera ray counts like a delta bounce
+    float bsdf_pdf;
+    uint depth;
+};
+
+Path path_start(Ray ray) {
+    return Path(ray, vec3(0.0), vec3(1.0), true, 0.0, 0u);
+}
+
+// Extends the path by one vertex; false once the path has ended (its radiance is in p.L).
+bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     uint max_depth = F.params.x;
     uint rr_depth = F.params.w;
-    for (uint depth = 0u;; ++depth) {
-        Hit hit;
-        rays++;
-        if (!trace(ray, false, hit)) {
-            if (F.counts.w != 0u)
-                L += throughput * env_radiance(ray.dir) * emission_weight(after_delta, bsdf_pdf, environment_light_pdf(ray.dir));
-            break;
-        }
-        Surface s = surface_at(hit);
+    Hit hit;
+    rays++;
+    if (!trace(p.ray, false, hit)) {
+        if (F.counts.w != 0u)
+            p.L += p.throughput * env_radiance(p.ray.dir) * emission_weight(p.after_delta, p.bsdf_pdf, environment_light_pdf(p.ray.dir));
+        return false;
+    }
+    Surface s = surface_at(hit);
 #ifdef HAS_EMISSIVE_TRIANGLES
-        vec3 le = triangle_emission(s, ray.dir);
-        if (any(greaterThan(le, vec3(0.0))))
-            L += throughput * le * emission_weight(after_delta, bsdf_pdf, triangle_light_pdf(hit, s.ng, ray.dir));
+    vec3 le = triangle_emission(s, p.ray.dir);
+    if (any(greaterThan(le, vec3(0.0))))
+        p.L += p.throughput * le * emission_weight(p.after_delta, p.bsdf_pdf, triangle_light_pdf(hit, s.ng, p.ray.dir));
 #endif
-        // depth + 1 segments so far; the next vertex would make depth + 2 (Mitsuba's max_depth).
-        if (depth + 1u >= max_depth) break;
+    // depth + 1 segments so far; the next vertex would make depth + 2 (Mitsuba's max_depth).
+    if (p.depth + 1u >= max_depth) return false;
 
-        vec3 t, b;
-        make_frame(s.ns, t, b);
-        vec3 wo = to_local(-ray.dir, t, b, s.ns);
-        Bsdf bsdf = make_bsdf(s, wo);
-        // The geometric side the ray arrived on; new rays leave from the side they head to.
-        vec3 ng_wo = dot(s.ng, ray.dir) < 0.0 ? s.ng : -s.ng;
+    vec3 t, b;
+    make_frame(s.ns, t, b);
+    vec3 wo = to_local(-p.ray.dir, t, b, s.ns);
+    Bsdf bsdf = make_bsdf(s, wo);
+    // The geometric side the ray arrived on; new rays leave from the side they head to.
+    vec3 ng_wo = dot(s.ng, p.ray.dir) < 0.0 ? s.ng : -s.ng;
 
 #ifndef SAMPLING_BSDF
-        if (!bsdf_all_delta(bsdf)) {
-            LightSample ls;
-            if (sample_light(s.position, rng, ls)) {
-                float pdf;
-                vec3 f = bsdf_eval(bsdf, wo, to_local(ls.wi, t, b, s.ns), pdf);
-                if (any(greaterThan(f, vec3(0.0)))) {
-                    vec3 o = offset_ray(s.position, dot(ls.wi, ng_wo) > 0.0 ? ng_wo : -ng_wo);
-                    Ray shadow = ls.infinite ? Ray(o, ls.wi, INF) : Ray(o, ls.target - o, 1.0);
-                    Hit sh;
-                    rays++;
-                    if (!trace(shadow, true, sh)) {
+    if (!bsdf_all_delta(bsdf)) {
+        LightSample ls;
+        if (sample_light(s.position, rng, ls)) {
+            float pdf;
+            vec3 f = bsdf_eval(bsdf, wo, to_local(ls.wi, t, b, s.ns), pdf);
+            if (any(greaterThan(f, vec3(0.0)))) {
+                vec3 o = offset_ray(s.position, dot(ls.wi, ng_wo) > 0.0 ? ng_wo : -ng_wo);
+                Ray shadow = ls.infinite ? Ray(o, ls.wi, INF) : Ray(o, ls.target - o, 1.0);
+                Hit sh;
+                rays++;
+                if (!trace(shadow, true, sh)) {
 #if defined(SAMPLING_LIGHT)
-                        float w = 1.0;
+                    float w = 1.0;
 #else
-                        float w = ls.delta ? 1.0 : power_heuristic(ls.pdf, pdf);
+                    float w = ls.delta ? 1.0 : power_heuristic(ls.pdf, pdf);
 #endif
-                        L += throughput * f * ls.radiance * (w / ls.pdf);
-                    }
+                    p.L += p.throughput * f * ls.radiance * (w / ls.pdf);
                 }
             }
         }
+    }
 #endif
 
-        BsdfSample bs;
-        if (!bsdf_sample(bsdf, wo, rng, bs)) break;
-        throughput *= bs.weight;
-        after_delta = bs.delta;
-        bsdf_pdf = bs.pdf;
-        if (!any(greaterThan(throughput, vec3(0.0)))) break;
-        if (depth >= rr_depth) {
-            float survive = min(max3(throughput), 0.95);
-            if (rng_next(rng) >= survive) break;
-            throughput /= survive;
-        }
-        vec3 wi = to_world(bs.wi, t, b, s.ns);
-        ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo), wi, INF);
+    BsdfSample bs;
+    if (!bsdf_sample(bsdf, wo, rng, bs)) return false;
+    p.throughput *= bs.weight;
+    p.after_delta = bs.delta;
+    p.bsdf_pdf = bs.pdf;
+    if (!any(greaterThan(p.throughput, vec3(0.0)))) return false;
+    if (p.depth >= rr_depth) {
+        float survive = min(max3(p.throughput), 0.95);
+        if (rng_next(rng) >= survive) return false;
+        p.throughput /= survive;
     }
-    return L;
+    vec3 wi = to_world(bs.wi, t, b, s.ns);
+    p.ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo), wi, INF);
+    p.depth++;
+    return true;
 }
 
 void main() {
     load_frame_constants();
     uvec2 pixel = uvec2(gl_GlobalInvocationID.x, pc.y0 + gl_GlobalInvocationID.y * pc.stride);
     uint width = F.dims.x;
-    if (pixel.x >= width || pixel.y >= pc.y1) return;
+    if (pixel.x >= width || pixel.y >= pc.y1 || pc.sample_begin >= pc.sample_end) return;
     vec3 sum = vec3(0.0);
     uint rays = 0u;
     uint rejected = 0u;
-    for (uint si = pc.sample_begin; si < pc.sample_end; ++si) {
-        Rng rng = rng_init(pixel, si, F.params.y, F.params.z);
-        vec3 L = trace_path(camera_ray(pixel, rng), rng, rays);
+    // Path regeneration (Bikker, ch. 6): samples and bounces share one loop, so a lane whose path
+    // ends starts its next sample at once instead of idling until the longest path of its SIMD
+    // group ends. Each sample still has its own random stream and is summed in sample order, so
+    // the result is the same bits as one loop per sample.
+    uint si = pc.sample_begin;
+    Rng rng = rng_init(pixel, si, F.params.y, F.params.z);
+    Path p = path_start(camera_ray(pixel, rng));
+    while (true) {
+        if (path_step(p, rng, rays)) continue;
         // NaN/Inf guard: such a sample contributes zero and is counted (pbrt-v4's policy).
-        if (any(isnan(L)) || any(isinf(L))) rejected++;
-        else sum += L;
+        if (any(isnan(p.L)) || any(isinf(p.L))) rejected++;
+        else sum += p.L;
+        if (++si >= pc.sample_end) break;
+        rng = rng_init(pixel, si, F.params.y, F.params.z);
+        p = path_start(camera_ray(pixel, rng));
     }
     uint index = pixel.y * width + pixel.x;
     pc.g.accum.v[index] += vec4(sum, 0.0);
