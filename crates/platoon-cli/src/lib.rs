@@ -147,6 +147,8 @@ pub struct Rendered {
     /// Per-tracer statistics of a multi-device frame (empty for one device).
     pub tracers: Vec<platoon_core::renderer::TracerStats>,
     pub balancer: Option<&'static str>,
+    /// What the Khronos validation layer reported (with validation on).
+    pub validation_messages: Vec<String>,
 }
 
 impl Rendered {
@@ -186,6 +188,7 @@ pub fn render_bands(
         kernel_defines: tracer.kernel_defines(params),
         tracers: Vec::new(),
         balancer: None,
+        validation_messages: tracer.validation_messages(),
     })
 }
 
@@ -229,6 +232,10 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         kernel_defines: defines,
         tracers: frame.tracers,
         balancer: Some(renderer.balancer_name()),
+        validation_messages: renderer
+            .tracers_mut()
+            .flat_map(|t| t.validation_messages())
+            .collect(),
         film: frame.film,
     })
 }

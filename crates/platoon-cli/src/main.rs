@@ -252,6 +252,9 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 r
             };
+            for m in &rendered.validation_messages {
+                eprintln!("validation: {m}");
+            }
             let meta = platoon::metadata(&prepared, &params, &rendered, sampling_name);
             platoon::core::output::write_image(&out, &rendered.film, &meta)?;
             let secs = rendered.wall_time.as_secs_f64();
