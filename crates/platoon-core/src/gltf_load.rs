@@ -360,7 +360,6 @@ fn load_nodes(
         .flat_map(|s| s.nodes())
         .map(|n| (n, None))
         .collect();
-    let mut gltf_nodes = Vec::new();
     while let Some((gn, parent)) = queue.pop_front() {
         if map.contains_key(&gn.index()) {
             return Err(Error::file(
@@ -416,7 +415,6 @@ fn load_nodes(
             });
         }
         scene.nodes.push(node);
-        gltf_nodes.push(gn.clone());
         for child in gn.children() {
             queue.push_back((child, Some(idx)));
         }
@@ -498,6 +496,5 @@ fn load_nodes(
             channels,
         });
     }
-    let _ = gltf_nodes;
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! array plus the per-render parameters. Mirrors `Globals` in shaders/scene.glsl (std430).
 
 use bytemuck::{Pod, Zeroable};
+use platoon_core::frame::FrameParams;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -32,6 +33,36 @@ pub(crate) struct Globals {
     pub dims: [u32; 4],
     pub counts: [u32; 4],
     pub params: [u32; 4],
+}
+
+impl Globals {
+    /// This block with the camera, frame parameters and per-frame buffers of one render.
+    pub fn for_frame(&self, params: &FrameParams, accum: u64, stats: u64) -> Globals {
+        let mut g = *self;
+        g.accum = accum;
+        g.stats = stats;
+        let cam = &params.camera;
+        let m = cam.camera_to_world;
+        let right = m.x_axis.truncate().normalize();
+        let up = m.y_axis.truncate().normalize();
+        let forward = -m.z_axis.truncate().normalize();
+        let tan_half = (cam.yfov * 0.5).tan();
+        let aspect = params.width as f32 / params.height.max(1) as f32;
+        let origin = m.w_axis.truncate();
+        g.cam_origin = [origin.x, origin.y, origin.z, cam.aperture_radius];
+        g.cam_right = [right.x, right.y, right.z, tan_half * aspect];
+        g.cam_up = [up.x, up.y, up.z, tan_half];
+        g.cam_forward = [forward.x, forward.y, forward.z, cam.focus_distance];
+        g.dims[0] = params.width;
+        g.dims[1] = params.height;
+        g.params = [
+            params.max_depth.max(1),
+            params.frame,
+            params.seed,
+            params.rr_depth,
+        ];
+        g
+    }
 }
 
 #[repr(C)]

@@ -2,6 +2,7 @@
 //! (GLSL compiled at run time by shaderc, specialised per scene feature set) and the dispatch of
 //! a band of pixel lines. It receives only plain data from platoon-core.
 
+mod band;
 mod buffer;
 mod context;
 mod globals;

@@ -1,0 +1,212 @@
+//! The dispatch of one band of lines: clear it, add `samples_per_pass` samples per dispatch with
+//! GPU timestamps around each, copy it back with its per-line counters.
+
+use std::time::{Duration, Instant};
+
+use ash::vk;
+use platoon_core::frame::{Band, BandTracer, FrameParams, TracerError};
+
+use crate::globals::{Globals, Push};
+use crate::tracer::Tracer;
+use crate::{Result, VkContext};
+
+impl Tracer {
+    /// Renders lines [y0, y1) of the frame at `params.spp` samples per pixel.
+    pub fn render(
+        &mut self,
+        params: &FrameParams,
+        y0: u32,
+        y1: u32,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<Band> {
+        self.render_strided(params, y0, y1, 1, progress)
+    }
+
+    /// Renders lines y0, y0 + stride, ... below y1 (interleaved lines). The band's sums cover
+    /// [y0, y1) with the lines not rendered left at zero.
+    pub fn render_strided(
+        &mut self,
+        params: &FrameParams,
+        y0: u32,
+        y1: u32,
+        stride: u32,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<Band> {
+        let stride = stride.max(1);
+        let (width, height) = (params.width, params.height);
+        let y1 = y1.min(height);
+        let y0 = y0.min(y1);
+        self.ensure_frame_buffers(width, height)?;
+        // Compiling a kernel variant happens once; it is not part of the band's time.
+        let (pipeline, layout) = self.kernel(self.kernel_defines(params))?;
+        let wall = Instant::now();
+        let (accum, stats, readback) = match &self.frame_buffers {
+            Some((_, _, a, s, r)) => ((a.buffer, a.address), (s.buffer, s.address), r.buffer),
+            None => unreachable!("frame buffers were just created"),
+        };
+
+        let g = self.scene.globals.for_frame(params, accum.1, stats.1);
+        self.globals_buffer.mapped()[..std::mem::size_of::<Globals>()]
+            .copy_from_slice(bytemuck::bytes_of(&g));
+        let globals_address = self.globals_buffer.address;
+
+        let row_bytes = width as u64 * 16;
+        let band_offset = y0 as u64 * row_bytes;
+        let band_size = (y1 - y0) as u64 * row_bytes;
+        let mut band = Band {
+            y0,
+            y1,
+            ..Default::default()
+        };
+        if band_size == 0 {
+            return Ok(band);
+        }
+        let compute_barrier = |d: &ash::Device,
+                               cb: vk::CommandBuffer,
+                               src: vk::PipelineStageFlags,
+                               src_access: vk::AccessFlags| unsafe {
+            let barrier = vk::MemoryBarrier::default()
+                .src_access_mask(src_access)
+                .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE);
+            d.cmd_pipeline_barrier(
+                cb,
+                src,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::DependencyFlags::empty(),
+                &[barrier],
+                &[],
+                &[],
+            );
+        };
+        self.submit(|d, cb| unsafe {
+            d.cmd_fill_buffer(cb, accum.0, band_offset, band_size, 0);
+            d.cmd_fill_buffer(cb, stats.0, 0, vk::WHOLE_SIZE, 0);
+            compute_barrier(
+                d,
+                cb,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::AccessFlags::TRANSFER_WRITE,
+            );
+        })?;
+
+        let spp = params.spp;
+        let per_pass = params.samples_per_pass.max(1);
+        let groups = (width.div_ceil(8), (y1 - y0).div_ceil(stride).div_ceil(8));
+        let query_pool = self.query_pool;
+        let period = self.ctx.properties.limits.timestamp_period as f64;
+        let mut begin = 0;
+        while begin < spp {
+            let end = (begin + per_pass).min(spp);
+            let push = Push {
+                globals: globals_address,
+                y0,
+                y1,
+                sample_begin: begin,
+                sample_end: end,
+                stride,
+                _pad: 0,
+            };
+            self.submit(|d, cb| unsafe {
+                // Earlier passes wrote the accumulation buffer.
+                compute_barrier(
+                    d,
+                    cb,
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_WRITE,
+                );
+                if let Some(q) = query_pool {
+                    d.cmd_reset_query_pool(cb, q, 0, 2);
+                    d.cmd_write_timestamp(cb, vk::PipelineStageFlags::TOP_OF_PIPE, q, 0);
+                }
+                d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipeline);
+                d.cmd_push_constants(
+                    cb,
+                    layout,
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    bytemuck::bytes_of(&push),
+                );
+                d.cmd_dispatch(cb, groups.0, groups.1, 1);
+                if let Some(q) = query_pool {
+                    d.cmd_write_timestamp(cb, vk::PipelineStageFlags::BOTTOM_OF_PIPE, q, 1);
+                }
+            })?;
+            if let Some(q) = query_pool {
+                let mut ts = [0u64; 2];
+                unsafe {
+                    self.ctx.device.get_query_pool_results(
+                        q,
+                        0,
+                        &mut ts,
+                        vk::QueryResultFlags::TYPE_64,
+                    )
+                }
+                .ctx("reading timestamps")?;
+                band.gpu_time +=
+                    Duration::from_nanos((ts[1].saturating_sub(ts[0]) as f64 * period) as u64);
+            }
+            begin = end;
+            progress(end);
+        }
+
+        self.submit(|d, cb| unsafe {
+            let barrier = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ);
+            d.cmd_pipeline_barrier(
+                cb,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::DependencyFlags::empty(),
+                &[barrier],
+                &[],
+                &[],
+            );
+            let region = vk::BufferCopy::default()
+                .src_offset(band_offset)
+                .dst_offset(0)
+                .size(band_size);
+            d.cmd_copy_buffer(cb, accum.0, readback, &[region]);
+            let host = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ);
+            d.cmd_pipeline_barrier(
+                cb,
+                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[host],
+                &[],
+                &[],
+            );
+        })?;
+
+        let Some((_, _, _, stats_buf, readback_buf)) = self.frame_buffers.as_mut() else {
+            unreachable!()
+        };
+        let data: &[[f32; 4]] = bytemuck::cast_slice(&readback_buf.mapped()[..band_size as usize]);
+        band.sums = data.iter().map(|p| [p[0], p[1], p[2]]).collect();
+        let counters: &[u32] = bytemuck::cast_slice(stats_buf.mapped());
+        band.rejected_samples = counters[0] as u64;
+        band.line_rays = counters[4 + y0 as usize..4 + y1 as usize]
+            .iter()
+            .map(|&r| r as u64)
+            .collect();
+        band.rays = band.line_rays.iter().sum();
+        band.wall_time = wall.elapsed();
+        Ok(band)
+    }
+}
+
+impl BandTracer for Tracer {
+    fn render_band(
+        &mut self,
+        params: &FrameParams,
+        y0: u32,
+        y1: u32,
+        progress: &mut dyn FnMut(u32),
+    ) -> std::result::Result<Band, TracerError> {
+        self.render(params, y0, y1, progress)
+            .map_err(|e| Box::new(e) as TracerError)
+    }
+}
