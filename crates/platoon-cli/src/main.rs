@@ -238,7 +238,13 @@ fn run(cli: Cli) -> Result<()> {
                     validation,
                     sampling,
                 )?;
-                let r = platoon::render_frame(&mut renderer, &params)?;
+                // Bands render on their own threads without per-sample progress: show that it runs.
+                let spinner = ProgressBar::new_spinner();
+                spinner.set_message(format!("rendering on {} tracers", options.len()));
+                spinner.enable_steady_tick(std::time::Duration::from_millis(200));
+                let r = platoon::render_frame(&mut renderer, &params);
+                spinner.finish_and_clear();
+                let r = r?;
                 for t in &r.tracers {
                     eprintln!(
                         "  tracer {}: lines {}..{} ({} rendered), {:.3} s, idle {:.3} s",
