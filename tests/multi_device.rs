@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use platoon::balance_bench::{self as bb, CameraSpeed};
 use platoon::core::balance::{by_name, NAMES};
-use platoon::core::fault::{FailingTracer, MaybeFailing};
+use platoon::core::fault::FaultInjector;
 use platoon::core::frame::FrameParams;
 use platoon::core::renderer::Renderer;
 use platoon::devices::{create_tracers, DeviceSpec};
@@ -54,22 +54,19 @@ fn a_tracer_killed_mid_run_loses_no_line_of_any_frame() {
     init();
     let prepared = scene();
     let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
-    let mut tracers: Vec<MaybeFailing<_>> =
-        create_tracers(&spec, &prepared.gpu, true, Sampling::Mis)
-            .unwrap()
-            .into_iter()
-            .map(MaybeFailing::Plain)
-            .collect();
-    let MaybeFailing::Plain(victim) = tracers.remove(1) else {
-        unreachable!()
-    };
-    tracers.insert(
-        1,
-        MaybeFailing::Failing(FailingTracer {
-            inner: victim,
-            fail_from_frame: 2,
-        }),
-    );
+    // Tracer 1 fails from frame 2 on, as a lost device would.
+    let tracers: Vec<FaultInjector<_>> = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis)
+        .unwrap()
+        .into_iter()
+        .enumerate()
+        .map(|(i, t)| {
+            if i == 1 {
+                FaultInjector::failing_from(t, 2)
+            } else {
+                FaultInjector::healthy(t)
+            }
+        })
+        .collect();
     let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
     let mut reference_tracer = tracer(&prepared, Sampling::Mis);
     let mut reports = Vec::new();

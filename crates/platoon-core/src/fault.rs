@@ -1,35 +1,30 @@
-//! Fault injection: a tracer wrapper that fails from a given frame on, as a lost device would.
+//! Fault injection: a tracer wrapper that, when told to, fails from a given frame on, as a lost
+//! device would. Healthy and failing tracers are the same type, so one renderer holds both.
 
 use crate::frame::{Band, BandTracer, FrameParams, TracerError};
 
-pub struct FailingTracer<T> {
+pub struct FaultInjector<T> {
     pub inner: T,
-    /// First frame (FrameParams::frame) on which every call fails.
-    pub fail_from_frame: u32,
+    /// First frame (FrameParams::frame) on which every call fails; None: never fails.
+    pub fail_from_frame: Option<u32>,
 }
 
-impl<T: BandTracer> BandTracer for FailingTracer<T> {
-    fn render_band(
-        &mut self,
-        params: &FrameParams,
-        y0: u32,
-        y1: u32,
-        progress: &mut dyn FnMut(u32),
-    ) -> Result<Band, TracerError> {
-        if params.frame >= self.fail_from_frame {
-            return Err(format!("injected fault at frame {}", params.frame).into());
+impl<T> FaultInjector<T> {
+    pub fn healthy(inner: T) -> Self {
+        FaultInjector {
+            inner,
+            fail_from_frame: None,
         }
-        self.inner.render_band(params, y0, y1, progress)
+    }
+    pub fn failing_from(inner: T, frame: u32) -> Self {
+        FaultInjector {
+            inner,
+            fail_from_frame: Some(frame),
+        }
     }
 }
 
-/// Lets a renderer hold tracers of which some are wrapped for fault injection.
-pub enum MaybeFailing<T> {
-    Plain(T),
-    Failing(FailingTracer<T>),
-}
-
-impl<T: BandTracer> BandTracer for MaybeFailing<T> {
+impl<T: BandTracer> BandTracer for FaultInjector<T> {
     fn render_band(
         &mut self,
         params: &FrameParams,
@@ -37,9 +32,9 @@ impl<T: BandTracer> BandTracer for MaybeFailing<T> {
         y1: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError> {
-        match self {
-            MaybeFailing::Plain(t) => t.render_band(params, y0, y1, progress),
-            MaybeFailing::Failing(t) => t.render_band(params, y0, y1, progress),
+        if self.fail_from_frame.is_some_and(|f| params.frame >= f) {
+            return Err(format!("injected fault at frame {}", params.frame).into());
         }
+        self.inner.render_band(params, y0, y1, progress)
     }
 }

@@ -262,7 +262,7 @@ mod tests {
     use super::*;
     use crate::balance::{by_name, NAMES};
     use crate::camera::Camera;
-    use crate::fault::{FailingTracer, MaybeFailing};
+    use crate::fault::FaultInjector;
 
     /// A CPU tracer whose pixels are a fixed function of (x, y, frame) and whose speed is set.
     struct Fake {
@@ -339,12 +339,9 @@ mod tests {
     #[test]
     fn a_failing_tracer_loses_no_lines_and_is_reported_once() {
         let tracers = vec![
-            MaybeFailing::Plain(Fake { slowness: 1 }),
-            MaybeFailing::Failing(FailingTracer {
-                inner: Fake { slowness: 1 },
-                fail_from_frame: 2,
-            }),
-            MaybeFailing::Plain(Fake { slowness: 1 }),
+            FaultInjector::healthy(Fake { slowness: 1 }),
+            FaultInjector::failing_from(Fake { slowness: 1 }, 2),
+            FaultInjector::healthy(Fake { slowness: 1 }),
         ];
         let mut r = Renderer::new(tracers, by_name("cost-aware").unwrap());
         let mut reported = Vec::new();
@@ -365,10 +362,7 @@ mod tests {
 
     #[test]
     fn all_tracers_failing_is_an_error_not_a_partial_frame() {
-        let tracers = vec![FailingTracer {
-            inner: Fake { slowness: 1 },
-            fail_from_frame: 0,
-        }];
+        let tracers = vec![FaultInjector::failing_from(Fake { slowness: 1 }, 0)];
         let mut r = Renderer::new(tracers, by_name("none").unwrap());
         assert!(r.render_frame(&params(0)).is_err());
     }
