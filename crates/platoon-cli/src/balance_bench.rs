@@ -434,10 +434,10 @@ pub fn coherence(o: &Options, spec: &DeviceSpec, stride: u32, repeat: u32) -> Re
     Ok((med(contiguous), med(interleaved)))
 }
 
-/// Scaling efficiency T(1) / (n T(n)) of `n` equal one-thread lavapipe tracers under cost-aware,
-/// from mean frame times over the slow camera path (first frames skipped while the balancer
-/// settles).
-pub fn real_scaling_efficiency(o: &Options, n: usize) -> Result<f64> {
+/// Scaling efficiency T(1) / (n T(n)) of n equal one-thread lavapipe tracers under cost-aware,
+/// for each n in `counts`, from mean frame times over the slow camera path (first frames skipped
+/// while the balancer settles). T(1) is measured once for all of them.
+pub fn real_scaling_efficiency(o: &Options, counts: &[usize]) -> Result<Vec<f64>> {
     let scene = outdoor_scene()?;
     let frames = o.frames.max(4);
     let settle = (frames / 8).max(1);
@@ -457,8 +457,10 @@ pub fn real_scaling_efficiency(o: &Options, n: usize) -> Result<f64> {
         Ok(mean(&t))
     };
     let t1 = mean_time(1)?;
-    let tn = mean_time(n)?;
-    Ok(t1 / (n as f64 * tn))
+    counts
+        .iter()
+        .map(|&n| Ok(t1 / (n as f64 * mean_time(n)?)))
+        .collect()
 }
 
 /// The same from the cost maps: equal speeds, so T(1) = n T_mean and efficiency = 1 - idle.

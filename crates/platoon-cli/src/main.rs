@@ -325,8 +325,10 @@ fn run(cli: Cli) -> Result<()> {
                 table.push('\n');
             } else {
                 table.push_str("scaling efficiency, equal lavapipe:1 tracers, cost-aware (real):");
-                for n in [2, 3] {
-                    let e = bb::real_scaling_efficiency(&options, n)?;
+                for (n, e) in [2, 3]
+                    .iter()
+                    .zip(bb::real_scaling_efficiency(&options, &[2, 3])?)
+                {
                     table.push_str(&format!(" {n} tracers {:.1}%", 100.0 * e));
                 }
                 table.push('\n');
