@@ -122,11 +122,17 @@ pub fn create_tracers(
     validation: bool,
     sampling: Sampling,
 ) -> Result<Vec<Tracer>> {
-    tracer_options(spec, validation, sampling)?
+    tracers_from_options(&tracer_options(spec, validation, sampling)?, scene)
+}
+
+/// One tracer per set of options already resolved by [`tracer_options`].
+pub fn tracers_from_options(options: &[TracerOptions], scene: &GpuScene) -> Result<Vec<Tracer>> {
+    options
         .iter()
         .enumerate()
         .map(|(i, o)| {
-            Tracer::new(o, scene).with_context(|| format!("creating tracer {i} ({spec})"))
+            Tracer::new(o, scene)
+                .with_context(|| format!("creating tracer {i} (device {})", o.device))
         })
         .collect()
 }

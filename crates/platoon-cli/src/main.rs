@@ -231,13 +231,8 @@ fn run(cli: Cli) -> Result<()> {
                 r
             } else {
                 let policy = balance::by_name(&balancer).expect("validated by clap");
-                let mut renderer = platoon::devices::renderer(
-                    &devices,
-                    &prepared.gpu,
-                    policy,
-                    validation,
-                    sampling,
-                )?;
+                let tracers = platoon::devices::tracers_from_options(&options, &prepared.gpu)?;
+                let mut renderer = platoon::core::renderer::Renderer::new(tracers, policy);
                 // Bands render on their own threads without per-sample progress: show that it runs.
                 let spinner = ProgressBar::new_spinner();
                 spinner.set_message(format!("rendering on {} tracers", options.len()));
