@@ -4,7 +4,8 @@
 mod common;
 
 use common::*;
-use platoon::core::frame::{equal_bands, FrameParams};
+use platoon::core::balance::{bands, proportional};
+use platoon::core::frame::FrameParams;
 use platoon::tracer::Sampling;
 
 fn cesium() -> platoon::Prepared {
@@ -44,9 +45,13 @@ fn any_band_split_gives_the_same_bits() {
         let params = FrameParams::new(20, 30, 6, prepared.camera);
         let whole = platoon::render_bands(&mut tracer, &params, &[(0, 30)], &mut |_| {}).unwrap();
         for parts in [2, 3, 7] {
-            let split =
-                platoon::render_bands(&mut tracer, &params, &equal_bands(30, parts), &mut |_| {})
-                    .unwrap();
+            let split = platoon::render_bands(
+                &mut tracer,
+                &params,
+                &bands(&proportional(30, &vec![1.0; parts])),
+                &mut |_| {},
+            )
+            .unwrap();
             assert_eq!(whole.film, split.film, "{parts} bands differ from one");
             assert_eq!(whole.rays(), split.rays());
         }

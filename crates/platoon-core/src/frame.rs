@@ -77,15 +77,6 @@ pub trait BandTracer {
     ) -> Result<Band, TracerError>;
 }
 
-/// Splits `height` lines into `parts` contiguous bands of near-equal size.
-pub fn equal_bands(height: u32, parts: u32) -> Vec<(u32, u32)> {
-    let parts = parts.max(1);
-    (0..parts)
-        .map(|i| (height * i / parts, height * (i + 1) / parts))
-        .filter(|(a, b)| b > a)
-        .collect()
-}
-
 /// Assembles bands covering [0, height) into the frame's average radiance.
 pub fn assemble(params: &FrameParams, bands: &[Band]) -> Film {
     let w = params.width as usize;
@@ -101,16 +92,5 @@ pub fn assemble(params: &FrameParams, bands: &[Band]) -> Film {
         width: params.width,
         height: params.height,
         pixels,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn equal_bands_cover_the_frame() {
-        assert_eq!(equal_bands(10, 3), vec![(0, 3), (3, 6), (6, 10)]);
-        assert_eq!(equal_bands(2, 4), vec![(0, 1), (1, 2)]);
     }
 }
