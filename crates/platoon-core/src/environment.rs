@@ -34,8 +34,10 @@ pub struct EnvDistribution {
     pub integral: f32,
 }
 
-fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+/// Rec. 709 luminance, the weighting used for light power and importance sampling (the kernel's
+/// `luminance` in shaders/scene.glsl uses the same weights).
+pub fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
 fn cdf_of(f: impl Iterator<Item = f32>, n: usize) -> (Vec<f32>, f32) {
@@ -119,7 +121,11 @@ impl EnvMap {
         for y in 0..h {
             let sin_theta = (PI * (y as f32 + 0.5) / h as f32).sin();
             let row = &self.texels[y * w..(y + 1) * w];
-            let (cdf, integral) = cdf_of(row.iter().map(|t| luminance(*t) * sin_theta), w);
+            let (cdf, integral) = cdf_of(
+                row.iter()
+                    .map(|t| luminance(Vec3::from_array(*t)) * sin_theta),
+                w,
+            );
             conditional_cdf.extend(cdf);
             row_integrals.push(integral);
         }

@@ -8,7 +8,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use crate::bvh::{self, BvhNode, FlatBvh};
-use crate::environment::Environment;
+use crate::environment::{luminance, Environment};
 use crate::features::FeatureSet;
 use crate::scene::{AlphaMode, LightKind, Posed, Scene, Wrap};
 
@@ -135,10 +135,6 @@ pub struct GpuEnvironment {
     pub marginal_cdf: Vec<f32>,
     pub conditional_cdf: Vec<f32>,
     pub integral: f32,
-}
-
-fn luminance(c: Vec3) -> f32 {
-    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
 fn rows(m: &Mat4) -> [[f32; 4]; 3] {
