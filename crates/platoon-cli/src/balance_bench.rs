@@ -427,11 +427,10 @@ pub fn coherence(o: &Options, spec: &DeviceSpec, stride: u32, repeat: u32) -> Re
         }
         interleaved.push(total);
     }
-    let med = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    Ok((med(contiguous), med(interleaved)))
+    Ok((
+        crate::bench::median(contiguous),
+        crate::bench::median(interleaved),
+    ))
 }
 
 /// Scaling efficiency T(1) / (n T(n)) of n equal one-thread lavapipe tracers under cost-aware,

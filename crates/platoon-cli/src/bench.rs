@@ -76,8 +76,9 @@ pub fn describe(p: &Prepared) -> String {
     out
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+/// Median of timings (total order, so a NaN cannot panic the bench).
+pub(crate) fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
     v[v.len() / 2]
 }
 
