@@ -1,6 +1,6 @@
 //! `platoon`: render, inspect and benchmark scenes from the command line.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{bail, Context as _, Result};
@@ -148,29 +148,6 @@ fn env_choice(args: &SceneArgs) -> EnvChoice {
     }
 }
 
-fn check_output(out: &Path) -> Result<()> {
-    let ext = out
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
-    if ext != "exr" && ext != "png" {
-        bail!("{}: output must end in .exr or .png", out.display());
-    }
-    let dir = out
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    if !dir.is_dir() {
-        bail!(
-            "{}: output folder {} does not exist",
-            out.display(),
-            dir.display()
-        );
-    }
-    Ok(())
-}
-
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render {
@@ -189,7 +166,7 @@ fn run(cli: Cli) -> Result<()> {
             validation,
             out,
         } => {
-            check_output(&out)?;
+            platoon::core::output::check_image_path(&out)?;
             if width == 0 || height == 0 || spp == 0 {
                 bail!("--width, --height and --spp must be positive");
             }

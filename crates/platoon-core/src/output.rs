@@ -73,16 +73,41 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
 /// Writes `film` as EXR or PNG according to the extension, with `metadata` (key, value) pairs
 /// stored as EXR string attributes (PNG: tEXt chunks are not written; use EXR for metadata).
 pub fn write_image(path: &Path, film: &Film, metadata: &[(String, String)]) -> Result<()> {
+    match check_image_path(path)? {
+        ImageFormat::Exr => write_atomically(path, |w| write_exr(path, w, film, metadata)),
+        ImageFormat::Png => write_atomically(path, |w| write_png(path, w, film)),
+    }
+}
+
+pub enum ImageFormat {
+    Exr,
+    Png,
+}
+
+/// The format of an output path, or why it cannot be written: checked before a render starts
+/// (so a long render is not lost to a typo) and again when writing.
+pub fn check_image_path(path: &Path) -> Result<ImageFormat> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
-    match ext.as_str() {
-        "exr" => write_atomically(path, |w| write_exr(path, w, film, metadata)),
-        "png" => write_atomically(path, |w| write_png(path, w, film)),
-        _ => Err(Error::file(path, "output must end in .exr or .png")),
+    let format = match ext.as_str() {
+        "exr" => ImageFormat::Exr,
+        "png" => ImageFormat::Png,
+        _ => return Err(Error::file(path, "output must end in .exr or .png")),
+    };
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !dir.is_dir() {
+        return Err(Error::file(
+            path,
+            format!("output folder {} does not exist", dir.display()),
+        ));
     }
+    Ok(format)
 }
 
 fn write_exr(
