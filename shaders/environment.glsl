@@ -29,20 +29,6 @@ float env_uv_pdf(ivec2 t) {
     float pc_ = pc.g.env_conditional.v[row + uint(t.x) + 1u] - pc.g.env_conditional.v[row + uint(t.x)];
     return pm * float(h) * pc_ * float(w);
 }
-
-float env_cdf(bool marginal, uint i) {
-    return marginal ? pc.g.env_marginal.v[i] : pc.g.env_conditional.v[i];
-}
-
-// First index i in [0, n) with cdf[i] <= u < cdf[i+1], skipping zero-width intervals.
-uint search_cdf(bool marginal, uint base, uint n, float u) {
-    uint lo = 0u, hi = n;
-    while (lo + 1u < hi) {
-        uint mid = (lo + hi) >> 1;
-        if (env_cdf(marginal, base + mid) <= u) lo = mid; else hi = mid;
-    }
-    return lo;
-}
 #endif
 
 vec3 env_radiance(vec3 d) {
@@ -74,11 +60,11 @@ vec3 env_sample(vec2 u, out float pdf) {
 #ifdef HAS_ENVIRONMENT_MAP
     if (F.counts.w == 2u) {
         uint w = F.dims.z, h = F.dims.w;
-        uint y = search_cdf(true, 0u, h, u.y);
+        uint y = search_cdf(CDF_ENV_ROWS, 0u, h, u.y);
         float c0 = pc.g.env_marginal.v[y], c1 = pc.g.env_marginal.v[y + 1u];
         float fy = c1 > c0 ? (u.y - c0) / (c1 - c0) : 0.5;
         uint row = y * (w + 1u);
-        uint x = search_cdf(false, row, w, u.x);
+        uint x = search_cdf(CDF_ENV_COLUMNS, row, w, u.x);
         float d0 = pc.g.env_conditional.v[row + x], d1 = pc.g.env_conditional.v[row + x + 1u];
         float fx = d1 > d0 ? (u.x - d0) / (d1 - d0) : 0.5;
         vec2 uv = vec2((float(x) + clamp(fx, 0.0, 0.999999)) / float(w), (float(y) + clamp(fy, 0.0, 0.999999)) / float(h));

@@ -10,16 +10,6 @@ struct LightSample {
     bool delta;
 };
 
-uint pick_light(float u) {
-    uint n = F.counts.x;
-    uint lo = 0u, hi = n;
-    while (lo + 1u < hi) {
-        uint mid = (lo + hi) >> 1;
-        if (pc.g.light_cdf.v[mid] <= u) lo = mid; else hi = mid;
-    }
-    return lo;
-}
-
 // Emitted radiance of an emissive triangle towards -dir, 0 from the back of one-sided emitters.
 vec3 triangle_emission(Surface s, vec3 dir) {
     if (!s.double_sided && dot(s.ng, dir) >= 0.0) return vec3(0.0);
@@ -57,7 +47,7 @@ bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
     ls.infinite = false;
     uint n = F.counts.x;
     if (n == 0u) return false;
-    Light l = pc.g.lights.v[pick_light(ul)];
+    Light l = pc.g.lights.v[search_cdf(CDF_LIGHTS, 0u, n, ul)];
     float pmf = l.emission.w;
     uint kind = l.ids.x;
 #ifdef HAS_EMISSIVE_TRIANGLES

@@ -48,3 +48,24 @@ float power_heuristic(float a, float b) {
     if (isinf(a2)) return 1.0;
     return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
 }
+
+// The discrete distributions sampled by binary search: light selection, and the rows and
+// columns of the environment map. Selected by name because GLSL will not pass a readonly
+// buffer reference to a function.
+const uint CDF_LIGHTS = 0u;
+const uint CDF_ENV_ROWS = 1u;
+const uint CDF_ENV_COLUMNS = 2u;
+
+float cdf_value(uint cdf, uint i) {
+    return cdf == CDF_LIGHTS ? pc.g.light_cdf.v[i] : (cdf == CDF_ENV_ROWS ? pc.g.env_marginal.v[i] : pc.g.env_conditional.v[i]);
+}
+
+// First index i in [0, n) with cdf[base + i] <= u < cdf[base + i + 1], skipping zero-width intervals.
+uint search_cdf(uint cdf, uint base, uint n, float u) {
+    uint lo = 0u, hi = n;
+    while (lo + 1u < hi) {
+        uint mid = (lo + hi) >> 1;
+        if (cdf_value(cdf, base + mid) <= u) lo = mid; else hi = mid;
+    }
+    return lo;
+}
