@@ -96,13 +96,11 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
         EnvChoice::Scene => env_label = "none".into(),
     }
     let posed = scene.pose(options.time);
-    let has_emission = posed.instances.iter().any(|i| {
-        posed.meshes[i.mesh]
-            .triangle_materials
-            .iter()
-            .any(|&m| scene.materials[m as usize].is_emissive())
-    });
-    let env_label = if scene.environment.is_none() && !has_emission && posed.lights.is_empty() {
+    let lit = platoon_core::FeatureSet::of_scene(&scene);
+    let env_label = if scene.environment.is_none()
+        && !lit.emissive_triangles
+        && !lit.punctual_lights
+    {
         scene.environment = Some(Environment::Constant(Vec3::splat(DEFAULT_SKY)));
         note = Some(format!(
             "the scene has no lights: lighting it with a uniform white sky of radiance {DEFAULT_SKY} (use --env or --env-color to choose)"
