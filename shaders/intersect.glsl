@@ -4,10 +4,14 @@ struct Ray { vec3 origin; vec3 dir; float tmax; };
 struct Hit { float t; float b1; float b2; uint instance; uint triangle; };
 
 // Wachter & Binder, Ray Tracing Gems ch. 6: move p off the surface along the geometric normal
-// by a few ULPs in integer space; near the origin, where ULPs vanish, by a tiny fixed amount.
-vec3 offset_ray(vec3 p, vec3 n) {
-    const float origin = 1.0 / 32.0;
-    const float float_scale = 1.0 / 65536.0;
+// by a few ULPs in integer space; where a coordinate is near zero, whose ULPs are finer than the
+// error of p, by a small fraction of the coordinate magnitude of the triangle instead. The error
+// of a computed hit point scales with that magnitude (pbrt-v4's bounds), not with p, so the
+// offset does too: a scene scaled by 1e-4 gets offsets scaled by 1e-4 (a fixed 1/65536 would be
+// a tenth of such a room).
+vec3 offset_ray(vec3 p, vec3 n, float magnitude) {
+    float origin = magnitude * (1.0 / 32.0);
+    float float_scale = magnitude * (1.0 / 65536.0);
     const float int_scale = 256.0;
     ivec3 of_i = ivec3(int_scale * n);
     vec3 p_i = vec3(
@@ -18,6 +22,11 @@ vec3 offset_ray(vec3 p, vec3 n) {
         abs(p.x) < origin ? p.x + float_scale * n.x : p_i.x,
         abs(p.y) < origin ? p.y + float_scale * n.y : p_i.y,
         abs(p.z) < origin ? p.z + float_scale * n.z : p_i.z);
+}
+
+// Largest coordinate magnitude of the triangle (v0, v1, v2) in world space.
+float coordinate_magnitude(vec3 v0, vec3 v1, vec3 v2) {
+    return max3(max(abs(v0), max(abs(v1), abs(v2))));
 }
 
 // Per-ray constants of the watertight test, in the space the ray is traversed in. The axis

@@ -57,7 +57,9 @@ bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
         vec3 cr = cross(l.b.xyz - l.a.xyz, l.c.xyz - l.a.xyz);
         float area = 0.5 * length(cr);
         if (area <= 0.0) return false;
-        vec3 nl = normalize(cr);
+        // a.w flips the world winding of mirrored instances back to the front face the hit
+        // shader sees (glTF: a negative determinant makes the front face clockwise).
+        vec3 nl = normalize(cr) * l.a.w;
         vec3 d = q - p;
         float dist2 = dot(d, d);
         if (dist2 <= 0.0) return false;
@@ -73,7 +75,7 @@ bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
         float cos_l = abs(dot(nl, ls.wi));
         if (cos_l <= 0.0 || all(equal(ls.radiance, vec3(0.0)))) return false;
         ls.pdf = pmf * dist2 / (cos_l * area);
-        ls.target = offset_ray(q, dot(nl, ls.wi) < 0.0 ? nl : -nl);
+        ls.target = offset_ray(q, dot(nl, ls.wi) < 0.0 ? nl : -nl, coordinate_magnitude(l.a.xyz, l.b.xyz, l.c.xyz));
         return true;
     }
 #endif

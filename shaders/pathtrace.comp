@@ -28,6 +28,14 @@ float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
 #endif
 }
 
+// Shading normals bend the hemispheres: a direction the shading frame calls reflection may cross
+// the geometric surface (and the reverse). Such a direction must carry no light, or light leaks
+// through closed smooth meshes (pbrt-v3's reflect/transmit test against the geometric normal).
+// ng_wo: geometric normal on wo's side; shading_cos_product: wo.z * wi.z in the shading frame.
+bool sides_agree(vec3 ng_wo, vec3 wi, float shading_cos_product) {
+    return (dot(wi, ng_wo) > 0.0) == (shading_cos_product > 0.0);
+}
+
 Ray camera_ray(uvec2 pixel, inout Rng rng) {
     vec2 jitter = rng_next2(rng);
     vec2 lens = rng_next2(rng);
@@ -91,9 +99,10 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
         LightSample ls;
         if (sample_light(s.position, rng, ls)) {
             float pdf;
-            vec3 f = bsdf_eval(bsdf, wo, to_local(ls.wi, t, b, s.ns), pdf);
-            if (any(greaterThan(f, vec3(0.0)))) {
-                vec3 o = offset_ray(s.position, dot(ls.wi, ng_wo) > 0.0 ? ng_wo : -ng_wo);
+            vec3 wi_local = to_local(ls.wi, t, b, s.ns);
+            vec3 f = bsdf_eval(bsdf, wo, wi_local, pdf);
+            if (any(greaterThan(f, vec3(0.0))) && sides_agree(ng_wo, ls.wi, wi_local.z * wo.z)) {
+                vec3 o = offset_ray(s.position, dot(ls.wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude);
                 Ray shadow = ls.infinite ? Ray(o, ls.wi, INF) : Ray(o, ls.target - o, 1.0);
                 Hit sh;
                 rays++;
@@ -112,6 +121,8 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
 
     BsdfSample bs;
     if (!bsdf_sample(bsdf, wo, rng, bs)) return false;
+    vec3 wi = to_world(bs.wi, t, b, s.ns);
+    if (!sides_agree(ng_wo, wi, bs.wi.z * wo.z)) return false;
     p.throughput *= bs.weight;
     p.after_delta = bs.delta;
     p.bsdf_pdf = bs.pdf;
@@ -121,8 +132,7 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
         if (rng_next(rng) >= survive) return false;
         p.throughput /= survive;
     }
-    vec3 wi = to_world(bs.wi, t, b, s.ns);
-    p.ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo), wi, INF);
+    p.ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude), wi, INF);
     p.depth++;
     return true;
 }

@@ -5,6 +5,7 @@ struct Surface {
     vec3 position;
     vec3 ng;        // geometric normal, world, front side by winding (object handedness kept)
     vec3 ns;        // shading normal, on the same side as ng
+    float magnitude; // bound on the triangle's world coordinates, for offset_ray
     vec2 uv;
     uint material;
     vec3 base_color;
@@ -23,6 +24,11 @@ vec3 instance_point(Instance inst, vec3 p) {
 }
 vec3 instance_vector(Instance inst, vec3 v) {
     return vec3(dot(inst.o2w[0].xyz, v), dot(inst.o2w[1].xyz, v), dot(inst.o2w[2].xyz, v));
+}
+// Bound on the world coordinates of object points whose coordinates are at most `a` in magnitude.
+float instance_magnitude(Instance inst, float a) {
+    vec3 row_sums = vec3(dot(abs(inst.o2w[0].xyz), vec3(1.0)), dot(abs(inst.o2w[1].xyz), vec3(1.0)), dot(abs(inst.o2w[2].xyz), vec3(1.0)));
+    return max3(row_sums * a + abs(vec3(inst.o2w[0].w, inst.o2w[1].w, inst.o2w[2].w)));
 }
 // Normals transform by the inverse transpose: the world-to-object rows as columns.
 vec3 instance_normal(Instance inst, vec3 n) {
@@ -68,6 +74,7 @@ Surface surface_at(Hit hit) {
     // Barycentric interpolation is more accurate than origin + t * dir.
     s.position = instance_point(inst, b0 * p0 + hit.b1 * p1 + hit.b2 * p2);
     s.ng = normalize(instance_normal(inst, cross(p1 - p0, p2 - p0)));
+    s.magnitude = instance_magnitude(inst, coordinate_magnitude(p0, p1, p2));
     Vertex v0 = pc.g.vertices.v[T.v.x], v1 = pc.g.vertices.v[T.v.y], v2 = pc.g.vertices.v[T.v.z];
     s.uv = b0 * vec2(v0.position_u.w, v0.normal_v.w) + hit.b1 * vec2(v1.position_u.w, v1.normal_v.w) + hit.b2 * vec2(v2.position_u.w, v2.normal_v.w);
     vec3 n = b0 * v0.normal_v.xyz + hit.b1 * v1.normal_v.xyz + hit.b2 * v2.normal_v.xyz;

@@ -48,7 +48,7 @@ fn add_light(scene: &mut platoon::core::Scene, kind: LightKind, intensity: f32, 
     });
     let mut node = Node::new("light");
     node.light = Some(scene.lights.len() - 1);
-    node.translation = position;
+    node.translation = position.as_dvec3();
     node.rotation = Quat::from_rotation_x(-PI / 2.0); // -Z points down
     scene.nodes.push(node);
 }

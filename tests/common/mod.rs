@@ -134,7 +134,7 @@ pub fn scene_of(
         scene.meshes.push(Arc::new(mesh));
         let mut node = Node::new(format!("mesh{i}"));
         node.mesh = Some(i);
-        node.translation = t;
+        node.translation = t.as_dvec3();
         node.scale = Vec3::splat(s);
         scene.nodes.push(node);
     }
@@ -142,7 +142,7 @@ pub fn scene_of(
     let (_, r, t) = cam.camera_to_world.to_scale_rotation_translation();
     let mut node = Node::new("camera");
     node.rotation = r;
-    node.translation = t;
+    node.translation = t.as_dvec3();
     node.camera = Some(0);
     scene.nodes.push(node);
     scene.cameras.push(platoon::core::scene::CameraModel {

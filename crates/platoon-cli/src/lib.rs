@@ -7,6 +7,7 @@ pub mod bench;
 pub mod devices;
 pub mod plot;
 
+use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -14,7 +15,9 @@ use anyhow::{bail, Context as _, Result};
 use glam::Vec3;
 use platoon_core::camera::Camera;
 use platoon_core::environment::{EnvMap, Environment};
+use platoon_core::floating_origin::FloatingOrigin;
 use platoon_core::frame::{assemble, Band, FrameParams};
+use platoon_core::gltf_load::LoadOptions;
 use platoon_core::gpu_scene::GpuScene;
 use platoon_core::output::Film;
 use platoon_core::renderer::Renderer;
@@ -37,10 +40,15 @@ pub enum EnvChoice {
 /// Radiance of the uniform sky given to scenes that have no light at all.
 pub const DEFAULT_SKY: f32 = 1.0;
 
+/// Loads a glTF scene (URIs confined to its folder), or the built-in Cornell box.
 pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
+    load_scene_with(path, &LoadOptions::default())
+}
+
+pub fn load_scene_with(path: Option<&Path>, options: &LoadOptions) -> Result<Scene> {
     match path {
         None => Ok(platoon_core::cornell::scene()),
-        Some(p) => Ok(platoon_core::gltf_load::load(p)?),
+        Some(p) => Ok(platoon_core::gltf_load::load_with(p, options)?),
     }
 }
 
@@ -95,7 +103,6 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
         }
         EnvChoice::Scene => env_label = "none".into(),
     }
-    let posed = scene.pose(options.time);
     let lit = platoon_core::FeatureSet::of_scene(&scene);
     let env_label = if scene.environment.is_none()
         && !lit.emissive_triangles
@@ -109,9 +116,27 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
     } else {
         env_label
     };
-    let gpu = GpuScene::build(&scene, &posed, scene.environment.as_ref());
+    let in_scene = |e: platoon_core::Error| match &scene.source {
+        Some(path) => anyhow::anyhow!("{}: {e}", path.display()),
+        None => anyhow::anyhow!("{e}"),
+    };
+    // Render space is centred near the camera (a floating origin), so a scene far from the
+    // world origin keeps its precision; the first pose only finds where the camera is.
+    let mut origin = FloatingOrigin::default();
+    let mut posed = scene.pose(options.time);
+    let camera = Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
+    if origin.follow(camera.camera_to_world.w_axis.truncate().as_dvec3()) {
+        posed = scene.pose_around(options.time, origin.origin);
+    }
     let mut camera =
         Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
+    if !camera.camera_to_world.is_finite() || !(f32::EPSILON..PI).contains(&camera.yfov) {
+        return Err(in_scene(platoon_core::Error::Invalid(
+            "the camera has a non-finite transform or a field of view outside (0, 180) degrees"
+                .into(),
+        )));
+    }
+    let gpu = GpuScene::build(&scene, &posed, scene.environment.as_ref()).map_err(in_scene)?;
     camera.aperture_radius = options.aperture_radius.max(0.0);
     if let Some(f) = options.focus_distance {
         if f.is_nan() || f <= 0.0 {
@@ -279,6 +304,13 @@ pub fn metadata(
         ("kernel_defines".into(), rendered.kernel_defines.join(",")),
         ("sampling".into(), sampling.into()),
         ("environment".into(), prepared.env_label.clone()),
+        (
+            "render_origin".into(),
+            format!(
+                "{},{},{}",
+                prepared.posed.origin.x, prepared.posed.origin.y, prepared.posed.origin.z
+            ),
+        ),
         (
             "rejected_samples".into(),
             rendered.rejected_samples().to_string(),

@@ -44,6 +44,19 @@ struct SceneArgs {
     /// Animation time in seconds.
     #[arg(long, default_value_t = 0.0)]
     time: f32,
+    /// Read buffers and textures whose URI is absolute or leads out of the scene's folder
+    /// (refused by default, as glTF viewers do).
+    #[arg(long)]
+    allow_external_files: bool,
+}
+
+impl SceneArgs {
+    fn load(&self) -> Result<platoon::core::Scene> {
+        let options = platoon::core::gltf_load::LoadOptions {
+            allow_external_files: self.allow_external_files,
+        };
+        platoon::load_scene_with(self.scene.as_deref(), &options)
+    }
 }
 
 #[derive(Subcommand)]
@@ -170,7 +183,7 @@ fn run(cli: Cli) -> Result<()> {
             if width == 0 || height == 0 || spp == 0 {
                 bail!("--width, --height and --spp must be positive");
             }
-            let loaded = platoon::load_scene(scene.scene.as_deref())?;
+            let loaded = scene.load()?;
             let options = PrepareOptions {
                 env: env_choice(&scene),
                 time: scene.time,
@@ -179,6 +192,9 @@ fn run(cli: Cli) -> Result<()> {
                 focus_distance,
             };
             let prepared = platoon::prepare(loaded, &options)?;
+            for w in &prepared.scene.warnings {
+                eprintln!("warning: {w}");
+            }
             if let Some(note) = &prepared.note {
                 eprintln!("note: {note}");
             }
@@ -251,7 +267,7 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Info { scene } => {
-            let loaded = platoon::load_scene(scene.scene.as_deref())?;
+            let loaded = scene.load()?;
             let prepared = platoon::prepare(
                 loaded,
                 &PrepareOptions {

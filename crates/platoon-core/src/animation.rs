@@ -52,7 +52,9 @@ impl Animation {
                 continue;
             };
             match ch.property {
-                Property::Translation => node.translation = Vec3::from_slice(&ch.sample::<3>(time)),
+                Property::Translation => {
+                    node.translation = Vec3::from_slice(&ch.sample::<3>(time)).as_dvec3()
+                }
                 Property::Scale => node.scale = Vec3::from_slice(&ch.sample::<3>(time)),
                 Property::Rotation => {
                     let q = ch.sample::<4>(time);

@@ -68,25 +68,45 @@ fn params() -> BvhBuildParams {
     p
 }
 
+/// Largest coordinate magnitude a triangle may have to enter a BVH. Far beyond it, box extents
+/// and surface areas overflow f32 and the builder's arithmetic turns to NaN (obvhs asserts on
+/// NaN bounds); a vertex at 1e30 still renders.
+pub const MAX_COORDINATE: f32 = 1e32;
+
+/// Whether a point can be placed in a BVH: finite and within [`MAX_COORDINATE`].
+pub fn placeable(p: Vec3) -> bool {
+    p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
+}
+
+/// The BVH of a mesh's triangles. Triangles with an unplaceable corner (NaN or Inf from a file
+/// or from skinning) are left out of it, so they are never drawn.
 pub fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
-    if mesh.indices.is_empty() {
+    let mut tris = Vec::with_capacity(mesh.indices.len());
+    let mut original = Vec::with_capacity(mesh.indices.len());
+    for (i, t) in mesh.indices.iter().enumerate() {
+        let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+        if placeable(a) && placeable(b) && placeable(c) {
+            tris.push(Triangle {
+                v0: a.into(),
+                v1: b.into(),
+                v2: c.into(),
+            });
+            original.push(i as u32);
+        }
+    }
+    if tris.is_empty() {
         return FlatBvh::default();
     }
-    let tris: Vec<Triangle> = mesh
-        .indices
-        .iter()
-        .map(|t| Triangle {
-            v0: Vec3A::from(mesh.positions[t[0] as usize]),
-            v1: Vec3A::from(mesh.positions[t[1] as usize]),
-            v2: Vec3A::from(mesh.positions[t[2] as usize]),
-        })
-        .collect();
     let mut time = Duration::ZERO;
-    flatten(&obvhs::bvh2::builder::build_bvh2_from_tris(
+    let mut flat = flatten(&obvhs::bvh2::builder::build_bvh2_from_tris(
         &tris,
         params(),
         &mut time,
-    ))
+    ));
+    for o in &mut flat.order {
+        *o = original[*o as usize];
+    }
+    flat
 }
 
 /// Per-mesh BVHs, built in parallel on the CPU threads.
@@ -108,6 +128,7 @@ pub fn transform_bounds(m: &Mat4, (lo, hi): (Vec3, Vec3)) -> Aabb {
     aabb
 }
 
+/// The top level over instance boxes; every box must be finite (see [`placeable`]).
 pub fn build_instance_bvh(boxes: &[Aabb]) -> FlatBvh {
     if boxes.is_empty() {
         return FlatBvh::default();
@@ -156,6 +177,24 @@ mod tests {
         let (lo, hi) = bvh.bounds();
         assert_eq!(lo, Vec3::new(0.0, 0.0, 0.0));
         assert_eq!(hi, Vec3::new(100.0, 13.0, 0.0));
+    }
+
+    #[test]
+    fn unplaceable_triangles_are_left_out_and_far_ones_kept() {
+        let mut mesh = Mesh::default();
+        let far = Vec3::splat(1e30);
+        for (i, corner) in [Vec3::NAN, Vec3::INFINITY, Vec3::splat(3e38), far]
+            .into_iter()
+            .enumerate()
+        {
+            let b = mesh.positions.len() as u32;
+            let o = Vec3::new(i as f32, 0.0, 0.0);
+            mesh.positions.extend([o, o + Vec3::X, corner]);
+            mesh.indices.push([b, b + 1, b + 2]);
+        }
+        let bvh = build_mesh_bvh(&mesh);
+        assert_eq!(bvh.order, vec![3]);
+        assert_eq!(bvh.bounds().1, far);
     }
 }
 

@@ -147,7 +147,7 @@ pub fn scene() -> Scene {
     );
     let (_, r, t) = cam.camera_to_world.to_scale_rotation_translation();
     cam_node.rotation = r;
-    cam_node.translation = t;
+    cam_node.translation = t.as_dvec3();
     cam_node.camera = Some(0);
     Scene {
         nodes: vec![node, cam_node],

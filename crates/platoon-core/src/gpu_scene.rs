@@ -1,7 +1,7 @@
 //! Flattens a posed scene into the plain arrays the kernel reads (std430 layouts mirrored in
 //! shaders/scene.glsl). This is the only data the tracer crate receives from the core.
 
-use std::f32::consts::PI;
+use std::f64::consts::PI;
 use std::time::Duration;
 
 use bytemuck::{Pod, Zeroable};
@@ -9,6 +9,7 @@ use glam::{Mat4, Vec3};
 
 use crate::bvh::{self, BvhNode, FlatBvh};
 use crate::environment::{luminance, Environment};
+use crate::error::{Error, Result};
 use crate::features::FeatureSet;
 use crate::scene::{AlphaMode, LightKind, Posed, Scene, Wrap};
 
@@ -86,7 +87,9 @@ pub const LIGHT_ENVIRONMENT: u32 = 4;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuLight {
-    /// Triangle: world v0; punctual: position. w = type (as float bits of u32 via `kind`).
+    /// Triangle: world v0, w = +1, or -1 when the instance mirrors (a negative determinant
+    /// flips the world winding; glTF keeps the object's front face, and so does the hit shader).
+    /// Punctual: position.
     pub a: [f32; 4],
     /// Triangle: world v1; spot/directional: direction. w = range
     pub b: [f32; 4],
@@ -120,8 +123,9 @@ pub struct GpuScene {
     pub features: FeatureSet,
     pub triangle_count: usize,
     pub build_times: bvh::BuildTimes,
-    /// Radius of the scene's bounding sphere (for directional and environment light power).
-    pub scene_radius: f32,
+    /// Radius of the scene's bounding sphere (for directional and environment light power), in
+    /// f64: a vertex at 1e30 makes its square overflow f32.
+    pub scene_radius: f64,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -160,7 +164,12 @@ fn wrap_code(w: Wrap) -> u32 {
 
 impl GpuScene {
     /// Flattens `posed` (a pose of `scene`). `environment` is the distant light in effect.
-    pub fn build(scene: &Scene, posed: &Posed, environment: Option<&Environment>) -> GpuScene {
+    /// Fails when the light-selection distribution is not finite (an emitter of infinite power).
+    pub fn build(
+        scene: &Scene,
+        posed: &Posed,
+        environment: Option<&Environment>,
+    ) -> Result<GpuScene> {
         let mut g = GpuScene::default();
         // Only meshes some instance uses (a skinned mesh's bind pose is replaced by its pose).
         let mut used = vec![false; posed.meshes.len()];
@@ -221,16 +230,17 @@ impl GpuScene {
         }
         g.triangle_count = g.triangles.len();
 
-        // Top level over the instances of non-empty meshes.
-        let live: Vec<&crate::scene::Instance> = posed
+        // Top level over the instances of non-empty meshes whose world box is placeable.
+        let (live, boxes): (Vec<&crate::scene::Instance>, Vec<obvhs::aabb::Aabb>) = posed
             .instances
             .iter()
             .filter(|i| !mesh_bvhs[i.mesh].nodes.is_empty())
-            .collect();
-        let boxes: Vec<obvhs::aabb::Aabb> = live
-            .iter()
-            .map(|i| bvh::transform_bounds(&i.object_to_world, mesh_bvhs[i.mesh].bounds()))
-            .collect();
+            .map(|i| {
+                let b = bvh::transform_bounds(&i.object_to_world, mesh_bvhs[i.mesh].bounds());
+                (i, b)
+            })
+            .filter(|(_, b)| bvh::placeable(b.min.into()) && bvh::placeable(b.max.into()))
+            .unzip();
         let (tlas, instance_time): (FlatBvh, Duration) =
             bvh::timed(|| bvh::build_instance_bvh(&boxes));
         g.build_times = bvh::BuildTimes {
@@ -239,7 +249,7 @@ impl GpuScene {
         };
         g.tlas_nodes = tlas.nodes.clone();
         let (lo, hi) = tlas.bounds();
-        g.scene_radius = ((hi - lo).length() * 0.5).max(1e-3);
+        g.scene_radius = ((hi.as_dvec3() - lo.as_dvec3()).length() * 0.5).max(1e-3);
 
         // Materials and textures.
         g.materials = scene.materials.iter().map(gpu_material).collect();
@@ -258,13 +268,17 @@ impl GpuScene {
         }
 
         // Instances (in top-level leaf order) and their emissive triangles as lights.
-        let mut power = Vec::new();
+        let mut power: Vec<f64> = Vec::new();
         for (new_index, &orig) in tlas.order.iter().enumerate() {
             let inst = live[orig as usize];
-            let mesh = &live_meshes[inst.mesh];
             let tb = tri_base[inst.mesh] as usize;
-            let tri_count = mesh.indices.len();
+            let tri_count = mesh_bvhs[inst.mesh].order.len();
             let first_light = g.lights.len() as u32;
+            let facing = if inst.object_to_world.determinant() < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
             for t in tb..tb + tri_count {
                 if g.triangle_lights[t] == u32::MAX {
                     continue;
@@ -280,9 +294,9 @@ impl GpuScene {
                     .collect();
                 let area = 0.5 * (w[1] - w[0]).cross(w[2] - w[0]).length();
                 let sides = if mat.double_sided { 2.0 } else { 1.0 };
-                power.push(luminance(mat.emissive) * area * PI * sides);
+                power.push(luminance(mat.emissive) as f64 * area as f64 * PI * sides);
                 g.lights.push(GpuLight {
-                    a: w[0].extend(0.0).to_array(),
+                    a: w[0].extend(facing).to_array(),
                     b: w[1].extend(0.0).to_array(),
                     c: w[2].extend(0.0).to_array(),
                     emission: mat.emissive.extend(0.0).to_array(),
@@ -305,24 +319,25 @@ impl GpuScene {
         for placed in &posed.lights {
             let l = &scene.lights[placed.light];
             let intensity = l.color * l.intensity;
+            let lum = luminance(intensity) as f64;
             let (kind, c, p) = match l.kind {
-                LightKind::Point => (LIGHT_POINT, [0.0; 4], 4.0 * PI * luminance(intensity)),
+                LightKind::Point => (LIGHT_POINT, [0.0; 4], 4.0 * PI * lum),
                 LightKind::Spot {
                     inner_cone,
                     outer_cone,
                 } => {
                     let (ci, co) = (inner_cone.cos(), outer_cone.cos());
-                    let solid_angle = 2.0 * PI * (1.0 - 0.5 * (ci + co));
+                    let solid_angle = 2.0 * PI * (1.0 - 0.5 * (ci + co) as f64);
                     (
                         LIGHT_SPOT,
                         [co, 1.0 / (ci - co).max(1e-4), 0.0, 0.0],
-                        solid_angle * luminance(intensity),
+                        solid_angle * lum,
                     )
                 }
                 LightKind::Directional => (
                     LIGHT_DIRECTIONAL,
                     [0.0; 4],
-                    PI * g.scene_radius * g.scene_radius * luminance(intensity),
+                    PI * g.scene_radius * g.scene_radius * lum,
                 ),
             };
             power.push(p);
@@ -339,34 +354,52 @@ impl GpuScene {
             g.env = gpu_environment(env);
             // Flux of the environment through the scene's bounding sphere.
             let r = g.scene_radius;
-            power.push(PI * PI * r * r * luminance(env.mean_radiance()));
+            power.push(PI * PI * r * r * luminance(env.mean_radiance()) as f64);
             g.lights.push(GpuLight {
                 ids: [LIGHT_ENVIRONMENT, 0, 0, 0],
                 ..Default::default()
             });
         }
 
-        // Selection by power; if everything is black, select uniformly (still unbiased).
-        let total: f64 = power.iter().map(|&p| p.max(0.0) as f64).sum();
-        let n = power.len();
-        g.light_cdf.push(0.0);
-        let mut acc = 0.0f64;
-        for (i, p) in power.iter().enumerate() {
-            let pmf = if total > 0.0 {
-                p.max(0.0) as f64 / total
-            } else {
-                1.0 / n as f64
-            };
-            acc += pmf;
-            g.light_cdf.push(if i + 1 == n { 1.0 } else { acc as f32 });
-            g.lights[i].emission[3] = pmf as f32;
+        let (cdf, pmf) = selection_distribution(&power)?;
+        g.light_cdf = cdf;
+        for (light, p) in g.lights.iter_mut().zip(pmf) {
+            light.emission[3] = p;
         }
 
         g.features = FeatureSet::of_scene(scene);
         g.features.emissive_triangles = g.lights.iter().any(|l| l.ids[0] == LIGHT_TRIANGLE);
         g.features.environment_map = g.env.kind == 2;
-        g
+        Ok(g)
     }
+}
+
+/// The light-selection CDF (f32, as the kernel searches it) and each light's probability, taken
+/// from that same f32 CDF so that the pdf the kernel evaluates is exactly the one it samples
+/// with. Powers are summed in f64; if everything is black, lights are picked uniformly (still
+/// unbiased). A non-finite power is an error here rather than a silently black frame.
+pub fn selection_distribution(power: &[f64]) -> Result<(Vec<f32>, Vec<f32>)> {
+    if let Some(i) = power.iter().position(|p| !p.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "light {i} has a non-finite power ({}): check emission strengths and light intensities",
+            power[i]
+        )));
+    }
+    let total: f64 = power.iter().map(|&p| p.max(0.0)).sum();
+    let n = power.len();
+    let mut cdf = Vec::with_capacity(n + 1);
+    cdf.push(0.0f32);
+    let mut acc = 0.0f64;
+    for (i, p) in power.iter().enumerate() {
+        acc += if total > 0.0 {
+            p.max(0.0) / total
+        } else {
+            1.0 / n as f64
+        };
+        cdf.push(if i + 1 == n { 1.0 } else { acc.min(1.0) as f32 });
+    }
+    let pmf = cdf.windows(2).map(|w| w[1] - w[0]).collect();
+    Ok((cdf, pmf))
 }
 
 fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {

@@ -14,6 +14,7 @@ pub mod environment;
 pub mod error;
 pub mod fault;
 pub mod features;
+pub mod floating_origin;
 pub mod frame;
 pub mod gltf_load;
 pub mod gpu_scene;
@@ -26,3 +27,14 @@ pub mod tangents;
 pub use error::{Error, Result};
 pub use features::FeatureSet;
 pub use scene::Scene;
+
+#[cfg(test)]
+mod tests {
+    /// The test profile keeps overflow checks on (Cargo.toml): hostile inputs rely on them.
+    #[test]
+    #[should_panic(expected = "overflow")]
+    fn overflow_checks_are_on_in_tests() {
+        let x: u8 = std::hint::black_box(255);
+        std::hint::black_box(x + 1);
+    }
+}

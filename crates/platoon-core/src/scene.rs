@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use glam::{DMat4, DVec3, Mat4, Quat, Vec2, Vec3, Vec4};
 
 use crate::environment::Environment;
 
@@ -168,7 +168,8 @@ pub struct CameraModel {
 pub struct Node {
     pub name: String,
     pub parent: Option<usize>,
-    pub translation: Vec3,
+    /// In f64: a game world is larger than f32 can place a small room in (see [`Scene::pose_around`]).
+    pub translation: DVec3,
     pub rotation: Quat,
     pub scale: Vec3,
     pub mesh: Option<usize>,
@@ -182,7 +183,7 @@ impl Node {
         Node {
             name: name.into(),
             parent: None,
-            translation: Vec3::ZERO,
+            translation: DVec3::ZERO,
             rotation: Quat::IDENTITY,
             scale: Vec3::ONE,
             mesh: None,
@@ -191,8 +192,12 @@ impl Node {
             light: None,
         }
     }
-    pub fn local_matrix(&self) -> Mat4 {
-        Mat4::from_scale_rotation_translation(self.scale, self.rotation, self.translation)
+    pub fn local_matrix(&self) -> DMat4 {
+        DMat4::from_scale_rotation_translation(
+            self.scale.as_dvec3(),
+            self.rotation.as_dquat(),
+            self.translation,
+        )
     }
 }
 
@@ -244,9 +249,12 @@ pub struct PlacedCamera {
 }
 
 /// The scene at one instant: every mesh in its final object space (skinned meshes re-posed),
-/// instances with world transforms, and placed lights and cameras.
+/// instances with world transforms, and placed lights and cameras. All positions are relative
+/// to `origin` (render space); see [`Scene::pose_around`].
 #[derive(Clone, Debug)]
 pub struct Posed {
+    /// The world point that render space is centred on.
+    pub origin: DVec3,
     pub meshes: Vec<Arc<Mesh>>,
     pub instances: Vec<Instance>,
     pub lights: Vec<PlacedLight>,
@@ -260,7 +268,7 @@ impl Scene {
     }
 
     /// World matrices of all nodes given their local matrices.
-    pub fn world_matrices(&self, local: &[Mat4]) -> Vec<Mat4> {
+    pub fn world_matrices(&self, local: &[DMat4]) -> Vec<DMat4> {
         let mut world = Vec::with_capacity(self.nodes.len());
         for (i, node) in self.nodes.iter().enumerate() {
             let m = match node.parent {
@@ -272,14 +280,29 @@ impl Scene {
         world
     }
 
-    /// Poses the scene at `time` seconds of its first animation (static scenes ignore time).
+    /// Poses the scene at `time` seconds of its first animation (static scenes ignore time),
+    /// with render space equal to world space.
     pub fn pose(&self, time: f32) -> Posed {
+        self.pose_around(time, DVec3::ZERO)
+    }
+
+    /// Poses the scene with render space centred on `origin` (a floating origin near the
+    /// camera): transforms are composed in f64 and rounded to f32 only after `origin` is
+    /// subtracted, so a room 1e7 units from the world origin keeps full f32 precision.
+    /// Instances whose transform is singular (a node scaled to zero hides it) or not finite in
+    /// f32 are left out: they have no surface to hit.
+    pub fn pose_around(&self, time: f32, origin: DVec3) -> Posed {
         let mut nodes = self.nodes.clone();
         if let Some(anim) = self.animations.first() {
             anim.apply(time, &mut nodes);
         }
-        let local: Vec<Mat4> = nodes.iter().map(Node::local_matrix).collect();
-        let world = self.world_matrices(&local);
+        let local: Vec<DMat4> = nodes.iter().map(Node::local_matrix).collect();
+        let to_render = DMat4::from_translation(-origin);
+        let world: Vec<Mat4> = self
+            .world_matrices(&local)
+            .iter()
+            .map(|m| (to_render * *m).as_mat4())
+            .collect();
         let mut meshes = self.meshes.clone();
         let mut instances = Vec::new();
         let mut lights = Vec::new();
@@ -298,21 +321,25 @@ impl Scene {
                             node: i,
                         });
                     }
-                    None => instances.push(Instance {
+                    None if placeable(&world[i]) => instances.push(Instance {
                         mesh: m,
                         object_to_world: world[i],
                         node: i,
                     }),
+                    None => {}
                 }
             }
             if let Some(l) = node.light {
                 let position = world[i].transform_point3(Vec3::ZERO);
                 let direction = world[i].transform_vector3(-Vec3::Z).normalize_or(-Vec3::Z);
-                lights.push(PlacedLight {
-                    light: l,
-                    position,
-                    direction,
-                });
+                // A light placed at a non-finite point lights nothing.
+                if position.is_finite() {
+                    lights.push(PlacedLight {
+                        light: l,
+                        position,
+                        direction,
+                    });
+                }
             }
             if let Some(c) = node.camera {
                 cameras.push(PlacedCamera {
@@ -322,6 +349,7 @@ impl Scene {
             }
         }
         Posed {
+            origin,
             meshes,
             instances,
             lights,
@@ -330,16 +358,25 @@ impl Scene {
     }
 }
 
+/// A transform that can place an instance: finite, with a finite inverse.
+fn placeable(m: &Mat4) -> bool {
+    let det = m.determinant();
+    m.is_finite() && det != 0.0 && det.is_finite() && m.inverse().is_finite()
+}
+
 impl Posed {
-    /// World-space bounds of all instanced geometry.
+    /// Render-space bounds of all instanced geometry that can be drawn.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
         for inst in &self.instances {
             for p in &self.meshes[inst.mesh].positions {
                 let w = inst.object_to_world.transform_point3(*p);
-                lo = lo.min(w);
-                hi = hi.max(w);
+                // What the BVH leaves out (NaN, Inf, beyond 1e32) does not frame the view.
+                if crate::bvh::placeable(w) {
+                    lo = lo.min(w);
+                    hi = hi.max(w);
+                }
             }
         }
         if lo.x > hi.x {

@@ -3,6 +3,10 @@
 
 use std::f32::consts::PI;
 
+use serde_json::{json, Value};
+
+pub mod adversarial;
+
 /// One mesh as flat arrays.
 #[derive(Default)]
 pub struct MeshData {
@@ -47,6 +51,143 @@ pub fn uv_sphere(rings: u32, segments: u32) -> MeshData {
     m
 }
 
+/// Icosphere of radius 1 with smooth normals: every vertex shared, so the mesh is closed
+/// (watertight), unlike a UV sphere whose seam and poles repeat vertices with rounding.
+pub fn icosphere(subdivisions: u32) -> MeshData {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let mut p: Vec<[f32; 3]> = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ]
+    .to_vec();
+    let mut tris: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions {
+        let mut mid = std::collections::HashMap::new();
+        let mut midpoint = |a: u32, b: u32, p: &mut Vec<[f32; 3]>| -> u32 {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (u, v) = (p[a as usize], p[b as usize]);
+                p.push([
+                    (u[0] + v[0]) / 2.0,
+                    (u[1] + v[1]) / 2.0,
+                    (u[2] + v[2]) / 2.0,
+                ]);
+                p.len() as u32 - 1
+            })
+        };
+        tris = tris
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) = (
+                    midpoint(a, b, &mut p),
+                    midpoint(b, c, &mut p),
+                    midpoint(c, a, &mut p),
+                );
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    let positions: Vec<[f32; 3]> = p
+        .iter()
+        .map(|v| {
+            let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            [v[0] / l, v[1] / l, v[2] / l]
+        })
+        .collect();
+    MeshData {
+        normals: positions.clone(),
+        positions,
+        indices: tris.into_iter().flatten().collect(),
+    }
+}
+
+/// The cube [-1, 1]^3 from 8 shared corners, outward winding, with smooth normals on the
+/// diagonals: interpolated normals lean far from the faces' geometric normals.
+pub fn smooth_box() -> MeshData {
+    let positions: Vec<[f32; 3]> = (0..8)
+        .map(|i| {
+            [
+                (i & 1) as f32 * 2.0 - 1.0,
+                ((i >> 1) & 1) as f32 * 2.0 - 1.0,
+                ((i >> 2) & 1) as f32 * 2.0 - 1.0,
+            ]
+        })
+        .collect();
+    let s = 1.0 / 3f32.sqrt();
+    let normals = positions
+        .iter()
+        .map(|p| [p[0] * s, p[1] * s, p[2] * s])
+        .collect();
+    // Faces as (a, b, c, d), counter-clockwise seen from outside.
+    let faces = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let indices = faces
+        .iter()
+        .flat_map(|&[a, b, c, d]| [a, b, c, a, c, d])
+        .collect();
+    MeshData {
+        positions,
+        normals,
+        indices,
+    }
+}
+
+/// A one-sided quad (a, b, c, d), counter-clockwise seen from the side it faces.
+pub fn quad_from(corners: [[f32; 3]; 4]) -> MeshData {
+    let [a, b, c, _] = corners;
+    let (e1, e2) = (
+        [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+        [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+    );
+    let n = [
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
+    ];
+    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    MeshData {
+        positions: corners.to_vec(),
+        normals: vec![[n[0] / l, n[1] / l, n[2] / l]; 4],
+        indices: vec![0, 1, 2, 0, 2, 3],
+    }
+}
+
 /// Quad in the y = 0 plane of half-size `h`, facing `ny` (+1 up, -1 down).
 pub fn quad(h: f32, ny: f32) -> MeshData {
     let positions = vec![[-h, 0.0, -h], [h, 0.0, -h], [h, 0.0, h], [-h, 0.0, h]];
@@ -62,17 +203,57 @@ pub fn quad(h: f32, ny: f32) -> MeshData {
     }
 }
 
+/// A node: an optional mesh, camera (vertical field of view) or KHR_lights_punctual light, a
+/// TRS transform (translation in f64, as a game world needs) and children.
+#[derive(Clone, Debug)]
 pub struct NodeData {
-    pub mesh: usize,
-    pub translation: [f32; 3],
-    pub scale: f32,
+    pub mesh: Option<usize>,
+    pub translation: [f64; 3],
+    pub rotation: [f32; 4],
+    pub scale: [f32; 3],
+    pub children: Vec<usize>,
+    pub camera_yfov: Option<f32>,
+    pub light: Option<usize>,
 }
 
-/// Material JSON objects are passed through verbatim.
+impl NodeData {
+    pub fn new() -> NodeData {
+        NodeData {
+            mesh: None,
+            translation: [0.0; 3],
+            rotation: [0.0, 0.0, 0.0, 1.0],
+            scale: [1.0; 3],
+            children: Vec::new(),
+            camera_yfov: None,
+            light: None,
+        }
+    }
+
+    /// A node of `mesh` at `translation` with a uniform `scale`.
+    pub fn mesh(mesh: usize, translation: [f64; 3], scale: f32) -> NodeData {
+        NodeData {
+            mesh: Some(mesh),
+            translation,
+            scale: [scale; 3],
+            ..NodeData::new()
+        }
+    }
+}
+
+impl Default for NodeData {
+    fn default() -> Self {
+        NodeData::new()
+    }
+}
+
+/// Materials and lights are glTF JSON objects, passed through verbatim. Nodes that are no
+/// other node's child are the scene's roots.
+#[derive(Default)]
 pub struct SceneData {
     pub meshes: Vec<(MeshData, usize)>,
-    pub materials: Vec<String>,
+    pub materials: Vec<Value>,
     pub nodes: Vec<NodeData>,
+    pub lights: Vec<Value>,
     pub extensions_used: Vec<String>,
 }
 
@@ -82,9 +263,12 @@ fn pad4(v: &mut Vec<u8>, byte: u8) {
     }
 }
 
-/// Serialises a scene as a .glb.
-pub fn to_glb(scene: &SceneData) -> Vec<u8> {
-    let mut bin: Vec<u8> = Vec::new();
+fn le_bytes<const N: usize>(values: impl Iterator<Item = [u8; N]>) -> Vec<u8> {
+    values.flatten().collect()
+}
+
+/// The glTF JSON of a scene whose mesh data is appended to `bin`.
+pub fn to_json(scene: &SceneData, bin: &mut Vec<u8>) -> Value {
     let (mut views, mut accessors, mut meshes) = (Vec::new(), Vec::new(), Vec::new());
     for (mesh, material) in &scene.meshes {
         let mut lo = [f32::INFINITY; 3];
@@ -95,86 +279,90 @@ pub fn to_glb(scene: &SceneData) -> Vec<u8> {
                 hi[k] = hi[k].max(p[k]);
             }
         }
-        let mut view = |bin: &mut Vec<u8>, data: &[u8], target: u32| {
+        let mut view = |data: &[u8], target: u32| {
             let offset = bin.len();
             bin.extend_from_slice(data);
             pad4(bin, 0);
-            views.push(format!(
-                r#"{{"buffer":0,"byteOffset":{offset},"byteLength":{},"target":{target}}}"#,
-                data.len()
-            ));
+            views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target}));
             views.len() - 1
         };
-        let pos: Vec<u8> = mesh
-            .positions
-            .iter()
-            .flatten()
-            .flat_map(|f| f.to_le_bytes())
-            .collect();
-        let nrm: Vec<u8> = mesh
-            .normals
-            .iter()
-            .flatten()
-            .flat_map(|f| f.to_le_bytes())
-            .collect();
-        let idx: Vec<u8> = mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-        let (vp, vn, vi) = (
-            view(&mut bin, &pos, 34962),
-            view(&mut bin, &nrm, 34962),
-            view(&mut bin, &idx, 34963),
-        );
+        let pos = le_bytes(mesh.positions.iter().flatten().map(|f| f.to_le_bytes()));
+        let nrm = le_bytes(mesh.normals.iter().flatten().map(|f| f.to_le_bytes()));
+        let idx = le_bytes(mesh.indices.iter().map(|i| i.to_le_bytes()));
         let n = mesh.positions.len();
-        accessors.push(format!(
-            r#"{{"bufferView":{vp},"componentType":5126,"count":{n},"type":"VEC3","min":[{},{},{}],"max":[{},{},{}]}}"#,
-            lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]
-        ));
-        accessors.push(format!(
-            r#"{{"bufferView":{vn},"componentType":5126,"count":{n},"type":"VEC3"}}"#
-        ));
-        accessors.push(format!(
-            r#"{{"bufferView":{vi},"componentType":5125,"count":{},"type":"SCALAR"}}"#,
-            mesh.indices.len()
-        ));
-        let a = accessors.len() - 3;
-        meshes.push(format!(
-            r#"{{"primitives":[{{"attributes":{{"POSITION":{a},"NORMAL":{}}},"indices":{},"material":{material}}}]}}"#,
-            a + 1,
-            a + 2
-        ));
+        let vp = view(&pos, 34962);
+        accessors.push(json!({"bufferView": vp, "componentType": 5126, "count": n, "type": "VEC3", "min": lo, "max": hi}));
+        let mut attributes = json!({"POSITION": accessors.len() - 1});
+        // Without normals the mesh is flat-shaded.
+        if !mesh.normals.is_empty() {
+            let vn = view(&nrm, 34962);
+            accessors
+                .push(json!({"bufferView": vn, "componentType": 5126, "count": n, "type": "VEC3"}));
+            attributes["NORMAL"] = json!(accessors.len() - 1);
+        }
+        let vi = view(&idx, 34963);
+        accessors.push(json!({"bufferView": vi, "componentType": 5125, "count": mesh.indices.len(), "type": "SCALAR"}));
+        meshes.push(json!({"primitives": [{"attributes": attributes, "indices": accessors.len() - 1, "material": material}]}));
     }
-    let nodes: Vec<String> = scene
+    let mut cameras = Vec::new();
+    let nodes: Vec<Value> = scene
         .nodes
         .iter()
         .map(|n| {
-            format!(
-                r#"{{"mesh":{},"translation":[{},{},{}],"scale":[{s},{s},{s}]}}"#,
-                n.mesh,
-                n.translation[0],
-                n.translation[1],
-                n.translation[2],
-                s = n.scale
-            )
+            let mut node =
+                json!({"translation": n.translation, "rotation": n.rotation, "scale": n.scale});
+            if let Some(m) = n.mesh {
+                node["mesh"] = json!(m);
+            }
+            if !n.children.is_empty() {
+                node["children"] = json!(n.children);
+            }
+            if let Some(yfov) = n.camera_yfov {
+                node["camera"] = json!(cameras.len());
+                cameras.push(
+                    json!({"type": "perspective", "perspective": {"yfov": yfov, "znear": 0.001}}),
+                );
+            }
+            if let Some(l) = n.light {
+                node["extensions"] = json!({"KHR_lights_punctual": {"light": l}});
+            }
+            node
         })
         .collect();
-    let roots: Vec<String> = (0..nodes.len()).map(|i| i.to_string()).collect();
-    let ext: Vec<String> = scene
-        .extensions_used
-        .iter()
-        .map(|e| format!("\"{e}\""))
+    let roots: Vec<usize> = (0..nodes.len())
+        .filter(|i| !scene.nodes.iter().any(|n| n.children.contains(i)))
         .collect();
-    let json = format!(
-        r#"{{"asset":{{"version":"2.0","generator":"platoon-scenegen"}},"extensionsUsed":[{}],"scene":0,"scenes":[{{"nodes":[{}]}}],"nodes":[{}],"meshes":[{}],"materials":[{}],"accessors":[{}],"bufferViews":[{}],"buffers":[{{"byteLength":{}}}]}}"#,
-        ext.join(","),
-        roots.join(","),
-        nodes.join(","),
-        meshes.join(","),
-        scene.materials.join(","),
-        accessors.join(","),
-        views.join(","),
-        bin.len()
-    );
-    let mut json = json.into_bytes();
+    let mut extensions_used = scene.extensions_used.clone();
+    let mut root = json!({
+        "asset": {"version": "2.0", "generator": "platoon-scenegen"},
+        "scene": 0,
+        "scenes": [{"nodes": roots}],
+        "nodes": nodes,
+        "meshes": meshes,
+        "materials": scene.materials,
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{"byteLength": bin.len()}],
+    });
+    if !cameras.is_empty() {
+        root["cameras"] = json!(cameras);
+    }
+    if !scene.lights.is_empty() {
+        root["extensions"] = json!({"KHR_lights_punctual": {"lights": scene.lights}});
+        extensions_used.push("KHR_lights_punctual".into());
+    }
+    if !extensions_used.is_empty() {
+        root["extensionsUsed"] = json!(extensions_used);
+    }
+    root
+}
+
+/// Packs glTF JSON and its binary chunk as a .glb.
+pub fn glb(json: &Value, bin: &[u8]) -> Vec<u8> {
+    let mut json = serde_json::to_vec(json).expect("JSON values serialise");
     pad4(&mut json, b' ');
+    let mut bin = bin.to_vec();
+    pad4(&mut bin, 0);
     let total = 12 + 8 + json.len() + 8 + bin.len();
     let mut out = Vec::with_capacity(total);
     out.extend_from_slice(b"glTF");
@@ -189,29 +377,27 @@ pub fn to_glb(scene: &SceneData) -> Vec<u8> {
     out
 }
 
+/// Serialises a scene as a .glb.
+pub fn to_glb(scene: &SceneData) -> Vec<u8> {
+    let mut bin = Vec::new();
+    let json = to_json(scene, &mut bin);
+    glb(&json, &bin)
+}
+
 /// The benchmark scene: a `grid` x `grid` field of instanced glossy spheres (6,468 triangles
 /// each) on a diffuse ground under an emissive panel. grid = 4 gives 16 x 6,468 + 4 = 103,492
 /// triangles, 16 instances of one BLAS; `unique = true` makes every sphere its own mesh.
 pub fn sphere_field(grid: u32, unique: bool) -> SceneData {
-    let sphere_materials = [
-        r#"{"name":"glossy","pbrMetallicRoughness":{"baseColorFactor":[0.8,0.3,0.2,1],"metallicFactor":0,"roughnessFactor":0.3}}"#,
-        r#"{"name":"metal","pbrMetallicRoughness":{"baseColorFactor":[0.9,0.8,0.5,1],"metallicFactor":1,"roughnessFactor":0.2}}"#,
+    let materials = vec![
+        json!({"name": "glossy", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.3, 0.2, 1], "metallicFactor": 0, "roughnessFactor": 0.3}}),
+        json!({"name": "metal", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.8, 0.5, 1], "metallicFactor": 1, "roughnessFactor": 0.2}}),
+        json!({"name": "ground", "pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.6, 0.6, 1], "metallicFactor": 0, "roughnessFactor": 0.9}}),
+        json!({"name": "panel", "emissiveFactor": [1, 0.9, 0.8], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8}}, "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1]}}),
     ];
-    let mut materials: Vec<String> = sphere_materials.iter().map(|s| s.to_string()).collect();
-    materials.push(r#"{"name":"ground","pbrMetallicRoughness":{"baseColorFactor":[0.6,0.6,0.6,1],"metallicFactor":0,"roughnessFactor":0.9}}"#.into());
-    materials.push(r#"{"name":"panel","emissiveFactor":[1,0.9,0.8],"extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":8}},"pbrMetallicRoughness":{"baseColorFactor":[0,0,0,1]}}"#.into());
     let mut meshes = vec![(quad(1.0, 1.0), 2), (quad(1.0, -1.0), 3)];
     let mut nodes = vec![
-        NodeData {
-            mesh: 0,
-            translation: [0.0, 0.0, 0.0],
-            scale: 3.0 * grid as f32,
-        },
-        NodeData {
-            mesh: 1,
-            translation: [0.0, 3.0 * grid as f32, 0.0],
-            scale: 0.8 * grid as f32,
-        },
+        NodeData::mesh(0, [0.0; 3], 3.0 * grid as f32),
+        NodeData::mesh(1, [0.0, 3.0 * grid as f64, 0.0], 0.8 * grid as f32),
     ];
     let offset = (grid as f32 - 1.0) * 1.25;
     for i in 0..grid * grid {
@@ -225,23 +411,36 @@ pub fn sphere_field(grid: u32, unique: bool) -> SceneData {
             (i % grid) as f32 * 2.5 - offset,
             (i / grid) as f32 * 2.5 - offset,
         );
-        nodes.push(NodeData {
-            mesh,
-            translation: [x, 1.0, z],
-            scale: 1.0,
-        });
+        nodes.push(NodeData::mesh(mesh, [x as f64, 1.0, z as f64], 1.0));
     }
     SceneData {
         meshes,
         materials,
         nodes,
         extensions_used: vec!["KHR_materials_emissive_strength".into()],
+        ..Default::default()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn icosphere_is_closed() {
+        let m = icosphere(2);
+        assert_eq!(m.indices.len() / 3, 320);
+        // Closed: every edge is used exactly twice, once in each direction.
+        let mut edges = std::collections::HashMap::new();
+        for t in m.indices.chunks(3) {
+            for k in 0..3 {
+                *edges.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        assert!(edges
+            .iter()
+            .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1)));
+    }
 
     #[test]
     fn sphere_triangle_count() {
@@ -255,7 +454,7 @@ mod tests {
             let tris: usize = field
                 .nodes
                 .iter()
-                .map(|n| field.meshes[n.mesh].0.indices.len() / 3)
+                .map(|n| field.meshes[n.mesh.unwrap()].0.indices.len() / 3)
                 .sum();
             assert_eq!(tris, 103_492);
         }

@@ -1,5 +1,8 @@
 //! `platoon-scenegen OUT.glb [--grid N] [--unique]`: writes the benchmark sphere field.
+//! `platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]`: writes the
+//! adversarial suite (valid hard scenes, malformed and hostile files, mutations of SCENES).
 
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
@@ -7,22 +10,51 @@ fn main() -> ExitCode {
     let mut out = None;
     let mut grid = 4u32;
     let mut unique = false;
+    let mut adversarial = None;
+    let mut shared = PathBuf::from("../shared/scenes");
+    let mut mutants = 8usize;
+    let mut seed = 1u64;
     let mut it = args.iter();
     while let Some(a) = it.next() {
+        let mut number = |what: &str| -> Option<u64> {
+            let v = it.next().and_then(|v| v.parse().ok());
+            if v.is_none() {
+                eprintln!("error: {what} needs a non-negative integer");
+            }
+            v
+        };
         match a.as_str() {
-            "--grid" => match it.next().and_then(|v| v.parse().ok()) {
-                Some(g) if g > 0 => grid = g,
-                _ => {
-                    eprintln!("error: --grid needs a positive integer");
-                    return ExitCode::FAILURE;
-                }
+            "--grid" => match number("--grid") {
+                Some(g) if g > 0 => grid = g as u32,
+                _ => return ExitCode::FAILURE,
+            },
+            "--mutants" => match number("--mutants") {
+                Some(m) => mutants = m as usize,
+                None => return ExitCode::FAILURE,
+            },
+            "--seed" => match number("--seed") {
+                Some(s) => seed = s,
+                None => return ExitCode::FAILURE,
             },
             "--unique" => unique = true,
+            "--adversarial" => adversarial = it.next().map(PathBuf::from),
+            "--shared" => shared = it.next().map(PathBuf::from).unwrap_or(shared),
             other => out = Some(other.to_string()),
         }
     }
+    if let Some(dir) = adversarial {
+        let cases = platoon_scenegen::adversarial::suite(&shared, mutants, seed);
+        if let Err(e) = platoon_scenegen::adversarial::write(&dir, &cases) {
+            eprintln!("error: {}: {e}", dir.display());
+            return ExitCode::FAILURE;
+        }
+        for c in &cases {
+            println!("{}\t{:?}", dir.join(c.scene_path()).display(), c.expect);
+        }
+        return ExitCode::SUCCESS;
+    }
     let Some(out) = out else {
-        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique]");
+        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
         return ExitCode::FAILURE;
     };
     let glb = platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(grid, unique));

@@ -1,0 +1,115 @@
+//! glTF 2.0 loader (.gltf with external or embedded buffers, .glb). Errors name the file and
+//! the problem; unsupported optional features become warnings kept on the scene.
+//!
+//! Hostile files are expected: what the `gltf` crate assumes is checked first ([`validate`]),
+//! every URI passes one policy ([`resources`]), and a panic that still happens inside a
+//! dependency becomes an error ([`guard`]).
+
+mod guard;
+mod material;
+mod mesh;
+mod nodes;
+mod resources;
+pub mod validate;
+
+use std::path::Path;
+use std::sync::Arc;
+
+use gltf::Gltf;
+
+use crate::error::{Error, Result};
+use crate::scene::*;
+
+/// Extensions that platoon implements; a file that *requires* any other is refused.
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+];
+
+#[derive(Clone, Debug, Default)]
+pub struct LoadOptions {
+    /// Read buffers and images whose URI is absolute or leaves the scene's folder.
+    pub allow_external_files: bool,
+}
+
+/// Loads a scene with the default options (URIs confined to the scene's folder).
+pub fn load(path: &Path) -> Result<Scene> {
+    load_with(path, &LoadOptions::default())
+}
+
+pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene> {
+    let bytes =
+        std::fs::read(path).map_err(|e| Error::file(path, format!("cannot read scene: {e}")))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    guard::catching_panics(path, || load_from_slice(path, &bytes, base, options))
+}
+
+/// Loads a scene from the bytes of `path`, resolving URIs against `base`. Unlike
+/// [`load_with`], a panic inside a dependency is not caught: this is what the fuzz target
+/// calls, so that such a panic is found rather than hidden.
+pub fn load_from_slice(
+    path: &Path,
+    bytes: &[u8],
+    base: &Path,
+    options: &LoadOptions,
+) -> Result<Scene> {
+    let in_file = |check| validate::in_file(path, check);
+    in_file(validate::glb_header(bytes))?;
+    let unvalidated = Gltf::from_slice_without_validation(bytes)
+        .map_err(|e| Error::file(path, format!("not a valid glTF file: {e}")))?;
+    for ext in unvalidated.extensions_required() {
+        if !SUPPORTED_EXTENSIONS.contains(&ext) {
+            return Err(Error::file(
+                path,
+                format!("requires the unsupported glTF extension {ext}"),
+            ));
+        }
+    }
+    in_file(validate::references(unvalidated.document.as_json()))?;
+    let Gltf { document, blob } = unvalidated;
+    let doc = gltf::Document::from_json(document.into_json())
+        .map_err(|e| Error::file(path, format!("invalid glTF: {e}")))?;
+
+    let policy = resources::UriPolicy { base, options };
+    let buffers = resources::buffers(&doc, blob, &policy).map_err(|e| Error::file(path, e))?;
+    in_file(validate::buffer_views(&doc, &buffers))?;
+    let images = resources::images(&doc, &buffers, &policy).map_err(|e| Error::file(path, e))?;
+
+    let mut scene = Scene {
+        source: Some(path.to_path_buf()),
+        ..Default::default()
+    };
+    scene.textures = doc
+        .textures()
+        .map(|t| material::texture(&t, &images[t.source().index()]))
+        .collect();
+    for m in doc.materials() {
+        let m = material::material(&m, &mut scene.warnings).map_err(|e| Error::file(path, e))?;
+        scene.materials.push(m);
+    }
+    // Primitives without a material use the glTF default material, appended last when needed.
+    let default_material = scene.materials.len() as u32;
+    if doc
+        .meshes()
+        .flat_map(|m| m.primitives())
+        .any(|p| p.material().index().is_none())
+    {
+        scene.materials.push(Material::default());
+    }
+    for m in doc.meshes() {
+        let m = mesh::load_mesh(
+            &m,
+            &buffers,
+            default_material,
+            &scene.materials,
+            &mut scene.warnings,
+        )
+        .map_err(|e| Error::file(path, e))?;
+        scene.meshes.push(Arc::new(m));
+    }
+    in_file(nodes::load_nodes(&doc, &buffers, &mut scene))?;
+    Ok(scene)
+}

@@ -1,0 +1,161 @@
+//! The files a glTF refers to: buffers and images, read by platoon rather than by the `gltf`
+//! crate so that every URI passes one policy. URIs are relative to the asset, as glTF viewers
+//! treat them: one that is absolute or resolves outside the scene's folder (after
+//! canonicalisation, so `..`, percent-encoded `..` and symlinks count) is refused unless the
+//! user allows external files.
+
+use std::path::{Path, PathBuf};
+
+use base64::Engine as _;
+use percent_encoding::percent_decode_str;
+
+use super::validate::Check;
+use super::LoadOptions;
+
+/// Where a scene's relative URIs resolve, and whether they may leave its folder.
+pub struct UriPolicy<'a> {
+    pub base: &'a Path,
+    pub options: &'a LoadOptions,
+}
+
+impl UriPolicy<'_> {
+    /// The bytes behind `uri`: a base64 data URI, or a file inside the scene's folder.
+    pub fn read(&self, uri: &str, what: &str) -> Check<Vec<u8>> {
+        if let Some(data) = uri.strip_prefix("data:") {
+            return decode_data_uri(data).map_err(|e| format!("{what} data URI: {e}"));
+        }
+        let file = self.resolve(uri, what)?;
+        std::fs::read(&file).map_err(|e| format!("cannot read {what} file {}: {e}", file.display()))
+    }
+
+    fn resolve(&self, uri: &str, what: &str) -> Check<PathBuf> {
+        let relative = match uri.split_once(':') {
+            // `file:` URIs name absolute paths; any other scheme (http:, ...) is not a file.
+            Some((scheme, rest)) if scheme.len() > 1 && is_scheme(scheme) => {
+                if !scheme.eq_ignore_ascii_case("file") {
+                    return Err(format!(
+                        "{what} URI '{uri}' uses the unsupported scheme {scheme}:"
+                    ));
+                }
+                rest.trim_start_matches("//")
+            }
+            _ => uri,
+        };
+        let decoded = percent_decode_str(relative)
+            .decode_utf8()
+            .map_err(|_| format!("{what} URI '{uri}' is not UTF-8 once percent-decoded"))?;
+        if decoded.contains('\0') {
+            return Err(format!("{what} URI '{uri}' contains a NUL character"));
+        }
+        let file = self.base.join(&*decoded);
+        let canonical = file
+            .canonicalize()
+            .map_err(|_| format!("missing {what} file {}", file.display()))?;
+        if !canonical.is_file() {
+            return Err(format!("{what} URI '{uri}' is not a file"));
+        }
+        if !self.options.allow_external_files {
+            let folder = self
+                .base
+                .canonicalize()
+                .map_err(|e| format!("cannot resolve the scene's folder: {e}"))?;
+            if !canonical.starts_with(&folder) {
+                return Err(format!(
+                    "{what} URI '{uri}' resolves to {}, outside the scene's folder {} \
+                     (pass --allow-external-files to read it)",
+                    canonical.display(),
+                    folder.display()
+                ));
+            }
+        }
+        Ok(canonical)
+    }
+}
+
+fn is_scheme(s: &str) -> bool {
+    s.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
+}
+
+/// `[<mediatype>][;base64],<data>`: glTF embeds binary data as base64 only.
+fn decode_data_uri(data: &str) -> Check<Vec<u8>> {
+    let (header, payload) = data
+        .split_once(',')
+        .ok_or_else(|| "no ',' before the data".to_string())?;
+    if !header.ends_with(";base64") {
+        return Err("not base64-encoded".into());
+    }
+    base64::engine::general_purpose::STANDARD
+        .decode(payload)
+        .map_err(|e| format!("invalid base64: {e}"))
+}
+
+/// Every buffer's bytes, at least as many as it declares.
+pub fn buffers(
+    doc: &gltf::Document,
+    blob: Option<Vec<u8>>,
+    policy: &UriPolicy,
+) -> Check<Vec<Vec<u8>>> {
+    let mut blob = blob;
+    let mut out = Vec::new();
+    for buffer in doc.buffers() {
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
+                format!(
+                    "buffer {} refers to a missing GLB BIN chunk",
+                    buffer.index()
+                )
+            })?,
+            gltf::buffer::Source::Uri(uri) => policy.read(uri, "buffer")?,
+        };
+        if data.len() < buffer.length() {
+            return Err(format!(
+                "buffer {} holds {} bytes but declares {}",
+                buffer.index(),
+                data.len(),
+                buffer.length()
+            ));
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// A decoded image as 8-bit RGBA.
+pub struct Rgba8 {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<u8>,
+}
+
+/// Every image decoded to RGBA8 (PNG or JPEG; the image crate's default limits bound the memory
+/// a hostile header can ask for).
+pub fn images(doc: &gltf::Document, buffers: &[Vec<u8>], policy: &UriPolicy) -> Check<Vec<Rgba8>> {
+    let mut out = Vec::new();
+    for image in doc.images() {
+        let owned;
+        let encoded: &[u8] = match image.source() {
+            gltf::image::Source::View { view, .. } => {
+                // In range: validate::buffer_views ran first.
+                &buffers[view.buffer().index()][view.offset()..view.offset() + view.length()]
+            }
+            gltf::image::Source::Uri { uri, .. } => {
+                owned = policy.read(uri, "texture")?;
+                &owned
+            }
+        };
+        let decoded = image::load_from_memory(encoded)
+            .map_err(|e| format!("cannot decode image {}: {e}", image.index()))?;
+        let rgba = decoded.to_rgba8();
+        if rgba.width() == 0 || rgba.height() == 0 {
+            return Err(format!("image {} is empty", image.index()));
+        }
+        out.push(Rgba8 {
+            width: rgba.width(),
+            height: rgba.height(),
+            pixels: rgba.into_raw(),
+        });
+    }
+    Ok(out)
+}
