@@ -50,6 +50,12 @@ pub fn describe(p: &Prepared) -> String {
     );
     let _ = writeln!(out, "environment:  {}", p.env_label);
     let _ = writeln!(out, "cameras:      {}", s.cameras.len());
+    let o = p.posed.origin;
+    let _ = writeln!(
+        out,
+        "render space: centred on {}, {}, {} (floating origin near the camera)",
+        o.x, o.y, o.z
+    );
     let _ = writeln!(
         out,
         "animations:   {} ({} channels, {:.3} s)",

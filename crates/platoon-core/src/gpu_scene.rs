@@ -462,3 +462,33 @@ fn gpu_environment(env: &Environment) -> GpuEnvironment {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::selection_distribution;
+
+    #[test]
+    fn probabilities_are_the_widths_of_the_searched_cdf() {
+        // An emitter beside a sun whose power comes from a radius of 1e30: the emitter's share
+        // vanishes in f32, and its probability must then be 0, not 1e-61.
+        for power in [vec![8.0, 1e61], vec![1.0, 2.0, 3.0], vec![0.0, 0.0]] {
+            let (cdf, pmf) = selection_distribution(&power).unwrap();
+            assert_eq!((cdf.len(), pmf.len()), (power.len() + 1, power.len()));
+            assert_eq!((cdf[0], *cdf.last().unwrap()), (0.0, 1.0));
+            for i in 0..pmf.len() {
+                assert_eq!(pmf[i], cdf[i + 1] - cdf[i]);
+                assert!(pmf[i].is_finite() && pmf[i] >= 0.0);
+            }
+        }
+        let (_, pmf) = selection_distribution(&[8.0, 1e61]).unwrap();
+        assert_eq!(pmf, vec![0.0, 1.0]);
+        let (_, pmf) = selection_distribution(&[0.0, 0.0]).unwrap();
+        assert_eq!(pmf, vec![0.5, 0.5]);
+    }
+
+    #[test]
+    fn a_non_finite_power_is_an_error() {
+        assert!(selection_distribution(&[1.0, f64::INFINITY]).is_err());
+        assert!(selection_distribution(&[f64::NAN]).is_err());
+    }
+}
