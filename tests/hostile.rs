@@ -11,7 +11,7 @@ use common::*;
 use platoon_scenegen::adversarial::{self, Case, Expect};
 
 /// Mutants of each shared scene, and the fixed seed that makes them the same on every run.
-const MUTANTS: usize = 8;
+const MUTANTS: usize = 16;
 const SEED: u64 = 2026;
 
 struct Outcome {
