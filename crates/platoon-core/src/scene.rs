@@ -321,7 +321,7 @@ impl Scene {
                             node: i,
                         });
                     }
-                    None if placeable(&world[i]) => instances.push(Instance {
+                    None if invertible_and_finite(&world[i]) => instances.push(Instance {
                         mesh: m,
                         object_to_world: world[i],
                         node: i,
@@ -359,7 +359,7 @@ impl Scene {
 }
 
 /// A transform that can place an instance: finite, with a finite inverse.
-fn placeable(m: &Mat4) -> bool {
+fn invertible_and_finite(m: &Mat4) -> bool {
     let det = m.determinant();
     m.is_finite() && det != 0.0 && det.is_finite() && m.inverse().is_finite()
 }
