@@ -4,6 +4,7 @@
 //! canonicalisation, so `..`, percent-encoded `..` and symlinks count) is refused unless the
 //! user allows external files.
 
+use std::io::Read as _;
 use std::path::{Path, PathBuf};
 
 use base64::Engine as _;
@@ -19,13 +20,18 @@ pub struct UriPolicy<'a> {
 }
 
 impl UriPolicy<'_> {
-    /// The bytes behind `uri`: a base64 data URI, or a file inside the scene's folder.
-    pub fn read(&self, uri: &str, what: &str) -> Check<Vec<u8>> {
+    /// The bytes behind `uri` (at most `limit` of them from a file: a buffer needs no more
+    /// than it declares): a base64 data URI, or a file inside the scene's folder.
+    pub fn read(&self, uri: &str, what: &str, limit: Option<u64>) -> Check<Vec<u8>> {
         if let Some(data) = uri.strip_prefix("data:") {
             return decode_data_uri(data).map_err(|e| format!("{what} data URI: {e}"));
         }
         let file = self.resolve(uri, what)?;
-        std::fs::read(&file).map_err(|e| format!("cannot read {what} file {}: {e}", file.display()))
+        let mut bytes = Vec::new();
+        std::fs::File::open(&file)
+            .and_then(|f| f.take(limit.unwrap_or(u64::MAX)).read_to_end(&mut bytes))
+            .map_err(|e| format!("cannot read {what} file {}: {e}", file.display()))?;
+        Ok(bytes)
     }
 
     fn resolve(&self, uri: &str, what: &str) -> Check<PathBuf> {
@@ -107,7 +113,9 @@ pub fn buffers(
                     buffer.index()
                 )
             })?,
-            gltf::buffer::Source::Uri(uri) => policy.read(uri, "buffer")?,
+            gltf::buffer::Source::Uri(uri) => {
+                policy.read(uri, "buffer", Some(buffer.length() as u64))?
+            }
         };
         if data.len() < buffer.length() {
             return Err(format!(
@@ -141,7 +149,7 @@ pub fn images(doc: &gltf::Document, buffers: &[Vec<u8>], policy: &UriPolicy) -> 
                 &buffers[view.buffer().index()][view.offset()..view.offset() + view.length()]
             }
             gltf::image::Source::Uri { uri, .. } => {
-                owned = policy.read(uri, "texture")?;
+                owned = policy.read(uri, "texture", None)?;
                 &owned
             }
         };
