@@ -53,6 +53,11 @@ impl UriPolicy<'_> {
         if decoded.contains('\0') {
             return Err(format!("{what} URI '{uri}' contains a NUL character"));
         }
+        // Refuse what leaves the folder by its text before touching the file system, so that
+        // error messages do not tell which files exist outside it; symlinks are caught below.
+        if !self.options.allow_external_files && !stays_inside(Path::new(&*decoded)) {
+            return Err(self.outside(uri, what, &self.base.join(&*decoded)));
+        }
         let file = self.base.join(&*decoded);
         let canonical = file
             .canonicalize()
@@ -66,16 +71,36 @@ impl UriPolicy<'_> {
                 .canonicalize()
                 .map_err(|e| format!("cannot resolve the scene's folder: {e}"))?;
             if !canonical.starts_with(&folder) {
-                return Err(format!(
-                    "{what} URI '{uri}' resolves to {}, outside the scene's folder {} \
-                     (pass --allow-external-files to read it)",
-                    canonical.display(),
-                    folder.display()
-                ));
+                return Err(self.outside(uri, what, &canonical));
             }
         }
         Ok(canonical)
     }
+
+    fn outside(&self, uri: &str, what: &str, path: &Path) -> String {
+        format!(
+            "{what} URI '{uri}' resolves to {}, outside the scene's folder {} \
+             (pass --allow-external-files to read it)",
+            path.display(),
+            self.base.display()
+        )
+    }
+}
+
+/// Whether a relative path stays inside its folder by its components alone (no root, never
+/// more `..` than names before them).
+fn stays_inside(path: &Path) -> bool {
+    use std::path::Component;
+    let mut depth = 0usize;
+    for c in path.components() {
+        match c {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir if depth > 0 => depth -= 1,
+            _ => return false,
+        }
+    }
+    true
 }
 
 fn is_scheme(s: &str) -> bool {
@@ -166,4 +191,19 @@ pub fn images(doc: &gltf::Document, buffers: &[Vec<u8>], policy: &UriPolicy) -> 
         });
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paths_that_climb_or_are_rooted_leave_the_folder() {
+        for inside in ["a.bin", "./a.bin", "sub/../a.bin", "sub/deeper/../../a.bin"] {
+            assert!(stays_inside(Path::new(inside)), "{inside}");
+        }
+        for outside in ["../a.bin", "/etc/passwd", "sub/../../a.bin", "./../a.bin"] {
+            assert!(!stays_inside(Path::new(outside)), "{outside}");
+        }
+    }
 }
