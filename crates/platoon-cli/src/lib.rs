@@ -125,7 +125,7 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
     let mut origin = FloatingOrigin::default();
     let mut posed = scene.pose(options.time);
     let camera = Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
-    if origin.follow(camera.camera_to_world.w_axis.truncate().as_dvec3()) {
+    if origin.follow(camera.position().as_dvec3()) {
         posed = scene.pose_around(options.time, origin.origin);
     }
     let mut camera =
