@@ -57,7 +57,7 @@ const uint CDF_ENV_ROWS = 1u;
 const uint CDF_ENV_COLUMNS = 2u;
 
 float cdf_value(uint cdf, uint i) {
-    return cdf == CDF_LIGHTS ? pc.g.light_cdf.v[i] : (cdf == CDF_ENV_ROWS ? pc.g.env_marginal.v[i] : pc.g.env_conditional.v[i]);
+    return cdf == CDF_LIGHTS ? LIGHT_CDF[i] : (cdf == CDF_ENV_ROWS ? ENV_MARGINAL[i] : ENV_CONDITIONAL[i]);
 }
 
 // First index i in [0, n) with cdf[base + i] <= u < cdf[base + i + 1], skipping zero-width intervals.

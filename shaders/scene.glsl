@@ -1,6 +1,7 @@
 // Scene layout: mirrors crates/platoon-core/src/gpu_scene.rs and the Globals block of
-// crates/platoon-tracer/src/globals.rs. All arrays are reached through buffer device addresses,
-// so no array is bound by the 128 MiB storage-buffer range of lavapipe.
+// crates/platoon-tracer/src/globals.rs. Every array has a buffer device address in Globals, so
+// none is bound by the 128 MiB storage-buffer range of lavapipe; arrays that fit it are read
+// through storage-buffer bindings instead (scene_arrays.glsl), which lavapipe loads much faster.
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
@@ -69,6 +70,8 @@ layout(push_constant) uniform Push {
     uint stride;
     uint pad;
 } pc;
+
+#include "scene_arrays.glsl"
 
 // Per-render constants, copied from Globals once per invocation. Components are never read
 // through the buffer reference directly: Mesa 22.3 lavapipe miscompiles a scalar access to a

@@ -89,3 +89,34 @@ fn interleaved_passes_give_the_contiguous_image() {
     assert!(sums == whole.sums);
     assert_no_validation_messages(&tracer);
 }
+
+#[test]
+fn storage_buffers_and_device_addresses_give_the_same_bits() {
+    use platoon::tracer::{MemoryPath, Tracer, TracerOptions};
+    init();
+    for prepared in [
+        prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene),
+        cesium(),
+    ] {
+        let params = FrameParams::new(20, 20, 4, prepared.camera);
+        let films: Vec<_> = [MemoryPath::Auto, MemoryPath::DeviceAddress]
+            .into_iter()
+            .map(|memory| {
+                let options = TracerOptions {
+                    validation: true,
+                    memory,
+                    ..Default::default()
+                };
+                let mut t = Tracer::new(&options, &prepared.gpu).expect("tracer");
+                let ssbo = t
+                    .kernel_defines(&params)
+                    .iter()
+                    .filter(|d| d.starts_with("SSBO_"))
+                    .count();
+                assert_eq!(ssbo > 0, memory == MemoryPath::Auto, "{memory:?}");
+                render_with(&mut t, &params)
+            })
+            .collect();
+        assert!(films[0] == films[1], "the memory path changed the image");
+    }
+}

@@ -73,6 +73,7 @@ pub fn describe(p: &Prepared) -> String {
         "kernel:       {}",
         platoon_tracer::kernel_label(g.features)
     );
+    let _ = writeln!(out, "memory:       {}", memory_paths(g));
     for w in &s.warnings {
         let _ = writeln!(out, "warning:      {w}");
     }
@@ -80,6 +81,37 @@ pub fn describe(p: &Prepared) -> String {
         let _ = writeln!(out, "note:         {n}");
     }
     out
+}
+
+/// How device 0 would read the scene arrays: SSBO bindings where they fit, else addresses.
+fn memory_paths(g: &GpuScene) -> String {
+    let Some(device) = platoon_tracer::list_devices()
+        .ok()
+        .and_then(|d| d.into_iter().next())
+    else {
+        return "decided per device (no Vulkan device found)".into();
+    };
+    let range = device.max_storage_buffer_range;
+    let bytes = platoon_tracer::scene_array_bytes(g);
+    let sizes: Vec<u64> = bytes.iter().map(|b| b.len() as u64).collect();
+    let ssbo = platoon_tracer::choose_memory_paths(&sizes, range, Default::default());
+    let by_address: Vec<String> = platoon_tracer::SCENE_ARRAYS
+        .iter()
+        .zip(&sizes)
+        .zip(&ssbo)
+        .filter(|(_, &s)| !s)
+        .map(|(((name, _), size), _)| format!("{name} ({:.1} MB)", *size as f64 / 1e6))
+        .collect();
+    let head = format!(
+        "storage buffers for arrays up to {} MiB (maxStorageBufferRange of {})",
+        range >> 20,
+        device.name
+    );
+    if by_address.is_empty() {
+        format!("{head}: all {} scene arrays", sizes.len())
+    } else {
+        format!("{head}; by device address: {}", by_address.join(", "))
+    }
 }
 
 /// Median of timings (total order, so a NaN cannot panic the bench).

@@ -73,7 +73,7 @@ pub fn tracer_options(
         device: 0,
         validation,
         sampling,
-        lavapipe_threads: None,
+        ..Default::default()
     };
     Ok(match spec {
         DeviceSpec::All => devices

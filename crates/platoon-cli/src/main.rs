@@ -25,6 +25,12 @@ struct Cli {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum MemoryArg {
+    Auto,
+    DeviceAddress,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum SamplingArg {
     Mis,
     Bsdf,
@@ -99,6 +105,10 @@ enum Command {
         /// Enable the Khronos validation layer.
         #[arg(long)]
         validation: bool,
+        /// How the kernel reads scene arrays: storage buffers where they fit the device's range
+        /// (auto), or all through buffer device addresses. Same image either way.
+        #[arg(long, value_enum, default_value = "auto")]
+        memory: MemoryArg,
         #[arg(long, short, default_value = "render.png")]
         out: PathBuf,
     },
@@ -177,6 +187,7 @@ fn run(cli: Cli) -> Result<()> {
             balancer,
             sampling,
             validation,
+            memory,
             out,
         } => {
             platoon::core::output::check_image_path(&out)?;
@@ -208,7 +219,13 @@ fn run(cli: Cli) -> Result<()> {
                 SamplingArg::Bsdf => (Sampling::Bsdf, "bsdf"),
                 SamplingArg::Light => (Sampling::Light, "light"),
             };
-            let options = platoon::devices::tracer_options(&devices, validation, sampling)?;
+            let mut options = platoon::devices::tracer_options(&devices, validation, sampling)?;
+            for o in &mut options {
+                o.memory = match memory {
+                    MemoryArg::Auto => platoon::tracer::MemoryPath::Auto,
+                    MemoryArg::DeviceAddress => platoon::tracer::MemoryPath::DeviceAddress,
+                };
+            }
             let rendered = if options.len() == 1 {
                 let bar = ProgressBar::new(spp as u64);
                 bar.set_style(

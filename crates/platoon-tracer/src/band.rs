@@ -38,7 +38,7 @@ impl Tracer {
         let y0 = y0.min(y1);
         self.ensure_frame_buffers(width, height)?;
         // Compiling a kernel variant happens once; it is not part of the band's time.
-        let (pipeline, layout) = self.kernel(self.kernel_defines(params))?;
+        let (pipeline, layout, scene_set) = self.kernel(self.kernel_defines(params))?;
         let wall = Instant::now();
         let (accum, stats, readback) = match &self.frame_buffers {
             Some((_, _, a, s, r)) => ((a.buffer, a.address), (s.buffer, s.address), r.buffer),
@@ -119,6 +119,14 @@ impl Tracer {
                     d.cmd_write_timestamp(cb, vk::PipelineStageFlags::TOP_OF_PIPE, q, 0);
                 }
                 d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipeline);
+                d.cmd_bind_descriptor_sets(
+                    cb,
+                    vk::PipelineBindPoint::COMPUTE,
+                    layout,
+                    0,
+                    &[scene_set],
+                    &[],
+                );
                 d.cmd_push_constants(
                     cb,
                     layout,

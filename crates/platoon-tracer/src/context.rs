@@ -16,6 +16,8 @@ pub struct DeviceInfo {
     pub device_type: String,
     pub driver: String,
     pub api_version: String,
+    /// `maxStorageBufferRange`: scene arrays up to this size are read through SSBO bindings.
+    pub max_storage_buffer_range: u64,
 }
 
 pub(crate) struct Context {
@@ -123,6 +125,7 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
     let v = p.api_version;
     DeviceInfo {
         index,
+        max_storage_buffer_range: p.limits.max_storage_buffer_range as u64,
         name,
         device_type: device_type.into(),
         driver: format!("{driver_name} {driver_info}").trim().to_string(),

@@ -17,6 +17,10 @@ const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/pathtrace.comp"),
     ),
     ("scene.glsl", include_str!("../../../shaders/scene.glsl")),
+    (
+        "scene_arrays.glsl",
+        include_str!("../../../shaders/scene_arrays.glsl"),
+    ),
     ("rng.glsl", include_str!("../../../shaders/rng.glsl")),
     (
         "sampling.glsl",
@@ -206,7 +210,13 @@ pub(crate) struct Kernel {
 }
 
 impl Kernel {
-    pub fn new(device: &ash::Device, cache: &PipelineCache, defines: &[&str]) -> Result<Kernel> {
+    /// The pipeline of `defines`, reading the SSBO scene arrays through `set_layout` (set 0).
+    pub fn new(
+        device: &ash::Device,
+        cache: &PipelineCache,
+        defines: &[&str],
+        set_layout: vk::DescriptorSetLayout,
+    ) -> Result<Kernel> {
         let code = spirv(defines)?;
         let module = unsafe {
             device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None)
@@ -215,9 +225,12 @@ impl Kernel {
         let ranges = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
             .size(std::mem::size_of::<crate::globals::Push>() as u32)];
+        let set_layouts = [set_layout];
         let layout = unsafe {
             device.create_pipeline_layout(
-                &vk::PipelineLayoutCreateInfo::default().push_constant_ranges(&ranges),
+                &vk::PipelineLayoutCreateInfo::default()
+                    .set_layouts(&set_layouts)
+                    .push_constant_ranges(&ranges),
                 None,
             )
         }

@@ -7,13 +7,14 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::MemoryLocation;
 use platoon_core::frame::FrameParams;
-use platoon_core::gpu_scene::{GpuLight, GpuScene};
+use platoon_core::gpu_scene::GpuScene;
 use platoon_core::FeatureSet;
 
 use crate::buffer::GpuBuffer;
 use crate::context::{Context, DeviceInfo};
 use crate::globals::Globals;
 use crate::kernel::{self, Kernel, PipelineCache, Sampling};
+use crate::memory::{self, MemoryPath, SceneDescriptors, SCENE_ARRAYS};
 use crate::{Result, VkContext};
 
 #[derive(Clone, Debug, Default)]
@@ -25,11 +26,17 @@ pub struct TracerOptions {
     pub sampling: Sampling,
     /// For lavapipe: worker threads of this tracer's own llvmpipe thread pool (LP_NUM_THREADS).
     pub lavapipe_threads: Option<u32>,
+    /// How the kernel reads the scene arrays (SSBO where they fit, by default).
+    pub memory: MemoryPath,
 }
 
 pub(crate) struct SceneBuffers {
+    /// The scene arrays in `SCENE_ARRAYS` order.
     pub(crate) list: Vec<GpuBuffer>,
     pub(crate) globals: Globals,
+    /// Per array: read through its SSBO binding (else through its device address).
+    pub(crate) ssbo: Vec<bool>,
+    pub(crate) descriptors: Option<SceneDescriptors>,
 }
 
 pub struct Tracer {
@@ -54,10 +61,6 @@ pub struct Tracer {
 
 // Vulkan handles are used from one thread at a time; the tracer moves to its own thread.
 unsafe impl Send for Tracer {}
-
-fn bytes<T: bytemuck::Pod>(v: &[T]) -> &[u8] {
-    bytemuck::cast_slice(v)
-}
 
 impl Tracer {
     pub fn new(options: &TracerOptions, scene: &GpuScene) -> Result<Tracer> {
@@ -106,6 +109,8 @@ impl Tracer {
             scene: SceneBuffers {
                 list: Vec::new(),
                 globals: Globals::default(),
+                ssbo: Vec::new(),
+                descriptors: None,
             },
             globals_buffer,
             frame_buffers: None,
@@ -123,6 +128,15 @@ impl Tracer {
             env_kind: scene.env.kind,
         };
         tracer.upload_scene(scene)?;
+        let sizes: Vec<u64> = tracer.scene.list.iter().map(|b| b.size).collect();
+        let max_range = tracer.ctx.properties.limits.max_storage_buffer_range as u64;
+        tracer.scene.ssbo = memory::choose(&sizes, max_range, options.memory);
+        let buffers: Vec<vk::Buffer> = tracer.scene.list.iter().map(|b| b.buffer).collect();
+        tracer.scene.descriptors = Some(SceneDescriptors::new(
+            &tracer.ctx.device,
+            &buffers,
+            &tracer.scene.ssbo,
+        )?);
         Ok(tracer)
     }
 
@@ -139,11 +153,14 @@ impl Tracer {
             .unwrap_or_default()
     }
 
-    /// Defines of the kernel this tracer runs for `params` (feature set + estimator).
+    /// Defines of the kernel this tracer runs for `params` (feature set, estimator and the
+    /// scene arrays read through SSBO bindings).
     pub fn kernel_defines(&self, params: &FrameParams) -> Vec<&'static str> {
         let mut features = self.features;
         features.thin_lens = params.camera.aperture_radius > 0.0;
-        kernel::defines(features, self.sampling)
+        let mut d = kernel::defines(features, self.sampling);
+        d.extend(memory::defines(&self.scene.ssbo));
+        d
     }
 
     /// Submits `record` on the tracer's command buffer and waits for it.
@@ -217,23 +234,26 @@ impl Tracer {
     }
 
     fn upload_scene(&mut self, s: &GpuScene) -> Result<()> {
+        let mut a = [0u64; SCENE_ARRAYS.len()];
+        for (i, data) in memory::scene_array_bytes(s).into_iter().enumerate() {
+            a[i] = self.upload(SCENE_ARRAYS[i].0, data)?;
+        }
         let mut g = Globals {
-            vertices: self.upload("vertices", bytes(&s.vertices))?,
-            tri_pos: self.upload("triangle positions", bytes(&s.triangle_positions))?,
-            triangles: self.upload("triangles", bytes(&s.triangles))?,
-            tri_lights: self.upload("triangle lights", bytes(&s.triangle_lights))?,
-            blas: self.upload("blas", bytes(&s.blas_nodes))?,
-            tlas: self.upload("tlas", bytes(&s.tlas_nodes))?,
-            instances: self.upload("instances", bytes(&s.instances))?,
-            materials: self.upload("materials", bytes(&s.materials))?,
-            textures: self.upload("textures", bytes(&s.textures))?,
-            texels: self.upload("texels", bytes(&s.texels))?,
-            lights: self.upload("lights", bytes::<GpuLight>(&s.lights))?,
-            light_cdf: self.upload("light cdf", bytes(&s.light_cdf))?,
-            env_texels: self.upload("environment", bytes(&s.env.texels))?,
-            env_marginal: self.upload("environment marginal", bytes(&s.env.marginal_cdf))?,
-            env_conditional: self
-                .upload("environment conditional", bytes(&s.env.conditional_cdf))?,
+            vertices: a[0],
+            tri_pos: a[1],
+            triangles: a[2],
+            tri_lights: a[3],
+            blas: a[4],
+            tlas: a[5],
+            instances: a[6],
+            materials: a[7],
+            textures: a[8],
+            texels: a[9],
+            lights: a[10],
+            light_cdf: a[11],
+            env_texels: a[12],
+            env_marginal: a[13],
+            env_conditional: a[14],
             ..Default::default()
         };
         g.env_color = [
@@ -301,16 +321,27 @@ impl Tracer {
         }
     }
 
+    /// The pipeline and layout of a kernel variant, and the scene descriptor set it binds.
     pub(crate) fn kernel(
         &mut self,
         defines: Vec<&'static str>,
-    ) -> Result<(vk::Pipeline, vk::PipelineLayout)> {
+    ) -> Result<(vk::Pipeline, vk::PipelineLayout, vk::DescriptorSet)> {
+        let scene = self
+            .scene
+            .descriptors
+            .as_ref()
+            .expect("created with the tracer");
         if !self.kernels.contains_key(&defines) {
-            let k = Kernel::new(&self.ctx.device, &self.pipeline_cache, &defines)?;
+            let k = Kernel::new(
+                &self.ctx.device,
+                &self.pipeline_cache,
+                &defines,
+                scene.layout,
+            )?;
             self.kernels.insert(defines.clone(), k);
         }
         let k = &self.kernels[&defines];
-        Ok((k.pipeline, k.layout))
+        Ok((k.pipeline, k.layout, scene.set))
     }
 }
 
@@ -328,6 +359,9 @@ impl Drop for Tracer {
         self.globals_buffer.destroy(&device, &mut self.allocator);
         for k in self.kernels.values() {
             k.destroy(&device);
+        }
+        if let Some(d) = self.scene.descriptors.take() {
+            d.destroy(&device);
         }
         unsafe {
             self.pipeline_cache.save(&device);
