@@ -113,6 +113,54 @@ fn renders_the_built_in_scene_to_png_and_exr_with_metadata() {
     assert!(film.mean()[0] > 0.01);
 }
 
+#[test]
+fn a_time_limit_stops_at_a_whole_pass_and_reports_the_spp_reached() {
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("quick.exr");
+    let o = platoon(&[
+        "render",
+        "--spp",
+        "100000",
+        "--time-limit",
+        "0.2",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--out",
+        exr.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
+    let get = |k: &str| {
+        meta.iter()
+            .find(|(key, _)| key == &format!("platoon:{k}"))
+            .map(|(_, v)| v.clone())
+            .unwrap_or_default()
+    };
+    let spp: u32 = get("spp").parse().unwrap();
+    let pass = platoon::core::frame::DEFAULT_SAMPLES_PER_PASS;
+    assert!(spp >= pass && spp < 100000 && spp % pass == 0, "spp {spp}");
+    assert_eq!(get("time_limit_s"), "0.200");
+    assert_eq!(film.count_non_finite(), 0);
+    // Normalised by the samples reached, not by --spp: the Cornell box is not black.
+    assert!(film.mean()[0] > 0.01, "{:?}", film.mean());
+    let o = platoon(&[
+        "render",
+        "--time-limit",
+        "1",
+        "--devices",
+        "lavapipe:1,1",
+        "--out",
+        exr.to_str().unwrap(),
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("one device"),
+        "{}",
+        stderr(&o)
+    );
+}
+
 fn image_dims(path: &Path) -> (u32, u32) {
     let bytes = std::fs::read(path).unwrap();
     assert_eq!(&bytes[1..4], b"PNG");

@@ -158,6 +158,8 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
 /// A rendered frame and what it cost.
 pub struct Rendered {
     pub film: Film,
+    /// Samples per pixel reached (below `FrameParams::spp` when a time limit ended it).
+    pub spp: u32,
     /// Time until the last band was done (the slowest tracer's time).
     pub wall_time: Duration,
     /// GPU time of all dispatches, summed over tracers.
@@ -203,6 +205,11 @@ pub fn render_bands(
     }
     Ok(Rendered {
         film: assemble(params, &out),
+        spp: out
+            .iter()
+            .map(|b| if b.samples > 0 { b.samples } else { params.spp })
+            .min()
+            .unwrap_or(params.spp),
         wall_time: out.iter().map(|b| b.wall_time).sum(),
         gpu_time: out.iter().map(|b| b.gpu_time).sum(),
         rays: out.iter().map(|b| b.rays).sum(),
@@ -253,6 +260,7 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         rejected_samples: frame.rejected_samples,
         device: names.join(", "),
         kernel_defines: defines,
+        spp: params.spp,
         tracers: frame.tracers,
         balancer: Some(renderer.balancer_name()),
         validation_messages: renderer
@@ -280,7 +288,14 @@ pub fn metadata(
         .unwrap_or_else(|| "built-in Cornell box".into());
     vec![
         ("scene".into(), source),
-        ("spp".into(), params.spp.to_string()),
+        ("spp".into(), rendered.spp.to_string()),
+        (
+            "time_limit_s".into(),
+            params
+                .time_limit
+                .map(|t| format!("{:.3}", t.as_secs_f64()))
+                .unwrap_or_else(|| "none".into()),
+        ),
         ("width".into(), params.width.to_string()),
         ("height".into(), params.height.to_string()),
         ("seed".into(), params.seed.to_string()),

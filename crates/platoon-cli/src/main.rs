@@ -73,6 +73,10 @@ enum Command {
         scene: SceneArgs,
         #[arg(long, default_value_t = 64)]
         spp: u32,
+        /// Stop at the last complete pass within this many seconds (then --spp is an upper
+        /// bound; the spp reached goes into the metadata). One device only.
+        #[arg(long)]
+        time_limit: Option<f64>,
         #[arg(long, default_value_t = 512)]
         width: u32,
         #[arg(long, default_value_t = 512)]
@@ -176,6 +180,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Render {
             scene,
             spp,
+            time_limit,
             width,
             height,
             max_depth,
@@ -214,6 +219,12 @@ fn run(cli: Cli) -> Result<()> {
             if let Some(d) = max_depth {
                 params.max_depth = d.max(1);
             }
+            if let Some(t) = time_limit {
+                if !(t.is_finite() && t > 0.0) {
+                    bail!("--time-limit must be a positive number of seconds");
+                }
+                params.time_limit = Some(std::time::Duration::from_secs_f64(t));
+            }
             let (sampling, sampling_name) = match sampling {
                 SamplingArg::Mis => (Sampling::Mis, "mis"),
                 SamplingArg::Bsdf => (Sampling::Bsdf, "bsdf"),
@@ -225,6 +236,9 @@ fn run(cli: Cli) -> Result<()> {
                     MemoryArg::Auto => platoon::tracer::MemoryPath::Auto,
                     MemoryArg::DeviceAddress => platoon::tracer::MemoryPath::DeviceAddress,
                 };
+            }
+            if options.len() > 1 && time_limit.is_some() {
+                bail!("--time-limit renders on one device: bands cut at different times would break the image's independence from the device split");
             }
             let rendered = if options.len() == 1 {
                 let bar = ProgressBar::new(spp as u64);
@@ -267,6 +281,7 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!("validation: {m}");
             }
             let meta = platoon::metadata(&prepared, &params, &rendered, sampling_name);
+            let spp = rendered.spp;
             platoon::core::output::write_image(&out, &rendered.film, &meta)?;
             let secs = rendered.wall_time.as_secs_f64();
             eprintln!(

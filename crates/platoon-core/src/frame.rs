@@ -30,6 +30,10 @@ pub struct FrameParams {
     pub seed: u32,
     pub frame: u32,
     pub samples_per_pass: u32,
+    /// Stop adding passes once this much wall time has gone (at least one pass is rendered):
+    /// `spp` is then an upper bound and each band reports the samples it holds. For one
+    /// device; bands cut at different times would break the bit-identity of device splits.
+    pub time_limit: Option<Duration>,
     pub camera: Camera,
 }
 
@@ -44,6 +48,7 @@ impl FrameParams {
             seed: 0,
             frame: 0,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
+            time_limit: None,
             camera,
         }
     }
@@ -55,6 +60,9 @@ pub struct Band {
     pub y0: u32,
     pub y1: u32,
     pub sums: Vec<[f32; 3]>,
+    /// Samples per pixel in `sums` (fewer than `FrameParams::spp` when a time limit cut the
+    /// render short); 0 means `FrameParams::spp`.
+    pub samples: u32,
     pub rays: u64,
     /// Rays traced in each line of the band: the relative cost of the lines.
     pub line_rays: Vec<u64>,
@@ -81,8 +89,9 @@ pub trait BandTracer {
 pub fn assemble(params: &FrameParams, bands: &[Band]) -> Film {
     let w = params.width as usize;
     let mut pixels = vec![[0.0f32; 3]; w * params.height as usize];
-    let inv = 1.0 / params.spp.max(1) as f32;
     for b in bands {
+        let samples = if b.samples > 0 { b.samples } else { params.spp };
+        let inv = 1.0 / samples.max(1) as f32;
         let start = b.y0 as usize * w;
         for (i, s) in b.sums.iter().enumerate() {
             pixels[start + i] = s.map(|v| v * inv);

@@ -11,7 +11,8 @@ use crate::tracer::Tracer;
 use crate::{Result, VkContext};
 
 impl Tracer {
-    /// Renders lines [y0, y1) of the frame at `params.spp` samples per pixel.
+    /// Renders lines [y0, y1) of the frame at `params.spp` samples per pixel (fewer, in whole
+    /// passes, when `params.time_limit` runs out first; the band says how many).
     pub fn render(
         &mut self,
         params: &FrameParams,
@@ -95,6 +96,7 @@ impl Tracer {
         let query_pool = self.query_pool;
         let period = self.ctx.properties.limits.timestamp_period as f64;
         let mut begin = 0;
+        let mut pass_start = Duration::ZERO;
         while begin < spp {
             let end = (begin + per_pass).min(spp);
             let push = Push {
@@ -155,7 +157,19 @@ impl Tracer {
             }
             begin = end;
             progress(end);
+            // Stop before a pass that would end past the limit (passes take about as long as
+            // the last one did), so the render ends within it unless one pass already overran.
+            let elapsed = wall.elapsed();
+            let pass = elapsed - pass_start;
+            pass_start = elapsed;
+            if params
+                .time_limit
+                .is_some_and(|limit| elapsed + pass > limit)
+            {
+                break;
+            }
         }
+        band.samples = begin;
 
         self.submit(|d, cb| unsafe {
             let barrier = vk::MemoryBarrier::default()
