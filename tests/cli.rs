@@ -140,7 +140,10 @@ fn a_time_limit_stops_at_a_whole_pass_and_reports_the_spp_reached() {
     };
     let spp: u32 = get("spp").parse().unwrap();
     let pass = platoon::core::frame::DEFAULT_SAMPLES_PER_PASS;
-    assert!(spp >= pass && spp < 100000 && spp % pass == 0, "spp {spp}");
+    assert!(
+        spp >= pass && spp < 100000 && spp.is_multiple_of(pass),
+        "spp {spp}"
+    );
     assert_eq!(get("time_limit_s"), "0.200");
     assert_eq!(film.count_non_finite(), 0);
     // Normalised by the samples reached, not by --spp: the Cornell box is not black.
