@@ -129,7 +129,7 @@ struct Measure {
 impl Measure {
     fn print(&self, label: &str) {
         let (s, r) = (self.samples_per_s / 1e6, self.rays_per_s / 1e6);
-        println!("{label:<34} {s:>12.3} {r:>12.3} {:>9.3}", self.seconds);
+        println!("{label:<40} {s:>12.3} {r:>12.3} {:>9.3}", self.seconds);
     }
 }
 
@@ -168,10 +168,12 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
     let mut tracer = Tracer::new(&options, &cornell.gpu)?;
     println!("device: {}", tracer.device_info().name);
     println!(
-        "{:<34} {:>12} {:>12} {:>9}",
+        "{:<40} {:>12} {:>12} {:>9}",
         "scene", "Msamples/s", "Mrays/s", "seconds"
     );
+    // Camera rays only (max depth 1: the emitters seen directly) against full paths.
     for (label, depth) in [
+        ("cornell box, camera rays only", Some(1)),
         ("cornell box, depth 8", Some(8)),
         ("cornell box, unbounded", None),
     ] {
@@ -209,9 +211,10 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
         )?;
         let p = prepare(crate::load_scene(Some(&path))?, &PrepareOptions::default())?;
         let mut tracer = Tracer::new(&options, &p.gpu)?;
-        let params = FrameParams::new(256, 256, spp, p.camera);
-        let m = measure(&mut tracer, &params, repeat)?;
-        m.print(label);
+        let mut params = FrameParams::new(256, 256, spp, p.camera);
+        measure(&mut tracer, &params, repeat)?.print(label);
+        params.max_depth = 1;
+        measure(&mut tracer, &params, repeat)?.print(&format!("{label}, camera rays"));
         print_build_times(&p.gpu, label);
         if unique {
             compare_layouts(&p);
