@@ -14,6 +14,14 @@ fn platoon(args: &[&str]) -> Output {
         .expect("run platoon")
 }
 
+/// The value of EXR metadata entry `platoon:<key>` ("" when absent).
+fn metadata_value(meta: &[(String, String)], key: &str) -> String {
+    meta.iter()
+        .find(|(k, _)| k == &format!("platoon:{key}"))
+        .map(|(_, v)| v.clone())
+        .unwrap_or_default()
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -97,12 +105,7 @@ fn renders_the_built_in_scene_to_png_and_exr_with_metadata() {
     assert!(o.status.success(), "{}", stderr(&o));
     let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
     assert_eq!((film.width, film.height), (16, 8));
-    let get = |k: &str| {
-        meta.iter()
-            .find(|(key, _)| key == &format!("platoon:{k}"))
-            .map(|(_, v)| v.clone())
-            .unwrap_or_default()
-    };
+    let get = |k: &str| metadata_value(&meta, k);
     assert_eq!(get("spp"), "4", "{meta:?}");
     assert_eq!(get("seed"), "7");
     assert_eq!(get("features"), "emissive-triangles");
@@ -132,12 +135,7 @@ fn a_time_limit_stops_at_a_whole_pass_and_reports_the_spp_reached() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
-    let get = |k: &str| {
-        meta.iter()
-            .find(|(key, _)| key == &format!("platoon:{k}"))
-            .map(|(_, v)| v.clone())
-            .unwrap_or_default()
-    };
+    let get = |k: &str| metadata_value(&meta, k);
     let spp: u32 = get("spp").parse().unwrap();
     let pass = platoon::core::frame::DEFAULT_SAMPLES_PER_PASS;
     assert!(
