@@ -44,7 +44,13 @@ fn seed_means(
         .collect()
 }
 
-/// The paired difference of two cases' frame means (same seeds) is zero within 4 standard
+/// Independent renders per case. With 8 seeds a 5-standard-error bound is exceeded by chance
+/// with probability ~0.002 per comparison (Student's t, 7 degrees of freedom), so a kernel
+/// change that reshuffles random numbers rarely trips it, while every bias this file guards
+/// against measured 9 standard errors or more.
+const SEEDS: u32 = 8;
+
+/// The paired difference of two cases' frame means (same seeds) is zero within 5 standard
 /// errors; `what` names the comparison in the message.
 fn assert_twins(a: &[f64], b: &[f64], what: &str) {
     let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
@@ -52,7 +58,7 @@ fn assert_twins(a: &[f64], b: &[f64], what: &str) {
     let level = a.iter().sum::<f64>() / a.len() as f64;
     assert!(level > 1e-3, "{what}: the reference is black ({level})");
     assert!(
-        mean.abs() <= 4.0 * se + 1e-4 * level,
+        mean.abs() <= 5.0 * se + 1e-4 * level,
         "{what}: means differ by {mean:.5} ± {se:.5} (level {level:.4}; {a:?} vs {b:?})"
     );
 }
@@ -89,8 +95,8 @@ fn a_mirrored_emitter_lights_as_its_twin_under_every_estimator() {
     );
     for sampling in [Sampling::Bsdf, Sampling::Light, Sampling::Mis] {
         assert_twins(
-            &seed_means(&a, sampling, 32, 16, 6),
-            &seed_means(&b, sampling, 32, 16, 6),
+            &seed_means(&a, sampling, 32, 16, SEEDS),
+            &seed_means(&b, sampling, 32, 16, SEEDS),
             &format!("mirrored emitter, {sampling:?}"),
         );
     }
@@ -98,7 +104,7 @@ fn a_mirrored_emitter_lights_as_its_twin_under_every_estimator() {
 
 #[test]
 fn far_and_tiny_rooms_match_the_room_at_the_origin() {
-    let reference = seed_means(&prepared(&case("room")), Sampling::Mis, 48, 32, 6);
+    let reference = seed_means(&prepared(&case("room")), Sampling::Mis, 48, 32, SEEDS);
     for name in ["room_at_1e6", "room_at_1e7", "room_scaled_1e-4"] {
         let p = prepared(&case(name));
         if name != "room_scaled_1e-4" {
@@ -107,7 +113,11 @@ fn far_and_tiny_rooms_match_the_room_at_the_origin() {
                 "{name}: render space was not rebased"
             );
         }
-        assert_twins(&reference, &seed_means(&p, Sampling::Mis, 48, 32, 6), name);
+        assert_twins(
+            &reference,
+            &seed_means(&p, Sampling::Mis, 48, 32, SEEDS),
+            name,
+        );
     }
 }
 
@@ -119,8 +129,8 @@ fn a_vertex_at_1e30_does_not_bias_light_selection() {
     let near = prepared(&case("sunlit"));
     for sampling in [Sampling::Mis, Sampling::Light] {
         assert_twins(
-            &seed_means(&near, sampling, 32, 16, 6),
-            &seed_means(&far, sampling, 32, 16, 6),
+            &seed_means(&near, sampling, 32, 16, SEEDS),
+            &seed_means(&far, sampling, 32, 16, SEEDS),
             &format!("far vertex, {sampling:?}"),
         );
     }
