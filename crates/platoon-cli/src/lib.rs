@@ -207,7 +207,7 @@ pub fn render_bands(
         film: assemble(params, &out),
         spp: out
             .iter()
-            .map(|b| if b.samples > 0 { b.samples } else { params.spp })
+            .map(|b| b.spp(params))
             .min()
             .unwrap_or(params.spp),
         wall_time: out.iter().map(|b| b.wall_time).sum(),

@@ -72,6 +72,17 @@ pub struct Band {
     pub wall_time: Duration,
 }
 
+impl Band {
+    /// Samples per pixel the band's sums hold (`samples`, or `params.spp` when it is 0).
+    pub fn spp(&self, params: &FrameParams) -> u32 {
+        if self.samples > 0 {
+            self.samples
+        } else {
+            params.spp
+        }
+    }
+}
+
 pub type TracerError = Box<dyn std::error::Error + Send + Sync>;
 
 /// A device that renders bands of lines. Implemented by platoon-tracer for Vulkan devices.
@@ -90,8 +101,7 @@ pub fn assemble(params: &FrameParams, bands: &[Band]) -> Film {
     let w = params.width as usize;
     let mut pixels = vec![[0.0f32; 3]; w * params.height as usize];
     for b in bands {
-        let samples = if b.samples > 0 { b.samples } else { params.spp };
-        let inv = 1.0 / samples.max(1) as f32;
+        let inv = 1.0 / b.spp(params).max(1) as f32;
         let start = b.y0 as usize * w;
         for (i, s) in b.sums.iter().enumerate() {
             pixels[start + i] = s.map(|v| v * inv);
