@@ -56,8 +56,7 @@ pub fn load_from_slice(
     base: &Path,
     options: &LoadOptions,
 ) -> Result<Scene> {
-    let in_file = |check| validate::in_file(path, check);
-    in_file(validate::glb_header(bytes))?;
+    validate::in_file(path, validate::glb_header(bytes))?;
     let unvalidated = Gltf::from_slice_without_validation(bytes)
         .map_err(|e| Error::file(path, format!("not a valid glTF file: {e}")))?;
     for ext in unvalidated.extensions_required() {
@@ -68,15 +67,15 @@ pub fn load_from_slice(
             ));
         }
     }
-    in_file(validate::references(unvalidated.document.as_json()))?;
+    validate::in_file(path, validate::references(unvalidated.document.as_json()))?;
     let Gltf { document, blob } = unvalidated;
     let doc = gltf::Document::from_json(document.into_json())
         .map_err(|e| Error::file(path, format!("invalid glTF: {e}")))?;
 
     let policy = resources::UriPolicy { base, options };
-    let buffers = resources::buffers(&doc, blob, &policy).map_err(|e| Error::file(path, e))?;
-    in_file(validate::buffer_views(&doc, &buffers))?;
-    let images = resources::images(&doc, &buffers, &policy).map_err(|e| Error::file(path, e))?;
+    let buffers = validate::in_file(path, resources::buffers(&doc, blob, &policy))?;
+    validate::in_file(path, validate::buffer_views(&doc, &buffers))?;
+    let images = validate::in_file(path, resources::images(&doc, &buffers, &policy))?;
 
     let mut scene = Scene {
         source: Some(path.to_path_buf()),
@@ -87,7 +86,7 @@ pub fn load_from_slice(
         .map(|t| material::texture(&t, &images[t.source().index()]))
         .collect();
     for m in doc.materials() {
-        let m = material::material(&m, &mut scene.warnings).map_err(|e| Error::file(path, e))?;
+        let m = validate::in_file(path, material::material(&m, &mut scene.warnings))?;
         scene.materials.push(m);
     }
     // Primitives without a material use the glTF default material, appended last when needed.
@@ -106,10 +105,10 @@ pub fn load_from_slice(
             default_material,
             &scene.materials,
             &mut scene.warnings,
-        )
-        .map_err(|e| Error::file(path, e))?;
+        );
+        let m = validate::in_file(path, m)?;
         scene.meshes.push(Arc::new(m));
     }
-    in_file(nodes::load_nodes(&doc, &buffers, &mut scene))?;
+    validate::in_file(path, nodes::load_nodes(&doc, &buffers, &mut scene))?;
     Ok(scene)
 }

@@ -161,6 +161,6 @@ fn in_view(view: &gltf::buffer::View, offset: usize, count: usize, elem: usize) 
 }
 
 /// Converts a [`Check`] into the loader's error, naming the file.
-pub fn in_file(path: &std::path::Path, check: Check) -> Result<()> {
+pub fn in_file<T>(path: &std::path::Path, check: Check<T>) -> Result<T> {
     check.map_err(|m| crate::error::Error::file(path, m))
 }
