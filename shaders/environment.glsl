@@ -24,9 +24,9 @@ ivec2 env_texel(vec2 uv) {
 // Discrete probability of texel (x, y) times the texel count: the uv-space density.
 float env_uv_pdf(ivec2 t) {
     uint w = F.dims.z, h = F.dims.w;
-    float pm = ENV_MARGINAL[t.y + 1] - ENV_MARGINAL[t.y];
+    float pm = env_marginal_at(t.y + 1) - env_marginal_at(t.y);
     uint row = uint(t.y) * (w + 1u);
-    float pc_ = ENV_CONDITIONAL[row + uint(t.x) + 1u] - ENV_CONDITIONAL[row + uint(t.x)];
+    float pc_ = env_conditional_at(row + uint(t.x) + 1u) - env_conditional_at(row + uint(t.x));
     return pm * float(h) * pc_ * float(w);
 }
 #endif
@@ -37,7 +37,7 @@ vec3 env_radiance(vec3 d) {
 #ifdef HAS_ENVIRONMENT_MAP
     if (kind == 2u) {
         ivec2 t = env_texel(direction_to_uv(d));
-        return ENV_TEXELS[uint(t.y) * F.dims.z + uint(t.x)].rgb;
+        return env_texel_at(uint(t.y) * F.dims.z + uint(t.x)).rgb;
     }
 #endif
     return F.env_color.rgb;
@@ -61,11 +61,11 @@ vec3 env_sample(vec2 u, out float pdf) {
     if (F.counts.w == 2u) {
         uint w = F.dims.z, h = F.dims.w;
         uint y = search_cdf(CDF_ENV_ROWS, 0u, h, u.y);
-        float c0 = ENV_MARGINAL[y], c1 = ENV_MARGINAL[y + 1u];
+        float c0 = env_marginal_at(y), c1 = env_marginal_at(y + 1u);
         float fy = c1 > c0 ? (u.y - c0) / (c1 - c0) : 0.5;
         uint row = y * (w + 1u);
         uint x = search_cdf(CDF_ENV_COLUMNS, row, w, u.x);
-        float d0 = ENV_CONDITIONAL[row + x], d1 = ENV_CONDITIONAL[row + x + 1u];
+        float d0 = env_conditional_at(row + x), d1 = env_conditional_at(row + x + 1u);
         float fx = d1 > d0 ? (u.x - d0) / (d1 - d0) : 0.5;
         vec2 uv = vec2((float(x) + clamp(fx, 0.0, 0.999999)) / float(w), (float(y) + clamp(fy, 0.0, 0.999999)) / float(h));
         vec3 d = uv_to_direction(uv);

@@ -100,13 +100,13 @@ int order_children(RayTri r, BvhNode a, BvhNode b, uint first, float tmax, out u
 
 #ifdef HAS_ALPHA_MASK
 bool alpha_rejects(uint tri, float b1, float b2) {
-    Triangle T = TRIANGLES[tri];
-    Material m = MATERIALS[T.material];
+    Triangle T = triangle_at(tri);
+    Material m = material_at(T.material);
     if ((m.textures1.w & MATERIAL_ALPHA_MASK) == 0) return false;
     float alpha = m.base_color.a;
 #ifdef HAS_TEXTURES
     if (m.textures0.x >= 0) {
-        Vertex a = VERTICES[T.v.x], b = VERTICES[T.v.y], c = VERTICES[T.v.z];
+        Vertex a = vertex_at(T.v.x), b = vertex_at(T.v.y), c = vertex_at(T.v.z);
         vec2 uv = (1.0 - b1 - b2) * vec2(a.position_u.w, a.normal_v.w) + b1 * vec2(b.position_u.w, b.normal_v.w)
                 + b2 * vec2(c.position_u.w, c.normal_v.w);
         alpha *= sample_texture(m.textures0.x, uv, true).a;
@@ -123,11 +123,11 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
     uint node = root;
     bool found = false;
     while (true) {
-        BvhNode n = BLAS[node];
+        BvhNode n = blas_at(node);
         if (n.count > 0u) {
             for (uint i = n.index; i < n.index + n.count; ++i) {
                 float t, b1, b2;
-                vec3 v0 = TRI_POS[3u * i].xyz, v1 = TRI_POS[3u * i + 1u].xyz, v2 = TRI_POS[3u * i + 2u].xyz;
+                vec3 v0 = tri_pos_at(3u * i).xyz, v1 = tri_pos_at(3u * i + 1u).xyz, v2 = tri_pos_at(3u * i + 2u).xyz;
                 if (intersect_triangle(r, v0, v1, v2, hit.t, t, b1, b2)) {
 #ifdef HAS_ALPHA_MASK
                     if (alpha_rejects(i, b1, b2)) continue;
@@ -139,7 +139,7 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
             }
         } else {
             uint near, far;
-            int hits = order_children(r, BLAS[n.index], BLAS[n.index + 1u], n.index, hit.t, near, far);
+            int hits = order_children(r, blas_at(n.index), blas_at(n.index + 1u), n.index, hit.t, near, far);
             if (hits > 0) {
                 if (hits == 2 && sp < 64) stack[sp++] = far;
                 node = near;
@@ -160,12 +160,12 @@ bool trace(Ray ray, bool any_hit, out Hit hit) {
     int sp = 0;
     uint node = 0u;
     bool found = false;
-    if (intersect_aabb(world, TLAS[0].bmin, TLAS[0].bmax, hit.t) == INF) return false;
+    if (intersect_aabb(world, tlas_at(0).bmin, tlas_at(0).bmax, hit.t) == INF) return false;
     while (true) {
-        BvhNode n = TLAS[node];
+        BvhNode n = tlas_at(node);
         if (n.count > 0u) {
             for (uint i = n.index; i < n.index + n.count; ++i) {
-                Instance inst = INSTANCES[i];
+                Instance inst = instance_at(i);
                 vec3 o = vec3(dot(inst.w2o[0], vec4(ray.origin, 1.0)), dot(inst.w2o[1], vec4(ray.origin, 1.0)), dot(inst.w2o[2], vec4(ray.origin, 1.0)));
                 vec3 d = vec3(dot(inst.w2o[0].xyz, ray.dir), dot(inst.w2o[1].xyz, ray.dir), dot(inst.w2o[2].xyz, ray.dir));
                 if (traverse_blas(ray_tri_setup(o, d), inst.blas_root, i, any_hit, hit)) {
@@ -175,7 +175,7 @@ bool trace(Ray ray, bool any_hit, out Hit hit) {
             }
         } else {
             uint near, far;
-            int hits = order_children(world, TLAS[n.index], TLAS[n.index + 1u], n.index, hit.t, near, far);
+            int hits = order_children(world, tlas_at(n.index), tlas_at(n.index + 1u), n.index, hit.t, near, far);
             if (hits > 0) {
                 if (hits == 2 && sp < 32) stack[sp++] = far;
                 node = near;

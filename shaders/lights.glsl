@@ -19,10 +19,10 @@ vec3 triangle_emission(Surface s, vec3 dir) {
 #ifdef HAS_EMISSIVE_TRIANGLES
 // Solid-angle pdf of NEE picking the emissive triangle hit at distance t along unit `dir`.
 float triangle_light_pdf(Hit hit, vec3 ng_world, vec3 dir) {
-    Instance inst = INSTANCES[hit.instance];
-    uint local = TRI_LIGHTS[hit.triangle];
+    Instance inst = instance_at(hit.instance);
+    uint local = tri_light_at(hit.triangle);
     if (inst.light_base == 0xffffffffu || local == 0xffffffffu) return 0.0;
-    Light l = LIGHTS[inst.light_base + local];
+    Light l = light_at(inst.light_base + local);
     float area = 0.5 * length(cross(l.b.xyz - l.a.xyz, l.c.xyz - l.a.xyz));
     float cos_l = abs(dot(ng_world, dir));
     if (area <= 0.0 || cos_l <= 0.0) return 0.0;
@@ -34,7 +34,7 @@ float environment_light_pdf(vec3 dir) {
     uint n = F.counts.x;
     if (n == 0u || F.counts.w == 0u) return 0.0;
     // The environment is always the last entry.
-    Light l = LIGHTS[n - 1u];
+    Light l = light_at(n - 1u);
     if (l.ids.x != LIGHT_ENVIRONMENT) return 0.0;
     return l.emission.w * env_pdf(dir);
 }
@@ -47,7 +47,7 @@ bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
     ls.infinite = false;
     uint n = F.counts.x;
     if (n == 0u) return false;
-    Light l = LIGHTS[search_cdf(CDF_LIGHTS, 0u, n, ul)];
+    Light l = light_at(search_cdf(CDF_LIGHTS, 0u, n, ul));
     float pmf = l.emission.w;
     uint kind = l.ids.x;
 #ifdef HAS_EMISSIVE_TRIANGLES
@@ -66,11 +66,11 @@ bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
         ls.wi = d * inversesqrt(dist2);
         // Shade the sampled point as a surface, for textured and one-sided emission.
         Surface s;
-        Triangle T = TRIANGLES[l.ids.z];
-        Vertex v0 = VERTICES[T.v.x], v1 = VERTICES[T.v.y], v2 = VERTICES[T.v.z];
+        Triangle T = triangle_at(l.ids.z);
+        Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
         s.uv = b.x * vec2(v0.position_u.w, v0.normal_v.w) + b.y * vec2(v1.position_u.w, v1.normal_v.w) + b.z * vec2(v2.position_u.w, v2.normal_v.w);
         s.ng = nl;
-        apply_material(s, MATERIALS[T.material]);
+        apply_material(s, material_at(T.material));
         ls.radiance = triangle_emission(s, ls.wi);
         float cos_l = abs(dot(nl, ls.wi));
         if (cos_l <= 0.0 || all(equal(ls.radiance, vec3(0.0)))) return false;

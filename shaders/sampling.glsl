@@ -57,7 +57,7 @@ const uint CDF_ENV_ROWS = 1u;
 const uint CDF_ENV_COLUMNS = 2u;
 
 float cdf_value(uint cdf, uint i) {
-    return cdf == CDF_LIGHTS ? LIGHT_CDF[i] : (cdf == CDF_ENV_ROWS ? ENV_MARGINAL[i] : ENV_CONDITIONAL[i]);
+    return cdf == CDF_LIGHTS ? light_cdf_at(i) : (cdf == CDF_ENV_ROWS ? env_marginal_at(i) : env_conditional_at(i));
 }
 
 // First index i in [0, n) with cdf[base + i] <= u < cdf[base + i + 1], skipping zero-width intervals.

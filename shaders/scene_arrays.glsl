@@ -1,95 +1,174 @@
-// The read-only scene arrays, each read through a storage-buffer binding (SSBO_<NAME> defined:
-// the array fits the device's storage-buffer range) or through its buffer device address in
-// Globals. The tracer decides per array (crates/platoon-tracer/src/memory.rs, whose SCENE_ARRAYS
-// order is the binding order here: must match). Code reads NAME[i] either way.
+// The read-only scene arrays. Code reads element i of an array through its accessor
+// (blas_at(i), vertex_at(i), ...), whatever the array's memory path, which the tracer chooses per
+// array (crates/platoon-tracer/src/memory.rs, whose SCENE_ARRAYS order is the binding order here):
+//   TEXEL_<NAME>: a uniform texel buffer of 32-bit uints (R32G32B32A32_UINT, or R32_UINT for
+//       arrays of scalars), unpacked into the struct bit for bit. llvmpipe fetches texels with
+//       straight-line vector loads, where a storage-buffer load is a loop over the SIMD lanes.
+//   SSBO_<NAME>: a storage-buffer binding.
+//   neither: the array's buffer device address in Globals (no size limit).
 
-#ifdef SSBO_VERTICES
-layout(std430, set = 0, binding = 0) readonly buffer VerticesSsbo { Vertex vertices_ssbo[]; };
-#define VERTICES vertices_ssbo
+#define ADDRESS_ARRAY(T, at, field) \
+    T at(uint i) { return pc.g.field.v[i]; }
+#define STORAGE_ARRAY(T, at, b) \
+    layout(std430, set = 0, binding = b) readonly buffer at##_block { T at##_v[]; }; \
+    T at(uint i) { return at##_v[i]; }
+#define TEXEL_ARRAY(T, at, b, unpack) \
+    layout(set = 0, binding = b) uniform utextureBuffer at##_texels; \
+    T at(uint i) { return unpack(at##_texels, i); }
+
+vec4 fetch_vec4(utextureBuffer t, uint i) { return uintBitsToFloat(texelFetch(t, int(i))); }
+uint unpack_uint(utextureBuffer t, uint i) { return texelFetch(t, int(i)).x; }
+float unpack_float(utextureBuffer t, uint i) { return uintBitsToFloat(texelFetch(t, int(i)).x); }
+vec4 unpack_vec4(utextureBuffer t, uint i) { return fetch_vec4(t, i); }
+Vertex unpack_vertex(utextureBuffer t, uint i) {
+    return Vertex(fetch_vec4(t, 3u * i), fetch_vec4(t, 3u * i + 1u), fetch_vec4(t, 3u * i + 2u));
+}
+Triangle unpack_triangle(utextureBuffer t, uint i) {
+    uvec4 a = texelFetch(t, int(i));
+    return Triangle(a.xyz, a.w);
+}
+BvhNode unpack_node(utextureBuffer t, uint i) {
+    uvec4 a = texelFetch(t, int(2u * i)), b = texelFetch(t, int(2u * i + 1u));
+    return BvhNode(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
+}
+Instance unpack_instance(utextureBuffer t, uint i) {
+    uint b = 7u * i;
+    uvec4 ids = texelFetch(t, int(b + 6u));
+    return Instance(vec4[3](fetch_vec4(t, b), fetch_vec4(t, b + 1u), fetch_vec4(t, b + 2u)),
+                    vec4[3](fetch_vec4(t, b + 3u), fetch_vec4(t, b + 4u), fetch_vec4(t, b + 5u)),
+                    ids.x, ids.y, ids.z, ids.w);
+}
+Material unpack_material(utextureBuffer t, uint i) {
+    uint b = 7u * i;
+    return Material(fetch_vec4(t, b), fetch_vec4(t, b + 1u), fetch_vec4(t, b + 2u), fetch_vec4(t, b + 3u),
+                    ivec4(texelFetch(t, int(b + 4u))), ivec4(texelFetch(t, int(b + 5u))), fetch_vec4(t, b + 6u));
+}
+Texture unpack_texture(utextureBuffer t, uint i) {
+    uvec4 a = texelFetch(t, int(i));
+    return Texture(a.x, a.y, a.z, a.w);
+}
+Light unpack_light(utextureBuffer t, uint i) {
+    uint b = 5u * i;
+    return Light(fetch_vec4(t, b), fetch_vec4(t, b + 1u), fetch_vec4(t, b + 2u), fetch_vec4(t, b + 3u),
+                 texelFetch(t, int(b + 4u)));
+}
+
+#if defined(TEXEL_VERTICES)
+TEXEL_ARRAY(Vertex, vertex_at, 0, unpack_vertex)
+#elif defined(SSBO_VERTICES)
+STORAGE_ARRAY(Vertex, vertex_at, 0)
 #else
-#define VERTICES pc.g.vertices.v
+ADDRESS_ARRAY(Vertex, vertex_at, vertices)
 #endif
-#ifdef SSBO_TRI_POS
-layout(std430, set = 0, binding = 1) readonly buffer TriPosSsbo { vec4 tri_pos_ssbo[]; };
-#define TRI_POS tri_pos_ssbo
+
+#if defined(TEXEL_TRI_POS)
+TEXEL_ARRAY(vec4, tri_pos_at, 1, unpack_vec4)
+#elif defined(SSBO_TRI_POS)
+STORAGE_ARRAY(vec4, tri_pos_at, 1)
 #else
-#define TRI_POS pc.g.tri_pos.v
+ADDRESS_ARRAY(vec4, tri_pos_at, tri_pos)
 #endif
-#ifdef SSBO_TRIANGLES
-layout(std430, set = 0, binding = 2) readonly buffer TrianglesSsbo { Triangle triangles_ssbo[]; };
-#define TRIANGLES triangles_ssbo
+
+#if defined(TEXEL_TRIANGLES)
+TEXEL_ARRAY(Triangle, triangle_at, 2, unpack_triangle)
+#elif defined(SSBO_TRIANGLES)
+STORAGE_ARRAY(Triangle, triangle_at, 2)
 #else
-#define TRIANGLES pc.g.triangles.v
+ADDRESS_ARRAY(Triangle, triangle_at, triangles)
 #endif
-#ifdef SSBO_TRI_LIGHTS
-layout(std430, set = 0, binding = 3) readonly buffer TriLightsSsbo { uint tri_lights_ssbo[]; };
-#define TRI_LIGHTS tri_lights_ssbo
+
+#if defined(TEXEL_TRI_LIGHTS)
+TEXEL_ARRAY(uint, tri_light_at, 3, unpack_uint)
+#elif defined(SSBO_TRI_LIGHTS)
+STORAGE_ARRAY(uint, tri_light_at, 3)
 #else
-#define TRI_LIGHTS pc.g.tri_lights.v
+ADDRESS_ARRAY(uint, tri_light_at, tri_lights)
 #endif
-#ifdef SSBO_BLAS
-layout(std430, set = 0, binding = 4) readonly buffer BlasSsbo { BvhNode blas_ssbo[]; };
-#define BLAS blas_ssbo
+
+#if defined(TEXEL_BLAS)
+TEXEL_ARRAY(BvhNode, blas_at, 4, unpack_node)
+#elif defined(SSBO_BLAS)
+STORAGE_ARRAY(BvhNode, blas_at, 4)
 #else
-#define BLAS pc.g.blas.v
+ADDRESS_ARRAY(BvhNode, blas_at, blas)
 #endif
-#ifdef SSBO_TLAS
-layout(std430, set = 0, binding = 5) readonly buffer TlasSsbo { BvhNode tlas_ssbo[]; };
-#define TLAS tlas_ssbo
+
+#if defined(TEXEL_TLAS)
+TEXEL_ARRAY(BvhNode, tlas_at, 5, unpack_node)
+#elif defined(SSBO_TLAS)
+STORAGE_ARRAY(BvhNode, tlas_at, 5)
 #else
-#define TLAS pc.g.tlas.v
+ADDRESS_ARRAY(BvhNode, tlas_at, tlas)
 #endif
-#ifdef SSBO_INSTANCES
-layout(std430, set = 0, binding = 6) readonly buffer InstancesSsbo { Instance instances_ssbo[]; };
-#define INSTANCES instances_ssbo
+
+#if defined(TEXEL_INSTANCES)
+TEXEL_ARRAY(Instance, instance_at, 6, unpack_instance)
+#elif defined(SSBO_INSTANCES)
+STORAGE_ARRAY(Instance, instance_at, 6)
 #else
-#define INSTANCES pc.g.instances.v
+ADDRESS_ARRAY(Instance, instance_at, instances)
 #endif
-#ifdef SSBO_MATERIALS
-layout(std430, set = 0, binding = 7) readonly buffer MaterialsSsbo { Material materials_ssbo[]; };
-#define MATERIALS materials_ssbo
+
+#if defined(TEXEL_MATERIALS)
+TEXEL_ARRAY(Material, material_at, 7, unpack_material)
+#elif defined(SSBO_MATERIALS)
+STORAGE_ARRAY(Material, material_at, 7)
 #else
-#define MATERIALS pc.g.materials.v
+ADDRESS_ARRAY(Material, material_at, materials)
 #endif
-#ifdef SSBO_TEXTURES
-layout(std430, set = 0, binding = 8) readonly buffer TexturesSsbo { Texture textures_ssbo[]; };
-#define TEXTURES textures_ssbo
+
+#if defined(TEXEL_TEXTURES)
+TEXEL_ARRAY(Texture, texture_at, 8, unpack_texture)
+#elif defined(SSBO_TEXTURES)
+STORAGE_ARRAY(Texture, texture_at, 8)
 #else
-#define TEXTURES pc.g.textures.v
+ADDRESS_ARRAY(Texture, texture_at, textures)
 #endif
-#ifdef SSBO_TEXELS
-layout(std430, set = 0, binding = 9) readonly buffer TexelsSsbo { uint texels_ssbo[]; };
-#define TEXELS texels_ssbo
+
+#if defined(TEXEL_TEXELS)
+TEXEL_ARRAY(uint, texel_at, 9, unpack_uint)
+#elif defined(SSBO_TEXELS)
+STORAGE_ARRAY(uint, texel_at, 9)
 #else
-#define TEXELS pc.g.texels.v
+ADDRESS_ARRAY(uint, texel_at, texels)
 #endif
-#ifdef SSBO_LIGHTS
-layout(std430, set = 0, binding = 10) readonly buffer LightsSsbo { Light lights_ssbo[]; };
-#define LIGHTS lights_ssbo
+
+#if defined(TEXEL_LIGHTS)
+TEXEL_ARRAY(Light, light_at, 10, unpack_light)
+#elif defined(SSBO_LIGHTS)
+STORAGE_ARRAY(Light, light_at, 10)
 #else
-#define LIGHTS pc.g.lights.v
+ADDRESS_ARRAY(Light, light_at, lights)
 #endif
-#ifdef SSBO_LIGHT_CDF
-layout(std430, set = 0, binding = 11) readonly buffer LightCdfSsbo { float light_cdf_ssbo[]; };
-#define LIGHT_CDF light_cdf_ssbo
+
+#if defined(TEXEL_LIGHT_CDF)
+TEXEL_ARRAY(float, light_cdf_at, 11, unpack_float)
+#elif defined(SSBO_LIGHT_CDF)
+STORAGE_ARRAY(float, light_cdf_at, 11)
 #else
-#define LIGHT_CDF pc.g.light_cdf.v
+ADDRESS_ARRAY(float, light_cdf_at, light_cdf)
 #endif
-#ifdef SSBO_ENV_TEXELS
-layout(std430, set = 0, binding = 12) readonly buffer EnvTexelsSsbo { vec4 env_texels_ssbo[]; };
-#define ENV_TEXELS env_texels_ssbo
+
+#if defined(TEXEL_ENV_TEXELS)
+TEXEL_ARRAY(vec4, env_texel_at, 12, unpack_vec4)
+#elif defined(SSBO_ENV_TEXELS)
+STORAGE_ARRAY(vec4, env_texel_at, 12)
 #else
-#define ENV_TEXELS pc.g.env_texels.v
+ADDRESS_ARRAY(vec4, env_texel_at, env_texels)
 #endif
-#ifdef SSBO_ENV_MARGINAL
-layout(std430, set = 0, binding = 13) readonly buffer EnvMarginalSsbo { float env_marginal_ssbo[]; };
-#define ENV_MARGINAL env_marginal_ssbo
+
+#if defined(TEXEL_ENV_MARGINAL)
+TEXEL_ARRAY(float, env_marginal_at, 13, unpack_float)
+#elif defined(SSBO_ENV_MARGINAL)
+STORAGE_ARRAY(float, env_marginal_at, 13)
 #else
-#define ENV_MARGINAL pc.g.env_marginal.v
+ADDRESS_ARRAY(float, env_marginal_at, env_marginal)
 #endif
-#ifdef SSBO_ENV_CONDITIONAL
-layout(std430, set = 0, binding = 14) readonly buffer EnvConditionalSsbo { float env_conditional_ssbo[]; };
-#define ENV_CONDITIONAL env_conditional_ssbo
+
+#if defined(TEXEL_ENV_CONDITIONAL)
+TEXEL_ARRAY(float, env_conditional_at, 14, unpack_float)
+#elif defined(SSBO_ENV_CONDITIONAL)
+STORAGE_ARRAY(float, env_conditional_at, 14)
 #else
-#define ENV_CONDITIONAL pc.g.env_conditional.v
+ADDRESS_ARRAY(float, env_conditional_at, env_conditional)
 #endif

@@ -65,23 +65,23 @@ void apply_material(inout Surface s, Material m) {
 
 Surface surface_at(Hit hit) {
     Surface s;
-    Instance inst = INSTANCES[hit.instance];
-    Triangle T = TRIANGLES[hit.triangle];
+    Instance inst = instance_at(hit.instance);
+    Triangle T = triangle_at(hit.triangle);
     float b0 = 1.0 - hit.b1 - hit.b2;
-    vec3 p0 = TRI_POS[3u * hit.triangle].xyz;
-    vec3 p1 = TRI_POS[3u * hit.triangle + 1u].xyz;
-    vec3 p2 = TRI_POS[3u * hit.triangle + 2u].xyz;
+    vec3 p0 = tri_pos_at(3u * hit.triangle).xyz;
+    vec3 p1 = tri_pos_at(3u * hit.triangle + 1u).xyz;
+    vec3 p2 = tri_pos_at(3u * hit.triangle + 2u).xyz;
     // Barycentric interpolation is more accurate than origin + t * dir.
     s.position = instance_point(inst, b0 * p0 + hit.b1 * p1 + hit.b2 * p2);
     s.ng = normalize(instance_normal(inst, cross(p1 - p0, p2 - p0)));
     s.magnitude = instance_magnitude(inst, coordinate_magnitude(p0, p1, p2));
-    Vertex v0 = VERTICES[T.v.x], v1 = VERTICES[T.v.y], v2 = VERTICES[T.v.z];
+    Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
     s.uv = b0 * vec2(v0.position_u.w, v0.normal_v.w) + hit.b1 * vec2(v1.position_u.w, v1.normal_v.w) + hit.b2 * vec2(v2.position_u.w, v2.normal_v.w);
     vec3 n = b0 * v0.normal_v.xyz + hit.b1 * v1.normal_v.xyz + hit.b2 * v2.normal_v.xyz;
     s.ns = dot(n, n) > 1e-12 ? normalize(instance_normal(inst, n)) : s.ng;
     if (dot(s.ns, s.ng) < 0.0) s.ns = -s.ns;
     s.material = T.material;
-    Material m = MATERIALS[T.material];
+    Material m = material_at(T.material);
     apply_material(s, m);
 #ifdef HAS_NORMAL_MAPS
     if (m.textures0.z >= 0) {

@@ -14,7 +14,7 @@ int wrap_coord(int i, int n, uint mode) {
 vec4 texel(Texture t, int x, int y) {
     uint xi = uint(wrap_coord(x, int(t.width), t.wrap & 3u));
     uint yi = uint(wrap_coord(y, int(t.height), (t.wrap >> 2) & 3u));
-    return unpackUnorm4x8(TEXELS[t.offset + yi * t.width + xi]);
+    return unpackUnorm4x8(texel_at(t.offset + yi * t.width + xi));
 }
 
 vec4 srgb_to_linear(vec4 c) {
@@ -25,7 +25,7 @@ vec4 srgb_to_linear(vec4 c) {
 
 // Bilinear lookup; sRGB textures are decoded per texel before filtering.
 vec4 sample_texture(int index, vec2 uv, bool srgb) {
-    Texture t = TEXTURES[index];
+    Texture t = texture_at(index);
     vec2 p = uv * vec2(t.width, t.height) - 0.5;
     if (any(isnan(p)) || any(isinf(p))) p = vec2(0.0);
     p = clamp(p, vec2(-1e7), vec2(1e7));

@@ -220,7 +220,10 @@ fn info_prints_counts_and_features() {
     assert!(text.contains("4672"), "{text}");
     assert!(text.contains("features:     textures"), "{text}");
     assert!(text.contains("-DHAS_TEXTURES"), "{text}");
-    assert!(text.contains("memory:       storage buffers"), "{text}");
+    assert!(
+        text.contains("memory:       texel buffers for all 15"),
+        "{text}"
+    );
     let o = platoon(&["devices"]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("llvmpipe"));
 }

@@ -91,7 +91,7 @@ fn interleaved_passes_give_the_contiguous_image() {
 }
 
 #[test]
-fn storage_buffers_and_device_addresses_give_the_same_bits() {
+fn texel_buffers_storage_buffers_and_device_addresses_give_the_same_bits() {
     use platoon::tracer::{MemoryPath, Tracer, TracerOptions};
     init();
     for prepared in [
@@ -99,24 +99,37 @@ fn storage_buffers_and_device_addresses_give_the_same_bits() {
         cesium(),
     ] {
         let params = FrameParams::new(20, 20, 4, prepared.camera);
-        let films: Vec<_> = [MemoryPath::Auto, MemoryPath::DeviceAddress]
+        let paths = [
+            (MemoryPath::TexelBuffers, "TEXEL_"),
+            (MemoryPath::StorageBuffers, "SSBO_"),
+            (MemoryPath::DeviceAddress, ""),
+        ];
+        let films: Vec<_> = paths
             .into_iter()
-            .map(|memory| {
+            .map(|(memory, prefix)| {
                 let options = TracerOptions {
                     validation: true,
                     memory,
                     ..Default::default()
                 };
                 let mut t = Tracer::new(&options, &prepared.gpu).expect("tracer");
-                let ssbo = t
-                    .kernel_defines(&params)
-                    .iter()
-                    .filter(|d| d.starts_with("SSBO_"))
-                    .count();
-                assert_eq!(ssbo > 0, memory == MemoryPath::Auto, "{memory:?}");
-                render_with(&mut t, &params)
+                let defines = t.kernel_defines(&params);
+                let bound = |p: &str| defines.iter().filter(|d| d.starts_with(p)).count();
+                // Every array of these small scenes fits the texel and storage limits.
+                let expected = if prefix.is_empty() { 0 } else { 15 };
+                assert_eq!(bound("TEXEL_") + bound("SSBO_"), expected, "{memory:?}");
+                if !prefix.is_empty() {
+                    assert_eq!(bound(prefix), 15, "{memory:?}");
+                }
+                let film = render_with(&mut t, &params);
+                assert_no_validation_messages(&t);
+                film
             })
             .collect();
-        assert!(films[0] == films[1], "the memory path changed the image");
+        assert!(films[0] == films[1], "texel and storage buffers differ");
+        assert!(
+            films[0] == films[2],
+            "texel buffers and device addresses differ"
+        );
     }
 }

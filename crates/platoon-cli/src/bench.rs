@@ -83,7 +83,7 @@ pub fn describe(p: &Prepared) -> String {
     out
 }
 
-/// How device 0 would read the scene arrays: SSBO bindings where they fit, else addresses.
+/// How device 0 would read the scene arrays under the default policy.
 fn memory_paths(g: &GpuScene) -> String {
     let Some(device) = platoon_tracer::list_devices()
         .ok()
@@ -91,27 +91,29 @@ fn memory_paths(g: &GpuScene) -> String {
     else {
         return "decided per device (no Vulkan device found)".into();
     };
-    let range = device.max_storage_buffer_range;
     let bytes = platoon_tracer::scene_array_bytes(g);
     let sizes: Vec<u64> = bytes.iter().map(|b| b.len() as u64).collect();
-    let ssbo = platoon_tracer::choose_memory_paths(&sizes, range, Default::default());
-    let by_address: Vec<String> = platoon_tracer::SCENE_ARRAYS
-        .iter()
-        .zip(&sizes)
-        .zip(&ssbo)
-        .filter(|(_, &s)| !s)
-        .map(|(((name, _), size), _)| format!("{name} ({:.1} MB)", *size as f64 / 1e6))
-        .collect();
-    let head = format!(
-        "storage buffers for arrays up to {} MiB (maxStorageBufferRange of {})",
-        range >> 20,
-        device.name
-    );
-    if by_address.is_empty() {
-        format!("{head}: all {} scene arrays", sizes.len())
-    } else {
-        format!("{head}; by device address: {}", by_address.join(", "))
+    let paths =
+        platoon_tracer::choose_memory_paths(&sizes, &device.memory_limits(), Default::default());
+    let mut groups: Vec<(platoon_tracer::ArrayPath, Vec<String>)> = Vec::new();
+    for ((array, size), path) in platoon_tracer::SCENE_ARRAYS.iter().zip(&sizes).zip(&paths) {
+        let entry = format!("{} ({:.1} MB)", array.name, *size as f64 / 1e6);
+        match groups.iter_mut().find(|(p, _)| p == path) {
+            Some((_, list)) => list.push(entry),
+            None => groups.push((*path, vec![entry])),
+        }
     }
+    let parts: Vec<String> = groups
+        .iter()
+        .map(|(path, list)| {
+            if list.len() == sizes.len() {
+                format!("{}s for all {} scene arrays", path.describe(), list.len())
+            } else {
+                format!("{}s: {}", path.describe(), list.join(", "))
+            }
+        })
+        .collect();
+    format!("{} on {}", parts.join("; "), device.name)
 }
 
 /// Median of timings (total order, so a NaN cannot panic the bench).

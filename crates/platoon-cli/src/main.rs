@@ -27,6 +27,8 @@ struct Cli {
 #[derive(Clone, Copy, ValueEnum)]
 enum MemoryArg {
     Auto,
+    TexelBuffers,
+    StorageBuffers,
     DeviceAddress,
 }
 
@@ -109,8 +111,9 @@ enum Command {
         /// Enable the Khronos validation layer.
         #[arg(long)]
         validation: bool,
-        /// How the kernel reads scene arrays: storage buffers where they fit the device's range
-        /// (auto), or all through buffer device addresses. Same image either way.
+        /// How the kernel reads scene arrays: auto is texel buffers on CPU devices (lavapipe) and
+        /// storage buffers on GPUs, each where the array fits the device's limits, else device
+        /// addresses; the others force one path where it fits. Same image on every path.
         #[arg(long, value_enum, default_value = "auto")]
         memory: MemoryArg,
         #[arg(long, short, default_value = "render.png")]
@@ -234,6 +237,8 @@ fn run(cli: Cli) -> Result<()> {
             for o in &mut options {
                 o.memory = match memory {
                     MemoryArg::Auto => platoon::tracer::MemoryPath::Auto,
+                    MemoryArg::TexelBuffers => platoon::tracer::MemoryPath::TexelBuffers,
+                    MemoryArg::StorageBuffers => platoon::tracer::MemoryPath::StorageBuffers,
                     MemoryArg::DeviceAddress => platoon::tracer::MemoryPath::DeviceAddress,
                 };
             }

@@ -16,8 +16,23 @@ pub struct DeviceInfo {
     pub device_type: String,
     pub driver: String,
     pub api_version: String,
-    /// `maxStorageBufferRange`: scene arrays up to this size are read through SSBO bindings.
+    /// `maxStorageBufferRange`: scene arrays up to this size can be storage buffers.
     pub max_storage_buffer_range: u64,
+    /// `maxTexelBufferElements`: scene arrays of up to this many texels can be texel buffers.
+    pub max_texel_buffer_elements: u64,
+    /// A CPU implementation (lavapipe).
+    pub cpu: bool,
+}
+
+impl DeviceInfo {
+    /// What the choice of memory paths depends on.
+    pub fn memory_limits(&self) -> crate::memory::MemoryLimits {
+        crate::memory::MemoryLimits {
+            max_storage_buffer_range: self.max_storage_buffer_range,
+            max_texel_buffer_elements: self.max_texel_buffer_elements,
+            cpu: self.cpu,
+        }
+    }
 }
 
 pub(crate) struct Context {
@@ -126,6 +141,8 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
     DeviceInfo {
         index,
         max_storage_buffer_range: p.limits.max_storage_buffer_range as u64,
+        max_texel_buffer_elements: p.limits.max_texel_buffer_elements as u64,
+        cpu: p.device_type == vk::PhysicalDeviceType::CPU,
         name,
         device_type: device_type.into(),
         driver: format!("{driver_name} {driver_info}").trim().to_string(),

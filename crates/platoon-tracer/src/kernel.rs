@@ -46,6 +46,25 @@ const SOURCES: &[(&str, &str)] = &[
     ("lights.glsl", include_str!("../../../shaders/lights.glsl")),
 ];
 
+/// The kernel sources: the embedded ones, or with $PLATOON_SHADER_DIR set, the files of that
+/// folder read now (kernel work on lavapipe then needs no rebuild per edit; the SPIR-V cache is
+/// keyed by the text, so edits are never served stale).
+fn sources() -> Result<Vec<(&'static str, String)>> {
+    let Some(dir) = std::env::var_os("PLATOON_SHADER_DIR") else {
+        return Ok(SOURCES.iter().map(|(n, s)| (*n, s.to_string())).collect());
+    };
+    let dir = PathBuf::from(dir);
+    SOURCES
+        .iter()
+        .map(|(n, _)| {
+            let path = dir.join(n);
+            std::fs::read_to_string(&path)
+                .map(|s| (*n, s))
+                .map_err(|e| Error::Shader(format!("{} (PLATOON_SHADER_DIR): {e}", path.display())))
+        })
+        .collect()
+}
+
 /// Which estimator the kernel uses. MIS is the renderer; the other two exist to test it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Sampling {
@@ -111,7 +130,8 @@ fn store(path: &Path, bytes: &[u8]) {
 
 /// SPIR-V for the variant, from the disk cache or compiled now.
 pub(crate) fn spirv(defines: &[&str]) -> Result<Vec<u32>> {
-    let mut parts: Vec<&[u8]> = SOURCES
+    let sources = sources()?;
+    let mut parts: Vec<&[u8]> = sources
         .iter()
         .flat_map(|(n, s)| [n.as_bytes(), s.as_bytes()])
         .collect();
@@ -126,12 +146,12 @@ pub(crate) fn spirv(defines: &[&str]) -> Result<Vec<u32>> {
                 .collect());
         }
     }
-    let words = compile(defines)?;
+    let words = compile(&sources, defines)?;
     store(&path, bytemuck::cast_slice(&words));
     Ok(words)
 }
 
-fn compile(defines: &[&str]) -> Result<Vec<u32>> {
+fn compile(sources: &[(&'static str, String)], defines: &[&str]) -> Result<Vec<u32>> {
     let compiler = shaderc::Compiler::new().map_err(|e| Error::Shader(e.to_string()))?;
     let mut options = shaderc::CompileOptions::new().map_err(|e| Error::Shader(e.to_string()))?;
     options.set_target_env(
@@ -142,8 +162,9 @@ fn compile(defines: &[&str]) -> Result<Vec<u32>> {
     for d in defines {
         options.add_macro_definition(d, Some("1"));
     }
-    options.set_include_callback(|name, _kind, _from, _depth| {
-        SOURCES
+    let includes = sources.to_vec();
+    options.set_include_callback(move |name, _kind, _from, _depth| {
+        includes
             .iter()
             .find(|(n, _)| *n == name)
             .map(|(n, s)| shaderc::ResolvedInclude {
@@ -154,9 +175,9 @@ fn compile(defines: &[&str]) -> Result<Vec<u32>> {
     });
     let artifact = compiler
         .compile_into_spirv(
-            SOURCES[0].1,
+            &sources[0].1,
             shaderc::ShaderKind::Compute,
-            SOURCES[0].0,
+            sources[0].0,
             "main",
             Some(&options),
         )

@@ -12,7 +12,10 @@ mod tracer;
 
 pub use context::{list_devices, DeviceInfo};
 pub use kernel::{cache_dir, kernel_label, kernel_spirv, Sampling};
-pub use memory::{choose as choose_memory_paths, scene_array_bytes, MemoryPath, SCENE_ARRAYS};
+pub use memory::{
+    choose as choose_memory_paths, scene_array_bytes, ArrayPath, MemoryLimits, MemoryPath,
+    SCENE_ARRAYS,
+};
 pub use tracer::{Tracer, TracerOptions};
 
 /// Tracer failures; each says which device or file it concerns.

@@ -1,42 +1,109 @@
-//! How the kernel reads each scene array: through a storage-buffer descriptor (SSBO) where the
-//! array fits the device's `maxStorageBufferRange`, else through its buffer device address
-//! (BDA). On lavapipe a BDA load is compiled into a loop over the SIMD lanes for every 32-bit
-//! component, an SSBO load into one loop per whole vector (../shared/BRIEF.md section 7), so
-//! SSBOs are much faster there; the image is the same bits either way (tests/determinism.rs).
+//! How the kernel reads each scene array: through a uniform texel buffer, a storage-buffer
+//! descriptor (SSBO) or its buffer device address (BDA), chosen per array. On lavapipe a BDA load
+//! is compiled into a loop over the SIMD lanes for every 32-bit component and an SSBO load into
+//! one such loop per vector, while a texel fetch is straight-line vector loads (llvmpipe's
+//! texture gather), so texel buffers are the fastest path there; on GPUs storage buffers are the
+//! conventional choice. The image is the same bits on every path (tests/determinism.rs).
 
 use ash::vk;
 use platoon_core::gpu_scene::GpuScene;
 
 use crate::{Result, VkContext};
 
-/// The memory path of the scene arrays.
+/// The memory-path policy of a tracer.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum MemoryPath {
-    /// SSBO for every array that fits the device's storage-buffer range, BDA for the rest.
+    /// Texel buffers on CPU devices (lavapipe), storage buffers on GPUs, each where the array
+    /// fits the device's limits; device addresses for the rest.
     #[default]
     Auto,
+    /// Texel buffers wherever the array fits `maxTexelBufferElements`.
+    TexelBuffers,
+    /// Storage buffers wherever the array fits `maxStorageBufferRange`.
+    StorageBuffers,
     /// Every array through its device address (the path that has no size limit).
     DeviceAddress,
 }
 
-/// The read-only scene arrays in upload and binding order, with the define that makes the
-/// kernel read each through its SSBO binding. Must match shaders/scene_arrays.glsl.
-pub const SCENE_ARRAYS: [(&str, &str); 15] = [
-    ("vertices", "SSBO_VERTICES"),
-    ("triangle positions", "SSBO_TRI_POS"),
-    ("triangles", "SSBO_TRIANGLES"),
-    ("triangle lights", "SSBO_TRI_LIGHTS"),
-    ("blas", "SSBO_BLAS"),
-    ("tlas", "SSBO_TLAS"),
-    ("instances", "SSBO_INSTANCES"),
-    ("materials", "SSBO_MATERIALS"),
-    ("textures", "SSBO_TEXTURES"),
-    ("texels", "SSBO_TEXELS"),
-    ("lights", "SSBO_LIGHTS"),
-    ("light cdf", "SSBO_LIGHT_CDF"),
-    ("environment", "SSBO_ENV_TEXELS"),
-    ("environment marginal", "SSBO_ENV_MARGINAL"),
-    ("environment conditional", "SSBO_ENV_CONDITIONAL"),
+/// How the kernel reads one scene array.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArrayPath {
+    Texel,
+    Storage,
+    Address,
+}
+
+impl ArrayPath {
+    pub fn describe(self) -> &'static str {
+        match self {
+            ArrayPath::Texel => "texel buffer",
+            ArrayPath::Storage => "storage buffer",
+            ArrayPath::Address => "device address",
+        }
+    }
+}
+
+/// The device limits the choice depends on.
+#[derive(Clone, Copy, Debug)]
+pub struct MemoryLimits {
+    pub max_storage_buffer_range: u64,
+    pub max_texel_buffer_elements: u64,
+    /// A CPU implementation (lavapipe), where texel fetches are the cheapest loads.
+    pub cpu: bool,
+}
+
+/// One scene array: its name, the defines that select its texel or storage path in
+/// shaders/scene_arrays.glsl, and the size of its texels (16 bytes for arrays of vec4-sized
+/// structs, 4 for arrays of scalars).
+pub struct SceneArray {
+    pub name: &'static str,
+    pub texel_define: &'static str,
+    pub storage_define: &'static str,
+    pub texel_bytes: u64,
+}
+
+const fn array(
+    name: &'static str,
+    texel_define: &'static str,
+    storage_define: &'static str,
+    texel_bytes: u64,
+) -> SceneArray {
+    SceneArray {
+        name,
+        texel_define,
+        storage_define,
+        texel_bytes,
+    }
+}
+
+/// The read-only scene arrays in upload and binding order. Must match
+/// shaders/scene_arrays.glsl.
+pub const SCENE_ARRAYS: [SceneArray; 15] = [
+    array("vertices", "TEXEL_VERTICES", "SSBO_VERTICES", 16),
+    array("triangle positions", "TEXEL_TRI_POS", "SSBO_TRI_POS", 16),
+    array("triangles", "TEXEL_TRIANGLES", "SSBO_TRIANGLES", 16),
+    array("triangle lights", "TEXEL_TRI_LIGHTS", "SSBO_TRI_LIGHTS", 4),
+    array("blas", "TEXEL_BLAS", "SSBO_BLAS", 16),
+    array("tlas", "TEXEL_TLAS", "SSBO_TLAS", 16),
+    array("instances", "TEXEL_INSTANCES", "SSBO_INSTANCES", 16),
+    array("materials", "TEXEL_MATERIALS", "SSBO_MATERIALS", 16),
+    array("textures", "TEXEL_TEXTURES", "SSBO_TEXTURES", 16),
+    array("texels", "TEXEL_TEXELS", "SSBO_TEXELS", 4),
+    array("lights", "TEXEL_LIGHTS", "SSBO_LIGHTS", 16),
+    array("light cdf", "TEXEL_LIGHT_CDF", "SSBO_LIGHT_CDF", 4),
+    array("environment", "TEXEL_ENV_TEXELS", "SSBO_ENV_TEXELS", 16),
+    array(
+        "environment marginal",
+        "TEXEL_ENV_MARGINAL",
+        "SSBO_ENV_MARGINAL",
+        4,
+    ),
+    array(
+        "environment conditional",
+        "TEXEL_ENV_CONDITIONAL",
+        "SSBO_ENV_CONDITIONAL",
+        4,
+    ),
 ];
 
 /// The bytes of each scene array of `s`, in `SCENE_ARRAYS` order.
@@ -61,43 +128,73 @@ pub fn scene_array_bytes(s: &GpuScene) -> [&[u8]; 15] {
     ]
 }
 
-/// Which scene arrays are bound as SSBOs, chosen per array from its size.
-pub fn choose(sizes: &[u64], max_range: u64, path: MemoryPath) -> Vec<bool> {
+/// The path of each scene array of these byte sizes (`SCENE_ARRAYS` order).
+pub fn choose(sizes: &[u64], limits: &MemoryLimits, policy: MemoryPath) -> Vec<ArrayPath> {
+    let texel = match policy {
+        MemoryPath::Auto => limits.cpu,
+        MemoryPath::TexelBuffers => true,
+        MemoryPath::StorageBuffers | MemoryPath::DeviceAddress => false,
+    };
+    let storage = policy != MemoryPath::DeviceAddress;
     sizes
         .iter()
-        .map(|&s| path == MemoryPath::Auto && s <= max_range)
+        .zip(&SCENE_ARRAYS)
+        .map(|(&size, array)| {
+            if texel && size / array.texel_bytes <= limits.max_texel_buffer_elements {
+                ArrayPath::Texel
+            } else if storage && size <= limits.max_storage_buffer_range {
+                ArrayPath::Storage
+            } else {
+                ArrayPath::Address
+            }
+        })
         .collect()
 }
 
 /// The kernel defines of a choice.
-pub fn defines(ssbo: &[bool]) -> Vec<&'static str> {
+pub fn defines(paths: &[ArrayPath]) -> Vec<&'static str> {
     SCENE_ARRAYS
         .iter()
-        .zip(ssbo)
-        .filter(|(_, &s)| s)
-        .map(|((_, d), _)| *d)
+        .zip(paths)
+        .filter_map(|(a, p)| match p {
+            ArrayPath::Texel => Some(a.texel_define),
+            ArrayPath::Storage => Some(a.storage_define),
+            ArrayPath::Address => None,
+        })
         .collect()
 }
 
-/// The descriptor set binding the SSBO arrays (binding i = `SCENE_ARRAYS[i]`).
+/// The descriptor set binding the scene arrays read through texel or storage buffers (binding
+/// i = `SCENE_ARRAYS[i]`), and the buffer views of the texel ones.
 pub(crate) struct SceneDescriptors {
     pub layout: vk::DescriptorSetLayout,
     pub pool: vk::DescriptorPool,
     pub set: vk::DescriptorSet,
+    views: Vec<vk::BufferView>,
+}
+
+fn descriptor_type(path: ArrayPath) -> Option<vk::DescriptorType> {
+    match path {
+        ArrayPath::Texel => Some(vk::DescriptorType::UNIFORM_TEXEL_BUFFER),
+        ArrayPath::Storage => Some(vk::DescriptorType::STORAGE_BUFFER),
+        ArrayPath::Address => None,
+    }
 }
 
 impl SceneDescriptors {
-    /// Binds `buffers[i]` at binding i wherever `ssbo[i]`.
-    pub fn new(device: &ash::Device, buffers: &[vk::Buffer], ssbo: &[bool]) -> Result<Self> {
-        let bound: Vec<u32> = (0..ssbo.len() as u32)
-            .filter(|&i| ssbo[i as usize])
+    /// Binds `buffers[i]` at binding i wherever `paths[i]` is a descriptor path.
+    pub fn new(device: &ash::Device, buffers: &[vk::Buffer], paths: &[ArrayPath]) -> Result<Self> {
+        let bound: Vec<(u32, vk::DescriptorType)> = paths
+            .iter()
+            .enumerate()
+            .filter_map(|(i, &p)| descriptor_type(p).map(|t| (i as u32, t)))
             .collect();
         let bindings: Vec<vk::DescriptorSetLayoutBinding> = bound
             .iter()
-            .map(|&i| {
+            .map(|&(i, ty)| {
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(i)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .descriptor_type(ty)
                     .descriptor_count(1)
                     .stage_flags(vk::ShaderStageFlags::COMPUTE)
             })
@@ -109,9 +206,15 @@ impl SceneDescriptors {
             )
         }
         .ctx("creating the scene descriptor set layout")?;
-        let sizes = [vk::DescriptorPoolSize::default()
-            .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(bound.len().max(1) as u32)];
+        let count = |ty| bound.iter().filter(|(_, t)| *t == ty).count().max(1) as u32;
+        let sizes = [
+            vk::DescriptorPoolSize::default()
+                .ty(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(count(vk::DescriptorType::STORAGE_BUFFER)),
+            vk::DescriptorPoolSize::default()
+                .ty(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+                .descriptor_count(count(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)),
+        ];
         let pool = unsafe {
             device.create_descriptor_pool(
                 &vk::DescriptorPoolCreateInfo::default()
@@ -121,8 +224,14 @@ impl SceneDescriptors {
             )
         }
         .ctx("creating the scene descriptor pool")?;
+        let mut d = SceneDescriptors {
+            layout,
+            pool,
+            set: vk::DescriptorSet::null(),
+            views: Vec::new(),
+        };
         let layouts = [layout];
-        let set = unsafe {
+        d.set = unsafe {
             device.allocate_descriptor_sets(
                 &vk::DescriptorSetAllocateInfo::default()
                     .descriptor_pool(pool)
@@ -130,32 +239,62 @@ impl SceneDescriptors {
             )
         }
         .ctx("allocating the scene descriptor set")?[0];
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = bound
+        let mut views = Vec::new();
+        for &(i, ty) in &bound {
+            if ty != vk::DescriptorType::UNIFORM_TEXEL_BUFFER {
+                continue;
+            }
+            let format = match SCENE_ARRAYS[i as usize].texel_bytes {
+                4 => vk::Format::R32_UINT,
+                _ => vk::Format::R32G32B32A32_UINT,
+            };
+            let info = vk::BufferViewCreateInfo::default()
+                .buffer(buffers[i as usize])
+                .format(format)
+                .offset(0)
+                .range(vk::WHOLE_SIZE);
+            let view = unsafe { device.create_buffer_view(&info, None) };
+            let view = view.ctx("creating a texel buffer view")?;
+            d.views.push(view);
+            views.push((i, [view]));
+        }
+        let infos: Vec<(u32, [vk::DescriptorBufferInfo; 1])> = bound
             .iter()
-            .map(|&i| {
-                [vk::DescriptorBufferInfo::default()
+            .filter(|(_, ty)| *ty == vk::DescriptorType::STORAGE_BUFFER)
+            .map(|&(i, _)| {
+                let info = vk::DescriptorBufferInfo::default()
                     .buffer(buffers[i as usize])
                     .offset(0)
-                    .range(vk::WHOLE_SIZE)]
+                    .range(vk::WHOLE_SIZE);
+                (i, [info])
             })
             .collect();
-        let writes: Vec<vk::WriteDescriptorSet> = bound
+        let mut writes: Vec<vk::WriteDescriptorSet> = infos
             .iter()
-            .zip(&infos)
-            .map(|(&i, info)| {
+            .map(|(i, info)| {
                 vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(i)
+                    .dst_set(d.set)
+                    .dst_binding(*i)
                     .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                     .buffer_info(info)
             })
             .collect();
+        writes.extend(views.iter().map(|(i, view)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(d.set)
+                .dst_binding(*i)
+                .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+                .texel_buffer_view(view)
+        }));
         unsafe { device.update_descriptor_sets(&writes, &[]) };
-        Ok(SceneDescriptors { layout, pool, set })
+        Ok(d)
     }
 
     pub fn destroy(&self, device: &ash::Device) {
         unsafe {
+            for &v in &self.views {
+                device.destroy_buffer_view(v, None);
+            }
             device.destroy_descriptor_pool(self.pool, None);
             device.destroy_descriptor_set_layout(self.layout, None);
         }
@@ -166,16 +305,32 @@ impl SceneDescriptors {
 mod tests {
     use super::*;
 
+    const LAVAPIPE: MemoryLimits = MemoryLimits {
+        max_storage_buffer_range: 128 << 20,
+        max_texel_buffer_elements: 128 << 20,
+        cpu: true,
+    };
+
     #[test]
-    fn arrays_past_the_storage_range_go_by_address() {
+    fn arrays_past_the_limits_fall_back_to_the_next_path() {
         let mut sizes = [16u64; 15];
-        sizes[9] = 149_000_000; // a texel array past lavapipe's 128 MiB
-        let auto = choose(&sizes, 128 << 20, MemoryPath::Auto);
-        assert_eq!(auto.iter().filter(|&&s| s).count(), 14);
-        assert!(!auto[9]);
-        assert!(!defines(&auto).contains(&"SSBO_TEXELS"));
-        assert!(choose(&sizes, 128 << 20, MemoryPath::DeviceAddress)
+        sizes[9] = 149_000_000; // a texel array past lavapipe's 128 MiB storage range
+        sizes[4] = 3 << 30; // 192 Mi texels: past the texel limit too
+        let auto = choose(&sizes, &LAVAPIPE, MemoryPath::Auto);
+        assert_eq!(auto[9], ArrayPath::Texel);
+        assert_eq!(auto[4], ArrayPath::Address);
+        assert_eq!(auto.iter().filter(|&&p| p == ArrayPath::Texel).count(), 14);
+        let storage = choose(&sizes, &LAVAPIPE, MemoryPath::StorageBuffers);
+        assert_eq!(storage[9], ArrayPath::Address);
+        assert!(!defines(&storage).contains(&"SSBO_TEXELS"));
+        assert!(defines(&storage).contains(&"SSBO_VERTICES"));
+        let gpu = MemoryLimits {
+            cpu: false,
+            ..LAVAPIPE
+        };
+        assert_eq!(choose(&sizes, &gpu, MemoryPath::Auto), storage);
+        assert!(choose(&sizes, &LAVAPIPE, MemoryPath::DeviceAddress)
             .iter()
-            .all(|&s| !s));
+            .all(|&p| p == ArrayPath::Address));
     }
 }

@@ -14,7 +14,7 @@ use crate::buffer::GpuBuffer;
 use crate::context::{Context, DeviceInfo};
 use crate::globals::Globals;
 use crate::kernel::{self, Kernel, PipelineCache, Sampling};
-use crate::memory::{self, MemoryPath, SceneDescriptors, SCENE_ARRAYS};
+use crate::memory::{self, ArrayPath, MemoryPath, SceneDescriptors, SCENE_ARRAYS};
 use crate::{Result, VkContext};
 
 #[derive(Clone, Debug, Default)]
@@ -26,7 +26,7 @@ pub struct TracerOptions {
     pub sampling: Sampling,
     /// For lavapipe: worker threads of this tracer's own llvmpipe thread pool (LP_NUM_THREADS).
     pub lavapipe_threads: Option<u32>,
-    /// How the kernel reads the scene arrays (SSBO where they fit, by default).
+    /// How the kernel reads the scene arrays (per device kind, by default).
     pub memory: MemoryPath,
 }
 
@@ -34,8 +34,8 @@ pub(crate) struct SceneBuffers {
     /// The scene arrays in `SCENE_ARRAYS` order.
     pub(crate) list: Vec<GpuBuffer>,
     pub(crate) globals: Globals,
-    /// Per array: read through its SSBO binding (else through its device address).
-    pub(crate) ssbo: Vec<bool>,
+    /// Per array: how the kernel reads it.
+    pub(crate) paths: Vec<ArrayPath>,
     pub(crate) descriptors: Option<SceneDescriptors>,
 }
 
@@ -109,7 +109,7 @@ impl Tracer {
             scene: SceneBuffers {
                 list: Vec::new(),
                 globals: Globals::default(),
-                ssbo: Vec::new(),
+                paths: Vec::new(),
                 descriptors: None,
             },
             globals_buffer,
@@ -129,13 +129,13 @@ impl Tracer {
         };
         tracer.upload_scene(scene)?;
         let sizes: Vec<u64> = tracer.scene.list.iter().map(|b| b.size).collect();
-        let max_range = tracer.ctx.properties.limits.max_storage_buffer_range as u64;
-        tracer.scene.ssbo = memory::choose(&sizes, max_range, options.memory);
+        let limits = tracer.ctx.info.memory_limits();
+        tracer.scene.paths = memory::choose(&sizes, &limits, options.memory);
         let buffers: Vec<vk::Buffer> = tracer.scene.list.iter().map(|b| b.buffer).collect();
         tracer.scene.descriptors = Some(SceneDescriptors::new(
             &tracer.ctx.device,
             &buffers,
-            &tracer.scene.ssbo,
+            &tracer.scene.paths,
         )?);
         Ok(tracer)
     }
@@ -154,12 +154,12 @@ impl Tracer {
     }
 
     /// Defines of the kernel this tracer runs for `params` (feature set, estimator and the
-    /// scene arrays read through SSBO bindings).
+    /// memory path of each scene array).
     pub fn kernel_defines(&self, params: &FrameParams) -> Vec<&'static str> {
         let mut features = self.features;
         features.thin_lens = params.camera.aperture_radius > 0.0;
         let mut d = kernel::defines(features, self.sampling);
-        d.extend(memory::defines(&self.scene.ssbo));
+        d.extend(memory::defines(&self.scene.paths));
         d
     }
 
@@ -202,7 +202,9 @@ impl Tracer {
     fn upload(&mut self, name: &str, data: &[u8]) -> Result<u64> {
         let device = self.ctx.device.clone();
         let size = data.len() as u64;
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST;
         let buffer = GpuBuffer::new(
             &device,
             &mut self.allocator,
@@ -236,7 +238,7 @@ impl Tracer {
     fn upload_scene(&mut self, s: &GpuScene) -> Result<()> {
         let mut a = [0u64; SCENE_ARRAYS.len()];
         for (i, data) in memory::scene_array_bytes(s).into_iter().enumerate() {
-            a[i] = self.upload(SCENE_ARRAYS[i].0, data)?;
+            a[i] = self.upload(SCENE_ARRAYS[i].name, data)?;
         }
         let mut g = Globals {
             vertices: a[0],
