@@ -86,6 +86,11 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
 #endif
     // depth + 1 segments so far; the next vertex would make depth + 2 (Mitsuba's max_depth).
     if (p.depth + 1u >= max_depth) return false;
+#ifdef CAMERA_RAYS_ONLY
+    // Max depth 1 compiles the bounce away: llvmpipe runs every instruction of a loop body under
+    // a lane mask whichever way its branches go, so code skipped at run time still costs.
+    return false;
+#else
 
     vec3 t, b;
     make_frame(s.ns, t, b);
@@ -135,6 +140,7 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     p.ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude), wi, INF);
     p.depth++;
     return true;
+#endif
 }
 
 void main() {

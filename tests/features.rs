@@ -277,3 +277,33 @@ fn thin_lens_compiles_its_variant_and_keeps_a_uniform_plane_uniform() {
     let (m, se) = mean_and_stderr(film.pixels.iter().map(|p| luminance(*p)));
     assert!((m - (RHO * L) as f64).abs() < 0.003 + 4.0 * se, "{m}");
 }
+
+#[test]
+fn max_depth_one_compiles_the_bounce_away_and_sees_only_emitters() {
+    // The Cornell box at max depth 1: each pixel is the light's radiance (17, 12, 4) times the
+    // fraction of its 16 jittered samples that hit the light, and black elsewhere.
+    let prepared = prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene);
+    let mut params = FrameParams::new(32, 32, 16, prepared.camera);
+    params.max_depth = 1;
+    let mut t = tracer(&prepared, Sampling::Mis);
+    assert!(t.kernel_defines(&params).contains(&"CAMERA_RAYS_ONLY"));
+    let film = render_with(&mut t, &params);
+    let lit: Vec<_> = film.pixels.iter().filter(|p| p[0] > 0.0).collect();
+    assert!(
+        !lit.is_empty() && lit.len() < film.pixels.len() / 4,
+        "{}",
+        lit.len()
+    );
+    for p in &film.pixels {
+        let hits = p[0] / 17.0 * 16.0;
+        assert!((hits - hits.round()).abs() < 1e-3, "{p:?}");
+        assert!(
+            (p[1] - 12.0 / 17.0 * p[0]).abs() < 1e-4 && (p[2] - 4.0 / 17.0 * p[0]).abs() < 1e-4
+        );
+    }
+    // One bounce more lights the walls, through the kernel with bounce code.
+    params.max_depth = 2;
+    assert!(!t.kernel_defines(&params).contains(&"CAMERA_RAYS_ONLY"));
+    let film = render_with(&mut t, &params);
+    assert!(film.pixels.iter().filter(|p| p[0] > 0.0).count() > film.pixels.len() / 2);
+}

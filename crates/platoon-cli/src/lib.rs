@@ -278,8 +278,7 @@ pub fn metadata(
     rendered: &Rendered,
     sampling: &str,
 ) -> Vec<(String, String)> {
-    let mut features = prepared.gpu.features;
-    features.thin_lens = params.camera.aperture_radius > 0.0;
+    let features = prepared.gpu.features.with_render_options(params);
     let source = prepared
         .scene
         .source

@@ -15,11 +15,13 @@ pub struct FeatureSet {
     pub punctual_lights: bool,
     pub environment_map: bool,
     pub thin_lens: bool,
+    /// Max depth 1: the kernel has no bounce code (a render option, set by the caller).
+    pub camera_rays_only: bool,
 }
 
 impl FeatureSet {
-    /// Features of the scene's materials and lights (thin lens and environment are render
-    /// options, set by the caller).
+    /// Features of the scene's materials and lights (thin lens, camera rays only and the
+    /// environment are render options, set by the caller).
     pub fn of_scene(scene: &Scene) -> FeatureSet {
         let used: Vec<&crate::scene::Material> = {
             let mut used = vec![false; scene.materials.len()];
@@ -52,10 +54,19 @@ impl FeatureSet {
                 Some(crate::environment::Environment::Map(_))
             ),
             thin_lens: false,
+            camera_rays_only: false,
         }
     }
 
-    fn entries(&self) -> [(&'static str, &'static str, bool); 8] {
+    /// The set with the render options of `params` that select kernel code: a thin lens when
+    /// the aperture is open, no bounce code at max depth 1.
+    pub fn with_render_options(mut self, params: &crate::frame::FrameParams) -> FeatureSet {
+        self.thin_lens = params.camera.aperture_radius > 0.0;
+        self.camera_rays_only = params.max_depth <= 1;
+        self
+    }
+
+    fn entries(&self) -> [(&'static str, &'static str, bool); 9] {
         [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
@@ -77,6 +88,11 @@ impl FeatureSet {
                 self.environment_map,
             ),
             ("thin-lens", "HAS_THIN_LENS", self.thin_lens),
+            (
+                "camera-rays-only",
+                "CAMERA_RAYS_ONLY",
+                self.camera_rays_only,
+            ),
         ]
     }
 

@@ -156,8 +156,7 @@ impl Tracer {
     /// Defines of the kernel this tracer runs for `params` (feature set, estimator and the
     /// memory path of each scene array).
     pub fn kernel_defines(&self, params: &FrameParams) -> Vec<&'static str> {
-        let mut features = self.features;
-        features.thin_lens = params.camera.aperture_radius > 0.0;
+        let features = self.features.with_render_options(params);
         let mut d = kernel::defines(features, self.sampling);
         d.extend(memory::defines(&self.scene.paths));
         d
