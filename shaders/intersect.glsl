@@ -87,14 +87,18 @@ float intersect_aabb(RayTri r, vec3 bmin, vec3 bmax, float tmax) {
     return (tn <= tf && tn < tmax) ? tn : INF;
 }
 
-// Tests the two children at `first` and `first + 1`; returns how many are hit before tmax,
-// with the nearer one in `near`.
-int order_children(RayTri r, BvhNode a, BvhNode b, uint first, float tmax, out uint near, out uint far) {
-    float ta = intersect_aabb(r, a.bmin, a.bmax, tmax);
-    float tb = intersect_aabb(r, b.bmin, b.bmax, tmax);
-    near = first;
-    far = first + 1u;
-    if (tb < ta) { float t = ta; ta = tb; tb = t; near = first + 1u; far = first; }
+// Items (see BvhNode): a leaf's primitive count in the low bits, the index above them.
+const uint ITEM_COUNT_MASK = 15u;
+const uint ITEM_INDEX_SHIFT = 4u;
+
+// Tests both children of n; returns how many are hit before tmax, with the nearer one's item in
+// `near`.
+int order_children(RayTri r, BvhNode n, float tmax, out uint near, out uint far) {
+    float ta = intersect_aabb(r, n.min0, n.max0, tmax);
+    float tb = intersect_aabb(r, n.min1, n.max1, tmax);
+    near = n.item0;
+    far = n.item1;
+    if (tb < ta) { float t = ta; ta = tb; tb = t; near = n.item1; far = n.item0; }
     return ta == INF ? 0 : (tb == INF ? 1 : 2);
 }
 
@@ -116,16 +120,17 @@ bool alpha_rejects(uint tri, float b1, float b2) {
 }
 #endif
 
-// Bottom level: returns true on a hit closer than hit.t; with any_hit, at the first one.
+// Bottom level from the `root` item: returns true on a hit closer than hit.t; with any_hit,
+// at the first one. Each step takes one item: a leaf's triangles, or an inner node's two boxes.
 bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit hit) {
     uint stack[64];
     int sp = 0;
-    uint node = root;
+    uint item = root;
     bool found = false;
     while (true) {
-        BvhNode n = blas_at(node);
-        if (n.count > 0u) {
-            for (uint i = n.index; i < n.index + n.count; ++i) {
+        uint count = item & ITEM_COUNT_MASK, index = item >> ITEM_INDEX_SHIFT;
+        if (count > 0u) {
+            for (uint i = index; i < index + count; ++i) {
                 float t, b1, b2;
                 vec3 v0 = tri_pos_at(3u * i).xyz, v1 = tri_pos_at(3u * i + 1u).xyz, v2 = tri_pos_at(3u * i + 2u).xyz;
                 if (intersect_triangle(r, v0, v1, v2, hit.t, t, b1, b2)) {
@@ -139,32 +144,31 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
             }
         } else {
             uint near, far;
-            int hits = order_children(r, blas_at(n.index), blas_at(n.index + 1u), n.index, hit.t, near, far);
+            int hits = order_children(r, blas_at(index), hit.t, near, far);
             if (hits > 0) {
                 if (hits == 2 && sp < 64) stack[sp++] = far;
-                node = near;
+                item = near;
                 continue;
             }
         }
         if (sp == 0) break;
-        node = stack[--sp];
+        item = stack[--sp];
     }
     return found;
 }
 
 bool trace(Ray ray, bool any_hit, out Hit hit) {
     hit = Hit(ray.tmax, 0.0, 0.0, 0u, 0u);
-    if (F.counts.z == 0u) return false;
+    if (F.counts.y == 0u) return false;
     RayTri world = ray_tri_setup(ray.origin, ray.dir);
     uint stack[32];
     int sp = 0;
-    uint node = 0u;
+    uint item = F.counts.z;  // the root: inner node 0, or the one instance's leaf
     bool found = false;
-    if (intersect_aabb(world, tlas_at(0).bmin, tlas_at(0).bmax, hit.t) == INF) return false;
     while (true) {
-        BvhNode n = tlas_at(node);
-        if (n.count > 0u) {
-            for (uint i = n.index; i < n.index + n.count; ++i) {
+        uint count = item & ITEM_COUNT_MASK, index = item >> ITEM_INDEX_SHIFT;
+        if (count > 0u) {
+            for (uint i = index; i < index + count; ++i) {
                 Instance inst = instance_at(i);
                 vec3 o = vec3(dot(inst.w2o[0], vec4(ray.origin, 1.0)), dot(inst.w2o[1], vec4(ray.origin, 1.0)), dot(inst.w2o[2], vec4(ray.origin, 1.0)));
                 vec3 d = vec3(dot(inst.w2o[0].xyz, ray.dir), dot(inst.w2o[1].xyz, ray.dir), dot(inst.w2o[2].xyz, ray.dir));
@@ -175,15 +179,15 @@ bool trace(Ray ray, bool any_hit, out Hit hit) {
             }
         } else {
             uint near, far;
-            int hits = order_children(world, tlas_at(n.index), tlas_at(n.index + 1u), n.index, hit.t, near, far);
+            int hits = order_children(world, tlas_at(index), hit.t, near, far);
             if (hits > 0) {
                 if (hits == 2 && sp < 32) stack[sp++] = far;
-                node = near;
+                item = near;
                 continue;
             }
         }
         if (sp == 0) break;
-        node = stack[--sp];
+        item = stack[--sp];
     }
     return found;
 }

@@ -7,7 +7,9 @@
 
 struct Vertex { vec4 position_u; vec4 normal_v; vec4 tangent; };
 struct Triangle { uvec3 v; uint material; };
-struct BvhNode { vec3 bmin; uint count; vec3 bmax; uint index; };
+// An inner BVH2 node with both children's boxes and items (crates/platoon-core/src/bvh.rs): an
+// item is (index << 4) | count, count 0 naming inner node `index`, else `count` primitives.
+struct BvhNode { vec3 min0; uint item0; vec3 max0; uint pad0; vec3 min1; uint item1; vec3 max1; uint pad1; };
 struct Instance { vec4 w2o[3]; vec4 o2w[3]; uint blas_root; uint light_base; uint pad0; uint pad1; };
 struct Material {
     vec4 base_color; vec4 emissive; vec4 params; vec4 specular;
@@ -56,7 +58,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Gl
     vec4 cam_forward;  // unit forward, w = focus distance
     vec4 env_color;    // rgb, w = integral of the env sampling function
     uvec4 dims;        // width, height, env width, env height
-    uvec4 counts;      // lights, instances, tlas nodes, env kind (0 none, 1 constant, 2 map)
+    uvec4 counts;      // lights, instances, top-level root item, env kind (0 none, 1 constant, 2 map)
     uvec4 params;      // max depth, frame, seed, russian-roulette start depth
 };
 

@@ -28,8 +28,10 @@ Triangle unpack_triangle(utextureBuffer t, uint i) {
     return Triangle(a.xyz, a.w);
 }
 BvhNode unpack_node(utextureBuffer t, uint i) {
-    uvec4 a = texelFetch(t, int(2u * i)), b = texelFetch(t, int(2u * i + 1u));
-    return BvhNode(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
+    uvec4 a = texelFetch(t, int(4u * i)), b = texelFetch(t, int(4u * i + 1u));
+    uvec4 c = texelFetch(t, int(4u * i + 2u)), d = texelFetch(t, int(4u * i + 3u));
+    return BvhNode(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w,
+                   uintBitsToFloat(c.xyz), c.w, uintBitsToFloat(d.xyz), d.w);
 }
 Instance unpack_instance(utextureBuffer t, uint i) {
     uint b = 7u * i;

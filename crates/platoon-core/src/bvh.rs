@@ -15,48 +15,167 @@ use rayon::prelude::*;
 
 use crate::scene::Mesh;
 
-/// GPU node: bounds, and either two children at `index`, `index + 1` (count == 0) or `count`
-/// primitives starting at `index`.
+/// Bits of an item that hold a leaf's primitive count.
+const COUNT_BITS: u32 = 4;
+/// Most primitives one leaf item can name; larger leaves are split.
+pub const MAX_LEAF_ITEM: u32 = (1 << COUNT_BITS) - 1;
+/// Items index nodes and primitives below this.
+pub const MAX_ITEM_INDEX: u32 = 1 << (32 - COUNT_BITS);
+
+/// A reference to a child: `(index << 4) | count`, where count 0 names the inner node `index`
+/// of the same array and count 1..=15 names `count` primitives from `index`.
+pub fn item(index: u32, count: u32) -> u32 {
+    debug_assert!(index < MAX_ITEM_INDEX && count <= MAX_LEAF_ITEM);
+    (index << COUNT_BITS) | count
+}
+
+/// The (index, count) of an item.
+pub fn unpack_item(item: u32) -> (u32, u32) {
+    (item >> COUNT_BITS, item & MAX_LEAF_ITEM)
+}
+
+/// GPU node: an inner node of a BVH2 holding both children's boxes and items (64 bytes, four
+/// 16-byte texels), so a visit reads everything its two box tests need in four vector loads and
+/// a leaf is reached without reading a node of its own. Node 0 is the root.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct BvhNode {
-    pub min: [f32; 3],
-    pub count: u32,
-    pub max: [f32; 3],
-    pub index: u32,
+    pub min0: [f32; 3],
+    pub item0: u32,
+    pub max0: [f32; 3],
+    pub pad0: u32,
+    pub min1: [f32; 3],
+    pub item1: u32,
+    pub max1: [f32; 3],
+    pub pad1: u32,
 }
 
-/// A flattened BVH over `order.len()` primitives: leaves index primitives in `order` order.
-#[derive(Clone, Debug, Default)]
-pub struct FlatBvh {
-    pub nodes: Vec<BvhNode>,
-    /// Original primitive index of each position referenced by leaves.
-    pub order: Vec<u32>,
-}
-
-impl FlatBvh {
-    pub fn bounds(&self) -> (Vec3, Vec3) {
-        match self.nodes.first() {
-            Some(n) => (Vec3::from_array(n.min), Vec3::from_array(n.max)),
-            None => (Vec3::ZERO, Vec3::ZERO),
+impl BvhNode {
+    fn pair(
+        (min0, max0, item0): (Vec3, Vec3, u32),
+        (min1, max1, item1): (Vec3, Vec3, u32),
+    ) -> Self {
+        BvhNode {
+            min0: min0.to_array(),
+            item0,
+            max0: max0.to_array(),
+            min1: min1.to_array(),
+            item1,
+            max1: max1.to_array(),
+            ..Default::default()
         }
+    }
+
+    /// The children's items, in order.
+    pub fn items(&self) -> [u32; 2] {
+        [self.item0, self.item1]
+    }
+
+    /// The node with its items moved by [`rebase_item`].
+    pub fn rebased(&self, node_base: u32, prim_base: u32) -> Option<BvhNode> {
+        Some(BvhNode {
+            item0: rebase_item(self.item0, node_base, prim_base)?,
+            item1: rebase_item(self.item1, node_base, prim_base)?,
+            ..*self
+        })
     }
 }
 
+/// The item moved into arrays where its BVH's nodes start at `node_base` and its primitives at
+/// `prim_base`; None past [`MAX_ITEM_INDEX`].
+pub fn rebase_item(it: u32, node_base: u32, prim_base: u32) -> Option<u32> {
+    let (index, count) = unpack_item(it);
+    let base = if count == 0 { node_base } else { prim_base };
+    let index = index.checked_add(base)?;
+    let last = index.checked_add(count)?;
+    (last <= MAX_ITEM_INDEX).then(|| item(index, count))
+}
+
+/// A flattened BVH over `order.len()` primitives: leaves index primitives in `order` order.
+/// Traversal starts at the `root` item: inner node 0, or a leaf when the BVH is one leaf (then
+/// `nodes` is empty, and no node is read to reach it).
+#[derive(Clone, Debug, Default)]
+pub struct FlatBvh {
+    pub nodes: Vec<BvhNode>,
+    pub root: u32,
+    /// Original primitive index of each position referenced by leaves.
+    pub order: Vec<u32>,
+    /// The root's box.
+    pub bounds: (Vec3, Vec3),
+}
+
+impl FlatBvh {
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
+    }
+
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.bounds
+    }
+
+    /// Every (first primitive, count) range the leaves name.
+    pub fn leaves(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        std::iter::once(self.root)
+            .chain(self.nodes.iter().flat_map(|n| n.items()))
+            .map(unpack_item)
+            .filter(|&(_, count)| count > 0)
+    }
+}
+
+/// The item of obvhs leaf or inner node `j`; leaves over [`MAX_LEAF_ITEM`] primitives become
+/// inner nodes appended to `nodes`, splitting the range under the same box.
+fn child_item(bvh: &Bvh2, j: usize, wide_of: &[u32], nodes: &mut Vec<BvhNode>) -> u32 {
+    let n = &bvh.nodes[j];
+    if n.prim_count == 0 {
+        return item(wide_of[j], 0);
+    }
+    let (lo, hi) = (Vec3::from(n.aabb.min), Vec3::from(n.aabb.max));
+    leaf_item(n.first_index, n.prim_count, lo, hi, nodes)
+}
+
+fn leaf_item(first: u32, count: u32, lo: Vec3, hi: Vec3, nodes: &mut Vec<BvhNode>) -> u32 {
+    if count <= MAX_LEAF_ITEM {
+        return item(first, count);
+    }
+    let half = count / 2;
+    let index = nodes.len();
+    nodes.push(BvhNode::default());
+    let a = leaf_item(first, half, lo, hi, nodes);
+    let b = leaf_item(first + half, count - half, lo, hi, nodes);
+    nodes[index] = BvhNode::pair((lo, hi, a), (lo, hi, b));
+    item(index as u32, 0)
+}
+
 fn flatten(bvh: &Bvh2) -> FlatBvh {
-    let nodes = bvh
-        .nodes
-        .iter()
-        .map(|n| BvhNode {
-            min: n.aabb.min.to_array(),
-            count: n.prim_count,
-            max: n.aabb.max.to_array(),
-            index: n.first_index,
-        })
+    let Some(root) = bvh.nodes.first() else {
+        return FlatBvh::default();
+    };
+    let mut wide_of = vec![u32::MAX; bvh.nodes.len()];
+    let inner: Vec<usize> = (0..bvh.nodes.len())
+        .filter(|&j| bvh.nodes[j].prim_count == 0)
         .collect();
+    for (w, &j) in inner.iter().enumerate() {
+        wide_of[j] = w as u32;
+    }
+    let mut nodes = vec![BvhNode::default(); inner.len()];
+    let child = |j: usize, nodes: &mut Vec<BvhNode>| {
+        let n = &bvh.nodes[j];
+        let it = child_item(bvh, j, &wide_of, nodes);
+        (Vec3::from(n.aabb.min), Vec3::from(n.aabb.max), it)
+    };
+    for (w, &j) in inner.iter().enumerate() {
+        let first = bvh.nodes[j].first_index as usize;
+        let a = child(first, &mut nodes);
+        let b = child(first + 1, &mut nodes);
+        nodes[w] = BvhNode::pair(a, b);
+    }
+    let (lo, hi, root_item) = child(0, &mut nodes);
+    debug_assert!(root.prim_count > 0 || root_item == item(0, 0));
     FlatBvh {
         nodes,
+        root: root_item,
         order: bvh.primitive_indices.clone(),
+        bounds: (lo, hi),
     }
 }
 
@@ -168,15 +287,64 @@ mod tests {
         }
         let bvh = build_mesh_bvh(&mesh);
         let mut seen = vec![0; 100];
-        for n in &bvh.nodes {
-            for k in 0..n.count {
-                seen[bvh.order[(n.index + k) as usize] as usize] += 1;
+        for (index, count) in bvh.leaves() {
+            for k in 0..count {
+                seen[bvh.order[(index + k) as usize] as usize] += 1;
             }
         }
         assert!(seen.iter().all(|&s| s == 1));
         let (lo, hi) = bvh.bounds();
         assert_eq!(lo, Vec3::new(0.0, 0.0, 0.0));
         assert_eq!(hi, Vec3::new(100.0, 13.0, 0.0));
+    }
+
+    #[test]
+    fn leaves_past_the_item_count_are_split_under_the_same_box() {
+        let mut nodes = Vec::new();
+        let root = leaf_item(100, 40, Vec3::ZERO, Vec3::ONE, &mut nodes);
+        assert_eq!(unpack_item(root), (0, 0));
+        let flat = FlatBvh {
+            nodes,
+            root,
+            ..Default::default()
+        };
+        let mut covered: Vec<u32> = flat
+            .leaves()
+            .flat_map(|(i, c)| {
+                assert!((1..=MAX_LEAF_ITEM).contains(&c));
+                i..i + c
+            })
+            .collect();
+        covered.sort();
+        assert_eq!(covered, (100..140).collect::<Vec<_>>());
+        assert!(flat
+            .nodes
+            .iter()
+            .all(|n| n.min0 == [0.0; 3] && n.max1 == [1.0; 3]));
+    }
+
+    #[test]
+    fn rebasing_moves_nodes_and_primitives_and_refuses_overflow() {
+        let n = BvhNode {
+            item0: item(3, 0),
+            item1: item(5, 2),
+            ..Default::default()
+        };
+        let r = n.rebased(10, 1000).unwrap();
+        assert_eq!(r.items().map(unpack_item), [(13, 0), (1005, 2)]);
+        assert!(n.rebased(0, MAX_ITEM_INDEX - 6).is_none());
+    }
+
+    #[test]
+    fn a_single_leaf_bvh_is_its_root_item_without_nodes() {
+        let mut mesh = Mesh::default();
+        mesh.positions.extend([Vec3::ZERO, Vec3::X, Vec3::Y]);
+        mesh.indices.push([0, 1, 2]);
+        let bvh = build_mesh_bvh(&mesh);
+        assert!(bvh.nodes.is_empty());
+        assert_eq!(unpack_item(bvh.root), (0, 1));
+        assert_eq!(bvh.leaves().collect::<Vec<_>>(), vec![(0, 1)]);
+        assert_eq!(bvh.bounds(), (Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0)));
     }
 
     #[test]
@@ -241,7 +409,7 @@ pub fn compare_layouts(tris: &[Triangle], rays: &[obvhs::ray::Ray]) -> LayoutCom
     LayoutComparison {
         bvh2_rays_per_s,
         cwbvh_rays_per_s,
-        bvh2_node_bytes: std::mem::size_of::<BvhNode>() * b2.nodes.len(),
+        bvh2_node_bytes: std::mem::size_of::<BvhNode>() * flatten(&b2).nodes.len(),
         cwbvh_node_bytes: std::mem::size_of_val(cw.nodes.as_slice()),
         bvh2_build,
         cwbvh_build,

@@ -112,6 +112,8 @@ pub struct GpuScene {
     pub triangle_lights: Vec<u32>,
     pub blas_nodes: Vec<BvhNode>,
     pub tlas_nodes: Vec<BvhNode>,
+    /// The item the top level starts at (inner node 0, or the one instance's leaf).
+    pub tlas_root: u32,
     pub instances: Vec<GpuInstance>,
     pub materials: Vec<GpuMaterial>,
     pub textures: Vec<GpuTexture>,
@@ -191,7 +193,6 @@ impl GpuScene {
             let vbase = g.vertices.len() as u32;
             let tbase = g.triangles.len() as u32;
             let nbase = g.blas_nodes.len() as u32;
-            blas_root.push(nbase);
             tri_base.push(tbase);
             for (i, p) in mesh.positions.iter().enumerate() {
                 let uv = mesh.uvs.get(i).copied().unwrap_or_default();
@@ -222,11 +223,17 @@ impl GpuScene {
                     g.triangle_lights.push(u32::MAX);
                 }
             }
-            g.blas_nodes.extend(flat.nodes.iter().map(|n| {
-                let mut n = *n;
-                n.index += if n.count == 0 { nbase } else { tbase };
-                n
-            }));
+            let too_large = || {
+                Error::Invalid(format!(
+                    "more than {} triangles or BVH nodes: too large for the kernel's node items",
+                    bvh::MAX_ITEM_INDEX
+                ))
+            };
+            for n in &flat.nodes {
+                g.blas_nodes
+                    .push(n.rebased(nbase, tbase).ok_or_else(too_large)?);
+            }
+            blas_root.push(bvh::rebase_item(flat.root, nbase, tbase).ok_or_else(too_large)?);
         }
         g.triangle_count = g.triangles.len();
 
@@ -234,7 +241,7 @@ impl GpuScene {
         let (live, boxes): (Vec<&crate::scene::Instance>, Vec<obvhs::aabb::Aabb>) = posed
             .instances
             .iter()
-            .filter(|i| !mesh_bvhs[i.mesh].nodes.is_empty())
+            .filter(|i| !mesh_bvhs[i.mesh].is_empty())
             .map(|i| {
                 let b = bvh::transform_bounds(&i.object_to_world, mesh_bvhs[i.mesh].bounds());
                 (i, b)
@@ -248,6 +255,7 @@ impl GpuScene {
             instances: instance_time,
         };
         g.tlas_nodes = tlas.nodes.clone();
+        g.tlas_root = tlas.root;
         let (lo, hi) = tlas.bounds();
         g.scene_radius = ((hi.as_dvec3() - lo.as_dvec3()).length() * 0.5).max(1e-3);
 

@@ -55,7 +55,7 @@ pub struct Tracer {
     pub(crate) sampling: Sampling,
     pub(crate) light_count: u32,
     pub(crate) instance_count: u32,
-    pub(crate) tlas_nodes: u32,
+    pub(crate) tlas_root: u32,
     pub(crate) env_kind: u32,
 }
 
@@ -124,7 +124,7 @@ impl Tracer {
             sampling: options.sampling,
             light_count: scene.lights.len() as u32,
             instance_count: scene.instances.len() as u32,
-            tlas_nodes: scene.tlas_nodes.len() as u32,
+            tlas_root: scene.tlas_root,
             env_kind: scene.env.kind,
         };
         tracer.upload_scene(scene)?;
@@ -268,7 +268,7 @@ impl Tracer {
         g.counts = [
             self.light_count,
             self.instance_count,
-            self.tlas_nodes,
+            self.tlas_root,
             self.env_kind,
         ];
         self.scene.globals = g;
