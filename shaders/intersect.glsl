@@ -130,17 +130,21 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
     while (true) {
         uint count = item & ITEM_COUNT_MASK, index = item >> ITEM_INDEX_SHIFT;
         if (count > 0u) {
-            for (uint i = index; i < index + count; ++i) {
-                float t, b1, b2;
-                vec3 v0 = tri_pos_at(3u * i).xyz, v1 = tri_pos_at(3u * i + 1u).xyz, v2 = tri_pos_at(3u * i + 2u).xyz;
-                if (intersect_triangle(r, v0, v1, v2, hit.t, t, b1, b2)) {
+            // One triangle per step: a lane in a leaf does not hold the others at its count.
+            float t, b1, b2;
+            vec3 v0 = tri_pos_at(3u * index).xyz, v1 = tri_pos_at(3u * index + 1u).xyz, v2 = tri_pos_at(3u * index + 2u).xyz;
+            if (intersect_triangle(r, v0, v1, v2, hit.t, t, b1, b2)
 #ifdef HAS_ALPHA_MASK
-                    if (alpha_rejects(i, b1, b2)) continue;
+                && !alpha_rejects(index, b1, b2)
 #endif
-                    hit = Hit(t, b1, b2, instance, i);
-                    found = true;
-                    if (any_hit) return true;
-                }
+            ) {
+                hit = Hit(t, b1, b2, instance, index);
+                found = true;
+                if (any_hit) return true;
+            }
+            if (count > 1u) {
+                item = ((index + 1u) << ITEM_INDEX_SHIFT) | (count - 1u);
+                continue;
             }
         } else {
             uint near, far;
