@@ -386,7 +386,8 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     assert!(o.status.success(), "{}", stderr(&o));
     for camera in ["slow", "fast"] {
         let map =
-            platoon::core::replay::CostMap::load(&costs.join(format!("{camera}.csv"))).unwrap();
+            platoon::core::balance::replay::CostMap::load(&costs.join(format!("{camera}.csv")))
+                .unwrap();
         assert_eq!((map.frames.len(), map.height()), (3, 9));
         assert!(
             map.frames.iter().flatten().all(|c| *c >= 0.0)

@@ -4,8 +4,8 @@ mod common;
 
 use common::*;
 use glam::Vec3;
-use platoon::core::cornell::lambertian;
 use platoon::core::frame::FrameParams;
+use platoon::core::scene::cornell::lambertian;
 use platoon::core::scene::Material;
 use platoon::tracer::Sampling;
 

@@ -18,7 +18,10 @@ fn cesium() -> platoon::Prepared {
 
 #[test]
 fn same_seed_gives_identical_images_and_other_seeds_differ() {
-    let prepared = prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene);
+    let prepared = prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Scene,
+    );
     let mut tracer = tracer(&prepared, Sampling::Mis);
     let mut params = FrameParams::new(24, 24, 8, prepared.camera);
     let a = render_with(&mut tracer, &params);
@@ -38,7 +41,10 @@ fn same_seed_gives_identical_images_and_other_seeds_differ() {
 #[test]
 fn any_band_split_gives_the_same_bits() {
     for prepared in [
-        prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene),
+        prepare(
+            platoon::core::scene::cornell::scene(),
+            platoon::EnvChoice::Scene,
+        ),
         cesium(),
     ] {
         let mut tracer = tracer(&prepared, Sampling::Mis);
@@ -95,7 +101,10 @@ fn texel_buffers_storage_buffers_and_device_addresses_give_the_same_bits() {
     use platoon::tracer::{MemoryPath, Tracer, TracerOptions};
     init();
     for prepared in [
-        prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene),
+        prepare(
+            platoon::core::scene::cornell::scene(),
+            platoon::EnvChoice::Scene,
+        ),
         cesium(),
     ] {
         let params = FrameParams::new(20, 20, 4, prepared.camera);

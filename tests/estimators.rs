@@ -11,7 +11,7 @@ use platoon::tracer::Sampling;
 
 /// The Cornell box with a glossy plastic floor and a rough metal tall box, open to a dim sky.
 fn glossy_cornell() -> platoon::Prepared {
-    let mut scene = platoon::core::cornell::scene();
+    let mut scene = platoon::core::scene::cornell::scene();
     let floor = scene.materials.len() as u32;
     scene.materials.push(Material {
         name: "plastic".into(),
@@ -51,7 +51,7 @@ fn sphere_under_sunset() -> platoon::Prepared {
             (ground, Vec3::ZERO, 6.0),
         ],
         vec![
-            platoon::core::cornell::lambertian("ground", Vec3::splat(0.6)),
+            platoon::core::scene::cornell::lambertian("ground", Vec3::splat(0.6)),
             Material {
                 name: "plastic".into(),
                 base_color: Vec3::new(0.8, 0.4, 0.3).extend(1.0),

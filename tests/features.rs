@@ -7,8 +7,8 @@ use std::f32::consts::PI;
 
 use common::*;
 use glam::{Quat, Vec2, Vec3};
-use platoon::core::cornell::lambertian;
 use platoon::core::frame::FrameParams;
+use platoon::core::scene::cornell::lambertian;
 use platoon::core::scene::{
     AlphaMode, LightKind, Material, Node, PunctualLight, Texture, TextureRef, Wrap,
 };
@@ -282,7 +282,10 @@ fn thin_lens_compiles_its_variant_and_keeps_a_uniform_plane_uniform() {
 fn max_depth_one_compiles_the_bounce_away_and_sees_only_emitters() {
     // The Cornell box at max depth 1: each pixel is the light's radiance (17, 12, 4) times the
     // fraction of its 16 jittered samples that hit the light, and black elsewhere.
-    let prepared = prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene);
+    let prepared = prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Scene,
+    );
     let mut params = FrameParams::new(32, 32, 16, prepared.camera);
     params.max_depth = 1;
     let mut t = tracer(&prepared, Sampling::Mis);

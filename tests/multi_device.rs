@@ -6,9 +6,9 @@ mod common;
 use common::*;
 use platoon::balance_bench::{self as bb, CameraSpeed};
 use platoon::core::balance::{by_name, NAMES};
-use platoon::core::fault::FaultInjector;
+use platoon::core::frame::fault::FaultInjector;
+use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
-use platoon::core::renderer::Renderer;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::tracer::Sampling;
 

@@ -4,8 +4,8 @@ mod common;
 
 use common::*;
 use glam::Vec3;
-use platoon::core::cornell::{lambertian, push_quad};
 use platoon::core::frame::FrameParams;
+use platoon::core::scene::cornell::{lambertian, push_quad};
 use platoon::core::scene::{Material, Mesh};
 use platoon::tracer::Sampling;
 

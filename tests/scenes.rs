@@ -3,7 +3,7 @@
 mod common;
 
 use common::*;
-use platoon::core::animation::Property;
+use platoon::core::scene::animation::Property;
 use platoon::tracer::{kernel_label, Sampling};
 
 #[test]
@@ -71,7 +71,10 @@ fn scenes_without_lights_get_a_default_sky_and_say_so() {
     );
     assert!(p.note.as_deref().unwrap_or("").contains("no lights"));
     assert_eq!(p.gpu.env.kind, 1);
-    let cornell = prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene);
+    let cornell = prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Scene,
+    );
     assert!(cornell.note.is_none());
     assert_eq!(cornell.gpu.env.kind, 0);
 }
@@ -84,7 +87,10 @@ fn each_scene_gets_the_kernel_its_features_call_for() {
     let cesium_env = prepare(load("scenes/CesiumMan.glb"), env());
     let ufo = prepare(load("scenes/RetroUFO.glb"), platoon::EnvChoice::Scene);
     let teapot_env = prepare(load("scenes/teapot.gltf"), env());
-    let cornell = prepare(platoon::core::cornell::scene(), platoon::EnvChoice::Scene);
+    let cornell = prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Scene,
+    );
     assert_eq!(cesium.gpu.features.defines(), ["HAS_TEXTURES"]);
     assert_eq!(
         cesium_env.gpu.features.defines(),

@@ -6,8 +6,8 @@
 use std::path::Path;
 
 use libfuzzer_sys::fuzz_target;
-use platoon_core::gltf_load::{load_from_slice, LoadOptions};
-use platoon_core::gpu_scene::GpuScene;
+use platoon_core::scene::gltf_load::{load_from_slice, LoadOptions};
+use platoon_core::flatten::GpuScene;
 
 fuzz_target!(|data: &[u8]| {
     // External URIs resolve in an empty folder: nothing outside the input is read.

@@ -138,7 +138,7 @@ pub fn scene_of(
         node.scale = Vec3::splat(s);
         scene.nodes.push(node);
     }
-    let cam = platoon::core::camera::Camera::look_at(eye, target, yfov);
+    let cam = platoon::core::scene::camera::Camera::look_at(eye, target, yfov);
     let (_, r, t) = cam.camera_to_world.to_scale_rotation_translation();
     let mut node = Node::new("camera");
     node.rotation = r;

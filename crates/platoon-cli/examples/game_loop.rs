@@ -10,8 +10,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use glam::Vec3;
 use platoon::core::balance;
-use platoon::core::camera::Camera;
 use platoon::core::frame::FrameParams;
+use platoon::core::scene::camera::Camera;
 use platoon::devices::{self, DeviceSpec};
 use platoon::tracer::Sampling;
 

@@ -9,11 +9,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context as _, Result};
 use glam::Vec3;
+use platoon_core::balance::replay::{replay, CostMap};
 use platoon_core::balance::{by_name, NAMES};
-use platoon_core::camera::Camera;
+use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::FrameParams;
-use platoon_core::renderer::Renderer;
-use platoon_core::replay::{replay, CostMap};
+use platoon_core::scene::camera::Camera;
 use platoon_tracer::Sampling;
 
 use crate::devices::{create_tracers, DeviceSpec};

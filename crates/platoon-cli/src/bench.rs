@@ -4,10 +4,10 @@ use std::fmt::Write as _;
 use std::time::Duration;
 
 use anyhow::Result;
-use platoon_core::frame::FrameParams;
-use platoon_core::gpu_scene::{
+use platoon_core::flatten::{
     GpuScene, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE,
 };
+use platoon_core::frame::FrameParams;
 use platoon_tracer::{Tracer, TracerOptions};
 
 use crate::{prepare, PrepareOptions, Prepared};
@@ -166,7 +166,10 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
         ..Default::default()
     };
     println!("platoon bench: {spp} spp per render, median of {repeat}, 256x256");
-    let cornell = prepare(platoon_core::cornell::scene(), &PrepareOptions::default())?;
+    let cornell = prepare(
+        platoon_core::scene::cornell::scene(),
+        &PrepareOptions::default(),
+    )?;
     let mut tracer = Tracer::new(&options, &cornell.gpu)?;
     println!("device: {}", tracer.device_info().name);
     println!(
@@ -274,7 +277,7 @@ fn compare_layouts(p: &Prepared) {
             rays.push(Ray::new_inf(o, d));
         }
     }
-    let c = platoon_core::bvh::compare_layouts(&tris, &rays);
+    let c = platoon_core::flatten::bvh::compare_layouts(&tris, &rays);
     println!(
         "BVH layouts on the CPU (1 thread, {} triangles, {} rays; same hits: {}):",
         tris.len(),

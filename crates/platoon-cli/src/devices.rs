@@ -6,8 +6,8 @@ use std::str::FromStr;
 
 use anyhow::{bail, Context as _, Result};
 use platoon_core::balance::Balancer;
-use platoon_core::gpu_scene::GpuScene;
-use platoon_core::renderer::Renderer;
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::renderer::Renderer;
 use platoon_tracer::{list_devices, Sampling, Tracer, TracerOptions};
 
 #[derive(Clone, Debug, PartialEq)]

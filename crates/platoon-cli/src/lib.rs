@@ -13,14 +13,14 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context as _, Result};
 use glam::Vec3;
-use platoon_core::camera::Camera;
-use platoon_core::environment::{EnvMap, Environment};
-use platoon_core::floating_origin::FloatingOrigin;
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::{assemble, Band, FrameParams};
-use platoon_core::gltf_load::LoadOptions;
-use platoon_core::gpu_scene::GpuScene;
 use platoon_core::output::Film;
-use platoon_core::renderer::Renderer;
+use platoon_core::scene::camera::Camera;
+use platoon_core::scene::environment::{EnvMap, Environment};
+use platoon_core::scene::floating_origin::FloatingOrigin;
+use platoon_core::scene::gltf_load::LoadOptions;
 use platoon_core::scene::{Posed, Scene};
 use platoon_tracer::{Tracer, TracerOptions};
 
@@ -47,8 +47,8 @@ pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
 
 pub fn load_scene_with(path: Option<&Path>, options: &LoadOptions) -> Result<Scene> {
     match path {
-        None => Ok(platoon_core::cornell::scene()),
-        Some(p) => Ok(platoon_core::gltf_load::load_with(p, options)?),
+        None => Ok(platoon_core::scene::cornell::scene()),
+        Some(p) => Ok(platoon_core::scene::gltf_load::load_with(p, options)?),
     }
 }
 
@@ -170,7 +170,7 @@ pub struct Rendered {
     pub device: String,
     pub kernel_defines: Vec<&'static str>,
     /// Per-tracer statistics of a multi-device frame (empty for one device).
-    pub tracers: Vec<platoon_core::renderer::TracerStats>,
+    pub tracers: Vec<platoon_core::frame::renderer::TracerStats>,
     pub balancer: Option<&'static str>,
     /// What the Khronos validation layer reported (with validation on).
     pub validation_messages: Vec<String>,

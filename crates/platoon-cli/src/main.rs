@@ -60,7 +60,7 @@ struct SceneArgs {
 
 impl SceneArgs {
     fn load(&self) -> Result<platoon::core::Scene> {
-        let options = platoon::core::gltf_load::LoadOptions {
+        let options = platoon::core::scene::gltf_load::LoadOptions {
             allow_external_files: self.allow_external_files,
         };
         platoon::load_scene_with(self.scene.as_deref(), &options)
@@ -261,7 +261,7 @@ fn run(cli: Cli) -> Result<()> {
             } else {
                 let policy = balance::by_name(&balancer).expect("validated by clap");
                 let tracers = platoon::devices::tracers_from_options(&options, &prepared.gpu)?;
-                let mut renderer = platoon::core::renderer::Renderer::new(tracers, policy);
+                let mut renderer = platoon::core::frame::renderer::Renderer::new(tracers, policy);
                 // Bands render on their own threads without per-sample progress: show that it runs.
                 let spinner = ProgressBar::new_spinner();
                 spinner.set_message(format!("rendering on {} tracers", options.len()));

@@ -1,31 +1,24 @@
-//! platoon-core: everything of the renderer that is not Vulkan.
+//! platoon-core: everything of the renderer that is not Vulkan, grouped by stage.
 //!
-//! The scene graph ([`scene`]), its loaders ([`gltf_load`], [`cornell`]), the environment
-//! ([`environment`]), the CPU-side BVHs ([`bvh`]), the flattening of a posed scene into plain
-//! GPU-ready arrays ([`gpu_scene`]) and the image outputs ([`output`]). The tracer crate consumes
-//! [`gpu_scene::GpuScene`] and knows nothing of glTF.
+//! - [`scene`]: the scene graph, its loaders (glTF, the built-in Cornell box), animation,
+//!   cameras, the environment and the floating origin;
+//! - [`flatten`]: a posed scene made into the plain GPU-ready arrays of [`flatten::GpuScene`]
+//!   (BVHs, materials and textures, lights and their selection CDF, the feature set);
+//! - [`frame`]: frame parameters, bands of lines, the multi-tracer frame loop and fault injection;
+//! - [`balance`]: the line balancers and the replay of recorded costs;
+//! - [`output`]: films and image files.
+//!
+//! The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
-pub mod animation;
 pub mod balance;
-pub mod bvh;
-pub mod camera;
-pub mod cornell;
-pub mod environment;
 pub mod error;
-pub mod fault;
-pub mod features;
-pub mod floating_origin;
+pub mod flatten;
 pub mod frame;
-pub mod gltf_load;
-pub mod gpu_scene;
 pub mod output;
-pub mod renderer;
-pub mod replay;
 pub mod scene;
-pub mod tangents;
 
 pub use error::{Error, Result};
-pub use features::FeatureSet;
+pub use flatten::features::FeatureSet;
 pub use scene::Scene;
 
 #[cfg(test)]

@@ -6,7 +6,7 @@
 //! conventional choice. The image is the same bits on every path (tests/determinism.rs).
 
 use ash::vk;
-use platoon_core::gpu_scene::GpuScene;
+use platoon_core::flatten::GpuScene;
 
 use crate::{Result, VkContext};
 

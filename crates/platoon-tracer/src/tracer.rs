@@ -6,8 +6,8 @@ use std::mem::ManuallyDrop;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::MemoryLocation;
+use platoon_core::flatten::GpuScene;
 use platoon_core::frame::FrameParams;
-use platoon_core::gpu_scene::GpuScene;
 use platoon_core::FeatureSet;
 
 use crate::buffer::GpuBuffer;

@@ -137,7 +137,7 @@ impl Balancer for CostAware {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::replay::{replay, CostMap};
+    use crate::balance::replay::{replay, CostMap};
 
     #[test]
     fn cuts_equal_predicted_time_on_uneven_lines() {

@@ -8,6 +8,7 @@ mod cycles;
 mod none;
 mod perfect;
 mod perfect_smooth;
+pub mod replay;
 mod robin_hood;
 
 pub use cost_aware::CostAware;
@@ -159,13 +160,13 @@ mod tests {
     #[test]
     fn every_policy_plans_the_whole_frame() {
         let costs: Vec<f64> = (0..50).map(|y| if y < 20 { 1.0 } else { 5.0 }).collect();
-        let map = crate::replay::CostMap {
+        let map = crate::balance::replay::CostMap {
             frames: vec![costs; 5],
         };
         for name in NAMES {
             let mut b = by_name(name).unwrap();
             // replay() checks nothing itself: it plans, times and observes each frame.
-            let idle = crate::replay::replay(&map, &[1.0, 0.5, 1.0 / 3.0], b.as_mut());
+            let idle = crate::balance::replay::replay(&map, &[1.0, 0.5, 1.0 / 3.0], b.as_mut());
             assert!(idle.iter().all(|i| (0.0..1.0).contains(i)), "{name}");
             assert_eq!(b.plan(50, 3).iter().sum::<u32>(), 50, "{name}");
             b.remove_tracer(1);

@@ -51,7 +51,7 @@ impl FeatureSet {
             punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
             environment_map: matches!(
                 scene.environment,
-                Some(crate::environment::Environment::Map(_))
+                Some(crate::scene::environment::Environment::Map(_))
             ),
             thin_lens: false,
             camera_rays_only: false,

@@ -261,8 +261,8 @@ impl<T: BandTracer + Send> Renderer<T> {
 mod tests {
     use super::*;
     use crate::balance::{by_name, NAMES};
-    use crate::camera::Camera;
-    use crate::fault::FaultInjector;
+    use crate::frame::fault::FaultInjector;
+    use crate::scene::camera::Camera;
 
     /// A CPU tracer whose pixels are a fixed function of (x, y, frame) and whose speed is set.
     struct Fake {

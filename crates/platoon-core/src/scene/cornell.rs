@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Quat, Vec3};
 
-use crate::camera::Camera;
+use crate::scene::camera::Camera;
 use crate::scene::{Material, Mesh, Node, Scene};
 
 /// A Lambertian material in glTF terms: dielectric with KHR_materials_specular factor 0.

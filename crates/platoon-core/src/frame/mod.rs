@@ -2,10 +2,13 @@
 //! assembles them. Keeping this interface free of Vulkan lets the core drive any number of
 //! tracers and lets the balancer live here.
 
+pub mod fault;
+pub mod renderer;
+
 use std::time::Duration;
 
-use crate::camera::Camera;
 use crate::output::Film;
+use crate::scene::camera::Camera;
 
 /// Samples each kernel dispatch adds per pixel. Fixed per frame, never derived from the band,
 /// so that floating-point summation order (and so the image, bit for bit) is the same whatever

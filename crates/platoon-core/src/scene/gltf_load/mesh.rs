@@ -181,12 +181,12 @@ pub fn load_mesh(
     let unplaceable = out
         .positions
         .iter()
-        .filter(|p| !crate::bvh::placeable(**p))
+        .filter(|p| !crate::flatten::bvh::placeable(**p))
         .count();
     if unplaceable > 0 {
         warnings.push(format!(
             "mesh '{name}': {unplaceable} vertices are not finite or beyond {:e}; their triangles are not drawn",
-            crate::bvh::MAX_COORDINATE
+            crate::flatten::bvh::MAX_COORDINATE
         ));
     }
     let normal_mapped = out
@@ -195,7 +195,7 @@ pub fn load_mesh(
         .any(|&m| materials[m as usize].normal_texture.is_some());
     if normal_mapped && !any_tangents && any_uvs {
         out.tangents =
-            crate::tangents::generate(&out.positions, &out.normals, &out.uvs, &out.indices);
+            crate::scene::tangents::generate(&out.positions, &out.normals, &out.uvs, &out.indices);
     }
     Ok(out)
 }

@@ -6,7 +6,7 @@ use glam::{Mat4, Quat, Vec3};
 use gltf::accessor::Dimensions;
 
 use super::validate::{self, Check, Expect};
-use crate::animation::{Animation, Channel, Interpolation, Property};
+use crate::scene::animation::{Animation, Channel, Interpolation, Property};
 use crate::scene::*;
 
 pub fn load_nodes(doc: &gltf::Document, buffers: &[Vec<u8>], scene: &mut Scene) -> Check {

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use glam::{DMat4, DVec3, Mat4, Quat, Vec2, Vec3, Vec4};
 
-use crate::environment::Environment;
+use crate::scene::environment::Environment;
 
 /// Triangle mesh in object space. Meshes are stored once and instanced by every node using them.
 #[derive(Clone, Debug, Default)]
@@ -220,7 +220,7 @@ pub struct Scene {
     pub lights: Vec<PunctualLight>,
     pub cameras: Vec<CameraModel>,
     pub skins: Vec<Skin>,
-    pub animations: Vec<crate::animation::Animation>,
+    pub animations: Vec<crate::scene::animation::Animation>,
     pub environment: Option<Environment>,
     /// Warnings gathered while loading (unsupported but optional features).
     pub warnings: Vec<String>,
@@ -312,8 +312,11 @@ impl Scene {
                 match node.skin {
                     // glTF: a skinned mesh ignores its node's transform; joints place it.
                     Some(s) => {
-                        let skinned =
-                            crate::animation::skin_mesh(&self.meshes[m], &self.skins[s], &world);
+                        let skinned = crate::scene::animation::skin_mesh(
+                            &self.meshes[m],
+                            &self.skins[s],
+                            &world,
+                        );
                         meshes.push(Arc::new(skinned));
                         instances.push(Instance {
                             mesh: meshes.len() - 1,
@@ -373,7 +376,7 @@ impl Posed {
             for p in &self.meshes[inst.mesh].positions {
                 let w = inst.object_to_world.transform_point3(*p);
                 // What the BVH leaves out (NaN, Inf, beyond 1e32) does not frame the view.
-                if crate::bvh::placeable(w) {
+                if crate::flatten::bvh::placeable(w) {
                     lo = lo.min(w);
                     hi = hi.max(w);
                 }

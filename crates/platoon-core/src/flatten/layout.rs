@@ -1,0 +1,115 @@
+//! The GPU structs of the scene arrays: std430 layouts that shaders/scene.glsl mirrors ("Must
+//! match GPU side"); each asserts its size.
+
+use bytemuck::{Pod, Zeroable};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuVertex {
+    /// xyz position, w = u
+    pub position_u: [f32; 4],
+    /// xyz normal (zero when the mesh has none), w = v
+    pub normal_v: [f32; 4],
+    /// xyz tangent, w = bitangent sign
+    pub tangent: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuTriangle {
+    /// Global vertex indices and material index.
+    pub v: [u32; 3],
+    pub material: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuInstance {
+    /// Rows of the 3x4 world-to-object matrix.
+    pub world_to_object: [[f32; 4]; 3],
+    /// Rows of the 3x4 object-to-world matrix.
+    pub object_to_world: [[f32; 4]; 3],
+    pub blas_root: u32,
+    /// First light entry of this instance's emissive triangles (u32::MAX if none).
+    pub light_base: u32,
+    pub _pad: [u32; 2],
+}
+
+pub const NO_TEXTURE: i32 = -1;
+pub const MATERIAL_DOUBLE_SIDED: i32 = 1;
+pub const MATERIAL_ALPHA_MASK: i32 = 2;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub base_color: [f32; 4],
+    /// rgb emission, w = normal scale
+    pub emissive: [f32; 4],
+    /// metallic, roughness, transmission, ior
+    pub params: [f32; 4],
+    /// specular colour rgb, w = specular factor
+    pub specular: [f32; 4],
+    /// base colour, metallic-roughness, normal, emissive textures
+    pub textures0: [i32; 4],
+    /// specular, specular colour, transmission textures, flags
+    pub textures1: [i32; 4],
+    /// alpha cutoff
+    pub misc: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuTexture {
+    pub offset: u32,
+    pub width: u32,
+    pub height: u32,
+    /// wrap_s | wrap_t << 2 (0 repeat, 1 mirrored repeat, 2 clamp)
+    pub wrap: u32,
+}
+
+pub const LIGHT_TRIANGLE: u32 = 0;
+pub const LIGHT_POINT: u32 = 1;
+pub const LIGHT_SPOT: u32 = 2;
+pub const LIGHT_DIRECTIONAL: u32 = 3;
+pub const LIGHT_ENVIRONMENT: u32 = 4;
+
+/// One entry of the light-selection distribution.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuLight {
+    /// Triangle: world v0, w = +1, or -1 when the instance mirrors (a negative determinant
+    /// flips the world winding; glTF keeps the object's front face, and so does the hit shader).
+    /// Punctual: position.
+    pub a: [f32; 4],
+    /// Triangle: world v1; spot/directional: direction. w = range
+    pub b: [f32; 4],
+    /// Triangle: world v2; spot: cos(outer), 1/(cos(inner) - cos(outer)).
+    pub c: [f32; 4],
+    /// Radiance (triangle) or intensity (punctual) rgb; w = selection probability.
+    pub emission: [f32; 4],
+    /// type, instance, triangle (BLAS order, global), material
+    pub ids: [u32; 4],
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct GpuEnvironment {
+    /// 0 = none (black), 1 = constant colour, 2 = map
+    pub kind: u32,
+    pub color: [f32; 3],
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<[f32; 4]>,
+    pub marginal_cdf: Vec<f32>,
+    pub conditional_cdf: Vec<f32>,
+    pub integral: f32,
+}
+
+const _: () = {
+    assert!(std::mem::size_of::<GpuVertex>() == 48);
+    assert!(std::mem::size_of::<GpuTriangle>() == 16);
+    assert!(std::mem::size_of::<GpuInstance>() == 112);
+    assert!(std::mem::size_of::<GpuMaterial>() == 112);
+    assert!(std::mem::size_of::<GpuTexture>() == 16);
+    assert!(std::mem::size_of::<GpuLight>() == 80);
+    assert!(std::mem::size_of::<super::bvh::BvhNode>() == 64);
+};

@@ -1,0 +1,76 @@
+//! Materials and textures as the kernel reads them: one material array, and every texture's
+//! RGBA8 texels in one texel array.
+
+use super::layout::{
+    GpuMaterial, GpuTexture, MATERIAL_ALPHA_MASK, MATERIAL_DOUBLE_SIDED, NO_TEXTURE,
+};
+use super::GpuScene;
+use crate::scene::{AlphaMode, Scene, Wrap};
+
+/// Appends the scene's materials and textures to `g`.
+pub(super) fn add(scene: &Scene, g: &mut GpuScene) {
+    g.materials = scene.materials.iter().map(gpu_material).collect();
+    for t in &scene.textures {
+        g.textures.push(GpuTexture {
+            offset: g.texels.len() as u32,
+            width: t.width,
+            height: t.height,
+            wrap: wrap_code(t.wrap_s) | wrap_code(t.wrap_t) << 2,
+        });
+        g.texels.extend(
+            t.rgba8
+                .chunks_exact(4)
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+        );
+    }
+}
+
+fn tex(t: Option<crate::scene::TextureRef>) -> i32 {
+    t.map(|t| t.texture as i32).unwrap_or(NO_TEXTURE)
+}
+
+fn wrap_code(w: Wrap) -> u32 {
+    match w {
+        Wrap::Repeat => 0,
+        Wrap::MirroredRepeat => 1,
+        Wrap::ClampToEdge => 2,
+    }
+}
+
+fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
+    let mut flags = 0;
+    if m.double_sided {
+        flags |= MATERIAL_DOUBLE_SIDED;
+    }
+    let cutoff = match m.alpha_mode {
+        AlphaMode::Mask(c) => {
+            flags |= MATERIAL_ALPHA_MASK;
+            c
+        }
+        _ => 0.0,
+    };
+    GpuMaterial {
+        base_color: m.base_color.to_array(),
+        emissive: m.emissive.extend(m.normal_scale).to_array(),
+        params: [
+            m.metallic.clamp(0.0, 1.0),
+            m.roughness.clamp(0.0, 1.0),
+            m.transmission.clamp(0.0, 1.0),
+            m.ior.max(1.0),
+        ],
+        specular: m.specular_color.extend(m.specular.max(0.0)).to_array(),
+        textures0: [
+            tex(m.base_color_texture),
+            tex(m.metallic_roughness_texture),
+            tex(m.normal_texture),
+            tex(m.emissive_texture),
+        ],
+        textures1: [
+            tex(m.specular_texture),
+            tex(m.specular_color_texture),
+            tex(m.transmission_texture),
+            flags,
+        ],
+        misc: [cutoff, 0.0, 0.0, 0.0],
+    }
+}

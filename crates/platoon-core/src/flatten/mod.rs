@@ -1,0 +1,83 @@
+//! Flattens a posed scene into the plain arrays the kernel reads (std430 layouts in
+//! [`layout`], mirrored in shaders/scene.glsl). This is the only data the tracer crate receives
+//! from the core. One file per job: [`bvh`] and [`geometry`] (bottom and top levels),
+//! [`materials`] (and textures), [`instances`] (with their emissive triangles as lights),
+//! [`lights`] (punctual, environment, selection CDF), [`features`] (what the kernel compiles).
+
+pub mod bvh;
+pub mod features;
+mod geometry;
+mod instances;
+pub mod layout;
+mod lights;
+mod materials;
+
+pub use layout::*;
+pub use lights::selection_distribution;
+
+use crate::error::Result;
+use crate::flatten::features::FeatureSet;
+use crate::scene::environment::Environment;
+use crate::scene::{Posed, Scene};
+use bvh::BvhNode;
+
+/// Everything the kernel needs, as flat arrays.
+#[derive(Clone, Debug, Default)]
+pub struct GpuScene {
+    pub vertices: Vec<GpuVertex>,
+    /// Object-space triangle corners in BLAS leaf order, xyz + pad.
+    pub triangle_positions: Vec<[f32; 4]>,
+    pub triangles: Vec<GpuTriangle>,
+    /// Per triangle: index of its emissive light relative to the instance's `light_base`.
+    pub triangle_lights: Vec<u32>,
+    pub blas_nodes: Vec<BvhNode>,
+    pub tlas_nodes: Vec<BvhNode>,
+    /// The item the top level starts at (inner node 0, or the one instance's leaf).
+    pub tlas_root: u32,
+    pub instances: Vec<GpuInstance>,
+    pub materials: Vec<GpuMaterial>,
+    pub textures: Vec<GpuTexture>,
+    pub texels: Vec<u32>,
+    pub lights: Vec<GpuLight>,
+    /// Light selection CDF, `lights.len() + 1` entries.
+    pub light_cdf: Vec<f32>,
+    pub env: GpuEnvironment,
+    pub features: FeatureSet,
+    pub triangle_count: usize,
+    pub build_times: bvh::BuildTimes,
+    /// Radius of the scene's bounding sphere (for directional and environment light power), in
+    /// f64: a vertex at 1e30 makes its square overflow f32.
+    pub scene_radius: f64,
+}
+
+impl GpuScene {
+    /// Flattens `posed` (a pose of `scene`). `environment` is the distant light in effect.
+    /// Fails when the light-selection distribution is not finite (an emitter of infinite power).
+    pub fn build(
+        scene: &Scene,
+        posed: &Posed,
+        environment: Option<&Environment>,
+    ) -> Result<GpuScene> {
+        let mut g = GpuScene::default();
+        let meshes = geometry::used_meshes(posed);
+        let (mesh_bvhs, mesh_time) = bvh::timed(|| bvh::build_mesh_bvhs(&meshes));
+        let bottom = geometry::bottom_level(scene, &meshes, &mesh_bvhs, &mut g)?;
+        let (tlas, live, instance_time) = geometry::top_level(posed, &mesh_bvhs, &mut g);
+        g.build_times = bvh::BuildTimes {
+            meshes: mesh_time,
+            instances: instance_time,
+        };
+        materials::add(scene, &mut g);
+        // Light order: emissive triangles (by instance), punctual lights, the environment.
+        let mut power = instances::add(scene, &tlas, &live, &bottom, &mesh_bvhs, &mut g);
+        lights::add_punctual(scene, posed, &mut g, &mut power);
+        if let Some(env) = environment {
+            lights::add_environment(env, &mut g, &mut power);
+        }
+        lights::set_selection(&mut g, &power)?;
+        g.features = FeatureSet::of_scene(scene);
+        g.features.emissive_triangles = g.lights.iter().any(|l| l.ids[0] == LIGHT_TRIANGLE);
+        g.features.environment_map = g.env.kind == 2;
+        Ok(g)
+    }
+}

@@ -1,0 +1,14 @@
+//! The scene: the graph a game or a file describes ([`graph`]), where it comes from (glTF,
+//! the built-in Cornell box), how it moves (animation, cameras, the floating origin) and its
+//! distant light.
+
+pub mod animation;
+pub mod camera;
+pub mod cornell;
+pub mod environment;
+pub mod floating_origin;
+pub mod gltf_load;
+mod graph;
+pub mod tangents;
+
+pub use graph::*;
