@@ -4,13 +4,14 @@ use std::fmt::Write as _;
 use std::time::Duration;
 
 use anyhow::Result;
-use platoon_core::flatten::{
+use platoon::core::flatten::{
     GpuScene, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE,
 };
-use platoon_core::frame::FrameParams;
-use platoon_tracer::{Tracer, TracerOptions};
+use platoon::core::frame::FrameParams;
+use platoon::tracer::{Tracer, TracerOptions};
 
-use crate::{prepare, PrepareOptions, Prepared};
+use platoon::core::measure::median;
+use platoon::{prepare, PrepareOptions, Prepared};
 
 /// The text of `platoon info`.
 pub fn describe(p: &Prepared) -> String {
@@ -71,7 +72,7 @@ pub fn describe(p: &Prepared) -> String {
     let _ = writeln!(
         out,
         "kernel:       {}",
-        platoon_tracer::kernel_label(g.features)
+        platoon::tracer::kernel_label(g.features)
     );
     let _ = writeln!(out, "memory:       {}", memory_paths(g));
     for w in &s.warnings {
@@ -85,18 +86,18 @@ pub fn describe(p: &Prepared) -> String {
 
 /// How device 0 would read the scene arrays under the default policy.
 fn memory_paths(g: &GpuScene) -> String {
-    let Some(device) = platoon_tracer::list_devices()
+    let Some(device) = platoon::tracer::list_devices()
         .ok()
         .and_then(|d| d.into_iter().next())
     else {
         return "decided per device (no Vulkan device found)".into();
     };
-    let bytes = platoon_tracer::scene_array_bytes(g);
+    let bytes = platoon::tracer::scene_array_bytes(g);
     let sizes: Vec<u64> = bytes.iter().map(|b| b.len() as u64).collect();
     let paths =
-        platoon_tracer::choose_memory_paths(&sizes, &device.memory_limits(), Default::default());
-    let mut groups: Vec<(platoon_tracer::ArrayPath, Vec<String>)> = Vec::new();
-    for ((array, size), path) in platoon_tracer::SCENE_ARRAYS.iter().zip(&sizes).zip(&paths) {
+        platoon::tracer::choose_memory_paths(&sizes, &device.memory_limits(), Default::default());
+    let mut groups: Vec<(platoon::tracer::ArrayPath, Vec<String>)> = Vec::new();
+    for ((array, size), path) in platoon::tracer::SCENE_ARRAYS.iter().zip(&sizes).zip(&paths) {
         let entry = format!("{} ({:.1} MB)", array.name, *size as f64 / 1e6);
         match groups.iter_mut().find(|(p, _)| p == path) {
             Some((_, list)) => list.push(entry),
@@ -114,12 +115,6 @@ fn memory_paths(g: &GpuScene) -> String {
         })
         .collect();
     format!("{} on {}", parts.join("; "), device.name)
-}
-
-/// Median of timings (total order, so a NaN cannot panic the bench).
-pub(crate) fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 struct Measure {
@@ -167,7 +162,7 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
     };
     println!("platoon bench: {spp} spp per render, median of {repeat}, 256x256");
     let cornell = prepare(
-        platoon_core::scene::cornell::scene(),
+        platoon::core::scene::cornell::scene(),
         &PrepareOptions::default(),
     )?;
     let mut tracer = Tracer::new(&options, &cornell.gpu)?;
@@ -192,15 +187,15 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
     drop(tracer);
 
     // Contiguous bands against interleaved lines: what interleaving costs in coherence.
-    let layout = crate::balance_bench::Options {
+    let layout = platoon::balance_bench::Options {
         width: 192,
         height: 144,
         spp,
         ..Default::default()
     };
-    let one = crate::devices::DeviceSpec::Indices(vec![device]);
+    let one = platoon::devices::DeviceSpec::Indices(vec![device]);
     for stride in [2, 3] {
-        let (c, i) = crate::balance_bench::coherence(&layout, &one, stride, repeat)?;
+        let (c, i) = platoon::balance_bench::coherence(&layout, &one, stride, repeat)?;
         println!("outdoor 192x144, {stride} interleaved passes vs one band: {:.3} s vs {:.3} s ({:+.1}%)", i, c, 100.0 * (i / c - 1.0));
     }
 
@@ -214,7 +209,10 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
             &path,
             platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, unique)),
         )?;
-        let p = prepare(crate::load_scene(Some(&path))?, &PrepareOptions::default())?;
+        let p = prepare(
+            platoon::load_scene(Some(&path))?,
+            &PrepareOptions::default(),
+        )?;
         let mut tracer = Tracer::new(&options, &p.gpu)?;
         let mut params = FrameParams::new(256, 256, spp, p.camera);
         measure(&mut tracer, &params, repeat)?.print(label);
@@ -277,7 +275,7 @@ fn compare_layouts(p: &Prepared) {
             rays.push(Ray::new_inf(o, d));
         }
     }
-    let c = platoon_core::flatten::bvh::compare_layouts(&tris, &rays);
+    let c = platoon::core::flatten::bvh::compare_layouts(&tris, &rays);
     println!(
         "BVH layouts on the CPU (1 thread, {} triangles, {} rays; same hits: {}):",
         tris.len(),

@@ -6,6 +6,7 @@
 //!   (BVHs, materials and textures, lights and their selection CDF, the feature set);
 //! - [`frame`]: frame parameters, bands of lines, the multi-tracer frame loop and fault injection;
 //! - [`balance`]: the line balancers and the replay of recorded costs;
+//! - [`measure`]: summaries of measurements;
 //! - [`output`]: films and image files.
 //!
 //! The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
@@ -14,6 +15,7 @@ pub mod balance;
 pub mod error;
 pub mod flatten;
 pub mod frame;
+pub mod measure;
 pub mod output;
 pub mod scene;
 

@@ -1,0 +1,57 @@
+//! The scene arguments every command that loads a scene shares.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use glam::Vec3;
+use platoon::EnvChoice;
+
+#[derive(clap::Args)]
+pub struct SceneArgs {
+    /// glTF scene (.gltf or .glb); the built-in Cornell box when omitted.
+    pub scene: Option<PathBuf>,
+    /// Equirectangular environment map (.exr or .hdr).
+    #[arg(long, conflicts_with = "env_color")]
+    pub env: Option<PathBuf>,
+    /// Constant environment radiance, as R,G,B.
+    #[arg(long, value_parser = parse_rgb)]
+    pub env_color: Option<Vec3>,
+    /// Animation time in seconds.
+    #[arg(long, default_value_t = 0.0)]
+    pub time: f32,
+    /// Read buffers and textures whose URI is absolute or leads out of the scene's folder
+    /// (refused by default, as glTF viewers do).
+    #[arg(long)]
+    pub allow_external_files: bool,
+}
+
+impl SceneArgs {
+    pub fn load(&self) -> Result<platoon::core::Scene> {
+        let options = platoon::core::scene::gltf_load::LoadOptions {
+            allow_external_files: self.allow_external_files,
+        };
+        platoon::load_scene_with(self.scene.as_deref(), &options)
+    }
+
+    /// The distant light the arguments ask for.
+    pub fn env_choice(&self) -> EnvChoice {
+        match (&self.env, self.env_color) {
+            (Some(p), _) => EnvChoice::File(p.clone()),
+            (None, Some(c)) => EnvChoice::Color(c),
+            _ => EnvChoice::Scene,
+        }
+    }
+}
+
+fn parse_rgb(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{s}: {e}"))?;
+    match v.as_slice() {
+        [r, g, b] => Ok(Vec3::new(*r, *g, *b)),
+        [c] => Ok(Vec3::splat(*c)),
+        _ => Err(format!("{s}: expected R,G,B")),
+    }
+}

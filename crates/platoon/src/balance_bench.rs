@@ -1,0 +1,480 @@
+//! `platoon balance-bench`: Brigade's Table 16 for platoon. A camera orbits an outdoor scene
+//! (a sky above a field of spheres on a ground plane, so line costs differ strongly) for N
+//! frames, slow and fast, with 2 and 3 tracers, under every balancer; cells are mean idle %.
+//! `--mode replay` replays recorded per-line cost maps against stated device speeds
+//! (deterministic); `--mode real` renders on lavapipe tracers of different thread counts.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context as _, Result};
+use glam::Vec3;
+use platoon_core::balance::replay::{replay, CostMap};
+use platoon_core::balance::{by_name, NAMES};
+use platoon_core::frame::renderer::Renderer;
+use platoon_core::frame::FrameParams;
+use platoon_core::scene::camera::Camera;
+use platoon_tracer::Sampling;
+
+use crate::devices::{create_tracers, DeviceSpec};
+use crate::{prepare, EnvChoice, PrepareOptions, Prepared};
+
+/// Recorded cost maps shipped with platoon (`--record-costs` makes new ones).
+const SHIPPED_SLOW: &str = include_str!("../../../scenes/costs/slow.csv");
+const SHIPPED_FAST: &str = include_str!("../../../scenes/costs/fast.csv");
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Mode {
+    /// Recorded line costs against stated device speeds (deterministic).
+    Replay,
+    /// Tracers on Vulkan devices.
+    Real,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CameraSpeed {
+    Slow,
+    Fast,
+}
+
+impl CameraSpeed {
+    pub fn name(self) -> &'static str {
+        match self {
+            CameraSpeed::Slow => "slow",
+            CameraSpeed::Fast => "fast",
+        }
+    }
+    /// Orbit step per frame.
+    fn step_degrees(self) -> f32 {
+        match self {
+            CameraSpeed::Slow => 1.0,
+            CameraSpeed::Fast => 8.0,
+        }
+    }
+}
+
+/// The benchmark's settings; also the command line of `platoon balance-bench`.
+#[derive(Clone, Debug, clap::Args)]
+pub struct Options {
+    #[arg(long, value_enum, default_value = "replay")]
+    pub mode: Mode,
+    #[arg(long, default_value_t = 128)]
+    pub frames: u32,
+    #[arg(long, default_value_t = 96)]
+    pub width: u32,
+    #[arg(long, default_value_t = 96)]
+    pub height: u32,
+    #[arg(long, default_value_t = 2)]
+    pub spp: u32,
+    /// Replay: relative device speeds of the 2-device columns.
+    #[arg(long, value_delimiter = ',', default_value = "1.0,0.6")]
+    pub speeds2: Vec<f64>,
+    /// Replay: relative device speeds of the 3-device columns.
+    #[arg(long, value_delimiter = ',', default_value = "1.0,0.7,0.4")]
+    pub speeds3: Vec<f64>,
+    /// Real: the tracers of the 2-device columns.
+    #[arg(long, default_value = "lavapipe:2,1")]
+    pub devices2: DeviceSpec,
+    /// Real: the tracers of the 3-device columns.
+    #[arg(long, default_value = "lavapipe:2,1,1")]
+    pub devices3: DeviceSpec,
+    /// Replay cost maps from this folder (slow.csv, fast.csv) instead of the shipped ones.
+    #[arg(long)]
+    pub costs: Option<PathBuf>,
+    /// Record cost maps of real renders into this folder first (and replay those).
+    #[arg(long)]
+    pub record_costs: Option<PathBuf>,
+    /// Folder for balance.csv and balance.png.
+    #[arg(long, default_value = ".")]
+    pub out: PathBuf,
+}
+
+impl Default for Options {
+    /// The command line's defaults.
+    fn default() -> Self {
+        #[derive(clap::Parser)]
+        struct Wrapper {
+            #[command(flatten)]
+            options: Options,
+        }
+        <Wrapper as clap::Parser>::parse_from(["balance-bench"]).options
+    }
+}
+
+impl Options {
+    pub fn validate(&self) -> Result<()> {
+        if self.frames == 0 || self.width == 0 || self.height < 3 || self.spp == 0 {
+            bail!("--frames, --width, --spp must be positive and --height at least 3");
+        }
+        for (name, s) in [("--speeds2", &self.speeds2), ("--speeds3", &self.speeds3)] {
+            if s.is_empty() || s.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+                bail!("{name}: speeds must be positive");
+            }
+        }
+        if !self.out.is_dir() {
+            bail!("{}: output folder does not exist", self.out.display());
+        }
+        Ok(())
+    }
+}
+
+/// One cell of the table, with the per-frame idle fractions behind it.
+#[derive(Clone, Debug)]
+pub struct Cell {
+    pub balancer: &'static str,
+    pub devices: usize,
+    pub camera: CameraSpeed,
+    pub idle_pct: f64,
+    pub per_frame: Vec<f64>,
+}
+
+/// The outdoor scene: the 103k-triangle sphere field under a constant sky.
+pub fn outdoor_scene() -> Result<Prepared> {
+    let dir = tempfile::tempdir()?;
+    let path = dir.path().join("field.glb");
+    std::fs::write(
+        &path,
+        platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, false)),
+    )?;
+    let scene = crate::load_scene(Some(&path))?;
+    prepare(
+        scene,
+        &PrepareOptions {
+            env: EnvChoice::Color(Vec3::new(0.6, 0.75, 1.0)),
+            ..Default::default()
+        },
+    )
+}
+
+/// The orbiting camera of frame `f`: around the field, bobbing up and down so that the horizon
+/// (and with it the cost of every line) moves.
+pub fn orbit_camera(frame: u32, speed: CameraSpeed) -> Camera {
+    let a = (frame as f32 * speed.step_degrees()).to_radians();
+    let eye = Vec3::new(13.0 * a.cos(), 3.0 + 2.0 * (2.0 * a).sin(), 13.0 * a.sin());
+    Camera::look_at(eye, Vec3::new(0.0, 0.8, 0.0), 50f32.to_radians())
+}
+
+fn frame_params(o: &Options, frame: u32, speed: CameraSpeed) -> FrameParams {
+    let mut p = FrameParams::new(o.width, o.height, o.spp, orbit_camera(frame, speed));
+    p.frame = frame;
+    p
+}
+
+/// Renders the camera path on one tracer and records seconds per line (the band's measured time
+/// spread over its lines in proportion to the rays each traced).
+pub fn record(
+    o: &Options,
+    scene: &Prepared,
+    speed: CameraSpeed,
+    spec: &DeviceSpec,
+) -> Result<CostMap> {
+    let mut tracers = create_tracers(spec, &scene.gpu, false, Sampling::Mis)?;
+    let Some(tracer) = tracers.first_mut() else {
+        bail!("no tracer to record with")
+    };
+    let mut frames = Vec::new();
+    for f in 0..o.frames {
+        let params = frame_params(o, f, speed);
+        let band = tracer.render(&params, 0, o.height, &mut |_| {})?;
+        let seconds = band.wall_time.as_secs_f64();
+        let rays = band.rays.max(1) as f64;
+        frames.push(
+            band.line_rays
+                .iter()
+                .map(|&r| r as f64 / rays * seconds)
+                .collect(),
+        );
+    }
+    Ok(CostMap { frames })
+}
+
+fn cost_maps(o: &Options) -> Result<[(CameraSpeed, CostMap); 2]> {
+    let load = |speed: CameraSpeed, shipped: &str| -> Result<CostMap> {
+        Ok(match &o.costs {
+            Some(dir) => CostMap::load(&dir.join(format!("{}.csv", speed.name())))?,
+            None => CostMap::parse(
+                shipped,
+                Path::new(&format!("scenes/costs/{}.csv (shipped)", speed.name())),
+            )?,
+        })
+    };
+    Ok([
+        (CameraSpeed::Slow, load(CameraSpeed::Slow, SHIPPED_SLOW)?),
+        (CameraSpeed::Fast, load(CameraSpeed::Fast, SHIPPED_FAST)?),
+    ])
+}
+
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+pub fn run(o: &Options) -> Result<Vec<Cell>> {
+    if let Some(dir) = &o.record_costs {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create folder", dir.display()))?;
+        let scene = outdoor_scene()?;
+        for speed in [CameraSpeed::Slow, CameraSpeed::Fast] {
+            let map = record(o, &scene, speed, &DeviceSpec::Lavapipe(vec![1]))?;
+            let comment = format!(
+                "{} camera, {} frames, {}x{} at {} spp, one lavapipe thread",
+                speed.name(),
+                o.frames,
+                o.width,
+                o.height,
+                o.spp
+            );
+            let path = dir.join(format!("{}.csv", speed.name()));
+            platoon_core::output::write_text(&path, &map.to_text(&comment))?;
+        }
+    }
+    let mut cells = Vec::new();
+    match o.mode {
+        Mode::Replay => {
+            let maps = match &o.record_costs {
+                Some(dir) => cost_maps(&Options {
+                    costs: Some(dir.clone()),
+                    ..o.clone()
+                })?,
+                None => cost_maps(o)?,
+            };
+            for speeds in [&o.speeds2, &o.speeds3] {
+                for (camera, map) in &maps {
+                    let map = map.take(o.frames as usize);
+                    for name in NAMES {
+                        let per_frame = replay(&map, speeds, by_name(name).unwrap().as_mut());
+                        cells.push(Cell {
+                            balancer: name,
+                            devices: speeds.len(),
+                            camera: *camera,
+                            idle_pct: 100.0 * mean(&per_frame),
+                            per_frame,
+                        });
+                    }
+                }
+            }
+        }
+        Mode::Real => {
+            let scene = outdoor_scene()?;
+            for spec in [&o.devices2, &o.devices3] {
+                let mut tracers = create_tracers(spec, &scene.gpu, false, Sampling::Mis)?;
+                let devices = tracers.len();
+                for camera in [CameraSpeed::Slow, CameraSpeed::Fast] {
+                    for name in NAMES {
+                        let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
+                        let mut per_frame = Vec::new();
+                        for f in 0..o.frames {
+                            per_frame.push(
+                                renderer
+                                    .render_frame(&frame_params(o, f, camera))?
+                                    .idle_fraction,
+                            );
+                        }
+                        tracers = renderer.into_tracers();
+                        cells.push(Cell {
+                            balancer: name,
+                            devices,
+                            camera,
+                            idle_pct: 100.0 * mean(&per_frame),
+                            per_frame,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    Ok(cells)
+}
+
+/// Scaling efficiency T(1) / (n T(n)) of equal devices under `balancer`, replayed.
+pub fn replay_efficiency(map: &CostMap, n: usize, balancer: &str) -> f64 {
+    let mut b = by_name(balancer).unwrap();
+    let per_frame = replay(map, &vec![1.0; n], b.as_mut());
+    // With equal devices T(1) = sum of times = n * T_mean, so efficiency = T_mean / T_max = 1 - idle.
+    1.0 - mean(&per_frame)
+}
+
+pub fn cell<'a>(
+    cells: &'a [Cell],
+    balancer: &str,
+    devices: usize,
+    camera: CameraSpeed,
+) -> Option<&'a Cell> {
+    cells
+        .iter()
+        .find(|c| c.balancer == balancer && c.devices == devices && c.camera == camera)
+}
+
+/// The table in Brigade's Table 16 shape.
+pub fn table(cells: &[Cell]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<16} {:>9} {:>9} {:>9} {:>9}",
+        "idle %", "2-slow", "2-fast", "3-slow", "3-fast"
+    );
+    for name in NAMES {
+        let _ = write!(s, "{name:<16}");
+        for (d, c) in [
+            (2, CameraSpeed::Slow),
+            (2, CameraSpeed::Fast),
+            (3, CameraSpeed::Slow),
+            (3, CameraSpeed::Fast),
+        ] {
+            match cell(cells, name, d, c) {
+                Some(x) => {
+                    let _ = write!(s, " {:>9.2}", x.idle_pct);
+                }
+                None => {
+                    let _ = write!(s, " {:>9}", "-");
+                }
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+pub fn json(cells: &[Cell]) -> String {
+    let items: Vec<String> = cells
+        .iter()
+        .map(|c| {
+            format!(
+                r#"{{"balancer":"{}","devices":{},"camera":"{}","idle_pct":{:.4}}}"#,
+                c.balancer,
+                c.devices,
+                c.camera.name(),
+                c.idle_pct
+            )
+        })
+        .collect();
+    format!("[{}]", items.join(","))
+}
+
+pub fn csv(cells: &[Cell]) -> String {
+    let mut s = String::from("balancer,devices,camera,frame,idle_pct\n");
+    for c in cells {
+        for (f, i) in c.per_frame.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "{},{},{},{},{:.4}",
+                c.balancer,
+                c.devices,
+                c.camera.name(),
+                f,
+                100.0 * i
+            );
+        }
+    }
+    s
+}
+
+/// Mean idle % when each of the devices renders every n-th line (interleaving: no balancer,
+/// each device gets a similar mix of cheap and costly lines, but an equal count of them).
+pub fn interleaved_idle(map: &CostMap, speeds: &[f64]) -> f64 {
+    let n = speeds.len();
+    let per_frame: Vec<f64> = map
+        .frames
+        .iter()
+        .map(|costs| {
+            let times: Vec<f64> = (0..n)
+                .map(|i| costs.iter().skip(i).step_by(n).sum::<f64>() / speeds[i])
+                .collect();
+            platoon_core::balance::idle_fraction(&times)
+        })
+        .collect();
+    100.0 * mean(&per_frame)
+}
+
+/// The replayed idle % of interleaved lines, in the table's four columns.
+pub fn interleaved_row(o: &Options) -> Result<String> {
+    let maps = cost_maps(o)?;
+    let mut s = format!("{:<16}", "interleaved");
+    for speeds in [&o.speeds2, &o.speeds3] {
+        for (_, map) in &maps {
+            let _ = write!(
+                s,
+                " {:>9.2}",
+                interleaved_idle(&map.take(o.frames as usize), speeds)
+            );
+        }
+    }
+    Ok(s)
+}
+
+/// Time to render the outdoor frame on one tracer as one contiguous band and as `stride`
+/// interleaved passes (same pixels, same work): the cost of lost line coherence.
+pub fn coherence(o: &Options, spec: &DeviceSpec, stride: u32, repeat: u32) -> Result<(f64, f64)> {
+    let scene = outdoor_scene()?;
+    let mut tracers = create_tracers(spec, &scene.gpu, false, Sampling::Mis)?;
+    let Some(t) = tracers.first_mut() else {
+        bail!("no tracer")
+    };
+    let params = frame_params(o, 20, CameraSpeed::Slow);
+    t.render(&params, 0, o.height, &mut |_| {})?;
+    let (mut contiguous, mut interleaved) = (Vec::new(), Vec::new());
+    for _ in 0..repeat {
+        contiguous.push(
+            t.render(&params, 0, o.height, &mut |_| {})?
+                .wall_time
+                .as_secs_f64(),
+        );
+        let mut total = 0.0;
+        for k in 0..stride {
+            total += t
+                .render_strided(&params, k, o.height, stride, &mut |_| {})?
+                .wall_time
+                .as_secs_f64();
+        }
+        interleaved.push(total);
+    }
+    Ok((
+        platoon_core::measure::median(contiguous),
+        platoon_core::measure::median(interleaved),
+    ))
+}
+
+/// Scaling efficiency T(1) / (n T(n)) of n equal one-thread lavapipe tracers under cost-aware,
+/// for each n in `counts`, from mean frame times over the slow camera path (first frames skipped
+/// while the balancer settles). T(1) is measured once for all of them.
+pub fn real_scaling_efficiency(o: &Options, counts: &[usize]) -> Result<Vec<f64>> {
+    let scene = outdoor_scene()?;
+    let frames = o.frames.max(4);
+    let settle = (frames / 8).max(1);
+    let mean_time = |tracers: usize| -> Result<f64> {
+        let spec = DeviceSpec::Lavapipe(vec![1; tracers]);
+        let mut r = Renderer::new(
+            create_tracers(&spec, &scene.gpu, false, Sampling::Mis)?,
+            by_name("cost-aware").unwrap(),
+        );
+        let mut t = Vec::new();
+        for f in 0..frames {
+            let frame = r.render_frame(&frame_params(o, f, CameraSpeed::Slow))?;
+            if f >= settle {
+                t.push(frame.wall_time.as_secs_f64());
+            }
+        }
+        Ok(mean(&t))
+    };
+    let t1 = mean_time(1)?;
+    counts
+        .iter()
+        .map(|&n| Ok(t1 / (n as f64 * mean_time(n)?)))
+        .collect()
+}
+
+/// The same from the cost maps: equal speeds, so T(1) = n T_mean and efficiency = 1 - idle.
+pub fn replay_scaling_row(o: &Options) -> Result<String> {
+    let maps = cost_maps(o)?;
+    let mut s = String::from("scaling efficiency, equal devices, cost-aware (replay):");
+    for n in [2, 3] {
+        for (camera, map) in &maps {
+            let _ = write!(
+                s,
+                " {n}-{} {:.1}%",
+                camera.name(),
+                100.0 * replay_efficiency(&map.take(o.frames as usize), n, "cost-aware")
+            );
+        }
+    }
+    Ok(s)
+}

@@ -1,0 +1,20 @@
+//! platoon: the embedding API. Load a scene (glTF or the built-in Cornell box), choose its
+//! environment and camera and flatten it for the devices ([`prepare`]); create tracers from
+//! device specs ([`devices`]); render a frame on one tracer or many ([`render`]); describe the
+//! result ([`metadata`]). The `platoon` command line and the examples are thin layers over it.
+//! [`core`] and [`tracer`] are the two crates underneath.
+
+pub mod balance_bench;
+pub mod devices;
+pub mod metadata;
+pub mod plot;
+pub mod prepare;
+pub mod render;
+
+pub use metadata::{approximations, metadata};
+pub use platoon_core as core;
+pub use platoon_tracer as tracer;
+pub use prepare::{
+    load_scene, load_scene_with, prepare, EnvChoice, PrepareOptions, Prepared, DEFAULT_SKY,
+};
+pub use render::{render, render_bands, render_frame, Rendered};

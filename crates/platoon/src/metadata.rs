@@ -1,0 +1,76 @@
+//! What an output file says about how it was made.
+
+use platoon_core::frame::FrameParams;
+
+use crate::{Prepared, Rendered};
+
+/// The metadata written into EXR outputs.
+pub fn metadata(
+    prepared: &Prepared,
+    params: &FrameParams,
+    rendered: &Rendered,
+    sampling: &str,
+) -> Vec<(String, String)> {
+    let features = prepared.gpu.features.with_render_options(params);
+    let source = prepared
+        .scene
+        .source
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|| "built-in Cornell box".into());
+    vec![
+        ("scene".into(), source),
+        ("spp".into(), rendered.spp.to_string()),
+        (
+            "time_limit_s".into(),
+            params
+                .time_limit
+                .map(|t| format!("{:.3}", t.as_secs_f64()))
+                .unwrap_or_else(|| "none".into()),
+        ),
+        ("width".into(), params.width.to_string()),
+        ("height".into(), params.height.to_string()),
+        ("seed".into(), params.seed.to_string()),
+        ("frame".into(), params.frame.to_string()),
+        ("max_depth".into(), params.max_depth.to_string()),
+        ("russian_roulette_depth".into(), params.rr_depth.to_string()),
+        (
+            "render_time_s".into(),
+            format!("{:.3}", rendered.wall_time.as_secs_f64()),
+        ),
+        (
+            "gpu_time_s".into(),
+            format!("{:.3}", rendered.gpu_time().as_secs_f64()),
+        ),
+        ("device".into(), rendered.device.clone()),
+        (
+            "balancer".into(),
+            rendered.balancer.unwrap_or("single device").into(),
+        ),
+        ("features".into(), features.to_string()),
+        ("kernel_defines".into(), rendered.kernel_defines.join(",")),
+        ("sampling".into(), sampling.into()),
+        ("environment".into(), prepared.env_label.clone()),
+        (
+            "render_origin".into(),
+            format!(
+                "{},{},{}",
+                prepared.posed.origin.x, prepared.posed.origin.y, prepared.posed.origin.z
+            ),
+        ),
+        (
+            "rejected_samples".into(),
+            rendered.rejected_samples().to_string(),
+        ),
+        ("approximations".into(), approximations(params)),
+    ]
+}
+
+/// Every approximation in effect, so a reader of the image knows what it is not.
+pub fn approximations(params: &FrameParams) -> String {
+    let mut a = vec!["roughness<0.01 rendered as perfectly specular".to_string()];
+    if params.max_depth < platoon_core::frame::DEFAULT_MAX_DEPTH {
+        a.push(format!("path depth capped at {}", params.max_depth));
+    }
+    a.join("; ")
+}

@@ -1,0 +1,143 @@
+//! Loading a scene (glTF or the built-in Cornell box), choosing its distant light and camera,
+//! and flattening it for the devices.
+
+use std::f32::consts::PI;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Result};
+use glam::Vec3;
+use platoon_core::flatten::GpuScene;
+use platoon_core::scene::camera::Camera;
+use platoon_core::scene::environment::{EnvMap, Environment};
+use platoon_core::scene::floating_origin::FloatingOrigin;
+use platoon_core::scene::gltf_load::LoadOptions;
+use platoon_core::scene::{Posed, Scene};
+
+/// The distant light of a render.
+#[derive(Clone, Debug, Default)]
+pub enum EnvChoice {
+    /// The scene's own (none for glTF); a scene without any light gets [`DEFAULT_SKY`].
+    #[default]
+    Scene,
+    File(PathBuf),
+    Color(Vec3),
+}
+
+/// Radiance of the uniform sky given to scenes that have no light at all.
+pub const DEFAULT_SKY: f32 = 1.0;
+
+/// Loads a glTF scene (URIs confined to its folder), or the built-in Cornell box.
+pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
+    load_scene_with(path, &LoadOptions::default())
+}
+
+pub fn load_scene_with(path: Option<&Path>, options: &LoadOptions) -> Result<Scene> {
+    match path {
+        None => Ok(platoon_core::scene::cornell::scene()),
+        Some(p) => Ok(platoon_core::scene::gltf_load::load_with(p, options)?),
+    }
+}
+
+/// A scene posed and flattened for the devices, with its camera.
+pub struct Prepared {
+    pub scene: Scene,
+    pub posed: Posed,
+    pub gpu: GpuScene,
+    pub camera: Camera,
+    /// Set when platoon chose the lighting (the scene had none).
+    pub note: Option<String>,
+    pub env_label: String,
+    pub prepare_time: Duration,
+}
+
+pub struct PrepareOptions {
+    pub env: EnvChoice,
+    /// Animation time in seconds.
+    pub time: f32,
+    pub camera: Option<usize>,
+    pub aperture_radius: f32,
+    pub focus_distance: Option<f32>,
+}
+
+impl Default for PrepareOptions {
+    fn default() -> Self {
+        PrepareOptions {
+            env: EnvChoice::Scene,
+            time: 0.0,
+            camera: None,
+            aperture_radius: 0.0,
+            focus_distance: None,
+        }
+    }
+}
+
+pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
+    let start = Instant::now();
+    let mut note = None;
+    let env_label;
+    match &options.env {
+        EnvChoice::File(path) => {
+            scene.environment = Some(Environment::Map(EnvMap::load(path)?));
+            env_label = path.display().to_string();
+        }
+        EnvChoice::Color(c) => {
+            if c.min_element() < 0.0 || !c.is_finite() {
+                bail!("--env-color must be three finite non-negative numbers");
+            }
+            scene.environment = Some(Environment::Constant(*c));
+            env_label = format!("constant {},{},{}", c.x, c.y, c.z);
+        }
+        EnvChoice::Scene => env_label = "none".into(),
+    }
+    let lit = platoon_core::FeatureSet::of_scene(&scene);
+    let env_label = if scene.environment.is_none()
+        && !lit.emissive_triangles
+        && !lit.punctual_lights
+    {
+        scene.environment = Some(Environment::Constant(Vec3::splat(DEFAULT_SKY)));
+        note = Some(format!(
+            "the scene has no lights: lighting it with a uniform white sky of radiance {DEFAULT_SKY} (use --env or --env-color to choose)"
+        ));
+        format!("default uniform sky {DEFAULT_SKY}")
+    } else {
+        env_label
+    };
+    let in_scene = |e: platoon_core::Error| match &scene.source {
+        Some(path) => anyhow::anyhow!("{}: {e}", path.display()),
+        None => anyhow::anyhow!("{e}"),
+    };
+    // Render space is centred near the camera (a floating origin), so a scene far from the
+    // world origin keeps its precision; the first pose only finds where the camera is.
+    let mut origin = FloatingOrigin::default();
+    let mut posed = scene.pose(options.time);
+    let camera = Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
+    if origin.follow(camera.position().as_dvec3()) {
+        posed = scene.pose_around(options.time, origin.origin);
+    }
+    let mut camera =
+        Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
+    if !camera.camera_to_world.is_finite() || !(f32::EPSILON..PI).contains(&camera.yfov) {
+        return Err(in_scene(platoon_core::Error::Invalid(
+            "the camera has a non-finite transform or a field of view outside (0, 180) degrees"
+                .into(),
+        )));
+    }
+    let gpu = GpuScene::build(&scene, &posed, scene.environment.as_ref()).map_err(in_scene)?;
+    camera.aperture_radius = options.aperture_radius.max(0.0);
+    if let Some(f) = options.focus_distance {
+        if f.is_nan() || f <= 0.0 {
+            bail!("--focus-distance must be positive");
+        }
+        camera.focus_distance = f;
+    }
+    Ok(Prepared {
+        scene,
+        posed,
+        gpu,
+        camera,
+        note,
+        env_label,
+        prepare_time: start.elapsed(),
+    })
+}

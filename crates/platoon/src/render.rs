@@ -1,0 +1,128 @@
+//! Rendering a prepared frame: on one tracer band by band, or on many through the core's
+//! renderer, and what it cost.
+
+use std::time::Duration;
+
+use anyhow::{Context as _, Result};
+use platoon_core::frame::renderer::Renderer;
+use platoon_core::frame::{assemble, Band, FrameParams};
+use platoon_core::output::Film;
+use platoon_tracer::{Tracer, TracerOptions};
+
+use crate::Prepared;
+
+/// A rendered frame and what it cost.
+pub struct Rendered {
+    pub film: Film,
+    /// Samples per pixel reached (below `FrameParams::spp` when a time limit ended it).
+    pub spp: u32,
+    /// Time until the last band was done (the slowest tracer's time).
+    pub wall_time: Duration,
+    /// GPU time of all dispatches, summed over tracers.
+    pub gpu_time: Duration,
+    pub rays: u64,
+    pub rejected_samples: u64,
+    /// The devices, comma-separated.
+    pub device: String,
+    pub kernel_defines: Vec<&'static str>,
+    /// Per-tracer statistics of a multi-device frame (empty for one device).
+    pub tracers: Vec<platoon_core::frame::renderer::TracerStats>,
+    pub balancer: Option<&'static str>,
+    /// What the Khronos validation layer reported (with validation on).
+    pub validation_messages: Vec<String>,
+}
+
+impl Rendered {
+    pub fn rays(&self) -> u64 {
+        self.rays
+    }
+    pub fn rejected_samples(&self) -> u64 {
+        self.rejected_samples
+    }
+    pub fn gpu_time(&self) -> Duration {
+        self.gpu_time
+    }
+}
+
+/// Renders the frame on one tracer as the given bands (one band covering the frame is usual).
+pub fn render_bands(
+    tracer: &mut Tracer,
+    params: &FrameParams,
+    bands: &[(u32, u32)],
+    progress: &mut dyn FnMut(u32),
+) -> Result<Rendered> {
+    let mut out: Vec<Band> = Vec::new();
+    for &(y0, y1) in bands {
+        out.push(
+            tracer
+                .render(params, y0, y1, progress)
+                .context("render failed")?,
+        );
+    }
+    Ok(Rendered {
+        film: assemble(params, &out),
+        spp: out
+            .iter()
+            .map(|b| b.spp(params))
+            .min()
+            .unwrap_or(params.spp),
+        wall_time: out.iter().map(|b| b.wall_time).sum(),
+        gpu_time: out.iter().map(|b| b.gpu_time).sum(),
+        rays: out.iter().map(|b| b.rays).sum(),
+        rejected_samples: out.iter().map(|b| b.rejected_samples).sum(),
+        device: tracer.device_info().name.clone(),
+        kernel_defines: tracer.kernel_defines(params),
+        tracers: Vec::new(),
+        balancer: None,
+        validation_messages: tracer.validation_messages(),
+    })
+}
+
+/// Renders a prepared scene on one device.
+pub fn render(
+    prepared: &Prepared,
+    options: &TracerOptions,
+    params: &FrameParams,
+    progress: &mut dyn FnMut(u32),
+) -> Result<Rendered> {
+    let mut tracer = Tracer::new(options, &prepared.gpu)?;
+    render_bands(&mut tracer, params, &[(0, params.height)], progress)
+}
+
+/// Renders one frame on a multi-device renderer.
+pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Result<Rendered> {
+    let frame = renderer.render_frame(params)?;
+    for f in &frame.failures {
+        eprintln!("warning: tracer {} failed in frame {} and was dropped; its lines were rendered by the others: {}", f.tracer, f.frame, f.message);
+    }
+    let names: Vec<String> = renderer
+        .tracers_mut()
+        .map(|t| t.device_info().name.clone())
+        .collect();
+    let defines = renderer
+        .tracers_mut()
+        .next()
+        .map(|t| t.kernel_defines(params))
+        .unwrap_or_default();
+    Ok(Rendered {
+        wall_time: frame
+            .tracers
+            .iter()
+            .map(|t| t.wall_time)
+            .max()
+            .unwrap_or_default(),
+        gpu_time: frame.tracers.iter().map(|t| t.gpu_time).sum(),
+        rays: frame.tracers.iter().map(|t| t.rays).sum(),
+        rejected_samples: frame.rejected_samples,
+        device: names.join(", "),
+        kernel_defines: defines,
+        spp: params.spp,
+        tracers: frame.tracers,
+        balancer: Some(renderer.balancer_name()),
+        validation_messages: renderer
+            .tracers_mut()
+            .flat_map(|t| t.validation_messages())
+            .collect(),
+        film: frame.film,
+    })
+}
