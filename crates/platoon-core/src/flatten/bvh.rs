@@ -197,9 +197,9 @@ pub fn placeable(p: Vec3) -> bool {
     p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
 }
 
-/// The BVH of a mesh's triangles. Triangles with an unplaceable corner (NaN or Inf from a file
-/// or from skinning) are left out of it, so they are never drawn.
-pub fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
+/// The mesh's triangles that can enter a BVH (every corner [`placeable`]), with the mesh index
+/// of each.
+pub fn placeable_triangles(mesh: &Mesh) -> (Vec<Triangle>, Vec<u32>) {
     let mut tris = Vec::with_capacity(mesh.indices.len());
     let mut original = Vec::with_capacity(mesh.indices.len());
     for (i, t) in mesh.indices.iter().enumerate() {
@@ -213,19 +213,32 @@ pub fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
             original.push(i as u32);
         }
     }
-    if tris.is_empty() {
-        return FlatBvh::default();
-    }
+    (tris, original)
+}
+
+/// The obvhs BVH2 of triangles, with platoon's build preset.
+pub fn build_bvh2(tris: &[Triangle]) -> Bvh2 {
     let mut time = Duration::ZERO;
-    let mut flat = flatten(&obvhs::bvh2::builder::build_bvh2_from_tris(
-        &tris,
-        params(),
-        &mut time,
-    ));
+    obvhs::bvh2::builder::build_bvh2_from_tris(tris, params(), &mut time)
+}
+
+/// The flattened BVH of `bvh`, whose primitive `i` is mesh triangle `original[i]`.
+pub(crate) fn flatten_mesh(bvh: &Bvh2, original: &[u32]) -> FlatBvh {
+    let mut flat = flatten(bvh);
     for o in &mut flat.order {
         *o = original[*o as usize];
     }
     flat
+}
+
+/// The BVH of a mesh's triangles. Triangles with an unplaceable corner (NaN or Inf from a file
+/// or from skinning) are left out of it, so they are never drawn.
+pub fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
+    let (tris, original) = placeable_triangles(mesh);
+    if tris.is_empty() {
+        return FlatBvh::default();
+    }
+    flatten_mesh(&build_bvh2(&tris), &original)
 }
 
 /// Per-mesh BVHs, built in parallel on the CPU threads.

@@ -2,7 +2,8 @@
 //! [`layout`], mirrored in shaders/scene.glsl). This is the only data the tracer crate receives
 //! from the core. One file per job: [`bvh`] and [`geometry`] (bottom and top levels),
 //! [`materials`] (and textures), [`instances`] (with their emissive triangles as lights),
-//! [`lights`] (punctual, environment, selection CDF), [`features`] (what the kernel compiles).
+//! [`lights`] (punctual, environment, selection CDF), [`features`] (what the kernel compiles);
+//! [`refit`] keeps a deforming mesh's BVH from frame to frame.
 
 pub mod bvh;
 pub mod features;
@@ -11,6 +12,7 @@ mod instances;
 pub mod layout;
 mod lights;
 mod materials;
+pub mod refit;
 
 pub use layout::*;
 pub use lights::selection_distribution;
