@@ -6,12 +6,15 @@
 //!   (BVHs, materials and textures, lights and their selection CDF, the feature set);
 //! - [`frame`]: frame parameters, bands of lines, the multi-tracer frame loop and fault injection;
 //! - [`balance`]: the line balancers and the replay of recorded costs;
+//! - [`drive`]: a living scene: the game's edits, and generations of the flattened scene with
+//!   what changed between them;
 //! - [`measure`]: summaries of measurements;
 //! - [`output`]: films and image files.
 //!
 //! The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
 pub mod balance;
+pub mod drive;
 pub mod error;
 pub mod flatten;
 pub mod frame;

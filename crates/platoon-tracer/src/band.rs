@@ -231,4 +231,14 @@ impl BandTracer for Tracer {
         self.render(params, y0, y1, progress)
             .map_err(|e| Box::new(e) as TracerError)
     }
+
+    fn apply_commit(
+        &mut self,
+        scene: &platoon_core::flatten::GpuScene,
+        commit: &platoon_core::flatten::commit::Commit,
+    ) -> std::result::Result<u64, TracerError> {
+        Tracer::apply_commit(self, scene, commit)
+            .map(|s| s.bytes)
+            .map_err(|e| Box::new(e) as TracerError)
+    }
 }

@@ -4,12 +4,14 @@
 
 mod band;
 mod buffer;
+mod commit;
 mod context;
 mod globals;
 mod kernel;
 mod memory;
 mod tracer;
 
+pub use commit::CommitStats;
 pub use context::{list_devices, DeviceInfo};
 pub use kernel::{cache_dir, kernel_label, kernel_spirv, Sampling};
 pub use memory::{

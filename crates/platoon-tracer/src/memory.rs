@@ -108,25 +108,10 @@ pub const SCENE_ARRAYS: [SceneArray; 15] = [
 
 /// The bytes of each scene array of `s`, in `SCENE_ARRAYS` order.
 pub fn scene_array_bytes(s: &GpuScene) -> [&[u8]; 15] {
-    use bytemuck::cast_slice as b;
-    [
-        b(&s.vertices),
-        b(&s.triangle_positions),
-        b(&s.triangles),
-        b(&s.triangle_lights),
-        b(&s.blas_nodes),
-        b(&s.tlas_nodes),
-        b(&s.instances),
-        b(&s.materials),
-        b(&s.textures),
-        b(&s.texels),
-        b(&s.lights),
-        b(&s.light_cdf),
-        b(&s.env.texels),
-        b(&s.env.marginal_cdf),
-        b(&s.env.conditional_cdf),
-    ]
+    s.array_bytes()
 }
+
+const _: () = assert!(SCENE_ARRAYS.len() == platoon_core::flatten::commit::ARRAY_COUNT);
 
 /// The path of each scene array of these byte sizes (`SCENE_ARRAYS` order).
 pub fn choose(sizes: &[u64], limits: &MemoryLimits, policy: MemoryPath) -> Vec<ArrayPath> {

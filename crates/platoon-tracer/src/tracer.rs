@@ -53,10 +53,7 @@ pub struct Tracer {
     pub(crate) query_pool: Option<vk::QueryPool>,
     pub(crate) features: FeatureSet,
     pub(crate) sampling: Sampling,
-    pub(crate) light_count: u32,
-    pub(crate) instance_count: u32,
-    pub(crate) tlas_root: u32,
-    pub(crate) env_kind: u32,
+    pub(crate) memory: MemoryPath,
 }
 
 // Vulkan handles are used from one thread at a time; the tracer moves to its own thread.
@@ -122,22 +119,35 @@ impl Tracer {
             query_pool,
             features: scene.features,
             sampling: options.sampling,
-            light_count: scene.lights.len() as u32,
-            instance_count: scene.instances.len() as u32,
-            tlas_root: scene.tlas_root,
-            env_kind: scene.env.kind,
+            memory: options.memory,
         };
         tracer.upload_scene(scene)?;
-        let sizes: Vec<u64> = tracer.scene.list.iter().map(|b| b.size).collect();
-        let limits = tracer.ctx.info.memory_limits();
-        tracer.scene.paths = memory::choose(&sizes, &limits, options.memory);
-        let buffers: Vec<vk::Buffer> = tracer.scene.list.iter().map(|b| b.buffer).collect();
-        tracer.scene.descriptors = Some(SceneDescriptors::new(
-            &tracer.ctx.device,
-            &buffers,
-            &tracer.scene.paths,
-        )?);
+        tracer.bind_scene_arrays()?;
         Ok(tracer)
+    }
+
+    pub(crate) fn wait_idle(&self) -> Result<()> {
+        unsafe { self.ctx.device.device_wait_idle() }.ctx("waiting for the device")
+    }
+
+    /// Chooses each scene array's memory path from its buffer's size and binds the arrays
+    /// (again, after a buffer was replaced: the kernels built for the old bindings go too).
+    pub(crate) fn bind_scene_arrays(&mut self) -> Result<()> {
+        let device = self.ctx.device.clone();
+        if let Some(d) = self.scene.descriptors.take() {
+            self.wait_idle()?;
+            for k in self.kernels.values() {
+                k.destroy(&device);
+            }
+            self.kernels.clear();
+            d.destroy(&device);
+        }
+        let sizes: Vec<u64> = self.scene.list.iter().map(|b| b.size).collect();
+        let limits = self.ctx.info.memory_limits();
+        self.scene.paths = memory::choose(&sizes, &limits, self.memory);
+        let buffers: Vec<vk::Buffer> = self.scene.list.iter().map(|b| b.buffer).collect();
+        self.scene.descriptors = Some(SceneDescriptors::new(&device, &buffers, &self.scene.paths)?);
+        Ok(())
     }
 
     pub fn device_info(&self) -> &DeviceInfo {
@@ -197,48 +207,79 @@ impl Tracer {
         Ok(())
     }
 
-    /// Uploads one array into device-local memory through a staging buffer.
-    fn upload(&mut self, name: &str, data: &[u8]) -> Result<u64> {
-        let device = self.ctx.device.clone();
-        let size = data.len() as u64;
+    /// A device-local buffer for a scene array of `capacity` bytes.
+    pub(crate) fn array_buffer(&mut self, name: &str, capacity: u64) -> Result<GpuBuffer> {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST;
-        let buffer = GpuBuffer::new(
-            &device,
+        GpuBuffer::new(
+            &self.ctx.device,
             &mut self.allocator,
             name,
-            size,
+            capacity,
             usage,
             MemoryLocation::GpuOnly,
-        )?;
-        let address = buffer.address;
-        if !data.is_empty() {
-            let mut staging = GpuBuffer::new(
-                &device,
-                &mut self.allocator,
-                "staging",
-                size,
-                vk::BufferUsageFlags::TRANSFER_SRC,
-                MemoryLocation::CpuToGpu,
-            )?;
-            staging.mapped()[..data.len()].copy_from_slice(data);
-            let (src, dst) = (staging.buffer, buffer.buffer);
-            let result = self.submit(|d, cb| unsafe {
-                d.cmd_copy_buffer(cb, src, dst, &[vk::BufferCopy::default().size(size)]);
-            });
-            staging.destroy(&device, &mut self.allocator);
-            result?;
+        )
+    }
+
+    /// Copies `(buffer, offset, bytes)` writes into device-local buffers through one staging
+    /// buffer and one submission.
+    pub(crate) fn write_buffers(&mut self, writes: &[(vk::Buffer, u64, &[u8])]) -> Result<()> {
+        let total: usize = writes.iter().map(|w| w.2.len()).sum();
+        if total == 0 {
+            return Ok(());
         }
-        self.scene.list.push(buffer);
-        Ok(address)
+        let device = self.ctx.device.clone();
+        let mut staging = GpuBuffer::new(
+            &device,
+            &mut self.allocator,
+            "staging",
+            total as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let mut copies: Vec<(vk::Buffer, vk::BufferCopy)> = Vec::with_capacity(writes.len());
+        let mut at = 0usize;
+        let mapped = staging.mapped();
+        for &(dst, offset, bytes) in writes {
+            mapped[at..at + bytes.len()].copy_from_slice(bytes);
+            let region = vk::BufferCopy::default()
+                .src_offset(at as u64)
+                .dst_offset(offset)
+                .size(bytes.len() as u64);
+            copies.push((dst, region));
+            at += bytes.len();
+        }
+        let src = staging.buffer;
+        let result = self.submit(|d, cb| unsafe {
+            for (dst, region) in &copies {
+                d.cmd_copy_buffer(cb, src, *dst, std::slice::from_ref(region));
+            }
+        });
+        staging.destroy(&device, &mut self.allocator);
+        result
     }
 
     fn upload_scene(&mut self, s: &GpuScene) -> Result<()> {
-        let mut a = [0u64; SCENE_ARRAYS.len()];
-        for (i, data) in memory::scene_array_bytes(s).into_iter().enumerate() {
-            a[i] = self.upload(SCENE_ARRAYS[i].name, data)?;
+        let arrays = memory::scene_array_bytes(s);
+        for (i, data) in arrays.iter().enumerate() {
+            let buffer = self.array_buffer(SCENE_ARRAYS[i].name, data.len() as u64)?;
+            self.scene.list.push(buffer);
         }
+        let writes: Vec<(vk::Buffer, u64, &[u8])> = arrays
+            .iter()
+            .zip(&self.scene.list)
+            .filter(|(d, _)| !d.is_empty())
+            .map(|(d, b)| (b.buffer, 0, *d))
+            .collect();
+        self.write_buffers(&writes)?;
+        self.refresh_globals(s);
+        Ok(())
+    }
+
+    /// The Globals fields that come from the scene: array addresses, counts, environment.
+    pub(crate) fn refresh_globals(&mut self, s: &GpuScene) {
+        let a: Vec<u64> = self.scene.list.iter().map(|b| b.address).collect();
         let mut g = Globals {
             vertices: a[0],
             tri_pos: a[1],
@@ -266,13 +307,13 @@ impl Tracer {
         g.dims[2] = s.env.width;
         g.dims[3] = s.env.height;
         g.counts = [
-            self.light_count,
-            self.instance_count,
-            self.tlas_root,
-            self.env_kind,
+            s.lights.len() as u32,
+            s.instances.len() as u32,
+            s.tlas_root,
+            s.env.kind,
         ];
         self.scene.globals = g;
-        Ok(())
+        self.features = s.features;
     }
 
     /// Accumulation, stats and readback buffers for a frame size, reused while it stays.

@@ -12,7 +12,7 @@ use crate::scene::{Instance, Mesh, Posed, Scene};
 
 /// The meshes some instance uses; the others are left empty (a skinned mesh's bind pose is
 /// replaced by its pose).
-pub(super) fn used_meshes(posed: &Posed) -> Vec<Arc<Mesh>> {
+pub fn used_meshes(posed: &Posed) -> Vec<Arc<Mesh>> {
     let mut used = vec![false; posed.meshes.len()];
     for i in &posed.instances {
         used[i.mesh] = true;
@@ -34,16 +34,17 @@ pub(super) struct BottomLevel {
 }
 
 /// Appends every mesh's vertices, triangles (in leaf order, with their emissive-light indices)
-/// and BVH nodes to `g`.
+/// and BVH nodes to `g`, each mesh's nodes padded to its `node_capacity`.
 pub(super) fn bottom_level(
     scene: &Scene,
     meshes: &[Arc<Mesh>],
     mesh_bvhs: &[FlatBvh],
+    node_capacity: &[usize],
     g: &mut GpuScene,
 ) -> Result<BottomLevel> {
     let mut blas_root = Vec::with_capacity(meshes.len());
     let mut tri_base = Vec::with_capacity(meshes.len());
-    for (mesh, flat) in meshes.iter().zip(mesh_bvhs) {
+    for ((mesh, flat), &capacity) in meshes.iter().zip(mesh_bvhs).zip(node_capacity) {
         let vbase = g.vertices.len() as u32;
         let tbase = g.triangles.len() as u32;
         let nbase = g.blas_nodes.len() as u32;
@@ -87,6 +88,9 @@ pub(super) fn bottom_level(
             g.blas_nodes
                 .push(n.rebased(nbase, tbase).ok_or_else(too_large)?);
         }
+        let padding = capacity.saturating_sub(flat.nodes.len());
+        g.blas_nodes
+            .extend(std::iter::repeat_n(bvh::BvhNode::default(), padding));
         blas_root.push(bvh::rebase_item(flat.root, nbase, tbase).ok_or_else(too_large)?);
     }
     g.triangle_count = g.triangles.len();

@@ -3,9 +3,11 @@
 //! from the core. One file per job: [`bvh`] and [`geometry`] (bottom and top levels),
 //! [`materials`] (and textures), [`instances`] (with their emissive triangles as lights),
 //! [`lights`] (punctual, environment, selection CDF), [`features`] (what the kernel compiles);
-//! [`refit`] keeps a deforming mesh's BVH from frame to frame.
+//! [`refit`] keeps a deforming mesh's BVH from frame to frame; [`commit`] says what changed
+//! between two flattened scenes.
 
 pub mod bvh;
+pub mod commit;
 pub mod features;
 mod geometry;
 mod instances;
@@ -21,7 +23,8 @@ use crate::error::Result;
 use crate::flatten::features::FeatureSet;
 use crate::scene::environment::Environment;
 use crate::scene::{Posed, Scene};
-use bvh::BvhNode;
+use bvh::{BvhNode, FlatBvh};
+pub use geometry::used_meshes;
 
 /// Everything the kernel needs, as flat arrays.
 #[derive(Clone, Debug, Default)]
@@ -60,18 +63,36 @@ impl GpuScene {
         posed: &Posed,
         environment: Option<&Environment>,
     ) -> Result<GpuScene> {
-        let mut g = GpuScene::default();
         let meshes = geometry::used_meshes(posed);
         let (mesh_bvhs, mesh_time) = bvh::timed(|| bvh::build_mesh_bvhs(&meshes));
-        let bottom = geometry::bottom_level(scene, &meshes, &mesh_bvhs, &mut g)?;
-        let (tlas, live, instance_time) = geometry::top_level(posed, &mesh_bvhs, &mut g);
+        let capacity: Vec<usize> = mesh_bvhs.iter().map(|b| b.nodes.len()).collect();
+        let mut g = GpuScene::build_with(scene, posed, environment, &mesh_bvhs, &capacity)?;
+        g.build_times.meshes = mesh_time;
+        Ok(g)
+    }
+
+    /// Flattens `posed` with the BVH of each of its meshes given (empty for meshes no instance
+    /// uses, see [`used_meshes`]), each mesh's node region sized to `node_capacity` (at least
+    /// its node count; a deforming mesh gets room for any rebuild of itself, so the layout of
+    /// every array stays put from frame to frame).
+    pub fn build_with(
+        scene: &Scene,
+        posed: &Posed,
+        environment: Option<&Environment>,
+        mesh_bvhs: &[FlatBvh],
+        node_capacity: &[usize],
+    ) -> Result<GpuScene> {
+        let mut g = GpuScene::default();
+        let meshes = geometry::used_meshes(posed);
+        let bottom = geometry::bottom_level(scene, &meshes, mesh_bvhs, node_capacity, &mut g)?;
+        let (tlas, live, instance_time) = geometry::top_level(posed, mesh_bvhs, &mut g);
         g.build_times = bvh::BuildTimes {
-            meshes: mesh_time,
+            meshes: Default::default(),
             instances: instance_time,
         };
         materials::add(scene, &mut g);
         // Light order: emissive triangles (by instance), punctual lights, the environment.
-        let mut power = instances::add(scene, &tlas, &live, &bottom, &mesh_bvhs, &mut g);
+        let mut power = instances::add(scene, &tlas, &live, &bottom, mesh_bvhs, &mut g);
         lights::add_punctual(scene, posed, &mut g, &mut power);
         if let Some(env) = environment {
             lights::add_environment(env, &mut g, &mut power);

@@ -37,4 +37,12 @@ impl<T: BandTracer> BandTracer for FaultInjector<T> {
         }
         self.inner.render_band(params, y0, y1, progress)
     }
+
+    fn apply_commit(
+        &mut self,
+        scene: &crate::flatten::GpuScene,
+        commit: &crate::flatten::commit::Commit,
+    ) -> Result<u64, TracerError> {
+        self.inner.apply_commit(scene, commit)
+    }
 }

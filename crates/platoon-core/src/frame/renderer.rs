@@ -128,6 +128,44 @@ impl<T: BandTracer + Send> Renderer<T> {
         self.tracers.iter_mut().map(|(_, t)| t)
     }
 
+    /// Gives every tracer the next generation of the scene (`commit`: what changed since the
+    /// one they hold), before the frame that renders it; returns each survivor's (tracer, bytes
+    /// uploaded). A tracer that fails to apply it is dropped and reported like one that fails
+    /// to render: the others render its lines, on the new generation.
+    pub fn apply_commit(
+        &mut self,
+        scene: &crate::flatten::GpuScene,
+        commit: &crate::flatten::commit::Commit,
+        frame: u32,
+    ) -> Result<Vec<(usize, u64)>, RenderError> {
+        let mut uploaded = Vec::with_capacity(self.tracers.len());
+        let mut slot = 0;
+        while slot < self.tracers.len() {
+            let (id, tracer) = &mut self.tracers[slot];
+            match tracer.apply_commit(scene, commit) {
+                Ok(bytes) => {
+                    uploaded.push((*id, bytes));
+                    slot += 1;
+                }
+                Err(e) => {
+                    self.failures.push(TracerFailure {
+                        tracer: *id,
+                        frame,
+                        message: format!("applying a scene commit: {e}"),
+                    });
+                    self.tracers.remove(slot);
+                    self.balancer.remove_tracer(slot);
+                }
+            }
+        }
+        if self.tracers.is_empty() {
+            return Err(RenderError::NoTracers(
+                "every tracer failed to apply the scene commit".into(),
+            ));
+        }
+        Ok(uploaded)
+    }
+
     pub fn render_frame(&mut self, params: &FrameParams) -> Result<FrameResult, RenderError> {
         let start = Instant::now();
         if self.tracers.is_empty() {

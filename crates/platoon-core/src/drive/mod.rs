@@ -1,0 +1,10 @@
+//! Driving a living scene from a game (Brigade's double-buffered updates): the game edits the
+//! scene ([`updater::Updater`]'s edit calls, validated at the call), and each update poses it,
+//! keeps every mesh's BVH (static meshes built once, skinned ones refitted, rebuilt only when
+//! degraded), rebuilds the top level, flattens, and says what changed since the previous
+//! generation as a [`crate::flatten::commit::Commit`] for the tracers to apply.
+
+pub mod edits;
+pub mod updater;
+
+pub use updater::{Generation, UpdateTimes, Updater};

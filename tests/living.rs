@@ -1,0 +1,118 @@
+//! Living scenes (issue 8): generations made by the updater reach the tracers as commits, and a
+//! tracer that followed the commits renders the same bits as one given the same scene fresh.
+
+mod common;
+
+use common::*;
+use glam::{DVec3, Vec3};
+use platoon::core::balance::by_name;
+use platoon::core::drive::edits::Placement;
+use platoon::core::drive::Updater;
+use platoon::core::frame::fault::FaultInjector;
+use platoon::core::frame::renderer::Renderer;
+use platoon::core::frame::FrameParams;
+use platoon::core::scene::camera::Camera;
+use platoon::core::scene::environment::Environment;
+use platoon::core::Scene;
+use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::tracer::{Sampling, Tracer, TracerOptions};
+
+fn new_tracer(scene: &platoon::core::flatten::GpuScene) -> Tracer {
+    init();
+    let options = TracerOptions {
+        validation: true,
+        ..Default::default()
+    };
+    Tracer::new(&options, scene).expect("tracer")
+}
+
+/// CesiumMan (skinned, animated) under a uniform sky, and a camera on it.
+fn cesium_man() -> (Scene, Camera) {
+    let mut scene = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
+    scene.environment = Some(Environment::Constant(Vec3::ONE));
+    let camera = Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
+    (scene, camera)
+}
+
+#[test]
+fn a_tracer_that_follows_commits_renders_the_bits_of_a_fresh_upload() {
+    let (scene, camera) = cesium_man();
+    let (mut updater, first) = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
+    let mut followed = new_tracer(&first.scene);
+    let params = FrameParams::new(24, 24, 4, camera);
+    let before = render_with(&mut followed, &params);
+    for t in [0.3f32, 0.6, 0.9] {
+        updater.set_time(t).unwrap();
+        let g = updater.update().unwrap();
+        assert!(g.refitted + g.rebuilt > 0, "the skin deformed its mesh");
+        assert!(g.commit.mesh_bytes() > 0);
+        let stats = followed.apply_commit(&g.scene, &g.commit).unwrap();
+        assert_eq!(stats.bytes, g.commit.bytes());
+    }
+    // The camera alone moving: nothing to send.
+    let still = updater.update().unwrap();
+    assert!(still.commit.is_empty());
+    assert_eq!(still.commit.mesh_bytes(), 0);
+    assert_eq!(
+        followed
+            .apply_commit(&still.scene, &still.commit)
+            .unwrap()
+            .bytes,
+        0
+    );
+    let after = render_with(&mut followed, &params);
+    let mut fresh = new_tracer(updater.current());
+    assert!(
+        after == render_with(&mut fresh, &params),
+        "commits drifted from the scene"
+    );
+    assert!(after != before, "the animation moved nothing");
+    assert_no_validation_messages(&followed);
+}
+
+#[test]
+fn added_and_removed_instances_on_three_tracers_with_one_killed() {
+    init();
+    let scene = platoon::core::scene::cornell::scene();
+    let camera = Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
+    let (mut updater, first) = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
+    let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
+    // Tracer 1 is lost from frame 2 on; the others take its lines on the current generation.
+    let tracers: Vec<FaultInjector<Tracer>> =
+        create_tracers(&spec, &first.scene, true, Sampling::Mis)
+            .unwrap()
+            .into_iter()
+            .enumerate()
+            .map(|(i, t)| match i {
+                1 => FaultInjector::failing_from(t, 2),
+                _ => FaultInjector::healthy(t),
+            })
+            .collect();
+    let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
+    let mut added = None;
+    for f in 0..4u32 {
+        match f {
+            1 => {
+                let at = Placement {
+                    scale: Vec3::splat(0.3),
+                    ..Placement::at(DVec3::new(0.2, 0.1, 0.0))
+                };
+                added = Some(updater.add_instance(0, at).unwrap());
+            }
+            3 => updater.remove_instance(added.unwrap()).unwrap(),
+            _ => {}
+        }
+        let g = updater.update().unwrap();
+        renderer.apply_commit(&g.scene, &g.commit, f).unwrap();
+        let mut params = FrameParams::new(16, 24, 2, camera);
+        params.frame = f;
+        let frame = renderer.render_frame(&params).expect("frame completes");
+        let mut fresh = new_tracer(&g.scene);
+        assert!(frame.film == render_with(&mut fresh, &params), "frame {f}");
+    }
+    assert_eq!(renderer.alive(), vec![0, 2]);
+    assert_eq!(renderer.failures().len(), 1);
+    for t in renderer.into_tracers() {
+        assert_no_validation_messages(&t.inner);
+    }
+}
