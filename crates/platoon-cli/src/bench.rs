@@ -346,3 +346,58 @@ fn print_build_times(g: &GpuScene, label: &str) {
         ms(g.build_times.instances)
     );
 }
+
+/// `platoon bench --dynamic` and its settings.
+#[derive(clap::Args)]
+pub struct DynamicArgs {
+    /// Run the living-scene benchmark.
+    #[arg(long)]
+    pub dynamic: bool,
+    /// Frames of each run (animated, then still).
+    #[arg(long, default_value_t = 200)]
+    frames: u32,
+    /// Walking (skinned) characters.
+    #[arg(long, default_value_t = 16)]
+    characters: u32,
+    /// Rigid objects moving every frame.
+    #[arg(long, default_value_t = 64)]
+    movers: u32,
+    /// The skinned, animated glTF to place.
+    #[arg(long, default_value = "../shared/scenes/CesiumMan.glb")]
+    character: std::path::PathBuf,
+    /// llvmpipe threads of the tracer (1 leaves the other core to the updater).
+    #[arg(long, default_value_t = 1)]
+    lavapipe_threads: u32,
+    /// Print one JSON object after the text.
+    #[arg(long)]
+    json: bool,
+    /// Folder for dynamic.csv and dynamic.png.
+    #[arg(long, default_value = ".")]
+    out: std::path::PathBuf,
+}
+
+pub fn run_dynamic(a: &DynamicArgs, device: usize) -> Result<()> {
+    use platoon::dynamic_bench as db;
+    if !a.out.is_dir() {
+        anyhow::bail!("{}: output folder does not exist", a.out.display());
+    }
+    let options = db::Options {
+        frames: a.frames,
+        characters: a.characters,
+        movers: a.movers,
+        character: a.character.clone(),
+        lavapipe_threads: a.lavapipe_threads,
+        device,
+        ..Default::default()
+    };
+    let report = db::run(&options)?;
+    print!("{}", db::text(&options, &report.summary));
+    let (csv, png) = (a.out.join("dynamic.csv"), a.out.join("dynamic.png"));
+    platoon::core::output::write_text(&csv, &db::csv(&report))?;
+    db::write_png(&png, &report)?;
+    println!("wrote {} and {}", csv.display(), png.display());
+    if a.json {
+        println!("{}", db::json(&report.summary));
+    }
+    Ok(())
+}

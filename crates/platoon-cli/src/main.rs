@@ -53,6 +53,10 @@ enum Command {
         /// Repetitions of each measurement (the median is reported).
         #[arg(long, default_value_t = 3)]
         repeat: u32,
+        /// Measure a living scene instead: walking characters and moving objects over the
+        /// sphere field, double-buffered updates and commits, against the scene standing still.
+        #[command(flatten)]
+        dynamic: bench::DynamicArgs,
     },
 }
 
@@ -66,7 +70,14 @@ fn run(cli: Cli) -> Result<()> {
             spp,
             device,
             repeat,
-        } => bench::run(spp, device, repeat.max(1)).context("bench failed"),
+            dynamic,
+        } => {
+            if dynamic.dynamic {
+                bench::run_dynamic(&dynamic, device).context("bench --dynamic failed")
+            } else {
+                bench::run(spp, device, repeat.max(1)).context("bench failed")
+            }
+        }
     }
 }
 

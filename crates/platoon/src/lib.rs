@@ -6,6 +6,7 @@
 
 pub mod balance_bench;
 pub mod devices;
+pub mod dynamic_bench;
 pub mod metadata;
 pub mod plot;
 pub mod prepare;

@@ -120,3 +120,68 @@ pub fn write_png(path: &Path, cells: &[Cell], title: &str) -> Result<()> {
     std::fs::rename(&tmp, path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     Ok(())
 }
+
+/// One chart of named series over frames (index on x), written through a temporary file.
+pub fn write_series_png(path: &Path, title: &str, series: &[(&str, Vec<f64>)]) -> Result<()> {
+    let text = register_font();
+    let tmp = path.with_extension("part.png");
+    {
+        let root = BitMapBackend::new(&tmp, (1200, 600)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+        let frames = series
+            .iter()
+            .map(|(_, v)| v.len())
+            .max()
+            .unwrap_or(1)
+            .max(2);
+        let top = series
+            .iter()
+            .flat_map(|(_, v)| v.iter())
+            .filter(|v| v.is_finite())
+            .fold(1e-3f64, |m, v| m.max(*v));
+        let mut builder = ChartBuilder::on(&root);
+        builder.margin(16);
+        if text {
+            builder
+                .caption(title, ("sans-serif", 22))
+                .x_label_area_size(30)
+                .y_label_area_size(50);
+        }
+        let mut chart = builder
+            .build_cartesian_2d(0..frames, 0.0..top * 1.05)
+            .map_err(|e| anyhow!("{e}"))?;
+        if text {
+            chart
+                .configure_mesh()
+                .x_desc("frame")
+                .draw()
+                .map_err(|e| anyhow!("{e}"))?;
+        }
+        for (k, (name, values)) in series.iter().enumerate() {
+            let color = COLORS[(k + 1) % COLORS.len()];
+            let drawn = chart
+                .draw_series(LineSeries::new(
+                    values.iter().copied().enumerate(),
+                    color.stroke_width(2),
+                ))
+                .map_err(|e| anyhow!("{e}"))?;
+            if text {
+                drawn.label(*name).legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 18, y)], color.stroke_width(3))
+                });
+            }
+        }
+        if text {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| anyhow!("{e}"))?;
+        }
+        root.present()
+            .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    }
+    std::fs::rename(&tmp, path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    Ok(())
+}

@@ -4,7 +4,8 @@
 //! degraded), rebuilds the top level, flattens, and says what changed since the previous
 //! generation as a [`crate::flatten::commit::Commit`] for the tracers to apply.
 
-pub mod edits;
+pub mod pipeline;
 pub mod updater;
 
+pub use pipeline::Pipeline;
 pub use updater::{Generation, UpdateTimes, Updater};

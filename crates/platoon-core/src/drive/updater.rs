@@ -12,12 +12,12 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 
-use super::edits::{invalid, Placement};
 use crate::error::Result;
 use crate::flatten::bvh::{build_mesh_bvh, FlatBvh};
 use crate::flatten::commit::Commit;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
 use crate::flatten::{used_meshes, GpuScene};
+use crate::scene::placement::{invalid, Placement};
 use crate::scene::{Material, Node, Posed, Scene};
 
 /// Where an update spent its time.
@@ -157,17 +157,7 @@ impl Updater {
             .materials
             .get_mut(index)
             .ok_or_else(|| invalid(format!("no material {index} (the scene has {count})")))?;
-        let factors = [
-            material.base_color.is_finite(),
-            material.emissive.is_finite(),
-            material.metallic.is_finite(),
-            material.roughness.is_finite(),
-            material.transmission.is_finite(),
-            material.ior.is_finite(),
-        ];
-        if factors.contains(&false) {
-            return Err(invalid(format!("material {index} has a non-finite factor")));
-        }
+        check_material(index, &material)?;
         *slot = material;
         Ok(())
     }
@@ -268,6 +258,25 @@ impl Updater {
         self.deforming.retain(|node, _| live.contains(node));
         (bvhs, capacity, refitted, rebuilt)
     }
+}
+
+/// A material a game may set: every factor finite.
+pub(crate) fn check_material(index: usize, m: &Material) -> Result<()> {
+    let finite = [
+        m.base_color.is_finite(),
+        m.emissive.is_finite(),
+        m.metallic.is_finite(),
+        m.roughness.is_finite(),
+        m.transmission.is_finite(),
+        m.ior.is_finite(),
+        m.specular.is_finite(),
+        m.specular_color.is_finite(),
+        m.normal_scale.is_finite(),
+    ];
+    if finite.contains(&false) {
+        return Err(invalid(format!("material {index} has a non-finite factor")));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

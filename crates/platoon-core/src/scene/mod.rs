@@ -9,6 +9,9 @@ pub mod environment;
 pub mod floating_origin;
 pub mod gltf_load;
 mod graph;
+mod merge;
+pub mod placement;
 pub mod tangents;
 
 pub use graph::*;
+pub use placement::Placement;

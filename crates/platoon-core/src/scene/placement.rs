@@ -1,5 +1,6 @@
-//! Checks of the edits a game makes, so that an invalid one is refused at the call, with the
-//! reason, and never reaches a frame.
+//! Where a game puts a node: translation (f64, like node translations), rotation and scale,
+//! checked so that an invalid one is refused at the call, with the reason, and never reaches a
+//! frame.
 
 use glam::{DVec3, Quat, Vec3};
 
@@ -51,6 +52,7 @@ impl Placement {
     }
 }
 
+/// The error of a refused scene edit.
 pub(crate) fn invalid(message: String) -> Error {
     Error::Invalid(format!("scene edit refused: {message}"))
 }

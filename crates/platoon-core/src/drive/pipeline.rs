@@ -1,0 +1,269 @@
+//! Double buffering (Brigade): the updater runs on its own thread and builds generation N+1
+//! while the tracers render generation N. The game thread edits through the pipeline, each edit
+//! checked at the call against a mirror of the scene's structure (so a refused edit never reaches
+//! the updater), then [`Pipeline::submit`]s them and later [`Pipeline::take`]s the generation.
+//! It waits only when it asks for a generation that is not built yet, or submits while one is
+//! still in flight (the one-frame-ahead throttle); both waits are measured.
+
+use std::collections::{HashSet, VecDeque};
+use std::sync::mpsc::{self, Receiver, SyncSender};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use glam::DVec3;
+
+use super::{Generation, Updater};
+use crate::error::{Error, Result};
+use crate::scene::placement::invalid;
+use crate::scene::{Material, Placement, Scene};
+
+/// One checked edit, as the updater thread replays it.
+enum Edit {
+    Time(f32),
+    Placement(usize, Placement),
+    AddInstance(usize, Placement),
+    RemoveInstance(usize),
+    Material(usize, Box<Material>),
+}
+
+/// What the game thread knows of the scene's structure, to check edits without the updater.
+struct Mirror {
+    nodes: usize,
+    meshes: usize,
+    materials: usize,
+    removed: HashSet<usize>,
+    instanced: HashSet<usize>,
+}
+
+impl Mirror {
+    fn of(scene: &Scene) -> Mirror {
+        Mirror {
+            nodes: scene.nodes.len(),
+            meshes: scene.meshes.len(),
+            materials: scene.materials.len(),
+            removed: HashSet::new(),
+            instanced: (0..scene.nodes.len())
+                .filter(|&i| scene.nodes[i].mesh.is_some())
+                .collect(),
+        }
+    }
+
+    fn live(&self, node: usize) -> Result<()> {
+        if self.removed.contains(&node) {
+            return Err(invalid(format!(
+                "node {node}'s instance was already removed"
+            )));
+        }
+        if node >= self.nodes {
+            return Err(invalid(format!(
+                "no node {node} (the scene has {})",
+                self.nodes
+            )));
+        }
+        Ok(())
+    }
+}
+
+pub struct Pipeline {
+    mirror: Mirror,
+    pending: Vec<Edit>,
+    to_updater: Option<SyncSender<Vec<Edit>>>,
+    from_updater: Receiver<Result<Generation>>,
+    in_flight: bool,
+    ready: VecDeque<Generation>,
+    worker: Option<JoinHandle<()>>,
+    /// Time the game thread spent waiting in each submit or take.
+    blocked: Vec<Duration>,
+}
+
+impl Pipeline {
+    /// Starts the updater thread for `scene` (see [`Updater::new`]); returns the pipeline and
+    /// the first generation, built before it returns.
+    pub fn new(scene: Scene, time: f32, origin: DVec3) -> Result<(Pipeline, Generation)> {
+        let mirror = Mirror::of(&scene);
+        let (mut updater, first) = Updater::new(scene, time, origin)?;
+        let (to_updater, edits) = mpsc::sync_channel::<Vec<Edit>>(1);
+        let (done, from_updater) = mpsc::sync_channel::<Result<Generation>>(1);
+        let worker = std::thread::Builder::new()
+            .name("platoon updater".into())
+            .spawn(move || {
+                while let Ok(batch) = edits.recv() {
+                    let g = apply(&mut updater, batch).and_then(|()| updater.update());
+                    if done.send(g).is_err() {
+                        break;
+                    }
+                }
+            })
+            .map_err(|e| Error::Invalid(format!("starting the updater thread: {e}")))?;
+        let pipeline = Pipeline {
+            mirror,
+            pending: Vec::new(),
+            to_updater: Some(to_updater),
+            from_updater,
+            in_flight: false,
+            ready: VecDeque::new(),
+            worker: Some(worker),
+            blocked: Vec::new(),
+        };
+        Ok((pipeline, first))
+    }
+
+    pub fn set_time(&mut self, time: f32) -> Result<()> {
+        if !time.is_finite() {
+            return Err(invalid(format!("animation time {time} is not finite")));
+        }
+        self.pending.push(Edit::Time(time));
+        Ok(())
+    }
+
+    pub fn set_placement(&mut self, node: usize, placement: Placement) -> Result<()> {
+        let p = placement.checked()?;
+        self.mirror.live(node)?;
+        self.pending.push(Edit::Placement(node, p));
+        Ok(())
+    }
+
+    /// Returns the node the new instance will have.
+    pub fn add_instance(&mut self, mesh: usize, placement: Placement) -> Result<usize> {
+        let p = placement.checked()?;
+        if mesh >= self.mirror.meshes {
+            return Err(invalid(format!(
+                "no mesh {mesh} (the scene has {})",
+                self.mirror.meshes
+            )));
+        }
+        self.pending.push(Edit::AddInstance(mesh, p));
+        let node = self.mirror.nodes;
+        self.mirror.nodes += 1;
+        self.mirror.instanced.insert(node);
+        Ok(node)
+    }
+
+    pub fn remove_instance(&mut self, node: usize) -> Result<()> {
+        self.mirror.live(node)?;
+        if !self.mirror.instanced.remove(&node) {
+            return Err(invalid(format!("node {node} places no instance")));
+        }
+        self.mirror.removed.insert(node);
+        self.pending.push(Edit::RemoveInstance(node));
+        Ok(())
+    }
+
+    pub fn set_material(&mut self, index: usize, material: Material) -> Result<()> {
+        if index >= self.mirror.materials {
+            return Err(invalid(format!(
+                "no material {index} (the scene has {})",
+                self.mirror.materials
+            )));
+        }
+        crate::drive::updater::check_material(index, &material)?;
+        self.pending.push(Edit::Material(index, Box::new(material)));
+        Ok(())
+    }
+
+    /// Hands the edits made since the last submit to the updater, which starts building the
+    /// next generation at once. Waits only if the previous submission is still being built.
+    pub fn submit(&mut self) -> Result<()> {
+        let start = Instant::now();
+        if self.in_flight {
+            let g = self.receive()?;
+            self.ready.push_back(g);
+        }
+        let batch = std::mem::take(&mut self.pending);
+        self.to_updater
+            .as_ref()
+            .expect("open until drop")
+            .send(batch)
+            .map_err(|_| Error::Invalid("the updater thread has stopped".into()))?;
+        self.in_flight = true;
+        self.blocked.push(start.elapsed());
+        Ok(())
+    }
+
+    /// The oldest submitted generation, waiting for it if it is not built yet.
+    pub fn take(&mut self) -> Result<Generation> {
+        let start = Instant::now();
+        let g = match self.ready.pop_front() {
+            Some(g) => g,
+            None if self.in_flight => self.receive()?,
+            None => return Err(Error::Invalid("take() before any submit()".into())),
+        };
+        self.blocked.push(start.elapsed());
+        Ok(g)
+    }
+
+    /// How long each submit and take kept the game thread waiting.
+    pub fn blocked_times(&self) -> &[Duration] {
+        &self.blocked
+    }
+
+    fn receive(&mut self) -> Result<Generation> {
+        self.in_flight = false;
+        self.from_updater
+            .recv()
+            .map_err(|_| Error::Invalid("the updater thread has stopped".into()))?
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        // Closing the channel ends the worker's loop.
+        self.to_updater = None;
+        while self.in_flight {
+            let _ = self.receive();
+        }
+        if let Some(w) = self.worker.take() {
+            let _ = w.join();
+        }
+    }
+}
+
+fn apply(updater: &mut Updater, batch: Vec<Edit>) -> Result<()> {
+    for e in batch {
+        match e {
+            Edit::Time(t) => updater.set_time(t)?,
+            Edit::Placement(node, p) => updater.set_placement(node, p)?,
+            Edit::AddInstance(mesh, p) => {
+                updater.add_instance(mesh, p)?;
+            }
+            Edit::RemoveInstance(node) => updater.remove_instance(node)?,
+            Edit::Material(i, m) => updater.set_material(i, *m)?,
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn generations_arrive_in_order_with_the_edits_of_their_submission() {
+        let scene = crate::scene::cornell::scene();
+        let node = scene.nodes.iter().position(|n| n.mesh.is_some()).unwrap();
+        let (mut p, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
+        let added = p.add_instance(0, Placement::at(DVec3::X * 3.0)).unwrap();
+        p.submit().unwrap();
+        p.set_placement(node, Placement::at(DVec3::Y)).unwrap();
+        // A second submit while the first is built: it waits, and keeps the first generation.
+        p.submit().unwrap();
+        let a = p.take().unwrap();
+        let b = p.take().unwrap();
+        assert_eq!((a.id, b.id), (first.id + 1, first.id + 2));
+        assert_eq!(a.scene.instances.len(), first.scene.instances.len() + 1);
+        assert!(b.commit.arrays.iter().any(|c| c.array == 6));
+        assert_eq!(b.commit.mesh_bytes(), 0);
+        assert!(p.take().is_err(), "nothing submitted");
+        // Refused at the call, never reaching the updater.
+        assert!(p.remove_instance(added).is_ok());
+        assert!(p.remove_instance(added).is_err());
+        assert!(p.set_placement(9999, Placement::at(DVec3::ZERO)).is_err());
+        assert!(p.add_instance(42, Placement::at(DVec3::ZERO)).is_err());
+        p.submit().unwrap();
+        assert_eq!(
+            p.take().unwrap().scene.instances.len(),
+            first.scene.instances.len()
+        );
+        assert_eq!(p.blocked_times().len(), 6);
+    }
+}
