@@ -37,8 +37,8 @@ fn cesium_man() -> (Scene, Camera) {
 #[test]
 fn a_tracer_that_follows_commits_renders_the_bits_of_a_fresh_upload() {
     let (scene, camera) = cesium_man();
-    let (mut updater, first) = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
-    let mut followed = new_tracer(&first.scene);
+    let mut updater = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
+    let mut followed = new_tracer(updater.flattened());
     let params = FrameParams::new(24, 24, 4, camera);
     let before = render_with(&mut followed, &params);
     for t in [0.3f32, 0.6, 0.9] {
@@ -46,22 +46,16 @@ fn a_tracer_that_follows_commits_renders_the_bits_of_a_fresh_upload() {
         let g = updater.update().unwrap();
         assert!(g.refitted + g.rebuilt > 0, "the skin deformed its mesh");
         assert!(g.commit.mesh_bytes() > 0);
-        let stats = followed.apply_commit(&g.scene, &g.commit).unwrap();
+        let stats = followed.apply_commit(&g.commit).unwrap();
         assert_eq!(stats.bytes, g.commit.bytes());
     }
     // The camera alone moving: nothing to send.
     let still = updater.update().unwrap();
     assert!(still.commit.is_empty());
     assert_eq!(still.commit.mesh_bytes(), 0);
-    assert_eq!(
-        followed
-            .apply_commit(&still.scene, &still.commit)
-            .unwrap()
-            .bytes,
-        0
-    );
+    assert_eq!(followed.apply_commit(&still.commit).unwrap().bytes, 0);
     let after = render_with(&mut followed, &params);
-    let mut fresh = new_tracer(updater.current());
+    let mut fresh = new_tracer(updater.flattened());
     assert!(
         after == render_with(&mut fresh, &params),
         "commits drifted from the scene"
@@ -75,11 +69,11 @@ fn added_and_removed_instances_on_three_tracers_with_one_killed() {
     init();
     let scene = platoon::core::scene::cornell::scene();
     let camera = Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
-    let (mut updater, first) = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
+    let mut updater = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
     let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
     // Tracer 1 is lost from frame 2 on; the others take its lines on the current generation.
     let tracers: Vec<FaultInjector<Tracer>> =
-        create_tracers(&spec, &first.scene, true, Sampling::Mis)
+        create_tracers(&spec, updater.flattened(), true, Sampling::Mis)
             .unwrap()
             .into_iter()
             .enumerate()
@@ -103,11 +97,11 @@ fn added_and_removed_instances_on_three_tracers_with_one_killed() {
             _ => {}
         }
         let g = updater.update().unwrap();
-        renderer.apply_commit(&g.scene, &g.commit, f).unwrap();
+        renderer.apply_commit(&g.commit, f).unwrap();
         let mut params = FrameParams::new(16, 24, 2, camera);
         params.frame = f;
         let frame = renderer.render_frame(&params).expect("frame completes");
-        let mut fresh = new_tracer(&g.scene);
+        let mut fresh = new_tracer(updater.flattened());
         assert!(frame.film == render_with(&mut fresh, &params), "frame {f}");
     }
     assert_eq!(renderer.alive(), vec![0, 2]);

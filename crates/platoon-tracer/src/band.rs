@@ -234,10 +234,9 @@ impl BandTracer for Tracer {
 
     fn apply_commit(
         &mut self,
-        scene: &platoon_core::flatten::GpuScene,
         commit: &platoon_core::flatten::commit::Commit,
     ) -> std::result::Result<u64, TracerError> {
-        Tracer::apply_commit(self, scene, commit)
+        Tracer::apply_commit(self, commit)
             .map(|s| s.bytes)
             .map_err(|e| Box::new(e) as TracerError)
     }

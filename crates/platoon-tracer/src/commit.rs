@@ -4,10 +4,9 @@
 
 use ash::vk;
 use platoon_core::flatten::commit::Commit;
-use platoon_core::flatten::GpuScene;
 
-use crate::memory::{self, SCENE_ARRAYS};
-use crate::{Result, Tracer};
+use crate::memory::SCENE_ARRAYS;
+use crate::{Error, Result, Tracer};
 
 /// What applying a commit cost.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -19,15 +18,19 @@ pub struct CommitStats {
 }
 
 impl Tracer {
-    /// Brings this tracer's scene to `scene`, given the `commit` from the scene it holds now
-    /// (`Commit::between(previous, scene)`). Call between frames.
-    pub fn apply_commit(&mut self, scene: &GpuScene, commit: &Commit) -> Result<CommitStats> {
-        let arrays = memory::scene_array_bytes(scene);
+    /// Brings this tracer's scene to the next generation: `commit` holds what changed since the
+    /// scene it has (with the bytes). Call between frames.
+    pub fn apply_commit(&mut self, commit: &Commit) -> Result<CommitStats> {
         let mut stats = CommitStats::default();
         let mut writes: Vec<(vk::Buffer, u64, &[u8])> = Vec::new();
         for a in &commit.arrays {
-            let bytes = arrays[a.array];
             if a.len > self.scene.list[a.array].size {
+                if !a.is_whole() {
+                    return Err(Error::Shader(format!(
+                        "a commit grows {} past its buffer without sending it whole",
+                        SCENE_ARRAYS[a.array].name
+                    )));
+                }
                 // Half as much again, so a growing array is not reallocated every frame.
                 let capacity = a.len + a.len / 2;
                 let buffer = self.array_buffer(SCENE_ARRAYS[a.array].name, capacity)?;
@@ -35,22 +38,16 @@ impl Tracer {
                 self.wait_idle()?;
                 old.destroy(&self.ctx.device, &mut self.allocator);
                 stats.reallocated += 1;
-                // The new buffer holds nothing yet: send the array whole.
-                writes.push((self.scene.list[a.array].buffer, 0, bytes));
-                continue;
             }
             let buffer = self.scene.list[a.array].buffer;
-            for &(offset, len) in &a.ranges {
-                let (o, l) = (offset as usize, len as usize);
-                writes.push((buffer, offset, &bytes[o..o + l]));
-            }
+            writes.extend(a.pieces().map(|(offset, bytes)| (buffer, offset, bytes)));
         }
         stats.bytes = writes.iter().map(|w| w.2.len() as u64).sum();
         self.write_buffers(&writes)?;
         if stats.reallocated > 0 {
             self.bind_scene_arrays()?;
         }
-        self.refresh_globals(scene);
+        self.refresh_globals(&commit.header);
         Ok(stats)
     }
 }

@@ -6,6 +6,7 @@ use std::mem::ManuallyDrop;
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::MemoryLocation;
+use platoon_core::flatten::commit::SceneHeader;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::FrameParams;
 use platoon_core::FeatureSet;
@@ -273,12 +274,12 @@ impl Tracer {
             .map(|(d, b)| (b.buffer, 0, *d))
             .collect();
         self.write_buffers(&writes)?;
-        self.refresh_globals(s);
+        self.refresh_globals(&s.header());
         Ok(())
     }
 
     /// The Globals fields that come from the scene: array addresses, counts, environment.
-    pub(crate) fn refresh_globals(&mut self, s: &GpuScene) {
+    pub(crate) fn refresh_globals(&mut self, h: &SceneHeader) {
         let a: Vec<u64> = self.scene.list.iter().map(|b| b.address).collect();
         let mut g = Globals {
             vertices: a[0],
@@ -299,21 +300,16 @@ impl Tracer {
             ..Default::default()
         };
         g.env_color = [
-            s.env.color[0],
-            s.env.color[1],
-            s.env.color[2],
-            s.env.integral,
+            h.env_color[0],
+            h.env_color[1],
+            h.env_color[2],
+            h.env_integral,
         ];
-        g.dims[2] = s.env.width;
-        g.dims[3] = s.env.height;
-        g.counts = [
-            s.lights.len() as u32,
-            s.instances.len() as u32,
-            s.tlas_root,
-            s.env.kind,
-        ];
+        g.dims[2] = h.env_size[0];
+        g.dims[3] = h.env_size[1];
+        g.counts = [h.lights, h.instances, h.tlas_root, h.env_kind];
         self.scene.globals = g;
-        self.features = s.features;
+        self.features = h.features;
     }
 
     /// Accumulation, stats and readback buffers for a frame size, reused while it stays.

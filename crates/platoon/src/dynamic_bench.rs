@@ -163,7 +163,7 @@ fn run_frames(o: &Options, animated: bool) -> Result<(Vec<FrameRecord>, Vec<Dura
         lavapipe_threads: Some(o.lavapipe_threads),
         ..Default::default()
     };
-    let mut tracer = Tracer::new(&options, &first.scene)?;
+    let mut tracer = Tracer::new(&options, &first)?;
     let edits = |p: &mut Pipeline, f: u32| -> Result<()> {
         if animated {
             p.set_time(f as f32 / 30.0)?;
@@ -183,7 +183,7 @@ fn run_frames(o: &Options, animated: bool) -> Result<(Vec<FrameRecord>, Vec<Dura
         edits(&mut pipeline, f + 2)?;
         pipeline.submit()?;
         let apply = Instant::now();
-        let stats = tracer.apply_commit(&g.scene, &g.commit)?;
+        let stats = tracer.apply_commit(&g.commit)?;
         let apply_ms = ms(apply.elapsed());
         let mut params = FrameParams::new(o.width, o.height, 1, camera);
         params.frame = f;

@@ -7,6 +7,7 @@
 
 use std::collections::{HashSet, VecDeque};
 use std::sync::mpsc::{self, Receiver, SyncSender};
+use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -14,6 +15,7 @@ use glam::DVec3;
 
 use super::{Generation, Updater};
 use crate::error::{Error, Result};
+use crate::flatten::GpuScene;
 use crate::scene::placement::invalid;
 use crate::scene::{Material, Placement, Scene};
 
@@ -78,10 +80,11 @@ pub struct Pipeline {
 
 impl Pipeline {
     /// Starts the updater thread for `scene` (see [`Updater::new`]); returns the pipeline and
-    /// the first generation, built before it returns.
-    pub fn new(scene: Scene, time: f32, origin: DVec3) -> Result<(Pipeline, Generation)> {
+    /// the first generation's flattened scene (what the tracers are created with).
+    pub fn new(scene: Scene, time: f32, origin: DVec3) -> Result<(Pipeline, Arc<GpuScene>)> {
         let mirror = Mirror::of(&scene);
-        let (mut updater, first) = Updater::new(scene, time, origin)?;
+        let mut updater = Updater::new(scene, time, origin)?;
+        let first = Arc::new(updater.flattened().clone());
         let (to_updater, edits) = mpsc::sync_channel::<Vec<Edit>>(1);
         let (done, from_updater) = mpsc::sync_channel::<Result<Generation>>(1);
         let worker = std::thread::Builder::new()
@@ -249,8 +252,8 @@ mod tests {
         p.submit().unwrap();
         let a = p.take().unwrap();
         let b = p.take().unwrap();
-        assert_eq!((a.id, b.id), (first.id + 1, first.id + 2));
-        assert_eq!(a.scene.instances.len(), first.scene.instances.len() + 1);
+        assert_eq!((a.id, b.id), (2, 3));
+        assert_eq!(a.commit.header.instances, first.instances.len() as u32 + 1);
         assert!(b.commit.arrays.iter().any(|c| c.array == 6));
         assert_eq!(b.commit.mesh_bytes(), 0);
         assert!(p.take().is_err(), "nothing submitted");
@@ -260,10 +263,8 @@ mod tests {
         assert!(p.set_placement(9999, Placement::at(DVec3::ZERO)).is_err());
         assert!(p.add_instance(42, Placement::at(DVec3::ZERO)).is_err());
         p.submit().unwrap();
-        assert_eq!(
-            p.take().unwrap().scene.instances.len(),
-            first.scene.instances.len()
-        );
+        let c = p.take().unwrap();
+        assert_eq!(c.commit.header.instances, first.instances.len() as u32);
         assert_eq!(p.blocked_times().len(), 6);
     }
 }

@@ -16,9 +16,9 @@ use crate::error::Result;
 use crate::flatten::bvh::{build_mesh_bvh, FlatBvh};
 use crate::flatten::commit::Commit;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
-use crate::flatten::{used_meshes, GpuScene};
+use crate::flatten::{used_meshes, GpuScene, MeshRegion};
 use crate::scene::placement::{invalid, Placement};
-use crate::scene::{Material, Node, Posed, Scene};
+use crate::scene::{Material, Mesh, Node, Posed, Scene};
 
 /// Where an update spent its time.
 #[derive(Clone, Copy, Debug, Default)]
@@ -33,12 +33,12 @@ pub struct UpdateTimes {
     pub commit: Duration,
 }
 
-/// One generation of the scene: immutable, shared with every tracer.
+/// One generation of the scene as the tracers receive it: what changed since the previous one,
+/// immutable and shared by every tracer.
 #[derive(Clone)]
 pub struct Generation {
     pub id: u64,
-    pub scene: Arc<GpuScene>,
-    /// What changed from the previous generation's scene (everything, for the first).
+    /// What changed from the previous generation's scene, with the bytes.
     pub commit: Arc<Commit>,
     pub times: UpdateTimes,
     /// Deforming meshes refitted and rebuilt in this update.
@@ -54,18 +54,23 @@ pub struct Updater {
     policy: RefitPolicy,
     /// Flattened BVHs of static meshes, by scene mesh.
     static_bvhs: HashMap<usize, FlatBvh>,
-    /// BVHs of skinned meshes, by the node that poses them.
-    deforming: HashMap<usize, MeshBvh>,
+    /// Skinned meshes by the node that poses them: the pose last flattened, its BVH kept from
+    /// frame to frame, and that BVH flattened.
+    deforming: HashMap<usize, Skinned>,
     /// Nodes whose instance the game removed.
     removed: HashSet<usize>,
-    current: Arc<GpuScene>,
+    /// The latest generation, flattened (rewritten in place where meshes deform).
+    state: GpuScene,
+    /// Per posed mesh: vertices, triangles and node capacity of the layout of `state`.
+    layout: Vec<(usize, usize, usize)>,
+    materials_dirty: bool,
     generation: u64,
 }
 
 impl Updater {
-    /// The updater of `scene` at animation `time`, posed around `origin`, and its first
-    /// generation (whose commit is the whole scene).
-    pub fn new(scene: Scene, time: f32, origin: DVec3) -> Result<(Updater, Generation)> {
+    /// The updater of `scene` at animation `time`, posed around `origin`, with its first
+    /// generation flattened (see [`Updater::flattened`]: what a new tracer uploads).
+    pub fn new(scene: Scene, time: f32, origin: DVec3) -> Result<Updater> {
         let mut updater = Updater {
             scene,
             origin,
@@ -74,11 +79,13 @@ impl Updater {
             static_bvhs: HashMap::new(),
             deforming: HashMap::new(),
             removed: HashSet::new(),
-            current: Arc::new(GpuScene::default()),
+            state: GpuScene::default(),
+            layout: Vec::new(),
+            materials_dirty: false,
             generation: 0,
         };
-        let first = updater.update()?;
-        Ok((updater, first))
+        updater.update()?;
+        Ok(updater)
     }
 
     pub fn scene(&self) -> &Scene {
@@ -89,9 +96,13 @@ impl Updater {
         self.time
     }
 
-    /// The latest generation's flattened scene.
-    pub fn current(&self) -> &Arc<GpuScene> {
-        &self.current
+    /// The latest generation's flattened scene: what a tracer created now uploads.
+    pub fn flattened(&self) -> &GpuScene {
+        &self.state
+    }
+
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     pub fn set_refit_policy(&mut self, policy: RefitPolicy) {
@@ -159,6 +170,7 @@ impl Updater {
             .ok_or_else(|| invalid(format!("no material {index} (the scene has {count})")))?;
         check_material(index, &material)?;
         *slot = material;
+        self.materials_dirty = true;
         Ok(())
     }
 
@@ -175,7 +187,10 @@ impl Updater {
             .ok_or_else(|| invalid(format!("no node {node} (the scene has {count})")))
     }
 
-    /// Makes the next generation from the scene as edited so far.
+    /// Makes the next generation from the scene as edited so far. When every posed mesh keeps
+    /// its counts (the common case: rigid motion, skinning, refits), the previous generation is
+    /// updated in place and the commit holds exactly what was rewritten; otherwise (instances of
+    /// new meshes, a changed layout) the scene is flattened anew and compared chunk by chunk.
     pub fn update(&mut self) -> Result<Generation> {
         let mut times = UpdateTimes::default();
         let start = Instant::now();
@@ -183,34 +198,76 @@ impl Updater {
         times.pose = start.elapsed();
 
         let start = Instant::now();
-        let (bvhs, capacity, refitted, rebuilt) = self.bottom_levels(&posed);
+        let meshes = used_meshes(&posed);
+        let levels = self.bottom_levels(&posed, &meshes);
         times.bottom_level = start.elapsed();
 
         let start = Instant::now();
-        let env = self.scene.environment.as_ref();
-        let next = GpuScene::build_with(&self.scene, &posed, env, &bvhs, &capacity)?;
-        times.flatten = start.elapsed();
-
-        let start = Instant::now();
-        let commit = Commit::between(&self.current, &next);
-        times.commit = start.elapsed();
-
-        self.current = Arc::new(next);
+        let refs: Vec<&FlatBvh> = levels
+            .bvhs
+            .iter()
+            .map(|b| match b {
+                Level::Static(i) => &self.static_bvhs[i],
+                Level::Skinned(node) => &self.deforming[node].flat,
+                Level::Empty => &EMPTY,
+            })
+            .collect();
+        let layout: Vec<(usize, usize, usize)> = meshes
+            .iter()
+            .zip(&refs)
+            .zip(&levels.capacity)
+            .map(|((m, b), &c)| (m.positions.len(), b.order.len(), c.max(b.nodes.len())))
+            .collect();
+        let commit = if self.generation > 0 && layout == self.layout {
+            let mut ranges = Vec::new();
+            for &(i, rebuilt) in &levels.deformed {
+                let r = self
+                    .state
+                    .rewrite_mesh(&self.scene, i, &meshes[i], refs[i])?;
+                ranges.extend(region_ranges(&r, refs[i].nodes.len() as u64, rebuilt));
+            }
+            if std::mem::take(&mut self.materials_dirty) {
+                self.state.set_materials(&self.scene);
+                ranges.extend([7, 8, 9].map(|a| (a, 0, self.state.array_bytes()[a].len() as u64)));
+            }
+            let before = top_arrays(&self.state);
+            self.state.place(&self.scene, &posed, &refs)?;
+            let after = top_arrays(&self.state);
+            for (k, (b, a)) in before.iter().zip(&after).enumerate() {
+                if b != a {
+                    ranges.push((TOP_ARRAYS[k], 0, a.len() as u64));
+                }
+            }
+            times.flatten = start.elapsed();
+            let start = Instant::now();
+            let commit = Commit::of_ranges(&self.state, ranges);
+            times.commit = start.elapsed();
+            commit
+        } else {
+            let env = self.scene.environment.as_ref();
+            let next = GpuScene::build_with(&self.scene, &posed, env, &refs, &levels.capacity)?;
+            times.flatten = start.elapsed();
+            let start = Instant::now();
+            let commit = Commit::between(&self.state, &next);
+            times.commit = start.elapsed();
+            self.state = next;
+            self.layout = layout;
+            self.materials_dirty = false;
+            commit
+        };
         self.generation += 1;
         Ok(Generation {
             id: self.generation,
-            scene: self.current.clone(),
             commit: Arc::new(commit),
             times,
-            refitted,
-            rebuilt,
+            refitted: levels.refitted,
+            rebuilt: levels.rebuilt,
         })
     }
 
-    /// The BVH and node capacity of every posed mesh: static ones from the cache, skinned ones
-    /// refitted (or built, for a node seen for the first time).
-    fn bottom_levels(&mut self, posed: &Posed) -> (Vec<FlatBvh>, Vec<usize>, usize, usize) {
-        let meshes = used_meshes(posed);
+    /// The BVH and node capacity of every posed mesh: static ones from the cache (built on
+    /// first use), skinned ones refitted (or built, for a node seen for the first time).
+    fn bottom_levels(&mut self, posed: &Posed, meshes: &[Arc<Mesh>]) -> Levels {
         let base = self.scene.meshes.len();
         // A skinned mesh is posed once per node, after the scene's own meshes.
         let node_of: HashMap<usize, usize> = posed
@@ -219,45 +276,130 @@ impl Updater {
             .filter(|i| i.mesh >= base)
             .map(|i| (i.mesh, i.node))
             .collect();
-        let (mut refitted, mut rebuilt) = (0, 0);
-        let mut bvhs = Vec::with_capacity(meshes.len());
-        let mut capacity = Vec::with_capacity(meshes.len());
+        let mut levels = Levels::default();
         for (i, mesh) in meshes.iter().enumerate() {
             if mesh.indices.is_empty() {
-                bvhs.push(FlatBvh::default());
-                capacity.push(0);
+                levels.bvhs.push(Level::Empty);
+                levels.capacity.push(0);
             } else if let Some(&node) = node_of.get(&i) {
-                let bvh = match self.deforming.get_mut(&node) {
-                    Some(b) => {
-                        match b.update(mesh, &self.policy) {
-                            Update::Refitted => refitted += 1,
-                            Update::Rebuilt => rebuilt += 1,
-                        }
-                        b
+                match self.deforming.get_mut(&node) {
+                    // The same pose as last time (time and joints unchanged): nothing to do.
+                    Some(s) if same_pose(&s.posed, mesh) => {}
+                    Some(s) => {
+                        let may_rebuild = levels.rebuilt < self.policy.max_rebuilds_per_update;
+                        let rebuilt = match s.bvh.update(mesh, &self.policy, may_rebuild) {
+                            Update::Refitted => {
+                                levels.refitted += 1;
+                                false
+                            }
+                            Update::Rebuilt => {
+                                levels.rebuilt += 1;
+                                true
+                            }
+                        };
+                        s.flat = s.bvh.flat();
+                        s.posed = mesh.clone();
+                        levels.deformed.push((i, rebuilt));
                     }
                     None => {
-                        rebuilt += 1;
-                        self.deforming.entry(node).or_insert(MeshBvh::build(mesh))
+                        levels.rebuilt += 1;
+                        let bvh = MeshBvh::build(mesh);
+                        let flat = bvh.flat();
+                        let posed = mesh.clone();
+                        self.deforming.insert(node, Skinned { posed, bvh, flat });
+                        levels.deformed.push((i, true));
                     }
-                };
-                bvhs.push(bvh.flat());
+                }
+                levels.bvhs.push(Level::Skinned(node));
                 // A binary tree over n triangles has fewer than n inner nodes: any rebuild fits.
-                capacity.push(mesh.indices.len().max(1));
+                levels.capacity.push(mesh.indices.len().max(1));
             } else {
                 let flat = self
                     .static_bvhs
                     .entry(i)
-                    .or_insert_with(|| build_mesh_bvh(mesh))
-                    .clone();
-                capacity.push(flat.nodes.len());
-                bvhs.push(flat);
+                    .or_insert_with(|| build_mesh_bvh(mesh));
+                levels.capacity.push(flat.nodes.len());
+                levels.bvhs.push(Level::Static(i));
             }
         }
         // Forget the BVHs of skinned nodes that no longer pose a mesh.
         let live: HashSet<usize> = node_of.values().copied().collect();
         self.deforming.retain(|node, _| live.contains(node));
-        (bvhs, capacity, refitted, rebuilt)
+        levels
     }
+}
+
+static EMPTY: FlatBvh = FlatBvh {
+    nodes: Vec::new(),
+    root: 0,
+    order: Vec::new(),
+    bounds: (glam::Vec3::ZERO, glam::Vec3::ZERO),
+};
+
+/// One posed mesh's BVH for this generation.
+enum Level {
+    Empty,
+    /// In the static cache, by mesh.
+    Static(usize),
+    /// Posed by this node.
+    Skinned(usize),
+}
+
+struct Skinned {
+    posed: Arc<Mesh>,
+    bvh: MeshBvh,
+    flat: FlatBvh,
+}
+
+/// Whether a skinned mesh came out of posing exactly as last time.
+fn same_pose(before: &Mesh, now: &Mesh) -> bool {
+    before.positions == now.positions
+        && before.normals == now.normals
+        && before.tangents == now.tangents
+}
+
+#[derive(Default)]
+struct Levels {
+    bvhs: Vec<Level>,
+    capacity: Vec<usize>,
+    /// Posed meshes rewritten this generation, and whether their BVH was rebuilt (which
+    /// reorders their triangles).
+    deformed: Vec<(usize, bool)>,
+    refitted: usize,
+    rebuilt: usize,
+}
+
+/// The arrays rebuilt whole every generation: top level, instances, lights, selection CDF.
+const TOP_ARRAYS: [usize; 4] = [5, 6, 10, 11];
+
+fn top_arrays(g: &GpuScene) -> [Vec<u8>; 4] {
+    let b = g.array_bytes();
+    TOP_ARRAYS.map(|a| b[a].to_vec())
+}
+
+/// The byte ranges of a mesh's region that a rewrite changed: vertices, triangle corners and the
+/// `nodes` in use; its triangles and their light indices too when the BVH was rebuilt (a refit
+/// keeps the triangle order).
+fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, u64)> {
+    use crate::flatten::{GpuTriangle, GpuVertex};
+    use std::mem::size_of;
+    let (tb, tc) = (r.triangle_base as u64, r.triangle_count as u64);
+    let vertex = size_of::<GpuVertex>() as u64;
+    let node = size_of::<crate::flatten::bvh::BvhNode>() as u64;
+    let triangle = size_of::<GpuTriangle>() as u64;
+    let mut ranges = vec![
+        (
+            0,
+            r.vertex_base as u64 * vertex,
+            r.vertex_count as u64 * vertex,
+        ),
+        (1, 3 * tb * 16, 3 * tc * 16),
+        (4, r.node_base as u64 * node, nodes * node),
+    ];
+    if rebuilt {
+        ranges.extend([(2, tb * triangle, tc * triangle), (3, tb * 4, tc * 4)]);
+    }
+    ranges
 }
 
 /// A material a game may set: every factor finite.
@@ -283,28 +425,25 @@ pub(crate) fn check_material(index: usize, m: &Material) -> Result<()> {
 mod tests {
     use super::*;
     use crate::flatten::commit::MESH_ARRAYS;
+    use crate::scene::Placement;
 
-    fn cornell() -> (Updater, Generation) {
+    fn cornell() -> Updater {
         Updater::new(crate::scene::cornell::scene(), 0.0, DVec3::ZERO).unwrap()
     }
 
     #[test]
-    fn the_first_generation_is_the_whole_scene_and_an_unchanged_one_commits_nothing() {
-        let (mut u, first) = cornell();
-        assert_eq!(first.commit.bytes(), {
-            let s = first.scene.array_bytes();
-            s.iter().map(|a| a.len() as u64).sum::<u64>()
-        });
+    fn the_first_generation_is_a_fresh_build_and_an_unchanged_one_commits_nothing() {
+        let mut u = cornell();
         let fresh = GpuScene::build(u.scene(), &u.scene().pose(0.0), None).unwrap();
-        assert_eq!(fresh.vertices.len(), first.scene.vertices.len());
+        assert_eq!(fresh.array_bytes(), u.flattened().array_bytes());
         let next = u.update().unwrap();
-        assert!(next.commit.is_empty(), "{:?}", next.commit);
-        assert_eq!(next.id, first.id + 1);
+        assert!(next.commit.is_empty(), "{:?}", next.commit.arrays);
+        assert_eq!(next.id, 2);
     }
 
     #[test]
     fn a_rigid_move_commits_no_mesh_data() {
-        let (mut u, _) = cornell();
+        let mut u = cornell();
         let node = u
             .scene()
             .nodes
@@ -315,18 +454,22 @@ mod tests {
             .unwrap();
         let g = u.update().unwrap();
         assert!(!g.commit.is_empty());
-        assert_eq!(g.commit.mesh_bytes(), 0, "{:?}", g.commit);
+        assert_eq!(g.commit.mesh_bytes(), 0);
         assert!(g.commit.arrays.iter().any(|a| a.array == 6), "instances");
+        // In place and by the commit's ranges, the same as flattening the moved scene anew.
+        let fresh = GpuScene::build(u.scene(), &u.scene().pose(0.0), None).unwrap();
+        assert_eq!(fresh.array_bytes(), u.flattened().array_bytes());
     }
 
     #[test]
     fn instances_come_and_go_and_bad_edits_are_refused() {
-        let (mut u, first) = cornell();
+        let mut u = cornell();
+        let instances = u.flattened().instances.len();
         let node = u
             .add_instance(0, Placement::at(DVec3::new(3.0, 0.0, 0.0)))
             .unwrap();
         let g = u.update().unwrap();
-        assert_eq!(g.scene.instances.len(), first.scene.instances.len() + 1);
+        assert_eq!(u.flattened().instances.len(), instances + 1);
         // The new instance reuses the mesh: no bottom-level bytes.
         assert!(g
             .commit
@@ -334,8 +477,8 @@ mod tests {
             .iter()
             .all(|a| !MESH_ARRAYS.contains(&a.array)));
         u.remove_instance(node).unwrap();
-        let g = u.update().unwrap();
-        assert_eq!(g.scene.instances.len(), first.scene.instances.len());
+        u.update().unwrap();
+        assert_eq!(u.flattened().instances.len(), instances);
         let twice = u.remove_instance(node).unwrap_err().to_string();
         assert!(twice.contains("already removed"), "{twice}");
         assert!(u.add_instance(99, Placement::at(DVec3::ZERO)).is_err());
@@ -346,5 +489,14 @@ mod tests {
         assert!(u.set_material(0, m).is_err());
         // Nothing refused reached the scene.
         assert!(u.update().unwrap().commit.is_empty());
+        // A material edit sends the materials.
+        let mut m = u.scene().materials[0].clone();
+        m.roughness = 0.5;
+        u.set_material(0, m).unwrap();
+        let g = u.update().unwrap();
+        assert_eq!(
+            g.commit.arrays.iter().map(|a| a.array).collect::<Vec<_>>(),
+            vec![7]
+        );
     }
 }

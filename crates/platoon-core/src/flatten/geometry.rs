@@ -25,79 +25,129 @@ pub fn used_meshes(posed: &Posed) -> Vec<Arc<Mesh>> {
         .collect()
 }
 
-/// Where each mesh landed in the global arrays.
-pub(super) struct BottomLevel {
-    /// The root item of each mesh's BVH.
-    pub blas_root: Vec<u32>,
-    /// The first global triangle of each mesh.
-    pub tri_base: Vec<u32>,
+/// Where one mesh lives in the global arrays (a CPU-side record: a deforming mesh is rewritten in
+/// place, and the tracers get just that range).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MeshRegion {
+    pub vertex_base: u32,
+    pub vertex_count: u32,
+    pub triangle_base: u32,
+    pub triangle_count: u32,
+    pub node_base: u32,
+    pub node_capacity: u32,
+    /// The root item of the mesh's BVH (global indices).
+    pub root: u32,
 }
 
 /// Appends every mesh's vertices, triangles (in leaf order, with their emissive-light indices)
-/// and BVH nodes to `g`, each mesh's nodes padded to its `node_capacity`.
+/// and BVH nodes to `g`, each mesh's nodes padded to its `node_capacity`, and records where.
 pub(super) fn bottom_level(
     scene: &Scene,
     meshes: &[Arc<Mesh>],
-    mesh_bvhs: &[FlatBvh],
+    mesh_bvhs: &[&FlatBvh],
     node_capacity: &[usize],
     g: &mut GpuScene,
-) -> Result<BottomLevel> {
-    let mut blas_root = Vec::with_capacity(meshes.len());
-    let mut tri_base = Vec::with_capacity(meshes.len());
+) -> Result<()> {
+    g.regions.clear();
     for ((mesh, flat), &capacity) in meshes.iter().zip(mesh_bvhs).zip(node_capacity) {
-        let vbase = g.vertices.len() as u32;
-        let tbase = g.triangles.len() as u32;
-        let nbase = g.blas_nodes.len() as u32;
-        tri_base.push(tbase);
-        for (i, p) in mesh.positions.iter().enumerate() {
-            let uv = mesh.uvs.get(i).copied().unwrap_or_default();
-            let n = mesh.normals.get(i).copied().unwrap_or_default();
-            let t = mesh.tangents.get(i).copied().unwrap_or_default();
-            g.vertices.push(GpuVertex {
-                position_u: [p.x, p.y, p.z, uv.x],
-                normal_v: [n.x, n.y, n.z, uv.y],
-                tangent: t.to_array(),
-            });
-        }
-        let mut local_light = 0u32;
-        for &orig in &flat.order {
-            let tri = mesh.indices[orig as usize];
-            let material = mesh.triangle_materials[orig as usize];
-            for &v in &tri {
-                let p = mesh.positions[v as usize];
-                g.triangle_positions.push([p.x, p.y, p.z, 0.0]);
-            }
-            g.triangles.push(GpuTriangle {
-                v: tri.map(|v| v + vbase),
-                material,
-            });
-            if scene.materials[material as usize].is_emissive() {
-                g.triangle_lights.push(local_light);
-                local_light += 1;
-            } else {
-                g.triangle_lights.push(u32::MAX);
-            }
-        }
-        let too_large = || {
-            Error::Invalid(format!(
-                "more than {} triangles or BVH nodes: too large for the kernel's node items",
-                bvh::MAX_ITEM_INDEX
-            ))
+        let region = MeshRegion {
+            vertex_base: g.vertices.len() as u32,
+            vertex_count: mesh.positions.len() as u32,
+            triangle_base: g.triangles.len() as u32,
+            triangle_count: flat.order.len() as u32,
+            node_base: g.blas_nodes.len() as u32,
+            node_capacity: capacity.max(flat.nodes.len()) as u32,
+            root: 0,
         };
-        for n in &flat.nodes {
-            g.blas_nodes
-                .push(n.rebased(nbase, tbase).ok_or_else(too_large)?);
-        }
-        let padding = capacity.saturating_sub(flat.nodes.len());
-        g.blas_nodes
-            .extend(std::iter::repeat_n(bvh::BvhNode::default(), padding));
-        blas_root.push(bvh::rebase_item(flat.root, nbase, tbase).ok_or_else(too_large)?);
+        g.vertices.resize(
+            g.vertices.len() + region.vertex_count as usize,
+            Default::default(),
+        );
+        let triangles = region.triangle_count as usize;
+        g.triangle_positions
+            .resize(g.triangle_positions.len() + 3 * triangles, [0.0; 4]);
+        g.triangles
+            .resize(g.triangles.len() + triangles, Default::default());
+        g.triangle_lights
+            .resize(g.triangle_lights.len() + triangles, u32::MAX);
+        g.blas_nodes.resize(
+            g.blas_nodes.len() + region.node_capacity as usize,
+            Default::default(),
+        );
+        g.regions.push(region);
+        write_mesh(scene, g.regions.len() - 1, mesh, flat, g)?;
     }
     g.triangle_count = g.triangles.len();
-    Ok(BottomLevel {
-        blas_root,
-        tri_base,
-    })
+    Ok(())
+}
+
+/// Writes `mesh` and its BVH `flat` into region `index` of `g` (whose counts it must match,
+/// its nodes fitting the region's capacity): the whole of a mesh's data, in place.
+pub(super) fn write_mesh(
+    scene: &Scene,
+    index: usize,
+    mesh: &Mesh,
+    flat: &FlatBvh,
+    g: &mut GpuScene,
+) -> Result<()> {
+    let r = g.regions[index];
+    let fits = r.vertex_count as usize == mesh.positions.len()
+        && r.triangle_count as usize == flat.order.len()
+        && flat.nodes.len() <= r.node_capacity as usize;
+    if !fits {
+        return Err(Error::Invalid(format!(
+            "mesh {index} no longer fits its region (vertices, triangles or BVH nodes changed)"
+        )));
+    }
+    let vertices = &mut g.vertices[r.vertex_base as usize..][..r.vertex_count as usize];
+    for (i, (v, p)) in vertices.iter_mut().zip(&mesh.positions).enumerate() {
+        let uv = mesh.uvs.get(i).copied().unwrap_or_default();
+        let n = mesh.normals.get(i).copied().unwrap_or_default();
+        let t = mesh.tangents.get(i).copied().unwrap_or_default();
+        *v = GpuVertex {
+            position_u: [p.x, p.y, p.z, uv.x],
+            normal_v: [n.x, n.y, n.z, uv.y],
+            tangent: t.to_array(),
+        };
+    }
+    let (tbase, vbase) = (r.triangle_base as usize, r.vertex_base);
+    let mut local_light = 0u32;
+    for (k, &orig) in flat.order.iter().enumerate() {
+        let tri = mesh.indices[orig as usize];
+        let material = mesh.triangle_materials[orig as usize];
+        for (c, &v) in tri.iter().enumerate() {
+            let p = mesh.positions[v as usize];
+            g.triangle_positions[3 * (tbase + k) + c] = [p.x, p.y, p.z, 0.0];
+        }
+        g.triangles[tbase + k] = GpuTriangle {
+            v: tri.map(|v| v + vbase),
+            material,
+        };
+        g.triangle_lights[tbase + k] = if scene.materials[material as usize].is_emissive() {
+            local_light += 1;
+            local_light - 1
+        } else {
+            u32::MAX
+        };
+    }
+    let too_large = || {
+        Error::Invalid(format!(
+            "more than {} triangles or BVH nodes: too large for the kernel's node items",
+            bvh::MAX_ITEM_INDEX
+        ))
+    };
+    let nodes = &mut g.blas_nodes[r.node_base as usize..][..r.node_capacity as usize];
+    for (slot, n) in nodes.iter_mut().enumerate() {
+        *n = match flat.nodes.get(slot) {
+            Some(n) => n
+                .rebased(r.node_base, r.triangle_base)
+                .ok_or_else(too_large)?,
+            None => Default::default(),
+        };
+    }
+    g.regions[index].root =
+        bvh::rebase_item(flat.root, r.node_base, r.triangle_base).ok_or_else(too_large)?;
+    Ok(())
 }
 
 /// The top level over the instances of non-empty meshes whose world box is placeable: its
@@ -105,7 +155,7 @@ pub(super) fn bottom_level(
 /// returned instances), the instances and the build time.
 pub(super) fn top_level<'a>(
     posed: &'a Posed,
-    mesh_bvhs: &[FlatBvh],
+    mesh_bvhs: &[&FlatBvh],
     g: &mut GpuScene,
 ) -> (FlatBvh, Vec<&'a Instance>, Duration) {
     let (live, boxes): (Vec<&Instance>, Vec<obvhs::aabb::Aabb>) = posed

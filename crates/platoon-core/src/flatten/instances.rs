@@ -5,7 +5,6 @@ use std::f64::consts::PI;
 use glam::{Mat4, Vec3};
 
 use super::bvh::FlatBvh;
-use super::geometry::BottomLevel;
 use super::layout::{GpuInstance, GpuLight, LIGHT_TRIANGLE};
 use super::GpuScene;
 use crate::scene::environment::luminance;
@@ -26,14 +25,14 @@ pub(super) fn add(
     scene: &Scene,
     tlas: &FlatBvh,
     live: &[&Instance],
-    bottom: &BottomLevel,
-    mesh_bvhs: &[FlatBvh],
+    mesh_bvhs: &[&FlatBvh],
     g: &mut GpuScene,
 ) -> Vec<f64> {
     let mut power: Vec<f64> = Vec::new();
     for (new_index, &orig) in tlas.order.iter().enumerate() {
         let inst = live[orig as usize];
-        let tb = bottom.tri_base[inst.mesh] as usize;
+        let region = g.regions[inst.mesh];
+        let tb = region.triangle_base as usize;
         let tri_count = mesh_bvhs[inst.mesh].order.len();
         let first_light = g.lights.len() as u32;
         let facing = if inst.object_to_world.determinant() < 0.0 {
@@ -67,7 +66,7 @@ pub(super) fn add(
         g.instances.push(GpuInstance {
             world_to_object: rows(&inst.object_to_world.inverse()),
             object_to_world: rows(&inst.object_to_world),
-            blas_root: bottom.blas_root[inst.mesh],
+            blas_root: region.root,
             light_base: if g.lights.len() as u32 > first_light {
                 first_light
             } else {

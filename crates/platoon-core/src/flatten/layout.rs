@@ -102,6 +102,8 @@ pub struct GpuEnvironment {
     pub marginal_cdf: Vec<f32>,
     pub conditional_cdf: Vec<f32>,
     pub integral: f32,
+    /// Mean radiance over the sphere (CPU side: the environment light's power).
+    pub mean_radiance: [f32; 3],
 }
 
 const _: () = {

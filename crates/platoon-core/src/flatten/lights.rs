@@ -3,6 +3,8 @@
 
 use std::f64::consts::PI;
 
+use glam::Vec3;
+
 use super::layout::{
     GpuEnvironment, GpuLight, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPOT,
 };
@@ -48,12 +50,16 @@ pub(super) fn add_punctual(scene: &Scene, posed: &Posed, g: &mut GpuScene, power
     }
 }
 
-/// Makes `environment` the scene's distant light and appends it to the lights.
-pub(super) fn add_environment(environment: &Environment, g: &mut GpuScene, power: &mut Vec<f64>) {
-    g.env = gpu_environment(environment);
+/// The environment as the kernel reads it (its map, CDFs and mean radiance, computed once).
+pub(super) fn set_environment(environment: Option<&Environment>, g: &mut GpuScene) {
+    g.env = environment.map(gpu_environment).unwrap_or_default();
+}
+
+/// Appends the environment set by [`set_environment`] to the lights.
+pub(super) fn add_environment_light(g: &mut GpuScene, power: &mut Vec<f64>) {
     // Flux of the environment through the scene's bounding sphere.
     let r = g.scene_radius;
-    power.push(PI * PI * r * r * luminance(environment.mean_radiance()) as f64);
+    power.push(PI * PI * r * r * luminance(Vec3::from_array(g.env.mean_radiance)) as f64);
     g.lights.push(GpuLight {
         ids: [LIGHT_ENVIRONMENT, 0, 0, 0],
         ..Default::default()
@@ -103,6 +109,7 @@ fn gpu_environment(env: &Environment) -> GpuEnvironment {
         Environment::Constant(c) => GpuEnvironment {
             kind: 1,
             color: c.to_array(),
+            mean_radiance: c.to_array(),
             ..Default::default()
         },
         Environment::Map(map) => {
@@ -116,6 +123,7 @@ fn gpu_environment(env: &Environment) -> GpuEnvironment {
                 marginal_cdf: d.marginal_cdf,
                 conditional_cdf: d.conditional_cdf,
                 integral: d.integral,
+                mean_radiance: map.mean_radiance().to_array(),
             }
         }
     }

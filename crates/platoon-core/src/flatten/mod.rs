@@ -24,7 +24,7 @@ use crate::flatten::features::FeatureSet;
 use crate::scene::environment::Environment;
 use crate::scene::{Posed, Scene};
 use bvh::{BvhNode, FlatBvh};
-pub use geometry::used_meshes;
+pub use geometry::{used_meshes, MeshRegion};
 
 /// Everything the kernel needs, as flat arrays.
 #[derive(Clone, Debug, Default)]
@@ -53,6 +53,8 @@ pub struct GpuScene {
     /// Radius of the scene's bounding sphere (for directional and environment light power), in
     /// f64: a vertex at 1e30 makes its square overflow f32.
     pub scene_radius: f64,
+    /// Where each posed mesh lives in the arrays (CPU side).
+    pub regions: Vec<MeshRegion>,
 }
 
 impl GpuScene {
@@ -66,7 +68,8 @@ impl GpuScene {
         let meshes = geometry::used_meshes(posed);
         let (mesh_bvhs, mesh_time) = bvh::timed(|| bvh::build_mesh_bvhs(&meshes));
         let capacity: Vec<usize> = mesh_bvhs.iter().map(|b| b.nodes.len()).collect();
-        let mut g = GpuScene::build_with(scene, posed, environment, &mesh_bvhs, &capacity)?;
+        let refs: Vec<&FlatBvh> = mesh_bvhs.iter().collect();
+        let mut g = GpuScene::build_with(scene, posed, environment, &refs, &capacity)?;
         g.build_times.meshes = mesh_time;
         Ok(g)
     }
@@ -79,28 +82,59 @@ impl GpuScene {
         scene: &Scene,
         posed: &Posed,
         environment: Option<&Environment>,
-        mesh_bvhs: &[FlatBvh],
+        mesh_bvhs: &[&FlatBvh],
         node_capacity: &[usize],
     ) -> Result<GpuScene> {
         let mut g = GpuScene::default();
         let meshes = geometry::used_meshes(posed);
-        let bottom = geometry::bottom_level(scene, &meshes, mesh_bvhs, node_capacity, &mut g)?;
-        let (tlas, live, instance_time) = geometry::top_level(posed, mesh_bvhs, &mut g);
-        g.build_times = bvh::BuildTimes {
-            meshes: Default::default(),
-            instances: instance_time,
-        };
-        materials::add(scene, &mut g);
-        // Light order: emissive triangles (by instance), punctual lights, the environment.
-        let mut power = instances::add(scene, &tlas, &live, &bottom, mesh_bvhs, &mut g);
-        lights::add_punctual(scene, posed, &mut g, &mut power);
-        if let Some(env) = environment {
-            lights::add_environment(env, &mut g, &mut power);
-        }
-        lights::set_selection(&mut g, &power)?;
-        g.features = FeatureSet::of_scene(scene);
-        g.features.emissive_triangles = g.lights.iter().any(|l| l.ids[0] == LIGHT_TRIANGLE);
-        g.features.environment_map = g.env.kind == 2;
+        geometry::bottom_level(scene, &meshes, mesh_bvhs, node_capacity, &mut g)?;
+        g.set_materials(scene);
+        lights::set_environment(environment, &mut g);
+        g.place(scene, posed, mesh_bvhs)?;
         Ok(g)
+    }
+
+    /// Materials and textures from `scene` (again, after an edit).
+    pub fn set_materials(&mut self, scene: &Scene) {
+        self.materials.clear();
+        self.textures.clear();
+        self.texels.clear();
+        materials::add(scene, self);
+    }
+
+    /// Rewrites mesh `index` in place with `mesh` and its BVH (same vertex and triangle counts,
+    /// nodes within the region's capacity: a deforming mesh); returns its region.
+    pub fn rewrite_mesh(
+        &mut self,
+        scene: &Scene,
+        index: usize,
+        mesh: &crate::scene::Mesh,
+        flat: &FlatBvh,
+    ) -> Result<MeshRegion> {
+        geometry::write_mesh(scene, index, mesh, flat, self)?;
+        Ok(self.regions[index])
+    }
+
+    /// Everything that follows from where the instances and lights are, over the bottom level
+    /// already in place: the top level, the instances, every light and the selection CDF, the
+    /// feature set.
+    pub fn place(&mut self, scene: &Scene, posed: &Posed, mesh_bvhs: &[&FlatBvh]) -> Result<()> {
+        self.tlas_nodes.clear();
+        self.instances.clear();
+        self.lights.clear();
+        self.light_cdf.clear();
+        let (tlas, live, instance_time) = geometry::top_level(posed, mesh_bvhs, self);
+        self.build_times.instances = instance_time;
+        // Light order: emissive triangles (by instance), punctual lights, the environment.
+        let mut power = instances::add(scene, &tlas, &live, mesh_bvhs, self);
+        lights::add_punctual(scene, posed, self, &mut power);
+        if self.env.kind != 0 {
+            lights::add_environment_light(self, &mut power);
+        }
+        lights::set_selection(self, &power)?;
+        self.features = FeatureSet::of_scene(scene);
+        self.features.emissive_triangles = self.lights.iter().any(|l| l.ids[0] == LIGHT_TRIANGLE);
+        self.features.environment_map = self.env.kind == 2;
+        Ok(())
     }
 }

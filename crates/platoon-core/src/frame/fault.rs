@@ -40,9 +40,8 @@ impl<T: BandTracer> BandTracer for FaultInjector<T> {
 
     fn apply_commit(
         &mut self,
-        scene: &crate::flatten::GpuScene,
         commit: &crate::flatten::commit::Commit,
     ) -> Result<u64, TracerError> {
-        self.inner.apply_commit(scene, commit)
+        self.inner.apply_commit(commit)
     }
 }

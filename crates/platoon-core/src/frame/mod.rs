@@ -98,12 +98,11 @@ pub trait BandTracer {
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError>;
 
-    /// Brings the tracer's copy of the scene to `scene`, `commit` being what changed since the
-    /// scene it holds; returns the bytes it uploaded. Called between frames. Tracers that hold
-    /// no scene (test fakes) have nothing to do.
+    /// Brings the tracer's copy of the scene to the next generation, `commit` being what
+    /// changed since the one it holds; returns the bytes it uploaded. Called between frames.
+    /// Tracers that hold no scene (test fakes) have nothing to do.
     fn apply_commit(
         &mut self,
-        _scene: &crate::flatten::GpuScene,
         _commit: &crate::flatten::commit::Commit,
     ) -> Result<u64, TracerError> {
         Ok(0)

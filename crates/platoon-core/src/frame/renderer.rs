@@ -134,7 +134,6 @@ impl<T: BandTracer + Send> Renderer<T> {
     /// to render: the others render its lines, on the new generation.
     pub fn apply_commit(
         &mut self,
-        scene: &crate::flatten::GpuScene,
         commit: &crate::flatten::commit::Commit,
         frame: u32,
     ) -> Result<Vec<(usize, u64)>, RenderError> {
@@ -142,7 +141,7 @@ impl<T: BandTracer + Send> Renderer<T> {
         let mut slot = 0;
         while slot < self.tracers.len() {
             let (id, tracer) = &mut self.tracers[slot];
-            match tracer.apply_commit(scene, commit) {
+            match tracer.apply_commit(commit) {
                 Ok(bytes) => {
                     uploaded.push((*id, bytes));
                     slot += 1;
