@@ -151,6 +151,19 @@ void main() {
     vec3 sum = vec3(0.0);
     uint rays = 0u;
     uint rejected = 0u;
+#ifdef OUTPUT_PRIMARY_HIT
+    // The first hit through the pixel centre (frame::Output::PrimaryHit; one sample per pixel):
+    // what the CPU ray queries are checked against.
+    vec2 size = vec2(F.dims.xy);
+    vec2 ndc = vec2(2.0 * (float(pixel.x) + 0.5) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + 0.5) / size.y);
+    vec3 dir = normalize(F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz);
+    Hit first;
+    rays = 1u;
+    if (trace(Ray(F.cam_origin.xyz, dir, INF), false, first))
+        sum = vec3(first.t, float(first.instance), float(first.triangle));
+    else
+        sum = vec3(-1.0);
+#else
     // Path regeneration (Bikker, ch. 6): samples and bounces share one loop, so a lane whose path
     // ends starts its next sample at once instead of idling until the longest path of its SIMD
     // group ends. Each sample still has its own random stream and is summed in sample order, so
@@ -167,6 +180,7 @@ void main() {
         rng = rng_init(pixel, si, F.params.y, F.params.z);
         p = path_start(camera_ray(pixel, rng));
     }
+#endif
     uint index = pixel.y * width + pixel.x;
     pc.g.accum.v[index] += vec4(sum, 0.0);
     if (rejected > 0u) atomicAdd(pc.g.stats.v[0], rejected);

@@ -6,10 +6,10 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
-use platoon::core::drive::Updater;
+use platoon::core::drive::{QueryScene, Updater};
 use platoon::core::frame::fault::FaultInjector;
 use platoon::core::frame::renderer::Renderer;
-use platoon::core::frame::FrameParams;
+use platoon::core::frame::{FrameParams, Output};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::environment::Environment;
 use platoon::core::scene::Placement;
@@ -109,4 +109,50 @@ fn added_and_removed_instances_on_three_tracers_with_one_killed() {
     for t in renderer.into_tracers() {
         assert_no_validation_messages(&t.inner);
     }
+}
+
+#[test]
+fn cpu_ray_queries_agree_with_the_kernels_primary_hits() {
+    let (scene, camera) = cesium_man();
+    let mut updater = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
+    let mut tracer = new_tracer(updater.flattened());
+    let mut queries = QueryScene::new(updater.flattened());
+    // Both follow the same commits to a walking pose.
+    updater.set_time(0.7).unwrap();
+    let g = updater.update().unwrap();
+    tracer.apply_commit(&g.commit).unwrap();
+    queries.apply_commit(&g.commit);
+    let (w, h) = (32u32, 32u32);
+    let mut params = FrameParams::new(w, h, 1, camera);
+    params.output = Output::PrimaryHit;
+    let film = render_with(&mut tracer, &params);
+    let basis = camera.basis(w, h);
+    let (mut agree, mut hits) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let gpu = film.pixels[(y * w + x) as usize];
+            let dir = basis.pixel_centre_direction(x, y, w, h);
+            let cpu = queries.closest_hit(basis.origin, dir, f32::INFINITY);
+            let same = match cpu {
+                None => gpu == [-1.0; 3],
+                Some(q) => {
+                    hits += 1;
+                    gpu[1] == q.instance as f32
+                        && gpu[2] == q.triangle as f32
+                        && (gpu[0] - q.t).abs() <= 1e-4 * q.t
+                }
+            };
+            agree += same as u32;
+        }
+    }
+    assert!(
+        hits > 50,
+        "the character fills part of the view: {hits} hits"
+    );
+    // Rays that graze a shared edge may pick either triangle; nearly all agree exactly.
+    assert!(
+        agree as f32 >= 0.99 * (w * h) as f32,
+        "{agree} of {} pixels agree",
+        w * h
+    );
 }

@@ -33,6 +33,11 @@ impl Tracer {
         stride: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
+        if params.output == platoon_core::frame::Output::PrimaryHit && params.spp != 1 {
+            return Err(crate::Error::Invalid(
+                "the primary-hit output is one sample per pixel: set spp to 1".into(),
+            ));
+        }
         let stride = stride.max(1);
         let (width, height) = (params.width, params.height);
         let y1 = y1.min(height);

@@ -26,7 +26,7 @@ impl Tracer {
         for a in &commit.arrays {
             if a.len > self.scene.list[a.array].size {
                 if !a.is_whole() {
-                    return Err(Error::Shader(format!(
+                    return Err(Error::Invalid(format!(
                         "a commit grows {} past its buffer without sending it whole",
                         SCENE_ARRAYS[a.array].name
                     )));

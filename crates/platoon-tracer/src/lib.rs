@@ -38,6 +38,8 @@ pub enum Error {
     Memory(#[from] gpu_allocator::AllocationError),
     #[error("shader compilation failed: {0}")]
     Shader(String),
+    #[error("{0}")]
+    Invalid(String),
 }
 
 pub type Result<T> = std::result::Result<T, Error>;

@@ -5,7 +5,9 @@
 //! generation as a [`crate::flatten::commit::Commit`] for the tracers to apply.
 
 pub mod pipeline;
+pub mod queries;
 pub mod updater;
 
 pub use pipeline::Pipeline;
+pub use queries::{QueryHit, QueryScene};
 pub use updater::{Generation, UpdateTimes, Updater};

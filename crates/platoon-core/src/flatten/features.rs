@@ -17,6 +17,8 @@ pub struct FeatureSet {
     pub thin_lens: bool,
     /// Max depth 1: the kernel has no bounce code (a render option, set by the caller).
     pub camera_rays_only: bool,
+    /// The kernel writes primary hits instead of radiance (`frame::Output::PrimaryHit`).
+    pub primary_hit_output: bool,
 }
 
 impl FeatureSet {
@@ -55,6 +57,7 @@ impl FeatureSet {
             ),
             thin_lens: false,
             camera_rays_only: false,
+            primary_hit_output: false,
         }
     }
 
@@ -63,10 +66,11 @@ impl FeatureSet {
     pub fn with_render_options(mut self, params: &crate::frame::FrameParams) -> FeatureSet {
         self.thin_lens = params.camera.aperture_radius > 0.0;
         self.camera_rays_only = params.max_depth <= 1;
+        self.primary_hit_output = params.output == crate::frame::Output::PrimaryHit;
         self
     }
 
-    fn entries(&self) -> [(&'static str, &'static str, bool); 9] {
+    fn entries(&self) -> [(&'static str, &'static str, bool); 10] {
         [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
@@ -92,6 +96,11 @@ impl FeatureSet {
                 "camera-rays-only",
                 "CAMERA_RAYS_ONLY",
                 self.camera_rays_only,
+            ),
+            (
+                "primary-hit-output",
+                "OUTPUT_PRIMARY_HIT",
+                self.primary_hit_output,
             ),
         ]
     }

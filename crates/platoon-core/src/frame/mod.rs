@@ -38,6 +38,19 @@ pub struct FrameParams {
     /// device; bands cut at different times would break the bit-identity of device splits.
     pub time_limit: Option<Duration>,
     pub camera: Camera,
+    pub output: Output,
+}
+
+/// What the frame's pixels hold.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Output {
+    /// Radiance (the render).
+    #[default]
+    Radiance,
+    /// The first hit of the ray through each pixel's centre, as (t, instance, triangle) with
+    /// -1 for a miss (instance and triangle in BLAS leaf order, exact as floats below 2^24): what
+    /// the CPU ray queries are checked against. One sample per pixel.
+    PrimaryHit,
 }
 
 impl FrameParams {
@@ -53,6 +66,7 @@ impl FrameParams {
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             time_limit: None,
             camera,
+            output: Output::Radiance,
         }
     }
 }

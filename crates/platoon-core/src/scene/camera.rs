@@ -15,7 +15,45 @@ pub struct Camera {
     pub focus_distance: f32,
 }
 
+/// The camera's frame as the kernel builds its rays ("Must match GPU side": `camera_ray` in
+/// shaders/pathtrace.comp reads these through `Globals`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraBasis {
+    pub origin: Vec3,
+    pub right: Vec3,
+    pub up: Vec3,
+    pub forward: Vec3,
+    /// tan(yfov / 2) times the image aspect, and tan(yfov / 2).
+    pub tan_half_x: f32,
+    pub tan_half_y: f32,
+}
+
+impl CameraBasis {
+    /// The normalised direction through the centre of pixel (x, y) of a `width` x `height`
+    /// image, as the kernel's primary-hit output traces it.
+    pub fn pixel_centre_direction(&self, x: u32, y: u32, width: u32, height: u32) -> Vec3 {
+        let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
+        let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
+        (self.forward + ndc_x * self.tan_half_x * self.right + ndc_y * self.tan_half_y * self.up)
+            .normalize()
+    }
+}
+
 impl Camera {
+    /// Its frame for an image of `width` x `height` pixels.
+    pub fn basis(&self, width: u32, height: u32) -> CameraBasis {
+        let m = self.camera_to_world;
+        let tan_half_y = (self.yfov * 0.5).tan();
+        CameraBasis {
+            origin: m.w_axis.truncate(),
+            right: m.x_axis.truncate().normalize(),
+            up: m.y_axis.truncate().normalize(),
+            forward: -m.z_axis.truncate().normalize(),
+            tan_half_x: tan_half_y * (width as f32 / height.max(1) as f32),
+            tan_half_y,
+        }
+    }
+
     pub fn position(&self) -> Vec3 {
         self.camera_to_world.transform_point3(Vec3::ZERO)
     }
