@@ -441,3 +441,49 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
         );
     }
 }
+
+#[test]
+fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let character = common::shared("scenes/CesiumMan.glb");
+    let o = platoon(&[
+        "bench",
+        "--dynamic",
+        "--frames",
+        "4",
+        "--characters",
+        "2",
+        "--movers",
+        "3",
+        "--character",
+        character.to_str().unwrap(),
+        "--json",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let json = out.lines().last().unwrap();
+    for key in [
+        "refit_mtris_per_s_per_core",
+        "refit_vs_rebuild_speedup",
+        "update_ms_median",
+        "tlas_ms_1000_instances",
+        "game_blocked_ms_p99",
+        "camera_only_mesh_bytes\":0",
+        "frame_ms_still",
+        "frame_ms_animated",
+    ] {
+        assert!(json.contains(key), "{key} missing from {json}");
+    }
+    let csv = std::fs::read_to_string(dir.path().join("dynamic.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 2 * 4);
+    assert!(dir.path().join("dynamic.png").exists());
+    let missing = platoon(&["bench", "--dynamic", "--character", "/nonexistent/man.glb"]);
+    assert!(!missing.status.success());
+    assert!(
+        stderr(&missing).contains("/nonexistent/man.glb"),
+        "{}",
+        stderr(&missing)
+    );
+}

@@ -138,6 +138,16 @@ fn build_scene(o: &Options) -> Result<(Scene, Vec<usize>, Camera)> {
     Ok((scene, movers, Camera::look_at(eye, center, 0.9)))
 }
 
+/// Length of the character's animation (its walk cycle), in seconds.
+fn walk_duration(o: &Options) -> Result<f32> {
+    let character = crate::load_scene(Some(&o.character))?;
+    let d = character.animations.first().map_or(0.0, |a| a.duration());
+    if d.is_nan() || d <= 0.0 {
+        bail!("{}: its animation has no duration", o.character.display());
+    }
+    Ok(d)
+}
+
 fn mover_placement(i: usize, n: usize, frame: u32, center: DVec3, radius: f64) -> Placement {
     let a = i as f64 / n.max(1) as f64 * std::f64::consts::TAU + 0.05 * frame as f64;
     Placement {
@@ -164,9 +174,11 @@ fn run_frames(o: &Options, animated: bool) -> Result<(Vec<FrameRecord>, Vec<Dura
         ..Default::default()
     };
     let mut tracer = Tracer::new(&options, &first)?;
+    let duration = walk_duration(o)?;
     let edits = |p: &mut Pipeline, f: u32| -> Result<()> {
         if animated {
-            p.set_time(f as f32 / 30.0)?;
+            // 30 frames a second, the walk cycle looping.
+            p.set_time((f as f32 / 30.0) % duration)?;
             for (i, &node) in movers.iter().enumerate() {
                 p.set_placement(node, mover_placement(i, movers.len(), f, center, radius))?;
             }
@@ -216,7 +228,9 @@ fn refit_figures(o: &Options) -> Result<(usize, f64, f64)> {
         ..o.clone()
     })?;
     let base = scene.meshes.len();
+    let duration = walk_duration(o)?;
     let skinned = |t: f32| -> Vec<platoon_core::scene::Mesh> {
+        let t = t % duration;
         scene
             .pose(t)
             .meshes

@@ -79,11 +79,27 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// Starts the updater thread for `scene` (see [`Updater::new`]); returns the pipeline and
-    /// the first generation's flattened scene (what the tracers are created with).
+    /// Starts the updater for `scene` (see [`Updater::new`]) on one thread: the other cores are
+    /// left to the tracers; returns the pipeline and the first generation's flattened scene
+    /// (what the tracers are created with).
     pub fn new(scene: Scene, time: f32, origin: DVec3) -> Result<(Pipeline, Arc<GpuScene>)> {
+        Pipeline::with_threads(scene, time, origin, 1)
+    }
+
+    /// The same with the updater's work (skinning, refits) spread over `threads` threads.
+    pub fn with_threads(
+        scene: Scene,
+        time: f32,
+        origin: DVec3,
+        threads: usize,
+    ) -> Result<(Pipeline, Arc<GpuScene>)> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads.max(1))
+            .thread_name(|i| format!("platoon updater {i}"))
+            .build()
+            .map_err(|e| Error::Invalid(format!("starting the updater threads: {e}")))?;
         let mirror = Mirror::of(&scene);
-        let mut updater = Updater::new(scene, time, origin)?;
+        let mut updater = pool.install(|| Updater::new(scene, time, origin))?;
         let first = Arc::new(updater.flattened().clone());
         let (to_updater, edits) = mpsc::sync_channel::<Vec<Edit>>(1);
         let (done, from_updater) = mpsc::sync_channel::<Result<Generation>>(1);
@@ -91,7 +107,8 @@ impl Pipeline {
             .name("platoon updater".into())
             .spawn(move || {
                 while let Ok(batch) = edits.recv() {
-                    let g = apply(&mut updater, batch).and_then(|()| updater.update());
+                    let g =
+                        pool.install(|| apply(&mut updater, batch).and_then(|()| updater.update()));
                     if done.send(g).is_err() {
                         break;
                     }

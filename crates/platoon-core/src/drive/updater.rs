@@ -277,38 +277,17 @@ impl Updater {
             .map(|i| (i.mesh, i.node))
             .collect();
         let mut levels = Levels::default();
+        // Skinned meshes whose pose changed, taken out of the map to refit in parallel.
+        let mut changed: Vec<(usize, usize, Option<Skinned>)> = Vec::new();
         for (i, mesh) in meshes.iter().enumerate() {
             if mesh.indices.is_empty() {
                 levels.bvhs.push(Level::Empty);
                 levels.capacity.push(0);
             } else if let Some(&node) = node_of.get(&i) {
-                match self.deforming.get_mut(&node) {
+                match self.deforming.get(&node) {
                     // The same pose as last time (time and joints unchanged): nothing to do.
                     Some(s) if same_pose(&s.posed, mesh) => {}
-                    Some(s) => {
-                        let may_rebuild = levels.rebuilt < self.policy.max_rebuilds_per_update;
-                        let rebuilt = match s.bvh.update(mesh, &self.policy, may_rebuild) {
-                            Update::Refitted => {
-                                levels.refitted += 1;
-                                false
-                            }
-                            Update::Rebuilt => {
-                                levels.rebuilt += 1;
-                                true
-                            }
-                        };
-                        s.flat = s.bvh.flat();
-                        s.posed = mesh.clone();
-                        levels.deformed.push((i, rebuilt));
-                    }
-                    None => {
-                        levels.rebuilt += 1;
-                        let bvh = MeshBvh::build(mesh);
-                        let flat = bvh.flat();
-                        let posed = mesh.clone();
-                        self.deforming.insert(node, Skinned { posed, bvh, flat });
-                        levels.deformed.push((i, true));
-                    }
+                    _ => changed.push((i, node, self.deforming.remove(&node))),
                 }
                 levels.bvhs.push(Level::Skinned(node));
                 // A binary tree over n triangles has fewer than n inner nodes: any rebuild fits.
@@ -321,6 +300,42 @@ impl Updater {
                 levels.capacity.push(flat.nodes.len());
                 levels.bvhs.push(Level::Static(i));
             }
+        }
+        use rayon::prelude::*;
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let budget = AtomicUsize::new(self.policy.max_rebuilds_per_update);
+        let policy = self.policy;
+        let updated: Vec<(usize, usize, Skinned, bool)> = changed
+            .into_par_iter()
+            .map(|(i, node, before)| {
+                let mesh = &meshes[i];
+                let (bvh, rebuilt) = match before {
+                    Some(mut s) => {
+                        let grant = || {
+                            budget
+                                .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |b| {
+                                    b.checked_sub(1)
+                                })
+                                .is_ok()
+                        };
+                        let rebuilt = s.bvh.update(mesh, &policy, grant) == Update::Rebuilt;
+                        (s.bvh, rebuilt)
+                    }
+                    None => (MeshBvh::build(mesh), true),
+                };
+                let flat = bvh.flat();
+                let posed = mesh.clone();
+                (i, node, Skinned { posed, bvh, flat }, rebuilt)
+            })
+            .collect();
+        for (i, node, skinned, rebuilt) in updated {
+            if rebuilt {
+                levels.rebuilt += 1;
+            } else {
+                levels.refitted += 1;
+            }
+            levels.deformed.push((i, rebuilt));
+            self.deforming.insert(node, skinned);
         }
         // Forget the BVHs of skinned nodes that no longer pose a mesh.
         let live: HashSet<usize> = node_of.values().copied().collect();

@@ -102,16 +102,21 @@ impl MeshBvh {
     }
 
     /// Follows `mesh` (the same triangles as at the last build, moved): refits, or rebuilds
-    /// when a triangle became unplaceable (or placeable again) or, if `may_rebuild`, when the
-    /// policy's guard asks for it.
-    pub fn update(&mut self, mesh: &Mesh, policy: &RefitPolicy, may_rebuild: bool) -> Update {
+    /// when a triangle became unplaceable (or placeable again) or when the policy's guard asks
+    /// for it and `may_rebuild()` grants it (a budget shared by the meshes of one update).
+    pub fn update(
+        &mut self,
+        mesh: &Mesh,
+        policy: &RefitPolicy,
+        may_rebuild: impl FnOnce() -> bool,
+    ) -> Update {
         let worn_out = self.refits >= policy.max_refits;
         if !self.refit(mesh) {
             *self = MeshBvh::build(mesh);
             return Update::Rebuilt;
         }
         let degraded = self.sah_cost() > policy.max_cost_ratio * self.fresh_cost;
-        if may_rebuild && (worn_out || degraded) {
+        if (worn_out || degraded) && may_rebuild() {
             *self = MeshBvh::build(mesh);
             return Update::Rebuilt;
         }
@@ -292,22 +297,28 @@ mod tests {
     fn the_guard_rebuilds_a_degraded_or_stale_bvh() {
         let policy = RefitPolicy::default();
         let mut bvh = MeshBvh::build(&grid(16, 0.0));
-        assert_eq!(bvh.update(&grid(16, 0.1), &policy, true), Update::Refitted);
+        assert_eq!(
+            bvh.update(&grid(16, 0.1), &policy, || true),
+            Update::Refitted
+        );
         // Scramble the vertices: the refitted boxes overlap and the cost explodes.
         let mut scrambled = grid(16, 0.0);
         let n = scrambled.positions.len();
         for i in 0..n {
             scrambled.positions.swap(i, (i * 7919) % n);
         }
-        assert_eq!(bvh.update(&scrambled, &policy, true), Update::Rebuilt);
+        assert_eq!(bvh.update(&scrambled, &policy, || true), Update::Rebuilt);
         assert_eq!(bvh.refits_since_build(), 0);
         // A vertex turned NaN (a broken skin) takes its triangles out: rebuild.
         let mut broken = grid(16, 0.0);
         broken.positions[5] = Vec3::NAN;
-        assert_eq!(bvh.update(&broken, &policy, true), Update::Rebuilt);
+        assert_eq!(bvh.update(&broken, &policy, || true), Update::Rebuilt);
         assert!(bvh.triangle_count() < broken.indices.len());
         // Healed, the left-out triangles come back: rebuild again.
-        assert_eq!(bvh.update(&grid(16, 0.0), &policy, true), Update::Rebuilt);
+        assert_eq!(
+            bvh.update(&grid(16, 0.0), &policy, || true),
+            Update::Rebuilt
+        );
         assert_eq!(bvh.triangle_count(), 512);
         let every = RefitPolicy {
             max_refits: 2,
@@ -315,7 +326,7 @@ mod tests {
         };
         let mut bvh = MeshBvh::build(&grid(16, 0.0));
         let updates: Vec<Update> = (0..3)
-            .map(|i| bvh.update(&grid(16, 0.01 * i as f32), &every, true))
+            .map(|i| bvh.update(&grid(16, 0.01 * i as f32), &every, || true))
             .collect();
         assert_eq!(
             updates,

@@ -304,6 +304,7 @@ impl Scene {
             .map(|m| (to_render * *m).as_mat4())
             .collect();
         let mut meshes = self.meshes.clone();
+        let mut skins: Vec<(usize, usize, usize)> = Vec::new();
         let mut instances = Vec::new();
         let mut lights = Vec::new();
         let mut cameras = Vec::new();
@@ -312,12 +313,9 @@ impl Scene {
                 match node.skin {
                     // glTF: a skinned mesh ignores its node's transform; joints place it.
                     Some(s) => {
-                        let skinned = crate::scene::animation::skin_mesh(
-                            &self.meshes[m],
-                            &self.skins[s],
-                            &world,
-                        );
-                        meshes.push(Arc::new(skinned));
+                        // Skinned below, in parallel: placeholder until then.
+                        skins.push((meshes.len(), m, s));
+                        meshes.push(Arc::default());
                         instances.push(Instance {
                             mesh: meshes.len() - 1,
                             object_to_world: Mat4::IDENTITY,
@@ -350,6 +348,19 @@ impl Scene {
                     camera_to_world: world[i],
                 });
             }
+        }
+        // Each skinned mesh on its own: spread over the CPU threads.
+        use rayon::prelude::*;
+        let skinned: Vec<(usize, Mesh)> = skins
+            .par_iter()
+            .map(|&(slot, m, s)| {
+                let mesh =
+                    crate::scene::animation::skin_mesh(&self.meshes[m], &self.skins[s], &world);
+                (slot, mesh)
+            })
+            .collect();
+        for (slot, mesh) in skinned {
+            meshes[slot] = Arc::new(mesh);
         }
         Posed {
             origin,
