@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
-use platoon::core::drive::{QueryScene, Updater};
+use platoon::core::drive::{Pipeline, QueryScene, Updater};
 use platoon::core::frame::fault::FaultInjector;
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::{FrameParams, Output};
@@ -155,4 +155,57 @@ fn cpu_ray_queries_agree_with_the_kernels_primary_hits() {
         "{agree} of {} pixels agree",
         w * h
     );
+}
+
+#[test]
+fn the_threaded_pipeline_feeds_tracers_the_bits_of_a_fresh_upload() {
+    let (scene, camera) = cesium_man();
+    let node = scene.nodes.iter().position(|n| n.mesh.is_some()).unwrap();
+    // The same edits, made on an updater on this thread: the reference the threaded one must
+    // reproduce.
+    let mut reference = Updater::new(scene.clone(), 0.0, DVec3::ZERO).unwrap();
+    let (mut pipeline, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
+    let mut followed = new_tracer(&first);
+    let mut queries = QueryScene::new(&first);
+    let params = FrameParams::new(20, 20, 2, camera);
+    pipeline.submit().unwrap();
+    reference.update().unwrap();
+    let mut last = None;
+    for f in 1..4u32 {
+        let g = pipeline.take().unwrap();
+        // The game edits the next generation while this one renders.
+        let at = Placement::at(DVec3::new(0.05 * f as f64, 0.0, 0.0));
+        pipeline.set_time(0.25 * f as f32).unwrap();
+        pipeline.set_placement(node, at).unwrap();
+        reference.set_time(0.25 * f as f32).unwrap();
+        reference.set_placement(node, at).unwrap();
+        if f == 2 {
+            let sky = Environment::Constant(Vec3::new(0.2, 0.4, 0.9));
+            pipeline.set_environment(Some(sky.clone())).unwrap();
+            reference.set_environment(Some(sky)).unwrap();
+        }
+        pipeline.submit().unwrap();
+        reference.update().unwrap();
+        followed.apply_commit(&g.commit).unwrap();
+        queries.apply_commit(&g.commit);
+        last = Some(render_with(&mut followed, &params));
+    }
+    let g = pipeline.take().unwrap();
+    followed.apply_commit(&g.commit).unwrap();
+    queries.apply_commit(&g.commit);
+    let after = render_with(&mut followed, &params);
+    assert!(
+        Some(&after) != last.as_ref(),
+        "the last generation changed the image"
+    );
+    assert!(
+        queries.scene().array_bytes() == reference.flattened().array_bytes(),
+        "the game thread's replica differs from the reference"
+    );
+    let mut fresh = new_tracer(reference.flattened());
+    assert!(
+        after == render_with(&mut fresh, &params),
+        "threaded commits drifted"
+    );
+    assert_no_validation_messages(&followed);
 }

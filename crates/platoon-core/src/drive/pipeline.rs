@@ -16,8 +16,9 @@ use glam::DVec3;
 use super::{Generation, Updater};
 use crate::error::{Error, Result};
 use crate::flatten::GpuScene;
+use crate::scene::environment::Environment;
 use crate::scene::placement::invalid;
-use crate::scene::{Material, Placement, Scene};
+use crate::scene::{Material, Placement, PunctualLight, Scene};
 
 /// One checked edit, as the updater thread replays it.
 enum Edit {
@@ -26,6 +27,8 @@ enum Edit {
     AddInstance(usize, Placement),
     RemoveInstance(usize),
     Material(usize, Box<Material>),
+    Light(usize, Box<PunctualLight>),
+    Environment(Box<Option<Environment>>),
 }
 
 /// What the game thread knows of the scene's structure, to check edits without the updater.
@@ -33,6 +36,7 @@ struct Mirror {
     nodes: usize,
     meshes: usize,
     materials: usize,
+    lights: usize,
     removed: HashSet<usize>,
     instanced: HashSet<usize>,
 }
@@ -43,6 +47,7 @@ impl Mirror {
             nodes: scene.nodes.len(),
             meshes: scene.meshes.len(),
             materials: scene.materials.len(),
+            lights: scene.lights.len(),
             removed: HashSet::new(),
             instanced: (0..scene.nodes.len())
                 .filter(|&i| scene.nodes[i].mesh.is_some())
@@ -181,6 +186,30 @@ impl Pipeline {
         Ok(())
     }
 
+    pub fn set_light(&mut self, index: usize, light: PunctualLight) -> Result<()> {
+        if index >= self.mirror.lights {
+            return Err(invalid(format!(
+                "no light {index} (the scene has {})",
+                self.mirror.lights
+            )));
+        }
+        crate::drive::updater::check_light(index, &light)?;
+        self.pending.push(Edit::Light(index, Box::new(light)));
+        Ok(())
+    }
+
+    pub fn set_environment(&mut self, environment: Option<Environment>) -> Result<()> {
+        if let Some(Environment::Constant(c)) = &environment {
+            if !c.is_finite() || c.min_element() < 0.0 {
+                return Err(invalid(format!(
+                    "environment colour {c} is not finite and non-negative"
+                )));
+            }
+        }
+        self.pending.push(Edit::Environment(Box::new(environment)));
+        Ok(())
+    }
+
     /// Hands the edits made since the last submit to the updater, which starts building the
     /// next generation at once. Waits only if the previous submission is still being built.
     pub fn submit(&mut self) -> Result<()> {
@@ -248,6 +277,8 @@ fn apply(updater: &mut Updater, batch: Vec<Edit>) -> Result<()> {
             }
             Edit::RemoveInstance(node) => updater.remove_instance(node)?,
             Edit::Material(i, m) => updater.set_material(i, *m)?,
+            Edit::Light(i, l) => updater.set_light(i, *l)?,
+            Edit::Environment(e) => updater.set_environment(*e)?,
         }
     }
     Ok(())

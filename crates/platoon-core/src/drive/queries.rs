@@ -63,6 +63,46 @@ impl QueryScene {
         debug_assert_eq!(self.arrays.len(), ARRAY_COUNT);
     }
 
+    /// The flattened scene it holds, rebuilt from its arrays: what a tracer joining mid-run
+    /// uploads, at the generation the others render.
+    pub fn scene(&self) -> GpuScene {
+        fn typed<T: bytemuck::Pod>(words: &[u32]) -> Vec<T> {
+            bytemuck::pod_collect_to_vec(bytemuck::cast_slice::<u32, u8>(words))
+        }
+        let a = &self.arrays;
+        let h = &self.header;
+        let triangles: Vec<crate::flatten::GpuTriangle> = typed(&a[2]);
+        GpuScene {
+            vertices: typed(&a[0]),
+            triangle_positions: typed(&a[1]),
+            triangle_count: triangles.len(),
+            triangles,
+            triangle_lights: typed(&a[3]),
+            blas_nodes: typed(&a[4]),
+            tlas_nodes: typed(&a[5]),
+            tlas_root: h.tlas_root,
+            instances: typed(&a[6]),
+            materials: typed(&a[7]),
+            textures: typed(&a[8]),
+            texels: typed(&a[9]),
+            lights: typed(&a[10]),
+            light_cdf: typed(&a[11]),
+            env: crate::flatten::GpuEnvironment {
+                kind: h.env_kind,
+                color: h.env_color,
+                width: h.env_size[0],
+                height: h.env_size[1],
+                texels: typed(&a[12]),
+                marginal_cdf: typed(&a[13]),
+                conditional_cdf: typed(&a[14]),
+                integral: h.env_integral,
+                mean_radiance: [0.0; 3],
+            },
+            features: h.features,
+            ..Default::default()
+        }
+    }
+
     fn nodes(&self, array: usize) -> &[BvhNode] {
         bytemuck::cast_slice(&self.arrays[array])
     }

@@ -17,8 +17,9 @@ use crate::flatten::bvh::{build_mesh_bvh, FlatBvh};
 use crate::flatten::commit::Commit;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
 use crate::flatten::{used_meshes, GpuScene, MeshRegion};
+use crate::scene::environment::Environment;
 use crate::scene::placement::{invalid, Placement};
-use crate::scene::{Material, Mesh, Node, Posed, Scene};
+use crate::scene::{LightKind, Material, Mesh, Node, Posed, PunctualLight, Scene};
 
 /// Where an update spent its time.
 #[derive(Clone, Copy, Debug, Default)]
@@ -64,6 +65,7 @@ pub struct Updater {
     /// Per posed mesh: vertices, triangles and node capacity of the layout of `state`.
     layout: Vec<(usize, usize, usize)>,
     materials_dirty: bool,
+    environment_dirty: bool,
     generation: u64,
 }
 
@@ -82,6 +84,7 @@ impl Updater {
             state: GpuScene::default(),
             layout: Vec::new(),
             materials_dirty: false,
+            environment_dirty: false,
             generation: 0,
         };
         updater.update()?;
@@ -174,6 +177,34 @@ impl Updater {
         Ok(())
     }
 
+    /// Replaces punctual light `index` (its node places it): finite, non-negative colour and
+    /// intensity, a non-negative range, cones within (0, pi/2] with the inner one inside.
+    pub fn set_light(&mut self, index: usize, light: PunctualLight) -> Result<()> {
+        check_light(index, &light)?;
+        let count = self.scene.lights.len();
+        let slot = self
+            .scene
+            .lights
+            .get_mut(index)
+            .ok_or_else(|| invalid(format!("no light {index} (the scene has {count})")))?;
+        *slot = light;
+        Ok(())
+    }
+
+    /// Replaces the distant light (None: black). A map is re-sampled into its CDFs here.
+    pub fn set_environment(&mut self, environment: Option<Environment>) -> Result<()> {
+        if let Some(Environment::Constant(c)) = &environment {
+            if !c.is_finite() || c.min_element() < 0.0 {
+                return Err(invalid(format!(
+                    "environment colour {c} is not finite and non-negative"
+                )));
+            }
+        }
+        self.scene.environment = environment;
+        self.environment_dirty = true;
+        Ok(())
+    }
+
     fn live_node(&mut self, node: usize) -> Result<&mut Node> {
         if self.removed.contains(&node) {
             return Err(invalid(format!(
@@ -230,6 +261,11 @@ impl Updater {
                 self.state.set_materials(&self.scene);
                 ranges.extend([7, 8, 9].map(|a| (a, 0, self.state.array_bytes()[a].len() as u64)));
             }
+            if std::mem::take(&mut self.environment_dirty) {
+                self.state.set_environment(self.scene.environment.as_ref());
+                ranges
+                    .extend([12, 13, 14].map(|a| (a, 0, self.state.array_bytes()[a].len() as u64)));
+            }
             let before = top_arrays(&self.state);
             self.state.place(&self.scene, &posed, &refs)?;
             let after = top_arrays(&self.state);
@@ -253,6 +289,7 @@ impl Updater {
             self.state = next;
             self.layout = layout;
             self.materials_dirty = false;
+            self.environment_dirty = false;
             commit
         };
         self.generation += 1;
@@ -415,6 +452,35 @@ fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, 
         ranges.extend([(2, tb * triangle, tc * triangle), (3, tb * 4, tc * 4)]);
     }
     ranges
+}
+
+/// A light a game may set.
+pub(crate) fn check_light(index: usize, l: &PunctualLight) -> Result<()> {
+    let cones_ok = match l.kind {
+        LightKind::Spot {
+            inner_cone,
+            outer_cone,
+        } => {
+            inner_cone >= 0.0
+                && inner_cone <= outer_cone
+                && outer_cone > 0.0
+                && outer_cone <= std::f32::consts::FRAC_PI_2
+        }
+        _ => true,
+    };
+    let ok = l.color.is_finite()
+        && l.color.min_element() >= 0.0
+        && l.intensity.is_finite()
+        && l.intensity >= 0.0
+        && l.range.is_finite()
+        && l.range >= 0.0
+        && cones_ok;
+    if !ok {
+        return Err(invalid(format!(
+            "light {index}: colour, intensity and range must be finite and non-negative, spot cones within (0, 90] degrees"
+        )));
+    }
+    Ok(())
 }
 
 /// A material a game may set: every factor finite.

@@ -89,7 +89,7 @@ impl GpuScene {
         let meshes = geometry::used_meshes(posed);
         geometry::bottom_level(scene, &meshes, mesh_bvhs, node_capacity, &mut g)?;
         g.set_materials(scene);
-        lights::set_environment(environment, &mut g);
+        g.set_environment(environment);
         g.place(scene, posed, mesh_bvhs)?;
         Ok(g)
     }
@@ -100,6 +100,12 @@ impl GpuScene {
         self.textures.clear();
         self.texels.clear();
         materials::add(scene, self);
+    }
+
+    /// The distant light (its map and CDFs): call [`GpuScene::place`] after it, which adds it to
+    /// the lights.
+    pub fn set_environment(&mut self, environment: Option<&Environment>) {
+        lights::set_environment(environment, self);
     }
 
     /// Rewrites mesh `index` in place with `mesh` and its BVH (same vertex and triangle counts,
