@@ -188,3 +188,43 @@ pub fn skin_mesh(mesh: &Mesh, skin: &Skin, world: &[Mat4]) -> Mesh {
         weights: Vec::new(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn linear_translation_interpolates_and_clamps() {
+        let ch = Channel {
+            node: 0,
+            property: Property::Translation,
+            interpolation: Interpolation::Linear,
+            times: vec![0.0, 2.0],
+            values: vec![0.0, 0.0, 0.0, 2.0, 4.0, 6.0],
+        };
+        assert_eq!(ch.sample::<3>(1.0), [1.0, 2.0, 3.0]);
+        assert_eq!(ch.sample::<3>(5.0), [2.0, 4.0, 6.0]);
+        assert_eq!(ch.sample::<3>(-1.0), [0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn cubic_spline_hits_keys_and_is_smooth() {
+        // Zero tangents: value goes 0 -> 1 along smoothstep.
+        let ch = Channel {
+            node: 0,
+            property: Property::Scale,
+            interpolation: Interpolation::CubicSpline,
+            times: vec![0.0, 1.0],
+            values: vec![0.0; 3]
+                .into_iter()
+                .chain([0.0; 3])
+                .chain([0.0; 3])
+                .chain([0.0; 3])
+                .chain([1.0; 3])
+                .chain([0.0; 3])
+                .collect(),
+        };
+        assert_eq!(ch.sample::<3>(0.5), [0.5, 0.5, 0.5]);
+        assert!((ch.sample::<3>(0.25)[0] - 0.15625).abs() < 1e-6);
+    }
+}
