@@ -60,6 +60,9 @@ pub struct FrameRecord {
     pub mesh_bytes: u64,
     pub apply_ms: f64,
     pub frame_ms: f64,
+    /// Skinned meshes refitted and rebuilt in the update.
+    pub refitted: usize,
+    pub rebuilt: usize,
 }
 
 impl FrameRecord {
@@ -210,6 +213,8 @@ fn run_frames(o: &Options, animated: bool) -> Result<(Vec<FrameRecord>, Vec<Dura
             mesh_bytes: g.commit.mesh_bytes(),
             apply_ms,
             frame_ms: ms(start.elapsed()),
+            refitted: g.refitted,
+            rebuilt: g.rebuilt,
         });
     }
     // submit and take alternate, one of each per frame after the first submit.
@@ -337,12 +342,12 @@ pub fn run(o: &Options) -> Result<Report> {
 /// Per-frame CSV of both runs.
 pub fn csv(report: &Report) -> String {
     let mut out = String::from(
-        "run,frame,skin_ms,bottom_level_ms,flatten_ms,commit_build_ms,blocked_ms,bytes,mesh_bytes,apply_ms,frame_ms\n",
+        "run,frame,skin_ms,bottom_level_ms,flatten_ms,commit_build_ms,blocked_ms,bytes,mesh_bytes,apply_ms,frame_ms,refitted,rebuilt\n",
     );
     for (name, records) in [("animated", &report.animated), ("still", &report.still)] {
         for (f, r) in records.iter().enumerate() {
             out.push_str(&format!(
-                "{name},{f},{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{:.4},{:.4}\n",
+                "{name},{f},{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{:.4},{:.4},{},{}\n",
                 r.skin_ms,
                 r.bottom_level_ms,
                 r.flatten_ms,
@@ -351,7 +356,9 @@ pub fn csv(report: &Report) -> String {
                 r.bytes,
                 r.mesh_bytes,
                 r.apply_ms,
-                r.frame_ms
+                r.frame_ms,
+                r.refitted,
+                r.rebuilt
             ));
         }
     }

@@ -346,7 +346,7 @@ impl Updater {
             .into_par_iter()
             .map(|(i, node, before)| {
                 let mesh = &meshes[i];
-                let (bvh, rebuilt) = match before {
+                let (bvh, flat, rebuilt) = match before {
                     Some(mut s) => {
                         let grant = || {
                             budget
@@ -356,11 +356,18 @@ impl Updater {
                                 .is_ok()
                         };
                         let rebuilt = s.bvh.update(mesh, &policy, grant) == Update::Rebuilt;
-                        (s.bvh, rebuilt)
+                        let mut flat = s.flat;
+                        if rebuilt || !s.bvh.refit_flat(&mut flat) {
+                            flat = s.bvh.flat();
+                        }
+                        (s.bvh, flat, rebuilt)
                     }
-                    None => (MeshBvh::build(mesh), true),
+                    None => {
+                        let bvh = MeshBvh::build(mesh);
+                        let flat = bvh.flat();
+                        (bvh, flat, true)
+                    }
                 };
-                let flat = bvh.flat();
                 let posed = mesh.clone();
                 (i, node, Skinned { posed, bvh, flat }, rebuilt)
             })

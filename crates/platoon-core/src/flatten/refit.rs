@@ -55,6 +55,8 @@ pub struct MeshBvh {
     slot_vertices: Vec<[u32; 3]>,
     /// One past the largest vertex index they use.
     vertex_count: usize,
+    /// The obvhs inner node behind each node of the flattened layout (see `bvh::flatten`).
+    inner: Vec<u32>,
     /// SAH cost right after the last build.
     fresh_cost: f32,
     /// Refits since the last build.
@@ -80,6 +82,9 @@ impl MeshBvh {
                 left_out.push(t);
             }
         }
+        let inner = (0..bvh.nodes.len() as u32)
+            .filter(|&j| bvh.nodes[j as usize].prim_count == 0)
+            .collect();
         let slot_vertices: Vec<[u32; 3]> = bvh
             .primitive_indices
             .iter()
@@ -96,6 +101,7 @@ impl MeshBvh {
             left_out,
             slot_vertices,
             vertex_count,
+            inner,
             fresh_cost,
             refits: 0,
         }
@@ -181,6 +187,29 @@ impl MeshBvh {
     /// The obvhs BVH (nodes in stack traversal order) and the mesh triangle of each primitive.
     pub fn bvh2(&self) -> (&Bvh2, &[u32]) {
         (&self.bvh, &self.original)
+    }
+
+    /// Brings `flat` (this BVH's [`MeshBvh::flat`] before the refits since) up to date: after a
+    /// refit only boxes change, so they are copied over instead of flattening anew. False when
+    /// `flat` has nodes the refit cannot map (split leaves): then call `flat()`.
+    pub fn refit_flat(&self, flat: &mut FlatBvh) -> bool {
+        if flat.nodes.len() != self.inner.len() || self.bvh.nodes.is_empty() {
+            return false;
+        }
+        for (node, &j) in flat.nodes.iter_mut().zip(&self.inner) {
+            let first = self.bvh.nodes[j as usize].first_index as usize;
+            let (a, b) = (
+                self.bvh.nodes[first].aabb(),
+                self.bvh.nodes[first + 1].aabb(),
+            );
+            node.min0 = a.min.to_array();
+            node.max0 = a.max.to_array();
+            node.min1 = b.min.to_array();
+            node.max1 = b.max.to_array();
+        }
+        let root = self.bvh.nodes[0].aabb();
+        flat.bounds = (root.min.into(), root.max.into());
+        true
     }
 
     /// The kernel's layout of it.
@@ -282,6 +311,11 @@ mod tests {
         let found = a.iter().filter(|t| t.is_finite()).count();
         assert!(found > 1500, "{found} hits");
         assert_eq!(a, b);
+        // Refitting the flat layout in place gives the layout flattened anew.
+        let mut stale = MeshBvh::build(&grid(40, 0.0)).flat();
+        assert!(bvh.refit_flat(&mut stale));
+        let fresh = bvh.flat();
+        assert_eq!((stale.nodes, stale.bounds), (fresh.nodes, fresh.bounds));
         // The flat layout covers every triangle once.
         let mut seen = vec![0; tris.len()];
         let flat = bvh.flat();
