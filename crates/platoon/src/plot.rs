@@ -1,5 +1,6 @@
-//! The balance-bench plot: idle % per frame, one panel per table column, one line per balancer.
-//! Text is drawn with DejaVu Sans (fonts-dejavu-core); without it the plot has no labels.
+//! Line plots of per-frame series: the balance bench (idle % per frame, one panel per table
+//! column, one line per balancer) and the dynamic bench (times per frame). Text is drawn with
+//! DejaVu Sans (fonts-dejavu-core); without it the plots have no labels.
 
 use std::path::Path;
 
@@ -33,11 +34,84 @@ const COLORS: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
 ];
 
-pub fn write_png(path: &Path, cells: &[Cell], title: &str) -> Result<()> {
+/// A named line: its label and (frame, value) points.
+type Series = (String, Vec<(usize, f64)>);
+
+/// Draws `series` as lines on `area`, under `caption`, with a legend when text can be drawn.
+fn draw_lines(
+    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    caption: &str,
+    y_desc: &str,
+    series: &[Series],
+    first_color: usize,
+    text: bool,
+) -> Result<()> {
+    let frames = series
+        .iter()
+        .map(|(_, v)| v.len())
+        .max()
+        .unwrap_or(1)
+        .max(2);
+    let top = series
+        .iter()
+        .flat_map(|(_, v)| v.iter().map(|p| p.1))
+        .filter(|v| v.is_finite())
+        .fold(1e-3f64, f64::max);
+    let mut builder = ChartBuilder::on(area);
+    builder.margin(12);
+    if text {
+        builder
+            .caption(caption, ("sans-serif", 18))
+            .x_label_area_size(30)
+            .y_label_area_size(50);
+    }
+    let mut chart = builder
+        .build_cartesian_2d(0..frames, 0.0..top * 1.05)
+        .map_err(|e| anyhow!("{e}"))?;
+    if text {
+        chart
+            .configure_mesh()
+            .x_desc("frame")
+            .y_desc(y_desc)
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+    }
+    for (k, (name, points)) in series.iter().enumerate() {
+        let color = COLORS[(k + first_color) % COLORS.len()];
+        let drawn = chart
+            .draw_series(LineSeries::new(
+                points.iter().copied(),
+                color.stroke_width(2),
+            ))
+            .map_err(|e| anyhow!("{e}"))?;
+        if text {
+            drawn.label(name.as_str()).legend(move |(x, y)| {
+                PathElement::new([(x, y), (x + 18, y)], color.stroke_width(3))
+            });
+        }
+    }
+    if text {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| anyhow!("{e}"))?;
+    }
+    Ok(())
+}
+
+/// Draws a `size` image under `title` with `draw` into `path`, through a temporary file.
+fn write_through_temp(
+    path: &Path,
+    size: (u32, u32),
+    title: &str,
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>, bool) -> Result<()>,
+) -> Result<()> {
     let text = register_font();
     let tmp = path.with_extension("part.png");
     {
-        let root = BitMapBackend::new(&tmp, (1200, 800)).into_drawing_area();
+        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
         root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
         let root = if text {
             root.titled(title, ("sans-serif", 22))
@@ -45,6 +119,17 @@ pub fn write_png(path: &Path, cells: &[Cell], title: &str) -> Result<()> {
         } else {
             root
         };
+        draw(&root, text)?;
+        root.present()
+            .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    }
+    std::fs::rename(&tmp, path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    Ok(())
+}
+
+/// The balance-bench plot: one panel per table column, one line per balancer.
+pub fn write_png(path: &Path, cells: &[Cell], title: &str) -> Result<()> {
+    write_through_temp(path, (1200, 800), title, |root, text| {
         let panels = root.split_evenly((2, 2));
         let columns = [
             (2, CameraSpeed::Slow),
@@ -53,135 +138,29 @@ pub fn write_png(path: &Path, cells: &[Cell], title: &str) -> Result<()> {
             (3, CameraSpeed::Fast),
         ];
         for (area, (devices, camera)) in panels.iter().zip(columns) {
-            let series: Vec<(&str, &Cell)> = NAMES
+            let series: Vec<Series> = NAMES
                 .iter()
                 .filter_map(|n| cell(cells, n, devices, camera).map(|c| (*n, c)))
+                .map(|(name, c)| {
+                    let points = c.per_frame.iter().enumerate();
+                    let points = points.map(|(f, v)| (f, 100.0 * v)).collect();
+                    (format!("{name} ({:.1}%)", c.idle_pct), points)
+                })
                 .collect();
-            let frames = series
-                .iter()
-                .map(|(_, c)| c.per_frame.len())
-                .max()
-                .unwrap_or(1)
-                .max(2);
-            let top = series
-                .iter()
-                .flat_map(|(_, c)| c.per_frame.iter())
-                .fold(1.0f64, |m, v| m.max(100.0 * v));
-            let mut builder = ChartBuilder::on(area);
-            builder.margin(12);
-            if text {
-                builder
-                    .caption(
-                        format!("{devices} devices, {} camera", camera.name()),
-                        ("sans-serif", 18),
-                    )
-                    .x_label_area_size(30)
-                    .y_label_area_size(45);
-            }
-            let mut chart = builder
-                .build_cartesian_2d(0..frames, 0.0..top * 1.05)
-                .map_err(|e| anyhow!("{e}"))?;
-            if text {
-                chart
-                    .configure_mesh()
-                    .x_desc("frame")
-                    .y_desc("idle %")
-                    .draw()
-                    .map_err(|e| anyhow!("{e}"))?;
-            }
-            for (k, (name, c)) in series.iter().enumerate() {
-                let color = COLORS[k % COLORS.len()];
-                let drawn = chart
-                    .draw_series(LineSeries::new(
-                        c.per_frame.iter().enumerate().map(|(f, v)| (f, 100.0 * v)),
-                        color.stroke_width(2),
-                    ))
-                    .map_err(|e| anyhow!("{e}"))?;
-                if text {
-                    drawn
-                        .label(format!("{name} ({:.1}%)", c.idle_pct))
-                        .legend(move |(x, y)| {
-                            PathElement::new([(x, y), (x + 18, y)], color.stroke_width(3))
-                        });
-                }
-            }
-            if text {
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .draw()
-                    .map_err(|e| anyhow!("{e}"))?;
-            }
+            let caption = format!("{devices} devices, {} camera", camera.name());
+            draw_lines(area, &caption, "idle %", &series, 0, text)?;
         }
-        root.present()
-            .map_err(|e| anyhow!("{}: {e}", path.display()))?;
-    }
-    std::fs::rename(&tmp, path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
-    Ok(())
+        Ok(())
+    })
 }
 
-/// One chart of named series over frames (index on x), written through a temporary file.
+/// One chart of named series over frames (index on x).
 pub fn write_series_png(path: &Path, title: &str, series: &[(&str, Vec<f64>)]) -> Result<()> {
-    let text = register_font();
-    let tmp = path.with_extension("part.png");
-    {
-        let root = BitMapBackend::new(&tmp, (1200, 600)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-        let frames = series
-            .iter()
-            .map(|(_, v)| v.len())
-            .max()
-            .unwrap_or(1)
-            .max(2);
-        let top = series
-            .iter()
-            .flat_map(|(_, v)| v.iter())
-            .filter(|v| v.is_finite())
-            .fold(1e-3f64, |m, v| m.max(*v));
-        let mut builder = ChartBuilder::on(&root);
-        builder.margin(16);
-        if text {
-            builder
-                .caption(title, ("sans-serif", 22))
-                .x_label_area_size(30)
-                .y_label_area_size(50);
-        }
-        let mut chart = builder
-            .build_cartesian_2d(0..frames, 0.0..top * 1.05)
-            .map_err(|e| anyhow!("{e}"))?;
-        if text {
-            chart
-                .configure_mesh()
-                .x_desc("frame")
-                .draw()
-                .map_err(|e| anyhow!("{e}"))?;
-        }
-        for (k, (name, values)) in series.iter().enumerate() {
-            let color = COLORS[(k + 1) % COLORS.len()];
-            let drawn = chart
-                .draw_series(LineSeries::new(
-                    values.iter().copied().enumerate(),
-                    color.stroke_width(2),
-                ))
-                .map_err(|e| anyhow!("{e}"))?;
-            if text {
-                drawn.label(*name).legend(move |(x, y)| {
-                    PathElement::new([(x, y), (x + 18, y)], color.stroke_width(3))
-                });
-            }
-        }
-        if text {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| anyhow!("{e}"))?;
-        }
-        root.present()
-            .map_err(|e| anyhow!("{}: {e}", path.display()))?;
-    }
-    std::fs::rename(&tmp, path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
-    Ok(())
+    let series: Vec<Series> = series
+        .iter()
+        .map(|(name, v)| (name.to_string(), v.iter().copied().enumerate().collect()))
+        .collect();
+    write_through_temp(path, (1200, 600), title, |root, text| {
+        draw_lines(root, "", "", &series, 1, text)
+    })
 }

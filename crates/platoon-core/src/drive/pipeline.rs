@@ -199,13 +199,7 @@ impl Pipeline {
     }
 
     pub fn set_environment(&mut self, environment: Option<Environment>) -> Result<()> {
-        if let Some(Environment::Constant(c)) = &environment {
-            if !c.is_finite() || c.min_element() < 0.0 {
-                return Err(invalid(format!(
-                    "environment colour {c} is not finite and non-negative"
-                )));
-            }
-        }
+        crate::drive::updater::check_environment(environment.as_ref())?;
         self.pending.push(Edit::Environment(Box::new(environment)));
         Ok(())
     }

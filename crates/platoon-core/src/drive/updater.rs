@@ -193,13 +193,7 @@ impl Updater {
 
     /// Replaces the distant light (None: black). A map is re-sampled into its CDFs here.
     pub fn set_environment(&mut self, environment: Option<Environment>) -> Result<()> {
-        if let Some(Environment::Constant(c)) = &environment {
-            if !c.is_finite() || c.min_element() < 0.0 {
-                return Err(invalid(format!(
-                    "environment colour {c} is not finite and non-negative"
-                )));
-            }
-        }
+        check_environment(environment.as_ref())?;
         self.scene.environment = environment;
         self.environment_dirty = true;
         Ok(())
@@ -459,6 +453,19 @@ fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, 
         ranges.extend([(2, tb * triangle, tc * triangle), (3, tb * 4, tc * 4)]);
     }
     ranges
+}
+
+/// An environment a game may set: a constant one finite and non-negative (a map was checked
+/// when it was read).
+pub(crate) fn check_environment(environment: Option<&Environment>) -> Result<()> {
+    if let Some(Environment::Constant(c)) = environment {
+        if !c.is_finite() || c.min_element() < 0.0 {
+            return Err(invalid(format!(
+                "environment colour {c} is not finite and non-negative"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// A light a game may set.
