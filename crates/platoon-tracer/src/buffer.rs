@@ -52,6 +52,15 @@ impl GpuBuffer {
         })
     }
 
+    /// The buffer's bytes when its memory is mapped (host-visible).
+    pub fn mapped_mut(&mut self) -> Option<&mut [u8]> {
+        let size = self.size as usize;
+        self.allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .map(|s| &mut s[..size])
+    }
+
     pub fn mapped(&mut self) -> &mut [u8] {
         let size = self.size as usize;
         let slice = self

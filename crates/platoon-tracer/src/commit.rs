@@ -2,7 +2,6 @@
 //! uploading only the changed ranges ([`platoon_core::flatten::commit::Commit`]). An array that
 //! outgrew its buffer gets a new one with slack, uploaded whole, and the arrays are bound again.
 
-use ash::vk;
 use platoon_core::flatten::commit::Commit;
 
 use crate::memory::SCENE_ARRAYS;
@@ -22,7 +21,7 @@ impl Tracer {
     /// scene it has (with the bytes). Call between frames.
     pub fn apply_commit(&mut self, commit: &Commit) -> Result<CommitStats> {
         let mut stats = CommitStats::default();
-        let mut writes: Vec<(vk::Buffer, u64, &[u8])> = Vec::new();
+        let mut writes: Vec<(usize, u64, &[u8])> = Vec::new();
         for a in &commit.arrays {
             if a.len > self.scene.list[a.array].size {
                 if !a.is_whole() {
@@ -39,11 +38,10 @@ impl Tracer {
                 old.destroy(&self.ctx.device, &mut self.allocator);
                 stats.reallocated += 1;
             }
-            let buffer = self.scene.list[a.array].buffer;
-            writes.extend(a.pieces().map(|(offset, bytes)| (buffer, offset, bytes)));
+            writes.extend(a.pieces().map(|(offset, bytes)| (a.array, offset, bytes)));
         }
         stats.bytes = writes.iter().map(|w| w.2.len() as u64).sum();
-        self.write_buffers(&writes)?;
+        self.write_arrays(&writes)?;
         if stats.reallocated > 0 {
             self.bind_scene_arrays()?;
         }

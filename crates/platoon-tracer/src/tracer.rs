@@ -209,18 +209,41 @@ impl Tracer {
     }
 
     /// A device-local buffer for a scene array of `capacity` bytes.
+    /// On a CPU device (lavapipe) all memory is the host's: the arrays live in mapped memory
+    /// and are written in place, with no staging copy and no transfer to wait for.
     pub(crate) fn array_buffer(&mut self, name: &str, capacity: u64) -> Result<GpuBuffer> {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST;
+        let location = if self.ctx.info.cpu {
+            MemoryLocation::CpuToGpu
+        } else {
+            MemoryLocation::GpuOnly
+        };
         GpuBuffer::new(
             &self.ctx.device,
             &mut self.allocator,
             name,
             capacity,
             usage,
-            MemoryLocation::GpuOnly,
+            location,
         )
+    }
+
+    /// Writes `(array, offset, bytes)` into the scene arrays: in place where the array's memory
+    /// is mapped, through one staging buffer and one submission otherwise. Between frames only.
+    pub(crate) fn write_arrays(&mut self, writes: &[(usize, u64, &[u8])]) -> Result<()> {
+        let mut staged: Vec<(vk::Buffer, u64, &[u8])> = Vec::new();
+        for &(array, offset, bytes) in writes {
+            let buffer = &mut self.scene.list[array];
+            match buffer.mapped_mut() {
+                Some(memory) => {
+                    memory[offset as usize..offset as usize + bytes.len()].copy_from_slice(bytes)
+                }
+                None => staged.push((buffer.buffer, offset, bytes)),
+            }
+        }
+        self.write_buffers(&staged)
     }
 
     /// Copies `(buffer, offset, bytes)` writes into device-local buffers through one staging
@@ -267,13 +290,13 @@ impl Tracer {
             let buffer = self.array_buffer(SCENE_ARRAYS[i].name, data.len() as u64)?;
             self.scene.list.push(buffer);
         }
-        let writes: Vec<(vk::Buffer, u64, &[u8])> = arrays
+        let writes: Vec<(usize, u64, &[u8])> = arrays
             .iter()
-            .zip(&self.scene.list)
-            .filter(|(d, _)| !d.is_empty())
-            .map(|(d, b)| (b.buffer, 0, *d))
+            .enumerate()
+            .filter(|(_, d)| !d.is_empty())
+            .map(|(i, d)| (i, 0, *d))
             .collect();
-        self.write_buffers(&writes)?;
+        self.write_arrays(&writes)?;
         self.refresh_globals(&s.header());
         Ok(())
     }
