@@ -137,26 +137,37 @@ impl<T: BandTracer + Send> Renderer<T> {
         commit: &crate::flatten::commit::Commit,
         frame: u32,
     ) -> Result<Vec<(usize, u64)>, RenderError> {
-        let mut uploaded = Vec::with_capacity(self.tracers.len());
-        let mut slot = 0;
-        while slot < self.tracers.len() {
-            let (id, tracer) = &mut self.tracers[slot];
-            match tracer.apply_commit(commit) {
-                Ok(bytes) => {
-                    uploaded.push((*id, bytes));
-                    slot += 1;
-                }
-                Err(e) => {
+        // Each tracer applies it on its own thread, as each renders its band.
+        let results: Vec<Result<u64, String>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = self
+                .tracers
+                .iter_mut()
+                .map(|(_, t)| {
+                    scope.spawn(move || t.apply_commit(commit).map_err(|e| e.to_string()))
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().unwrap_or_else(|_| Err("panicked".into())))
+                .collect()
+        });
+        let mut uploaded = Vec::with_capacity(results.len());
+        for (slot, result) in results.into_iter().enumerate().rev() {
+            let id = self.tracers[slot].0;
+            match result {
+                Ok(bytes) => uploaded.push((id, bytes)),
+                Err(message) => {
                     self.failures.push(TracerFailure {
-                        tracer: *id,
+                        tracer: id,
                         frame,
-                        message: format!("applying a scene commit: {e}"),
+                        message: format!("applying a scene commit: {message}"),
                     });
                     self.tracers.remove(slot);
                     self.balancer.remove_tracer(slot);
                 }
             }
         }
+        uploaded.reverse();
         if self.tracers.is_empty() {
             return Err(RenderError::NoTracers(
                 "every tracer failed to apply the scene commit".into(),
@@ -336,6 +347,52 @@ mod tests {
                 ..Default::default()
             })
         }
+    }
+
+    /// A fake that, when `refuse`, fails every scene commit, as a lost device would.
+    struct Committing {
+        fake: Fake,
+        refuse: bool,
+    }
+
+    impl BandTracer for Committing {
+        fn render_band(
+            &mut self,
+            p: &FrameParams,
+            y0: u32,
+            y1: u32,
+            progress: &mut dyn FnMut(u32),
+        ) -> Result<Band, TracerError> {
+            self.fake.render_band(p, y0, y1, progress)
+        }
+
+        fn apply_commit(&mut self, _: &crate::flatten::commit::Commit) -> Result<u64, TracerError> {
+            if self.refuse {
+                return Err("device lost".into());
+            }
+            Ok(0)
+        }
+    }
+
+    #[test]
+    fn a_tracer_that_cannot_apply_a_commit_is_dropped_and_the_frame_still_completes() {
+        let tracers: Vec<Committing> = [false, true, false]
+            .map(|refuse| Committing {
+                fake: Fake { slowness: 1 },
+                refuse,
+            })
+            .into();
+        let mut r = Renderer::new(tracers, by_name("cost-aware").unwrap());
+        let uploaded = r
+            .apply_commit(&crate::flatten::commit::Commit::default(), 3)
+            .unwrap();
+        assert_eq!(uploaded, vec![(0, 0), (2, 0)]);
+        assert_eq!(r.alive(), vec![0, 2]);
+        assert_eq!(r.failures().len(), 1);
+        assert_eq!((r.failures()[0].tracer, r.failures()[0].frame), (1, 3));
+        assert!(r.failures()[0].message.contains("device lost"));
+        let frame = r.render_frame(&params(3)).unwrap();
+        assert_eq!(frame.tracers.iter().map(|t| t.lines).sum::<u32>(), 40);
     }
 
     fn params(frame: u32) -> FrameParams {
