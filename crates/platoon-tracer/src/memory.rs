@@ -224,41 +224,56 @@ impl SceneDescriptors {
             )
         }
         .ctx("allocating the scene descriptor set")?[0];
-        let mut views = Vec::new();
-        for &(i, ty) in &bound {
-            if ty != vk::DescriptorType::UNIFORM_TEXEL_BUFFER {
-                continue;
-            }
-            let format = match SCENE_ARRAYS[i as usize].texel_bytes {
-                4 => vk::Format::R32_UINT,
-                _ => vk::Format::R32G32B32A32_UINT,
-            };
-            let info = vk::BufferViewCreateInfo::default()
-                .buffer(buffers[i as usize])
-                .format(format)
-                .offset(0)
-                .range(vk::WHOLE_SIZE);
-            let view = unsafe { device.create_buffer_view(&info, None) };
-            let view = view.ctx("creating a texel buffer view")?;
-            d.views.push(view);
-            views.push((i, [view]));
+        d.write(device, buffers, paths)?;
+        Ok(d)
+    }
+
+    /// Points the bindings at `buffers` (the same paths as the set was made for): after a
+    /// buffer was replaced, the set, its layout and the pipelines built on it stay.
+    pub fn write(
+        &mut self,
+        device: &ash::Device,
+        buffers: &[vk::Buffer],
+        paths: &[ArrayPath],
+    ) -> Result<()> {
+        for &v in &self.views {
+            unsafe { device.destroy_buffer_view(v, None) };
         }
-        let infos: Vec<(u32, [vk::DescriptorBufferInfo; 1])> = bound
-            .iter()
-            .filter(|(_, ty)| *ty == vk::DescriptorType::STORAGE_BUFFER)
-            .map(|&(i, _)| {
-                let info = vk::DescriptorBufferInfo::default()
-                    .buffer(buffers[i as usize])
-                    .offset(0)
-                    .range(vk::WHOLE_SIZE);
-                (i, [info])
-            })
-            .collect();
+        self.views.clear();
+        let mut views = Vec::new();
+        let mut infos = Vec::new();
+        for (i, &path) in paths.iter().enumerate() {
+            match path {
+                ArrayPath::Texel => {
+                    let format = match SCENE_ARRAYS[i].texel_bytes {
+                        4 => vk::Format::R32_UINT,
+                        _ => vk::Format::R32G32B32A32_UINT,
+                    };
+                    let info = vk::BufferViewCreateInfo::default()
+                        .buffer(buffers[i])
+                        .format(format)
+                        .offset(0)
+                        .range(vk::WHOLE_SIZE);
+                    let view = unsafe { device.create_buffer_view(&info, None) };
+                    let view = view.ctx("creating a texel buffer view")?;
+                    self.views.push(view);
+                    views.push((i as u32, [view]));
+                }
+                ArrayPath::Storage => {
+                    let info = vk::DescriptorBufferInfo::default()
+                        .buffer(buffers[i])
+                        .offset(0)
+                        .range(vk::WHOLE_SIZE);
+                    infos.push((i as u32, [info]));
+                }
+                ArrayPath::Address => {}
+            }
+        }
         let mut writes: Vec<vk::WriteDescriptorSet> = infos
             .iter()
             .map(|(i, info)| {
                 vk::WriteDescriptorSet::default()
-                    .dst_set(d.set)
+                    .dst_set(self.set)
                     .dst_binding(*i)
                     .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                     .buffer_info(info)
@@ -266,13 +281,13 @@ impl SceneDescriptors {
             .collect();
         writes.extend(views.iter().map(|(i, view)| {
             vk::WriteDescriptorSet::default()
-                .dst_set(d.set)
+                .dst_set(self.set)
                 .dst_binding(*i)
                 .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
                 .texel_buffer_view(view)
         }));
         unsafe { device.update_descriptor_sets(&writes, &[]) };
-        Ok(d)
+        Ok(())
     }
 
     pub fn destroy(&self, device: &ash::Device) {

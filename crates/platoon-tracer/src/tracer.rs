@@ -47,6 +47,7 @@ pub struct Tracer {
     pub(crate) globals_buffer: GpuBuffer,
     pub(crate) frame_buffers: Option<(u32, u32, GpuBuffer, GpuBuffer, GpuBuffer)>,
     pub(crate) kernels: HashMap<Vec<&'static str>, Kernel>,
+    pub(crate) pipelines_built: u32,
     pub(crate) pipeline_cache: PipelineCache,
     pub(crate) command_pool: vk::CommandPool,
     pub(crate) command_buffer: vk::CommandBuffer,
@@ -113,6 +114,7 @@ impl Tracer {
             globals_buffer,
             frame_buffers: None,
             kernels: HashMap::new(),
+            pipelines_built: 0,
             pipeline_cache,
             command_pool,
             command_buffer,
@@ -131,24 +133,38 @@ impl Tracer {
         unsafe { self.ctx.device.device_wait_idle() }.ctx("waiting for the device")
     }
 
-    /// Chooses each scene array's memory path from its buffer's size and binds the arrays
-    /// (again, after a buffer was replaced: the kernels built for the old bindings go too).
+    /// Chooses each scene array's memory path from its buffer's size and binds the arrays.
+    /// Called again after a buffer was replaced: while every array keeps its path the bindings
+    /// are rewritten in place and the kernels stay (a game adding an instance must not wait for
+    /// a recompile); a changed path makes a new set and new kernels.
     pub(crate) fn bind_scene_arrays(&mut self) -> Result<()> {
         let device = self.ctx.device.clone();
+        let sizes: Vec<u64> = self.scene.list.iter().map(|b| b.size).collect();
+        let limits = self.ctx.info.memory_limits();
+        let paths = memory::choose(&sizes, &limits, self.memory);
+        let buffers: Vec<vk::Buffer> = self.scene.list.iter().map(|b| b.buffer).collect();
+        self.wait_idle()?;
+        if let Some(d) = self.scene.descriptors.as_mut() {
+            if paths == self.scene.paths {
+                return d.write(&device, &buffers, &paths);
+            }
+        }
         if let Some(d) = self.scene.descriptors.take() {
-            self.wait_idle()?;
             for k in self.kernels.values() {
                 k.destroy(&device);
             }
             self.kernels.clear();
             d.destroy(&device);
         }
-        let sizes: Vec<u64> = self.scene.list.iter().map(|b| b.size).collect();
-        let limits = self.ctx.info.memory_limits();
-        self.scene.paths = memory::choose(&sizes, &limits, self.memory);
-        let buffers: Vec<vk::Buffer> = self.scene.list.iter().map(|b| b.buffer).collect();
+        self.scene.paths = paths;
         self.scene.descriptors = Some(SceneDescriptors::new(&device, &buffers, &self.scene.paths)?);
         Ok(())
+    }
+
+    /// Compute pipelines built so far (a kernel variant compiled by the driver, or compiled
+    /// again after its bindings changed).
+    pub fn pipelines_built(&self) -> u32 {
+        self.pipelines_built
     }
 
     pub fn device_info(&self) -> &DeviceInfo {
@@ -400,6 +416,7 @@ impl Tracer {
                 scene.layout,
             )?;
             self.kernels.insert(defines.clone(), k);
+            self.pipelines_built += 1;
         }
         let k = &self.kernels[&defines];
         Ok((k.pipeline, k.layout, scene.set))
