@@ -87,6 +87,10 @@ pub struct Summary {
     pub frame_ms_animated: f64,
     pub bytes_per_frame_median: f64,
     pub apply_ms_median: f64,
+    /// Skinning and bottom levels of the characters alone (no rendering beside it), median,
+    /// on one thread and on all of them.
+    pub characters_ms_one_thread: f64,
+    pub characters_ms_all_threads: f64,
 }
 
 pub struct Report {
@@ -226,6 +230,33 @@ fn run_frames(o: &Options, animated: bool) -> Result<(Vec<FrameRecord>, Vec<Dura
     Ok((records, blocked))
 }
 
+/// Skinning and bottom levels of the walking characters (the scene without the field and the
+/// movers) per update, median of `frames`, with the updater's work on `threads` threads and
+/// nothing rendering beside it.
+fn characters_ms(o: &Options, threads: usize) -> Result<f64> {
+    let character = crate::load_scene(Some(&o.character))?;
+    let duration = walk_duration(o)?;
+    let mut scene = Scene::default();
+    for c in 0..o.characters {
+        let at = DVec3::new(2.0 * c as f64, 0.0, 0.0);
+        scene.append(&character, Placement::at(at))?;
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("a thread pool")?;
+    pool.install(|| {
+        let mut updater = platoon_core::drive::Updater::new(scene, 0.0, DVec3::ZERO)?;
+        let mut times = Vec::new();
+        for f in 1..=o.frames.min(60) {
+            updater.set_time((f as f32 / 30.0) % duration)?;
+            let g = updater.update()?;
+            times.push(ms(g.times.pose + g.times.bottom_level));
+        }
+        Ok(median(times))
+    })
+}
+
 /// Refit and rebuild of the posed characters' skinned meshes, on one thread.
 fn refit_figures(o: &Options) -> Result<(usize, f64, f64)> {
     let (scene, _, _) = build_scene(&Options {
@@ -305,6 +336,8 @@ pub fn run(o: &Options) -> Result<Report> {
     let (still, _) = run_frames(o, false)?;
     let (skinned_triangles, refit_rate, speedup) = refit_figures(o)?;
     let (scene, _, _) = build_scene(o)?;
+    let all = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let (characters_one, characters_all) = (characters_ms(o, 1)?, characters_ms(o, all)?);
     let field = |f: fn(&FrameRecord) -> f64, r: &[FrameRecord]| median(r.iter().map(f).collect());
     // The first frames upload the scene and compile the kernel: medians skip nothing, but the
     // blocked percentile leaves out the first submit (it precedes the loop).
@@ -331,6 +364,8 @@ pub fn run(o: &Options) -> Result<Report> {
         frame_ms_animated: field(|r| r.frame_ms, &animated),
         bytes_per_frame_median: field(|r| r.bytes as f64, &animated),
         apply_ms_median: field(|r| r.apply_ms, &animated),
+        characters_ms_one_thread: characters_one,
+        characters_ms_all_threads: characters_all,
     };
     Ok(Report {
         animated,
@@ -407,6 +442,8 @@ pub fn json(s: &Summary) -> String {
         "frame_ms_animated": s.frame_ms_animated,
         "bytes_per_frame_median": s.bytes_per_frame_median,
         "apply_ms_median": s.apply_ms_median,
+        "characters_ms_one_thread": s.characters_ms_one_thread,
+        "characters_ms_all_threads": s.characters_ms_all_threads,
     })
     .to_string()
 }
@@ -418,6 +455,7 @@ pub fn text(o: &Options, s: &Summary) -> String {
          scene: {} triangles posed ({} skinned in {} characters), {} rigid movers\n\
          refit (skinned meshes, leaf boxes included, 1 thread): {:.1} M triangles/s, {:.0}x cheaper than rebuilding them\n\
          update per frame (skin, refit, top level, flatten), median: {:.2} ms\n\
+         the characters alone (skin and bottom levels, nothing rendering): {:.2} ms on 1 thread, {:.2} ms on all\n\
          top-level build over 1,000 instances: {:.3} ms\n\
          game thread blocked, 99th percentile: {:.3} ms\n\
          commit per frame, median: {:.0} bytes, applied in {:.2} ms; camera-only frames: {} mesh bytes\n\
@@ -433,6 +471,8 @@ pub fn text(o: &Options, s: &Summary) -> String {
         s.refit_mtris_per_s_per_core,
         s.refit_vs_rebuild_speedup,
         s.update_ms_median,
+        s.characters_ms_one_thread,
+        s.characters_ms_all_threads,
         s.tlas_ms_1000_instances,
         s.game_blocked_ms_p99,
         s.bytes_per_frame_median,
