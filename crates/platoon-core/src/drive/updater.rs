@@ -66,6 +66,8 @@ pub struct Updater {
     layout: Vec<(usize, usize, usize)>,
     materials_dirty: bool,
     environment_dirty: bool,
+    /// Any edit since the last update (none: the next generation is the same scene).
+    edited: bool,
     generation: u64,
 }
 
@@ -85,6 +87,7 @@ impl Updater {
             layout: Vec::new(),
             materials_dirty: false,
             environment_dirty: false,
+            edited: true,
             generation: 0,
         };
         updater.update()?;
@@ -118,6 +121,7 @@ impl Updater {
             return Err(invalid(format!("animation time {time} is not finite")));
         }
         self.time = time;
+        self.edited = true;
         Ok(())
     }
 
@@ -129,6 +133,7 @@ impl Updater {
         n.translation = p.translation;
         n.rotation = p.rotation;
         n.scale = p.scale;
+        self.edited = true;
         Ok(())
     }
 
@@ -147,6 +152,7 @@ impl Updater {
         node.rotation = p.rotation;
         node.scale = p.scale;
         self.scene.nodes.push(node);
+        self.edited = true;
         Ok(self.scene.nodes.len() - 1)
     }
 
@@ -159,6 +165,7 @@ impl Updater {
         }
         n.skin = None;
         self.removed.insert(node);
+        self.edited = true;
         self.deforming.remove(&node);
         Ok(())
     }
@@ -173,6 +180,7 @@ impl Updater {
             .ok_or_else(|| invalid(format!("no material {index} (the scene has {count})")))?;
         check_material(index, &material)?;
         *slot = material;
+        self.edited = true;
         self.materials_dirty = true;
         Ok(())
     }
@@ -188,6 +196,7 @@ impl Updater {
             .get_mut(index)
             .ok_or_else(|| invalid(format!("no light {index} (the scene has {count})")))?;
         *slot = light;
+        self.edited = true;
         Ok(())
     }
 
@@ -196,6 +205,7 @@ impl Updater {
         check_environment(environment.as_ref())?;
         self.scene.environment = environment;
         self.environment_dirty = true;
+        self.edited = true;
         Ok(())
     }
 
@@ -217,6 +227,21 @@ impl Updater {
     /// updated in place and the commit holds exactly what was rewritten; otherwise (instances of
     /// new meshes, a changed layout) the scene is flattened anew and compared chunk by chunk.
     pub fn update(&mut self) -> Result<Generation> {
+        if !std::mem::take(&mut self.edited) {
+            // Nothing changed (only the camera moved, which is the frame's, not the scene's):
+            // no pose, no skinning, an empty commit.
+            self.generation += 1;
+            return Ok(Generation {
+                id: self.generation,
+                commit: Arc::new(Commit {
+                    arrays: Vec::new(),
+                    header: self.state.header(),
+                }),
+                times: UpdateTimes::default(),
+                refitted: 0,
+                rebuilt: 0,
+            });
+        }
         let mut times = UpdateTimes::default();
         let start = Instant::now();
         let posed = self.scene.pose_around(self.time, self.origin);
@@ -534,6 +559,8 @@ mod tests {
         let next = u.update().unwrap();
         assert!(next.commit.is_empty(), "{:?}", next.commit.arrays);
         assert_eq!(next.id, 2);
+        // Without an edit nothing is posed or flattened at all.
+        assert_eq!(next.times.pose + next.times.flatten, Duration::ZERO);
     }
 
     #[test]
