@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct CostMap {
-    /// frames[f][y]: cost of line y in frame f.
+    /// `frames[f][y]`: cost of line y in frame f.
     pub frames: Vec<Vec<f64>>,
 }
 

@@ -1,8 +1,8 @@
 //! Flattens a posed scene into the plain arrays the kernel reads (std430 layouts in
 //! [`layout`], mirrored in shaders/scene.glsl). This is the only data the tracer crate receives
-//! from the core. One file per job: [`bvh`] and [`geometry`] (bottom and top levels),
-//! [`materials`] (and textures), [`instances`] (with their emissive triangles as lights),
-//! [`lights`] (punctual, environment, selection CDF), [`features`] (what the kernel compiles);
+//! from the core. One file per job: [`bvh`] and `geometry` (bottom and top levels),
+//! `materials` (and textures), `instances` (with their emissive triangles as lights),
+//! `lights` (punctual, environment, selection CDF), [`features`] (what the kernel compiles);
 //! [`refit`] keeps a deforming mesh's BVH from frame to frame; [`commit`] says what changed
 //! between two flattened scenes.
 

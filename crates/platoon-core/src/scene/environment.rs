@@ -30,7 +30,7 @@ pub struct EnvMap {
 pub struct EnvDistribution {
     pub marginal_cdf: Vec<f32>,
     pub conditional_cdf: Vec<f32>,
-    /// Integral of the (unnormalised) function over [0,1]^2.
+    /// Integral of the (unnormalised) function over `[0,1]^2`.
     pub integral: f32,
 }
 

@@ -1,4 +1,4 @@
-//! The scene: the graph a game or a file describes ([`graph`]), where it comes from (glTF,
+//! The scene: the graph a game or a file describes (`graph.rs`, re-exported here), where it comes from (glTF,
 //! the built-in Cornell box), how it moves (animation, cameras, the floating origin) and its
 //! distant light.
 

@@ -2,8 +2,8 @@
 //! the problem; unsupported optional features become warnings kept on the scene.
 //!
 //! Hostile files are expected: what the `gltf` crate assumes is checked first ([`validate`]),
-//! every URI passes one policy ([`resources`]), and a panic that still happens inside a
-//! dependency becomes an error ([`guard`]).
+//! every URI passes one policy (`resources.rs`), and a panic that still happens inside a
+//! dependency becomes an error (`guard.rs`).
 
 mod guard;
 mod material;
