@@ -29,6 +29,7 @@ enum Edit {
     Material(usize, Box<Material>),
     Light(usize, Box<PunctualLight>),
     Environment(Box<Option<Environment>>),
+    FollowCamera(DVec3),
 }
 
 /// What the game thread knows of the scene's structure, to check edits without the updater.
@@ -204,6 +205,16 @@ impl Pipeline {
         Ok(())
     }
 
+    /// Where the camera is (world space): the render origin follows it when it drifts far
+    /// (see [`Updater::follow_camera`]; each generation says its origin).
+    pub fn follow_camera(&mut self, camera: DVec3) -> Result<()> {
+        if !camera.is_finite() {
+            return Err(invalid(format!("camera position {camera} is not finite")));
+        }
+        self.pending.push(Edit::FollowCamera(camera));
+        Ok(())
+    }
+
     /// Hands the edits made since the last submit to the updater, which starts building the
     /// next generation at once. Waits only if the previous submission is still being built.
     pub fn submit(&mut self) -> Result<()> {
@@ -273,6 +284,7 @@ fn apply(updater: &mut Updater, batch: Vec<Edit>) -> Result<()> {
             Edit::Material(i, m) => updater.set_material(i, *m)?,
             Edit::Light(i, l) => updater.set_light(i, *l)?,
             Edit::Environment(e) => updater.set_environment(*e)?,
+            Edit::FollowCamera(c) => updater.follow_camera(c)?,
         }
     }
     Ok(())

@@ -18,6 +18,7 @@ use crate::flatten::commit::Commit;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
 use crate::flatten::{used_meshes, GpuScene, MeshRegion};
 use crate::scene::environment::Environment;
+use crate::scene::floating_origin::FloatingOrigin;
 use crate::scene::placement::{invalid, Placement};
 use crate::scene::{LightKind, Material, Mesh, Node, Posed, PunctualLight, Scene};
 
@@ -39,6 +40,9 @@ pub struct UpdateTimes {
 #[derive(Clone)]
 pub struct Generation {
     pub id: u64,
+    /// The world point at render space's origin in this generation (see
+    /// [`Updater::follow_camera`]): the frame's camera is placed relative to it.
+    pub origin: DVec3,
     /// What changed from the previous generation's scene, with the bytes.
     pub commit: Arc<Commit>,
     pub times: UpdateTimes,
@@ -49,8 +53,8 @@ pub struct Generation {
 
 pub struct Updater {
     scene: Scene,
-    /// Render-space origin (see `Scene::pose_around`).
-    origin: DVec3,
+    /// Render-space origin (see `Scene::pose_around`), following the camera.
+    origin: FloatingOrigin,
     time: f32,
     policy: RefitPolicy,
     /// Flattened BVHs of static meshes, by scene mesh.
@@ -77,7 +81,10 @@ impl Updater {
     pub fn new(scene: Scene, time: f32, origin: DVec3) -> Result<Updater> {
         let mut updater = Updater {
             scene,
-            origin,
+            origin: FloatingOrigin {
+                origin,
+                ..Default::default()
+            },
             time,
             policy: RefitPolicy::default(),
             static_bvhs: HashMap::new(),
@@ -109,6 +116,26 @@ impl Updater {
 
     pub fn generation(&self) -> u64 {
         self.generation
+    }
+
+    /// The world point at the origin of render space: generations, their cameras and ray
+    /// queries are relative to it.
+    pub fn origin(&self) -> DVec3 {
+        self.origin.origin
+    }
+
+    /// Tells the updater where the camera is (world space): when it has drifted more than
+    /// `recenter_distance` from the render origin, the origin moves onto it and the next
+    /// generation is posed around it (issue 6's floating origin, for a scene that lives), so a
+    /// world far larger than f32 can place stays precise where the camera looks.
+    pub fn follow_camera(&mut self, camera: DVec3) -> Result<()> {
+        if !camera.is_finite() {
+            return Err(invalid(format!("camera position {camera} is not finite")));
+        }
+        if self.origin.follow(camera) {
+            self.edited = true;
+        }
+        Ok(())
     }
 
     pub fn set_refit_policy(&mut self, policy: RefitPolicy) {
@@ -233,6 +260,7 @@ impl Updater {
             self.generation += 1;
             return Ok(Generation {
                 id: self.generation,
+                origin: self.origin.origin,
                 commit: Arc::new(Commit {
                     arrays: Vec::new(),
                     header: self.state.header(),
@@ -244,7 +272,7 @@ impl Updater {
         }
         let mut times = UpdateTimes::default();
         let start = Instant::now();
-        let posed = self.scene.pose_around(self.time, self.origin);
+        let posed = self.scene.pose_around(self.time, self.origin.origin);
         times.pose = start.elapsed();
 
         let start = Instant::now();
@@ -314,6 +342,7 @@ impl Updater {
         self.generation += 1;
         Ok(Generation {
             id: self.generation,
+            origin: self.origin.origin,
             commit: Arc::new(commit),
             times,
             refitted: levels.refitted,
@@ -561,6 +590,30 @@ mod tests {
         assert_eq!(next.id, 2);
         // Without an edit nothing is posed or flattened at all.
         assert_eq!(next.times.pose + next.times.flatten, Duration::ZERO);
+    }
+
+    #[test]
+    fn the_render_origin_follows_a_far_camera_and_keeps_a_far_room_precise() {
+        // The Cornell box 1e7 units from the world origin.
+        let mut scene = crate::scene::cornell::scene();
+        for n in scene.nodes.iter_mut().filter(|n| n.parent.is_none()) {
+            n.translation += DVec3::new(1e7, 0.0, 0.0);
+        }
+        let mut u = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
+        let far = u.flattened().instances[0].object_to_world[0][3];
+        assert_eq!(far, 1e7);
+        u.follow_camera(DVec3::new(100.0, 0.0, 0.0)).unwrap();
+        assert!(
+            u.update().unwrap().commit.is_empty(),
+            "within the recentring distance"
+        );
+        u.follow_camera(DVec3::new(1e7, 0.0, -5.0)).unwrap();
+        let g = u.update().unwrap();
+        assert_eq!(g.origin, DVec3::new(1e7, 0.0, -5.0));
+        assert_eq!(g.commit.mesh_bytes(), 0, "object-space meshes do not move");
+        let near = u.flattened().instances[0].object_to_world[0][3];
+        assert_eq!(near, 0.0);
+        assert!(u.follow_camera(DVec3::splat(f64::NAN)).is_err());
     }
 
     #[test]
