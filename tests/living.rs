@@ -169,6 +169,10 @@ fn the_threaded_pipeline_feeds_tracers_the_bits_of_a_fresh_upload() {
     let (mut pipeline, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
     let mut followed = new_tracer(&first);
     let mut queries = QueryScene::new(&first);
+    // Three more tracers, behind the renderer that splits frames between them.
+    let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
+    let three = create_tracers(&spec, &first, true, Sampling::Mis).unwrap();
+    let mut renderer = Renderer::new(three, by_name("cost-aware").unwrap());
     let params = FrameParams::new(20, 20, 2, camera);
     pipeline.submit().unwrap();
     reference.update().unwrap();
@@ -190,11 +194,14 @@ fn the_threaded_pipeline_feeds_tracers_the_bits_of_a_fresh_upload() {
         reference.update().unwrap();
         followed.apply_commit(&g.commit).unwrap();
         queries.apply_commit(&g.commit);
+        renderer.apply_commit(&g.commit, f).unwrap();
         last = Some(render_with(&mut followed, &params));
+        assert!(renderer.render_frame(&params).unwrap().film == *last.as_ref().unwrap());
     }
     let g = pipeline.take().unwrap();
     followed.apply_commit(&g.commit).unwrap();
     queries.apply_commit(&g.commit);
+    renderer.apply_commit(&g.commit, 4).unwrap();
     let after = render_with(&mut followed, &params);
     assert!(
         Some(&after) != last.as_ref(),
