@@ -391,6 +391,7 @@ pub fn run_dynamic(a: &DynamicArgs, device: usize) -> Result<()> {
         ..Default::default()
     };
     let report = db::run(&options)?;
+    print!("{}", db::frames_text(&report));
     print!("{}", db::text(&options, &report.summary));
     let (csv, png) = (a.out.join("dynamic.csv"), a.out.join("dynamic.png"));
     platoon::core::output::write_text(&csv, &db::csv(&report))?;

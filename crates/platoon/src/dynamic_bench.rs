@@ -54,6 +54,7 @@ pub struct FrameRecord {
     pub skin_ms: f64,
     pub bottom_level_ms: f64,
     pub flatten_ms: f64,
+    pub top_level_ms: f64,
     pub commit_build_ms: f64,
     pub blocked_ms: f64,
     pub bytes: u64,
@@ -211,6 +212,7 @@ fn run_frames(o: &Options, animated: bool) -> Result<(Vec<FrameRecord>, Vec<Dura
             skin_ms: ms(g.times.pose),
             bottom_level_ms: ms(g.times.bottom_level),
             flatten_ms: ms(g.times.flatten),
+            top_level_ms: ms(g.times.top_level),
             commit_build_ms: ms(g.times.commit),
             blocked_ms: 0.0,
             bytes: stats.bytes,
@@ -374,18 +376,43 @@ pub fn run(o: &Options) -> Result<Report> {
     })
 }
 
-/// Per-frame CSV of both runs.
-pub fn csv(report: &Report) -> String {
+/// One line per frame of both runs, for people.
+pub fn frames_text(report: &Report) -> String {
     let mut out = String::from(
-        "run,frame,skin_ms,bottom_level_ms,flatten_ms,commit_build_ms,blocked_ms,bytes,mesh_bytes,apply_ms,frame_ms,refitted,rebuilt\n",
+        "run       frame  skin  bottom  top  flatten  commit  blocked  bytes      apply  frame (ms)\n",
     );
     for (name, records) in [("animated", &report.animated), ("still", &report.still)] {
         for (f, r) in records.iter().enumerate() {
             out.push_str(&format!(
-                "{name},{f},{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{:.4},{:.4},{},{}\n",
+                "{name:9} {f:5} {:5.2} {:6.2} {:5.2} {:7.2} {:6.2} {:7.2} {:10} {:6.2} {:6.2}\n",
+                r.skin_ms,
+                r.bottom_level_ms,
+                r.top_level_ms,
+                r.flatten_ms,
+                r.commit_build_ms,
+                r.blocked_ms,
+                r.bytes,
+                r.apply_ms,
+                r.frame_ms
+            ));
+        }
+    }
+    out
+}
+
+/// Per-frame CSV of both runs.
+pub fn csv(report: &Report) -> String {
+    let mut out = String::from(
+        "run,frame,skin_ms,bottom_level_ms,flatten_ms,top_level_ms,commit_build_ms,blocked_ms,bytes,mesh_bytes,apply_ms,frame_ms,refitted,rebuilt\n",
+    );
+    for (name, records) in [("animated", &report.animated), ("still", &report.still)] {
+        for (f, r) in records.iter().enumerate() {
+            out.push_str(&format!(
+                "{name},{f},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{:.4},{:.4},{},{}\n",
                 r.skin_ms,
                 r.bottom_level_ms,
                 r.flatten_ms,
+                r.top_level_ms,
                 r.commit_build_ms,
                 r.blocked_ms,
                 r.bytes,

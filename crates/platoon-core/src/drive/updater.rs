@@ -29,9 +29,11 @@ pub struct UpdateTimes {
     pub pose: Duration,
     /// Bottom levels: refits, rebuilds, static builds on first use.
     pub bottom_level: Duration,
-    /// Top level, instances, lights and the other arrays.
+    /// Rewriting the deformed meshes, the top level, instances, lights and the other arrays.
     pub flatten: Duration,
-    /// Comparing with the previous generation.
+    /// Of which the top-level BVH build.
+    pub top_level: Duration,
+    /// Building the commit (copying what changed, or comparing with the previous generation).
     pub commit: Duration,
 }
 
@@ -322,6 +324,7 @@ impl Updater {
                 }
             }
             times.flatten = start.elapsed();
+            times.top_level = self.state.build_times.instances;
             let start = Instant::now();
             let commit = Commit::of_ranges(&self.state, ranges);
             times.commit = start.elapsed();
@@ -330,6 +333,7 @@ impl Updater {
             let env = self.scene.environment.as_ref();
             let next = GpuScene::build_with(&self.scene, &posed, env, &refs, &levels.capacity)?;
             times.flatten = start.elapsed();
+            times.top_level = next.build_times.instances;
             let start = Instant::now();
             let commit = Commit::between(&self.state, &next);
             times.commit = start.elapsed();
