@@ -98,7 +98,7 @@ fn interleaved_passes_give_the_contiguous_image() {
 
 #[test]
 fn texel_buffers_storage_buffers_and_device_addresses_give_the_same_bits() {
-    use platoon::tracer::{MemoryPath, Tracer, TracerOptions};
+    use platoon::tracer::MemoryPath;
     init();
     for prepared in [
         prepare(
@@ -116,12 +116,7 @@ fn texel_buffers_storage_buffers_and_device_addresses_give_the_same_bits() {
         let films: Vec<_> = paths
             .into_iter()
             .map(|(memory, prefix)| {
-                let options = TracerOptions {
-                    validation: true,
-                    memory,
-                    ..Default::default()
-                };
-                let mut t = Tracer::new(&options, &prepared.gpu).expect("tracer");
+                let mut t = tracer_reading(&prepared.gpu, memory);
                 let defines = t.kernel_defines(&params);
                 let bound = |p: &str| defines.iter().filter(|d| d.starts_with(p)).count();
                 // Every array of these small scenes fits the texel and storage limits.

@@ -12,7 +12,7 @@ use platoon::core::scene::cornell::lambertian;
 use platoon::core::scene::{
     AlphaMode, LightKind, Material, Node, PunctualLight, Texture, TextureRef, Wrap,
 };
-use platoon::tracer::{MemoryPath, Sampling, Tracer, TracerOptions};
+use platoon::tracer::{MemoryPath, Sampling};
 
 const RHO: f32 = 0.5;
 
@@ -237,13 +237,7 @@ fn texture_larger_than_the_storage_buffer_range_renders_on_every_path() {
         (MemoryPath::StorageBuffers, "", "SSBO_VERTICES"),
     ];
     for (memory, texels, vertices) in cases {
-        init();
-        let options = TracerOptions {
-            validation: true,
-            memory,
-            ..Default::default()
-        };
-        let mut t = Tracer::new(&options, &prepared.gpu).expect("tracer");
+        let mut t = tracer_reading(&prepared.gpu, memory);
         let defines = t.kernel_defines(&params);
         assert!(defines.contains(&vertices), "{memory:?}: {defines:?}");
         if texels.is_empty() {

@@ -15,15 +15,10 @@ use platoon::core::scene::environment::Environment;
 use platoon::core::scene::Placement;
 use platoon::core::Scene;
 use platoon::devices::{create_tracers, DeviceSpec};
-use platoon::tracer::{Sampling, Tracer, TracerOptions};
+use platoon::tracer::{Sampling, Tracer};
 
 fn new_tracer(scene: &platoon::core::flatten::GpuScene) -> Tracer {
-    init();
-    let options = TracerOptions {
-        validation: true,
-        ..Default::default()
-    };
-    Tracer::new(&options, scene).expect("tracer")
+    tracer_reading(scene, Default::default())
 }
 
 /// CesiumMan (skinned, animated) under a uniform sky, and a camera on it.

@@ -7,7 +7,7 @@ use std::sync::Once;
 use glam::Vec3;
 use platoon::core::frame::FrameParams;
 use platoon::core::output::Film;
-use platoon::tracer::{Sampling, Tracer, TracerOptions};
+use platoon::tracer::{MemoryPath, Sampling, Tracer, TracerOptions};
 use platoon::{PrepareOptions, Prepared};
 
 static INIT: Once = Once::new();
@@ -52,6 +52,17 @@ pub fn tracer(prepared: &Prepared, sampling: Sampling) -> Tracer {
         &prepared.gpu,
     )
     .expect("tracer")
+}
+
+/// A tracer on lavapipe with validation on, reading the scene arrays by `memory`.
+pub fn tracer_reading(scene: &platoon::core::flatten::GpuScene, memory: MemoryPath) -> Tracer {
+    init();
+    let options = TracerOptions {
+        validation: true,
+        memory,
+        ..Default::default()
+    };
+    Tracer::new(&options, scene).expect("tracer")
 }
 
 /// Renders the whole frame with validation on and asserts the layer said nothing.
