@@ -368,6 +368,10 @@ pub struct DynamicArgs {
     /// llvmpipe threads of the tracer (1 leaves the other core to the updater).
     #[arg(long, default_value_t = 1)]
     lavapipe_threads: u32,
+    /// The game never waits for a generation: a frame whose next one is not built yet renders
+    /// the previous one again (Pipeline::try_take).
+    #[arg(long)]
+    never_wait: bool,
     /// Print one JSON object after the text.
     #[arg(long)]
     json: bool,
@@ -388,6 +392,7 @@ pub fn run_dynamic(a: &DynamicArgs, device: usize) -> Result<()> {
         character: a.character.clone(),
         lavapipe_threads: a.lavapipe_threads,
         device,
+        never_wait: a.never_wait,
         ..Default::default()
     };
     let report = db::run(&options)?;

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context as _, Result};
 use glam::{DVec3, Quat, Vec3};
-use platoon_core::drive::{Generation, Pipeline};
+use platoon_core::drive::Pipeline;
 use platoon_core::flatten::bvh::{build_instance_bvh, build_mesh_bvh};
 use platoon_core::flatten::refit::MeshBvh;
 use platoon_core::frame::FrameParams;
@@ -31,6 +31,9 @@ pub struct Options {
     /// llvmpipe threads of the tracer: 1 leaves the other core to the updater thread.
     pub lavapipe_threads: u32,
     pub device: usize,
+    /// The game never waits for a generation (`Pipeline::try_take`): a frame whose next
+    /// generation is not built renders the previous one again.
+    pub never_wait: bool,
 }
 
 impl Default for Options {
@@ -44,6 +47,7 @@ impl Default for Options {
             height: 64,
             lavapipe_threads: 1,
             device: 0,
+            never_wait: false,
         }
     }
 }
@@ -64,6 +68,8 @@ pub struct FrameRecord {
     /// Skinned meshes refitted and rebuilt in the update.
     pub refitted: usize,
     pub rebuilt: usize,
+    /// The frame rendered the previous generation again (`never_wait`, next one not built).
+    pub reused: bool,
 }
 
 impl FrameRecord {
@@ -92,6 +98,8 @@ pub struct Summary {
     /// on one thread and on all of them.
     pub characters_ms_one_thread: f64,
     pub characters_ms_all_threads: f64,
+    /// Share of the animated frames that rendered the previous generation again.
+    pub reused_frames_pct: f64,
 }
 
 pub struct Report {
@@ -196,38 +204,56 @@ fn run_frames(o: &Options, animated: bool) -> Result<(Vec<FrameRecord>, Vec<Dura
     edits(&mut pipeline, 1)?;
     pipeline.submit()?;
     let mut records = Vec::with_capacity(o.frames as usize);
+    let mut blocked = Vec::with_capacity(2 * o.frames as usize);
     for f in 0..o.frames {
         let start = Instant::now();
-        let g: Generation = pipeline.take()?;
-        // The game's edits for the next frame, then the updater builds it while this one renders.
-        edits(&mut pipeline, f + 2)?;
-        pipeline.submit()?;
-        let apply = Instant::now();
-        let stats = tracer.apply_commit(&g.commit)?;
-        let apply_ms = ms(apply.elapsed());
+        // The generation built while the last frame rendered; a game that must not stall
+        // renders the one its tracers hold again when the next is not ready.
+        let taken = if o.never_wait {
+            pipeline.try_take()?
+        } else {
+            let wait = Instant::now();
+            let g = pipeline.take()?;
+            blocked.push(wait.elapsed());
+            Some(g)
+        };
+        let mut record = FrameRecord {
+            reused: taken.is_none(),
+            ..Default::default()
+        };
+        if let Some(g) = &taken {
+            // The game's edits for the next frame; the updater builds it while this one renders.
+            edits(&mut pipeline, f + 2)?;
+            let wait = Instant::now();
+            pipeline.submit()?;
+            blocked.push(wait.elapsed());
+            let apply = Instant::now();
+            let stats = tracer.apply_commit(&g.commit)?;
+            record = FrameRecord {
+                skin_ms: ms(g.times.pose),
+                bottom_level_ms: ms(g.times.bottom_level),
+                flatten_ms: ms(g.times.flatten),
+                top_level_ms: ms(g.times.top_level),
+                commit_build_ms: ms(g.times.commit),
+                bytes: stats.bytes,
+                mesh_bytes: g.commit.mesh_bytes(),
+                apply_ms: ms(apply.elapsed()),
+                refitted: g.refitted,
+                rebuilt: g.rebuilt,
+                ..record
+            };
+        }
         let mut params = FrameParams::new(o.width, o.height, 1, camera);
         params.frame = f;
         crate::render_bands(&mut tracer, &params, &[(0, o.height)], &mut |_| {})?;
-        records.push(FrameRecord {
-            skin_ms: ms(g.times.pose),
-            bottom_level_ms: ms(g.times.bottom_level),
-            flatten_ms: ms(g.times.flatten),
-            top_level_ms: ms(g.times.top_level),
-            commit_build_ms: ms(g.times.commit),
-            blocked_ms: 0.0,
-            bytes: stats.bytes,
-            mesh_bytes: g.commit.mesh_bytes(),
-            apply_ms,
-            frame_ms: ms(start.elapsed()),
-            refitted: g.refitted,
-            rebuilt: g.rebuilt,
-        });
-    }
-    // submit and take alternate, one of each per frame after the first submit.
-    let blocked = pipeline.blocked_times().to_vec();
-    for (i, r) in records.iter_mut().enumerate() {
-        let pair = blocked.get(1 + 2 * i..3 + 2 * i).unwrap_or(&[]);
-        r.blocked_ms = pair.iter().map(|d| ms(*d)).sum();
+        record.frame_ms = ms(start.elapsed());
+        let waits = &blocked[blocked.len().saturating_sub(2)..];
+        record.blocked_ms = if taken.is_some() {
+            waits.iter().map(|d| ms(*d)).sum()
+        } else {
+            0.0
+        };
+        records.push(record);
     }
     Ok((records, blocked))
 }
@@ -368,6 +394,8 @@ pub fn run(o: &Options) -> Result<Report> {
         apply_ms_median: field(|r| r.apply_ms, &animated),
         characters_ms_one_thread: characters_one,
         characters_ms_all_threads: characters_all,
+        reused_frames_pct: 100.0 * animated.iter().filter(|r| r.reused).count() as f64
+            / animated.len().max(1) as f64,
     };
     Ok(Report {
         animated,
@@ -471,6 +499,7 @@ pub fn json(s: &Summary) -> String {
         "apply_ms_median": s.apply_ms_median,
         "characters_ms_one_thread": s.characters_ms_one_thread,
         "characters_ms_all_threads": s.characters_ms_all_threads,
+        "reused_frames_pct": s.reused_frames_pct,
     })
     .to_string()
 }
@@ -484,7 +513,7 @@ pub fn text(o: &Options, s: &Summary) -> String {
          update per frame (skin, refit, top level, flatten), median: {:.2} ms\n\
          the characters alone (skin and bottom levels, nothing rendering): {:.2} ms on 1 thread, {:.2} ms on all\n\
          top-level build over 1,000 instances: {:.3} ms\n\
-         game thread blocked, 99th percentile: {:.3} ms\n\
+         game thread blocked, 99th percentile: {:.3} ms ({}; {:.1}% of the frames rendered the previous generation again)\n\
          commit per frame, median: {:.0} bytes, applied in {:.2} ms; camera-only frames: {} mesh bytes\n\
          frame time, median: {:.2} ms animated, {:.2} ms still ({:+.1}%)\n",
         o.frames,
@@ -502,6 +531,8 @@ pub fn text(o: &Options, s: &Summary) -> String {
         s.characters_ms_all_threads,
         s.tlas_ms_1000_instances,
         s.game_blocked_ms_p99,
+        if o.never_wait { "never waiting" } else { "waiting for each generation" },
+        s.reused_frames_pct,
         s.bytes_per_frame_median,
         s.apply_ms_median,
         s.camera_only_mesh_bytes,

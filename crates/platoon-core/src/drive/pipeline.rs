@@ -246,6 +246,33 @@ impl Pipeline {
         Ok(g)
     }
 
+    /// The oldest submitted generation if it is built, without waiting: a game that must not
+    /// stall renders the generation its tracers hold once more (with this frame's camera) and
+    /// keeps its edits for the next submit. Not counted in [`Pipeline::blocked_times`].
+    pub fn try_take(&mut self) -> Result<Option<Generation>> {
+        if let Some(g) = self.ready.pop_front() {
+            return Ok(Some(g));
+        }
+        if !self.in_flight {
+            return Ok(None);
+        }
+        match self.from_updater.try_recv() {
+            Ok(g) => {
+                self.in_flight = false;
+                g.map(Some)
+            }
+            Err(mpsc::TryRecvError::Empty) => Ok(None),
+            Err(mpsc::TryRecvError::Disconnected) => {
+                Err(Error::Invalid("the updater thread has stopped".into()))
+            }
+        }
+    }
+
+    /// Whether a submitted generation is still being built (then `submit` would wait for it).
+    pub fn in_flight(&self) -> bool {
+        self.in_flight
+    }
+
     /// How long each submit and take kept the game thread waiting.
     pub fn blocked_times(&self) -> &[Duration] {
         &self.blocked
@@ -320,5 +347,18 @@ mod tests {
         let c = p.take().unwrap();
         assert_eq!(c.commit.header.instances, first.instances.len() as u32);
         assert_eq!(p.blocked_times().len(), 6);
+        // Without waiting: nothing until the generation is built, then it, once.
+        p.set_time(0.5).unwrap();
+        p.submit().unwrap();
+        let start = std::time::Instant::now();
+        let got = loop {
+            if let Some(g) = p.try_take().unwrap() {
+                break g;
+            }
+            assert!(start.elapsed().as_secs() < 10, "the generation never came");
+        };
+        assert_eq!(got.id, c.id + 1);
+        assert!(!p.in_flight());
+        assert!(p.try_take().unwrap().is_none());
     }
 }
