@@ -72,3 +72,5 @@ pub(crate) struct Push {
 }
 
 const _: () = assert!(std::mem::size_of::<Globals>() == 144 + 8 * 16);
+// Must match the push-constant block of shaders/scene.glsl.
+const _: () = assert!(std::mem::size_of::<Push>() == 32);
