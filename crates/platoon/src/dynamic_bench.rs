@@ -178,9 +178,22 @@ fn ms(d: Duration) -> f64 {
 }
 
 /// Runs the scene animated (characters walking, movers circling) or standing still.
-fn run_frames(o: &Options, animated: bool) -> Result<(Vec<FrameRecord>, Vec<Duration>)> {
+/// One run: its frames, the game thread's waits, and the triangles posed in its scene.
+struct Run {
+    records: Vec<FrameRecord>,
+    blocked: Vec<Duration>,
+    triangles: usize,
+}
+
+fn run_frames(o: &Options, animated: bool) -> Result<Run> {
     let (scene, movers, camera) = build_scene(o)?;
-    let (lo, hi) = scene.pose(0.0).bounds();
+    let posed = scene.pose(0.0);
+    let triangles = posed
+        .instances
+        .iter()
+        .map(|i| posed.meshes[i.mesh].indices.len())
+        .sum();
+    let (lo, hi) = posed.bounds();
     let center = ((lo + hi) * 0.5).as_dvec3();
     let radius = 0.25 * (hi - lo).max_element() as f64;
     let (mut pipeline, first) = Pipeline::new(scene, 0.0, DVec3::ZERO)?;
@@ -255,7 +268,11 @@ fn run_frames(o: &Options, animated: bool) -> Result<(Vec<FrameRecord>, Vec<Dura
         };
         records.push(record);
     }
-    Ok((records, blocked))
+    Ok(Run {
+        records,
+        blocked,
+        triangles,
+    })
 }
 
 /// Skinning and bottom levels of the walking characters (the scene without the field and the
@@ -360,10 +377,13 @@ pub fn run(o: &Options) -> Result<Report> {
     if o.frames < 2 || o.width == 0 || o.height == 0 || o.lavapipe_threads == 0 {
         bail!("--frames must be at least 2, the image and --lavapipe-threads positive");
     }
-    let (animated, blocked) = run_frames(o, true)?;
-    let (still, _) = run_frames(o, false)?;
+    let Run {
+        records: animated,
+        blocked,
+        triangles: scene_triangles,
+    } = run_frames(o, true)?;
+    let still = run_frames(o, false)?.records;
     let (skinned_triangles, refit_rate, speedup) = refit_figures(o)?;
-    let (scene, _, _) = build_scene(o)?;
     let all = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (characters_one, characters_all) = (characters_ms(o, 1)?, characters_ms(o, all)?);
     let field = |f: fn(&FrameRecord) -> f64, r: &[FrameRecord]| median(r.iter().map(f).collect());
@@ -371,12 +391,7 @@ pub fn run(o: &Options) -> Result<Report> {
     // blocked percentile leaves out the first submit (it precedes the loop).
     let summary = Summary {
         skinned_triangles,
-        scene_triangles: scene
-            .pose(0.0)
-            .instances
-            .iter()
-            .map(|i| scene.pose(0.0).meshes[i.mesh].indices.len())
-            .sum(),
+        scene_triangles,
         refit_mtris_per_s_per_core: refit_rate,
         refit_vs_rebuild_speedup: speedup,
         update_ms_median: field(FrameRecord::update_ms, &animated),

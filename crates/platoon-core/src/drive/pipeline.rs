@@ -135,9 +135,7 @@ impl Pipeline {
     }
 
     pub fn set_time(&mut self, time: f32) -> Result<()> {
-        if !time.is_finite() {
-            return Err(invalid(format!("animation time {time} is not finite")));
-        }
+        crate::drive::updater::check_time(time)?;
         self.pending.push(Edit::Time(time));
         Ok(())
     }
@@ -208,9 +206,7 @@ impl Pipeline {
     /// Where the camera is (world space): the render origin follows it when it drifts far
     /// (see [`Updater::follow_camera`]; each generation says its origin).
     pub fn follow_camera(&mut self, camera: DVec3) -> Result<()> {
-        if !camera.is_finite() {
-            return Err(invalid(format!("camera position {camera} is not finite")));
-        }
+        crate::drive::updater::check_camera(camera)?;
         self.pending.push(Edit::FollowCamera(camera));
         Ok(())
     }

@@ -131,9 +131,7 @@ impl Updater {
     /// generation is posed around it (issue 6's floating origin, for a scene that lives), so a
     /// world far larger than f32 can place stays precise where the camera looks.
     pub fn follow_camera(&mut self, camera: DVec3) -> Result<()> {
-        if !camera.is_finite() {
-            return Err(invalid(format!("camera position {camera} is not finite")));
-        }
+        check_camera(camera)?;
         if self.origin.follow(camera) {
             self.edited = true;
         }
@@ -146,9 +144,7 @@ impl Updater {
 
     /// Animation time of the next generation (glTF animations and the skins they drive).
     pub fn set_time(&mut self, time: f32) -> Result<()> {
-        if !time.is_finite() {
-            return Err(invalid(format!("animation time {time} is not finite")));
-        }
+        check_time(time)?;
         self.time = time;
         self.edited = true;
         Ok(())
@@ -511,6 +507,22 @@ fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, 
         ranges.extend([(2, tb * triangle, tc * triangle), (3, tb * 4, tc * 4)]);
     }
     ranges
+}
+
+/// An animation time a game may set: finite.
+pub(crate) fn check_time(time: f32) -> Result<()> {
+    if !time.is_finite() {
+        return Err(invalid(format!("animation time {time} is not finite")));
+    }
+    Ok(())
+}
+
+/// A camera position the render origin may follow: finite.
+pub(crate) fn check_camera(camera: DVec3) -> Result<()> {
+    if !camera.is_finite() {
+        return Err(invalid(format!("camera position {camera} is not finite")));
+    }
+    Ok(())
 }
 
 /// An environment a game may set: a constant one finite and non-negative (a map was checked
