@@ -35,6 +35,9 @@ pub struct UpdateTimes {
     pub top_level: Duration,
     /// Building the commit (copying what changed, or comparing with the previous generation).
     pub commit: Duration,
+    /// The whole update, from its first step to the generation handed over (what the parts
+    /// leave out: the bookkeeping between them, freeing the previous poses).
+    pub total: Duration,
 }
 
 /// One generation of the scene as the tracers receive it: what changed since the previous one,
@@ -269,6 +272,7 @@ impl Updater {
             });
         }
         let mut times = UpdateTimes::default();
+        let begin = Instant::now();
         let start = Instant::now();
         let posed = self.scene.pose_around(self.time, self.origin.origin);
         times.pose = start.elapsed();
@@ -296,11 +300,19 @@ impl Updater {
             .collect();
         let commit = if self.generation > 0 && layout == self.layout {
             let mut ranges = Vec::new();
-            for &(i, rebuilt) in &levels.deformed {
-                let r = self
-                    .state
-                    .rewrite_mesh(&self.scene, i, &meshes[i], refs[i])?;
-                ranges.extend(region_ranges(&r, refs[i].nodes.len() as u64, rebuilt));
+            for &(i, reshaped) in &levels.deformed {
+                let r = if reshaped {
+                    self.state
+                        .rewrite_mesh(&self.scene, i, &meshes[i], refs[i])?
+                } else {
+                    let Level::Skinned(node) = levels.bvhs[i] else {
+                        unreachable!("only skinned meshes deform")
+                    };
+                    let corners = self.deforming[&node].bvh.corners();
+                    self.state
+                        .rewrite_refitted(i, &meshes[i], refs[i], corners)?
+                };
+                ranges.extend(region_ranges(&r, refs[i].nodes.len() as u64, reshaped));
             }
             if std::mem::take(&mut self.materials_dirty) {
                 self.state.set_materials(&self.scene);
@@ -339,7 +351,9 @@ impl Updater {
             self.environment_dirty = false;
             commit
         };
+        drop(posed);
         self.generation += 1;
+        times.total = begin.elapsed();
         Ok(Generation {
             id: self.generation,
             origin: self.origin.origin,
@@ -390,11 +404,11 @@ impl Updater {
         use std::sync::atomic::{AtomicUsize, Ordering};
         let budget = AtomicUsize::new(self.policy.max_rebuilds_per_update);
         let policy = self.policy;
-        let updated: Vec<(usize, usize, Skinned, bool)> = changed
+        let updated: Vec<(usize, usize, Skinned, bool, bool)> = changed
             .into_par_iter()
             .map(|(i, node, before)| {
                 let mesh = &meshes[i];
-                let (bvh, flat, rebuilt) = match before {
+                let (bvh, flat, rebuilt, reshaped) = match before {
                     Some(mut s) => {
                         let grant = || {
                             budget
@@ -405,28 +419,29 @@ impl Updater {
                         };
                         let rebuilt = s.bvh.update(mesh, &policy, grant) == Update::Rebuilt;
                         let mut flat = s.flat;
-                        if rebuilt || !s.bvh.refit_flat(&mut flat) {
+                        let reshaped = rebuilt || !s.bvh.refit_flat(&mut flat);
+                        if reshaped {
                             flat = s.bvh.flat();
                         }
-                        (s.bvh, flat, rebuilt)
+                        (s.bvh, flat, rebuilt, reshaped)
                     }
                     None => {
                         let bvh = MeshBvh::build(mesh);
                         let flat = bvh.flat();
-                        (bvh, flat, true)
+                        (bvh, flat, true, true)
                     }
                 };
                 let posed = mesh.clone();
-                (i, node, Skinned { posed, bvh, flat }, rebuilt)
+                (i, node, Skinned { posed, bvh, flat }, rebuilt, reshaped)
             })
             .collect();
-        for (i, node, skinned, rebuilt) in updated {
+        for (i, node, skinned, rebuilt, reshaped) in updated {
             if rebuilt {
                 levels.rebuilt += 1;
             } else {
                 levels.refitted += 1;
             }
-            levels.deformed.push((i, rebuilt));
+            levels.deformed.push((i, reshaped));
             self.deforming.insert(node, skinned);
         }
         // Forget the BVHs of skinned nodes that no longer pose a mesh.
@@ -469,8 +484,8 @@ fn same_pose(before: &Mesh, now: &Mesh) -> bool {
 struct Levels {
     bvhs: Vec<Level>,
     capacity: Vec<usize>,
-    /// Posed meshes rewritten this generation, and whether their BVH was rebuilt (which
-    /// reorders their triangles).
+    /// Posed meshes rewritten this generation, and whether their BVH was flattened anew (a
+    /// rebuild, which reorders their triangles and reshapes their nodes) rather than refitted.
     deformed: Vec<(usize, bool)>,
     refitted: usize,
     rebuilt: usize,

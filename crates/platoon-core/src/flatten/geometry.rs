@@ -99,26 +99,12 @@ pub(super) fn write_mesh(
             "mesh {index} no longer fits its region (vertices, triangles or BVH nodes changed)"
         )));
     }
-    let vertices = &mut g.vertices[r.vertex_base as usize..][..r.vertex_count as usize];
-    for (i, (v, p)) in vertices.iter_mut().zip(&mesh.positions).enumerate() {
-        let uv = mesh.uvs.get(i).copied().unwrap_or_default();
-        let n = mesh.normals.get(i).copied().unwrap_or_default();
-        let t = mesh.tangents.get(i).copied().unwrap_or_default();
-        *v = GpuVertex {
-            position_u: [p.x, p.y, p.z, uv.x],
-            normal_v: [n.x, n.y, n.z, uv.y],
-            tangent: t.to_array(),
-        };
-    }
+    write_vertices(mesh, r, g);
     let (tbase, vbase) = (r.triangle_base as usize, r.vertex_base);
     let mut local_light = 0u32;
     for (k, &orig) in flat.order.iter().enumerate() {
         let tri = mesh.indices[orig as usize];
         let material = mesh.triangle_materials[orig as usize];
-        for (c, &v) in tri.iter().enumerate() {
-            let p = mesh.positions[v as usize];
-            g.triangle_positions[3 * (tbase + k) + c] = [p.x, p.y, p.z, 0.0];
-        }
         g.triangles[tbase + k] = GpuTriangle {
             v: tri.map(|v| v + vbase),
             material,
@@ -130,6 +116,7 @@ pub(super) fn write_mesh(
             u32::MAX
         };
     }
+    write_corners(mesh, &flat.order, r, g);
     let too_large = || {
         Error::Invalid(format!(
             "more than {} triangles or BVH nodes: too large for the kernel's node items",
@@ -148,6 +135,64 @@ pub(super) fn write_mesh(
     g.regions[index].root =
         bvh::rebase_item(flat.root, r.node_base, r.triangle_base).ok_or_else(too_large)?;
     Ok(())
+}
+
+/// Rewrites region `index` of `g` after its mesh deformed and its BVH `flat` was refitted (the
+/// triangle order and the nodes' shape unchanged since the region was written): the vertices,
+/// the triangles' `corners` (in leaf order, three each) and the nodes' boxes, nothing else.
+pub(super) fn write_refitted(
+    index: usize,
+    mesh: &Mesh,
+    flat: &FlatBvh,
+    corners: &[[f32; 4]],
+    g: &mut GpuScene,
+) -> Result<()> {
+    let r = g.regions[index];
+    let fits = r.vertex_count as usize == mesh.positions.len()
+        && r.triangle_count as usize == flat.order.len()
+        && corners.len() == 3 * flat.order.len()
+        && flat.nodes.len() <= r.node_capacity as usize;
+    if !fits {
+        return Err(Error::Invalid(format!(
+            "mesh {index} no longer fits its region (vertices, triangles or BVH nodes changed)"
+        )));
+    }
+    write_vertices(mesh, r, g);
+    g.triangle_positions[3 * r.triangle_base as usize..][..corners.len()].copy_from_slice(corners);
+    let nodes = &mut g.blas_nodes[r.node_base as usize..][..flat.nodes.len()];
+    for (n, f) in nodes.iter_mut().zip(&flat.nodes) {
+        // The items stay as rebased when the region was written whole.
+        n.min0 = f.min0;
+        n.max0 = f.max0;
+        n.min1 = f.min1;
+        n.max1 = f.max1;
+    }
+    Ok(())
+}
+
+fn write_vertices(mesh: &Mesh, r: MeshRegion, g: &mut GpuScene) {
+    let vertices = &mut g.vertices[r.vertex_base as usize..][..r.vertex_count as usize];
+    for (i, (v, p)) in vertices.iter_mut().zip(&mesh.positions).enumerate() {
+        let uv = mesh.uvs.get(i).copied().unwrap_or_default();
+        let n = mesh.normals.get(i).copied().unwrap_or_default();
+        let t = mesh.tangents.get(i).copied().unwrap_or_default();
+        *v = GpuVertex {
+            position_u: [p.x, p.y, p.z, uv.x],
+            normal_v: [n.x, n.y, n.z, uv.y],
+            tangent: t.to_array(),
+        };
+    }
+}
+
+/// Each triangle's three corners, in leaf `order` (what the kernel intersects).
+fn write_corners(mesh: &Mesh, order: &[u32], r: MeshRegion, g: &mut GpuScene) {
+    let corners = &mut g.triangle_positions[3 * r.triangle_base as usize..][..3 * order.len()];
+    for (slot, &orig) in corners.chunks_exact_mut(3).zip(order) {
+        for (c, &v) in slot.iter_mut().zip(&mesh.indices[orig as usize]) {
+            let p = mesh.positions[v as usize];
+            *c = [p.x, p.y, p.z, 0.0];
+        }
+    }
 }
 
 /// The top level over the instances of non-empty meshes whose world box is placeable: its

@@ -121,6 +121,20 @@ impl GpuScene {
         Ok(self.regions[index])
     }
 
+    /// The same after a refit, which keeps the triangle order and the nodes' shape: only the
+    /// vertices, the triangles' `corners` (in leaf order, as the refit gathered them) and the
+    /// nodes' boxes are written.
+    pub fn rewrite_refitted(
+        &mut self,
+        index: usize,
+        mesh: &crate::scene::Mesh,
+        flat: &FlatBvh,
+        corners: &[[f32; 4]],
+    ) -> Result<MeshRegion> {
+        geometry::write_refitted(index, mesh, flat, corners, self)?;
+        Ok(self.regions[index])
+    }
+
     /// Everything that follows from where the instances and lights are, over the bottom level
     /// already in place: the top level, the instances, every light and the selection CDF, the
     /// feature set.

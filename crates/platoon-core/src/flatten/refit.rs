@@ -55,6 +55,9 @@ pub struct MeshBvh {
     slot_vertices: Vec<[u32; 3]>,
     /// One past the largest vertex index they use.
     vertex_count: usize,
+    /// The three corners of each slot's triangle as the kernel reads them (the flattened
+    /// layout keeps the slots' order): gathered by the refit, which reads them anyway.
+    corners: Vec<[f32; 4]>,
     /// The obvhs inner node behind each node of the flattened layout (see `bvh::flatten`).
     inner: Vec<u32>,
     /// SAH cost right after the last build.
@@ -95,12 +98,18 @@ impl MeshBvh {
             .flatten()
             .max()
             .map_or(0, |&v| v as usize + 1);
+        let corners = slot_vertices
+            .iter()
+            .flatten()
+            .map(|&v| mesh.positions[v as usize].extend(0.0).to_array())
+            .collect();
         MeshBvh {
             bvh,
             original,
             left_out,
             slot_vertices,
             vertex_count,
+            corners,
             inner,
             fresh_cost,
             refits: 0,
@@ -146,15 +155,23 @@ impl MeshBvh {
         let limit = Vec3A::splat(MAX_COORDINATE);
         let positions = &mesh.positions;
         let slots = &self.slot_vertices;
+        let corners = &mut self.corners;
         let bvh = &mut self.bvh;
         for node in bvh.nodes.iter_mut().filter(|n| n.is_leaf()) {
             let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
             // NaN fails the comparison too, so one test per corner finds every unplaceable one.
             let mut placeable = true;
             let first = node.first_index as usize;
-            for tri in &slots[first..first + node.prim_count as usize] {
-                for &v in tri {
-                    let v = Vec3A::from(positions[v as usize]);
+            let count = node.prim_count as usize;
+            let out = &mut corners[3 * first..3 * (first + count)];
+            for (tri, out) in slots[first..first + count]
+                .iter()
+                .zip(out.chunks_exact_mut(3))
+            {
+                for (&v, out) in tri.iter().zip(out) {
+                    let p = positions[v as usize];
+                    *out = [p.x, p.y, p.z, 0.0];
+                    let v = Vec3A::from(p);
                     placeable &= v.abs().cmple(limit).all();
                     lo = lo.min(v);
                     hi = hi.max(v);
@@ -182,6 +199,12 @@ impl MeshBvh {
 
     pub fn triangle_count(&self) -> usize {
         self.original.len()
+    }
+
+    /// Each primitive slot's three corners (x, y, z, 0) as of the last refit or build, in the
+    /// order of [`MeshBvh::flat`]'s triangles.
+    pub fn corners(&self) -> &[[f32; 4]] {
+        &self.corners
     }
 
     /// The obvhs BVH (nodes in stack traversal order) and the mesh triangle of each primitive.

@@ -1,7 +1,7 @@
 //! Keyframe animation (glTF samplers: STEP, LINEAR, CUBICSPLINE) and linear-blend skinning on
 //! the CPU. Skinned meshes are re-posed into a fresh object-space mesh each time the scene is posed.
 
-use glam::{Mat3A, Mat4, Quat, Vec3, Vec3A, Vec4};
+use glam::{Affine3A, Mat3A, Mat4, Quat, Vec3, Vec3A, Vec4};
 
 use crate::scene::{Mesh, Node, Skin};
 
@@ -135,45 +135,73 @@ impl Channel {
 /// Linear-blend skinning of `mesh` into world space (the skinned instance then has an identity
 /// transform, as glTF prescribes).
 pub fn skin_mesh(mesh: &Mesh, skin: &Skin, world: &[Mat4]) -> Mesh {
-    let joint_matrices: Vec<Mat4> = skin
+    let joint_matrices: Vec<Affine3A> = skin
         .joints
         .iter()
         .enumerate()
         .map(|(j, &node)| {
-            world[node]
+            let m = world[node]
                 * skin
                     .inverse_bind_matrices
                     .get(j)
                     .copied()
-                    .unwrap_or(Mat4::IDENTITY)
+                    .unwrap_or(Mat4::IDENTITY);
+            // Joint matrices are affine (glTF): the bottom row carries nothing.
+            Affine3A::from_mat4(m)
         })
         .collect();
-    // Only what skinning changes is computed; the rest is copied (joints and weights are not:
-    // the posed mesh is final).
-    let mut positions = mesh.positions.clone();
-    let mut normals = mesh.normals.clone();
-    let mut tangents = mesh.tangents.clone();
-    for v in 0..mesh.positions.len() {
+    // Only what skinning changes is computed, each array written once (the rest is copied;
+    // joints and weights are not: the posed mesh is final).
+    let count = mesh.positions.len();
+    let mut positions = Vec::with_capacity(count);
+    let mut normals = Vec::with_capacity(mesh.normals.len());
+    let mut tangents = Vec::with_capacity(mesh.tangents.len());
+    for v in 0..count {
         let (Some(joints), Some(weights)) = (mesh.joints.get(v), mesh.weights.get(v)) else {
+            // An unweighted vertex stays where the bind pose put it.
+            positions.push(mesh.positions[v]);
+            normals.extend(mesh.normals.get(v));
+            tangents.extend(mesh.tangents.get(v));
             continue;
         };
-        let mut m = Mat4::ZERO;
         let total = weights.dot(Vec4::ONE);
+        let scale = if total > 0.0 { total.recip() } else { 1.0 };
+        let mut m = Affine3A::ZERO;
         for k in 0..4 {
+            // Most vertices follow one or two joints: the others weigh nothing.
+            if weights[k] == 0.0 {
+                continue;
+            }
             if let Some(jm) = joint_matrices.get(joints[k] as usize) {
-                m += *jm * (weights[k] / if total > 0.0 { total } else { 1.0 });
+                let w = weights[k] * scale;
+                m.matrix3 += jm.matrix3 * w;
+                m.translation += jm.translation * w;
             }
         }
-        positions[v] = m.transform_point3(mesh.positions[v]);
+        positions.push(m.transform_point3(mesh.positions[v]));
         if let Some(n) = mesh.normals.get(v) {
-            // Normals go by the inverse transpose of the linear part (3x3: the translation
-            // does not move a direction).
-            let normal_matrix = Mat3A::from_mat4(m).inverse().transpose();
-            normals[v] = Vec3::from(normal_matrix * Vec3A::from(*n)).normalize_or_zero();
+            // Normals go by the inverse transpose of the linear part (the translation does not
+            // move a direction): the cofactor matrix, which is that times the determinant, the
+            // determinant's sign kept (a mirroring joint turns the normal around).
+            let c = &m.matrix3;
+            let cofactor = Mat3A::from_cols(
+                c.y_axis.cross(c.z_axis),
+                c.z_axis.cross(c.x_axis),
+                c.x_axis.cross(c.y_axis),
+            );
+            let determinant = c.x_axis.dot(cofactor.x_axis);
+            let n = cofactor * Vec3A::from(*n);
+            let length = n.length();
+            let scale = if length > 0.0 && length.is_finite() {
+                length.recip().copysign(determinant)
+            } else {
+                0.0
+            };
+            normals.push(Vec3::from(n * scale));
         }
         if let Some(t) = mesh.tangents.get(v) {
             let tt = m.transform_vector3(t.truncate()).normalize_or_zero();
-            tangents[v] = tt.extend(t.w);
+            tangents.push(tt.extend(t.w));
         }
     }
     Mesh {
@@ -226,5 +254,37 @@ mod tests {
         };
         assert_eq!(ch.sample::<3>(0.5), [0.5, 0.5, 0.5]);
         assert!((ch.sample::<3>(0.25)[0] - 0.15625).abs() < 1e-6);
+    }
+
+    #[test]
+    fn skinned_normals_follow_the_inverse_transpose_through_a_mirror() {
+        // One vertex, two joints half and half: a non-uniform scale that mirrors x, and a
+        // rotation; the normal must come out as the blended matrix's inverse transpose says.
+        let a = Mat4::from_scale(Vec3::new(-2.0, 0.5, 1.0));
+        let b = Mat4::from_rotation_z(0.7) * Mat4::from_translation(Vec3::new(1.0, 2.0, 3.0));
+        let mesh = Mesh {
+            positions: vec![Vec3::new(0.3, -0.2, 0.9)],
+            normals: vec![Vec3::new(0.6, 0.0, 0.8)],
+            joints: vec![[0, 1, 0, 0]],
+            weights: vec![Vec4::new(1.0, 1.0, 0.0, 0.0)],
+            ..Default::default()
+        };
+        let skin = Skin {
+            name: String::new(),
+            joints: vec![0, 1],
+            inverse_bind_matrices: Vec::new(),
+        };
+        let posed = skin_mesh(&mesh, &skin, &[a, b]);
+        let blended = a * 0.5 + b * 0.5;
+        let expected_position = blended.transform_point3(mesh.positions[0]);
+        let expected_normal = (Mat3A::from_mat4(blended).inverse().transpose()
+            * Vec3A::from(mesh.normals[0]))
+        .normalize();
+        assert!((posed.positions[0] - expected_position).length() < 1e-5);
+        assert!(
+            (Vec3A::from(posed.normals[0]) - expected_normal).length() < 1e-5,
+            "{} against {expected_normal}",
+            posed.normals[0]
+        );
     }
 }
