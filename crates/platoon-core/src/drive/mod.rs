@@ -6,8 +6,9 @@
 
 pub mod pipeline;
 pub mod queries;
+pub mod threads;
 pub mod updater;
 
-pub use pipeline::Pipeline;
+pub use pipeline::{Pipeline, UpdaterThreads};
 pub use queries::{QueryHit, QueryScene};
 pub use updater::{Generation, UpdateTimes, Updater};

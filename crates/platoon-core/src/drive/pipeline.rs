@@ -72,6 +72,23 @@ impl Mirror {
     }
 }
 
+/// The updater's threads: how many, and the cores they may run on (empty: any). See
+/// [`super::threads`] for why a game may want them apart from its tracers' cores.
+#[derive(Clone, Debug)]
+pub struct UpdaterThreads {
+    pub count: usize,
+    pub cpus: Vec<usize>,
+}
+
+impl Default for UpdaterThreads {
+    fn default() -> Self {
+        UpdaterThreads {
+            count: 1,
+            cpus: Vec::new(),
+        }
+    }
+}
+
 pub struct Pipeline {
     mirror: Mirror,
     pending: Vec<Edit>,
@@ -99,9 +116,31 @@ impl Pipeline {
         origin: DVec3,
         threads: usize,
     ) -> Result<(Pipeline, Arc<GpuScene>)> {
+        let threads = UpdaterThreads {
+            count: threads,
+            ..Default::default()
+        };
+        Pipeline::with_updater_threads(scene, time, origin, &threads)
+    }
+
+    /// The same with the updater's threads as `threads` says: how many, and on which cores.
+    pub fn with_updater_threads(
+        scene: Scene,
+        time: f32,
+        origin: DVec3,
+        threads: &UpdaterThreads,
+    ) -> Result<(Pipeline, Arc<GpuScene>)> {
+        let cpus = threads.cpus.clone();
         let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads.max(1))
+            .num_threads(threads.count.max(1))
             .thread_name(|i| format!("platoon updater {i}"))
+            .start_handler(move |_| {
+                // Best effort: where the system refuses, the threads run as any other.
+                if !cpus.is_empty() {
+                    super::threads::pin_current_thread(&cpus);
+                }
+                super::threads::run_as_batch();
+            })
             .build()
             .map_err(|e| Error::Invalid(format!("starting the updater threads: {e}")))?;
         let mirror = Mirror::of(&scene);
@@ -112,13 +151,17 @@ impl Pipeline {
         let worker = std::thread::Builder::new()
             .name("platoon updater".into())
             .spawn(move || {
-                while let Ok(batch) = edits.recv() {
-                    let g =
-                        pool.install(|| apply(&mut updater, batch).and_then(|()| updater.update()));
-                    if done.send(g).is_err() {
-                        break;
+                // The loop runs on a thread of the pool: each generation leaves from the thread
+                // that built it, with no hand-back to this one (a wake-up fewer between the
+                // update's end and the game thread's take).
+                pool.install(move || {
+                    while let Ok(batch) = edits.recv() {
+                        let g = apply(&mut updater, batch).and_then(|()| updater.update());
+                        if done.send(g).is_err() {
+                            break;
+                        }
                     }
-                }
+                })
             })
             .map_err(|e| Error::Invalid(format!("starting the updater thread: {e}")))?;
         let pipeline = Pipeline {
