@@ -473,11 +473,17 @@ fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
         "camera_only_mesh_bytes\":0",
         "frame_ms_still",
         "frame_ms_animated",
+        "render_ms_still",
+        "render_ms_animated",
+        "render_ms_animated_alone",
     ] {
         assert!(json.contains(key), "{key} missing from {json}");
     }
     let csv = std::fs::read_to_string(dir.path().join("dynamic.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 1 + 2 * 4);
+    // Three runs (animated, animated alone, still) of 4 frames under one header.
+    assert_eq!(csv.lines().count(), 1 + 3 * 4);
+    assert!(csv.starts_with("run,frame,"), "{csv}");
+    assert_eq!(csv.lines().filter(|l| l.starts_with("alone,")).count(), 4);
     assert!(dir.path().join("dynamic.png").exists());
     let missing = platoon(&["bench", "--dynamic", "--character", "/nonexistent/man.glb"]);
     assert!(!missing.status.success());

@@ -372,6 +372,10 @@ pub struct DynamicArgs {
     /// the previous one again (Pipeline::try_take).
     #[arg(long)]
     never_wait: bool,
+    /// Let the system place the threads instead of keeping the updater on a core apart from
+    /// the tracer's (it often puts both on one core).
+    #[arg(long)]
+    no_pin: bool,
     /// Print one JSON object after the text.
     #[arg(long)]
     json: bool,
@@ -393,13 +397,14 @@ pub fn run_dynamic(a: &DynamicArgs, device: usize) -> Result<()> {
         lavapipe_threads: a.lavapipe_threads,
         device,
         never_wait: a.never_wait,
+        pin_threads: !a.no_pin,
         ..Default::default()
     };
     let report = db::run(&options)?;
     print!("{}", db::frames_text(&report));
     print!("{}", db::text(&options, &report.summary));
     let (csv, png) = (a.out.join("dynamic.csv"), a.out.join("dynamic.png"));
-    platoon::core::output::write_text(&csv, &db::csv(&report))?;
+    platoon::core::output::write_text(&csv, &db::csv(&report)?)?;
     db::write_png(&png, &report)?;
     println!("wrote {} and {}", csv.display(), png.display());
     if a.json {

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context as _, Result};
 use glam::{DVec3, Quat, Vec3};
-use platoon_core::drive::Pipeline;
+use platoon_core::drive::{Pipeline, UpdaterThreads};
 use platoon_core::flatten::bvh::{build_instance_bvh, build_mesh_bvh};
 use platoon_core::flatten::refit::MeshBvh;
 use platoon_core::frame::FrameParams;
@@ -34,6 +34,10 @@ pub struct Options {
     /// The game never waits for a generation (`Pipeline::try_take`): a frame whose next
     /// generation is not built renders the previous one again.
     pub never_wait: bool,
+    /// Keep the tracer (and the game thread) and the updater on different cores: the updater
+    /// on the last core, the rest on the others (when there are two or more). Without it the
+    /// system places the threads, and often puts the updater beside the render on one core.
+    pub pin_threads: bool,
 }
 
 impl Default for Options {
@@ -48,6 +52,7 @@ impl Default for Options {
             lavapipe_threads: 1,
             device: 0,
             never_wait: false,
+            pin_threads: true,
         }
     }
 }
@@ -65,18 +70,16 @@ pub struct FrameRecord {
     pub mesh_bytes: u64,
     pub apply_ms: f64,
     pub frame_ms: f64,
+    /// Of which the render (dispatch to fence), the generation's commit already applied.
+    pub render_ms: f64,
+    /// The update of the whole scene, wall time on the updater thread: skinning, bottom levels,
+    /// top level, flattening, the commit and what lies between them.
+    pub update_ms: f64,
     /// Skinned meshes refitted and rebuilt in the update.
     pub refitted: usize,
     pub rebuilt: usize,
     /// The frame rendered the previous generation again (`never_wait`, next one not built).
     pub reused: bool,
-}
-
-impl FrameRecord {
-    /// Skinning, bottom levels, top level and flattening: the update of the whole scene.
-    pub fn update_ms(&self) -> f64 {
-        self.skin_ms + self.bottom_level_ms + self.flatten_ms
-    }
 }
 
 /// The figures the issue's targets name.
@@ -92,6 +95,14 @@ pub struct Summary {
     pub camera_only_mesh_bytes: u64,
     pub frame_ms_still: f64,
     pub frame_ms_animated: f64,
+    /// Render time alone (dispatch to fence), medians: the still scene, the animated one with
+    /// the updater working beside the render, and the animated one with each generation built
+    /// before its frame renders (nothing beside it). Alone against still is what the moving
+    /// scene itself costs (poses, refitted BVHs); beside against alone is what the update's
+    /// work costs the render running next to it.
+    pub render_ms_still: f64,
+    pub render_ms_animated: f64,
+    pub render_ms_animated_alone: f64,
     pub bytes_per_frame_median: f64,
     pub apply_ms_median: f64,
     /// Skinning and bottom levels of the characters alone (no rendering beside it), median,
@@ -104,6 +115,8 @@ pub struct Summary {
 
 pub struct Report {
     pub animated: Vec<FrameRecord>,
+    /// The animated frames again, each generation built before its frame renders.
+    pub animated_alone: Vec<FrameRecord>,
     pub still: Vec<FrameRecord>,
     pub summary: Summary,
 }
@@ -185,7 +198,21 @@ struct Run {
     triangles: usize,
 }
 
-fn run_frames(o: &Options, animated: bool) -> Result<Run> {
+/// What a run renders and how.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum RunKind {
+    /// Characters walking, movers circling; each generation built while the previous renders.
+    Animated,
+    /// The same frames, each generation built before its frame renders: nothing runs beside
+    /// the render.
+    AnimatedAlone,
+    /// The scene standing still.
+    Still,
+}
+
+fn run_frames(o: &Options, kind: RunKind) -> Result<Run> {
+    let animated = kind != RunKind::Still;
+    let overlap = kind != RunKind::AnimatedAlone;
     let (scene, movers, camera) = build_scene(o)?;
     let posed = scene.pose(0.0);
     let triangles = posed
@@ -196,7 +223,13 @@ fn run_frames(o: &Options, animated: bool) -> Result<Run> {
     let (lo, hi) = posed.bounds();
     let center = ((lo + hi) * 0.5).as_dvec3();
     let radius = 0.25 * (hi - lo).max_element() as f64;
-    let (mut pipeline, first) = Pipeline::new(scene, 0.0, DVec3::ZERO)?;
+    // Pinned before the tracer is created: its threads inherit the game thread's cores.
+    let cores = o.pin_threads.then(ThreadCores::split).flatten();
+    let threads = UpdaterThreads {
+        count: 1,
+        cpus: cores.as_ref().map_or(Vec::new(), |c| c.updater.clone()),
+    };
+    let (mut pipeline, first) = Pipeline::with_updater_threads(scene, 0.0, DVec3::ZERO, &threads)?;
     let options = TracerOptions {
         device: o.device,
         lavapipe_threads: Some(o.lavapipe_threads),
@@ -236,10 +269,12 @@ fn run_frames(o: &Options, animated: bool) -> Result<Run> {
         };
         if let Some(g) = &taken {
             // The game's edits for the next frame; the updater builds it while this one renders.
-            edits(&mut pipeline, f + 2)?;
-            let wait = Instant::now();
-            pipeline.submit()?;
-            blocked.push(wait.elapsed());
+            if overlap {
+                edits(&mut pipeline, f + 2)?;
+                let wait = Instant::now();
+                pipeline.submit()?;
+                blocked.push(wait.elapsed());
+            }
             let apply = Instant::now();
             let stats = tracer.apply_commit(&g.commit)?;
             record = FrameRecord {
@@ -248,6 +283,7 @@ fn run_frames(o: &Options, animated: bool) -> Result<Run> {
                 flatten_ms: ms(g.times.flatten),
                 top_level_ms: ms(g.times.top_level),
                 commit_build_ms: ms(g.times.commit),
+                update_ms: ms(g.times.total),
                 bytes: stats.bytes,
                 mesh_bytes: g.commit.mesh_bytes(),
                 apply_ms: ms(apply.elapsed()),
@@ -258,7 +294,15 @@ fn run_frames(o: &Options, animated: bool) -> Result<Run> {
         }
         let mut params = FrameParams::new(o.width, o.height, 1, camera);
         params.frame = f;
+        let render = Instant::now();
         crate::render_bands(&mut tracer, &params, &[(0, o.height)], &mut |_| {})?;
+        record.render_ms = ms(render.elapsed());
+        if !overlap {
+            edits(&mut pipeline, f + 2)?;
+            let wait = Instant::now();
+            pipeline.submit()?;
+            blocked.push(wait.elapsed());
+        }
         record.frame_ms = ms(start.elapsed());
         let waits = &blocked[blocked.len().saturating_sub(2)..];
         record.blocked_ms = if taken.is_some() {
@@ -273,6 +317,34 @@ fn run_frames(o: &Options, animated: bool) -> Result<Run> {
         blocked,
         triangles,
     })
+}
+
+/// The game thread (and the tracer threads it starts) on every core but the last, the updater
+/// on the last, for as long as this lives; then the game thread's cores as they were.
+struct ThreadCores {
+    before: Vec<usize>,
+    updater: Vec<usize>,
+}
+
+impl ThreadCores {
+    /// None with fewer than two cores, or where threads cannot be pinned.
+    fn split() -> Option<ThreadCores> {
+        let before = platoon_core::drive::threads::current_cpus()?;
+        let (&last, rest) = before.split_last()?;
+        if rest.is_empty() || !platoon_core::drive::threads::pin_current_thread(rest) {
+            return None;
+        }
+        Some(ThreadCores {
+            updater: vec![last],
+            before,
+        })
+    }
+}
+
+impl Drop for ThreadCores {
+    fn drop(&mut self) {
+        platoon_core::drive::threads::pin_current_thread(&self.before);
+    }
 }
 
 /// Skinning and bottom levels of the walking characters (the scene without the field and the
@@ -381,8 +453,9 @@ pub fn run(o: &Options) -> Result<Report> {
         records: animated,
         blocked,
         triangles: scene_triangles,
-    } = run_frames(o, true)?;
-    let still = run_frames(o, false)?.records;
+    } = run_frames(o, RunKind::Animated)?;
+    let animated_alone = run_frames(o, RunKind::AnimatedAlone)?.records;
+    let still = run_frames(o, RunKind::Still)?.records;
     let (skinned_triangles, refit_rate, speedup) = refit_figures(o)?;
     let all = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (characters_one, characters_all) = (characters_ms(o, 1)?, characters_ms(o, all)?);
@@ -394,7 +467,7 @@ pub fn run(o: &Options) -> Result<Report> {
         scene_triangles,
         refit_mtris_per_s_per_core: refit_rate,
         refit_vs_rebuild_speedup: speedup,
-        update_ms_median: field(FrameRecord::update_ms, &animated),
+        update_ms_median: field(|r| r.update_ms, &animated),
         tlas_ms_1000_instances: tlas_ms_1000(),
         game_blocked_ms_p99: percentile(blocked.iter().skip(1).map(|d| ms(*d)).collect(), 0.99),
         camera_only_mesh_bytes: still
@@ -405,6 +478,9 @@ pub fn run(o: &Options) -> Result<Report> {
             .unwrap_or(0),
         frame_ms_still: field(|r| r.frame_ms, &still),
         frame_ms_animated: field(|r| r.frame_ms, &animated),
+        render_ms_still: field(|r| r.render_ms, &still),
+        render_ms_animated: field(|r| r.render_ms, &animated),
+        render_ms_animated_alone: field(|r| r.render_ms, &animated_alone),
         bytes_per_frame_median: field(|r| r.bytes as f64, &animated),
         apply_ms_median: field(|r| r.apply_ms, &animated),
         characters_ms_one_thread: characters_one,
@@ -414,17 +490,27 @@ pub fn run(o: &Options) -> Result<Report> {
     };
     Ok(Report {
         animated,
+        animated_alone,
         still,
         summary,
     })
 }
 
-/// One line per frame of both runs, for people.
+/// The runs by name, in the order they ran.
+fn runs(report: &Report) -> [(&'static str, &[FrameRecord]); 3] {
+    [
+        ("animated", &report.animated),
+        ("alone", &report.animated_alone),
+        ("still", &report.still),
+    ]
+}
+
+/// One line per frame of every run, for people.
 pub fn frames_text(report: &Report) -> String {
     let mut out = String::from(
         "run       frame  skin  bottom  top  flatten  commit  blocked  bytes      apply  frame (ms)\n",
     );
-    for (name, records) in [("animated", &report.animated), ("still", &report.still)] {
+    for (name, records) in runs(report) {
         for (f, r) in records.iter().enumerate() {
             out.push_str(&format!(
                 "{name:9} {f:5} {:5.2} {:6.2} {:5.2} {:7.2} {:6.2} {:7.2} {:10} {:6.2} {:6.2}\n",
@@ -443,31 +529,53 @@ pub fn frames_text(report: &Report) -> String {
     out
 }
 
-/// Per-frame CSV of both runs.
-pub fn csv(report: &Report) -> String {
-    let mut out = String::from(
-        "run,frame,skin_ms,bottom_level_ms,flatten_ms,top_level_ms,commit_build_ms,blocked_ms,bytes,mesh_bytes,apply_ms,frame_ms,refitted,rebuilt\n",
-    );
-    for (name, records) in [("animated", &report.animated), ("still", &report.still)] {
+/// Per-frame CSV of every run.
+pub fn csv(report: &Report) -> Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "run",
+        "frame",
+        "skin_ms",
+        "bottom_level_ms",
+        "flatten_ms",
+        "top_level_ms",
+        "commit_build_ms",
+        "update_ms",
+        "blocked_ms",
+        "bytes",
+        "mesh_bytes",
+        "apply_ms",
+        "render_ms",
+        "frame_ms",
+        "refitted",
+        "rebuilt",
+        "reused",
+    ])?;
+    for (name, records) in runs(report) {
         for (f, r) in records.iter().enumerate() {
-            out.push_str(&format!(
-                "{name},{f},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{:.4},{:.4},{},{}\n",
-                r.skin_ms,
-                r.bottom_level_ms,
-                r.flatten_ms,
-                r.top_level_ms,
-                r.commit_build_ms,
-                r.blocked_ms,
-                r.bytes,
-                r.mesh_bytes,
-                r.apply_ms,
-                r.frame_ms,
-                r.refitted,
-                r.rebuilt
-            ));
+            let ms = |v: f64| format!("{v:.4}");
+            w.write_record([
+                name.to_string(),
+                f.to_string(),
+                ms(r.skin_ms),
+                ms(r.bottom_level_ms),
+                ms(r.flatten_ms),
+                ms(r.top_level_ms),
+                ms(r.commit_build_ms),
+                ms(r.update_ms),
+                ms(r.blocked_ms),
+                r.bytes.to_string(),
+                r.mesh_bytes.to_string(),
+                ms(r.apply_ms),
+                ms(r.render_ms),
+                ms(r.frame_ms),
+                r.refitted.to_string(),
+                r.rebuilt.to_string(),
+                r.reused.to_string(),
+            ])?;
         }
     }
-    out
+    Ok(String::from_utf8(w.into_inner()?)?)
 }
 
 /// Writes the frame times of both runs and the update time per frame as a PNG.
@@ -487,7 +595,7 @@ pub fn write_png(path: &Path, report: &Report) -> Result<()> {
         ),
         (
             "update, animated (ms)",
-            report.animated.iter().map(FrameRecord::update_ms).collect(),
+            report.animated.iter().map(|r| r.update_ms).collect(),
         ),
         (
             "game thread blocked (ms)",
@@ -510,6 +618,9 @@ pub fn json(s: &Summary) -> String {
         "camera_only_mesh_bytes": s.camera_only_mesh_bytes,
         "frame_ms_still": s.frame_ms_still,
         "frame_ms_animated": s.frame_ms_animated,
+        "render_ms_still": s.render_ms_still,
+        "render_ms_animated": s.render_ms_animated,
+        "render_ms_animated_alone": s.render_ms_animated_alone,
         "bytes_per_frame_median": s.bytes_per_frame_median,
         "apply_ms_median": s.apply_ms_median,
         "characters_ms_one_thread": s.characters_ms_one_thread,
@@ -522,19 +633,25 @@ pub fn json(s: &Summary) -> String {
 /// The summary for people.
 pub fn text(o: &Options, s: &Summary) -> String {
     format!(
-        "platoon bench --dynamic: {} frames at {}x{}, 1 spp, lavapipe with {} thread(s) + the updater thread\n\
+        "platoon bench --dynamic: {} frames at {}x{}, 1 spp, lavapipe with {} thread(s) + the updater thread ({})\n\
          scene: {} triangles posed ({} skinned in {} characters), {} rigid movers\n\
          refit (skinned meshes, leaf boxes included, 1 thread): {:.1} M triangles/s, {:.0}x cheaper than rebuilding them\n\
-         update per frame (skin, refit, top level, flatten), median: {:.2} ms\n\
+         update per frame (skin, refit, top level, flatten, commit), median: {:.2} ms\n\
          the characters alone (skin and bottom levels, nothing rendering): {:.2} ms on 1 thread, {:.2} ms on all\n\
          top-level build over 1,000 instances: {:.3} ms\n\
          game thread blocked, 99th percentile: {:.3} ms ({}; {:.1}% of the frames rendered the previous generation again)\n\
          commit per frame, median: {:.0} bytes, applied in {:.2} ms; camera-only frames: {} mesh bytes\n\
-         frame time, median: {:.2} ms animated, {:.2} ms still ({:+.1}%)\n",
+         frame time, median: {:.2} ms animated, {:.2} ms still ({:+.1}%)\n\
+         render alone, median: {:.2} ms still, {:.2} ms animated with nothing beside it (the moving scene: {:+.1}%), {:.2} ms with the updater beside it (its work: {:+.1}%)\n",
         o.frames,
         o.width,
         o.height,
         o.lavapipe_threads,
+        if o.pin_threads {
+            "on a core of its own where there are two"
+        } else {
+            "threads placed by the system"
+        },
         s.scene_triangles,
         s.skinned_triangles,
         o.characters,
@@ -553,6 +670,11 @@ pub fn text(o: &Options, s: &Summary) -> String {
         s.camera_only_mesh_bytes,
         s.frame_ms_animated,
         s.frame_ms_still,
-        100.0 * (s.frame_ms_animated / s.frame_ms_still - 1.0)
+        100.0 * (s.frame_ms_animated / s.frame_ms_still - 1.0),
+        s.render_ms_still,
+        s.render_ms_animated_alone,
+        100.0 * (s.render_ms_animated_alone / s.render_ms_still - 1.0),
+        s.render_ms_animated,
+        100.0 * (s.render_ms_animated / s.render_ms_animated_alone - 1.0),
     )
 }
