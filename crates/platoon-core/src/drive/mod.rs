@@ -2,9 +2,12 @@
 //! scene ([`updater::Updater`]'s edit calls, validated at the call), and each update poses it,
 //! keeps every mesh's BVH (static meshes built once, skinned ones refitted, rebuilt only when
 //! degraded), rebuilds the top level, flattens, and says what changed since the previous
-//! generation as a [`crate::flatten::commit::Commit`] for the tracers to apply.
+//! generation as a [`crate::flatten::commit::Commit`] for the tracers to apply. [`plan`] decides
+//! each game frame's samples and how they join the film (the frame driver of issue 9 carries it
+//! out).
 
 pub mod pipeline;
+pub mod plan;
 pub mod queries;
 pub mod threads;
 pub mod updater;

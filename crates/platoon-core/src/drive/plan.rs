@@ -1,0 +1,233 @@
+//! The plan of each game frame, decided in one place (issue 9, after Cycles' session and
+//! Bikker's chapter 7): how many samples, where their indices start, and how the new samples
+//! join the film. The frame driver carries the plan out; nothing else decides these.
+//!
+//! Joining (Bikker 7.3.5) is `C = C_prev (1 - f) + C_new f`:
+//! - camera moved: the film restarts (f = 1), the sample indices from 0;
+//! - camera and scene still: f = 1/k over the k frames since the restart, which is a plain sum
+//!   of samples, so the plan asks for a sum and continues the sample indices: k still frames of
+//!   s samples are the offline render of k s samples;
+//! - only objects moved: f = max(1/k, floor), so that moving objects leave no ghost.
+//!
+//! Dynamic workload scaling (Bikker 7.3.7): frame time is nearly linear in the samples per
+//! frame, so the next count is the current one scaled by target / measured, kept when the
+//! measured time is within the hysteresis band and changed at most by a factor per frame.
+
+use std::time::Duration;
+
+/// What moved since the previous frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Motion {
+    pub camera: bool,
+    /// Any object, light, material or the environment.
+    pub scene: bool,
+}
+
+/// How a frame's samples join the film.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Join {
+    /// The film is this frame's samples alone.
+    Restart,
+    /// Added to the sums of the previous frames (the exact f = 1/k of a still view).
+    Sum,
+    /// Blended in with weight `f` (objects moved under a still camera).
+    Blend { f: f32 },
+}
+
+impl Join {
+    /// The weight of the new samples in the film: what the frame reports.
+    pub fn weight(&self, frames_joined: u32) -> f32 {
+        match *self {
+            Join::Restart => 1.0,
+            Join::Sum => 1.0 / frames_joined.max(1) as f32,
+            Join::Blend { f } => f,
+        }
+    }
+}
+
+/// One frame's plan.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FramePlan {
+    pub spp: u32,
+    /// Index of the frame's first sample: after a restart 0, then continuing, so that the
+    /// random numbers of a converging view never repeat.
+    pub first_sample: u64,
+    pub join: Join,
+    /// Frames in the film including this one (k of f = 1/k).
+    pub frames_joined: u32,
+}
+
+/// Decides each frame's join from what moved.
+#[derive(Clone, Debug)]
+pub struct Planner {
+    /// Smallest weight of new samples while objects move (Bikker uses about 0.2).
+    pub floor: f32,
+    frames_joined: u32,
+    next_sample: u64,
+}
+
+impl Planner {
+    /// `floor` is clamped into (0, 1].
+    pub fn new(floor: f32) -> Planner {
+        let floor = if floor.is_finite() {
+            floor.clamp(f32::MIN_POSITIVE, 1.0)
+        } else {
+            1.0
+        };
+        Planner {
+            floor,
+            frames_joined: 0,
+            next_sample: 0,
+        }
+    }
+
+    /// The plan of the next frame of `spp` samples after `motion`.
+    pub fn plan(&mut self, motion: Motion, spp: u32) -> FramePlan {
+        let join = if motion.camera || self.frames_joined == 0 {
+            self.frames_joined = 0;
+            self.next_sample = 0;
+            Join::Restart
+        } else if motion.scene {
+            let f = (1.0 / (self.frames_joined + 1) as f32).max(self.floor);
+            Join::Blend { f }
+        } else {
+            Join::Sum
+        };
+        self.frames_joined += 1;
+        let plan = FramePlan {
+            spp,
+            first_sample: self.next_sample,
+            join,
+            frames_joined: self.frames_joined,
+        };
+        self.next_sample += spp as u64;
+        plan
+    }
+}
+
+/// Adapts the samples per frame to hold a frame time.
+#[derive(Clone, Debug)]
+pub struct WorkloadScaler {
+    pub target: Duration,
+    /// Relative band around the target within which the count is kept (e.g. 0.05).
+    pub hysteresis: f64,
+    /// Largest factor by which one frame may change the count.
+    pub max_step: f64,
+    pub min_spp: u32,
+    pub max_spp: u32,
+    spp: u32,
+}
+
+impl WorkloadScaler {
+    pub fn new(target: Duration, start_spp: u32) -> WorkloadScaler {
+        WorkloadScaler {
+            target,
+            hysteresis: 0.05,
+            max_step: 2.0,
+            min_spp: 1,
+            max_spp: 1 << 16,
+            spp: start_spp.max(1),
+        }
+    }
+
+    /// Samples for the next frame.
+    pub fn spp(&self) -> u32 {
+        self.spp
+    }
+
+    /// Takes the measured time of a frame rendered with [`WorkloadScaler::spp`] samples and
+    /// returns the count for the next one.
+    pub fn observe(&mut self, frame_time: Duration) -> u32 {
+        let (measured, target) = (frame_time.as_secs_f64(), self.target.as_secs_f64());
+        if measured > 0.0 && target > 0.0 && (measured / target - 1.0).abs() > self.hysteresis {
+            let step = (target / measured).clamp(1.0 / self.max_step, self.max_step);
+            let next = (self.spp as f64 * step).round() as u32;
+            self.spp = next.clamp(self.min_spp.max(1), self.max_spp.max(1));
+        }
+        self.spp
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const STILL: Motion = Motion {
+        camera: false,
+        scene: false,
+    };
+
+    #[test]
+    fn a_still_view_sums_and_continues_the_sample_indices() {
+        let mut p = Planner::new(0.2);
+        let plans: Vec<FramePlan> = (0..4).map(|_| p.plan(STILL, 8)).collect();
+        assert_eq!(plans[0].join, Join::Restart);
+        for (k, plan) in plans.iter().enumerate().skip(1) {
+            assert_eq!(plan.join, Join::Sum);
+            assert_eq!(plan.first_sample, 8 * k as u64);
+            assert_eq!(plan.join.weight(plan.frames_joined), 1.0 / (k + 1) as f32);
+        }
+    }
+
+    #[test]
+    fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
+        let mut p = Planner::new(0.2);
+        for _ in 0..10 {
+            p.plan(STILL, 4);
+        }
+        let moved = p.plan(
+            Motion {
+                camera: true,
+                scene: false,
+            },
+            4,
+        );
+        assert_eq!((moved.join, moved.first_sample), (Join::Restart, 0));
+        let objects = Motion {
+            camera: false,
+            scene: true,
+        };
+        let weights: Vec<f32> = (0..12)
+            .map(|_| {
+                let plan = p.plan(objects, 4);
+                plan.join.weight(plan.frames_joined)
+            })
+            .collect();
+        assert_eq!(weights[0], 0.5);
+        assert!(weights.iter().all(|&f| f >= 0.2), "{weights:?}");
+        assert_eq!(*weights.last().unwrap(), 0.2);
+    }
+
+    /// A tracer whose frame costs 2 ms plus 0.7 ms per sample, with deterministic noise.
+    fn synthetic_frame(spp: u32, frame: u32, noise: f64) -> Duration {
+        let wobble = ((frame.wrapping_mul(2654435761) >> 8) % 1000) as f64 / 1000.0 - 0.5;
+        Duration::from_secs_f64((2.0 + 0.7 * spp as f64) * (1.0 + noise * wobble) * 1e-3)
+    }
+
+    #[test]
+    fn workload_scaling_settles_within_ten_percent_of_the_target() {
+        for (start, noise) in [(1, 0.0), (200, 0.0), (1, 0.08), (64, 0.08)] {
+            let target = Duration::from_millis(16);
+            let mut s = WorkloadScaler::new(target, start);
+            let times: Vec<f64> = (0..60)
+                .map(|f| {
+                    let t = synthetic_frame(s.spp(), f, noise);
+                    s.observe(t);
+                    t.as_secs_f64() / target.as_secs_f64()
+                })
+                .collect();
+            let settled = &times[15..];
+            assert!(
+                settled.iter().all(|r| (r - 1.0).abs() <= 0.1),
+                "start {start}, noise {noise}: {times:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_floor_is_kept_sane() {
+        assert_eq!(Planner::new(f32::NAN).floor, 1.0);
+        assert_eq!(Planner::new(7.0).floor, 1.0);
+        assert!(Planner::new(-1.0).floor > 0.0);
+    }
+}
