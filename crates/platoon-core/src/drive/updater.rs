@@ -300,14 +300,11 @@ impl Updater {
             .collect();
         let commit = if self.generation > 0 && layout == self.layout {
             let mut ranges = Vec::new();
-            for &(i, reshaped) in &levels.deformed {
+            for &(i, node, reshaped) in &levels.deformed {
                 let r = if reshaped {
                     self.state
                         .rewrite_mesh(&self.scene, i, &meshes[i], refs[i])?
                 } else {
-                    let Level::Skinned(node) = levels.bvhs[i] else {
-                        unreachable!("only skinned meshes deform")
-                    };
                     let corners = self.deforming[&node].bvh.corners();
                     self.state
                         .rewrite_refitted(i, &meshes[i], refs[i], corners)?
@@ -441,7 +438,7 @@ impl Updater {
             } else {
                 levels.refitted += 1;
             }
-            levels.deformed.push((i, reshaped));
+            levels.deformed.push((i, node, reshaped));
             self.deforming.insert(node, skinned);
         }
         // Forget the BVHs of skinned nodes that no longer pose a mesh.
@@ -484,9 +481,10 @@ fn same_pose(before: &Mesh, now: &Mesh) -> bool {
 struct Levels {
     bvhs: Vec<Level>,
     capacity: Vec<usize>,
-    /// Posed meshes rewritten this generation, and whether their BVH was flattened anew (a
-    /// rebuild, which reorders their triangles and reshapes their nodes) rather than refitted.
-    deformed: Vec<(usize, bool)>,
+    /// Posed meshes rewritten this generation, the node posing each, and whether its BVH was
+    /// flattened anew (a rebuild, which reorders the triangles and reshapes the nodes) rather
+    /// than refitted.
+    deformed: Vec<(usize, usize, bool)>,
     refitted: usize,
     rebuilt: usize,
 }

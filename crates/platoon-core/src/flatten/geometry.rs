@@ -91,14 +91,7 @@ pub(super) fn write_mesh(
     g: &mut GpuScene,
 ) -> Result<()> {
     let r = g.regions[index];
-    let fits = r.vertex_count as usize == mesh.positions.len()
-        && r.triangle_count as usize == flat.order.len()
-        && flat.nodes.len() <= r.node_capacity as usize;
-    if !fits {
-        return Err(Error::Invalid(format!(
-            "mesh {index} no longer fits its region (vertices, triangles or BVH nodes changed)"
-        )));
-    }
+    check_fits(index, r, mesh, flat)?;
     write_vertices(mesh, r, g);
     let (tbase, vbase) = (r.triangle_base as usize, r.vertex_base);
     let mut local_light = 0u32;
@@ -148,13 +141,12 @@ pub(super) fn write_refitted(
     g: &mut GpuScene,
 ) -> Result<()> {
     let r = g.regions[index];
-    let fits = r.vertex_count as usize == mesh.positions.len()
-        && r.triangle_count as usize == flat.order.len()
-        && corners.len() == 3 * flat.order.len()
-        && flat.nodes.len() <= r.node_capacity as usize;
-    if !fits {
+    check_fits(index, r, mesh, flat)?;
+    if corners.len() != 3 * flat.order.len() {
         return Err(Error::Invalid(format!(
-            "mesh {index} no longer fits its region (vertices, triangles or BVH nodes changed)"
+            "mesh {index}: {} corners for {} triangles",
+            corners.len(),
+            flat.order.len()
         )));
     }
     write_vertices(mesh, r, g);
@@ -166,6 +158,20 @@ pub(super) fn write_refitted(
         n.max0 = f.max0;
         n.min1 = f.min1;
         n.max1 = f.max1;
+    }
+    Ok(())
+}
+
+/// Whether `mesh` and its BVH `flat` fit region `r` (mesh `index`): the same vertex and triangle
+/// counts, the nodes within its capacity.
+fn check_fits(index: usize, r: MeshRegion, mesh: &Mesh, flat: &FlatBvh) -> Result<()> {
+    let fits = r.vertex_count as usize == mesh.positions.len()
+        && r.triangle_count as usize == flat.order.len()
+        && flat.nodes.len() <= r.node_capacity as usize;
+    if !fits {
+        return Err(Error::Invalid(format!(
+            "mesh {index} no longer fits its region (vertices, triangles or BVH nodes changed)"
+        )));
     }
     Ok(())
 }
