@@ -249,6 +249,14 @@ fn run_frames(o: &Options, kind: RunKind) -> Result<Run> {
     };
     edits(&mut pipeline, 1)?;
     pipeline.submit()?;
+    // The game's edits for frame `f`, handed to the updater; the submit's wait is recorded.
+    let hand_over = |p: &mut Pipeline, blocked: &mut Vec<Duration>, f: u32| -> Result<()> {
+        edits(p, f)?;
+        let wait = Instant::now();
+        p.submit()?;
+        blocked.push(wait.elapsed());
+        Ok(())
+    };
     let mut records = Vec::with_capacity(o.frames as usize);
     let mut blocked = Vec::with_capacity(2 * o.frames as usize);
     for f in 0..o.frames {
@@ -268,12 +276,9 @@ fn run_frames(o: &Options, kind: RunKind) -> Result<Run> {
             ..Default::default()
         };
         if let Some(g) = &taken {
-            // The game's edits for the next frame; the updater builds it while this one renders.
+            // The next frame's generation, built while this one renders.
             if overlap {
-                edits(&mut pipeline, f + 2)?;
-                let wait = Instant::now();
-                pipeline.submit()?;
-                blocked.push(wait.elapsed());
+                hand_over(&mut pipeline, &mut blocked, f + 2)?;
             }
             let apply = Instant::now();
             let stats = tracer.apply_commit(&g.commit)?;
@@ -297,11 +302,9 @@ fn run_frames(o: &Options, kind: RunKind) -> Result<Run> {
         let render = Instant::now();
         crate::render_bands(&mut tracer, &params, &[(0, o.height)], &mut |_| {})?;
         record.render_ms = ms(render.elapsed());
+        // Or, with nothing beside the render, built after it.
         if !overlap {
-            edits(&mut pipeline, f + 2)?;
-            let wait = Instant::now();
-            pipeline.submit()?;
-            blocked.push(wait.elapsed());
+            hand_over(&mut pipeline, &mut blocked, f + 2)?;
         }
         record.frame_ms = ms(start.elapsed());
         let waits = &blocked[blocked.len().saturating_sub(2)..];
