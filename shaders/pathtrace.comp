@@ -147,7 +147,9 @@ void main() {
     load_frame_constants();
     uvec2 pixel = uvec2(gl_GlobalInvocationID.x, pc.y0 + gl_GlobalInvocationID.y * pc.stride);
     uint width = F.dims.x;
-    if (pixel.x >= width || pixel.y >= pc.y1 || pc.sample_begin >= pc.sample_end) return;
+    // Sample indices may wrap past 2^32 (a view converging for days): compare for equality.
+    if (pixel.x >= width || pixel.y >= pc.y1 || pc.sample_begin == pc.sample_end) return;
+    uint index = pixel.y * width + pixel.x;
     vec3 sum = vec3(0.0);
     uint rays = 0u;
     uint rejected = 0u;
@@ -167,7 +169,10 @@ void main() {
     // Path regeneration (Bikker, ch. 6): samples and bounces share one loop, so a lane whose path
     // ends starts its next sample at once instead of idling until the longest path of its SIMD
     // group ends. Each sample still has its own random stream and is summed in sample order, so
-    // the result is the same bits as one loop per sample.
+    // the result is the same bits as one loop per sample. The sum continues the buffer's (earlier
+    // passes, or earlier frames of a converging view) one sample at a time, so the bits do not
+    // depend on how the samples were cut into passes or frames.
+    sum = pc.g.accum.v[index].xyz;
     uint si = pc.sample_begin;
     Rng rng = rng_init(pixel, si, F.params.y, F.params.z);
     Path p = path_start(camera_ray(pixel, rng));
@@ -176,13 +181,12 @@ void main() {
         // NaN/Inf guard: such a sample contributes zero and is counted (pbrt-v4's policy).
         if (any(isnan(p.L)) || any(isinf(p.L))) rejected++;
         else sum += p.L;
-        if (++si >= pc.sample_end) break;
+        if (++si == pc.sample_end) break;
         rng = rng_init(pixel, si, F.params.y, F.params.z);
         p = path_start(camera_ray(pixel, rng));
     }
 #endif
-    uint index = pixel.y * width + pixel.x;
-    pc.g.accum.v[index] += vec4(sum, 0.0);
+    pc.g.accum.v[index] = vec4(sum, 0.0);
     if (rejected > 0u) atomicAdd(pc.g.stats.v[0], rejected);
     atomicAdd(pc.g.stats.v[4u + pixel.y], rays);
 }

@@ -1,5 +1,6 @@
-//! The dispatch of one band of lines: clear it, add `samples_per_pass` samples per dispatch with
-//! GPU timestamps around each, copy it back with its per-line counters.
+//! The dispatch of one band of lines: clear it (or start it from the sums of earlier samples),
+//! add `samples_per_pass` samples per dispatch with GPU timestamps around each, copy it back with
+//! its per-line counters.
 
 use std::time::{Duration, Instant};
 
@@ -84,8 +85,32 @@ impl Tracer {
                 &[],
             );
         };
+        // The band starts from the earlier samples' sums when the frame continues them.
+        let start = match &params.accumulated {
+            Some(sums) => {
+                let pixels = width as usize * height as usize;
+                if sums.len() != pixels {
+                    return Err(crate::Error::Invalid(format!(
+                        "the accumulated sums hold {} pixels, the frame {width}x{height}",
+                        sums.len()
+                    )));
+                }
+                let rows = &sums[y0 as usize * width as usize..y1 as usize * width as usize];
+                Some(
+                    rows.iter()
+                        .map(|p| [p[0], p[1], p[2], 0.0])
+                        .collect::<Vec<_>>(),
+                )
+            }
+            None => None,
+        };
+        if let Some(rows) = &start {
+            self.write_buffers(&[(accum.0, band_offset, bytemuck::cast_slice(rows))])?;
+        }
         self.submit(|d, cb| unsafe {
-            d.cmd_fill_buffer(cb, accum.0, band_offset, band_size, 0);
+            if start.is_none() {
+                d.cmd_fill_buffer(cb, accum.0, band_offset, band_size, 0);
+            }
             d.cmd_fill_buffer(cb, stats.0, 0, vk::WHOLE_SIZE, 0);
             compute_barrier(
                 d,
@@ -108,8 +133,8 @@ impl Tracer {
                 globals: globals_address,
                 y0,
                 y1,
-                sample_begin: begin,
-                sample_end: end,
+                sample_begin: params.first_sample.wrapping_add(begin),
+                sample_end: params.first_sample.wrapping_add(end),
                 stride,
                 _pad: 0,
             };
@@ -244,5 +269,8 @@ impl BandTracer for Tracer {
         Tracer::apply_commit(self, commit)
             .map(|s| s.bytes)
             .map_err(|e| Box::new(e) as TracerError)
+    }
+    fn messages(&self) -> Vec<String> {
+        self.validation_messages()
     }
 }

@@ -1,73 +1,70 @@
-//! Embedding platoon in a loop: render frames of an orbiting camera on several tracers, with the
-//! balancer re-cutting the lines every frame, and print what each frame cost.
+//! Embedding platoon in a game loop: the frame driver renders each frame while the game goes on
+//! with the next, converges while the camera rests, restarts when it moves, and holds a frame
+//! time by scaling the samples per frame. Prints what each frame cost.
 //!
 //! ```sh
-//! cargo run --example game_loop -- [SCENE.glb] [--devices lavapipe:1,1] [--frames 16]
+//! cargo run --release --example game_loop -- [SCENE.glb] [--devices lavapipe:1,1] [--frames 60] [--target-ms 40]
 //! ```
 
 use std::path::PathBuf;
+use std::time::Duration;
 
 use anyhow::{Context, Result};
 use glam::Vec3;
-use platoon::core::balance;
-use platoon::core::frame::FrameParams;
+use platoon::core::drive::DriverOptions;
 use platoon::core::scene::camera::Camera;
-use platoon::devices::{self, DeviceSpec};
-use platoon::tracer::Sampling;
+use platoon::devices::DeviceSpec;
+use platoon::game::{start, GameOptions};
 
 fn main() -> Result<()> {
     let mut scene_path: Option<PathBuf> = None;
     let mut spec: DeviceSpec = "lavapipe:1,1".parse().map_err(anyhow::Error::msg)?;
-    let mut frames = 16u32;
+    let mut frames = 60u32;
+    let mut target_ms = 40.0f64;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
+        let mut value = || args.next().with_context(|| format!("{a} needs a value"));
         match a.as_str() {
-            "--devices" => {
-                spec = args
-                    .next()
-                    .context("--devices needs a value")?
-                    .parse()
-                    .map_err(anyhow::Error::msg)?
-            }
-            "--frames" => frames = args.next().context("--frames needs a value")?.parse()?,
+            "--devices" => spec = value()?.parse().map_err(anyhow::Error::msg)?,
+            "--frames" => frames = value()?.parse()?,
+            "--target-ms" => target_ms = value()?.parse()?,
             other => scene_path = Some(other.into()),
         }
     }
 
-    // Load once; the scene is uploaded once to every tracer.
     let scene = platoon::load_scene(scene_path.as_deref())?;
-    let prepared = platoon::prepare(scene, &platoon::PrepareOptions::default())?;
-    let policy = balance::by_name("cost-aware").expect("a known balancer");
-    let mut renderer = devices::renderer(&spec, &prepared.gpu, policy, false, Sampling::Mis)?;
-
-    let (lo, hi) = prepared.posed.bounds();
+    let (lo, hi) = scene.pose(0.0).bounds();
     let (center, radius) = ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-3));
+    let mut options = GameOptions::new(DriverOptions::new(160, 120));
+    options.devices = spec;
+    options.driver.target = Some(Duration::from_secs_f64(target_ms * 1e-3));
+    let mut driver = start(scene, &options)?;
+
     let mut last = None;
     for f in 0..frames {
-        // The game moves the camera; platoon renders the frame with it.
-        let a = f as f32 * 0.1;
+        // The camera orbits for a second of frames, then rests: the image converges.
+        let a = f.min(frames / 2) as f32 * 0.05;
         let eye = center + radius * Vec3::new(2.2 * a.sin(), 0.8, 2.2 * a.cos());
-        let mut params = FrameParams::new(128, 96, 4, Camera::look_at(eye, center, 0.9));
-        params.frame = f;
-        let frame = renderer.render_frame(&params)?;
-        let bands: Vec<String> = frame
-            .tracers
-            .iter()
-            .map(|t| format!("{}..{}", t.y0, t.y1))
-            .collect();
-        println!(
-            "frame {f:3}: {:6.1} ms, idle {:4.1}%, bands [{}]",
-            frame.wall_time.as_secs_f64() * 1e3,
-            100.0 * frame.idle_fraction,
-            bands.join(" ")
-        );
-        for failure in &frame.failures {
-            eprintln!(
-                "tracer {} failed and was dropped: {}",
-                failure.tracer, failure.message
+        let out = driver.frame(Camera::look_at(eye, center, 0.9))?;
+        if let Some(done) = out.finished {
+            let s = &done.stats;
+            println!(
+                "frame {:3}: {:5.1} ms busy, {:3} spp, f = {:.3} ({:?}), idle {:4.1}%",
+                s.frame,
+                s.busy.as_secs_f64() * 1e3,
+                s.plan.spp,
+                s.weight,
+                s.plan.join,
+                100.0 * s.idle_fraction,
             );
+            for failure in &s.failures {
+                eprintln!("tracer {} was dropped: {}", failure.tracer, failure.message);
+            }
+            last = Some(done.film);
         }
-        last = Some(frame.film);
+    }
+    if let Some(done) = driver.finish()? {
+        last = Some(done.film);
     }
     if let Some(film) = last {
         platoon::core::output::write_image(std::path::Path::new("game_loop.png"), &film, &[])?;

@@ -95,14 +95,11 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
     for f in &frame.failures {
         eprintln!("warning: tracer {} failed in frame {} and was dropped; its lines were rendered by the others: {}", f.tracer, f.frame, f.message);
     }
-    let names: Vec<String> = renderer
-        .tracers_mut()
-        .map(|t| t.device_info().name.clone())
-        .collect();
+    let names: Vec<String> = renderer.with_tracers(|t| t.device_info().name.clone());
     let defines = renderer
-        .tracers_mut()
+        .with_tracers(|t| t.kernel_defines(params))
+        .into_iter()
         .next()
-        .map(|t| t.kernel_defines(params))
         .unwrap_or_default();
     Ok(Rendered {
         wall_time: frame
@@ -119,10 +116,7 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         spp: params.spp,
         tracers: frame.tracers,
         balancer: Some(renderer.balancer_name()),
-        validation_messages: renderer
-            .tracers_mut()
-            .flat_map(|t| t.validation_messages())
-            .collect(),
+        validation_messages: renderer.with_tracers(|t| t.validation_messages()).concat(),
         film: frame.film,
     })
 }

@@ -3,15 +3,18 @@
 //! keeps every mesh's BVH (static meshes built once, skinned ones refitted, rebuilt only when
 //! degraded), rebuilds the top level, flattens, and says what changed since the previous
 //! generation as a [`crate::flatten::commit::Commit`] for the tracers to apply. [`plan`] decides
-//! each game frame's samples and how they join the film (the frame driver of issue 9 carries it
-//! out).
+//! each game frame's samples and how they join the film; [`driver::FrameDriver`] carries the
+//! plan out, one call per game frame, with the tracers on their threads and the [`film`].
 
+pub mod driver;
+pub mod film;
 pub mod pipeline;
 pub mod plan;
 pub mod queries;
 pub mod threads;
 pub mod updater;
 
+pub use driver::{DriverOptions, FinishedFrame, FrameDriver, FrameOutput, FrameStats};
 pub use pipeline::{Pipeline, UpdaterThreads};
 pub use queries::{QueryHit, QueryScene};
 pub use updater::{Generation, UpdateTimes, Updater};

@@ -307,6 +307,16 @@ impl Pipeline {
         }
     }
 
+    /// Edits made since the last submit.
+    pub fn has_pending(&self) -> bool {
+        !self.pending.is_empty()
+    }
+
+    /// Whether a submitted generation is waiting to be taken (built or not).
+    pub fn has_submitted(&self) -> bool {
+        self.in_flight || !self.ready.is_empty()
+    }
+
     /// Whether a submitted generation is still being built (then `submit` would wait for it).
     pub fn in_flight(&self) -> bool {
         self.in_flight

@@ -7,7 +7,9 @@
 //! - camera and scene still: f = 1/k over the k frames since the restart, which is a plain sum
 //!   of samples, so the plan asks for a sum and continues the sample indices: k still frames of
 //!   s samples are the offline render of k s samples;
-//! - only objects moved: f = max(1/k, floor), so that moving objects leave no ghost.
+//! - only objects moved: f = max(1/k, floor), so that moving objects leave no ghost. Once a
+//!   film has been blended it holds a weighted mean, not sums: later still frames go on blending
+//!   with f = 1/k (still converging) until the camera moves.
 //!
 //! Dynamic workload scaling (Bikker 7.3.7): frame time is nearly linear in the samples per
 //! frame, so the next count is the current one scaled by target / measured, kept when the
@@ -50,8 +52,8 @@ impl Join {
 pub struct FramePlan {
     pub spp: u32,
     /// Index of the frame's first sample: after a restart 0, then continuing, so that the
-    /// random numbers of a converging view never repeat.
-    pub first_sample: u64,
+    /// random numbers of a converging view never repeat (wrapping at 2^32).
+    pub first_sample: u32,
     pub join: Join,
     /// Frames in the film including this one (k of f = 1/k).
     pub frames_joined: u32,
@@ -63,7 +65,9 @@ pub struct Planner {
     /// Smallest weight of new samples while objects move (Bikker uses about 0.2).
     pub floor: f32,
     frames_joined: u32,
-    next_sample: u64,
+    next_sample: u32,
+    /// The film holds a blended mean since the last restart.
+    blended: bool,
 }
 
 impl Planner {
@@ -78,6 +82,7 @@ impl Planner {
             floor,
             frames_joined: 0,
             next_sample: 0,
+            blended: false,
         }
     }
 
@@ -86,10 +91,16 @@ impl Planner {
         let join = if motion.camera || self.frames_joined == 0 {
             self.frames_joined = 0;
             self.next_sample = 0;
+            self.blended = false;
             Join::Restart
         } else if motion.scene {
+            self.blended = true;
             let f = (1.0 / (self.frames_joined + 1) as f32).max(self.floor);
             Join::Blend { f }
+        } else if self.blended {
+            Join::Blend {
+                f: 1.0 / (self.frames_joined + 1) as f32,
+            }
         } else {
             Join::Sum
         };
@@ -100,7 +111,7 @@ impl Planner {
             join,
             frames_joined: self.frames_joined,
         };
-        self.next_sample += spp as u64;
+        self.next_sample = self.next_sample.wrapping_add(spp);
         plan
     }
 }
@@ -164,7 +175,7 @@ mod tests {
         assert_eq!(plans[0].join, Join::Restart);
         for (k, plan) in plans.iter().enumerate().skip(1) {
             assert_eq!(plan.join, Join::Sum);
-            assert_eq!(plan.first_sample, 8 * k as u64);
+            assert_eq!(plan.first_sample, 8 * k as u32);
             assert_eq!(plan.join.weight(plan.frames_joined), 1.0 / (k + 1) as f32);
         }
     }
@@ -196,6 +207,10 @@ mod tests {
         assert_eq!(weights[0], 0.5);
         assert!(weights.iter().all(|&f| f >= 0.2), "{weights:?}");
         assert_eq!(*weights.last().unwrap(), 0.2);
+        // Objects stop: the blended film goes on converging as 1/k, never back to sums.
+        let still = p.plan(STILL, 4);
+        assert_eq!(still.join, Join::Blend { f: 1.0 / 14.0 });
+        assert_eq!(still.first_sample, 4 * 13);
     }
 
     /// A tracer whose frame costs 2 ms plus 0.7 ms per sample, with deterministic noise.

@@ -44,4 +44,7 @@ impl<T: BandTracer> BandTracer for FaultInjector<T> {
     ) -> Result<u64, TracerError> {
         self.inner.apply_commit(commit)
     }
+    fn messages(&self) -> Vec<String> {
+        self.inner.messages()
+    }
 }

@@ -4,7 +4,9 @@
 
 pub mod fault;
 pub mod renderer;
+mod workers;
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use crate::output::Film;
@@ -31,7 +33,16 @@ pub struct FrameParams {
     /// Depth from which Russian roulette may end a path.
     pub rr_depth: u32,
     pub seed: u32,
+    /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
+    /// the last restart while a view converges, so that continuing sample indices never repeat.
     pub frame: u32,
+    /// Index of the first sample: the frame renders samples [first_sample, first_sample + spp)
+    /// of each pixel (wrapping at 2^32, which a converging view does not reach).
+    pub first_sample: u32,
+    /// Radiance sums of earlier samples of every pixel (row-major, width x height) that this
+    /// frame's samples are added onto, one by one in sample order, so that frames continuing a
+    /// sum are bit for bit one longer render. The bands' sums then include them.
+    pub accumulated: Option<Arc<[[f32; 3]]>>,
     pub samples_per_pass: u32,
     /// Stop adding passes once this much wall time has gone (at least one pass is rendered):
     /// `spp` is then an upper bound and each band reports the samples it holds. For one
@@ -63,6 +74,8 @@ impl FrameParams {
             rr_depth: 3,
             seed: 0,
             frame: 0,
+            first_sample: 0,
+            accumulated: None,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             time_limit: None,
             camera,
@@ -77,8 +90,9 @@ pub struct Band {
     pub y0: u32,
     pub y1: u32,
     pub sums: Vec<[f32; 3]>,
-    /// Samples per pixel in `sums` (fewer than `FrameParams::spp` when a time limit cut the
-    /// render short); 0 means `FrameParams::spp`.
+    /// Samples per pixel this frame added to `sums` (fewer than `FrameParams::spp` when a time
+    /// limit cut the render short); 0 means `FrameParams::spp`. The sums also hold
+    /// `FrameParams::accumulated` when it is given.
     pub samples: u32,
     pub rays: u64,
     /// Rays traced in each line of the band: the relative cost of the lines.
@@ -120,6 +134,11 @@ pub trait BandTracer {
         _commit: &crate::flatten::commit::Commit,
     ) -> Result<u64, TracerError> {
         Ok(0)
+    }
+    /// Warnings and errors the device has reported so far (its validation layer's); none for
+    /// tracers without one.
+    fn messages(&self) -> Vec<String> {
+        Vec::new()
     }
 }
 

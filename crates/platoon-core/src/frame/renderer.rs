@@ -3,9 +3,12 @@
 //! tracer that fails (device lost, timeout, error) is dropped, its lines are rendered by the
 //! survivors in the same frame, and the failure is reported once.
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use super::workers::Worker;
 use crate::balance::{bands, idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use crate::flatten::commit::Commit;
 use crate::frame::{assemble, Band, BandTracer, FrameParams, TracerError};
 use crate::output::Film;
 
@@ -35,6 +38,9 @@ pub struct TracerFailure {
 
 pub struct FrameResult {
     pub film: Film,
+    /// Each pixel's radiance sum (with `FrameParams::accumulated` when the frame continued
+    /// one): what a film accumulating over frames keeps.
+    pub sums: Vec<[f32; 3]>,
     pub tracers: Vec<TracerStats>,
     /// sum_i (T_max - T_i) / (n T_max) over the tracers' planned bands.
     pub idle_fraction: f64,
@@ -50,56 +56,53 @@ pub enum RenderError {
     NoTracers(String),
 }
 
-pub struct Renderer<T: BandTracer + Send> {
-    /// Surviving tracers with their original indices.
-    tracers: Vec<(usize, T)>,
+pub struct Renderer<T: BandTracer + Send + 'static> {
+    /// Surviving tracers with their original indices, each on its own thread.
+    tracers: Vec<(usize, Worker<T>)>,
     balancer: Box<dyn Balancer>,
     failures: Vec<TracerFailure>,
 }
 
 type Outcome = (usize, (u32, u32), Result<Band, TracerError>);
 
-/// Renders `work[i]` on tracer i, all at once, one thread each.
-fn run_bands<T: BandTracer + Send>(
-    tracers: &mut [(usize, T)],
+/// Renders `work[i]` on tracer i, all at once, each on its thread.
+fn run_bands<T: BandTracer + Send + 'static>(
+    tracers: &[(usize, Worker<T>)],
     work: &[(u32, u32)],
-    params: &FrameParams,
+    params: &Arc<FrameParams>,
 ) -> Vec<Outcome> {
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = tracers
-            .iter_mut()
-            .zip(work)
-            .enumerate()
-            .map(|(slot, ((_, tracer), &(y0, y1)))| {
-                scope.spawn(move || {
-                    let result = if y1 > y0 {
-                        tracer.render_band(params, y0, y1, &mut |_| {})
-                    } else {
-                        Ok(Band {
-                            y0,
-                            y1,
-                            ..Default::default()
-                        })
-                    };
-                    (slot, (y0, y1), result)
+    for ((_, worker), &(y0, y1)) in tracers.iter().zip(work) {
+        if y1 > y0 {
+            worker.start_band(params, y0, y1);
+        }
+    }
+    tracers
+        .iter()
+        .zip(work)
+        .enumerate()
+        .map(|(slot, ((_, worker), &(y0, y1)))| {
+            let result = if y1 > y0 {
+                worker.band()
+            } else {
+                Ok(Band {
+                    y0,
+                    y1,
+                    ..Default::default()
                 })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .enumerate()
-            .map(|(slot, h)| {
-                h.join()
-                    .unwrap_or_else(|_| (slot, work[slot], Err("tracer thread panicked".into())))
-            })
-            .collect()
-    })
+            };
+            (slot, (y0, y1), result)
+        })
+        .collect()
 }
 
-impl<T: BandTracer + Send> Renderer<T> {
+impl<T: BandTracer + Send + 'static> Renderer<T> {
     pub fn new(tracers: Vec<T>, balancer: Box<dyn Balancer>) -> Renderer<T> {
         Renderer {
-            tracers: tracers.into_iter().enumerate().collect(),
+            tracers: tracers
+                .into_iter()
+                .enumerate()
+                .map(|(i, t)| (i, Worker::start(i, t)))
+                .collect(),
             balancer,
             failures: Vec::new(),
         }
@@ -107,6 +110,11 @@ impl<T: BandTracer + Send> Renderer<T> {
 
     pub fn balancer_name(&self) -> &'static str {
         self.balancer.name()
+    }
+
+    /// Cuts the next frames with `balancer` (which learns the tracers' speeds afresh).
+    pub fn set_balancer(&mut self, balancer: Box<dyn Balancer>) {
+        self.balancer = balancer;
     }
 
     /// Original indices of the tracers still working.
@@ -121,11 +129,18 @@ impl<T: BandTracer + Send> Renderer<T> {
 
     /// The surviving tracers, for reuse under another balancer.
     pub fn into_tracers(self) -> Vec<T> {
-        self.tracers.into_iter().map(|(_, t)| t).collect()
+        self.tracers
+            .into_iter()
+            .filter_map(|(_, w)| w.into_tracer())
+            .collect()
     }
 
-    pub fn tracers_mut(&mut self) -> impl Iterator<Item = &mut T> {
-        self.tracers.iter_mut().map(|(_, t)| t)
+    /// `f` of every surviving tracer, between frames (device names, kernel defines, messages).
+    pub fn with_tracers<R>(&self, mut f: impl FnMut(&mut T) -> R) -> Vec<R> {
+        self.tracers
+            .iter()
+            .filter_map(|(_, w)| w.lock().map(|mut t| f(&mut t)))
+            .collect()
     }
 
     /// Gives every tracer the next generation of the scene (`commit`: what changed since the
@@ -134,23 +149,18 @@ impl<T: BandTracer + Send> Renderer<T> {
     /// to render: the others render its lines, on the new generation.
     pub fn apply_commit(
         &mut self,
-        commit: &crate::flatten::commit::Commit,
+        commit: &Arc<Commit>,
         frame: u32,
     ) -> Result<Vec<(usize, u64)>, RenderError> {
         // Each tracer applies it on its own thread, as each renders its band.
-        let results: Vec<Result<u64, String>> = std::thread::scope(|scope| {
-            let handles: Vec<_> = self
-                .tracers
-                .iter_mut()
-                .map(|(_, t)| {
-                    scope.spawn(move || t.apply_commit(commit).map_err(|e| e.to_string()))
-                })
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().unwrap_or_else(|_| Err("panicked".into())))
-                .collect()
-        });
+        for (_, worker) in &self.tracers {
+            worker.start_commit(commit);
+        }
+        let results: Vec<Result<u64, String>> = self
+            .tracers
+            .iter()
+            .map(|(_, w)| w.committed().map_err(|e| e.to_string()))
+            .collect();
         let mut uploaded = Vec::with_capacity(results.len());
         for (slot, result) in results.into_iter().enumerate().rev() {
             let id = self.tracers[slot].0;
@@ -178,6 +188,7 @@ impl<T: BandTracer + Send> Renderer<T> {
 
     pub fn render_frame(&mut self, params: &FrameParams) -> Result<FrameResult, RenderError> {
         let start = Instant::now();
+        let params = &Arc::new(params.clone());
         if self.tracers.is_empty() {
             return Err(RenderError::NoTracers("every tracer has failed".into()));
         }
@@ -206,7 +217,7 @@ impl<T: BandTracer + Send> Renderer<T> {
         let mut queue: Vec<(u32, u32)> = Vec::new();
         for round in 0.. {
             let mut dead = Vec::new();
-            for (slot, (y0, y1), result) in run_bands(&mut self.tracers, &round_work, params) {
+            for (slot, (y0, y1), result) in run_bands(&self.tracers, &round_work, params) {
                 let id = self.tracers[slot].0;
                 match result {
                     Ok(band) => {
@@ -296,6 +307,7 @@ impl<T: BandTracer + Send> Renderer<T> {
         self.failures.extend(new_failures.iter().cloned());
         Ok(FrameResult {
             film: assemble(params, &done),
+            sums: gather_sums(params, &done),
             idle_fraction: idle_fraction(&times),
             rejected_samples: done.iter().map(|b| b.rejected_samples).sum(),
             tracers: stats,
@@ -303,6 +315,17 @@ impl<T: BandTracer + Send> Renderer<T> {
             wall_time: start.elapsed(),
         })
     }
+}
+
+/// The bands' sums as one image.
+fn gather_sums(params: &FrameParams, bands: &[Band]) -> Vec<[f32; 3]> {
+    let w = params.width as usize;
+    let mut sums = vec![[0.0f32; 3]; w * params.height as usize];
+    for b in bands {
+        let start = b.y0 as usize * w;
+        sums[start..start + b.sums.len()].copy_from_slice(&b.sums);
+    }
+    sums
 }
 
 #[cfg(test)]
@@ -383,9 +406,7 @@ mod tests {
             })
             .into();
         let mut r = Renderer::new(tracers, by_name("cost-aware").unwrap());
-        let uploaded = r
-            .apply_commit(&crate::flatten::commit::Commit::default(), 3)
-            .unwrap();
+        let uploaded = r.apply_commit(&Arc::new(Commit::default()), 3).unwrap();
         assert_eq!(uploaded, vec![(0, 0), (2, 0)]);
         assert_eq!(r.alive(), vec![0, 2]);
         assert_eq!(r.failures().len(), 1);

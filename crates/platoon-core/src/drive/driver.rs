@@ -1,0 +1,401 @@
+//! The frame driver: a game's one call per frame. It owns the living scene's updater (through
+//! the [`Pipeline`]), the tracers (each on its persistent thread, under the balancer) and the
+//! film, on a render thread of their own, so that frame N renders while the game simulates
+//! frame N + 1 and the updater builds its scene:
+//!
+//! ```text
+//! game:     edits N+1 ─ frame() ─ edits N+2 ─ frame() ...
+//! render:   ──── render N ───────┴── render N+1 ─────┴ ...
+//! updater:  ──── build N+1 ──────┴── build N+2 ──────┴ ...
+//! ```
+//!
+//! Each call hands over the camera and the edits made since the previous call, and gives back
+//! the previous finished frame with its statistics. What each frame renders and how it joins
+//! the film is decided by [`super::plan`] alone; the driver carries it out.
+
+use std::sync::mpsc::{self, Receiver, SyncSender};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use super::film::Accumulation;
+use super::plan::{FramePlan, Join, Motion, Planner, WorkloadScaler};
+use super::{Pipeline, QueryScene, UpdateTimes};
+use crate::balance::Balancer;
+use crate::error::{Error, Result};
+use crate::flatten::commit::Commit;
+use crate::frame::renderer::{Renderer, TracerFailure, TracerStats};
+use crate::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
+use crate::output::Film;
+use crate::scene::camera::Camera;
+
+/// How the driver renders.
+#[derive(Clone, Debug)]
+pub struct DriverOptions {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel per frame: fixed, or the first count when `target` is set.
+    pub spp: u32,
+    /// Frame time to hold by scaling the samples per frame (Bikker 7.3.7); None: fixed spp.
+    pub target: Option<Duration>,
+    /// Smallest weight of a frame in the film while objects move (see [`super::plan`]).
+    pub blend_floor: f32,
+    pub seed: u32,
+    pub max_depth: u32,
+    pub rr_depth: u32,
+    pub samples_per_pass: u32,
+    /// Keep a [`QueryScene`] of the generation being rendered, for the game's ray queries.
+    pub queries: bool,
+}
+
+impl DriverOptions {
+    pub fn new(width: u32, height: u32) -> DriverOptions {
+        DriverOptions {
+            width,
+            height,
+            spp: 1,
+            target: None,
+            blend_floor: 0.2,
+            seed: 0,
+            max_depth: DEFAULT_MAX_DEPTH,
+            rr_depth: 3,
+            samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
+            queries: false,
+        }
+    }
+}
+
+/// What one frame was and cost.
+#[derive(Clone, Debug)]
+pub struct FrameStats {
+    /// The game frame (counting calls from 0).
+    pub frame: u32,
+    pub plan: FramePlan,
+    /// The weight f of this frame's samples in the film.
+    pub weight: f32,
+    /// Samples per pixel behind the film when it holds exact sums (None after a blend).
+    pub film_samples: Option<u32>,
+    /// The render thread's whole time for the frame: commit, render, film.
+    pub busy: Duration,
+    pub render: Duration,
+    /// Applying the scene's commit on the tracers.
+    pub commit: Duration,
+    /// Bytes each tracer took from the commit.
+    pub commit_bytes: u64,
+    /// The updater's times for the generation this frame rendered (zero if none was new).
+    pub update: UpdateTimes,
+    pub idle_fraction: f64,
+    pub tracers: Vec<TracerStats>,
+    pub failures: Vec<TracerFailure>,
+    pub rejected_samples: u64,
+    /// Every warning and error the devices have reported so far (validation layer).
+    pub device_messages: Vec<String>,
+}
+
+pub struct FinishedFrame {
+    /// The film after this frame joined it (linear radiance).
+    pub film: Film,
+    pub stats: FrameStats,
+}
+
+/// What the game gets back from a call.
+pub struct FrameOutput {
+    /// The previous call's frame (None on the first call).
+    pub finished: Option<FinishedFrame>,
+    /// The time this call waited: for the previous frame to finish, and on the updater.
+    pub waited_render: Duration,
+    pub waited_update: Duration,
+}
+
+struct FrameJob {
+    frame: u32,
+    commit: Option<Arc<Commit>>,
+    update: UpdateTimes,
+    params: FrameParams,
+    plan: FramePlan,
+}
+
+enum Job {
+    Frame(Box<FrameJob>),
+    Balancer(Box<dyn Balancer>),
+}
+
+pub struct FrameDriver {
+    pipeline: Pipeline,
+    jobs: Option<SyncSender<Job>>,
+    done: Receiver<Result<FinishedFrame>>,
+    render: Option<JoinHandle<()>>,
+    in_flight: bool,
+    options: DriverOptions,
+    planner: Planner,
+    scaler: Option<WorkloadScaler>,
+    queries: Option<QueryScene>,
+    frame: u32,
+    /// The frame of the last restart: the random numbers' frame key while the view converges.
+    epoch: u32,
+    last_camera: Option<Camera>,
+    balancer: &'static str,
+}
+
+impl FrameDriver {
+    /// Starts the render thread with `tracers` holding the pipeline's first generation
+    /// (`first`, as [`Pipeline::new`] returned it).
+    pub fn new<T: BandTracer + Send + 'static>(
+        pipeline: Pipeline,
+        first: &crate::flatten::GpuScene,
+        tracers: Vec<T>,
+        balancer: Box<dyn Balancer>,
+        options: DriverOptions,
+    ) -> Result<FrameDriver> {
+        if options.width == 0 || options.height == 0 {
+            return Err(Error::Invalid(format!(
+                "the frame size {}x{} is empty",
+                options.width, options.height
+            )));
+        }
+        if tracers.is_empty() {
+            return Err(Error::Invalid("a frame driver needs a tracer".into()));
+        }
+        let name = balancer.name();
+        let renderer = Renderer::new(tracers, balancer);
+        let film = Accumulation::new(options.width, options.height);
+        // One frame queued at most: the game is never more than a frame ahead.
+        let (jobs, inbox) = mpsc::sync_channel::<Job>(1);
+        let (outbox, done) = mpsc::sync_channel(1);
+        let render = std::thread::Builder::new()
+            .name("platoon render".into())
+            .spawn(move || render_loop(renderer, film, inbox, outbox))
+            .map_err(|e| Error::Invalid(format!("starting the render thread: {e}")))?;
+        Ok(FrameDriver {
+            pipeline,
+            jobs: Some(jobs),
+            done,
+            render: Some(render),
+            in_flight: false,
+            planner: Planner::new(options.blend_floor),
+            scaler: options
+                .target
+                .map(|target| WorkloadScaler::new(target, options.spp)),
+            queries: options.queries.then(|| QueryScene::new(first)),
+            options,
+            frame: 0,
+            epoch: 0,
+            last_camera: None,
+            balancer: name,
+        })
+    }
+
+    /// The scene's edit calls (placements, instances, materials, lights, time...): what is
+    /// edited before a [`FrameDriver::frame`] call is built while that frame renders and
+    /// rendered by the next.
+    pub fn scene(&mut self) -> &mut Pipeline {
+        &mut self.pipeline
+    }
+
+    /// The generation being rendered, for the game's CPU ray queries (with
+    /// [`DriverOptions::queries`]).
+    pub fn queries(&self) -> Option<&QueryScene> {
+        self.queries.as_ref()
+    }
+
+    /// Samples the next frame will take.
+    pub fn spp(&self) -> u32 {
+        self.scaler.as_ref().map_or(self.options.spp, |s| s.spp())
+    }
+
+    /// Holds `target` from the next frame on (None: keep the current spp fixed).
+    pub fn set_target(&mut self, target: Option<Duration>) {
+        let spp = self.spp();
+        self.options.spp = spp;
+        self.options.target = target;
+        self.scaler = target.map(|t| WorkloadScaler::new(t, spp));
+    }
+
+    pub fn options(&self) -> &DriverOptions {
+        &self.options
+    }
+
+    pub fn balancer_name(&self) -> &'static str {
+        self.balancer
+    }
+
+    /// Cuts the frames from the next one on with `balancer`.
+    pub fn set_balancer(&mut self, balancer: Box<dyn Balancer>) -> Result<()> {
+        self.balancer = balancer.name();
+        self.send(Job::Balancer(balancer))
+    }
+
+    /// One game frame: starts rendering the view from `camera` of the scene as edited up to
+    /// the previous call, hands this call's edits to the updater, and returns the previous
+    /// frame. Errors: an edit the updater refused, or every tracer lost.
+    pub fn frame(&mut self, camera: Camera) -> Result<FrameOutput> {
+        let wait = Instant::now();
+        let finished = self.finish_in_flight()?;
+        let waited_render = wait.elapsed();
+        if let (Some(f), Some(scaler)) = (&finished, self.scaler.as_mut()) {
+            scaler.observe(f.stats.busy);
+        }
+
+        let wait = Instant::now();
+        let generation = if self.pipeline.has_submitted() {
+            Some(self.pipeline.take()?)
+        } else {
+            None
+        };
+        if self.pipeline.has_pending() {
+            self.pipeline.submit()?;
+        }
+        let waited_update = wait.elapsed();
+        if let (Some(q), Some(g)) = (self.queries.as_mut(), &generation) {
+            q.apply_commit(&g.commit);
+        }
+
+        let motion = Motion {
+            camera: self.last_camera != Some(camera),
+            scene: generation.as_ref().is_some_and(|g| !g.commit.is_empty()),
+        };
+        self.last_camera = Some(camera);
+        let plan = self.planner.plan(motion, self.spp());
+        if plan.join == Join::Restart {
+            self.epoch = self.frame;
+        }
+        let o = &self.options;
+        let mut params = FrameParams::new(o.width, o.height, plan.spp, camera);
+        params.seed = o.seed;
+        params.frame = self.epoch;
+        params.first_sample = plan.first_sample;
+        params.max_depth = o.max_depth;
+        params.rr_depth = o.rr_depth;
+        params.samples_per_pass = o.samples_per_pass;
+        let (commit, update) = match generation {
+            Some(g) if !g.commit.is_empty() => (Some(g.commit), g.times),
+            Some(g) => (None, g.times),
+            None => (None, UpdateTimes::default()),
+        };
+        self.send(Job::Frame(Box::new(FrameJob {
+            frame: self.frame,
+            commit,
+            update,
+            params,
+            plan,
+        })))?;
+        self.in_flight = true;
+        self.frame += 1;
+        Ok(FrameOutput {
+            finished,
+            waited_render,
+            waited_update,
+        })
+    }
+
+    /// Waits for the frame in flight, if any (at the end of a game, for its last frame).
+    pub fn finish(&mut self) -> Result<Option<FinishedFrame>> {
+        self.finish_in_flight()
+    }
+
+    /// The game thread's waits on the updater so far (see [`Pipeline::blocked_times`]).
+    pub fn update_waits(&self) -> &[Duration] {
+        self.pipeline.blocked_times()
+    }
+
+    fn finish_in_flight(&mut self) -> Result<Option<FinishedFrame>> {
+        if !self.in_flight {
+            return Ok(None);
+        }
+        self.in_flight = false;
+        match self.done.recv() {
+            Ok(result) => result.map(Some),
+            Err(_) => Err(Error::Invalid("the render thread ended".into())),
+        }
+    }
+
+    fn send(&self, job: Job) -> Result<()> {
+        self.jobs
+            .as_ref()
+            .and_then(|j| j.send(job).ok())
+            .ok_or_else(|| Error::Invalid("the render thread ended".into()))
+    }
+}
+
+impl Drop for FrameDriver {
+    fn drop(&mut self) {
+        self.jobs = None;
+        // Drain a frame in flight so the render thread can end.
+        while self.done.recv().is_ok() {}
+        if let Some(render) = self.render.take() {
+            let _ = render.join();
+        }
+    }
+}
+
+fn render_loop<T: BandTracer + Send + 'static>(
+    mut renderer: Renderer<T>,
+    mut film: Accumulation,
+    inbox: Receiver<Job>,
+    outbox: SyncSender<Result<FinishedFrame>>,
+) {
+    for job in inbox {
+        let result = match job {
+            Job::Balancer(b) => {
+                renderer.set_balancer(b);
+                continue;
+            }
+            Job::Frame(job) => render_one(&mut renderer, &mut film, *job),
+        };
+        if outbox.send(result).is_err() {
+            return;
+        }
+    }
+}
+
+fn render_one<T: BandTracer + Send + 'static>(
+    renderer: &mut Renderer<T>,
+    film: &mut Accumulation,
+    job: FrameJob,
+) -> Result<FinishedFrame> {
+    let FrameJob {
+        frame,
+        commit,
+        update,
+        mut params,
+        plan,
+    } = job;
+    let start = Instant::now();
+    let failed = |e: crate::frame::renderer::RenderError| Error::Invalid(e.to_string());
+    let mut failures = Vec::new();
+    let commit_bytes = match &commit {
+        Some(c) => {
+            let before = renderer.failures().len();
+            let uploaded = renderer.apply_commit(c, frame).map_err(failed)?;
+            failures.extend_from_slice(&renderer.failures()[before..]);
+            uploaded.first().map_or(0, |u| u.1)
+        }
+        None => 0,
+    };
+    let commit_time = start.elapsed();
+    params.accumulated = film.continued(plan.join);
+    let rendered = renderer.render_frame(&params).map_err(failed)?;
+    let render = start.elapsed() - commit_time;
+    film.join(plan.join, rendered.sums, plan.spp);
+    failures.extend(rendered.failures);
+    let film_now = film.film();
+    Ok(FinishedFrame {
+        film: film_now,
+        stats: FrameStats {
+            frame,
+            weight: plan.join.weight(plan.frames_joined),
+            plan,
+            film_samples: film.samples(),
+            busy: start.elapsed(),
+            render,
+            commit: commit_time,
+            commit_bytes,
+            update,
+            idle_fraction: rendered.idle_fraction,
+            tracers: rendered.tracers,
+            failures,
+            rejected_samples: rendered.rejected_samples,
+            device_messages: renderer.with_tracers(|t| t.messages()).concat(),
+        },
+    })
+}

@@ -1,0 +1,112 @@
+//! The film a game's frames converge in (Bikker 7.3.5): `C = C_prev (1 - f) + C_new f`, carried
+//! out as the frame's [`Join`] says. While the view is still the film keeps radiance sums and
+//! the frames continue them (the tracers add each sample onto the sums in sample order), so k
+//! frames of s samples are bit for bit one render of k s samples; a blend keeps a mean.
+
+use std::sync::Arc;
+
+use super::plan::Join;
+use crate::output::Film;
+
+pub struct Accumulation {
+    width: u32,
+    height: u32,
+    /// The sums of every sample since the last restart, while the film is exact.
+    sums: Option<Arc<[[f32; 3]]>>,
+    /// Samples per pixel in `sums`.
+    samples: u32,
+    /// What the film shows.
+    mean: Vec<[f32; 3]>,
+}
+
+impl Accumulation {
+    pub fn new(width: u32, height: u32) -> Accumulation {
+        Accumulation {
+            width,
+            height,
+            sums: None,
+            samples: 0,
+            mean: vec![[0.0; 3]; width as usize * height as usize],
+        }
+    }
+
+    /// The sums a frame joining with `join` continues (the tracers start from them).
+    pub fn continued(&self, join: Join) -> Option<Arc<[[f32; 3]]>> {
+        match join {
+            Join::Sum => self.sums.clone(),
+            Join::Restart | Join::Blend { .. } => None,
+        }
+    }
+
+    /// Joins a frame: `sums` are its radiance sums (continuing [`Accumulation::continued`]
+    /// when it was given), `spp` the samples per pixel the frame added.
+    pub fn join(&mut self, join: Join, sums: Vec<[f32; 3]>, spp: u32) {
+        let spp = spp.max(1);
+        match join {
+            Join::Restart => self.keep_sums(sums, spp),
+            Join::Sum if self.sums.is_some() => self.keep_sums(sums, self.samples + spp),
+            // A sum over a film that holds a mean cannot be exact; the plan never asks for
+            // one, and if it did the frame restarts the sums.
+            Join::Sum => self.keep_sums(sums, spp),
+            Join::Blend { f } => {
+                let inv = 1.0 / spp as f32;
+                for (m, s) in self.mean.iter_mut().zip(&sums) {
+                    for k in 0..3 {
+                        m[k] = m[k] * (1.0 - f) + s[k] * inv * f;
+                    }
+                }
+                self.sums = None;
+                self.samples = 0;
+            }
+        }
+    }
+
+    fn keep_sums(&mut self, sums: Vec<[f32; 3]>, samples: u32) {
+        // The same arithmetic as the offline film (`frame::assemble`), for the same bits.
+        let inv = 1.0 / samples as f32;
+        for (m, s) in self.mean.iter_mut().zip(&sums) {
+            *m = s.map(|v| v * inv);
+        }
+        self.samples = samples;
+        self.sums = Some(sums.into());
+    }
+
+    /// Samples per pixel behind the film while it holds exact sums, else None (a blend).
+    pub fn samples(&self) -> Option<u32> {
+        self.sums.as_ref().map(|_| self.samples)
+    }
+
+    pub fn film(&self) -> Film {
+        Film {
+            width: self.width,
+            height: self.height,
+            pixels: self.mean.clone(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sums_continue_and_blends_mix_means() {
+        let mut a = Accumulation::new(1, 1);
+        a.join(Join::Restart, vec![[2.0, 4.0, 6.0]], 2);
+        assert_eq!(a.film().pixels, vec![[1.0, 2.0, 3.0]]);
+        assert_eq!(
+            a.continued(Join::Sum).as_deref(),
+            Some(&[[2.0, 4.0, 6.0]][..])
+        );
+        assert!(a.continued(Join::Restart).is_none());
+        // The frame's sums include the earlier ones: 2 + 2 samples.
+        a.join(Join::Sum, vec![[4.0, 4.0, 4.0]], 2);
+        assert_eq!(
+            (a.film().pixels[0], a.samples()),
+            ([1.0, 1.0, 1.0], Some(4))
+        );
+        a.join(Join::Blend { f: 0.25 }, vec![[10.0, 10.0, 10.0]], 2);
+        assert_eq!(a.film().pixels[0], [2.0, 2.0, 2.0]);
+        assert_eq!(a.samples(), None);
+    }
+}

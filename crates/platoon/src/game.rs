@@ -1,0 +1,83 @@
+//! Embedding platoon in a game loop: [`start`] a [`FrameDriver`] over a scene and the devices of
+//! a spec, then call [`FrameDriver::frame`] once per game frame.
+//!
+//! ```no_run
+//! # fn main() -> anyhow::Result<()> {
+//! use platoon::core::drive::DriverOptions;
+//! use platoon::core::scene::camera::Camera;
+//! use platoon::game::{start, GameOptions};
+//!
+//! let scene = platoon::load_scene(None)?; // the built-in Cornell box
+//! let camera = Camera::from_scene(&scene, &scene.pose(0.0), None)?;
+//! let mut options = GameOptions::new(DriverOptions::new(320, 240));
+//! options.driver.target = Some(std::time::Duration::from_millis(33)); // hold 30 fps
+//! let mut driver = start(scene, &options)?;
+//! for _ in 0..100 {
+//!     // The game's edits for the frame: driver.scene().set_placement(node, placement)?, ...
+//!     let out = driver.frame(camera)?; // renders this frame, returns the previous one
+//!     if let Some(done) = out.finished {
+//!         let _image = done.film; // show it; done.stats says what it cost
+//!     }
+//! }
+//! # Ok(())
+//! # }
+//! ```
+
+use anyhow::{Context, Result};
+use glam::DVec3;
+
+use crate::devices::{create_tracers, DeviceSpec};
+use platoon_core::balance;
+use platoon_core::drive::{DriverOptions, FrameDriver, Pipeline, UpdaterThreads};
+use platoon_core::Scene;
+use platoon_tracer::Sampling;
+
+/// Everything [`start`] needs besides the scene.
+#[derive(Clone, Debug)]
+pub struct GameOptions {
+    pub driver: DriverOptions,
+    pub devices: DeviceSpec,
+    pub balancer: String,
+    /// The updater's threads (and cores: a game may keep them apart from the tracers').
+    pub updater: UpdaterThreads,
+    /// The scene's animation time at the start.
+    pub time: f32,
+    /// Vulkan's validation layer on every tracer (slow; for tests).
+    pub validation: bool,
+}
+
+impl GameOptions {
+    /// Every Vulkan device, cost-aware balancing, one updater thread.
+    pub fn new(driver: DriverOptions) -> GameOptions {
+        GameOptions {
+            driver,
+            devices: DeviceSpec::All,
+            balancer: "cost-aware".into(),
+            updater: UpdaterThreads::default(),
+            time: 0.0,
+            validation: false,
+        }
+    }
+}
+
+/// Starts the updater on `scene`, a tracer on every device of the spec with the scene's first
+/// generation, and the frame driver over them.
+pub fn start(scene: Scene, options: &GameOptions) -> Result<FrameDriver> {
+    let balancer = balance::by_name(&options.balancer).with_context(|| {
+        format!(
+            "unknown balancer {:?} (known: {})",
+            options.balancer,
+            balance::NAMES.join(", ")
+        )
+    })?;
+    let (pipeline, first) =
+        Pipeline::with_updater_threads(scene, options.time, DVec3::ZERO, &options.updater)?;
+    let tracers = create_tracers(&options.devices, &first, options.validation, Sampling::Mis)?;
+    Ok(FrameDriver::new(
+        pipeline,
+        &first,
+        tracers,
+        balancer,
+        options.driver.clone(),
+    )?)
+}
