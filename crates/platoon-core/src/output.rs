@@ -24,6 +24,11 @@ impl Film {
         }
         s.map(|v| v / self.pixels.len().max(1) as f64)
     }
+    /// The image as 8-bit sRGB, three bytes a pixel (the PNG's pixels).
+    pub fn srgb8(&self) -> Vec<u8> {
+        self.pixels.iter().flat_map(|p| p.map(tonemap)).collect()
+    }
+
     pub fn count_non_finite(&self) -> usize {
         self.pixels
             .iter()
@@ -149,7 +154,7 @@ pub fn tonemap(c: f32) -> u8 {
 }
 
 fn write_png(path: &Path, w: &mut (impl Write + std::io::Seek), film: &Film) -> Result<()> {
-    let bytes: Vec<u8> = film.pixels.iter().flat_map(|p| p.map(tonemap)).collect();
+    let bytes = film.srgb8();
     let img = image::RgbImage::from_raw(film.width, film.height, bytes)
         .ok_or_else(|| Error::file(path, "film size mismatch"))?;
     img.write_to(w, image::ImageFormat::Png)

@@ -32,6 +32,7 @@ pub struct QueryHit {
 }
 
 const TRI_POS: usize = 1;
+const TRIANGLES: usize = 2;
 const BLAS: usize = 4;
 const TLAS: usize = 5;
 const INSTANCES: usize = 6;
@@ -113,6 +114,13 @@ impl QueryScene {
 
     fn instances(&self) -> &[GpuInstance] {
         bytemuck::cast_slice(&self.arrays[INSTANCES])
+    }
+
+    /// The material of the triangle `hit` found.
+    pub fn material(&self, hit: &QueryHit) -> u32 {
+        let triangles: &[crate::flatten::GpuTriangle] =
+            bytemuck::cast_slice(&self.arrays[TRIANGLES]);
+        triangles[hit.triangle as usize].material
     }
 
     /// The closest surface along `origin + t dir`, 0 < t < tmax.

@@ -1,0 +1,73 @@
+//! The game, headless: plays N frames and writes their PNG sequence, an animated preview (MP4
+//! through ffmpeg when installed, else a GIF) and a CSV of each frame's time, spp, blend weight,
+//! update time, bytes committed and idle share.
+//!
+//! ```sh
+//! cargo run --release -p platoon-game --example game -- [--frames 240] [--target-ms 50] \
+//!     [--size 160x120] [--devices lavapipe:1,1] [--out game-out] [--character CesiumMan.glb]
+//! ```
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::{Context, Result};
+use platoon_game::{play, GameOptions, PlayOptions};
+
+fn main() -> Result<()> {
+    let mut character = PathBuf::from("../shared/scenes/CesiumMan.glb");
+    let mut frames = 240;
+    let mut target_ms: Option<f64> = Some(50.0);
+    let mut size = (160, 120);
+    let mut devices = "all".to_string();
+    let mut out = PathBuf::from("game-out");
+    let mut validation = false;
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        let mut value = || args.next().with_context(|| format!("{a} needs a value"));
+        match a.as_str() {
+            "--character" => character = value()?.into(),
+            "--frames" => frames = value()?.parse()?,
+            "--target-ms" => target_ms = Some(value()?.parse()?),
+            "--fixed-spp" => target_ms = None,
+            "--size" => {
+                let v = value()?;
+                let (w, h) = v.split_once('x').context("--size is WIDTHxHEIGHT")?;
+                size = (w.parse()?, h.parse()?);
+            }
+            "--devices" => devices = value()?,
+            "--out" => out = value()?.into(),
+            "--validation" => validation = true,
+            other => anyhow::bail!("unknown argument {other:?}"),
+        }
+    }
+    let mut game = GameOptions::new(character);
+    game.driver.width = size.0;
+    game.driver.height = size.1;
+    game.driver.target = target_ms.map(|t| Duration::from_secs_f64(t * 1e-3));
+    game.devices = devices.parse().map_err(anyhow::Error::msg)?;
+    game.validation = validation;
+    let played = play(
+        &PlayOptions {
+            game,
+            frames,
+            out: Some(out.clone()),
+        },
+        true,
+    )?;
+    let mut busy: Vec<f64> = played.records.iter().map(|r| r.busy_ms).collect();
+    busy.sort_by(f64::total_cmp);
+    println!(
+        "{} frames, median {:.1} ms a frame; frames in {}, numbers in {}, preview {}",
+        played.records.len(),
+        busy.get(busy.len() / 2).copied().unwrap_or(0.0),
+        out.join("frames").display(),
+        out.join("game.csv").display(),
+        played
+            .preview
+            .map_or("none".into(), |p| p.display().to_string()),
+    );
+    for m in &played.device_messages {
+        eprintln!("validation: {m}");
+    }
+    Ok(())
+}
