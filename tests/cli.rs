@@ -493,3 +493,49 @@ fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
         stderr(&missing)
     );
 }
+
+#[test]
+fn bench_game_prints_how_closely_the_target_is_held_as_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let character = common::shared("scenes/CesiumMan.glb");
+    let o = platoon(&[
+        "bench",
+        "--game",
+        "--frames",
+        "8",
+        "--size",
+        "16x12",
+        "--target-ms",
+        "30",
+        "--devices",
+        "lavapipe:1,1",
+        "--character",
+        character.to_str().unwrap(),
+        "--json",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let json: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+    assert_eq!(json["target_ms"], 30.0);
+    assert_eq!(json["frames"], 8);
+    for key in [
+        "frame_ms_median",
+        "frame_ms_p99",
+        "held_fraction",
+        "settle_frames",
+        "update_hidden_fraction",
+    ] {
+        assert!(json[key].is_number(), "{key} missing from {json}");
+    }
+    let held = json["held_fraction"].as_f64().unwrap();
+    assert!((0.0..=1.0).contains(&held));
+    let csv = std::fs::read_to_string(dir.path().join("game.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 8);
+    for bad in [["--target-ms", "0"], ["--size", "0x5"]] {
+        let o = platoon(&["bench", "--game", bad[0], bad[1]]);
+        assert!(!o.status.success());
+        assert!(stderr(&o).contains(bad[0]), "{}", stderr(&o));
+    }
+}

@@ -351,11 +351,24 @@ fn print_build_times(g: &GpuScene, label: &str) {
 #[derive(clap::Args)]
 pub struct DynamicArgs {
     /// Run the living-scene benchmark.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "game")]
     pub dynamic: bool,
-    /// Frames of each run (animated, then still).
+    /// Run the game benchmark: the game of platoon-game at a target frame time.
+    #[arg(long)]
+    pub game: bool,
+    /// Frames of each run (--dynamic: animated, then still; --game: the game's frames).
     #[arg(long, default_value_t = 200)]
-    frames: u32,
+    pub frames: u32,
+    /// --game: the frame time to hold, in milliseconds.
+    #[arg(long, default_value_t = 40.0)]
+    pub target_ms: f64,
+    /// --game: the frame size, WIDTHxHEIGHT (small enough on lavapipe for about 13 samples a
+    /// frame at 40 ms: a sample more or less is then a step of 8%, inside the +-10% band).
+    #[arg(long, default_value = "64x48", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// --game: the devices (see `platoon devices`; lavapipe:N,M makes software tracers).
+    #[arg(long, default_value = "all")]
+    pub devices: String,
     /// Walking (skinned) characters.
     #[arg(long, default_value_t = 16)]
     characters: u32,
@@ -364,7 +377,7 @@ pub struct DynamicArgs {
     movers: u32,
     /// The skinned, animated glTF to place.
     #[arg(long, default_value = "../shared/scenes/CesiumMan.glb")]
-    character: std::path::PathBuf,
+    pub character: std::path::PathBuf,
     /// llvmpipe threads of the tracer (1 leaves the other core to the updater).
     #[arg(long, default_value_t = 1)]
     lavapipe_threads: u32,
@@ -378,10 +391,21 @@ pub struct DynamicArgs {
     no_pin: bool,
     /// Print one JSON object after the text.
     #[arg(long)]
-    json: bool,
-    /// Folder for dynamic.csv and dynamic.png.
+    pub json: bool,
+    /// Folder for dynamic.csv and dynamic.png (--game: game.csv).
     #[arg(long, default_value = ".")]
-    out: std::path::PathBuf,
+    pub out: std::path::PathBuf,
+}
+
+fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once('x')
+        .ok_or("expected WIDTHxHEIGHT, e.g. 64x48")?;
+    let parse = |v: &str| v.parse::<u32>().ok().filter(|&n| n > 0);
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!("{s:?} is not WIDTHxHEIGHT with positive sizes")),
+    }
 }
 
 pub fn run_dynamic(a: &DynamicArgs, device: usize) -> Result<()> {

@@ -4,6 +4,7 @@
 mod balance_bench;
 mod bench;
 mod devices;
+mod game_bench;
 mod info;
 mod render;
 mod scene_args;
@@ -43,7 +44,8 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Measure samples/s, rays/s and BVH build times.
+    /// Measure samples/s, rays/s and BVH build times (--dynamic: a living scene; --game: the
+    /// game loop at a target frame time).
     Bench {
         /// Samples per pixel of each measured render.
         #[arg(long, default_value_t = 16)]
@@ -72,7 +74,19 @@ fn run(cli: Cli) -> Result<()> {
             repeat,
             dynamic,
         } => {
-            if dynamic.dynamic {
+            if dynamic.game {
+                game_bench::run(&game_bench::Options {
+                    frames: dynamic.frames,
+                    target_ms: dynamic.target_ms,
+                    width: dynamic.size.0,
+                    height: dynamic.size.1,
+                    devices: dynamic.devices.clone(),
+                    character: dynamic.character.clone(),
+                    out: dynamic.out.clone(),
+                    json: dynamic.json,
+                })
+                .context("bench --game failed")
+            } else if dynamic.dynamic {
                 bench::run_dynamic(&dynamic, device).context("bench --dynamic failed")
             } else {
                 bench::run(spp, device, repeat.max(1)).context("bench failed")

@@ -233,7 +233,7 @@ impl FrameDriver {
         let finished = self.finish_in_flight()?;
         let waited_render = wait.elapsed();
         if let (Some(f), Some(scaler)) = (&finished, self.scaler.as_mut()) {
-            scaler.observe(f.stats.busy);
+            scaler.observe(f.stats.busy, f.stats.plan.spp);
         }
 
         let wait = Instant::now();

@@ -12,8 +12,8 @@
 //!   with f = 1/k (still converging) until the camera moves.
 //!
 //! Dynamic workload scaling (Bikker 7.3.7): frame time is nearly linear in the samples per
-//! frame, so the next count is the current one scaled by target / measured, kept when the
-//! measured time is within the hysteresis band and changed at most by a factor per frame.
+//! frame, so the next rate is the measured frame's count scaled by target / measured, kept when
+//! the measured time is within the hysteresis band and changed at most by a factor per frame.
 
 use std::time::Duration;
 
@@ -116,28 +116,37 @@ impl Planner {
     }
 }
 
-/// Adapts the samples per frame to hold a frame time.
+/// Adapts the samples per frame to hold a frame time. It keeps a fractional rate and renders
+/// its nearest whole count: each frame then misses the target by at most half a sample (within
+/// 10% from 5 samples a frame up), where handing out 8 and 9 for a rate of 8.5 would be right
+/// on average but each frame a whole sample off.
 #[derive(Clone, Debug)]
 pub struct WorkloadScaler {
     pub target: Duration,
-    /// Relative band around the target within which the count is kept (e.g. 0.05).
+    /// Relative band around the target within which the rate is kept (e.g. 0.05).
     pub hysteresis: f64,
-    /// Largest factor by which one frame may change the count.
+    /// Largest factor by which one frame may change the rate.
     pub max_step: f64,
+    /// Share of the way to the rate a measure asks for that one frame goes (1: all of it).
+    pub gain: f64,
     pub min_spp: u32,
     pub max_spp: u32,
+    rate: f64,
     spp: u32,
 }
 
 impl WorkloadScaler {
     pub fn new(target: Duration, start_spp: u32) -> WorkloadScaler {
+        let start = start_spp.max(1);
         WorkloadScaler {
             target,
             hysteresis: 0.05,
             max_step: 2.0,
+            gain: 0.5,
             min_spp: 1,
             max_spp: 1 << 16,
-            spp: start_spp.max(1),
+            rate: start as f64,
+            spp: start,
         }
     }
 
@@ -146,15 +155,26 @@ impl WorkloadScaler {
         self.spp
     }
 
-    /// Takes the measured time of a frame rendered with [`WorkloadScaler::spp`] samples and
-    /// returns the count for the next one.
-    pub fn observe(&mut self, frame_time: Duration) -> u32 {
+    /// The fractional samples per frame the scaler aims at.
+    pub fn rate(&self) -> f64 {
+        self.rate
+    }
+
+    /// Takes the measured time of a frame rendered with `spp` samples and returns the count for
+    /// the next frame.
+    pub fn observe(&mut self, frame_time: Duration, spp: u32) -> u32 {
         let (measured, target) = (frame_time.as_secs_f64(), self.target.as_secs_f64());
         if measured > 0.0 && target > 0.0 && (measured / target - 1.0).abs() > self.hysteresis {
-            let step = (target / measured).clamp(1.0 / self.max_step, self.max_step);
-            let next = (self.spp as f64 * step).round() as u32;
-            self.spp = next.clamp(self.min_spp.max(1), self.max_spp.max(1));
+            // Frame time is nearly linear in spp: the rate that frame would have needed.
+            let wanted = spp.max(1) as f64 * target / measured;
+            let (lo, hi) = (self.rate / self.max_step, self.rate * self.max_step);
+            // Half way there: one noisy frame moves the rate half as far.
+            let wanted = (self.rate + self.gain * (wanted - self.rate)).max(f64::MIN_POSITIVE);
+            self.rate = wanted
+                .clamp(lo, hi)
+                .clamp(self.min_spp.max(1) as f64, self.max_spp.max(1) as f64);
         }
+        self.spp = (self.rate.round() as u32).clamp(self.min_spp.max(1), self.max_spp.max(1));
         self.spp
     }
 }
@@ -226,8 +246,9 @@ mod tests {
             let mut s = WorkloadScaler::new(target, start);
             let times: Vec<f64> = (0..60)
                 .map(|f| {
-                    let t = synthetic_frame(s.spp(), f, noise);
-                    s.observe(t);
+                    let spp = s.spp();
+                    let t = synthetic_frame(spp, f, noise);
+                    s.observe(t, spp);
                     t.as_secs_f64() / target.as_secs_f64()
                 })
                 .collect();

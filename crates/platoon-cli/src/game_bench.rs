@@ -1,0 +1,172 @@
+//! `platoon bench --game`: the game (platoon-game) for a few hundred frames at a target frame
+//! time: how closely the frame driver holds it, how long it takes to settle, the frame time's
+//! median and p99, and how much of the CPU's update work is hidden behind rendering.
+
+use std::time::Duration;
+
+use anyhow::{bail, Result};
+use platoon::core::measure::median;
+use platoon_game::{play, FrameRecord, GameOptions, PlayOptions};
+
+/// The settings `platoon bench --game` takes.
+pub struct Options {
+    pub frames: u32,
+    pub target_ms: f64,
+    pub width: u32,
+    pub height: u32,
+    pub devices: String,
+    pub character: std::path::PathBuf,
+    pub out: std::path::PathBuf,
+    pub json: bool,
+}
+
+/// A frame counts as held when it is within this share of the target.
+const BAND: f64 = 0.10;
+/// Frames in a row within the band that make the loop settled.
+const SETTLED_RUN: usize = 3;
+
+pub struct Summary {
+    pub frames: usize,
+    pub settle_frames: usize,
+    pub frame_ms_median: f64,
+    pub frame_ms_p99: f64,
+    pub busy_ms_median: f64,
+    pub held_fraction: f64,
+    pub spp_median: f64,
+    pub update_ms_median: f64,
+    pub update_hidden_fraction: f64,
+    pub idle_percent_median: f64,
+}
+
+pub fn run(o: &Options) -> Result<()> {
+    if !(o.target_ms > 0.0 && o.target_ms.is_finite()) {
+        bail!("--target-ms must be a positive number of milliseconds");
+    }
+    if !o.out.is_dir() {
+        bail!("{}: output folder does not exist", o.out.display());
+    }
+    if !o.character.exists() {
+        bail!(
+            "{}: the character to animate is missing (pass --character with a skinned glTF)",
+            o.character.display()
+        );
+    }
+    let mut game = GameOptions::new(o.character.clone());
+    game.driver.width = o.width;
+    game.driver.height = o.height;
+    game.driver.target = Some(Duration::from_secs_f64(o.target_ms * 1e-3));
+    game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
+    eprintln!(
+        "playing {} frames of the game at {}x{} on {}, holding {} ms a frame",
+        o.frames, o.width, o.height, o.devices, o.target_ms
+    );
+    let played = play(
+        &PlayOptions {
+            game,
+            frames: o.frames,
+            out: None,
+        },
+        true,
+    )?;
+    let s = summarize(&played.records, o.target_ms);
+    let csv = o.out.join("game.csv");
+    platoon_game::play::write_csv(&csv, &played.records)?;
+    println!("{}", text(o, &s));
+    println!("per-frame numbers in {}", csv.display());
+    if o.json {
+        println!("{}", json(o, &s));
+    }
+    Ok(())
+}
+
+pub fn summarize(records: &[FrameRecord], target_ms: f64) -> Summary {
+    let held = |r: &FrameRecord| (r.interval_ms / target_ms - 1.0).abs() <= BAND;
+    let settle = (0..records.len())
+        .find(|&k| {
+            records[k..]
+                .iter()
+                .take(SETTLED_RUN)
+                .filter(|r| held(r))
+                .count()
+                == SETTLED_RUN
+        })
+        .unwrap_or(records.len());
+    // A loop that never settled is described over all its frames.
+    let settled = if settle < records.len() {
+        &records[settle..]
+    } else {
+        records
+    };
+    let of = |f: fn(&FrameRecord) -> f64| -> Vec<f64> { settled.iter().map(f).collect() };
+    let update: f64 = records.iter().map(|r| r.update_ms).sum();
+    let waited: f64 = records.iter().map(|r| r.waited_update_ms).sum();
+    Summary {
+        frames: records.len(),
+        settle_frames: settle,
+        frame_ms_median: median(of(|r| r.interval_ms)),
+        frame_ms_p99: percentile(of(|r| r.interval_ms), 0.99),
+        busy_ms_median: median(of(|r| r.busy_ms)),
+        held_fraction: settled.iter().filter(|r| held(r)).count() as f64
+            / settled.len().max(1) as f64,
+        spp_median: median(of(|r| r.spp as f64)),
+        update_ms_median: median(of(|r| r.update_ms)),
+        update_hidden_fraction: if update > 0.0 {
+            (1.0 - waited / update).clamp(0.0, 1.0)
+        } else {
+            1.0
+        },
+        idle_percent_median: median(of(|r| r.idle_percent)),
+    }
+}
+
+fn percentile(mut v: Vec<f64>, p: f64) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * p).round() as usize]
+}
+
+fn text(o: &Options, s: &Summary) -> String {
+    format!(
+        "game bench: {} frames at {}x{} on {}, target {:.1} ms\n\
+         settled after {} frames; then frame time median {:.2} ms, p99 {:.2} ms \
+         (render thread {:.2} ms), {:.1}% of frames within +-10% of the target\n\
+         samples per frame (median) {}, update {:.2} ms a frame of which {:.1}% hidden behind \
+         rendering, tracers idle {:.2}% (median)",
+        s.frames,
+        o.width,
+        o.height,
+        o.devices,
+        o.target_ms,
+        s.settle_frames,
+        s.frame_ms_median,
+        s.frame_ms_p99,
+        s.busy_ms_median,
+        100.0 * s.held_fraction,
+        s.spp_median,
+        s.update_ms_median,
+        100.0 * s.update_hidden_fraction,
+        s.idle_percent_median,
+    )
+}
+
+fn json(o: &Options, s: &Summary) -> String {
+    serde_json::json!({
+        "target_ms": o.target_ms,
+        "frames": s.frames,
+        "width": o.width,
+        "height": o.height,
+        "devices": o.devices,
+        "settle_frames": s.settle_frames,
+        "frame_ms_median": s.frame_ms_median,
+        "frame_ms_p99": s.frame_ms_p99,
+        "busy_ms_median": s.busy_ms_median,
+        "held_fraction": s.held_fraction,
+        "spp_median": s.spp_median,
+        "update_ms_median": s.update_ms_median,
+        "update_hidden_fraction": s.update_hidden_fraction,
+        "idle_percent_median": s.idle_percent_median,
+    })
+    .to_string()
+}
