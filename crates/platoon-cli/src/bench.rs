@@ -397,7 +397,7 @@ pub struct DynamicArgs {
     pub out: std::path::PathBuf,
 }
 
-fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
+pub fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
     let (w, h) = s
         .split_once('x')
         .ok_or("expected WIDTHxHEIGHT, e.g. 64x48")?;

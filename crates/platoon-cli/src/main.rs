@@ -8,6 +8,7 @@ mod game_bench;
 mod info;
 mod render;
 mod scene_args;
+mod view;
 
 use std::process::ExitCode;
 
@@ -36,6 +37,8 @@ enum Command {
     },
     /// List the Vulkan devices.
     Devices,
+    /// Open a window on a scene: the image converges live; fly with the mouse and WASD.
+    View(view::ViewArgs),
     /// Compare the line balancers over an orbiting camera (Brigade's Table 16 for platoon).
     BalanceBench {
         #[command(flatten)]
@@ -67,6 +70,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::run(args),
         Command::Info { scene } => info::run(scene),
         Command::Devices => devices::run(),
+        Command::View(args) => view::run(args),
         Command::BalanceBench { options, json } => balance_bench::run(options, json),
         Command::Bench {
             spp,

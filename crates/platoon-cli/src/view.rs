@@ -1,0 +1,392 @@
+//! `platoon view [SCENE]`: a window showing the converging image live, through the frame
+//! driver. Drag with the left mouse button to look, WASD to fly (Q/E down/up), space to play
+//! the animation, B to switch balancer, +/- to change the frame-time target; the title shows
+//! fps, spp, the film's samples and idle%. On a machine without a display it says so and exits
+//! non-zero.
+
+use std::num::NonZeroU32;
+use std::path::PathBuf;
+use std::rc::Rc;
+use std::time::{Duration, Instant};
+
+use anyhow::{anyhow, Context, Result};
+use glam::{Vec2, Vec3};
+use platoon::core::balance;
+use platoon::core::drive::{DriverOptions, FrameDriver};
+use platoon::core::output::{write_image, Film};
+use platoon::core::scene::camera::Camera;
+use platoon::game::{start, GameOptions};
+use winit::application::ApplicationHandler;
+use winit::dpi::{LogicalSize, PhysicalPosition};
+use winit::event::{ElementState, MouseButton, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+use crate::scene_args::SceneArgs;
+
+#[derive(clap::Args)]
+pub struct ViewArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Render size, WIDTHxHEIGHT; the window shows it scaled to its size.
+    #[arg(long, default_value = "320x240", value_parser = crate::bench::parse_size)]
+    size: (u32, u32),
+    /// Frame time to hold, in milliseconds.
+    #[arg(long, default_value_t = 50.0)]
+    target_ms: f64,
+    /// Devices to render on (see `platoon devices`).
+    #[arg(long, default_value = "all")]
+    devices: String,
+    /// Close after this many frames (for scripts and tests).
+    #[arg(long)]
+    frames: Option<u32>,
+    /// On closing, write the last frame shown to this PNG or EXR.
+    #[arg(long)]
+    screenshot: Option<PathBuf>,
+}
+
+pub fn run(args: ViewArgs) -> Result<()> {
+    // Before any loading: on a machine without a display, say so at once.
+    let event_loop = EventLoop::new().map_err(|e| {
+        anyhow!(
+            "no display to open a window on ({e}); platoon view needs DISPLAY (X11) set; \
+             to render without a window use `platoon render`"
+        )
+    })?;
+    let scene = args.scene.load()?;
+    let prepared = platoon::prepare(
+        scene,
+        &platoon::PrepareOptions {
+            env: args.scene.env_choice(),
+            time: args.scene.time,
+            ..Default::default()
+        },
+    )?;
+    let (w, h) = args.size;
+    let mut options = GameOptions::new(DriverOptions::new(w, h));
+    options.driver.target = Some(Duration::from_secs_f64(args.target_ms.max(1.0) * 1e-3));
+    options.devices = args.devices.parse().map_err(|e: String| anyhow!(e))?;
+    options.time = args.scene.time;
+    let animation = prepared
+        .scene
+        .animations
+        .first()
+        .map_or(0.0, |a| a.duration());
+    let (lo, hi) = prepared.posed.bounds();
+    let driver = start(prepared.scene.clone(), &options)?;
+    let mut app = Viewer {
+        driver,
+        camera: Fly::from(prepared.camera, (hi - lo).length().max(1e-3)),
+        window: None,
+        surface: None,
+        keys: Vec::new(),
+        dragging: None,
+        last: None,
+        frames: 0,
+        max_frames: args.frames,
+        playing: false,
+        time: args.scene.time,
+        animation,
+        fps: Fps::default(),
+        error: None,
+        size: (w, h),
+        redrawn: None,
+    };
+    let p = app.camera.position;
+    println!("camera starts at {:.4} {:.4} {:.4}", p.x, p.y, p.z);
+    event_loop.set_control_flow(ControlFlow::Poll);
+    event_loop.run_app(&mut app)?;
+    if let Some(e) = app.error {
+        return Err(e);
+    }
+    let p = app.camera.position;
+    println!(
+        "camera at {:.4} {:.4} {:.4} after {} frames",
+        p.x, p.y, p.z, app.frames
+    );
+    if let (Some(path), Some(film)) = (&args.screenshot, &app.last) {
+        write_image(path, film, &[])?;
+        println!("last frame written to {}", path.display());
+    }
+    Ok(())
+}
+
+/// A fly camera: a position and a yaw/pitch.
+struct Fly {
+    position: Vec3,
+    yaw: f32,
+    pitch: f32,
+    yfov: f32,
+    /// Distance flown per second.
+    speed: f32,
+}
+
+impl Fly {
+    fn from(camera: Camera, scene_size: f32) -> Fly {
+        let m = camera.camera_to_world;
+        // glTF cameras look down their -Z.
+        let forward = -m.z_axis.truncate().normalize_or(Vec3::NEG_Z);
+        Fly {
+            position: m.w_axis.truncate(),
+            yaw: forward.x.atan2(-forward.z),
+            pitch: forward.y.clamp(-1.0, 1.0).asin(),
+            yfov: camera.yfov,
+            speed: 0.25 * scene_size,
+        }
+    }
+
+    fn forward(&self) -> Vec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        Vec3::new(sy * cp, sp, -cy * cp)
+    }
+
+    fn camera(&self) -> Camera {
+        Camera::look_at(self.position, self.position + self.forward(), self.yfov)
+    }
+
+    fn fly(&mut self, keys: &[KeyCode], dt: f32) {
+        let forward = self.forward();
+        let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
+        let mut d = Vec3::ZERO;
+        for k in keys {
+            d += match k {
+                KeyCode::KeyW => forward,
+                KeyCode::KeyS => -forward,
+                KeyCode::KeyD => right,
+                KeyCode::KeyA => -right,
+                KeyCode::KeyE => Vec3::Y,
+                KeyCode::KeyQ => -Vec3::Y,
+                _ => Vec3::ZERO,
+            };
+        }
+        self.position += d * self.speed * dt;
+    }
+}
+
+/// Frames per second over the last second.
+#[derive(Default)]
+struct Fps {
+    since: Option<Instant>,
+    count: u32,
+    value: f64,
+}
+
+impl Fps {
+    fn tick(&mut self) {
+        let now = Instant::now();
+        let since = *self.since.get_or_insert(now);
+        self.count += 1;
+        let dt = (now - since).as_secs_f64();
+        if dt >= 1.0 {
+            self.value = self.count as f64 / dt;
+            self.count = 0;
+            self.since = Some(now);
+        }
+    }
+}
+
+struct Viewer {
+    driver: FrameDriver,
+    camera: Fly,
+    window: Option<Rc<Window>>,
+    surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
+    keys: Vec<KeyCode>,
+    dragging: Option<PhysicalPosition<f64>>,
+    last: Option<Film>,
+    frames: u32,
+    max_frames: Option<u32>,
+    playing: bool,
+    time: f32,
+    animation: f32,
+    fps: Fps,
+    error: Option<anyhow::Error>,
+    size: (u32, u32),
+    redrawn: Option<Instant>,
+}
+
+impl Viewer {
+    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let attributes = Window::default_attributes()
+            .with_title("platoon")
+            .with_inner_size(LogicalSize::new(self.size.0 * 2, self.size.1 * 2));
+        let window = Rc::new(event_loop.create_window(attributes)?);
+        let context = softbuffer::Context::new(window.clone()).map_err(|e| anyhow!("{e}"))?;
+        let surface =
+            softbuffer::Surface::new(&context, window.clone()).map_err(|e| anyhow!("{e}"))?;
+        self.window = Some(window);
+        self.surface = Some(surface);
+        Ok(())
+    }
+
+    /// One game frame: input, the driver's call, the previous frame on screen.
+    fn frame(&mut self, dt: f32) -> Result<()> {
+        self.camera.fly(&self.keys, dt);
+        if self.playing && self.animation > 0.0 {
+            self.time = (self.time + dt) % self.animation;
+            self.driver.scene().set_time(self.time)?;
+        }
+        let out = self.driver.frame(self.camera.camera())?;
+        let Some(done) = out.finished else {
+            return Ok(());
+        };
+        self.fps.tick();
+        self.frames += 1;
+        if let Some(window) = &self.window {
+            let s = &done.stats;
+            let film = s
+                .film_samples
+                .map_or("blended".into(), |n| format!("{n} spp in film"));
+            window.set_title(&format!(
+                "platoon: {:.1} fps, {} spp a frame, {film}, idle {:.1}%, {}, target {:.0} ms{}",
+                self.fps.value,
+                s.plan.spp,
+                100.0 * s.idle_fraction,
+                self.driver.balancer_name(),
+                self.driver
+                    .options()
+                    .target
+                    .map_or(0.0, |t| t.as_secs_f64() * 1e3),
+                if self.playing { ", playing" } else { "" },
+            ));
+        }
+        self.show(&done.film)?;
+        self.last = Some(done.film);
+        Ok(())
+    }
+
+    /// Scales the film to the window (nearest pixel) and presents it.
+    fn show(&mut self, film: &Film) -> Result<()> {
+        let (Some(window), Some(surface)) = (&self.window, self.surface.as_mut()) else {
+            return Ok(());
+        };
+        let size = window.inner_size();
+        let (Some(ww), Some(wh)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height))
+        else {
+            return Ok(());
+        };
+        surface.resize(ww, wh).map_err(|e| anyhow!("{e}"))?;
+        let mut buffer = surface.buffer_mut().map_err(|e| anyhow!("{e}"))?;
+        let srgb = film.srgb8();
+        let (fw, fh) = (film.width as usize, film.height as usize);
+        let (ww, wh) = (size.width as usize, size.height as usize);
+        for y in 0..wh {
+            let sy = y * fh / wh;
+            for x in 0..ww {
+                let i = 3 * (sy * fw + x * fw / ww);
+                let [r, g, b] = [srgb[i], srgb[i + 1], srgb[i + 2]].map(u32::from);
+                buffer[y * ww + x] = (r << 16) | (g << 8) | b;
+            }
+        }
+        buffer.present().map_err(|e| anyhow!("{e}"))?;
+        Ok(())
+    }
+
+    fn key(&mut self, code: KeyCode, pressed: bool, event_loop: &ActiveEventLoop) -> Result<()> {
+        if !pressed {
+            self.keys.retain(|k| *k != code);
+            return Ok(());
+        }
+        if !self.keys.contains(&code) {
+            self.keys.push(code);
+        }
+        match code {
+            KeyCode::Escape => event_loop.exit(),
+            KeyCode::Space => self.playing = !self.playing,
+            KeyCode::KeyB => {
+                let names = balance::NAMES;
+                let now = names.iter().position(|n| *n == self.driver.balancer_name());
+                let next = names[now.map_or(0, |i| (i + 1) % names.len())];
+                let b = balance::by_name(next).context("a known balancer")?;
+                self.driver.set_balancer(b)?;
+            }
+            KeyCode::Equal | KeyCode::NumpadAdd | KeyCode::Minus | KeyCode::NumpadSubtract => {
+                let up = matches!(code, KeyCode::Equal | KeyCode::NumpadAdd);
+                let now = self
+                    .driver
+                    .options()
+                    .target
+                    .unwrap_or(Duration::from_millis(50));
+                let next = now.mul_f64(if up { 1.25 } else { 0.8 });
+                self.driver
+                    .set_target(Some(next.max(Duration::from_millis(1))));
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn fail(&mut self, e: anyhow::Error, event_loop: &ActiveEventLoop) {
+        self.error = Some(e);
+        event_loop.exit();
+    }
+}
+
+impl ApplicationHandler for Viewer {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_none() {
+            if let Err(e) = self.open(event_loop) {
+                self.fail(e.context("opening the window"), event_loop);
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        let result = match event {
+            WindowEvent::CloseRequested => {
+                event_loop.exit();
+                Ok(())
+            }
+            WindowEvent::KeyboardInput { event, .. } => match event.physical_key {
+                PhysicalKey::Code(code) => {
+                    self.key(code, event.state == ElementState::Pressed, event_loop)
+                }
+                PhysicalKey::Unidentified(_) => Ok(()),
+            },
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                self.dragging =
+                    (state == ElementState::Pressed).then_some(PhysicalPosition::new(-1.0, -1.0));
+                Ok(())
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if let Some(from) = self.dragging {
+                    if from.x >= 0.0 {
+                        let d =
+                            Vec2::new((position.x - from.x) as f32, (position.y - from.y) as f32);
+                        self.camera.yaw += d.x * 0.005;
+                        self.camera.pitch = (self.camera.pitch - d.y * 0.005).clamp(-1.5, 1.5);
+                    }
+                    self.dragging = Some(position);
+                }
+                Ok(())
+            }
+            WindowEvent::RedrawRequested => {
+                let now = Instant::now();
+                let dt = self
+                    .redrawn
+                    .map_or(0.0, |t| (now - t).as_secs_f32().min(0.25));
+                let r = self.frame(dt);
+                self.redrawn = Some(now);
+                r
+            }
+            _ => Ok(()),
+        };
+        if let Err(e) = result {
+            self.fail(e, event_loop);
+        }
+        if self.max_frames.is_some_and(|n| self.frames >= n) {
+            event_loop.exit();
+        }
+    }
+
+    fn about_to_wait(&mut self, _: &ActiveEventLoop) {
+        if let Some(window) = &self.window {
+            window.request_redraw();
+        }
+    }
+}

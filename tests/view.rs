@@ -1,0 +1,180 @@
+//! `platoon view` (issue 9) under Xvfb: without a display it says so and fails; with one the
+//! window opens, frames arrive (the title counts them), what the screen shows is not black, and
+//! synthetic key presses (XTEST, through xdotool) fly the camera.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn platoon() -> Command {
+    common::init();
+    Command::new(env!("CARGO_BIN_EXE_platoon"))
+}
+
+fn tool(name: &str) -> PathBuf {
+    let path = Path::new("/usr/bin").join(name);
+    assert!(
+        path.exists(),
+        "{name} is missing: run tools/install-deps.sh"
+    );
+    path
+}
+
+/// An X server of its own, its screen mirrored to a file, killed on drop.
+struct Xvfb {
+    child: Child,
+    display: String,
+    _dir: tempfile::TempDir,
+    screen: PathBuf,
+}
+
+impl Xvfb {
+    fn start() -> Xvfb {
+        let xvfb = tool("Xvfb");
+        let n = (90..200)
+            .find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists())
+            .expect("a free X display number");
+        let dir = tempfile::tempdir().unwrap();
+        let child = Command::new(xvfb)
+            .arg(format!(":{n}"))
+            .args([
+                "-screen",
+                "0",
+                "320x240x24",
+                "-br",
+                "-nolisten",
+                "tcp",
+                "-fbdir",
+            ])
+            .arg(dir.path())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
+        wait_for(Duration::from_secs(20), || socket.exists().then_some(()));
+        Xvfb {
+            child,
+            display: format!(":{n}"),
+            screen: dir.path().join("Xvfb_screen0"),
+            _dir: dir,
+        }
+    }
+
+    fn xdotool(&self, args: &[&str]) -> String {
+        let o = Command::new(tool("xdotool"))
+            .args(args)
+            .env("DISPLAY", &self.display)
+            .output()
+            .unwrap();
+        String::from_utf8_lossy(&o.stdout).trim().to_string()
+    }
+
+    /// Pixels of the screen that are not black (the root window is black with -br).
+    fn lit_pixels(&self) -> usize {
+        let xwd = std::fs::read(&self.screen).unwrap();
+        let field = |i: usize| u32::from_be_bytes(xwd[4 * i..4 * i + 4].try_into().unwrap());
+        let (header, bits, ncolors) = (field(0) as usize, field(11), field(19) as usize);
+        assert_eq!(bits, 32, "a 24-bit screen is stored 32 bits a pixel");
+        xwd[header + 12 * ncolors..]
+            .chunks_exact(4)
+            .filter(|p| p.iter().any(|&c| c > 8))
+            .count()
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn wait_for<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> T {
+    let start = Instant::now();
+    loop {
+        if let Some(v) = f() {
+            return v;
+        }
+        assert!(start.elapsed() < limit, "timed out after {limit:?}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+fn camera(line: &str) -> [f32; 3] {
+    let v: Vec<f32> = line
+        .split_whitespace()
+        .filter_map(|w| w.parse().ok())
+        .take(3)
+        .collect();
+    [v[0], v[1], v[2]]
+}
+
+#[test]
+fn without_a_display_the_viewer_says_so_and_fails() {
+    let o = platoon()
+        .arg("view")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("no display"), "{err}");
+}
+
+#[test]
+fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
+    let x = Xvfb::start();
+    let black = x.lit_pixels();
+    let mut view = platoon()
+        .args([
+            "view",
+            "--size",
+            "40x30",
+            "--target-ms",
+            "40",
+            "--devices",
+            "lavapipe:1",
+        ])
+        .args(["--frames", "3000"])
+        .env("DISPLAY", &x.display)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The window opens, and its title starts counting frames.
+    let window = wait_for(Duration::from_secs(120), || {
+        let id = x.xdotool(&["search", "--name", "^platoon"]);
+        let id = id.lines().next()?.to_string();
+        x.xdotool(&["getwindowname", &id])
+            .contains("spp")
+            .then_some(id)
+    });
+    std::thread::sleep(Duration::from_millis(500));
+    let lit = x.lit_pixels();
+    assert!(
+        lit >= black + 80 * 60 / 2,
+        "the window (80x60) shows too little: {lit} lit pixels, {black} before it opened"
+    );
+    x.xdotool(&["windowfocus", "--sync", &window]);
+    x.xdotool(&["keydown", "w"]);
+    std::thread::sleep(Duration::from_millis(1500));
+    x.xdotool(&["keyup", "w"]);
+    std::thread::sleep(Duration::from_millis(300));
+    x.xdotool(&["key", "Escape"]);
+    let status = wait_for(Duration::from_secs(60), || view.try_wait().unwrap());
+    let out = std::io::read_to_string(view.stdout.take().unwrap()).unwrap();
+    let err = std::io::read_to_string(view.stderr.take().unwrap()).unwrap();
+    assert!(status.success(), "{out}\n{err}");
+    let start = out
+        .lines()
+        .find(|l| l.starts_with("camera starts at"))
+        .unwrap();
+    let end = out.lines().find(|l| l.starts_with("camera at")).unwrap();
+    let (a, b) = (camera(start), camera(end));
+    let moved = (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f32>().sqrt();
+    assert!(moved > 0.1, "W did not fly the camera: {start} / {end}");
+}
