@@ -113,19 +113,7 @@ use std::sync::Arc;
 use platoon::core::scene::{Material, Mesh, Node, Scene};
 
 pub fn mesh_from(data: &platoon_scenegen::MeshData, material: u32) -> Mesh {
-    let v3 = |p: &[f32; 3]| Vec3::from_array(*p);
-    Mesh {
-        name: "generated".into(),
-        positions: data.positions.iter().map(v3).collect(),
-        normals: data.normals.iter().map(v3).collect(),
-        indices: data
-            .indices
-            .chunks_exact(3)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect(),
-        triangle_materials: vec![material; data.indices.len() / 3],
-        ..Default::default()
-    }
+    platoon::generated::mesh(data, material, true)
 }
 
 /// A scene of meshes (one node each, at the given translation and uniform scale) and a camera

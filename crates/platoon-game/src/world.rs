@@ -9,7 +9,7 @@ use std::sync::Arc;
 use anyhow::{bail, Context, Result};
 use glam::{DVec3, Quat, Vec3, Vec4};
 use platoon::core::scene::environment::Environment;
-use platoon::core::scene::{LightKind, Material, Mesh, Node, Placement, PunctualLight, Scene};
+use platoon::core::scene::{LightKind, Material, Node, Placement, PunctualLight, Scene};
 
 /// A character of the scene: its placing node and its materials.
 #[derive(Clone, Debug)]
@@ -76,9 +76,11 @@ pub fn build(character_path: &Path, characters: usize) -> Result<World> {
     let g = GROUND * unit;
     let ground =
         platoon_scenegen::quad_from([[-g, 0.0, g], [g, 0.0, g], [g, 0.0, -g], [-g, 0.0, -g]]);
-    scene
-        .meshes
-        .push(Arc::new(mesh(&ground, ground_material, true)));
+    scene.meshes.push(Arc::new(platoon::generated::mesh(
+        &ground,
+        ground_material,
+        true,
+    )));
     let mut node = Node::new("ground");
     node.mesh = Some(0);
     scene.nodes.push(node);
@@ -91,7 +93,9 @@ pub fn build(character_path: &Path, characters: usize) -> Result<World> {
         body_materials
             .iter()
             .map(|&m| {
-                scene.meshes.push(Arc::new(mesh(data, m as u32, smooth)));
+                scene
+                    .meshes
+                    .push(Arc::new(platoon::generated::mesh(data, m as u32, smooth)));
                 scene.meshes.len() - 1
             })
             .collect()
@@ -135,27 +139,6 @@ pub fn build(character_path: &Path, characters: usize) -> Result<World> {
         characters,
         walk_cycle,
     })
-}
-
-/// A generated mesh as the scene holds it, all of `material`; without normals it is shaded flat.
-fn mesh(data: &platoon_scenegen::MeshData, material: u32, smooth: bool) -> Mesh {
-    let v3 = |p: &[f32; 3]| Vec3::from_array(*p);
-    Mesh {
-        name: "generated".into(),
-        positions: data.positions.iter().map(v3).collect(),
-        normals: if smooth {
-            data.normals.iter().map(v3).collect()
-        } else {
-            Vec::new()
-        },
-        indices: data
-            .indices
-            .chunks_exact(3)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect(),
-        triangle_materials: vec![material; data.indices.len() / 3],
-        ..Default::default()
-    }
 }
 
 /// A highlighted copy of a character's material: tinted orange, so what the screen centre

@@ -8,6 +8,7 @@ pub mod balance_bench;
 pub mod devices;
 pub mod dynamic_bench;
 pub mod game;
+pub mod generated;
 pub mod metadata;
 pub mod plot;
 pub mod prepare;
