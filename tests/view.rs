@@ -87,7 +87,10 @@ impl Xvfb {
 
 impl Drop for Xvfb {
     fn drop(&mut self) {
-        let _ = self.child.kill();
+        // SIGTERM, so the server removes its lock file and socket (SIGKILL leaves them).
+        let _ = Command::new("kill")
+            .arg(self.child.id().to_string())
+            .status();
         let _ = self.child.wait();
     }
 }
@@ -147,6 +150,10 @@ fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
         .unwrap();
     // The window opens, and its title starts counting frames.
     let window = wait_for(Duration::from_secs(120), || {
+        if let Some(status) = view.try_wait().unwrap() {
+            let err = std::io::read_to_string(view.stderr.take().unwrap()).unwrap();
+            panic!("the viewer ended before its window showed frames ({status}): {err}");
+        }
         let id = x.xdotool(&["search", "--name", "^platoon"]);
         let id = id.lines().next()?.to_string();
         x.xdotool(&["getwindowname", &id])

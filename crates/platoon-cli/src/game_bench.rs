@@ -5,7 +5,7 @@
 use std::time::Duration;
 
 use anyhow::{bail, Result};
-use platoon::core::measure::median;
+use platoon::core::measure::{median, percentile};
 use platoon_game::{play, FrameRecord, GameOptions, PlayOptions};
 
 /// The settings `platoon bench --game` takes.
@@ -117,14 +117,6 @@ pub fn summarize(records: &[FrameRecord], target_ms: f64) -> Summary {
         },
         idle_percent_median: median(of(|r| r.idle_percent)),
     }
-}
-
-fn percentile(mut v: Vec<f64>, p: f64) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    v[((v.len() - 1) as f64 * p).round() as usize]
 }
 
 fn text(o: &Options, s: &Summary) -> String {

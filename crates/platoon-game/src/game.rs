@@ -86,7 +86,7 @@ impl Game {
         options.balancer = o.balancer.clone();
         options.updater = o.updater.clone();
         options.validation = o.validation;
-        let mut driver = platoon::game::start(w.scene, &options)?;
+        let driver = platoon::game::start(w.scene, &options)?;
         let physics = Physics::new(w.unit, GROUND * w.unit);
         let mut game = Game {
             body_nodes: Vec::new(),
@@ -101,10 +101,7 @@ impl Game {
             toss_every: o.toss_every.max(1),
             frame: 0,
             physics,
-            driver: {
-                driver.scene().set_time(0.0)?;
-                driver
-            },
+            driver,
         };
         for i in 0..game.physics.bodies.len() {
             game.add_body_instance(i)?;

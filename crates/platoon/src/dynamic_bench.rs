@@ -12,7 +12,7 @@ use platoon_core::drive::{Pipeline, UpdaterThreads};
 use platoon_core::flatten::bvh::{build_instance_bvh, build_mesh_bvh};
 use platoon_core::flatten::refit::MeshBvh;
 use platoon_core::frame::FrameParams;
-use platoon_core::measure::median;
+use platoon_core::measure::{median, percentile};
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::environment::Environment;
 use platoon_core::scene::{Placement, Scene};
@@ -438,14 +438,6 @@ fn tlas_ms_1000() -> f64 {
         })
         .collect();
     median(times)
-}
-
-fn percentile(mut v: Vec<f64>, p: f64) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[((v.len() - 1) as f64 * p).round() as usize]
 }
 
 pub fn run(o: &Options) -> Result<Report> {

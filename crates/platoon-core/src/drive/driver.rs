@@ -230,7 +230,7 @@ impl FrameDriver {
     /// frame. Errors: an edit the updater refused, or every tracer lost.
     pub fn frame(&mut self, camera: Camera) -> Result<FrameOutput> {
         let wait = Instant::now();
-        let finished = self.finish_in_flight()?;
+        let finished = self.finish()?;
         let waited_render = wait.elapsed();
         if let (Some(f), Some(scaler)) = (&finished, self.scaler.as_mut()) {
             scaler.observe(f.stats.busy, f.stats.plan.spp);
@@ -290,15 +290,6 @@ impl FrameDriver {
 
     /// Waits for the frame in flight, if any (at the end of a game, for its last frame).
     pub fn finish(&mut self) -> Result<Option<FinishedFrame>> {
-        self.finish_in_flight()
-    }
-
-    /// The game thread's waits on the updater so far (see [`Pipeline::blocked_times`]).
-    pub fn update_waits(&self) -> &[Duration] {
-        self.pipeline.blocked_times()
-    }
-
-    fn finish_in_flight(&mut self) -> Result<Option<FinishedFrame>> {
         if !self.in_flight {
             return Ok(None);
         }
