@@ -1,6 +1,6 @@
 #version 460
 // Unidirectional path tracing with next-event estimation and MIS (power heuristic), for the
-// band of lines [y0, y1) and the samples [sample_begin, sample_end) of each pixel.
+// band of pixels (within lines [y0, y1)) and the samples [sample_begin, sample_end) of each pixel.
 // Feature defines (HAS_*) and the estimator (SAMPLING_BSDF / SAMPLING_LIGHT, default MIS) are
 // injected by the tracer; see crates/platoon-core/src/flatten/features.rs.
 
@@ -150,6 +150,7 @@ void main() {
     // Sample indices may wrap past 2^32 (a view converging for days): compare for equality.
     if (pixel.x >= width || pixel.y >= pc.y1 || pc.sample_begin == pc.sample_end) return;
     uint index = pixel.y * width + pixel.x;
+    if (index < pc.pixel_begin || index >= pc.pixel_end) return;
     vec3 sum = vec3(0.0);
     uint rays = 0u;
     uint rejected = 0u;

@@ -66,6 +66,9 @@ layout(push_constant) uniform Push {
     Globals g;
     uint y0;
     uint y1;
+    // The band's pixels (row-major indices): it may start and end within a line.
+    uint pixel_begin;
+    uint pixel_end;
     uint sample_begin;
     uint sample_end;
     // Lines y0, y0 + stride, y0 + 2 * stride, ... below y1 (1: a contiguous band).

@@ -4,8 +4,8 @@
 mod common;
 
 use common::*;
-use platoon::core::balance::{bands, proportional};
-use platoon::core::frame::FrameParams;
+use platoon::core::balance::{line_bands, proportional};
+use platoon::core::frame::{FrameParams, Span};
 use platoon::tracer::Sampling;
 
 fn cesium() -> platoon::Prepared {
@@ -49,27 +49,36 @@ fn any_band_split_gives_the_same_bits() {
     ] {
         let mut tracer = tracer(&prepared, Sampling::Mis);
         let params = FrameParams::new(20, 30, 6, prepared.camera);
-        let whole = platoon::render_bands(&mut tracer, &params, &[(0, 30)], &mut |_| {}).unwrap();
+        let whole =
+            platoon::render_bands(&mut tracer, &params, &[Span::lines(20, 0, 30)], &mut |_| {})
+                .unwrap();
         for parts in [2, 3, 7] {
             let split = platoon::render_bands(
                 &mut tracer,
                 &params,
-                &bands(&proportional(30, &vec![1.0; parts])),
+                &line_bands(20, &proportional(30, &vec![1.0; parts])),
                 &mut |_| {},
             )
             .unwrap();
             assert_eq!(whole.film, split.film, "{parts} bands differ from one");
             assert_eq!(whole.rays(), split.rays());
         }
-        // Uneven bands, out of order.
+        // Uneven bands, out of order, cut within lines (the cost-aware balancer cuts to the
+        // pixel).
         let odd = platoon::render_bands(
             &mut tracer,
             &params,
-            &[(17, 30), (0, 1), (1, 17)],
+            &[
+                Span::new(17 * 20 + 3, 600),
+                Span::new(0, 7),
+                Span::new(7, 21),
+                Span::new(21, 17 * 20 + 3),
+            ],
             &mut |_| {},
         )
         .unwrap();
         assert_eq!(whole.film, odd.film);
+        assert_eq!(whole.rays(), odd.rays());
         assert_no_validation_messages(&tracer);
     }
 }

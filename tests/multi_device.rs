@@ -38,7 +38,7 @@ fn images_are_bit_identical_for_one_two_and_three_tracers_under_every_balancer()
                     frame.film == reference,
                     "{spec} under {name}: image differs"
                 );
-                assert_eq!(frame.tracers.iter().map(|t| t.lines).sum::<u32>(), 24);
+                assert_eq!(frame.tracers.iter().map(|t| t.pixels).sum::<u32>(), 16 * 24);
                 assert_eq!(frame.rejected_samples, 0);
             }
             tracers = renderer.into_tracers();

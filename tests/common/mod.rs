@@ -67,8 +67,8 @@ pub fn tracer_reading(scene: &platoon::core::flatten::GpuScene, memory: MemoryPa
 
 /// Renders the whole frame with validation on and asserts the layer said nothing.
 pub fn render_with(tracer: &mut Tracer, params: &FrameParams) -> Film {
-    let r =
-        platoon::render_bands(tracer, params, &[(0, params.height)], &mut |_| {}).expect("render");
+    let r = platoon::render_bands(tracer, params, &[platoon::whole_frame(params)], &mut |_| {})
+        .expect("render");
     assert_eq!(r.rejected_samples(), 0, "NaN/Inf samples were produced");
     assert_no_validation_messages(tracer);
     r.film

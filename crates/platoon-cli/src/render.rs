@@ -179,11 +179,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let r = r?;
         for t in &r.tracers {
             eprintln!(
-                "  tracer {}: lines {}..{} ({} rendered), {:.3} s, idle {:.3} s",
+                "  tracer {}: lines {:.2}..{:.2} ({} pixels rendered), {:.3} s, idle {:.3} s",
                 t.tracer,
-                t.y0,
-                t.y1,
-                t.lines,
+                t.span.begin as f64 / params.width as f64,
+                t.span.end as f64 / params.width as f64,
+                t.pixels,
                 t.wall_time.as_secs_f64(),
                 t.idle.as_secs_f64()
             );

@@ -1,11 +1,11 @@
-//! The dispatch of one band of lines: clear it (or start it from the sums of earlier samples),
+//! The dispatch of one band of pixels: clear it (or start it from the sums of earlier samples),
 //! add `samples_per_pass` samples per dispatch with GPU timestamps around each, copy it back with
 //! its per-line counters.
 
 use std::time::{Duration, Instant};
 
 use ash::vk;
-use platoon_core::frame::{Band, BandTracer, FrameParams, TracerError};
+use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
 use crate::globals::{Globals, Push};
 use crate::tracer::Tracer;
@@ -24,6 +24,16 @@ impl Tracer {
         self.render_strided(params, y0, y1, 1, progress)
     }
 
+    /// Renders the pixels of `span` (which may start and end within a line).
+    pub fn render_span(
+        &mut self,
+        params: &FrameParams,
+        span: Span,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<Band> {
+        self.render_pixels(params, span, 1, progress)
+    }
+
     /// Renders lines y0, y0 + stride, ... below y1 (interleaved lines). The band's sums cover
     /// [y0, y1) with the lines not rendered left at zero.
     pub fn render_strided(
@@ -34,6 +44,19 @@ impl Tracer {
         stride: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
+        let y1 = y1.min(params.height);
+        let span = Span::lines(params.width, y0.min(y1), y1);
+        self.render_pixels(params, span, stride, progress)
+    }
+
+    /// Renders `span`, of its lines only the first and every `stride`-th after it.
+    fn render_pixels(
+        &mut self,
+        params: &FrameParams,
+        span: Span,
+        stride: u32,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<Band> {
         if params.output == platoon_core::frame::Output::PrimaryHit && params.spp != 1 {
             return Err(crate::Error::Invalid(
                 "the primary-hit output is one sample per pixel: set spp to 1".into(),
@@ -41,8 +64,10 @@ impl Tracer {
         }
         let stride = stride.max(1);
         let (width, height) = (params.width, params.height);
-        let y1 = y1.min(height);
-        let y0 = y0.min(y1);
+        let pixels = width * height;
+        let span = Span::new(span.begin.min(pixels), span.end.min(pixels));
+        let span = Span::new(span.begin.min(span.end), span.end);
+        let (y0, y1) = (span.first_line(width), span.end_line(width));
         self.ensure_frame_buffers(width, height)?;
         // Compiling a kernel variant happens once; it is not part of the band's time.
         let (pipeline, layout, scene_set) = self.kernel(self.kernel_defines(params))?;
@@ -57,12 +82,11 @@ impl Tracer {
             .copy_from_slice(bytemuck::bytes_of(&g));
         let globals_address = self.globals_buffer.address;
 
-        let row_bytes = width as u64 * 16;
-        let band_offset = y0 as u64 * row_bytes;
-        let band_size = (y1 - y0) as u64 * row_bytes;
+        // One vec4 per pixel.
+        let band_offset = span.begin as u64 * 16;
+        let band_size = span.len() as u64 * 16;
         let mut band = Band {
-            y0,
-            y1,
+            span,
             ..Default::default()
         };
         if band_size == 0 {
@@ -95,7 +119,7 @@ impl Tracer {
                         sums.len()
                     )));
                 }
-                let rows = &sums[y0 as usize * width as usize..y1 as usize * width as usize];
+                let rows = &sums[span.begin as usize..span.end as usize];
                 Some(
                     rows.iter()
                         .map(|p| [p[0], p[1], p[2], 0.0])
@@ -133,6 +157,8 @@ impl Tracer {
                 globals: globals_address,
                 y0,
                 y1,
+                pixel_begin: span.begin,
+                pixel_end: span.end,
                 sample_begin: params.first_sample.wrapping_add(begin),
                 sample_end: params.first_sample.wrapping_add(end),
                 stride,
@@ -254,11 +280,10 @@ impl BandTracer for Tracer {
     fn render_band(
         &mut self,
         params: &FrameParams,
-        y0: u32,
-        y1: u32,
+        span: Span,
         progress: &mut dyn FnMut(u32),
     ) -> std::result::Result<Band, TracerError> {
-        self.render(params, y0, y1, progress)
+        self.render_span(params, span, progress)
             .map_err(|e| Box::new(e) as TracerError)
     }
 

@@ -63,8 +63,11 @@ impl Globals {
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub(crate) struct Push {
     pub globals: u64,
+    /// Lines dispatched, and the pixels among them rendered (row-major indices).
     pub y0: u32,
     pub y1: u32,
+    pub pixel_begin: u32,
+    pub pixel_end: u32,
     pub sample_begin: u32,
     pub sample_end: u32,
     pub stride: u32,
@@ -73,4 +76,4 @@ pub(crate) struct Push {
 
 const _: () = assert!(std::mem::size_of::<Globals>() == 144 + 8 * 16);
 // Must match the push-constant block of shaders/scene.glsl.
-const _: () = assert!(std::mem::size_of::<Push>() == 32);
+const _: () = assert!(std::mem::size_of::<Push>() == 40);

@@ -185,7 +185,10 @@ pub fn record(
                 .collect(),
         );
     }
-    Ok(CostMap { frames })
+    Ok(CostMap {
+        width: o.width,
+        frames,
+    })
 }
 
 fn cost_maps(o: &Options) -> Result<[(CameraSpeed, CostMap); 2]> {

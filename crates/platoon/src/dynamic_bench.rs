@@ -300,7 +300,12 @@ fn run_frames(o: &Options, kind: RunKind) -> Result<Run> {
         let mut params = FrameParams::new(o.width, o.height, 1, camera);
         params.frame = f;
         let render = Instant::now();
-        crate::render_bands(&mut tracer, &params, &[(0, o.height)], &mut |_| {})?;
+        crate::render_bands(
+            &mut tracer,
+            &params,
+            &[crate::whole_frame(&params)],
+            &mut |_| {},
+        )?;
         record.render_ms = ms(render.elapsed());
         // Or, with nothing beside the render, built after it.
         if !overlap {

@@ -20,4 +20,4 @@ pub use platoon_tracer as tracer;
 pub use prepare::{
     load_scene, load_scene_with, prepare, EnvChoice, PrepareOptions, Prepared, DEFAULT_SKY,
 };
-pub use render::{render, render_bands, render_frame, Rendered};
+pub use render::{render, render_bands, render_frame, whole_frame, Rendered};

@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use anyhow::{Context as _, Result};
 use platoon_core::frame::renderer::Renderer;
-use platoon_core::frame::{assemble, Band, FrameParams};
+use platoon_core::frame::{assemble, Band, FrameParams, Span};
 use platoon_core::output::Film;
 use platoon_tracer::{Tracer, TracerOptions};
 
@@ -48,14 +48,14 @@ impl Rendered {
 pub fn render_bands(
     tracer: &mut Tracer,
     params: &FrameParams,
-    bands: &[(u32, u32)],
+    bands: &[Span],
     progress: &mut dyn FnMut(u32),
 ) -> Result<Rendered> {
     let mut out: Vec<Band> = Vec::new();
-    for &(y0, y1) in bands {
+    for &span in bands {
         out.push(
             tracer
-                .render(params, y0, y1, progress)
+                .render_span(params, span, progress)
                 .context("render failed")?,
         );
     }
@@ -86,7 +86,12 @@ pub fn render(
     progress: &mut dyn FnMut(u32),
 ) -> Result<Rendered> {
     let mut tracer = Tracer::new(options, &prepared.gpu)?;
-    render_bands(&mut tracer, params, &[(0, params.height)], progress)
+    render_bands(&mut tracer, params, &[whole_frame(params)], progress)
+}
+
+/// The band covering the whole frame.
+pub fn whole_frame(params: &FrameParams) -> Span {
+    Span::lines(params.width, 0, params.height)
 }
 
 /// Renders one frame on a multi-device renderer.

@@ -4,7 +4,8 @@
 //! frame on prefix sums of line cost so that every tracer's predicted time is equal.
 //! Brigade's Perfect assumes all lines cost the same; a sky band and a geometry band do not.
 
-use super::{proportional, Balancer, FrameMeasure};
+use super::{line_bands, proportional, span_cost, Balancer, FrameMeasure};
+use crate::frame::Span;
 
 /// Weight of the newest frame in the per-line cost (the image moves between frames).
 const COST_RATE: f64 = 0.7;
@@ -46,28 +47,31 @@ fn fractional_cuts(cost: &[f64], speed: &[f64]) -> Vec<f64> {
 }
 
 impl CostAware {
-    /// Line counts from the predicted cuts: this frame's cuts moved on by their last motion.
-    fn cut(&self, tracers: usize) -> Vec<u32> {
+    /// Bands from the predicted cuts: this frame's cuts moved on by their last motion, placed to
+    /// the pixel.
+    fn cut(&self, width: u32, tracers: usize) -> Vec<Span> {
         let height = self.line_cost.len();
+        let pixels = (height as u32 * width) as i64;
         let now = fractional_cuts(&self.line_cost, &self.speed);
         let before = if self.previous_cost.len() == height {
             fractional_cuts(&self.previous_cost, &self.speed)
         } else {
             now.clone()
         };
-        let mut counts = Vec::with_capacity(tracers);
-        let mut start = 0usize;
+        let mut spans = Vec::with_capacity(tracers);
+        let mut start = 0i64;
         for (i, (n, b)) in now.iter().zip(&before).enumerate() {
-            let predicted = (n + TREND * (n - b)).round() as isize;
-            // At least one line for this tracer and for each one still to come.
-            let lo = start as isize + 1;
-            let hi = (height - (tracers - 1 - i)) as isize;
-            let end = predicted.clamp(lo, hi) as usize;
-            counts.push((end - start) as u32);
+            let predicted = ((n + TREND * (n - b)) * width as f64).round() as i64;
+            // At least a line's worth of pixels for this tracer and each one still to come, so
+            // that every tracer keeps being measured.
+            let lo = start + width as i64;
+            let hi = pixels - (tracers - 1 - i) as i64 * width as i64;
+            let end = predicted.clamp(lo, hi);
+            spans.push(Span::new(start as u32, end as u32));
             start = end;
         }
-        counts.push((height - start) as u32);
-        counts
+        spans.push(Span::new(start as u32, pixels as u32));
+        spans
     }
 }
 
@@ -76,7 +80,7 @@ impl Balancer for CostAware {
         "cost-aware"
     }
 
-    fn plan(&mut self, height: u32, tracers: usize) -> Vec<u32> {
+    fn plan(&mut self, width: u32, height: u32, tracers: usize) -> Vec<Span> {
         let ready = self.speed.len() == tracers
             && self.line_cost.len() == height as usize
             && self.speed.iter().all(|s| s.is_finite() && *s > 0.0)
@@ -86,9 +90,9 @@ impl Balancer for CostAware {
             if self.speed.len() != tracers {
                 self.speed.clear();
             }
-            return proportional(height, &vec![1.0; tracers]);
+            return line_bands(width, &proportional(height, &vec![1.0; tracers]));
         }
-        self.cut(tracers)
+        self.cut(width, tracers)
     }
 
     fn observe(&mut self, frame: &FrameMeasure) {
@@ -111,9 +115,7 @@ impl Balancer for CostAware {
         let speeds: Vec<f64> = frame
             .tracers
             .iter()
-            .map(|t| {
-                measured[t.y0 as usize..t.y1 as usize].iter().sum::<f64>() / t.seconds.max(1e-12)
-            })
+            .map(|t| span_cost(&measured, frame.width, t.span) / t.seconds.max(1e-12))
             .collect();
         if self.speed.len() != speeds.len() {
             self.speed = speeds;
@@ -146,16 +148,17 @@ mod tests {
         let mut b = CostAware::default();
         replay(
             &CostMap {
+                width: 10,
                 frames: vec![costs.clone(); 10],
             },
             &[2.0, 1.0],
             &mut b,
         );
-        let counts = b.plan(100, 2);
-        let t0: f64 = costs[..counts[0] as usize].iter().sum::<f64>() / 2.0;
-        let t1: f64 = costs[counts[0] as usize..].iter().sum::<f64>();
-        // The best cut is exact to within one line: 9 units on the slower tracer.
-        assert!((t0 - t1).abs() <= 9.0, "{counts:?}: {t0} vs {t1}");
-        assert_eq!(counts, vec![81, 19]);
+        let spans = b.plan(10, 100, 2);
+        let t0 = span_cost(&costs, 10, spans[0]) / 2.0;
+        let t1 = span_cost(&costs, 10, spans[1]);
+        // The cut falls within line 81, exact to a pixel (0.9 units on the slower tracer).
+        assert!((t0 - t1).abs() <= 0.9, "{spans:?}: {t0} vs {t1}");
+        assert_eq!(spans, vec![Span::new(0, 815), Span::new(815, 1000)]);
     }
 }

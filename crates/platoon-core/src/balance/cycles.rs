@@ -2,7 +2,8 @@
 //! that equalise the tracers' times, moved only a 1/N step towards the equalising target each
 //! frame (N tracers), and left alone while every time is within 2% of the mean (dead band).
 
-use super::{proportional, Balancer, FrameMeasure};
+use super::{line_bands, proportional, Balancer, FrameMeasure};
+use crate::frame::Span;
 
 const DEAD_BAND: f64 = 0.02;
 
@@ -15,11 +16,11 @@ impl Balancer for CyclesDamped {
     fn name(&self) -> &'static str {
         "cycles"
     }
-    fn plan(&mut self, height: u32, tracers: usize) -> Vec<u32> {
+    fn plan(&mut self, width: u32, height: u32, tracers: usize) -> Vec<Span> {
         if self.weights.len() != tracers {
             self.weights = vec![1.0 / tracers.max(1) as f64; tracers];
         }
-        proportional(height, &self.weights)
+        line_bands(width, &proportional(height, &self.weights))
     }
     fn observe(&mut self, frame: &FrameMeasure) {
         let n = frame.tracers.len();

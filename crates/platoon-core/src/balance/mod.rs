@@ -1,5 +1,6 @@
-//! Workload balancing between tracers: before each frame a policy decides how many pixel lines
-//! each tracer renders (contiguous bands, in tracer order), from what earlier frames measured.
+//! Workload balancing between tracers: before each frame a policy decides which pixels each
+//! tracer renders (contiguous bands, in tracer order), from what earlier frames measured.
+//! Brigade's policies move whole lines; cost-aware cuts within a line.
 //! The policies follow Bikker's Brigade (none, Robin Hood, Perfect, Perfect Smooth), Blender
 //! Cycles' damped time equalising, and platoon's own cost-aware cut. One policy per file.
 
@@ -18,11 +19,12 @@ pub use perfect::Perfect;
 pub use perfect_smooth::PerfectSmooth;
 pub use robin_hood::RobinHood;
 
+use crate::frame::Span;
+
 /// What one tracer did in a frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TracerFrame {
-    pub y0: u32,
-    pub y1: u32,
+    pub span: Span,
     /// Time the tracer took for its band (seconds; measured or simulated).
     pub seconds: f64,
 }
@@ -30,6 +32,7 @@ pub struct TracerFrame {
 /// What a frame measured, handed to the policy after the frame.
 #[derive(Clone, Debug)]
 pub struct FrameMeasure<'a> {
+    pub width: u32,
     pub height: u32,
     pub tracers: &'a [TracerFrame],
     /// Relative cost of every line of the frame (rays traced in it), `height` entries.
@@ -38,8 +41,9 @@ pub struct FrameMeasure<'a> {
 
 pub trait Balancer: Send {
     fn name(&self) -> &'static str;
-    /// Lines for each of `tracers` tracers for the next frame; sums to `height`.
-    fn plan(&mut self, height: u32, tracers: usize) -> Vec<u32>;
+    /// The band of each of `tracers` tracers for the next frame of `width` x `height` pixels:
+    /// contiguous, in tracer order, covering the frame.
+    fn plan(&mut self, width: u32, height: u32, tracers: usize) -> Vec<Span>;
     /// Learns from the frame just rendered.
     fn observe(&mut self, frame: &FrameMeasure);
     /// Tracer `index` is gone (it failed); later plans have one tracer fewer.
@@ -68,17 +72,29 @@ pub fn by_name(name: &str) -> Option<Box<dyn Balancer>> {
     })
 }
 
-/// Contiguous bands from line counts, in tracer order.
-pub fn bands(counts: &[u32]) -> Vec<(u32, u32)> {
+/// Contiguous bands of whole lines from line counts, in tracer order.
+pub fn line_bands(width: u32, counts: &[u32]) -> Vec<Span> {
     let mut y = 0;
     counts
         .iter()
         .map(|&c| {
-            let b = (y, y + c);
+            let b = Span::lines(width, y, y + c);
             y += c;
             b
         })
         .collect()
+}
+
+/// Cost of the pixels of `span` from per-line costs, a cut line costing its share of pixels
+/// (the cost within a line is taken as even: the kernel counts rays per line, not per pixel).
+pub fn span_cost(line_costs: &[f64], width: u32, span: Span) -> f64 {
+    (span.first_line(width)..span.end_line(width))
+        .map(|y| {
+            line_costs.get(y as usize).copied().unwrap_or(0.0)
+                * span.pixels_in_line(width, y) as f64
+                / width.max(1) as f64
+        })
+        .sum()
 }
 
 /// Fraction of the frame's tracer time spent idle: sum_i (T_max - T_i) / (n * T_max).
@@ -133,7 +149,7 @@ pub(crate) fn line_speeds(frame: &FrameMeasure) -> Vec<f64> {
     frame
         .tracers
         .iter()
-        .map(|t| (t.y1 - t.y0) as f64 / t.seconds.max(1e-12))
+        .map(|t| t.span.len() as f64 / frame.width.max(1) as f64 / t.seconds.max(1e-12))
         .collect()
 }
 
@@ -150,6 +166,30 @@ mod tests {
         assert_eq!(proportional(7, &[f64::NAN, 1.0]), vec![1, 6]);
     }
 
+    /// Contiguous, in order, non-empty, covering [0, pixels).
+    fn assert_covers(spans: &[Span], pixels: u32, name: &str) {
+        assert_eq!(spans.first().map(|s| s.begin), Some(0), "{name}: {spans:?}");
+        assert_eq!(
+            spans.last().map(|s| s.end),
+            Some(pixels),
+            "{name}: {spans:?}"
+        );
+        assert!(
+            spans.windows(2).all(|w| w[0].end == w[1].begin),
+            "{name}: {spans:?}"
+        );
+        assert!(spans.iter().all(|s| !s.is_empty()), "{name}: {spans:?}");
+    }
+
+    #[test]
+    fn span_cost_shares_a_cut_line_by_pixels() {
+        let costs = [4.0, 8.0, 2.0];
+        assert_eq!(span_cost(&costs, 4, Span::lines(4, 0, 3)), 14.0);
+        // Half of line 0 and a quarter of line 1.
+        assert_eq!(span_cost(&costs, 4, Span::new(2, 5)), 2.0 + 2.0);
+        assert_eq!(span_cost(&costs, 4, Span::new(5, 5)), 0.0);
+    }
+
     #[test]
     fn idle_fraction_matches_the_definition() {
         assert_eq!(idle_fraction(&[1.0, 1.0]), 0.0);
@@ -161,6 +201,7 @@ mod tests {
     fn every_policy_plans_the_whole_frame() {
         let costs: Vec<f64> = (0..50).map(|y| if y < 20 { 1.0 } else { 5.0 }).collect();
         let map = crate::balance::replay::CostMap {
+            width: 7,
             frames: vec![costs; 5],
         };
         for name in NAMES {
@@ -168,13 +209,9 @@ mod tests {
             // replay() checks nothing itself: it plans, times and observes each frame.
             let idle = crate::balance::replay::replay(&map, &[1.0, 0.5, 1.0 / 3.0], b.as_mut());
             assert!(idle.iter().all(|i| (0.0..1.0).contains(i)), "{name}");
-            assert_eq!(b.plan(50, 3).iter().sum::<u32>(), 50, "{name}");
+            assert_covers(&b.plan(map.width, 50, 3), map.width * 50, name);
             b.remove_tracer(1);
-            assert_eq!(
-                b.plan(50, 2).iter().sum::<u32>(),
-                50,
-                "{name} after removal"
-            );
+            assert_covers(&b.plan(map.width, 50, 2), map.width * 50, name);
         }
     }
 }

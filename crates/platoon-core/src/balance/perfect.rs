@@ -1,7 +1,8 @@
 //! Brigade's "Perfect": each tracer's share from its speed (lines per second) in the previous
 //! frame. Ignores that lines differ in cost, so it overshoots when a band's content changes.
 
-use super::{line_speeds, proportional, Balancer, FrameMeasure};
+use super::{line_bands, line_speeds, proportional, Balancer, FrameMeasure};
+use crate::frame::Span;
 
 #[derive(Default)]
 pub struct Perfect {
@@ -12,11 +13,11 @@ impl Balancer for Perfect {
     fn name(&self) -> &'static str {
         "perfect"
     }
-    fn plan(&mut self, height: u32, tracers: usize) -> Vec<u32> {
+    fn plan(&mut self, width: u32, height: u32, tracers: usize) -> Vec<Span> {
         if self.speeds.len() != tracers {
             self.speeds = vec![1.0; tracers];
         }
-        proportional(height, &self.speeds)
+        line_bands(width, &proportional(height, &self.speeds))
     }
     fn observe(&mut self, frame: &FrameMeasure) {
         self.speeds = line_speeds(frame);

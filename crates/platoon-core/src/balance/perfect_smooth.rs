@@ -3,7 +3,8 @@
 
 use std::collections::VecDeque;
 
-use super::{line_speeds, proportional, Balancer, FrameMeasure};
+use super::{line_bands, line_speeds, proportional, Balancer, FrameMeasure};
+use crate::frame::Span;
 
 /// Frames averaged.
 const WINDOW: usize = 4;
@@ -18,18 +19,18 @@ impl Balancer for PerfectSmooth {
     fn name(&self) -> &'static str {
         "perfect-smooth"
     }
-    fn plan(&mut self, height: u32, tracers: usize) -> Vec<u32> {
+    fn plan(&mut self, width: u32, height: u32, tracers: usize) -> Vec<Span> {
         if self.tracers != tracers {
             self.history.clear();
             self.tracers = tracers;
         }
         if self.history.is_empty() {
-            return proportional(height, &vec![1.0; tracers]);
+            return line_bands(width, &proportional(height, &vec![1.0; tracers]));
         }
         let mean: Vec<f64> = (0..tracers)
             .map(|i| self.history.iter().map(|s| s[i]).sum::<f64>() / self.history.len() as f64)
             .collect();
-        proportional(height, &mean)
+        line_bands(width, &proportional(height, &mean))
     }
     fn observe(&mut self, frame: &FrameMeasure) {
         self.history.push_back(line_speeds(frame));

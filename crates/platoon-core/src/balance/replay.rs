@@ -1,29 +1,46 @@
 //! Deterministic replay of recorded per-line cost maps against stated device speeds, so that
 //! balancers can be compared free of machine noise. A cost map holds, for every frame of a
 //! camera path, the time each line took on the recording device (seconds); a device of speed s
-//! renders a line of cost c in c / s.
+//! renders a line of cost c in c / s, and a part of a line in its share of pixels of that.
 
 use std::path::Path;
 
-use crate::balance::{bands, idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use crate::balance::{idle_fraction, span_cost, Balancer, FrameMeasure, TracerFrame};
 use crate::error::{Error, Result};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct CostMap {
+    /// Pixels per line of the recorded frames: the finest cut a balancer can make.
+    pub width: u32,
     /// `frames[f][y]`: cost of line y in frame f.
     pub frames: Vec<Vec<f64>>,
 }
+
+/// The comment line that states a map's width.
+const WIDTH_KEY: &str = "# width:";
 
 impl CostMap {
     pub fn height(&self) -> usize {
         self.frames.first().map_or(0, |f| f.len())
     }
 
-    /// One frame per line of text, comma-separated line costs; `#` lines are comments.
+    /// One frame per line of text, comma-separated line costs; `#` lines are comments, but for
+    /// `# width: N` (pixels per line; square frames when absent).
     pub fn parse(text: &str, origin: &Path) -> Result<CostMap> {
         let mut frames = Vec::new();
+        let mut width = None;
         for (n, line) in text.lines().enumerate() {
             let line = line.trim();
+            if let Some(w) = line.strip_prefix(WIDTH_KEY) {
+                let w = w.trim().parse::<u32>().ok().filter(|w| *w > 0);
+                width = Some(w.ok_or_else(|| {
+                    Error::file(
+                        origin,
+                        format!("line {}: width must be a positive integer", n + 1),
+                    )
+                })?);
+                continue;
+            }
             if line.is_empty() || line.starts_with('#') {
                 continue;
             }
@@ -53,7 +70,10 @@ impl CostMap {
                 "no frames, or frames of fewer than 3 lines",
             ));
         }
-        Ok(CostMap { frames })
+        Ok(CostMap {
+            width: width.unwrap_or(frames[0].len() as u32),
+            frames,
+        })
     }
 
     pub fn load(path: &Path) -> Result<CostMap> {
@@ -64,7 +84,9 @@ impl CostMap {
 
     pub fn to_text(&self, comment: &str) -> String {
         let mut s = format!(
-            "# {comment}\n# one frame per line: seconds per pixel line on the recording device\n"
+            "# {comment}\n# one frame per line: seconds per pixel line on the recording device\n\
+             {WIDTH_KEY} {}\n",
+            self.width
         );
         for f in &self.frames {
             let row: Vec<String> = f.iter().map(|c| format!("{c:.6e}")).collect();
@@ -77,6 +99,7 @@ impl CostMap {
     /// The first `frames` frames, cycling if the map is shorter.
     pub fn take(&self, frames: usize) -> CostMap {
         CostMap {
+            width: self.width,
             frames: (0..frames)
                 .map(|i| self.frames[i % self.frames.len()].clone())
                 .collect(),
@@ -87,22 +110,22 @@ impl CostMap {
 /// Idle fraction of every frame when `balancer` splits the recorded frames between devices of
 /// the given relative speeds.
 pub fn replay(costs: &CostMap, speeds: &[f64], balancer: &mut dyn Balancer) -> Vec<f64> {
-    let height = costs.height() as u32;
+    let (width, height) = (costs.width, costs.height() as u32);
     let mut idle = Vec::with_capacity(costs.frames.len());
     for line_costs in &costs.frames {
-        let counts = balancer.plan(height, speeds.len());
-        let tracers: Vec<TracerFrame> = bands(&counts)
+        let spans = balancer.plan(width, height, speeds.len());
+        let tracers: Vec<TracerFrame> = spans
             .iter()
             .zip(speeds)
-            .map(|(&(y0, y1), s)| TracerFrame {
-                y0,
-                y1,
-                seconds: line_costs[y0 as usize..y1 as usize].iter().sum::<f64>() / s,
+            .map(|(&span, s)| TracerFrame {
+                span,
+                seconds: span_cost(line_costs, width, span) / s,
             })
             .collect();
         let times: Vec<f64> = tracers.iter().map(|t| t.seconds).collect();
         idle.push(idle_fraction(&times));
         balancer.observe(&FrameMeasure {
+            width,
             height,
             tracers: &tracers,
             line_costs,
@@ -119,6 +142,7 @@ mod tests {
     #[test]
     fn parses_what_it_writes_and_rejects_bad_maps() {
         let map = CostMap {
+            width: 5,
             frames: vec![vec![1.0, 2.0, 3.0], vec![0.5, 0.25, 0.125]],
         };
         assert_eq!(
@@ -131,11 +155,14 @@ mod tests {
             .contains("bad.csv"));
         assert!(CostMap::parse("1,x,3\n", Path::new("bad.csv")).is_err());
         assert!(CostMap::parse("", Path::new("bad.csv")).is_err());
+        assert!(CostMap::parse("# width: 0\n1,2,3\n", Path::new("bad.csv")).is_err());
+        assert_eq!(CostMap::parse("1,2,3\n", Path::new("x")).unwrap().width, 3);
     }
 
     #[test]
     fn equal_split_of_uniform_costs_on_equal_devices_never_idles() {
         let map = CostMap {
+            width: 30,
             frames: vec![vec![1.0; 30]; 5],
         };
         let idle = replay(&map, &[1.0, 1.0, 1.0], by_name("none").unwrap().as_mut());

@@ -1,7 +1,8 @@
 //! Brigade's "Robin Hood": after each frame, the tracer that finished last gives one work unit
 //! to the one that finished first. Stable, but slow to follow change.
 
-use super::{proportional, Balancer, FrameMeasure};
+use super::{line_bands, proportional, Balancer, FrameMeasure};
+use crate::frame::Span;
 
 #[derive(Default)]
 pub struct RobinHood {
@@ -17,11 +18,11 @@ impl Balancer for RobinHood {
     fn name(&self) -> &'static str {
         "robin-hood"
     }
-    fn plan(&mut self, height: u32, tracers: usize) -> Vec<u32> {
+    fn plan(&mut self, width: u32, height: u32, tracers: usize) -> Vec<Span> {
         if self.counts.len() != tracers || self.counts.iter().sum::<u32>() != height {
             self.counts = proportional(height, &vec![1.0; tracers]);
         }
-        self.counts.clone()
+        line_bands(width, &self.counts)
     }
     fn observe(&mut self, frame: &FrameMeasure) {
         let t = frame.tracers;

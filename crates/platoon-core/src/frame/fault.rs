@@ -1,7 +1,7 @@
 //! Fault injection: a tracer wrapper that, when told to, fails from a given frame on, as a lost
 //! device would. Healthy and failing tracers are the same type, so one renderer holds both.
 
-use crate::frame::{Band, BandTracer, FrameParams, TracerError};
+use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
 pub struct FaultInjector<T> {
     pub inner: T,
@@ -28,14 +28,13 @@ impl<T: BandTracer> BandTracer for FaultInjector<T> {
     fn render_band(
         &mut self,
         params: &FrameParams,
-        y0: u32,
-        y1: u32,
+        span: Span,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError> {
         if self.fail_from_frame.is_some_and(|f| params.frame >= f) {
             return Err(format!("injected fault at frame {}", params.frame).into());
         }
-        self.inner.render_band(params, y0, y1, progress)
+        self.inner.render_band(params, span, progress)
     }
 
     fn apply_commit(

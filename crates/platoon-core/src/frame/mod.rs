@@ -1,5 +1,5 @@
-//! One frame, split into bands of pixel lines. A tracer (one device) renders bands; the core
-//! assembles them. Keeping this interface free of Vulkan lets the core drive any number of
+//! One frame, split into bands of pixels (runs of whole lines, cut within a line where the
+//! balancer wants it). A tracer (one device) renders bands; the core assembles them. Keeping this interface free of Vulkan lets the core drive any number of
 //! tracers and lets the balancer live here.
 
 pub mod fault;
@@ -84,18 +84,61 @@ impl FrameParams {
     }
 }
 
-/// What a tracer returns for lines [y0, y1): per-pixel radiance sums over all samples.
+/// A band of the frame: the pixels [begin, end) in row-major order. It may start and end within
+/// a line: with whole lines as the unit, the cut between two devices is off by up to half a
+/// line, which at 96 lines and 3 devices alone idles 1.5% (docs/BALANCING.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Span {
+    pub begin: u32,
+    pub end: u32,
+}
+
+impl Span {
+    pub fn new(begin: u32, end: u32) -> Span {
+        Span { begin, end }
+    }
+    /// Lines [y0, y1) of a frame `width` pixels wide.
+    pub fn lines(width: u32, y0: u32, y1: u32) -> Span {
+        Span::new(y0 * width, y1 * width)
+    }
+    pub fn len(&self) -> u32 {
+        self.end.saturating_sub(self.begin)
+    }
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The first line the span touches.
+    pub fn first_line(&self, width: u32) -> u32 {
+        self.begin / width.max(1)
+    }
+    /// One past the last line the span touches.
+    pub fn end_line(&self, width: u32) -> u32 {
+        if self.is_empty() {
+            self.first_line(width)
+        } else {
+            self.end.div_ceil(width.max(1))
+        }
+    }
+    /// Pixels of line `y` inside the span.
+    pub fn pixels_in_line(&self, width: u32, y: u32) -> u32 {
+        let (a, b) = (y * width, (y + 1) * width);
+        self.end.min(b).saturating_sub(self.begin.max(a))
+    }
+}
+
+/// What a tracer returns for its span: per-pixel radiance sums over all samples.
 #[derive(Clone, Debug, Default)]
 pub struct Band {
-    pub y0: u32,
-    pub y1: u32,
+    pub span: Span,
+    /// One sum per pixel of the span.
     pub sums: Vec<[f32; 3]>,
     /// Samples per pixel this frame added to `sums` (fewer than `FrameParams::spp` when a time
     /// limit cut the render short); 0 means `FrameParams::spp`. The sums also hold
     /// `FrameParams::accumulated` when it is given.
     pub samples: u32,
     pub rays: u64,
-    /// Rays traced in each line of the band: the relative cost of the lines.
+    /// Rays traced in each line the span touches (from its first line; a line the span cuts
+    /// counts only the span's pixels): the relative cost of the lines.
     pub line_rays: Vec<u64>,
     /// Samples whose radiance was NaN or Inf, zeroed by the kernel.
     pub rejected_samples: u64,
@@ -116,13 +159,12 @@ impl Band {
 
 pub type TracerError = Box<dyn std::error::Error + Send + Sync>;
 
-/// A device that renders bands of lines. Implemented by platoon-tracer for Vulkan devices.
+/// A device that renders bands of pixels. Implemented by platoon-tracer for Vulkan devices.
 pub trait BandTracer {
     fn render_band(
         &mut self,
         params: &FrameParams,
-        y0: u32,
-        y1: u32,
+        span: Span,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError>;
 
@@ -142,13 +184,13 @@ pub trait BandTracer {
     }
 }
 
-/// Assembles bands covering [0, height) into the frame's average radiance.
+/// Assembles bands covering the frame into its average radiance.
 pub fn assemble(params: &FrameParams, bands: &[Band]) -> Film {
     let w = params.width as usize;
     let mut pixels = vec![[0.0f32; 3]; w * params.height as usize];
     for b in bands {
         let inv = 1.0 / b.spp(params).max(1) as f32;
-        let start = b.y0 as usize * w;
+        let start = b.span.begin as usize;
         for (i, s) in b.sums.iter().enumerate() {
             pixels[start + i] = s.map(|v| v * inv);
         }

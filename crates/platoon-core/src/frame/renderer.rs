@@ -1,4 +1,4 @@
-//! The frame loop over many tracers: each frame the balancer cuts the lines into one band per
+//! The frame loop over many tracers: each frame the balancer cuts the pixels into one band per
 //! tracer, every tracer renders its band on its own thread, the core assembles the image. A
 //! tracer that fails (device lost, timeout, error) is dropped, its lines are rendered by the
 //! survivors in the same frame, and the failure is reported once.
@@ -7,9 +7,9 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::workers::Worker;
-use crate::balance::{bands, idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use crate::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
 use crate::flatten::commit::Commit;
-use crate::frame::{assemble, Band, BandTracer, FrameParams, TracerError};
+use crate::frame::{assemble, Band, BandTracer, FrameParams, Span, TracerError};
 use crate::output::Film;
 
 /// One tracer's part in a frame.
@@ -17,11 +17,10 @@ use crate::output::Film;
 pub struct TracerStats {
     /// The tracer's index among those the renderer was created with.
     pub tracer: usize,
-    /// The band the balancer gave it (empty for lines taken over from a failed tracer).
-    pub y0: u32,
-    pub y1: u32,
-    /// Lines it rendered in total, recovery work included.
-    pub lines: u32,
+    /// The band the balancer gave it.
+    pub span: Span,
+    /// Pixels it rendered in total, recovery work included.
+    pub pixels: u32,
     pub gpu_time: Duration,
     pub wall_time: Duration,
     /// Time it waited for the slowest tracer.
@@ -42,6 +41,8 @@ pub struct FrameResult {
     /// one): what a film accumulating over frames keeps.
     pub sums: Vec<[f32; 3]>,
     pub tracers: Vec<TracerStats>,
+    /// Rays traced in each line of the frame (its cost map, as the balancer saw it).
+    pub line_rays: Vec<u64>,
     /// sum_i (T_max - T_i) / (n T_max) over the tracers' planned bands.
     pub idle_fraction: f64,
     /// Tracers that failed during this frame (each is reported in exactly one frame).
@@ -63,34 +64,33 @@ pub struct Renderer<T: BandTracer + Send + 'static> {
     failures: Vec<TracerFailure>,
 }
 
-type Outcome = (usize, (u32, u32), Result<Band, TracerError>);
+type Outcome = (usize, Span, Result<Band, TracerError>);
 
 /// Renders `work[i]` on tracer i, all at once, each on its thread.
 fn run_bands<T: BandTracer + Send + 'static>(
     tracers: &[(usize, Worker<T>)],
-    work: &[(u32, u32)],
+    work: &[Span],
     params: &Arc<FrameParams>,
 ) -> Vec<Outcome> {
-    for ((_, worker), &(y0, y1)) in tracers.iter().zip(work) {
-        if y1 > y0 {
-            worker.start_band(params, y0, y1);
+    for ((_, worker), &span) in tracers.iter().zip(work) {
+        if !span.is_empty() {
+            worker.start_band(params, span);
         }
     }
     tracers
         .iter()
         .zip(work)
         .enumerate()
-        .map(|(slot, ((_, worker), &(y0, y1)))| {
-            let result = if y1 > y0 {
-                worker.band()
-            } else {
+        .map(|(slot, ((_, worker), &span))| {
+            let result = if span.is_empty() {
                 Ok(Band {
-                    y0,
-                    y1,
+                    span,
                     ..Default::default()
                 })
+            } else {
+                worker.band()
             };
-            (slot, (y0, y1), result)
+            (slot, span, result)
         })
         .collect()
 }
@@ -192,17 +192,17 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         if self.tracers.is_empty() {
             return Err(RenderError::NoTracers("every tracer has failed".into()));
         }
-        let counts = self.balancer.plan(params.height, self.tracers.len());
-        let planned = bands(&counts);
+        let planned = self
+            .balancer
+            .plan(params.width, params.height, self.tracers.len());
         let mut stats: Vec<TracerStats> = self
             .tracers
             .iter()
             .zip(&planned)
-            .map(|((id, _), &(y0, y1))| TracerStats {
+            .map(|((id, _), &span)| TracerStats {
                 tracer: *id,
-                y0,
-                y1,
-                lines: 0,
+                span,
+                pixels: 0,
                 gpu_time: Duration::ZERO,
                 wall_time: Duration::ZERO,
                 idle: Duration::ZERO,
@@ -214,10 +214,10 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         // Planned-band time of each tracer, for idle and for the balancer.
         let mut first_round: Vec<f64> = vec![0.0; self.tracers.len()];
         let mut round_work = planned.clone();
-        let mut queue: Vec<(u32, u32)> = Vec::new();
+        let mut queue: Vec<Span> = Vec::new();
         for round in 0.. {
             let mut dead = Vec::new();
-            for (slot, (y0, y1), result) in run_bands(&self.tracers, &round_work, params) {
+            for (slot, span, result) in run_bands(&self.tracers, &round_work, params) {
                 let id = self.tracers[slot].0;
                 match result {
                     Ok(band) => {
@@ -225,7 +225,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                             .iter_mut()
                             .find(|s| s.tracer == id)
                             .expect("stats of a live tracer");
-                        s.lines += y1 - y0;
+                        s.pixels += span.len();
                         s.gpu_time += band.gpu_time;
                         s.wall_time += band.wall_time;
                         s.rays += band.rays;
@@ -235,7 +235,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                         done.push(band);
                     }
                     Err(e) => {
-                        dead.push((slot, (y0, y1)));
+                        dead.push((slot, span));
                         new_failures.push(TracerFailure {
                             tracer: id,
                             frame: params.frame,
@@ -247,16 +247,17 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             // Drop failed tracers, highest slot first so lower slots keep their meaning.
             dead.sort_unstable_by_key(|d| std::cmp::Reverse(d.0));
             let survivors = self.tracers.len() - dead.len();
-            for &(slot, (y0, y1)) in &dead {
+            for &(slot, lost) in &dead {
                 self.tracers.remove(slot);
                 self.balancer.remove_tracer(slot);
                 first_round.remove(slot);
-                // The survivors take over the lost lines in this same frame.
-                let n = survivors.max(1) as u32;
+                // The survivors take over the lost pixels in this same frame.
+                let (n, len) = (survivors.max(1) as u64, lost.len() as u64);
+                let at = |k: u64| lost.begin + (len * k / n) as u32;
                 queue.extend(
                     (0..n)
-                        .map(|k| (y0 + (y1 - y0) * k / n, y0 + (y1 - y0) * (k + 1) / n))
-                        .filter(|(a, b)| b > a),
+                        .map(|k| Span::new(at(k), at(k + 1)))
+                        .filter(|s| !s.is_empty()),
                 );
             }
             if queue.is_empty() {
@@ -271,7 +272,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                 return Err(RenderError::NoTracers(why.join("; ")));
             }
             round_work = (0..self.tracers.len())
-                .map(|_| queue.pop().unwrap_or((0, 0)))
+                .map(|_| queue.pop().unwrap_or_default())
                 .collect();
         }
 
@@ -281,24 +282,29 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         for (s, t) in stats.iter_mut().zip(&times) {
             s.idle = Duration::from_secs_f64(max - t);
         }
-        let mut line_costs = vec![0.0f64; params.height as usize];
+        // A line cut between two bands is counted by both, each for its pixels.
+        let mut line_rays = vec![0u64; params.height as usize];
         for b in &done {
+            let first = b.span.first_line(params.width) as usize;
             for (k, r) in b.line_rays.iter().enumerate() {
-                line_costs[b.y0 as usize + k] = *r as f64;
+                if let Some(l) = line_rays.get_mut(first + k) {
+                    *l += r;
+                }
             }
         }
+        let line_costs: Vec<f64> = line_rays.iter().map(|&r| r as f64).collect();
         let observed: Vec<TracerFrame> = stats
             .iter()
             .zip(&times)
             .map(|(s, &t)| TracerFrame {
-                y0: s.y0,
-                y1: s.y1,
+                span: s.span,
                 seconds: t,
             })
             .collect();
         // A frame with a failure measured a split that no longer exists: learn nothing from it.
         if new_failures.is_empty() {
             self.balancer.observe(&FrameMeasure {
+                width: params.width,
                 height: params.height,
                 tracers: &observed,
                 line_costs: &line_costs,
@@ -308,6 +314,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         Ok(FrameResult {
             film: assemble(params, &done),
             sums: gather_sums(params, &done),
+            line_rays,
             idle_fraction: idle_fraction(&times),
             rejected_samples: done.iter().map(|b| b.rejected_samples).sum(),
             tracers: stats,
@@ -322,7 +329,7 @@ fn gather_sums(params: &FrameParams, bands: &[Band]) -> Vec<[f32; 3]> {
     let w = params.width as usize;
     let mut sums = vec![[0.0f32; 3]; w * params.height as usize];
     for b in bands {
-        let start = b.y0 as usize * w;
+        let start = b.span.begin as usize;
         sums[start..start + b.sums.len()].copy_from_slice(&b.sums);
     }
     sums
@@ -344,25 +351,24 @@ mod tests {
         fn render_band(
             &mut self,
             p: &FrameParams,
-            y0: u32,
-            y1: u32,
+            span: Span,
             _: &mut dyn FnMut(u32),
         ) -> Result<Band, TracerError> {
             let t = Instant::now();
             let mut sums = Vec::new();
-            let mut line_rays = Vec::new();
-            for y in y0..y1 {
-                for x in 0..p.width {
-                    sums.push([(x * 7 + y * 13 + p.frame) as f32, y as f32, 1.0]);
-                }
-                line_rays.push(if y < p.height / 2 { 1 } else { 8 });
+            let mut line_rays =
+                vec![0; (span.end_line(p.width) - span.first_line(p.width)) as usize];
+            let first = span.first_line(p.width);
+            for i in span.begin..span.end {
+                let (x, y) = (i % p.width, i / p.width);
+                sums.push([(x * 7 + y * 13 + p.frame) as f32, y as f32, 1.0]);
+                line_rays[(y - first) as usize] += if y < p.height / 2 { 1 } else { 8 };
             }
             std::thread::sleep(Duration::from_micros(
-                line_rays.iter().sum::<u64>() * self.slowness as u64 * 20,
+                line_rays.iter().sum::<u64>() * self.slowness as u64 * 5,
             ));
             Ok(Band {
-                y0,
-                y1,
+                span,
                 sums,
                 rays: line_rays.iter().sum(),
                 line_rays,
@@ -382,11 +388,10 @@ mod tests {
         fn render_band(
             &mut self,
             p: &FrameParams,
-            y0: u32,
-            y1: u32,
+            span: Span,
             progress: &mut dyn FnMut(u32),
         ) -> Result<Band, TracerError> {
-            self.fake.render_band(p, y0, y1, progress)
+            self.fake.render_band(p, span, progress)
         }
 
         fn apply_commit(&mut self, _: &crate::flatten::commit::Commit) -> Result<u64, TracerError> {
@@ -413,7 +418,7 @@ mod tests {
         assert_eq!((r.failures()[0].tracer, r.failures()[0].frame), (1, 3));
         assert!(r.failures()[0].message.contains("device lost"));
         let frame = r.render_frame(&params(3)).unwrap();
-        assert_eq!(frame.tracers.iter().map(|t| t.lines).sum::<u32>(), 40);
+        assert_eq!(frame.tracers.iter().map(|t| t.pixels).sum::<u32>(), 160);
     }
 
     fn params(frame: u32) -> FrameParams {
@@ -445,7 +450,7 @@ mod tests {
             for _ in 0..3 {
                 let f = r.render_frame(&params(0)).unwrap();
                 assert_eq!(f.film, reference, "{name}");
-                assert_eq!(f.tracers.iter().map(|s| s.lines).sum::<u32>(), 40);
+                assert_eq!(f.tracers.iter().map(|s| s.pixels).sum::<u32>(), 160);
                 assert!(f.idle_fraction >= 0.0 && f.idle_fraction < 1.0);
             }
         }

@@ -10,13 +10,12 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 
 use crate::flatten::commit::Commit;
-use crate::frame::{Band, BandTracer, FrameParams, TracerError};
+use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
 enum Job {
     Render {
         params: Arc<FrameParams>,
-        y0: u32,
-        y1: u32,
+        span: Span,
     },
     Commit(Arc<Commit>),
 }
@@ -51,8 +50,8 @@ impl<T: BandTracer + Send + 'static> Worker<T> {
                         Err(_) => return,
                     };
                     let result = match job {
-                        Job::Render { params, y0, y1 } => {
-                            Done::Band(run(|| t.render_band(&params, y0, y1, &mut |_| {})))
+                        Job::Render { params, span } => {
+                            Done::Band(run(|| t.render_band(&params, span, &mut |_| {})))
                         }
                         Job::Commit(commit) => Done::Committed(run(|| t.apply_commit(&commit))),
                     };
@@ -71,12 +70,11 @@ impl<T: BandTracer + Send + 'static> Worker<T> {
         }
     }
 
-    /// Starts rendering lines [y0, y1); [`Worker::band`] waits for the result.
-    pub fn start_band(&self, params: &Arc<FrameParams>, y0: u32, y1: u32) {
+    /// Starts rendering `span`; [`Worker::band`] waits for the result.
+    pub fn start_band(&self, params: &Arc<FrameParams>, span: Span) {
         self.send(Job::Render {
             params: Arc::clone(params),
-            y0,
-            y1,
+            span,
         });
     }
 
