@@ -360,11 +360,14 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     let o = platoon(&["balance-bench", "--frames", "12", "--json", "--out", d]);
     assert!(o.status.success(), "{}", stderr(&o));
     let json = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(json.matches("\"balancer\"").count(), 24, "{json}");
+    // 6 balancers x (2, 3 devices) x (slow, fast, game cost maps).
+    assert_eq!(json.matches("\"balancer\"").count(), 36, "{json}");
+    assert!(json.contains("\"camera\":\"game\""), "{json}");
     assert!(stderr(&o).contains("cost-aware"));
+    assert!(stderr(&o).contains("3-game"), "{}", stderr(&o));
     let csv = std::fs::read_to_string(dir.path().join("balance.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 1 + 24 * 12);
-    assert_eq!(image_dims(&dir.path().join("balance.png")), (1200, 800));
+    assert_eq!(csv.lines().count(), 1 + 36 * 12);
+    assert_eq!(image_dims(&dir.path().join("balance.png")), (1500, 800));
 
     let costs = dir.path().join("costs");
     let record = [
@@ -388,12 +391,14 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
         let map =
             platoon::core::balance::replay::CostMap::load(&costs.join(format!("{camera}.csv")))
                 .unwrap();
-        assert_eq!((map.frames.len(), map.height()), (3, 9));
+        assert_eq!((map.frames.len(), map.height(), map.width), (3, 9, 12));
         assert!(
             map.frames.iter().flatten().all(|c| *c >= 0.0)
                 && map.frames[0].iter().sum::<f64>() > 0.0
         );
     }
+    // The tuning orbit goes apart: replaying the folder judges on slow and fast only.
+    assert!(costs.join("tune").join("orbit.csv").is_file());
     let o = platoon(&[
         "balance-bench",
         "--costs",
@@ -404,9 +409,29 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
         d,
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        table.contains("3-fast") && !table.contains("orbit"),
+        "{table}"
+    );
+    // A folder whose CSV is no cost map is refused, naming the file.
     let o = platoon(&["balance-bench", "--costs", d, "--out", d]);
     assert!(
-        !o.status.success() && stderr(&o).contains("slow.csv"),
+        !o.status.success() && stderr(&o).contains("balance.csv"),
+        "{}",
+        stderr(&o)
+    );
+    let empty = dir.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let o = platoon(&[
+        "balance-bench",
+        "--costs",
+        empty.to_str().unwrap(),
+        "--out",
+        d,
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("no cost maps"),
         "{}",
         stderr(&o)
     );

@@ -88,6 +88,14 @@ fn still_frames_of_the_driver_are_bit_for_bit_one_offline_render() {
     assert_eq!(stats.last().unwrap().film_samples, Some(k * s));
     let weights: Vec<f32> = stats.iter().map(|s| s.weight).collect();
     assert_eq!(weights[k as usize - 1], 1.0 / k as f32);
+    // The frame's cost map: every traced ray in some line; no per-line seconds from two
+    // devices, whose times are not in one unit.
+    for st in &stats {
+        let rays: u64 = st.tracers.iter().map(|t| t.rays).sum();
+        assert_eq!(st.line_rays.iter().sum::<u64>(), rays);
+        assert_eq!(st.line_rays.len(), H as usize);
+        assert!(st.line_seconds().is_none());
+    }
 
     let mut renderer = Renderer::new(offline, by_name("none").unwrap());
     let reference = renderer
@@ -128,6 +136,14 @@ fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
             }
         },
     );
+    // One tracer: its band's time spread over the lines by their rays (what
+    // `bench --game --record-costs` writes for balance-bench).
+    let seconds = stats[3]
+        .line_seconds()
+        .expect("one tracer rendered the frame");
+    assert_eq!(seconds.len(), H as usize);
+    let band = stats[3].tracers[0].wall_time.as_secs_f64();
+    assert!((seconds.iter().sum::<f64>() - band).abs() < 1e-9 * band.max(1.0));
     let joins: Vec<Join> = stats.iter().map(|s| s.plan.join).collect();
     assert_eq!(joins[0], Join::Restart);
     assert!(

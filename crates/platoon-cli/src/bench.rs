@@ -392,6 +392,10 @@ pub struct DynamicArgs {
     /// Print one JSON object after the text.
     #[arg(long)]
     pub json: bool,
+    /// --game: instead of the bench, record the game's per-line cost maps (game.csv, and
+    /// tune/game.csv for choosing constants) into this folder, for `balance-bench --costs`.
+    #[arg(long, requires = "game")]
+    pub record_costs: Option<std::path::PathBuf>,
     /// Folder for dynamic.csv and dynamic.png (--game: game.csv).
     #[arg(long, default_value = ".")]
     pub out: std::path::PathBuf,

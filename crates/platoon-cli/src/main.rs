@@ -5,6 +5,7 @@ mod balance_bench;
 mod bench;
 mod devices;
 mod game_bench;
+mod game_costs;
 mod info;
 mod render;
 mod scene_args;
@@ -78,7 +79,9 @@ fn run(cli: Cli) -> Result<()> {
             repeat,
             dynamic,
         } => {
-            if dynamic.game {
+            if let Some(dir) = &dynamic.record_costs {
+                game_costs::record(&dynamic.character, dir).context("recording game costs failed")
+            } else if dynamic.game {
                 game_bench::run(&game_bench::Options {
                     frames: dynamic.frames,
                     target_ms: dynamic.target_ms,

@@ -36,6 +36,8 @@ pub struct FrameRecord {
     pub waited_render_ms: f64,
     pub waited_update_ms: f64,
     pub highlighted: Option<usize>,
+    /// Seconds each line took (one tracer only; empty with several): a cost map's frame.
+    pub line_seconds: Vec<f64>,
 }
 
 pub struct PlayOptions {
@@ -140,6 +142,7 @@ fn record(done: &FinishedFrame) -> FrameRecord {
         update_ms: ms(s.update.total),
         commit_bytes: s.commit_bytes,
         idle_percent: 100.0 * s.idle_fraction,
+        line_seconds: s.line_seconds().unwrap_or_default(),
         ..Default::default()
     }
 }

@@ -2,7 +2,9 @@
 //! (a sky above a field of spheres on a ground plane, so line costs differ strongly) for N
 //! frames, slow and fast, with 2 and 3 tracers, under every balancer; cells are mean idle %.
 //! `--mode replay` replays recorded per-line cost maps against stated device speeds
-//! (deterministic); `--mode real` renders on lavapipe tracers of different thread counts.
+//! (deterministic): the two orbits and the game's frames (platoon-game: bodies falling,
+//! characters walking, a scripted camera), one column per map; `--mode real` renders the orbits
+//! on lavapipe tracers of different thread counts.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -19,9 +21,13 @@ use platoon_tracer::Sampling;
 use crate::devices::{create_tracers, DeviceSpec};
 use crate::{prepare, EnvChoice, PrepareOptions, Prepared};
 
-/// Recorded cost maps shipped with platoon (`--record-costs` makes new ones).
-const SHIPPED_SLOW: &str = include_str!("../../../scenes/costs/slow.csv");
-const SHIPPED_FAST: &str = include_str!("../../../scenes/costs/fast.csv");
+/// Recorded cost maps shipped with platoon (`--record-costs` makes new orbit ones,
+/// `platoon bench --game --record-costs` new game ones), in column order.
+const SHIPPED: [(&str, &str); 3] = [
+    ("slow", include_str!("../../../scenes/costs/slow.csv")),
+    ("fast", include_str!("../../../scenes/costs/fast.csv")),
+    ("game", include_str!("../../../scenes/costs/game.csv")),
+];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Mode {
@@ -31,10 +37,16 @@ pub enum Mode {
     Real,
 }
 
+/// A camera orbiting the sphere field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CameraSpeed {
+    /// 1 degree a frame.
     Slow,
+    /// 8 degrees a frame.
     Fast,
+    /// 4 degrees a frame from the far side: the orbit cost-aware's constants are chosen on,
+    /// never a column of the table.
+    Tune,
 }
 
 impl CameraSpeed {
@@ -42,13 +54,15 @@ impl CameraSpeed {
         match self {
             CameraSpeed::Slow => "slow",
             CameraSpeed::Fast => "fast",
+            CameraSpeed::Tune => "orbit",
         }
     }
-    /// Orbit step per frame.
-    fn step_degrees(self) -> f32 {
+    /// Orbit step per frame and starting angle.
+    fn degrees(self) -> (f32, f32) {
         match self {
-            CameraSpeed::Slow => 1.0,
-            CameraSpeed::Fast => 8.0,
+            CameraSpeed::Slow => (1.0, 0.0),
+            CameraSpeed::Fast => (8.0, 0.0),
+            CameraSpeed::Tune => (4.0, 180.0),
         }
     }
 }
@@ -78,10 +92,13 @@ pub struct Options {
     /// Real: the tracers of the 3-device columns.
     #[arg(long, default_value = "lavapipe:2,1,1")]
     pub devices3: DeviceSpec,
-    /// Replay cost maps from this folder (slow.csv, fast.csv) instead of the shipped ones.
+    /// Replay every cost map (*.csv) of this folder, one column each, instead of the shipped
+    /// ones (scenes/costs: slow, fast, game; scenes/costs/tune: the maps cost-aware's
+    /// constants were chosen on).
     #[arg(long)]
     pub costs: Option<PathBuf>,
-    /// Record cost maps of real renders into this folder first (and replay those).
+    /// Record the orbits' cost maps (slow.csv, fast.csv, and the tuning orbit.csv) of real
+    /// renders into this folder first (and replay those).
     #[arg(long)]
     pub record_costs: Option<PathBuf>,
     /// Folder for balance.csv and balance.png.
@@ -123,7 +140,8 @@ impl Options {
 pub struct Cell {
     pub balancer: &'static str,
     pub devices: usize,
-    pub camera: CameraSpeed,
+    /// The camera path: a cost map's name in replay, the orbit in real mode.
+    pub camera: String,
     pub idle_pct: f64,
     pub per_frame: Vec<f64>,
 }
@@ -149,7 +167,8 @@ pub fn outdoor_scene() -> Result<Prepared> {
 /// The orbiting camera of frame `f`: around the field, bobbing up and down so that the horizon
 /// (and with it the cost of every line) moves.
 pub fn orbit_camera(frame: u32, speed: CameraSpeed) -> Camera {
-    let a = (frame as f32 * speed.step_degrees()).to_radians();
+    let (step, start) = speed.degrees();
+    let a = (start + frame as f32 * step).to_radians();
     let eye = Vec3::new(13.0 * a.cos(), 3.0 + 2.0 * (2.0 * a).sin(), 13.0 * a.sin());
     Camera::look_at(eye, Vec3::new(0.0, 0.8, 0.0), 50f32.to_radians())
 }
@@ -191,20 +210,42 @@ pub fn record(
     })
 }
 
-fn cost_maps(o: &Options) -> Result<[(CameraSpeed, CostMap); 2]> {
-    let load = |speed: CameraSpeed, shipped: &str| -> Result<CostMap> {
-        Ok(match &o.costs {
-            Some(dir) => CostMap::load(&dir.join(format!("{}.csv", speed.name())))?,
-            None => CostMap::parse(
-                shipped,
-                Path::new(&format!("scenes/costs/{}.csv (shipped)", speed.name())),
-            )?,
-        })
+/// The replayed maps, named: the shipped ones, or every *.csv of `--costs` (or of
+/// `--record-costs`; the shipped names first, in their order, then the others by name).
+pub fn cost_maps(o: &Options) -> Result<Vec<(String, CostMap)>> {
+    // Maps just recorded are the ones replayed.
+    let Some(dir) = o.costs.as_ref().or(o.record_costs.as_ref()) else {
+        return SHIPPED
+            .iter()
+            .map(|(name, text)| {
+                let origin = format!("scenes/costs/{name}.csv (shipped)");
+                Ok((name.to_string(), CostMap::parse(text, Path::new(&origin))?))
+            })
+            .collect();
     };
-    Ok([
-        (CameraSpeed::Slow, load(CameraSpeed::Slow, SHIPPED_SLOW)?),
-        (CameraSpeed::Fast, load(CameraSpeed::Fast, SHIPPED_FAST)?),
-    ])
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .with_context(|| format!("{}: cannot read the cost-map folder", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+        .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .collect();
+    let rank = |n: &String| {
+        SHIPPED
+            .iter()
+            .position(|(s, _)| s == n)
+            .unwrap_or(SHIPPED.len())
+    };
+    names.sort_by(|a, b| rank(a).cmp(&rank(b)).then(a.cmp(b)));
+    if names.is_empty() {
+        bail!("{}: no cost maps (*.csv) in this folder", dir.display());
+    }
+    names
+        .into_iter()
+        .map(|n| {
+            let map = CostMap::load(&dir.join(format!("{n}.csv")))?;
+            Ok((n, map))
+        })
+        .collect()
 }
 
 fn mean(v: &[f64]) -> f64 {
@@ -216,30 +257,33 @@ pub fn run(o: &Options) -> Result<Vec<Cell>> {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create folder", dir.display()))?;
         let scene = outdoor_scene()?;
-        for speed in [CameraSpeed::Slow, CameraSpeed::Fast] {
+        for speed in [CameraSpeed::Slow, CameraSpeed::Fast, CameraSpeed::Tune] {
             let map = record(o, &scene, speed, &DeviceSpec::Lavapipe(vec![1]))?;
+            let (step, start) = speed.degrees();
             let comment = format!(
-                "{} camera, {} frames, {}x{} at {} spp, one lavapipe thread",
+                "{} camera ({step} degrees a frame from {start}), {} frames, {}x{} at {} spp, \
+                 one lavapipe thread",
                 speed.name(),
                 o.frames,
                 o.width,
                 o.height,
                 o.spp
             );
-            let path = dir.join(format!("{}.csv", speed.name()));
+            // The tuning map goes apart, so that replaying the folder judges on the others.
+            let folder = match speed {
+                CameraSpeed::Tune => dir.join("tune"),
+                _ => dir.clone(),
+            };
+            std::fs::create_dir_all(&folder)
+                .with_context(|| format!("{}: cannot create folder", folder.display()))?;
+            let path = folder.join(format!("{}.csv", speed.name()));
             platoon_core::output::write_text(&path, &map.to_text(&comment))?;
         }
     }
     let mut cells = Vec::new();
     match o.mode {
         Mode::Replay => {
-            let maps = match &o.record_costs {
-                Some(dir) => cost_maps(&Options {
-                    costs: Some(dir.clone()),
-                    ..o.clone()
-                })?,
-                None => cost_maps(o)?,
-            };
+            let maps = cost_maps(o)?;
             for speeds in [&o.speeds2, &o.speeds3] {
                 for (camera, map) in &maps {
                     let map = map.take(o.frames as usize);
@@ -248,7 +292,7 @@ pub fn run(o: &Options) -> Result<Vec<Cell>> {
                         cells.push(Cell {
                             balancer: name,
                             devices: speeds.len(),
-                            camera: *camera,
+                            camera: camera.clone(),
                             idle_pct: 100.0 * mean(&per_frame),
                             per_frame,
                         });
@@ -276,7 +320,7 @@ pub fn run(o: &Options) -> Result<Vec<Cell>> {
                         cells.push(Cell {
                             balancer: name,
                             devices,
-                            camera,
+                            camera: camera.name().to_string(),
                             idle_pct: 100.0 * mean(&per_frame),
                             per_frame,
                         });
@@ -300,30 +344,39 @@ pub fn cell<'a>(
     cells: &'a [Cell],
     balancer: &str,
     devices: usize,
-    camera: CameraSpeed,
+    camera: &str,
 ) -> Option<&'a Cell> {
     cells
         .iter()
         .find(|c| c.balancer == balancer && c.devices == devices && c.camera == camera)
 }
 
+/// The table's columns, (devices, camera path), in the order the cells came.
+pub fn columns(cells: &[Cell]) -> Vec<(usize, String)> {
+    let mut columns: Vec<(usize, String)> = Vec::new();
+    for c in cells {
+        if !columns
+            .iter()
+            .any(|(d, n)| *d == c.devices && *n == c.camera)
+        {
+            columns.push((c.devices, c.camera.clone()));
+        }
+    }
+    columns
+}
+
 /// The table in Brigade's Table 16 shape.
 pub fn table(cells: &[Cell]) -> String {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "{:<16} {:>9} {:>9} {:>9} {:>9}",
-        "idle %", "2-slow", "2-fast", "3-slow", "3-fast"
-    );
+    let columns = columns(cells);
+    let mut s = format!("{:<16}", "idle %");
+    for (d, c) in &columns {
+        let _ = write!(s, " {:>9}", format!("{d}-{c}"));
+    }
+    s.push('\n');
     for name in NAMES {
         let _ = write!(s, "{name:<16}");
-        for (d, c) in [
-            (2, CameraSpeed::Slow),
-            (2, CameraSpeed::Fast),
-            (3, CameraSpeed::Slow),
-            (3, CameraSpeed::Fast),
-        ] {
-            match cell(cells, name, d, c) {
+        for (d, c) in &columns {
+            match cell(cells, name, *d, c) {
                 Some(x) => {
                     let _ = write!(s, " {:>9.2}", x.idle_pct);
                 }
@@ -343,10 +396,7 @@ pub fn json(cells: &[Cell]) -> String {
         .map(|c| {
             format!(
                 r#"{{"balancer":"{}","devices":{},"camera":"{}","idle_pct":{:.4}}}"#,
-                c.balancer,
-                c.devices,
-                c.camera.name(),
-                c.idle_pct
+                c.balancer, c.devices, c.camera, c.idle_pct
             )
         })
         .collect();
@@ -362,7 +412,7 @@ pub fn csv(cells: &[Cell]) -> String {
                 "{},{},{},{},{:.4}",
                 c.balancer,
                 c.devices,
-                c.camera.name(),
+                c.camera,
                 f,
                 100.0 * i
             );
@@ -474,7 +524,7 @@ pub fn replay_scaling_row(o: &Options) -> Result<String> {
             let _ = write!(
                 s,
                 " {n}-{} {:.1}%",
-                camera.name(),
+                camera,
                 100.0 * replay_efficiency(&map.take(o.frames as usize), n, "cost-aware")
             );
         }

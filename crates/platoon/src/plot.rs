@@ -8,7 +8,7 @@ use anyhow::{anyhow, Result};
 use platoon_core::balance::NAMES;
 use plotters::prelude::*;
 
-use crate::balance_bench::{cell, CameraSpeed, Cell};
+use crate::balance_bench::{cell, columns, Cell};
 
 const FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
@@ -129,25 +129,26 @@ fn write_through_temp(
 
 /// The balance-bench plot: one panel per table column, one line per balancer.
 pub fn write_png(path: &Path, cells: &[Cell], title: &str) -> Result<()> {
-    write_through_temp(path, (1200, 800), title, |root, text| {
-        let panels = root.split_evenly((2, 2));
-        let columns = [
-            (2, CameraSpeed::Slow),
-            (2, CameraSpeed::Fast),
-            (3, CameraSpeed::Slow),
-            (3, CameraSpeed::Fast),
-        ];
+    write_through_temp(path, (1500, 800), title, |root, text| {
+        let columns = columns(cells);
+        // One row per device count.
+        let per_row = columns
+            .iter()
+            .filter(|(d, _)| *d == columns[0].0)
+            .count()
+            .max(1);
+        let panels = root.split_evenly((columns.len().div_ceil(per_row), per_row));
         for (area, (devices, camera)) in panels.iter().zip(columns) {
             let series: Vec<Series> = NAMES
                 .iter()
-                .filter_map(|n| cell(cells, n, devices, camera).map(|c| (*n, c)))
+                .filter_map(|n| cell(cells, n, devices, &camera).map(|c| (*n, c)))
                 .map(|(name, c)| {
                     let points = c.per_frame.iter().enumerate();
                     let points = points.map(|(f, v)| (f, 100.0 * v)).collect();
                     (format!("{name} ({:.1}%)", c.idle_pct), points)
                 })
                 .collect();
-            let caption = format!("{devices} devices, {} camera", camera.name());
+            let caption = format!("{devices} devices, {camera} camera");
             draw_lines(area, &caption, "idle %", &series, 0, text)?;
         }
         Ok(())

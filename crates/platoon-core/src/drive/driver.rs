@@ -86,10 +86,31 @@ pub struct FrameStats {
     pub update: UpdateTimes,
     pub idle_fraction: f64,
     pub tracers: Vec<TracerStats>,
+    /// Rays traced in each line: the frame's cost map as the balancer saw it.
+    pub line_rays: Vec<u64>,
     pub failures: Vec<TracerFailure>,
     pub rejected_samples: u64,
     /// Every warning and error the devices have reported so far (validation layer).
     pub device_messages: Vec<String>,
+}
+
+impl FrameStats {
+    /// Seconds each line took, when one tracer rendered the whole frame: its band's time spread
+    /// over the lines in proportion to their rays (what `balance-bench` replays). None with
+    /// several tracers, whose times are in different devices' units.
+    pub fn line_seconds(&self) -> Option<Vec<f64>> {
+        let [tracer] = self.tracers.as_slice() else {
+            return None;
+        };
+        let rays = self.line_rays.iter().sum::<u64>().max(1) as f64;
+        let seconds = tracer.wall_time.as_secs_f64();
+        Some(
+            self.line_rays
+                .iter()
+                .map(|&r| r as f64 / rays * seconds)
+                .collect(),
+        )
+    }
 }
 
 pub struct FinishedFrame {
@@ -384,6 +405,7 @@ fn render_one<T: BandTracer + Send + 'static>(
             update,
             idle_fraction: rendered.idle_fraction,
             tracers: rendered.tracers,
+            line_rays: rendered.line_rays,
             failures,
             rejected_samples: rendered.rejected_samples,
             device_messages: renderer.with_tracers(|t| t.messages()).concat(),
