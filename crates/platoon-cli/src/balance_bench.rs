@@ -19,6 +19,8 @@ pub fn run(options: platoon::balance_bench::Options, json: bool) -> Result<()> {
     if options.mode == Mode::Replay {
         table.push_str(&bb::interleaved_row(&options)?);
         table.push('\n');
+        table.push_str(&bb::hindsight_row(&options)?);
+        table.push_str("   (not a balancer: told the next frame's costs)\n");
         table.push_str(&bb::replay_scaling_row(&options)?);
         table.push('\n');
     } else {

@@ -454,6 +454,68 @@ pub fn interleaved_row(o: &Options) -> Result<String> {
     Ok(s)
 }
 
+/// Mean idle % of a split that is told, for each frame, the mean of the costs of the frames
+/// before and after it (and the true device speeds), cut to the pixel; the first frame is the
+/// equal split every balancer starts from. Not a balancer (it sees the next frame): it shows
+/// how much of the idle is the frame-to-frame noise of the line costs that nothing before the
+/// frame can predict.
+pub fn hindsight_idle(map: &CostMap, speeds: &[f64]) -> f64 {
+    use platoon_core::balance::span_cost;
+    use platoon_core::balance::{fractional_cuts, idle_fraction, line_bands, proportional};
+    use platoon_core::frame::Span;
+    let (width, height, n) = (map.width, map.height() as u32, speeds.len());
+    let frames = &map.frames;
+    let per_frame: Vec<f64> = (0..frames.len())
+        .map(|k| {
+            let spans = if k == 0 || height < n as u32 {
+                line_bands(width, &proportional(height, &vec![1.0; n]))
+            } else {
+                let after = frames.get(k + 1).unwrap_or(&frames[k - 1]);
+                let guess: Vec<f64> = frames[k - 1]
+                    .iter()
+                    .zip(after)
+                    .map(|(a, b)| 0.5 * (a + b))
+                    .collect();
+                let mut spans = Vec::with_capacity(n);
+                let mut start = 0i64;
+                let pixels = (width * height) as i64;
+                for (i, cut) in fractional_cuts(&guess, speeds).iter().enumerate() {
+                    let lo = start + width as i64;
+                    let hi = pixels - (n - 1 - i) as i64 * width as i64;
+                    let end = ((cut * width as f64).round() as i64).clamp(lo, hi);
+                    spans.push(Span::new(start as u32, end as u32));
+                    start = end;
+                }
+                spans.push(Span::new(start as u32, pixels as u32));
+                spans
+            };
+            let times: Vec<f64> = spans
+                .iter()
+                .zip(speeds)
+                .map(|(&s, v)| span_cost(&frames[k], width, s) / v)
+                .collect();
+            idle_fraction(&times)
+        })
+        .collect();
+    100.0 * mean(&per_frame)
+}
+
+/// The hindsight split's idle % in the table's columns.
+pub fn hindsight_row(o: &Options) -> Result<String> {
+    let maps = cost_maps(o)?;
+    let mut s = format!("{:<16}", "hindsight");
+    for speeds in [&o.speeds2, &o.speeds3] {
+        for (_, map) in &maps {
+            let _ = write!(
+                s,
+                " {:>9.2}",
+                hindsight_idle(&map.take(o.frames as usize), speeds)
+            );
+        }
+    }
+    Ok(s)
+}
+
 /// Time to render the outdoor frame on one tracer as one contiguous band and as `stride`
 /// interleaved passes (same pixels, same work): the cost of lost line coherence.
 pub fn coherence(o: &Options, spec: &DeviceSpec, stride: u32, repeat: u32) -> Result<(f64, f64)> {

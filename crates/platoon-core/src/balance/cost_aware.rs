@@ -38,7 +38,7 @@ pub struct CostAware {
 
 /// Fractional line positions of the n - 1 cuts that give tracer i a share of the total cost
 /// proportional to its speed (linear within a line).
-fn fractional_cuts(cost: &[f64], speed: &[f64]) -> Vec<f64> {
+pub fn fractional_cuts(cost: &[f64], speed: &[f64]) -> Vec<f64> {
     let total: f64 = cost.iter().sum();
     let speed_total: f64 = speed.iter().sum();
     let mut cuts = Vec::with_capacity(speed.len().saturating_sub(1));
