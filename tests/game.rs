@@ -152,12 +152,15 @@ fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
     );
     assert_eq!(joins[6], Join::Restart, "{joins:?}");
     assert_eq!(stats[6].weight, 1.0);
+    // Whatever moved changed the lines' costs: the balancer cuts those frames anew.
+    assert!(stats[0].plan.rebalance && stats[1].plan.rebalance && stats[6].plan.rebalance);
     assert_eq!(stats[6].plan.first_sample, 0);
     assert_eq!(joins[7..10], [Join::Sum, Join::Sum, Join::Sum], "{joins:?}");
     for s in &stats[10..] {
         assert!(matches!(s.plan.join, Join::Blend { .. }), "{joins:?}");
         assert!(s.weight >= 0.25, "frame {}: f = {}", s.frame, s.weight);
         assert!(s.commit_bytes > 0);
+        assert!(s.plan.rebalance, "frame {}: objects moved", s.frame);
     }
     assert_eq!(film.count_non_finite(), 0);
 }

@@ -27,6 +27,8 @@ pub struct FrameRecord {
     pub spp: u32,
     pub join: &'static str,
     pub f: f32,
+    /// The balancer cut this frame anew.
+    pub rebalance: bool,
     /// The updater's whole time for the generation this frame rendered.
     pub update_ms: f64,
     pub commit_bytes: u64,
@@ -139,6 +141,7 @@ fn record(done: &FinishedFrame) -> FrameRecord {
             Join::Blend { .. } => "blend",
         },
         f: s.weight,
+        rebalance: s.plan.rebalance,
         update_ms: ms(s.update.total),
         commit_bytes: s.commit_bytes,
         idle_percent: 100.0 * s.idle_fraction,
@@ -158,6 +161,7 @@ pub fn write_csv(path: &Path, records: &[FrameRecord]) -> Result<()> {
         "spp",
         "join",
         "f",
+        "rebalance",
         "update_ms",
         "commit_bytes",
         "idle_percent",
@@ -176,6 +180,7 @@ pub fn write_csv(path: &Path, records: &[FrameRecord]) -> Result<()> {
             r.spp.to_string(),
             r.join.to_string(),
             format!("{:.4}", r.f),
+            u8::from(r.rebalance).to_string(),
             format!("{:.3}", r.update_ms),
             r.commit_bytes.to_string(),
             format!("{:.2}", r.idle_percent),

@@ -276,7 +276,8 @@ impl FrameDriver {
             scene: generation.as_ref().is_some_and(|g| !g.commit.is_empty()),
         };
         self.last_camera = Some(camera);
-        let plan = self.planner.plan(motion, self.spp());
+        let last_idle = finished.as_ref().map(|f| f.stats.idle_fraction);
+        let plan = self.planner.plan(motion, self.spp(), last_idle);
         if plan.join == Join::Restart {
             self.epoch = self.frame;
         }
@@ -386,7 +387,9 @@ fn render_one<T: BandTracer + Send + 'static>(
     };
     let commit_time = start.elapsed();
     params.accumulated = film.continued(plan.join);
-    let rendered = renderer.render_frame(&params).map_err(failed)?;
+    let rendered = renderer
+        .render_frame_planned(&params, plan.rebalance)
+        .map_err(failed)?;
     let render = start.elapsed() - commit_time;
     film.join(plan.join, rendered.sums, plan.spp);
     failures.extend(rendered.failures);

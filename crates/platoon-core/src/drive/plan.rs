@@ -1,6 +1,13 @@
 //! The plan of each game frame, decided in one place (issue 9, after Cycles' session and
-//! Bikker's chapter 7): how many samples, where their indices start, and how the new samples
-//! join the film. The frame driver carries the plan out; nothing else decides these.
+//! Bikker's chapter 7): how many samples, where their indices start, how the new samples join
+//! the film, and whether the balancer cuts the frame anew. The frame driver carries the plan
+//! out; nothing else decides these.
+//!
+//! Rebalancing (as Cycles' scheduler rebalances only when the devices' times drift apart): after
+//! anything moved the lines' costs have changed, so the balancer cuts anew; while nothing moves
+//! the last cut stays as long as the devices idled at most `REBALANCE_IDLE` in the last frame,
+//! and at most `REBALANCE_EVERY` frames, so that a converging view does not chase the noise of
+//! its timings (the balancer still learns from every frame).
 //!
 //! Joining (Bikker 7.3.5) is `C = C_prev (1 - f) + C_new f`:
 //! - camera moved: the film restarts (f = 1), the sample indices from 0;
@@ -57,7 +64,14 @@ pub struct FramePlan {
     pub join: Join,
     /// Frames in the film including this one (k of f = 1/k).
     pub frames_joined: u32,
+    /// The balancer cuts this frame anew (false: the previous frame's bands again).
+    pub rebalance: bool,
 }
+
+/// Idle share of the last frame above which a still view is cut anew.
+pub const REBALANCE_IDLE: f64 = 0.02;
+/// A still view is cut anew at least every this many frames (devices drift: clocks, load).
+pub const REBALANCE_EVERY: u32 = 16;
 
 /// Decides each frame's join from what moved.
 #[derive(Clone, Debug)]
@@ -68,6 +82,8 @@ pub struct Planner {
     next_sample: u32,
     /// The film holds a blended mean since the last restart.
     blended: bool,
+    /// Frames since the balancer last cut anew.
+    since_rebalance: u32,
 }
 
 impl Planner {
@@ -83,11 +99,23 @@ impl Planner {
             frames_joined: 0,
             next_sample: 0,
             blended: false,
+            since_rebalance: 0,
         }
     }
 
-    /// The plan of the next frame of `spp` samples after `motion`.
-    pub fn plan(&mut self, motion: Motion, spp: u32) -> FramePlan {
+    /// The plan of the next frame of `spp` samples after `motion`; `last_idle` is the idle
+    /// share of the frame before (None when there was none).
+    pub fn plan(&mut self, motion: Motion, spp: u32, last_idle: Option<f64>) -> FramePlan {
+        let rebalance = motion.camera
+            || motion.scene
+            || self.frames_joined == 0
+            || self.since_rebalance + 1 >= REBALANCE_EVERY
+            || last_idle.is_none_or(|i| i.is_nan() || i > REBALANCE_IDLE);
+        self.since_rebalance = if rebalance {
+            0
+        } else {
+            self.since_rebalance + 1
+        };
         let join = if motion.camera || self.frames_joined == 0 {
             self.frames_joined = 0;
             self.next_sample = 0;
@@ -110,6 +138,7 @@ impl Planner {
             first_sample: self.next_sample,
             join,
             frames_joined: self.frames_joined,
+            rebalance,
         };
         self.next_sample = self.next_sample.wrapping_add(spp);
         plan
@@ -191,7 +220,7 @@ mod tests {
     #[test]
     fn a_still_view_sums_and_continues_the_sample_indices() {
         let mut p = Planner::new(0.2);
-        let plans: Vec<FramePlan> = (0..4).map(|_| p.plan(STILL, 8)).collect();
+        let plans: Vec<FramePlan> = (0..4).map(|_| p.plan(STILL, 8, None)).collect();
         assert_eq!(plans[0].join, Join::Restart);
         for (k, plan) in plans.iter().enumerate().skip(1) {
             assert_eq!(plan.join, Join::Sum);
@@ -201,10 +230,42 @@ mod tests {
     }
 
     #[test]
+    fn a_still_balanced_view_keeps_its_cut_and_motion_or_imbalance_cuts_anew() {
+        let mut p = Planner::new(0.2);
+        let balanced = Some(0.005);
+        assert!(p.plan(STILL, 4, None).rebalance, "the first frame");
+        let still: Vec<bool> = (0..20)
+            .map(|_| p.plan(STILL, 4, balanced).rebalance)
+            .collect();
+        // Kept, but cut anew every REBALANCE_EVERY frames.
+        let anew: Vec<usize> = (0..20).filter(|&k| still[k]).collect();
+        assert_eq!(anew, vec![REBALANCE_EVERY as usize - 1]);
+        assert!(
+            p.plan(STILL, 4, Some(0.05)).rebalance,
+            "idle above the threshold"
+        );
+        assert!(!p.plan(STILL, 4, balanced).rebalance);
+        assert!(
+            p.plan(STILL, 4, Some(f64::NAN)).rebalance,
+            "an unknown idle"
+        );
+        let objects = Motion {
+            camera: false,
+            scene: true,
+        };
+        assert!(p.plan(objects, 4, balanced).rebalance, "objects moved");
+        let camera = Motion {
+            camera: true,
+            scene: false,
+        };
+        assert!(p.plan(camera, 4, balanced).rebalance, "the camera moved");
+    }
+
+    #[test]
     fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
         let mut p = Planner::new(0.2);
         for _ in 0..10 {
-            p.plan(STILL, 4);
+            p.plan(STILL, 4, None);
         }
         let moved = p.plan(
             Motion {
@@ -212,6 +273,7 @@ mod tests {
                 scene: false,
             },
             4,
+            None,
         );
         assert_eq!((moved.join, moved.first_sample), (Join::Restart, 0));
         let objects = Motion {
@@ -220,7 +282,7 @@ mod tests {
         };
         let weights: Vec<f32> = (0..12)
             .map(|_| {
-                let plan = p.plan(objects, 4);
+                let plan = p.plan(objects, 4, None);
                 plan.join.weight(plan.frames_joined)
             })
             .collect();
@@ -228,7 +290,7 @@ mod tests {
         assert!(weights.iter().all(|&f| f >= 0.2), "{weights:?}");
         assert_eq!(*weights.last().unwrap(), 0.2);
         // Objects stop: the blended film goes on converging as 1/k, never back to sums.
-        let still = p.plan(STILL, 4);
+        let still = p.plan(STILL, 4, None);
         assert_eq!(still.join, Join::Blend { f: 1.0 / 14.0 });
         assert_eq!(still.first_sample, 4 * 13);
     }

@@ -62,6 +62,8 @@ pub struct Renderer<T: BandTracer + Send + 'static> {
     tracers: Vec<(usize, Worker<T>)>,
     balancer: Box<dyn Balancer>,
     failures: Vec<TracerFailure>,
+    /// The bands of the last frame, for a frame that keeps them.
+    last_bands: Vec<Span>,
 }
 
 type Outcome = (usize, Span, Result<Band, TracerError>);
@@ -105,6 +107,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                 .collect(),
             balancer,
             failures: Vec::new(),
+            last_bands: Vec::new(),
         }
     }
 
@@ -187,14 +190,32 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
     }
 
     pub fn render_frame(&mut self, params: &FrameParams) -> Result<FrameResult, RenderError> {
+        self.render_frame_planned(params, true)
+    }
+
+    /// Renders a frame, cut anew by the balancer when `rebalance`, else in the last frame's
+    /// bands (when they still fit: same frame size, same tracers). The balancer learns from the
+    /// frame either way.
+    pub fn render_frame_planned(
+        &mut self,
+        params: &FrameParams,
+        rebalance: bool,
+    ) -> Result<FrameResult, RenderError> {
         let start = Instant::now();
         let params = &Arc::new(params.clone());
         if self.tracers.is_empty() {
             return Err(RenderError::NoTracers("every tracer has failed".into()));
         }
-        let planned = self
-            .balancer
-            .plan(params.width, params.height, self.tracers.len());
+        let pixels = params.width * params.height;
+        let fits = self.last_bands.len() == self.tracers.len()
+            && self.last_bands.last().is_some_and(|b| b.end == pixels);
+        let planned = if rebalance || !fits {
+            self.balancer
+                .plan(params.width, params.height, self.tracers.len())
+        } else {
+            self.last_bands.clone()
+        };
+        self.last_bands = planned.clone();
         let mut stats: Vec<TracerStats> = self
             .tracers
             .iter()
@@ -454,6 +475,25 @@ mod tests {
                 assert!(f.idle_fraction >= 0.0 && f.idle_fraction < 1.0);
             }
         }
+    }
+
+    #[test]
+    fn a_frame_that_does_not_rebalance_keeps_the_last_bands() {
+        let fakes = vec![Fake { slowness: 1 }, Fake { slowness: 3 }];
+        let mut r = Renderer::new(fakes, by_name("perfect").unwrap());
+        let bands = |f: &FrameResult| f.tracers.iter().map(|t| t.span).collect::<Vec<_>>();
+        let first = r.render_frame(&params(0)).unwrap();
+        // Perfect moves the cut after the first frame (the tracers' speeds differ 3 to 1)...
+        let kept = r.render_frame_planned(&params(1), false).unwrap();
+        assert_eq!(bands(&kept), bands(&first));
+        let moved = r.render_frame_planned(&params(2), true).unwrap();
+        assert_ne!(bands(&moved), bands(&first));
+        // ...and a kept cut is still the whole frame, the same image.
+        let reference = Renderer::new(vec![Fake { slowness: 1 }], by_name("none").unwrap())
+            .render_frame(&params(1))
+            .unwrap()
+            .film;
+        assert_eq!(kept.film, reference);
     }
 
     #[test]
