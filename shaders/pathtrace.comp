@@ -133,7 +133,7 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     p.bsdf_pdf = bs.pdf;
     if (!any(greaterThan(p.throughput, vec3(0.0)))) return false;
     if (p.depth >= rr_depth) {
-        float survive = min(max3(p.throughput), 0.95);
+        float survive = min(max3(p.throughput) * pc.rr_survival, 0.95);
         if (rng_next(rng) >= survive) return false;
         p.throughput /= survive;
     }

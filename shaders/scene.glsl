@@ -73,7 +73,8 @@ layout(push_constant) uniform Push {
     uint sample_end;
     // Lines y0, y0 + stride, y0 + 2 * stride, ... below y1 (1: a contiguous band).
     uint stride;
-    uint pad;
+    // Russian-roulette survival scale in (0, 1] (FrameParams::rr_survival).
+    float rr_survival;
 } pc;
 
 #include "scene_arrays.glsl"

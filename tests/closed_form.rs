@@ -53,6 +53,51 @@ fn white_lambertian_furnace_gives_the_sky_everywhere() {
 }
 
 #[test]
+fn russian_roulette_scaled_down_stays_unbiased_and_traces_fewer_rays() {
+    // In the white furnace every path's throughput stays 1: with roulette from the first
+    // vertex on (a convex sphere's paths are short), scaling its survival by 0.3 ends paths
+    // sooner and weights the survivors up by 1 / 0.3.
+    let prepared = prepare(
+        sphere_scene(lambertian("white", Vec3::ONE)),
+        constant_env(L),
+    );
+    let (w, h) = (32, 32);
+    let mut tracer = tracer(&prepared, Sampling::Mis);
+    let mut render = |survival: f32| {
+        let mut params = FrameParams::new(w, h, 64, prepared.camera);
+        params.rr_survival = survival;
+        params.rr_depth = 0;
+        let r = platoon::render_bands(
+            &mut tracer,
+            &params,
+            &[platoon::whole_frame(&params)],
+            &mut |_| {},
+        )
+        .unwrap();
+        assert_eq!(r.rejected_samples(), 0);
+        (r.film.clone(), r.rays())
+    };
+    let (full, full_rays) = render(1.0);
+    let (scaled, scaled_rays) = render(0.3);
+    assert!(
+        (scaled_rays as f64) < 0.9 * full_rays as f64,
+        "rays {scaled_rays} at 0.3 vs {full_rays} at 1"
+    );
+    let inside = sphere_pixels(w, h, 0.9);
+    for film in [&full, &scaled] {
+        let (m, se) = mean_and_stderr(inside.iter().map(|&i| luminance(film.pixels[i])));
+        assert!(
+            (m - L as f64).abs() < 0.005 + 4.0 * se,
+            "sphere mean {m} ± {se} vs {L}"
+        );
+    }
+    assert_no_validation_messages(&tracer);
+    let mut bad = FrameParams::new(w, h, 1, prepared.camera);
+    bad.rr_survival = 0.0;
+    assert!(tracer.render(&bad, 0, h, &mut |_| {}).is_err());
+}
+
+#[test]
 fn smooth_glass_furnace_conserves_energy_exactly() {
     let glass = Material {
         name: "glass".into(),

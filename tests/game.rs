@@ -8,6 +8,7 @@ use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
 use platoon::core::drive::plan::Join;
+use platoon::core::drive::scaling::BelowOneSample;
 use platoon::core::drive::{DriverOptions, FrameDriver, FrameStats, Pipeline};
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
@@ -163,4 +164,54 @@ fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
         assert!(s.plan.rebalance, "frame {}: objects moved", s.frame);
     }
     assert_eq!(film.count_non_finite(), 0);
+}
+
+#[test]
+fn below_one_sample_the_driver_scales_roulette_and_resolution_into_one_film() {
+    // A target no lavapipe frame of 64x64 can meet: the scaler goes below one sample a frame
+    // through both options.
+    let mut options = DriverOptions::new(64, 64);
+    options.spp = 1;
+    options.target = Some(std::time::Duration::from_micros(200));
+    options.below_one = BelowOneSample {
+        roulette: true,
+        resolution: true,
+    };
+    let (mut d, camera, _) = driver("lavapipe:1", options);
+    let (stats, film) = run(&mut d, 12, |_| camera, |_, _| {});
+    let last = stats.last().unwrap().plan;
+    assert_eq!(last.spp, 1);
+    assert!(last.rr_survival < 1.0, "{last:?}");
+    assert!(last.resolution <= 0.5, "{last:?}");
+    // The film keeps its size (the frames are upscaled into it) and holds no NaN.
+    assert_eq!((film.width, film.height), (64, 64));
+    assert_eq!(film.count_non_finite(), 0);
+    assert!(film.mean()[0] > 0.0);
+    // Frames at a reduced size hold a mean: they blend (f = 1/k while the size holds, at least
+    // the floor when it changed), never sum; and a change of size does not restart the film.
+    for pair in stats.windows(2) {
+        let (before, now) = (pair[0].plan, pair[1].plan);
+        if now.resolution < 1.0 || before.resolution < 1.0 {
+            assert!(matches!(now.join, Join::Blend { .. }), "{now:?}");
+        }
+        if now.resolution != before.resolution {
+            assert!(now.join.weight(now.frames_joined) >= 0.2, "{now:?}");
+        }
+    }
+    // Rendered at the plan's size: the lines the balancer saw.
+    let (_, h) = platoon::core::drive::driver::render_size(64, 64, last.resolution);
+    assert_eq!(stats.last().unwrap().line_rays.len(), h as usize);
+}
+
+#[test]
+fn without_the_options_one_sample_a_frame_is_the_floor() {
+    let mut options = DriverOptions::new(W, H);
+    options.spp = 4;
+    options.target = Some(std::time::Duration::from_micros(200));
+    let (mut d, camera, _) = driver("lavapipe:1", options);
+    let (stats, _) = run(&mut d, 8, |_| camera, |_, _| {});
+    let last = stats.last().unwrap().plan;
+    assert_eq!((last.spp, last.rr_survival, last.resolution), (1, 1.0, 1.0));
+    // Still frames of one sample sum exactly, as at any spp.
+    assert_eq!(last.join, Join::Sum);
 }

@@ -366,6 +366,12 @@ pub struct DynamicArgs {
     /// frame at 40 ms: a sample more or less is then a step of 8%, inside the +-10% band).
     #[arg(long, default_value = "64x48", value_parser = parse_size)]
     pub size: (u32, u32),
+    /// --game: below one sample a frame, scale Russian-roulette survival down (unbiased).
+    #[arg(long, requires = "game")]
+    pub roulette_scaling: bool,
+    /// --game: below one sample a frame, render fewer pixels, upscaled (biased).
+    #[arg(long, requires = "game")]
+    pub resolution_scaling: bool,
     /// --game: the devices (see `platoon devices`; lavapipe:N,M makes software tracers).
     #[arg(long, default_value = "all")]
     pub devices: String,

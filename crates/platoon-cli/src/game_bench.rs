@@ -15,6 +15,7 @@ pub struct Options {
     pub width: u32,
     pub height: u32,
     pub devices: String,
+    pub below_one: platoon::core::drive::scaling::BelowOneSample,
     pub character: std::path::PathBuf,
     pub out: std::path::PathBuf,
     pub json: bool,
@@ -55,6 +56,7 @@ pub fn run(o: &Options) -> Result<()> {
     game.driver.width = o.width;
     game.driver.height = o.height;
     game.driver.target = Some(Duration::from_secs_f64(o.target_ms * 1e-3));
+    game.driver.below_one = o.below_one;
     game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
     eprintln!(
         "playing {} frames of the game at {}x{} on {}, holding {} ms a frame",

@@ -88,6 +88,10 @@ fn run(cli: Cli) -> Result<()> {
                     width: dynamic.size.0,
                     height: dynamic.size.1,
                     devices: dynamic.devices.clone(),
+                    below_one: platoon::core::drive::scaling::BelowOneSample {
+                        roulette: dynamic.roulette_scaling,
+                        resolution: dynamic.resolution_scaling,
+                    },
                     character: dynamic.character.clone(),
                     out: dynamic.out.clone(),
                     json: dynamic.json,

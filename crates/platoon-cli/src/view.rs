@@ -38,6 +38,13 @@ pub struct ViewArgs {
     /// Devices to render on (see `platoon devices`).
     #[arg(long, default_value = "all")]
     devices: String,
+    /// Below one sample a frame, scale Russian-roulette survival down (unbiased, noisier).
+    #[arg(long)]
+    roulette_scaling: bool,
+    /// Below one sample a frame, render fewer pixels and upscale them (biased; the title says
+    /// so).
+    #[arg(long)]
+    resolution_scaling: bool,
     /// Close after this many frames (for scripts and tests).
     #[arg(long)]
     frames: Option<u32>,
@@ -66,6 +73,10 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let (w, h) = args.size;
     let mut options = GameOptions::new(DriverOptions::new(w, h));
     options.driver.target = Some(Duration::from_secs_f64(args.target_ms.max(1.0) * 1e-3));
+    options.driver.below_one = platoon::core::drive::scaling::BelowOneSample {
+        roulette: args.roulette_scaling,
+        resolution: args.resolution_scaling,
+    };
     options.devices = args.devices.parse().map_err(|e: String| anyhow!(e))?;
     options.time = args.scene.time;
     let animation = prepared
@@ -238,8 +249,15 @@ impl Viewer {
             let film = s
                 .film_samples
                 .map_or("blended".into(), |n| format!("{n} spp in film"));
+            let mut below = String::new();
+            if s.plan.rr_survival < 1.0 {
+                below += &format!(", roulette x{:.2}", s.plan.rr_survival);
+            }
+            if s.plan.resolution < 1.0 {
+                below += &format!(", {:.0}% resolution (upscaled)", 100.0 * s.plan.resolution);
+            }
             window.set_title(&format!(
-                "platoon: {:.1} fps, {} spp a frame, {film}, idle {:.1}%, {}, target {:.0} ms{}",
+                "platoon: {:.1} fps, {} spp a frame{below}, {film}, idle {:.1}%, {}, target {:.0} ms{}",
                 self.fps.value,
                 s.plan.spp,
                 100.0 * s.idle_fraction,

@@ -29,6 +29,9 @@ pub struct FrameRecord {
     pub f: f32,
     /// The balancer cut this frame anew.
     pub rebalance: bool,
+    /// Russian-roulette survival scale and render resolution (1: not scaled).
+    pub rr_survival: f32,
+    pub resolution: f32,
     /// The updater's whole time for the generation this frame rendered.
     pub update_ms: f64,
     pub commit_bytes: u64,
@@ -142,6 +145,8 @@ fn record(done: &FinishedFrame) -> FrameRecord {
         },
         f: s.weight,
         rebalance: s.plan.rebalance,
+        rr_survival: s.plan.rr_survival,
+        resolution: s.plan.resolution,
         update_ms: ms(s.update.total),
         commit_bytes: s.commit_bytes,
         idle_percent: 100.0 * s.idle_fraction,
@@ -162,6 +167,8 @@ pub fn write_csv(path: &Path, records: &[FrameRecord]) -> Result<()> {
         "join",
         "f",
         "rebalance",
+        "rr_survival",
+        "resolution",
         "update_ms",
         "commit_bytes",
         "idle_percent",
@@ -181,6 +188,8 @@ pub fn write_csv(path: &Path, records: &[FrameRecord]) -> Result<()> {
             r.join.to_string(),
             format!("{:.4}", r.f),
             u8::from(r.rebalance).to_string(),
+            format!("{:.3}", r.rr_survival),
+            format!("{:.3}", r.resolution),
             format!("{:.3}", r.update_ms),
             r.commit_bytes.to_string(),
             format!("{:.2}", r.idle_percent),

@@ -62,6 +62,12 @@ impl Tracer {
                 "the primary-hit output is one sample per pixel: set spp to 1".into(),
             ));
         }
+        if !(params.rr_survival > 0.0 && params.rr_survival <= 1.0) {
+            return Err(crate::Error::Invalid(format!(
+                "the Russian-roulette survival scale must be in (0, 1], not {}",
+                params.rr_survival
+            )));
+        }
         let stride = stride.max(1);
         let (width, height) = (params.width, params.height);
         let pixels = width * height;
@@ -162,7 +168,7 @@ impl Tracer {
                 sample_begin: params.first_sample.wrapping_add(begin),
                 sample_end: params.first_sample.wrapping_add(end),
                 stride,
-                _pad: 0,
+                rr_survival: params.rr_survival,
             };
             self.submit(|d, cb| unsafe {
                 // Earlier passes wrote the accumulation buffer.

@@ -71,7 +71,8 @@ pub(crate) struct Push {
     pub sample_begin: u32,
     pub sample_end: u32,
     pub stride: u32,
-    pub _pad: u32,
+    /// FrameParams::rr_survival (a push constant: read per bounce).
+    pub rr_survival: f32,
 }
 
 const _: () = assert!(std::mem::size_of::<Globals>() == 144 + 8 * 16);

@@ -35,6 +35,10 @@ pub fn metadata(
         ("max_depth".into(), params.max_depth.to_string()),
         ("russian_roulette_depth".into(), params.rr_depth.to_string()),
         (
+            "russian_roulette_survival".into(),
+            params.rr_survival.to_string(),
+        ),
+        (
             "render_time_s".into(),
             format!("{:.3}", rendered.wall_time.as_secs_f64()),
         ),

@@ -19,7 +19,8 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use super::film::Accumulation;
-use super::plan::{FramePlan, Join, Motion, Planner, WorkloadScaler};
+use super::plan::{FramePlan, Join, Motion, Planner};
+use super::scaling::{BelowOneSample, Workload, WorkloadScaler};
 use super::{Pipeline, QueryScene, UpdateTimes};
 use crate::balance::Balancer;
 use crate::error::{Error, Result};
@@ -38,6 +39,9 @@ pub struct DriverOptions {
     pub spp: u32,
     /// Frame time to hold by scaling the samples per frame (Bikker 7.3.7); None: fixed spp.
     pub target: Option<Duration>,
+    /// How a held frame time goes below one sample a frame (Russian-roulette survival,
+    /// render resolution); neither by default.
+    pub below_one: BelowOneSample,
     /// Smallest weight of a frame in the film while objects move (see [`super::plan`]).
     pub blend_floor: f32,
     pub seed: u32,
@@ -55,6 +59,7 @@ impl DriverOptions {
             height,
             spp: 1,
             target: None,
+            below_one: BelowOneSample::default(),
             blend_floor: 0.2,
             seed: 0,
             max_depth: DEFAULT_MAX_DEPTH,
@@ -196,7 +201,7 @@ impl FrameDriver {
             planner: Planner::new(options.blend_floor),
             scaler: options
                 .target
-                .map(|target| WorkloadScaler::new(target, options.spp)),
+                .map(|target| scaler(target, options.spp, options.below_one)),
             queries: options.queries.then(|| QueryScene::new(first)),
             options,
             frame: 0,
@@ -221,7 +226,14 @@ impl FrameDriver {
 
     /// Samples the next frame will take.
     pub fn spp(&self) -> u32 {
-        self.scaler.as_ref().map_or(self.options.spp, |s| s.spp())
+        self.workload().spp
+    }
+
+    /// The next frame's work.
+    pub fn workload(&self) -> Workload {
+        self.scaler
+            .as_ref()
+            .map_or(Workload::samples(self.options.spp), |s| s.workload())
     }
 
     /// Holds `target` from the next frame on (None: keep the current spp fixed).
@@ -229,7 +241,7 @@ impl FrameDriver {
         let spp = self.spp();
         self.options.spp = spp;
         self.options.target = target;
-        self.scaler = target.map(|t| WorkloadScaler::new(t, spp));
+        self.scaler = target.map(|t| scaler(t, spp, self.options.below_one));
     }
 
     pub fn options(&self) -> &DriverOptions {
@@ -254,7 +266,7 @@ impl FrameDriver {
         let finished = self.finish()?;
         let waited_render = wait.elapsed();
         if let (Some(f), Some(scaler)) = (&finished, self.scaler.as_mut()) {
-            scaler.observe(f.stats.busy, f.stats.plan.spp);
+            scaler.observe(f.stats.busy, f.stats.plan.rate);
         }
 
         let wait = Instant::now();
@@ -277,17 +289,23 @@ impl FrameDriver {
         };
         self.last_camera = Some(camera);
         let last_idle = finished.as_ref().map(|f| f.stats.idle_fraction);
-        let plan = self.planner.plan(motion, self.spp(), last_idle);
+        let plan = self.planner.plan(motion, self.workload(), last_idle);
         if plan.join == Join::Restart {
             self.epoch = self.frame;
         }
         let o = &self.options;
-        let mut params = FrameParams::new(o.width, o.height, plan.spp, camera);
+        let (width, height) = render_size(o.width, o.height, plan.resolution);
+        let mut params = FrameParams::new(width, height, plan.spp, camera);
         params.seed = o.seed;
         params.frame = self.epoch;
         params.first_sample = plan.first_sample;
         params.max_depth = o.max_depth;
         params.rr_depth = o.rr_depth;
+        params.rr_survival = plan.rr_survival;
+        if plan.rr_survival < 1.0 {
+            // Scaled roulette saves time only where it plays: from the first bounce on.
+            params.rr_depth = params.rr_depth.min(1);
+        }
         params.samples_per_pass = o.samples_per_pass;
         let (commit, update) = match generation {
             Some(g) if !g.commit.is_empty() => (Some(g.commit), g.times),
@@ -391,7 +409,16 @@ fn render_one<T: BandTracer + Send + 'static>(
         .render_frame_planned(&params, plan.rebalance)
         .map_err(failed)?;
     let render = start.elapsed() - commit_time;
-    film.join(plan.join, rendered.sums, plan.spp);
+    if plan.resolution < 1.0 {
+        film.join_upscaled(
+            plan.join,
+            &rendered.sums,
+            (params.width, params.height),
+            plan.spp,
+        );
+    } else {
+        film.join(plan.join, rendered.sums, plan.spp);
+    }
     failures.extend(rendered.failures);
     let film_now = film.film();
     Ok(FinishedFrame {
@@ -414,4 +441,19 @@ fn render_one<T: BandTracer + Send + 'static>(
             device_messages: renderer.with_tracers(|t| t.messages()).concat(),
         },
     })
+}
+
+fn scaler(target: Duration, spp: u32, below_one: BelowOneSample) -> WorkloadScaler {
+    let mut s = WorkloadScaler::new(target, spp);
+    s.below_one = below_one;
+    s
+}
+
+/// The size a frame renders at: the film's scaled by `resolution` per axis, at least a pixel.
+pub fn render_size(width: u32, height: u32, resolution: f32) -> (u32, u32) {
+    if resolution >= 1.0 {
+        return (width, height);
+    }
+    let scale = |n: u32| ((n as f32 * resolution).round() as u32).clamp(1, n.max(1));
+    (scale(width), scale(height))
 }

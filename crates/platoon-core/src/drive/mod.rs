@@ -11,6 +11,7 @@ pub mod film;
 pub mod pipeline;
 pub mod plan;
 pub mod queries;
+pub mod scaling;
 pub mod threads;
 pub mod updater;
 

@@ -21,8 +21,13 @@
 //! Dynamic workload scaling (Bikker 7.3.7): frame time is nearly linear in the samples per
 //! frame, so the next rate is the measured frame's count scaled by target / measured, kept when
 //! the measured time is within the hysteresis band and changed at most by a factor per frame.
+//! Below one sample a frame two options go on, each off unless asked for: Russian-roulette
+//! survival scaling (paths end sooner, survivors weighted up: unbiased, noisier) and render
+//! resolution scaling (fewer pixels, upscaled into the film: biased, reported). A frame at a
+//! reduced resolution holds a mean, not exact sums, so the film blends (f = 1/k while still, and
+//! with the floor when the resolution changes).
 
-use std::time::Duration;
+pub use super::scaling::Workload;
 
 /// What moved since the previous frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -58,6 +63,11 @@ impl Join {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FramePlan {
     pub spp: u32,
+    /// Russian-roulette survival scale and render resolution of the frame (see [`Workload`]).
+    pub rr_survival: f32,
+    pub resolution: f32,
+    /// The workload's rate, for the scaler.
+    pub rate: f64,
     /// Index of the frame's first sample: after a restart 0, then continuing, so that the
     /// random numbers of a converging view never repeat (wrapping at 2^32).
     pub first_sample: u32,
@@ -84,6 +94,8 @@ pub struct Planner {
     blended: bool,
     /// Frames since the balancer last cut anew.
     since_rebalance: u32,
+    /// Render resolution of the last frame.
+    resolution: f32,
 }
 
 impl Planner {
@@ -100,12 +112,22 @@ impl Planner {
             next_sample: 0,
             blended: false,
             since_rebalance: 0,
+            resolution: 1.0,
         }
     }
 
     /// The plan of the next frame of `spp` samples after `motion`; `last_idle` is the idle
     /// share of the frame before (None when there was none).
-    pub fn plan(&mut self, motion: Motion, spp: u32, last_idle: Option<f64>) -> FramePlan {
+    pub fn plan(&mut self, motion: Motion, work: Workload, last_idle: Option<f64>) -> FramePlan {
+        let spp = work.spp;
+        let resized = work.resolution != self.resolution;
+        self.resolution = work.resolution;
+        // A changed resolution changes every line's cost and the film's detail, not the view:
+        // blended in like moving objects (restarting would lose the film at every step).
+        let motion = Motion {
+            camera: motion.camera,
+            scene: motion.scene || resized,
+        };
         let rebalance = motion.camera
             || motion.scene
             || self.frames_joined == 0
@@ -125,7 +147,8 @@ impl Planner {
             self.blended = true;
             let f = (1.0 / (self.frames_joined + 1) as f32).max(self.floor);
             Join::Blend { f }
-        } else if self.blended {
+        } else if self.blended || work.resolution < 1.0 {
+            // An upscaled frame is a mean, not sums: the film converges as a mean.
             Join::Blend {
                 f: 1.0 / (self.frames_joined + 1) as f32,
             }
@@ -135,6 +158,9 @@ impl Planner {
         self.frames_joined += 1;
         let plan = FramePlan {
             spp,
+            rr_survival: work.rr_survival,
+            resolution: work.resolution,
+            rate: work.rate,
             first_sample: self.next_sample,
             join,
             frames_joined: self.frames_joined,
@@ -142,69 +168,6 @@ impl Planner {
         };
         self.next_sample = self.next_sample.wrapping_add(spp);
         plan
-    }
-}
-
-/// Adapts the samples per frame to hold a frame time. It keeps a fractional rate and renders
-/// its nearest whole count: each frame then misses the target by at most half a sample (within
-/// 10% from 5 samples a frame up), where handing out 8 and 9 for a rate of 8.5 would be right
-/// on average but each frame a whole sample off.
-#[derive(Clone, Debug)]
-pub struct WorkloadScaler {
-    pub target: Duration,
-    /// Relative band around the target within which the rate is kept (e.g. 0.05).
-    pub hysteresis: f64,
-    /// Largest factor by which one frame may change the rate.
-    pub max_step: f64,
-    /// Share of the way to the rate a measure asks for that one frame goes (1: all of it).
-    pub gain: f64,
-    pub min_spp: u32,
-    pub max_spp: u32,
-    rate: f64,
-    spp: u32,
-}
-
-impl WorkloadScaler {
-    pub fn new(target: Duration, start_spp: u32) -> WorkloadScaler {
-        let start = start_spp.max(1);
-        WorkloadScaler {
-            target,
-            hysteresis: 0.05,
-            max_step: 2.0,
-            gain: 0.5,
-            min_spp: 1,
-            max_spp: 1 << 16,
-            rate: start as f64,
-            spp: start,
-        }
-    }
-
-    /// Samples for the next frame.
-    pub fn spp(&self) -> u32 {
-        self.spp
-    }
-
-    /// The fractional samples per frame the scaler aims at.
-    pub fn rate(&self) -> f64 {
-        self.rate
-    }
-
-    /// Takes the measured time of a frame rendered with `spp` samples and returns the count for
-    /// the next frame.
-    pub fn observe(&mut self, frame_time: Duration, spp: u32) -> u32 {
-        let (measured, target) = (frame_time.as_secs_f64(), self.target.as_secs_f64());
-        if measured > 0.0 && target > 0.0 && (measured / target - 1.0).abs() > self.hysteresis {
-            // Frame time is nearly linear in spp: the rate that frame would have needed.
-            let wanted = spp.max(1) as f64 * target / measured;
-            let (lo, hi) = (self.rate / self.max_step, self.rate * self.max_step);
-            // Half way there: one noisy frame moves the rate half as far.
-            let wanted = (self.rate + self.gain * (wanted - self.rate)).max(f64::MIN_POSITIVE);
-            self.rate = wanted
-                .clamp(lo, hi)
-                .clamp(self.min_spp.max(1) as f64, self.max_spp.max(1) as f64);
-        }
-        self.spp = (self.rate.round() as u32).clamp(self.min_spp.max(1), self.max_spp.max(1));
-        self.spp
     }
 }
 
@@ -220,7 +183,9 @@ mod tests {
     #[test]
     fn a_still_view_sums_and_continues_the_sample_indices() {
         let mut p = Planner::new(0.2);
-        let plans: Vec<FramePlan> = (0..4).map(|_| p.plan(STILL, 8, None)).collect();
+        let plans: Vec<FramePlan> = (0..4)
+            .map(|_| p.plan(STILL, Workload::samples(8), None))
+            .collect();
         assert_eq!(plans[0].join, Join::Restart);
         for (k, plan) in plans.iter().enumerate().skip(1) {
             assert_eq!(plan.join, Join::Sum);
@@ -233,46 +198,56 @@ mod tests {
     fn a_still_balanced_view_keeps_its_cut_and_motion_or_imbalance_cuts_anew() {
         let mut p = Planner::new(0.2);
         let balanced = Some(0.005);
-        assert!(p.plan(STILL, 4, None).rebalance, "the first frame");
+        assert!(
+            p.plan(STILL, Workload::samples(4), None).rebalance,
+            "the first frame"
+        );
         let still: Vec<bool> = (0..20)
-            .map(|_| p.plan(STILL, 4, balanced).rebalance)
+            .map(|_| p.plan(STILL, Workload::samples(4), balanced).rebalance)
             .collect();
         // Kept, but cut anew every REBALANCE_EVERY frames.
         let anew: Vec<usize> = (0..20).filter(|&k| still[k]).collect();
         assert_eq!(anew, vec![REBALANCE_EVERY as usize - 1]);
         assert!(
-            p.plan(STILL, 4, Some(0.05)).rebalance,
+            p.plan(STILL, Workload::samples(4), Some(0.05)).rebalance,
             "idle above the threshold"
         );
-        assert!(!p.plan(STILL, 4, balanced).rebalance);
+        assert!(!p.plan(STILL, Workload::samples(4), balanced).rebalance);
         assert!(
-            p.plan(STILL, 4, Some(f64::NAN)).rebalance,
+            p.plan(STILL, Workload::samples(4), Some(f64::NAN))
+                .rebalance,
             "an unknown idle"
         );
         let objects = Motion {
             camera: false,
             scene: true,
         };
-        assert!(p.plan(objects, 4, balanced).rebalance, "objects moved");
+        assert!(
+            p.plan(objects, Workload::samples(4), balanced).rebalance,
+            "objects moved"
+        );
         let camera = Motion {
             camera: true,
             scene: false,
         };
-        assert!(p.plan(camera, 4, balanced).rebalance, "the camera moved");
+        assert!(
+            p.plan(camera, Workload::samples(4), balanced).rebalance,
+            "the camera moved"
+        );
     }
 
     #[test]
     fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
         let mut p = Planner::new(0.2);
         for _ in 0..10 {
-            p.plan(STILL, 4, None);
+            p.plan(STILL, Workload::samples(4), None);
         }
         let moved = p.plan(
             Motion {
                 camera: true,
                 scene: false,
             },
-            4,
+            Workload::samples(4),
             None,
         );
         assert_eq!((moved.join, moved.first_sample), (Join::Restart, 0));
@@ -282,7 +257,7 @@ mod tests {
         };
         let weights: Vec<f32> = (0..12)
             .map(|_| {
-                let plan = p.plan(objects, 4, None);
+                let plan = p.plan(objects, Workload::samples(4), None);
                 plan.join.weight(plan.frames_joined)
             })
             .collect();
@@ -290,37 +265,12 @@ mod tests {
         assert!(weights.iter().all(|&f| f >= 0.2), "{weights:?}");
         assert_eq!(*weights.last().unwrap(), 0.2);
         // Objects stop: the blended film goes on converging as 1/k, never back to sums.
-        let still = p.plan(STILL, 4, None);
+        let still = p.plan(STILL, Workload::samples(4), None);
         assert_eq!(still.join, Join::Blend { f: 1.0 / 14.0 });
         assert_eq!(still.first_sample, 4 * 13);
     }
 
     /// A tracer whose frame costs 2 ms plus 0.7 ms per sample, with deterministic noise.
-    fn synthetic_frame(spp: u32, frame: u32, noise: f64) -> Duration {
-        let wobble = ((frame.wrapping_mul(2654435761) >> 8) % 1000) as f64 / 1000.0 - 0.5;
-        Duration::from_secs_f64((2.0 + 0.7 * spp as f64) * (1.0 + noise * wobble) * 1e-3)
-    }
-
-    #[test]
-    fn workload_scaling_settles_within_ten_percent_of_the_target() {
-        for (start, noise) in [(1, 0.0), (200, 0.0), (1, 0.08), (64, 0.08)] {
-            let target = Duration::from_millis(16);
-            let mut s = WorkloadScaler::new(target, start);
-            let times: Vec<f64> = (0..60)
-                .map(|f| {
-                    let spp = s.spp();
-                    let t = synthetic_frame(spp, f, noise);
-                    s.observe(t, spp);
-                    t.as_secs_f64() / target.as_secs_f64()
-                })
-                .collect();
-            let settled = &times[15..];
-            assert!(
-                settled.iter().all(|r| (r - 1.0).abs() <= 0.1),
-                "start {start}, noise {noise}: {times:?}"
-            );
-        }
-    }
 
     #[test]
     fn the_floor_is_kept_sane() {

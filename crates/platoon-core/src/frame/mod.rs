@@ -32,6 +32,11 @@ pub struct FrameParams {
     pub max_depth: u32,
     /// Depth from which Russian roulette may end a path.
     pub rr_depth: u32,
+    /// Russian-roulette survival scale in (0, 1]: a path survives with probability
+    /// min(max throughput component x this, 0.95) and survivors are weighted up by its inverse,
+    /// so any value is unbiased; below 1 paths are shorter (faster) and the image noisier. What
+    /// the frame driver's roulette scaling lowers when one sample a frame is already too slow.
+    pub rr_survival: f32,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -72,6 +77,7 @@ impl FrameParams {
             spp,
             max_depth: DEFAULT_MAX_DEPTH,
             rr_depth: 3,
+            rr_survival: 1.0,
             seed: 0,
             frame: 0,
             first_sample: 0,
