@@ -460,9 +460,8 @@ pub fn interleaved_row(o: &Options) -> Result<String> {
 /// how much of the idle is the frame-to-frame noise of the line costs that nothing before the
 /// frame can predict.
 pub fn hindsight_idle(map: &CostMap, speeds: &[f64]) -> f64 {
-    use platoon_core::balance::span_cost;
     use platoon_core::balance::{fractional_cuts, idle_fraction, line_bands, proportional};
-    use platoon_core::frame::Span;
+    use platoon_core::balance::{span_cost, spans_at};
     let (width, height, n) = (map.width, map.height() as u32, speeds.len());
     let frames = &map.frames;
     let per_frame: Vec<f64> = (0..frames.len())
@@ -476,18 +475,7 @@ pub fn hindsight_idle(map: &CostMap, speeds: &[f64]) -> f64 {
                     .zip(after)
                     .map(|(a, b)| 0.5 * (a + b))
                     .collect();
-                let mut spans = Vec::with_capacity(n);
-                let mut start = 0i64;
-                let pixels = (width * height) as i64;
-                for (i, cut) in fractional_cuts(&guess, speeds).iter().enumerate() {
-                    let lo = start + width as i64;
-                    let hi = pixels - (n - 1 - i) as i64 * width as i64;
-                    let end = ((cut * width as f64).round() as i64).clamp(lo, hi);
-                    spans.push(Span::new(start as u32, end as u32));
-                    start = end;
-                }
-                spans.push(Span::new(start as u32, pixels as u32));
-                spans
+                spans_at(&fractional_cuts(&guess, speeds), width, height)
             };
             let times: Vec<f64> = spans
                 .iter()

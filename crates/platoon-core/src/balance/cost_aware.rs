@@ -71,6 +71,25 @@ impl Default for CostAware {
     }
 }
 
+/// Contiguous bands ending at the given fractional line positions (n - 1 cuts for n bands),
+/// each placed to the nearest pixel, with at least a line's worth of pixels for every band so
+/// that every tracer keeps being measured.
+pub fn spans_at(cuts: &[f64], width: u32, height: u32) -> Vec<Span> {
+    let tracers = cuts.len() + 1;
+    let pixels = height as i64 * width as i64;
+    let mut spans = Vec::with_capacity(tracers);
+    let mut start = 0i64;
+    for (i, cut) in cuts.iter().enumerate() {
+        let lo = start + width as i64;
+        let hi = pixels - (tracers - 1 - i) as i64 * width as i64;
+        let end = ((cut * width as f64).round() as i64).clamp(lo, hi.max(lo));
+        spans.push(Span::new(start as u32, end as u32));
+        start = end;
+    }
+    spans.push(Span::new(start as u32, pixels as u32));
+    spans
+}
+
 impl CostAware {
     /// The predicted cut alone, without the closed loop.
     pub fn open_loop() -> CostAware {
@@ -81,25 +100,13 @@ impl CostAware {
     }
 
     /// Bands from the predicted cuts plus the closed loop's correction, placed to the pixel.
-    fn cut(&self, width: u32, tracers: usize) -> Vec<Span> {
-        let height = self.line_cost.len();
-        let pixels = (height as u32 * width) as i64;
-        let predicted = fractional_cuts(&self.line_cost, &self.speed);
-        let mut spans = Vec::with_capacity(tracers);
-        let mut start = 0i64;
-        for (i, p) in predicted.iter().enumerate() {
-            let corrected = p + self.correction.get(i).copied().unwrap_or(0.0);
-            let predicted = (corrected * width as f64).round() as i64;
-            // At least a line's worth of pixels for this tracer and each one still to come, so
-            // that every tracer keeps being measured.
-            let lo = start + width as i64;
-            let hi = pixels - (tracers - 1 - i) as i64 * width as i64;
-            let end = predicted.clamp(lo, hi);
-            spans.push(Span::new(start as u32, end as u32));
-            start = end;
-        }
-        spans.push(Span::new(start as u32, pixels as u32));
-        spans
+    fn cut(&self, width: u32) -> Vec<Span> {
+        let cuts: Vec<f64> = fractional_cuts(&self.line_cost, &self.speed)
+            .iter()
+            .enumerate()
+            .map(|(i, p)| p + self.correction.get(i).copied().unwrap_or(0.0))
+            .collect();
+        spans_at(&cuts, width, self.line_cost.len() as u32)
     }
 }
 
@@ -122,7 +129,7 @@ impl Balancer for CostAware {
             }
             return line_bands(width, &proportional(height, &vec![1.0; tracers]));
         }
-        self.cut(width, tracers)
+        self.cut(width)
     }
 
     fn observe(&mut self, frame: &FrameMeasure) {

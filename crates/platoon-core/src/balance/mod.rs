@@ -12,7 +12,7 @@ mod perfect_smooth;
 pub mod replay;
 mod robin_hood;
 
-pub use cost_aware::{fractional_cuts, CostAware};
+pub use cost_aware::{fractional_cuts, spans_at, CostAware};
 pub use cycles::CyclesDamped;
 pub use none::EqualSplit;
 pub use perfect::Perfect;

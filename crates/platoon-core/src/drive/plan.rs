@@ -27,7 +27,7 @@
 //! reduced resolution holds a mean, not exact sums, so the film blends (f = 1/k while still, and
 //! with the floor when the resolution changes).
 
-pub use super::scaling::Workload;
+use super::scaling::Workload;
 
 /// What moved since the previous frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -116,8 +116,8 @@ impl Planner {
         }
     }
 
-    /// The plan of the next frame of `spp` samples after `motion`; `last_idle` is the idle
-    /// share of the frame before (None when there was none).
+    /// The plan of the next frame doing `work` after `motion`; `last_idle` is the idle share
+    /// of the frame before (None when there was none).
     pub fn plan(&mut self, motion: Motion, work: Workload, last_idle: Option<f64>) -> FramePlan {
         let spp = work.spp;
         let resized = work.resolution != self.resolution;
