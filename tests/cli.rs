@@ -564,3 +564,61 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
         assert!(stderr(&o).contains(bad[0]), "{}", stderr(&o));
     }
 }
+
+#[test]
+fn tradeoff_prints_its_rows_as_json_and_refuses_what_it_cannot_measure() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let common = ["tradeoff", "--width", "16", "--height", "16", "--out", d];
+    let o = platoon(
+        &[
+            &common[..],
+            &[
+                "--spp-list",
+                "1,2",
+                "--techniques",
+                "mis,max-depth=2",
+                "--reference-spp",
+                "64",
+                "--json",
+            ],
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = json["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 4);
+    for key in [
+        "technique",
+        "spp",
+        "ms",
+        "rmse",
+        "relmse",
+        "mrays",
+        "efficiency",
+        "biased",
+    ] {
+        assert!(
+            rows.iter().all(|r| !r[key].is_null()),
+            "{key} missing: {json}"
+        );
+    }
+    assert_eq!(rows[2]["technique"], "max-depth=2");
+    assert_eq!(rows[2]["biased"], true);
+    assert!(json["reference"].as_str().unwrap().ends_with(".exr"));
+    // The table (on stderr with --json) names techniques and sample counts.
+    assert!(stderr(&o).contains("2 spp") && stderr(&o).contains("max-depth=2 *"));
+    let csv = std::fs::read_to_string(dir.path().join("tradeoff.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 5);
+
+    let o = platoon(&[&common[..], &["--techniques", "ris=4"]].concat());
+    assert!(!o.status.success() && stderr(&o).contains("unknown technique \"ris=4\""));
+    let missing = dir.path().join("nope.exr");
+    let o = platoon(&[&common[..], &["--reference", missing.to_str().unwrap()]].concat());
+    assert!(
+        !o.status.success() && stderr(&o).contains("nope.exr: the reference does not exist"),
+        "{}",
+        stderr(&o)
+    );
+}

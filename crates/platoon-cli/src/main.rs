@@ -9,6 +9,7 @@ mod game_costs;
 mod info;
 mod render;
 mod scene_args;
+mod tradeoff;
 mod view;
 
 use std::process::ExitCode;
@@ -40,6 +41,8 @@ enum Command {
     Devices,
     /// Open a window on a scene: the image converges live; fly with the mouse and WASD.
     View(view::ViewArgs),
+    /// What accuracy costs in time: techniques x sample counts against a converged reference.
+    Tradeoff(tradeoff::TradeoffArgs),
     /// Compare the line balancers over an orbiting camera (Brigade's Table 16 for platoon).
     BalanceBench {
         #[command(flatten)]
@@ -72,6 +75,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Info { scene } => info::run(scene),
         Command::Devices => devices::run(),
         Command::View(args) => view::run(args),
+        Command::Tradeoff(args) => tradeoff::run(args).context("tradeoff failed"),
         Command::BalanceBench { options, json } => balance_bench::run(options, json),
         Command::Bench {
             spp,

@@ -65,6 +65,17 @@ fn sources() -> Result<Vec<(&'static str, String)>> {
         .collect()
 }
 
+/// A hash of the kernel's sources (embedded, or $PLATOON_SHADER_DIR's): what renders cached
+/// across runs (a converged reference) are keyed by, so a changed kernel is never served stale.
+pub fn sources_hash() -> Result<u64> {
+    let sources = sources()?;
+    let parts: Vec<&[u8]> = sources
+        .iter()
+        .flat_map(|(n, s)| [n.as_bytes(), s.as_bytes()])
+        .collect();
+    Ok(hash_of(&parts))
+}
+
 /// Which estimator the kernel uses. MIS is the renderer; the other two exist to test it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Sampling {

@@ -13,7 +13,7 @@ mod tracer;
 
 pub use commit::CommitStats;
 pub use context::{list_devices, DeviceInfo};
-pub use kernel::{cache_dir, kernel_label, kernel_spirv, Sampling};
+pub use kernel::{cache_dir, kernel_label, kernel_spirv, sources_hash, Sampling};
 pub use memory::{
     choose as choose_memory_paths, scene_array_bytes, ArrayPath, MemoryLimits, MemoryPath,
     SCENE_ARRAYS,

@@ -13,6 +13,7 @@ pub mod metadata;
 pub mod plot;
 pub mod prepare;
 pub mod render;
+pub mod tradeoff;
 
 pub use metadata::{approximations, metadata};
 pub use platoon_core as core;

@@ -58,6 +58,44 @@ pub struct GpuScene {
 }
 
 impl GpuScene {
+    /// A hash of everything the kernel reads (arrays, environment): two scenes with the same
+    /// hash render the same image. What renders cached across runs are keyed by.
+    pub fn content_hash(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let e = &self.env;
+        for bytes in [
+            bytemuck::cast_slice::<_, u8>(&self.vertices),
+            bytemuck::cast_slice(&self.triangle_positions),
+            bytemuck::cast_slice(&self.triangles),
+            bytemuck::cast_slice(&self.triangle_lights),
+            bytemuck::cast_slice(&self.blas_nodes),
+            bytemuck::cast_slice(&self.tlas_nodes),
+            bytemuck::cast_slice(&self.instances),
+            bytemuck::cast_slice(&self.materials),
+            bytemuck::cast_slice(&self.textures),
+            bytemuck::cast_slice(&self.texels),
+            bytemuck::cast_slice(&self.lights),
+            bytemuck::cast_slice(&self.light_cdf),
+            bytemuck::cast_slice(&e.texels),
+            bytemuck::cast_slice(&e.marginal_cdf),
+            bytemuck::cast_slice(&e.conditional_cdf),
+            bytemuck::cast_slice(&e.color),
+        ] {
+            bytes.hash(&mut h);
+        }
+        (
+            self.tlas_root,
+            e.kind,
+            e.width,
+            e.height,
+            e.integral.to_bits(),
+        )
+            .hash(&mut h);
+        self.features.defines().hash(&mut h);
+        h.finish()
+    }
+
     /// Flattens `posed` (a pose of `scene`). `environment` is the distant light in effect.
     /// Fails when the light-selection distribution is not finite (an emitter of infinite power).
     pub fn build(

@@ -1,0 +1,118 @@
+//! `platoon tradeoff [SCENE]`: every technique at every sample count, measured against a
+//! converged reference: the table (Bikker's appendix D shape), tradeoff.csv, and with --json one
+//! JSON object on stdout after the text.
+
+use std::path::PathBuf;
+
+use anyhow::{anyhow, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use platoon::tradeoff::{self, report, Progress, Technique};
+
+use crate::scene_args::SceneArgs;
+
+#[derive(clap::Args)]
+pub struct TradeoffArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[arg(long, default_value_t = 64)]
+    width: u32,
+    #[arg(long, default_value_t = 64)]
+    height: u32,
+    /// Sample counts of the sweep.
+    #[arg(long, value_delimiter = ',', default_value = "4,8,16,32,64")]
+    spp_list: Vec<u32>,
+    /// Techniques: mis, bsdf, light, max-depth=N, rr-depth=N, rr-survival=PERCENT,
+    /// no-regeneration.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "mis,bsdf,light,max-depth=2,no-regeneration"
+    )]
+    techniques: Vec<String>,
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Samples per pixel of platoon's own reference (cached between runs).
+    #[arg(long, default_value_t = 4096)]
+    reference_spp: u32,
+    /// Measure against this EXR instead (e.g. another renderer's; the sweep's size).
+    #[arg(long)]
+    reference: Option<PathBuf>,
+    /// Folder for tradeoff.csv.
+    #[arg(long, default_value = ".")]
+    out: PathBuf,
+    /// Print one JSON object after the text.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: TradeoffArgs) -> Result<()> {
+    let techniques = args
+        .techniques
+        .iter()
+        .map(|t| Technique::parse(t))
+        .collect::<Result<Vec<_>>>()?;
+    let options = tradeoff::Options {
+        width: args.width,
+        height: args.height,
+        spp_list: args.spp_list.clone(),
+        techniques,
+        seed: args.seed,
+        reference_spp: args.reference_spp,
+        reference: args.reference.clone(),
+        out: args.out.clone(),
+    };
+    options.validate()?;
+    let scene = args.scene.load()?;
+    let prepared = platoon::prepare(
+        scene,
+        &platoon::PrepareOptions {
+            env: args.scene.env_choice(),
+            time: args.scene.time,
+            ..Default::default()
+        },
+    )?;
+    if let Some(note) = &prepared.note {
+        eprintln!("note: {note}");
+    }
+    let bar = ProgressBar::new(0);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} {msg}")
+            .map_err(|e| anyhow!("{e}"))?,
+    );
+    let report = tradeoff::run(&prepared, &options, &mut |p| match p {
+        Progress::Reference { done, total } => {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+            bar.set_message("spp of the reference");
+        }
+        Progress::Row {
+            index,
+            total,
+            label,
+        } => {
+            bar.set_length(total as u64);
+            bar.set_position(index as u64);
+            bar.set_message(label.to_string());
+        }
+    });
+    bar.finish_and_clear();
+    let report = report?;
+    let origin = match (report.reference_spp, report.reference_loaded) {
+        (Some(spp), true) => format!("platoon, {spp} spp, from the cache"),
+        (Some(spp), false) => format!("platoon, {spp} spp, rendered now"),
+        (None, _) => "given".into(),
+    };
+    let text = format!(
+        "reference: {} ({origin})\n{}wrote {}",
+        report.reference.display(),
+        report::table(&report.rows),
+        args.out.join("tradeoff.csv").display()
+    );
+    if args.json {
+        eprintln!("{text}");
+        println!("{}", report::json(&report));
+    } else {
+        println!("{text}");
+    }
+    Ok(())
+}

@@ -1,0 +1,89 @@
+//! Error of a render against a reference, both linear radiance of the same size.
+//!
+//! - RMSE over every pixel and channel: Bikker's measure (appendix D), dominated by the
+//!   brightest pixels.
+//! - Relative MSE, (x - r)^2 / (r^2 + 0.01) averaged over pixels and channels (pbrt's and
+//!   Mitsuba's habit): every pixel counts for its relative error, so dark regions matter too.
+//!
+//! Efficiency is 1 / (MSE x seconds): a technique twice as fast at the same error, or with half
+//! the variance at the same time, is twice as efficient (Veach; the fair single number).
+
+use platoon_core::output::Film;
+
+/// Added to r^2 in the relative MSE so that black pixels do not divide by zero.
+const REL_EPSILON: f64 = 0.01;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Errors {
+    pub rmse: f64,
+    pub relmse: f64,
+}
+
+/// Errors of `film` against `reference` (same size: the caller checks).
+pub fn errors(film: &Film, reference: &Film) -> Errors {
+    let (mut se, mut rel) = (0.0f64, 0.0f64);
+    for (p, r) in film.pixels.iter().zip(&reference.pixels) {
+        for k in 0..3 {
+            let (x, r) = (p[k] as f64, r[k] as f64);
+            let d2 = (x - r) * (x - r);
+            se += d2;
+            rel += d2 / (r * r + REL_EPSILON);
+        }
+    }
+    let n = (3 * film.pixels.len().max(1)) as f64;
+    Errors {
+        rmse: (se / n).sqrt(),
+        relmse: rel / n,
+    }
+}
+
+/// 1 / (RMSE^2 x seconds).
+pub fn efficiency(rmse: f64, seconds: f64) -> f64 {
+    let cost = rmse * rmse * seconds;
+    if cost > 0.0 {
+        1.0 / cost
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Least-squares slope of log(y) against log(x): how an error falls with samples.
+pub fn log_log_slope(points: &[(f64, f64)]) -> f64 {
+    let logs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0)
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
+    let n = logs.len() as f64;
+    let (mx, my) = (
+        logs.iter().map(|p| p.0).sum::<f64>() / n,
+        logs.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn film(v: &[f32]) -> Film {
+        Film {
+            width: v.len() as u32,
+            height: 1,
+            pixels: v.iter().map(|&x| [x; 3]).collect(),
+        }
+    }
+
+    #[test]
+    fn errors_match_their_definitions() {
+        let e = errors(&film(&[1.0, 0.0]), &film(&[0.0, 0.0]));
+        assert!((e.rmse - (0.5f64).sqrt()).abs() < 1e-12);
+        assert!((e.relmse - 0.5 / REL_EPSILON).abs() < 1e-9);
+        assert_eq!(errors(&film(&[2.0]), &film(&[2.0])).rmse, 0.0);
+        assert_eq!(efficiency(0.5, 2.0), 2.0);
+        let slope = log_log_slope(&[(4.0, 0.5), (16.0, 0.25), (64.0, 0.125)]);
+        assert!((slope + 0.5).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,140 @@
+//! The techniques `platoon tradeoff` sweeps: each a way of spending (or saving) time that a
+//! renderer might choose, named on the command line and applied to a frame's parameters or to
+//! the tracer's estimator. The unbiased ones converge to the reference; the biased ones say so.
+
+use std::fmt;
+
+use anyhow::{bail, Result};
+use platoon_core::frame::FrameParams;
+use platoon_tracer::Sampling;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Technique {
+    /// Next-event estimation and BSDF sampling combined by MIS: platoon's default.
+    Mis,
+    /// BSDF sampling only: emitters are found by chance.
+    Bsdf,
+    /// Light sampling only: emission found by BSDF rays is ignored after non-delta bounces.
+    Light,
+    /// Paths of at most N segments (biased: light after N bounces is lost).
+    MaxDepth(u32),
+    /// Russian roulette from depth N on (unbiased).
+    RouletteFrom(u32),
+    /// Russian-roulette survival scaled by a factor in (0, 1] (unbiased; percent).
+    RouletteSurvival(u32),
+    /// One sample per kernel pass: no path regeneration within a pass (Bikker ch. 6).
+    NoRegeneration,
+}
+
+impl Technique {
+    /// The techniques a sweep runs when none are named.
+    pub const DEFAULT: [Technique; 5] = [
+        Technique::Mis,
+        Technique::Bsdf,
+        Technique::Light,
+        Technique::MaxDepth(2),
+        Technique::NoRegeneration,
+    ];
+
+    /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
+    /// `no-regeneration`.
+    pub fn parse(s: &str) -> Result<Technique> {
+        let (name, value) = match s.split_once('=') {
+            Some((n, v)) => (n.trim(), Some(v.trim())),
+            None => (s.trim(), None),
+        };
+        let number = |what: &str| -> Result<u32> {
+            match value.map(str::parse::<u32>) {
+                Some(Ok(v)) => Ok(v),
+                _ => bail!("technique {s:?}: {what} needs a whole number, e.g. {name}=2"),
+            }
+        };
+        Ok(match name {
+            "mis" => Technique::Mis,
+            "bsdf" => Technique::Bsdf,
+            "light" => Technique::Light,
+            "no-regeneration" => Technique::NoRegeneration,
+            "max-depth" => match number("max-depth")? {
+                0 => bail!("technique {s:?}: a path needs at least one segment"),
+                n => Technique::MaxDepth(n),
+            },
+            "rr-depth" => Technique::RouletteFrom(number("rr-depth")?),
+            "rr-survival" => match number("rr-survival (percent)")? {
+                p @ 1..=100 => Technique::RouletteSurvival(p),
+                _ => bail!("technique {s:?}: the survival scale is a percentage in 1..=100"),
+            },
+            _ => bail!(
+                "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
+                 rr-survival=PERCENT, no-regeneration"
+            ),
+        })
+    }
+
+    /// Converges to something else than the reference.
+    pub fn biased(self) -> bool {
+        matches!(self, Technique::MaxDepth(_))
+    }
+
+    /// The estimator its tracer is built with.
+    pub fn sampling(self) -> Sampling {
+        match self {
+            Technique::Bsdf => Sampling::Bsdf,
+            Technique::Light => Sampling::Light,
+            _ => Sampling::Mis,
+        }
+    }
+
+    /// Sets what it changes on a frame's parameters.
+    pub fn apply(self, params: &mut FrameParams) {
+        match self {
+            Technique::MaxDepth(n) => params.max_depth = n,
+            Technique::RouletteFrom(n) => params.rr_depth = n,
+            Technique::RouletteSurvival(p) => params.rr_survival = p as f32 / 100.0,
+            Technique::NoRegeneration => params.samples_per_pass = 1,
+            Technique::Mis | Technique::Bsdf | Technique::Light => {}
+        }
+    }
+}
+
+impl fmt::Display for Technique {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Technique::Mis => write!(f, "mis"),
+            Technique::Bsdf => write!(f, "bsdf"),
+            Technique::Light => write!(f, "light"),
+            Technique::MaxDepth(n) => write!(f, "max-depth={n}"),
+            Technique::RouletteFrom(n) => write!(f, "rr-depth={n}"),
+            Technique::RouletteSurvival(p) => write!(f, "rr-survival={p}"),
+            Technique::NoRegeneration => write!(f, "no-regeneration"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parse_back_and_bad_ones_say_what_is_known() {
+        for t in [
+            Technique::Mis,
+            Technique::Bsdf,
+            Technique::Light,
+            Technique::MaxDepth(2),
+            Technique::RouletteFrom(1),
+            Technique::RouletteSurvival(30),
+            Technique::NoRegeneration,
+        ] {
+            assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
+        }
+        let e = Technique::parse("ris").unwrap_err().to_string();
+        assert!(
+            e.contains("unknown technique") && e.contains("max-depth=N"),
+            "{e}"
+        );
+        assert!(Technique::parse("max-depth").is_err());
+        assert!(Technique::parse("max-depth=0").is_err());
+        assert!(Technique::parse("rr-survival=0").is_err());
+        assert!(Technique::MaxDepth(2).biased() && !Technique::Bsdf.biased());
+    }
+}

@@ -1,0 +1,206 @@
+//! `platoon tradeoff` (issue 10): errors against a converged reference behave as theory says,
+//! biased techniques show their floor, the figures are reproducible, bad references are refused
+//! before any sweep.
+
+mod common;
+
+use common::*;
+use platoon::core::frame::FrameParams;
+use platoon::tracer::Sampling;
+use platoon::tradeoff::{self, metrics, Options, Row, Technique};
+
+fn options(out: &std::path::Path, spp_list: &[u32], techniques: &[Technique]) -> Options {
+    Options {
+        width: 64,
+        height: 64,
+        spp_list: spp_list.to_vec(),
+        techniques: techniques.to_vec(),
+        seed: 7,
+        reference_spp: 2048,
+        reference: None,
+        out: out.to_path_buf(),
+    }
+}
+
+fn cornell() -> platoon::Prepared {
+    prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Scene,
+    )
+}
+
+fn rows_of<'a>(rows: &'a [Row], technique: &str) -> Vec<&'a Row> {
+    rows.iter().filter(|r| r.technique == technique).collect()
+}
+
+/// A grey Lambertian sphere under a uniform sky: noise without fireflies, so one realisation's
+/// RMSE follows its expectation closely.
+fn sphere_under_sky() -> platoon::Prepared {
+    let grey = platoon::core::scene::cornell::lambertian("grey", glam::Vec3::splat(0.5));
+    prepare(sphere_scene(grey), constant_env(1.0))
+}
+
+#[test]
+fn unbiased_error_falls_as_the_inverse_square_root() {
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let spps = [4, 8, 16, 32, 64];
+    for technique in [Technique::Mis, Technique::Bsdf] {
+        // The reference's own noise must stay well below the 64-spp error: it would flatten
+        // the curve (BSDF sampling is the better estimator under a uniform sky).
+        let o = Options {
+            reference_spp: 16384,
+            ..options(dir.path(), &spps, &[technique])
+        };
+        let report = tradeoff::run(&sphere_under_sky(), &o, &mut |_| {}).unwrap();
+        let points: Vec<(f64, f64)> = report.rows.iter().map(|r| (r.spp as f64, r.rmse)).collect();
+        let slope = metrics::log_log_slope(&points);
+        eprintln!("{technique}: RMSE slope {slope}: {points:?}");
+        assert!(
+            (slope + 0.5).abs() <= 0.1,
+            "{technique}: RMSE slope {slope}: {points:?}"
+        );
+    }
+}
+
+#[test]
+fn a_depth_cap_leaves_an_error_floor_that_samples_do_not_lower() {
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let spps = [4, 8, 16, 32, 64];
+    let o = options(dir.path(), &spps, &[Technique::Mis, Technique::MaxDepth(2)]);
+    let report = tradeoff::run(&cornell(), &o, &mut |_| {}).unwrap();
+    assert_eq!(report.rows.len(), 10);
+    let mis = rows_of(&report.rows, "mis");
+    // Light after two segments is lost: more samples do not bring the capped paths to the
+    // reference. At 64 spp the cap's error stands well above the unbiased one, and its
+    // relative MSE has nearly stopped falling (a floor) while MIS's keeps falling.
+    let capped = rows_of(&report.rows, "max-depth=2");
+    let (m16, m64) = (mis[2], mis[4]);
+    let (c16, c64) = (capped[2], capped[4]);
+    assert!(capped.iter().all(|r| r.biased) && mis.iter().all(|r| !r.biased));
+    assert!(c64.relmse > 5.0 * m64.relmse, "{c64:?} vs {m64:?}");
+    assert!(
+        c64.relmse > 0.7 * c16.relmse,
+        "no floor: {c16:?} -> {c64:?}"
+    );
+    assert!(m64.relmse < 0.4 * m16.relmse, "{m16:?} -> {m64:?}");
+    // The CSV holds every row (it is rewritten after each).
+    let csv = std::fs::read_to_string(dir.path().join("tradeoff.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 11);
+}
+
+#[test]
+fn the_errors_are_the_same_for_the_same_seed_and_the_reference_is_cached() {
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let prepared = cornell();
+    let o = options(
+        dir.path(),
+        &[2, 4],
+        &[Technique::Bsdf, Technique::RouletteFrom(1)],
+    );
+    let a = tradeoff::run(&prepared, &o, &mut |_| {}).unwrap();
+    let b = tradeoff::run(&prepared, &o, &mut |_| {}).unwrap();
+    assert!(
+        b.reference_loaded,
+        "the second run reads the cached reference"
+    );
+    assert_eq!(a.reference, b.reference);
+    let errors = |r: &[Row]| -> Vec<(String, u32, u64, u64)> {
+        r.iter()
+            .map(|r| {
+                (
+                    r.technique.clone(),
+                    r.spp,
+                    r.rmse.to_bits(),
+                    r.relmse.to_bits(),
+                )
+            })
+            .collect()
+    };
+    assert_eq!(errors(&a.rows), errors(&b.rows));
+    // Another seed, other errors.
+    let other = tradeoff::run(&prepared, &Options { seed: 8, ..o }, &mut |_| {}).unwrap();
+    assert_ne!(errors(&a.rows), errors(&other.rows));
+}
+
+#[test]
+fn a_reference_that_does_not_fit_is_refused_before_any_sweep() {
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let prepared = cornell();
+    let small = dir.path().join("small.exr");
+    let film = platoon::core::output::Film {
+        width: 8,
+        height: 8,
+        pixels: vec![[0.5; 3]; 64],
+    };
+    platoon::core::output::write_image(&small, &film, &[]).unwrap();
+    let mut nan = film.clone();
+    nan.width = 64;
+    nan.height = 64;
+    nan.pixels = vec![[0.5; 3]; 64 * 64];
+    nan.pixels[5] = [f32::NAN, 0.0, 0.0];
+    let bad = dir.path().join("nan.exr");
+    platoon::core::output::write_image(&bad, &nan, &[]).unwrap();
+    for (path, says) in [
+        (small.clone(), "is 8x8"),
+        (bad, "non-finite"),
+        (dir.path().join("missing.exr"), "does not exist"),
+    ] {
+        let o = Options {
+            reference: Some(path.clone()),
+            ..options(dir.path(), &[1], &[Technique::Mis])
+        };
+        let e = tradeoff::run(&prepared, &o, &mut |_| {})
+            .err()
+            .expect("refused");
+        let e = format!("{e:#}");
+        assert!(
+            e.contains(says) && e.contains(path.to_str().unwrap()),
+            "{e}"
+        );
+        assert!(!dir.path().join("tradeoff.csv").exists(), "a sweep started");
+    }
+}
+
+#[test]
+fn each_technique_changes_the_kernel_only_through_its_own_defines() {
+    init();
+    let prepared = cornell();
+    let base = FrameParams::new(16, 16, 1, prepared.camera);
+    let defines = |t: Technique| {
+        let tracer = tracer(&prepared, t.sampling());
+        let mut p = base.clone();
+        t.apply(&mut p);
+        tracer.kernel_defines(&p)
+    };
+    let plain = defines(Technique::Mis);
+    for t in [
+        Technique::MaxDepth(2),
+        Technique::RouletteFrom(1),
+        Technique::RouletteSurvival(50),
+        Technique::NoRegeneration,
+    ] {
+        assert_eq!(defines(t), plain, "{t} changed the kernel");
+    }
+    let with = |d: &'static str| {
+        let mut v = plain.clone();
+        v.push(d);
+        v
+    };
+    let sorted = |mut v: Vec<&'static str>| {
+        v.sort_unstable();
+        v
+    };
+    assert_eq!(
+        sorted(defines(Technique::Bsdf)),
+        sorted(with("SAMPLING_BSDF"))
+    );
+    assert_eq!(
+        sorted(defines(Technique::Light)),
+        sorted(with("SAMPLING_LIGHT"))
+    );
+    assert_eq!(Technique::Light.sampling(), Sampling::Light);
+}
