@@ -28,6 +28,16 @@ float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
 #endif
 }
 
+// Adds light a path gathered. With CLAMP_INDIRECT what arrives after the first bounce is clamped
+// to a largest component (biased: a firefly suppressor); direct light is never clamped.
+void add_light(inout vec3 L, vec3 c, uint depth) {
+#ifdef CLAMP_INDIRECT
+    float m = max3(c);
+    if (depth >= 1u && m > pc.clamp_indirect) c *= pc.clamp_indirect / m;
+#endif
+    L += c;
+}
+
 // Shading normals bend the hemispheres: a direction the shading frame calls reflection may cross
 // the geometric surface (and the reverse). Such a direction must carry no light, or light leaks
 // through closed smooth meshes (pbrt-v3's reflect/transmit test against the geometric normal).
@@ -75,14 +85,14 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     rays++;
     if (!trace(p.ray, false, hit)) {
         if (F.counts.w != 0u)
-            p.L += p.throughput * env_radiance(p.ray.dir) * emission_weight(p.after_delta, p.bsdf_pdf, environment_light_pdf(p.ray.dir));
+            add_light(p.L, p.throughput * env_radiance(p.ray.dir) * emission_weight(p.after_delta, p.bsdf_pdf, environment_light_pdf(p.ray.dir)), p.depth);
         return false;
     }
     Surface s = surface_at(hit);
 #ifdef HAS_EMISSIVE_TRIANGLES
     vec3 le = triangle_emission(s, p.ray.dir);
     if (any(greaterThan(le, vec3(0.0))))
-        p.L += p.throughput * le * emission_weight(p.after_delta, p.bsdf_pdf, triangle_light_pdf(hit, s.ng, p.ray.dir));
+        add_light(p.L, p.throughput * le * emission_weight(p.after_delta, p.bsdf_pdf, triangle_light_pdf(hit, s.ng, p.ray.dir)), p.depth);
 #endif
     // depth + 1 segments so far; the next vertex would make depth + 2 (Mitsuba's max_depth).
     if (p.depth + 1u >= max_depth) return false;
@@ -117,7 +127,7 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
 #else
                     float w = ls.delta ? 1.0 : power_heuristic(ls.pdf, pdf);
 #endif
-                    p.L += p.throughput * f * ls.radiance * (w / ls.pdf);
+                    add_light(p.L, p.throughput * f * ls.radiance * (w / ls.pdf), p.depth);
                 }
             }
         }
@@ -133,7 +143,11 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     p.bsdf_pdf = bs.pdf;
     if (!any(greaterThan(p.throughput, vec3(0.0)))) return false;
     if (p.depth >= rr_depth) {
+#ifdef RR_FIXED
+        float survive = pc.rr_survival;
+#else
         float survive = min(max3(p.throughput) * pc.rr_survival, 0.95);
+#endif
         if (rng_next(rng) >= survive) return false;
         p.throughput /= survive;
     }

@@ -73,8 +73,12 @@ layout(push_constant) uniform Push {
     uint sample_end;
     // Lines y0, y0 + stride, y0 + 2 * stride, ... below y1 (1: a contiguous band).
     uint stride;
-    // Russian-roulette survival scale in (0, 1] (FrameParams::rr_survival).
+    // Russian-roulette survival scale in (0, 1] (FrameParams::rr_survival), or with RR_FIXED
+    // the fixed survival probability (FrameParams::rr_fixed).
     float rr_survival;
+    // Largest component of a contribution after the first bounce, with CLAMP_INDIRECT.
+    float clamp_indirect;
+    uint pad;
 } pc;
 
 #include "scene_arrays.glsl"

@@ -63,9 +63,10 @@ fn russian_roulette_scaled_down_stays_unbiased_and_traces_fewer_rays() {
     );
     let (w, h) = (32, 32);
     let mut tracer = tracer(&prepared, Sampling::Mis);
-    let mut render = |survival: f32| {
+    let mut render = |survival: f32, fixed: Option<f32>| {
         let mut params = FrameParams::new(w, h, 64, prepared.camera);
         params.rr_survival = survival;
+        params.rr_fixed = fixed;
         params.rr_depth = 0;
         let r = platoon::render_bands(
             &mut tracer,
@@ -77,14 +78,17 @@ fn russian_roulette_scaled_down_stays_unbiased_and_traces_fewer_rays() {
         assert_eq!(r.rejected_samples(), 0);
         (r.film.clone(), r.rays())
     };
-    let (full, full_rays) = render(1.0);
-    let (scaled, scaled_rays) = render(0.3);
+    let (full, full_rays) = render(1.0, None);
+    let (scaled, scaled_rays) = render(0.3, None);
+    // A fixed survival probability instead of one from the throughput: unbiased too.
+    let (fixed, fixed_rays) = render(1.0, Some(0.5));
+    assert!((fixed_rays as f64) < 0.9 * full_rays as f64);
     assert!(
         (scaled_rays as f64) < 0.9 * full_rays as f64,
         "rays {scaled_rays} at 0.3 vs {full_rays} at 1"
     );
     let inside = sphere_pixels(w, h, 0.9);
-    for film in [&full, &scaled] {
+    for film in [&full, &scaled, &fixed] {
         let (m, se) = mean_and_stderr(inside.iter().map(|&i| luminance(film.pixels[i])));
         assert!(
             (m - L as f64).abs() < 0.005 + 4.0 * se,

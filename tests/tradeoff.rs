@@ -64,13 +64,18 @@ fn unbiased_error_falls_as_the_inverse_square_root() {
 }
 
 #[test]
-fn a_depth_cap_leaves_an_error_floor_that_samples_do_not_lower() {
+fn a_depth_cap_and_a_clamp_leave_an_error_floor_that_samples_do_not_lower() {
     init();
     let dir = tempfile::tempdir().unwrap();
     let spps = [4, 8, 16, 32, 64];
-    let o = options(dir.path(), &spps, &[Technique::Mis, Technique::MaxDepth(2)]);
+    let clamp = Technique::parse("clamp=0.02").unwrap();
+    let o = options(
+        dir.path(),
+        &spps,
+        &[Technique::Mis, Technique::MaxDepth(2), clamp],
+    );
     let report = tradeoff::run(&cornell(), &o, &mut |_| {}).unwrap();
-    assert_eq!(report.rows.len(), 10);
+    assert_eq!(report.rows.len(), 15);
     let mis = rows_of(&report.rows, "mis");
     // Light after two segments is lost: more samples do not bring the capped paths to the
     // reference. At 64 spp the cap's error stands well above the unbiased one, and its
@@ -85,9 +90,20 @@ fn a_depth_cap_leaves_an_error_floor_that_samples_do_not_lower() {
         "no floor: {c16:?} -> {c64:?}"
     );
     assert!(m64.relmse < 0.4 * m16.relmse, "{m16:?} -> {m64:?}");
+    // Clamping the light after the first bounce loses energy the same way.
+    let clamped = rows_of(&report.rows, "clamp=0.02");
+    let (k16, k64) = (clamped[2], clamped[4]);
+    assert!(
+        k64.biased && k64.relmse > 3.0 * m64.relmse,
+        "{k64:?} vs {m64:?}"
+    );
+    assert!(
+        k64.relmse > 0.6 * k16.relmse,
+        "no floor: {k16:?} -> {k64:?}"
+    );
     // The CSV holds every row (it is rewritten after each).
     let csv = std::fs::read_to_string(dir.path().join("tradeoff.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 11);
+    assert_eq!(csv.lines().count(), 16);
 }
 
 #[test]
@@ -203,4 +219,8 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
         sorted(with("SAMPLING_LIGHT"))
     );
     assert_eq!(Technique::Light.sampling(), Sampling::Light);
+    let clamp = Technique::parse("clamp=4").unwrap();
+    assert_eq!(sorted(defines(clamp)), sorted(with("CLAMP_INDIRECT")));
+    let fixed = Technique::parse("rr-fixed=50").unwrap();
+    assert_eq!(sorted(defines(fixed)), sorted(with("RR_FIXED")));
 }

@@ -68,6 +68,16 @@ impl Tracer {
                 params.rr_survival
             )));
         }
+        if params.rr_fixed.is_some_and(|p| !(p > 0.0 && p <= 1.0)) {
+            return Err(crate::Error::Invalid(
+                "a fixed Russian-roulette survival probability must be in (0, 1]".into(),
+            ));
+        }
+        if params.clamp_indirect.is_some_and(|c| !(c > 0.0)) {
+            return Err(crate::Error::Invalid(
+                "the indirect clamp must be a positive radiance".into(),
+            ));
+        }
         let stride = stride.max(1);
         let (width, height) = (params.width, params.height);
         let pixels = width * height;
@@ -168,7 +178,9 @@ impl Tracer {
                 sample_begin: params.first_sample.wrapping_add(begin),
                 sample_end: params.first_sample.wrapping_add(end),
                 stride,
-                rr_survival: params.rr_survival,
+                rr_survival: params.rr_fixed.unwrap_or(params.rr_survival),
+                clamp_indirect: params.clamp_indirect.unwrap_or(f32::INFINITY),
+                _pad: 0,
             };
             self.submit(|d, cb| unsafe {
                 // Earlier passes wrote the accumulation buffer.

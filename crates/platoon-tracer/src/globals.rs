@@ -71,10 +71,14 @@ pub(crate) struct Push {
     pub sample_begin: u32,
     pub sample_end: u32,
     pub stride: u32,
-    /// FrameParams::rr_survival (a push constant: read per bounce).
+    /// FrameParams::rr_survival, or with RR_FIXED the fixed survival probability (a push
+    /// constant: read per bounce).
     pub rr_survival: f32,
+    /// FrameParams::clamp_indirect (read with CLAMP_INDIRECT).
+    pub clamp_indirect: f32,
+    pub _pad: u32,
 }
 
 const _: () = assert!(std::mem::size_of::<Globals>() == 144 + 8 * 16);
 // Must match the push-constant block of shaders/scene.glsl.
-const _: () = assert!(std::mem::size_of::<Push>() == 40);
+const _: () = assert!(std::mem::size_of::<Push>() == 48);

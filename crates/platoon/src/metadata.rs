@@ -36,7 +36,16 @@ pub fn metadata(
         ("russian_roulette_depth".into(), params.rr_depth.to_string()),
         (
             "russian_roulette_survival".into(),
-            params.rr_survival.to_string(),
+            match params.rr_fixed {
+                Some(p) => format!("fixed {p}"),
+                None => format!("throughput x {}", params.rr_survival),
+            },
+        ),
+        (
+            "clamp_indirect".into(),
+            params
+                .clamp_indirect
+                .map_or_else(|| "none".into(), |c| c.to_string()),
         ),
         (
             "render_time_s".into(),
@@ -75,6 +84,9 @@ pub fn approximations(params: &FrameParams) -> String {
     let mut a = vec!["roughness<0.01 rendered as perfectly specular".to_string()];
     if params.max_depth < platoon_core::frame::DEFAULT_MAX_DEPTH {
         a.push(format!("path depth capped at {}", params.max_depth));
+    }
+    if let Some(c) = params.clamp_indirect {
+        a.push(format!("light after the first bounce clamped at {c}"));
     }
     a.join("; ")
 }

@@ -19,6 +19,10 @@ pub struct FeatureSet {
     pub camera_rays_only: bool,
     /// The kernel writes primary hits instead of radiance (`frame::Output::PrimaryHit`).
     pub primary_hit_output: bool,
+    /// Indirect contributions clamped (`FrameParams::clamp_indirect`; biased).
+    pub clamp_indirect: bool,
+    /// Russian roulette with a fixed survival probability (`FrameParams::rr_fixed`).
+    pub fixed_roulette: bool,
 }
 
 impl FeatureSet {
@@ -58,6 +62,8 @@ impl FeatureSet {
             thin_lens: false,
             camera_rays_only: false,
             primary_hit_output: false,
+            clamp_indirect: false,
+            fixed_roulette: false,
         }
     }
 
@@ -67,10 +73,12 @@ impl FeatureSet {
         self.thin_lens = params.camera.aperture_radius > 0.0;
         self.camera_rays_only = params.max_depth <= 1;
         self.primary_hit_output = params.output == crate::frame::Output::PrimaryHit;
+        self.clamp_indirect = params.clamp_indirect.is_some();
+        self.fixed_roulette = params.rr_fixed.is_some();
         self
     }
 
-    fn entries(&self) -> [(&'static str, &'static str, bool); 10] {
+    fn entries(&self) -> [(&'static str, &'static str, bool); 12] {
         [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
@@ -102,6 +110,8 @@ impl FeatureSet {
                 "OUTPUT_PRIMARY_HIT",
                 self.primary_hit_output,
             ),
+            ("clamp-indirect", "CLAMP_INDIRECT", self.clamp_indirect),
+            ("fixed-roulette", "RR_FIXED", self.fixed_roulette),
         ]
     }
 

@@ -37,6 +37,12 @@ pub struct FrameParams {
     /// so any value is unbiased; below 1 paths are shorter (faster) and the image noisier. What
     /// the frame driver's roulette scaling lowers when one sample a frame is already too slow.
     pub rr_survival: f32,
+    /// Russian roulette with this fixed survival probability in (0, 1] instead of one from the
+    /// path's throughput (unbiased; Bikker's comparison). Compiled in only when set.
+    pub rr_fixed: Option<f32>,
+    /// Clamp every contribution after the first bounce to this maximum component (a firefly
+    /// suppressor games use; biased, listed as an approximation). Compiled in only when set.
+    pub clamp_indirect: Option<f32>,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -78,6 +84,8 @@ impl FrameParams {
             max_depth: DEFAULT_MAX_DEPTH,
             rr_depth: 3,
             rr_survival: 1.0,
+            rr_fixed: None,
+            clamp_indirect: None,
             seed: 0,
             frame: 0,
             first_sample: 0,

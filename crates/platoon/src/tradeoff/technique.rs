@@ -22,6 +22,12 @@ pub enum Technique {
     RouletteFrom(u32),
     /// Russian-roulette survival scaled by a factor in (0, 1] (unbiased; percent).
     RouletteSurvival(u32),
+    /// Russian roulette with a fixed survival probability (percent) instead of one from the
+    /// throughput (unbiased).
+    RouletteFixed(u32),
+    /// Every contribution after the first bounce clamped to this largest component (biased;
+    /// the f32's bits, so the technique stays hashable).
+    Clamp(u32),
     /// One sample per kernel pass: no path regeneration within a pass (Bikker ch. 6).
     NoRegeneration,
 }
@@ -37,7 +43,7 @@ impl Technique {
     ];
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
-    /// `no-regeneration`.
+    /// `rr-fixed=P` (percent), `clamp=C`, `no-regeneration`.
     pub fn parse(s: &str) -> Result<Technique> {
         let (name, value) = match s.split_once('=') {
             Some((n, v)) => (n.trim(), Some(v.trim())),
@@ -63,16 +69,24 @@ impl Technique {
                 p @ 1..=100 => Technique::RouletteSurvival(p),
                 _ => bail!("technique {s:?}: the survival scale is a percentage in 1..=100"),
             },
+            "rr-fixed" => match number("rr-fixed (percent)")? {
+                p @ 1..=100 => Technique::RouletteFixed(p),
+                _ => bail!("technique {s:?}: the survival probability is a percentage in 1..=100"),
+            },
+            "clamp" => match value.map(str::parse::<f32>) {
+                Some(Ok(c)) if c > 0.0 && c.is_finite() => Technique::Clamp(c.to_bits()),
+                _ => bail!("technique {s:?}: clamp needs a positive radiance, e.g. clamp=10"),
+            },
             _ => bail!(
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
-                 rr-survival=PERCENT, no-regeneration"
+                 rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, no-regeneration"
             ),
         })
     }
 
     /// Converges to something else than the reference.
     pub fn biased(self) -> bool {
-        matches!(self, Technique::MaxDepth(_))
+        matches!(self, Technique::MaxDepth(_) | Technique::Clamp(_))
     }
 
     /// The estimator its tracer is built with.
@@ -90,6 +104,8 @@ impl Technique {
             Technique::MaxDepth(n) => params.max_depth = n,
             Technique::RouletteFrom(n) => params.rr_depth = n,
             Technique::RouletteSurvival(p) => params.rr_survival = p as f32 / 100.0,
+            Technique::RouletteFixed(p) => params.rr_fixed = Some(p as f32 / 100.0),
+            Technique::Clamp(bits) => params.clamp_indirect = Some(f32::from_bits(bits)),
             Technique::NoRegeneration => params.samples_per_pass = 1,
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
         }
@@ -105,6 +121,8 @@ impl fmt::Display for Technique {
             Technique::MaxDepth(n) => write!(f, "max-depth={n}"),
             Technique::RouletteFrom(n) => write!(f, "rr-depth={n}"),
             Technique::RouletteSurvival(p) => write!(f, "rr-survival={p}"),
+            Technique::RouletteFixed(p) => write!(f, "rr-fixed={p}"),
+            Technique::Clamp(bits) => write!(f, "clamp={}", f32::from_bits(*bits)),
             Technique::NoRegeneration => write!(f, "no-regeneration"),
         }
     }
@@ -123,6 +141,8 @@ mod tests {
             Technique::MaxDepth(2),
             Technique::RouletteFrom(1),
             Technique::RouletteSurvival(30),
+            Technique::RouletteFixed(80),
+            Technique::Clamp(2.5f32.to_bits()),
             Technique::NoRegeneration,
         ] {
             assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
@@ -136,5 +156,7 @@ mod tests {
         assert!(Technique::parse("max-depth=0").is_err());
         assert!(Technique::parse("rr-survival=0").is_err());
         assert!(Technique::MaxDepth(2).biased() && !Technique::Bsdf.biased());
+        assert!(Technique::parse("clamp=10").unwrap().biased());
+        assert!(Technique::parse("clamp=-1").is_err() && Technique::parse("rr-fixed=0").is_err());
     }
 }
