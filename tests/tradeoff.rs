@@ -16,10 +16,20 @@ fn options(out: &std::path::Path, spp_list: &[u32], techniques: &[Technique]) ->
         spp_list: spp_list.to_vec(),
         techniques: techniques.to_vec(),
         seed: 7,
+        repeat: 1,
         reference_spp: 2048,
         reference: None,
         out: out.to_path_buf(),
+        scene_label: "test".into(),
     }
+}
+
+/// Width and height from a PNG's header.
+fn png_size(path: &std::path::Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(&bytes[1..4], b"PNG", "{}", path.display());
+    let at = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    (at(16), at(20))
 }
 
 fn cornell() -> platoon::Prepared {
@@ -101,15 +111,39 @@ fn a_depth_cap_and_a_clamp_leave_an_error_floor_that_samples_do_not_lower() {
         k64.relmse > 0.6 * k16.relmse,
         "no floor: {k16:?} -> {k64:?}"
     );
-    // The CSV holds every row (it is rewritten after each).
+    // The CSV holds every row (it is rewritten after each); the plots, the report and its
+    // images are written beside it.
     let csv = std::fs::read_to_string(dir.path().join("tradeoff.csv")).unwrap();
     assert_eq!(csv.lines().count(), 16);
+    for png in ["tradeoff-error.png", "tradeoff-efficiency.png"] {
+        let (w, h) = png_size(&dir.path().join(png));
+        assert!(w >= 800 && h >= 400, "{png}: {w}x{h}");
+    }
+    let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(
+        md.contains("| max-depth=2 (biased) |") && md.contains("| 64 spp |"),
+        "{md}"
+    );
+    for image in [
+        "reference",
+        "mis",
+        "mis-error",
+        "max-depth-2",
+        "clamp-0-02-error",
+    ] {
+        assert!(
+            md.contains(&format!("images/{image}.png")),
+            "{image} not in the report"
+        );
+        let size = png_size(&dir.path().join("images").join(format!("{image}.png")));
+        assert_eq!(size, (4 * 64, 4 * 64), "{image}");
+    }
 }
 
 #[test]
 fn the_errors_are_the_same_for_the_same_seed_and_the_reference_is_cached() {
     init();
-    let dir = tempfile::tempdir().unwrap();
+    let (dir, second) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
     let prepared = cornell();
     let o = options(
         dir.path(),
@@ -117,7 +151,31 @@ fn the_errors_are_the_same_for_the_same_seed_and_the_reference_is_cached() {
         &[Technique::Bsdf, Technique::RouletteFrom(1)],
     );
     let a = tradeoff::run(&prepared, &o, &mut |_| {}).unwrap();
-    let b = tradeoff::run(&prepared, &o, &mut |_| {}).unwrap();
+    let b = tradeoff::run(
+        &prepared,
+        &Options {
+            out: second.path().to_path_buf(),
+            ..o.clone()
+        },
+        &mut |_| {},
+    )
+    .unwrap();
+    // The report's images (renders and error maps) are the same bytes.
+    for image in [
+        "reference",
+        "bsdf",
+        "bsdf-error",
+        "rr-depth-1",
+        "rr-depth-1-error",
+    ] {
+        let read =
+            |d: &std::path::Path| std::fs::read(d.join("images").join(format!("{image}.png")));
+        assert_eq!(
+            read(dir.path()).unwrap(),
+            read(second.path()).unwrap(),
+            "{image}"
+        );
+    }
     assert!(
         b.reference_loaded,
         "the second run reads the cached reference"

@@ -31,6 +31,9 @@ pub struct TradeoffArgs {
     techniques: Vec<String>,
     #[arg(long, default_value_t = 0)]
     seed: u32,
+    /// Renders timed per cell (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    repeat: u32,
     /// Samples per pixel of platoon's own reference (cached between runs).
     #[arg(long, default_value_t = 4096)]
     reference_spp: u32,
@@ -57,9 +60,17 @@ pub fn run(args: TradeoffArgs) -> Result<()> {
         spp_list: args.spp_list.clone(),
         techniques,
         seed: args.seed,
+        repeat: args.repeat,
         reference_spp: args.reference_spp,
         reference: args.reference.clone(),
         out: args.out.clone(),
+        scene_label: args
+            .scene
+            .scene
+            .as_ref()
+            .map_or("the built-in Cornell box".into(), |p| {
+                p.display().to_string()
+            }),
     };
     options.validate()?;
     let scene = args.scene.load()?;
@@ -103,7 +114,8 @@ pub fn run(args: TradeoffArgs) -> Result<()> {
         (None, _) => "given".into(),
     };
     let text = format!(
-        "reference: {} ({origin})\n{}wrote {}",
+        "reference: {} ({origin})\n{}wrote {} (the rows), tradeoff-error.png, \
+         tradeoff-efficiency.png and report.md",
         report.reference.display(),
         report::table(&report.rows),
         args.out.join("tradeoff.csv").display()

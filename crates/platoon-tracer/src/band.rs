@@ -73,7 +73,10 @@ impl Tracer {
                 "a fixed Russian-roulette survival probability must be in (0, 1]".into(),
             ));
         }
-        if params.clamp_indirect.is_some_and(|c| c.is_nan() || c <= 0.0) {
+        if params
+            .clamp_indirect
+            .is_some_and(|c| c.is_nan() || c <= 0.0)
+        {
             return Err(crate::Error::Invalid(
                 "the indirect clamp must be a positive radiance".into(),
             ));

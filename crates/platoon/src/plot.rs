@@ -102,7 +102,7 @@ fn draw_lines(
 }
 
 /// Draws a `size` image under `title` with `draw` into `path`, through a temporary file.
-fn write_through_temp(
+pub(crate) fn write_through_temp(
     path: &Path,
     size: (u32, u32),
     title: &str,

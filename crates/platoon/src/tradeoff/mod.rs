@@ -4,11 +4,14 @@
 //! Against an unbiased reference bias shows up as an error floor that more samples do not
 //! lower, which a reference rendered by the same technique (Bikker's) would hide.
 
+pub mod markdown;
 pub mod metrics;
+pub mod plots;
 pub mod reference;
 pub mod report;
 pub mod technique;
 
+use std::collections::hash_map::Entry;
 use std::collections::HashMap;
 use std::path::PathBuf;
 
@@ -27,13 +30,18 @@ pub struct Options {
     pub spp_list: Vec<u32>,
     pub techniques: Vec<Technique>,
     pub seed: u32,
+    /// Renders timed per cell; the median time is reported (the errors are the same each time:
+    /// the random numbers are a function of the seed).
+    pub repeat: u32,
     /// Samples of platoon's own reference.
     pub reference_spp: u32,
     /// A reference image to use instead (EXR, the sweep's size).
     pub reference: Option<PathBuf>,
     /// Folder for tradeoff.csv (rewritten after every row, so an interrupted sweep keeps the
-    /// rows it finished).
+    /// rows it finished), the plots, report.md and its images.
     pub out: PathBuf,
+    /// What report.md calls the scene.
+    pub scene_label: String,
 }
 
 impl Options {
@@ -106,15 +114,14 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             })?
         }
     };
+    // One tracer per estimator; each technique's parameters; every kernel variant warmed up
+    // (its first dispatch pays for compiling it: not a cost of the technique).
     let mut tracers: HashMap<Sampling, Tracer> = HashMap::new();
-    let mut rows = Vec::new();
-    let total = o.techniques.len() * o.spp_list.len();
-    let csv_path = o.out.join("tradeoff.csv");
+    let mut setups = Vec::with_capacity(o.techniques.len());
     for technique in &o.techniques {
-        let label = technique.to_string();
         let tracer = match tracers.entry(technique.sampling()) {
-            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
-            std::collections::hash_map::Entry::Vacant(e) => e.insert(Tracer::new(
+            Entry::Occupied(e) => e.into_mut(),
+            Entry::Vacant(e) => e.insert(Tracer::new(
                 &TracerOptions {
                     sampling: technique.sampling(),
                     ..Default::default()
@@ -124,47 +131,88 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
         };
         let mut params = base.clone();
         technique.apply(&mut params);
-        // The first dispatch of a kernel variant pays for its compilation: not a cost of the
-        // technique.
         params.spp = 1;
         tracer
             .render(&params, 0, o.height, &mut |_| {})
-            .with_context(|| format!("warming up {label}"))?;
-        for &spp in &o.spp_list {
+            .with_context(|| format!("warming up {technique}"))?;
+        setups.push((*technique, params));
+    }
+    let cells: Vec<(usize, u32)> = (0..setups.len())
+        .flat_map(|t| o.spp_list.iter().map(move |&spp| (t, spp)))
+        .collect();
+    let top_spp = o.spp_list.iter().copied().max().unwrap_or(1);
+    let csv_path = o.out.join("tradeoff.csv");
+    let mut rows: Vec<Row> = Vec::with_capacity(cells.len());
+    let mut times: Vec<Vec<f64>> = vec![Vec::new(); cells.len()];
+    let mut rays = vec![0u64; cells.len()];
+    // Each technique's render at the highest sample count, for the report's images.
+    let mut finals: Vec<(String, platoon_core::output::Film)> = Vec::new();
+    // Repeats go round every cell in turn, so that a slow spell of the machine spreads over
+    // all techniques instead of falling on one; each cell reports its median time.
+    let repeat = o.repeat.max(1) as usize;
+    for round in 0..repeat {
+        for (c, &(t, spp)) in cells.iter().enumerate() {
+            let (technique, params) = &setups[t];
+            let label = technique.to_string();
             progress(Progress::Row {
-                index: rows.len(),
-                total,
+                index: round * cells.len() + c,
+                total: repeat * cells.len(),
                 label: &label,
             });
+            let mut params = params.clone();
             params.spp = spp;
+            let tracer = tracers
+                .get_mut(&technique.sampling())
+                .expect("a tracer per estimator");
             let band = tracer
                 .render(&params, 0, o.height, &mut |_| {})
                 .with_context(|| format!("rendering {label} at {spp} spp"))?;
-            let seconds = if band.gpu_time.is_zero() {
+            times[c].push(if band.gpu_time.is_zero() {
                 band.wall_time.as_secs_f64()
             } else {
                 band.gpu_time.as_secs_f64()
-            };
-            let rays = band.rays;
-            let film = assemble(&params, &[band]);
-            let e = metrics::errors(&film, &reference.film);
-            rows.push(Row {
-                technique: label.clone(),
-                spp,
-                ms: seconds * 1e3,
-                rmse: e.rmse,
-                relmse: e.relmse,
-                mrays: rays as f64 / seconds.max(1e-12) / 1e6,
-                efficiency: metrics::efficiency(e.rmse, seconds),
-                biased: technique.biased(),
             });
+            let seconds = platoon_core::measure::median(times[c].clone());
+            if round == 0 {
+                // The errors are the same every round (the same random numbers).
+                rays[c] = band.rays;
+                let film = assemble(&params, &[band]);
+                let e = metrics::errors(&film, &reference.film);
+                if spp == top_spp {
+                    finals.push((label.clone(), film));
+                }
+                rows.push(Row {
+                    technique: label,
+                    spp,
+                    ms: 0.0,
+                    rmse: e.rmse,
+                    relmse: e.relmse,
+                    mrays: 0.0,
+                    efficiency: 0.0,
+                    biased: technique.biased(),
+                });
+            }
+            let row = &mut rows[c];
+            row.ms = seconds * 1e3;
+            row.mrays = rays[c] as f64 / seconds.max(1e-12) / 1e6;
+            row.efficiency = metrics::efficiency(row.rmse, seconds);
+            // Rewritten after every render: an interrupted sweep keeps what it measured.
             platoon_core::output::write_text(&csv_path, &report::csv(&rows))?;
         }
     }
-    Ok(Report {
+    let report = Report {
         rows,
         reference: reference.path,
         reference_spp: reference.spp,
         reference_loaded: reference.loaded,
-    })
+    };
+    let title = format!("{} at {}x{}", o.scene_label, o.width, o.height);
+    plots::write_error_png(&o.out.join("tradeoff-error.png"), &report.rows, &title)?;
+    plots::write_efficiency_png(
+        &o.out.join("tradeoff-efficiency.png"),
+        &report.rows,
+        &format!("efficiency at {top_spp} spp, {title}"),
+    )?;
+    markdown::write(&o.out, &report, &reference.film, &finals, &o.scene_label)?;
+    Ok(report)
 }
