@@ -10,6 +10,16 @@ struct LightSample {
     bool delta;
 };
 
+// Probability of NEE picking light l: its share of the lights' power, or with
+// LIGHT_SELECT_UNIFORM one in n (every light alike, Bikker's baseline).
+float light_pick(Light l) {
+#ifdef LIGHT_SELECT_UNIFORM
+    return 1.0 / float(max(F.counts.x, 1u));
+#else
+    return l.emission.w;
+#endif
+}
+
 // Emitted radiance of an emissive triangle towards -dir, 0 from the back of one-sided emitters.
 vec3 triangle_emission(Surface s, vec3 dir) {
     if (!s.double_sided && dot(s.ng, dir) >= 0.0) return vec3(0.0);
@@ -26,7 +36,7 @@ float triangle_light_pdf(Hit hit, vec3 ng_world, vec3 dir) {
     float area = 0.5 * length(cross(l.b.xyz - l.a.xyz, l.c.xyz - l.a.xyz));
     float cos_l = abs(dot(ng_world, dir));
     if (area <= 0.0 || cos_l <= 0.0) return 0.0;
-    return l.emission.w * hit.t * hit.t / (cos_l * area);
+    return light_pick(l) * hit.t * hit.t / (cos_l * area);
 }
 #endif
 
@@ -36,7 +46,7 @@ float environment_light_pdf(vec3 dir) {
     // The environment is always the last entry.
     Light l = light_at(n - 1u);
     if (l.ids.x != LIGHT_ENVIRONMENT) return 0.0;
-    return l.emission.w * env_pdf(dir);
+    return light_pick(l) * env_pdf(dir);
 }
 
 bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
@@ -47,8 +57,12 @@ bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
     ls.infinite = false;
     uint n = F.counts.x;
     if (n == 0u) return false;
+#ifdef LIGHT_SELECT_UNIFORM
+    Light l = light_at(min(uint(ul * float(n)), n - 1u));
+#else
     Light l = light_at(search_cdf(CDF_LIGHTS, 0u, n, ul));
-    float pmf = l.emission.w;
+#endif
+    float pmf = light_pick(l);
     uint kind = l.ids.x;
 #ifdef HAS_EMISSIVE_TRIANGLES
     if (kind == LIGHT_TRIANGLE) {

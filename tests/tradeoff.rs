@@ -141,6 +141,45 @@ fn a_depth_cap_and_a_clamp_leave_an_error_floor_that_samples_do_not_lower() {
 }
 
 #[test]
+fn unbiased_knobs_converge_to_the_reference_with_no_floor() {
+    // The Cornell box open to a dim sky: two kinds of light of very different power, so
+    // picking lights uniformly instead of by power changes where NEE samples go.
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let lit = prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Color(glam::Vec3::splat(0.3)),
+    );
+    let knobs = [
+        Technique::UniformLights,
+        Technique::parse("rr-fixed=50").unwrap(),
+        Technique::RouletteSurvival(40),
+    ];
+    let o = options(
+        dir.path(),
+        &[16, 64],
+        &[&[Technique::Mis][..], &knobs].concat(),
+    );
+    let report = tradeoff::run(&lit, &o, &mut |_| {}).unwrap();
+    let mis = rows_of(&report.rows, "mis");
+    for knob in knobs {
+        let rows = rows_of(&report.rows, &knob.to_string());
+        let (at16, at64) = (rows[0], rows[1]);
+        // Four times the samples, about a quarter of the relative MSE: nothing left over.
+        assert!(
+            at64.relmse < 0.45 * at16.relmse,
+            "{knob}: {at16:?} -> {at64:?}"
+        );
+        assert!(
+            at64.relmse < 4.0 * mis[1].relmse,
+            "{knob}: {at64:?} vs {:?}",
+            mis[1]
+        );
+        assert!(!at64.biased);
+    }
+}
+
+#[test]
 fn the_errors_are_the_same_for_the_same_seed_and_the_reference_is_cached() {
     init();
     let (dir, second) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
@@ -279,6 +318,10 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
     assert_eq!(Technique::Light.sampling(), Sampling::Light);
     let clamp = Technique::parse("clamp=4").unwrap();
     assert_eq!(sorted(defines(clamp)), sorted(with("CLAMP_INDIRECT")));
+    assert_eq!(
+        sorted(defines(Technique::UniformLights)),
+        sorted(with("LIGHT_SELECT_UNIFORM"))
+    );
     let fixed = Technique::parse("rr-fixed=50").unwrap();
     assert_eq!(sorted(defines(fixed)), sorted(with("RR_FIXED")));
 }

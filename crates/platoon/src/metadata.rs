@@ -42,6 +42,15 @@ pub fn metadata(
             },
         ),
         (
+            "light_selection".into(),
+            if params.uniform_light_selection {
+                "uniform"
+            } else {
+                "power"
+            }
+            .into(),
+        ),
+        (
             "clamp_indirect".into(),
             params
                 .clamp_indirect

@@ -23,6 +23,8 @@ pub struct FeatureSet {
     pub clamp_indirect: bool,
     /// Russian roulette with a fixed survival probability (`FrameParams::rr_fixed`).
     pub fixed_roulette: bool,
+    /// Next-event estimation picks every light alike (`FrameParams::uniform_light_selection`).
+    pub uniform_lights: bool,
 }
 
 impl FeatureSet {
@@ -64,6 +66,7 @@ impl FeatureSet {
             primary_hit_output: false,
             clamp_indirect: false,
             fixed_roulette: false,
+            uniform_lights: false,
         }
     }
 
@@ -75,10 +78,11 @@ impl FeatureSet {
         self.primary_hit_output = params.output == crate::frame::Output::PrimaryHit;
         self.clamp_indirect = params.clamp_indirect.is_some();
         self.fixed_roulette = params.rr_fixed.is_some();
+        self.uniform_lights = params.uniform_light_selection;
         self
     }
 
-    fn entries(&self) -> [(&'static str, &'static str, bool); 12] {
+    fn entries(&self) -> [(&'static str, &'static str, bool); 13] {
         [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
@@ -112,6 +116,11 @@ impl FeatureSet {
             ),
             ("clamp-indirect", "CLAMP_INDIRECT", self.clamp_indirect),
             ("fixed-roulette", "RR_FIXED", self.fixed_roulette),
+            (
+                "uniform-lights",
+                "LIGHT_SELECT_UNIFORM",
+                self.uniform_lights,
+            ),
         ]
     }
 

@@ -43,6 +43,9 @@ pub struct FrameParams {
     /// Clamp every contribution after the first bounce to this maximum component (a firefly
     /// suppressor games use; biased, listed as an approximation). Compiled in only when set.
     pub clamp_indirect: Option<f32>,
+    /// Next-event estimation picks every light with the same probability instead of by power
+    /// (unbiased, usually noisier). Compiled in only when set.
+    pub uniform_light_selection: bool,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -86,6 +89,7 @@ impl FrameParams {
             rr_survival: 1.0,
             rr_fixed: None,
             clamp_indirect: None,
+            uniform_light_selection: false,
             seed: 0,
             frame: 0,
             first_sample: 0,

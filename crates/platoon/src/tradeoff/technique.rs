@@ -28,6 +28,8 @@ pub enum Technique {
     /// Every contribution after the first bounce clamped to this largest component (biased;
     /// the f32's bits, so the technique stays hashable).
     Clamp(u32),
+    /// Next-event estimation picks every light alike instead of by power (unbiased).
+    UniformLights,
     /// One sample per kernel pass: no path regeneration within a pass (Bikker ch. 6).
     NoRegeneration,
 }
@@ -43,7 +45,7 @@ impl Technique {
     ];
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
-    /// `rr-fixed=P` (percent), `clamp=C`, `no-regeneration`.
+    /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`.
     pub fn parse(s: &str) -> Result<Technique> {
         let (name, value) = match s.split_once('=') {
             Some((n, v)) => (n.trim(), Some(v.trim())),
@@ -60,6 +62,7 @@ impl Technique {
             "bsdf" => Technique::Bsdf,
             "light" => Technique::Light,
             "no-regeneration" => Technique::NoRegeneration,
+            "uniform-lights" => Technique::UniformLights,
             "max-depth" => match number("max-depth")? {
                 0 => bail!("technique {s:?}: a path needs at least one segment"),
                 n => Technique::MaxDepth(n),
@@ -79,7 +82,7 @@ impl Technique {
             },
             _ => bail!(
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
-                 rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, no-regeneration"
+                 rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration"
             ),
         })
     }
@@ -107,6 +110,7 @@ impl Technique {
             Technique::RouletteFixed(p) => params.rr_fixed = Some(p as f32 / 100.0),
             Technique::Clamp(bits) => params.clamp_indirect = Some(f32::from_bits(bits)),
             Technique::NoRegeneration => params.samples_per_pass = 1,
+            Technique::UniformLights => params.uniform_light_selection = true,
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
         }
     }
@@ -124,6 +128,7 @@ impl fmt::Display for Technique {
             Technique::RouletteFixed(p) => write!(f, "rr-fixed={p}"),
             Technique::Clamp(bits) => write!(f, "clamp={}", f32::from_bits(*bits)),
             Technique::NoRegeneration => write!(f, "no-regeneration"),
+            Technique::UniformLights => write!(f, "uniform-lights"),
         }
     }
 }
@@ -143,6 +148,7 @@ mod tests {
             Technique::RouletteSurvival(30),
             Technique::RouletteFixed(80),
             Technique::Clamp(2.5f32.to_bits()),
+            Technique::UniformLights,
             Technique::NoRegeneration,
         ] {
             assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
