@@ -325,3 +325,30 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
     let fixed = Technique::parse("rr-fixed=50").unwrap();
     assert_eq!(sorted(defines(fixed)), sorted(with("RR_FIXED")));
 }
+
+#[test]
+fn the_generated_glossy_glass_scene_loads_and_sweeps() {
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("glossy.glb");
+    std::fs::write(
+        &path,
+        platoon_scenegen::to_glb(&platoon_scenegen::glossy_glass()),
+    )
+    .unwrap();
+    let scene = platoon::load_scene(Some(&path)).unwrap();
+    let prepared = prepare(scene, platoon::EnvChoice::Scene);
+    assert!(prepared.gpu.features.transmission && prepared.gpu.features.emissive_triangles);
+    let o = Options {
+        width: 16,
+        height: 16,
+        reference_spp: 64,
+        ..options(dir.path(), &[1, 2], &[Technique::Mis, Technique::Bsdf])
+    };
+    let report = tradeoff::run(&prepared, &o, &mut |_| {}).unwrap();
+    assert_eq!(report.rows.len(), 4);
+    assert!(report
+        .rows
+        .iter()
+        .all(|r| r.rmse.is_finite() && r.rmse > 0.0));
+}

@@ -422,6 +422,61 @@ pub fn sphere_field(grid: u32, unique: bool) -> SceneData {
     }
 }
 
+/// The trade-off tool's glossy-and-glass scene: a smooth glass sphere (caustics that only
+/// BSDF sampling finds), a rough glass one, a polished and a brushed metal sphere and a diffuse
+/// one on a diffuse floor before a wall, lit by a small bright panel above.
+pub fn glossy_glass() -> SceneData {
+    let materials = vec![
+        json!({"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.7, 0.7, 1], "metallicFactor": 0, "roughnessFactor": 0.9}}),
+        json!({"name": "wall", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.55, 0.7, 1], "metallicFactor": 0, "roughnessFactor": 1}}),
+        json!({"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 0},
+               "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5}}}),
+        json!({"name": "frosted", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 1, 0.95, 1], "metallicFactor": 0, "roughnessFactor": 0.3},
+               "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5}}}),
+        json!({"name": "polished", "pbrMetallicRoughness": {"baseColorFactor": [0.95, 0.8, 0.5, 1], "metallicFactor": 1, "roughnessFactor": 0.05}}),
+        json!({"name": "brushed", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.85, 1], "metallicFactor": 1, "roughnessFactor": 0.35}}),
+        json!({"name": "diffuse", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.25, 0.2, 1], "metallicFactor": 0, "roughnessFactor": 0.6}}),
+        json!({"name": "panel", "emissiveFactor": [1, 0.95, 0.9], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 30}}, "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1]}}),
+    ];
+    let wall = quad_from([
+        [-6.0, 0.0, -3.0],
+        [6.0, 0.0, -3.0],
+        [6.0, 6.0, -3.0],
+        [-6.0, 6.0, -3.0],
+    ]);
+    let mut meshes = vec![(quad(1.0, 1.0), 0), (wall, 1), (quad(1.0, -1.0), 7)];
+    let mut nodes = vec![
+        NodeData::mesh(0, [0.0; 3], 6.0),
+        NodeData::mesh(1, [0.0; 3], 1.0),
+        NodeData::mesh(2, [0.0, 5.0, 0.5], 0.6),
+    ];
+    for (k, (material, x)) in [(2usize, -3.0f64), (3, -1.5), (4, 0.0), (5, 1.5), (6, 3.0)]
+        .into_iter()
+        .enumerate()
+    {
+        meshes.push((icosphere(4), material));
+        nodes.push(NodeData::mesh(k + 3, [x, 0.65, 0.0], 0.65));
+    }
+    let mut camera = NodeData::new();
+    camera.translation = [0.0, 2.2, 7.5];
+    // Tilted down by 10 degrees about x.
+    let half = (-10.0f32).to_radians() / 2.0;
+    camera.rotation = [half.sin(), 0.0, 0.0, half.cos()];
+    camera.camera_yfov = Some(0.7);
+    nodes.push(camera);
+    SceneData {
+        meshes,
+        materials,
+        nodes,
+        extensions_used: vec![
+            "KHR_materials_emissive_strength".into(),
+            "KHR_materials_transmission".into(),
+            "KHR_materials_ior".into(),
+        ],
+        ..Default::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -440,6 +495,24 @@ mod tests {
         assert!(edges
             .iter()
             .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1)));
+    }
+
+    #[test]
+    fn the_glossy_glass_scene_has_its_five_spheres_a_light_and_a_camera() {
+        let g = glossy_glass();
+        assert_eq!(g.meshes.len(), 8);
+        assert_eq!(
+            g.nodes.iter().filter(|n| n.camera_yfov.is_some()).count(),
+            1
+        );
+        let glass = g
+            .materials
+            .iter()
+            .filter(|m| m["extensions"]["KHR_materials_transmission"]["transmissionFactor"] == 1);
+        assert_eq!(glass.count(), 2);
+        assert!(g.extensions_used.iter().any(|e| e == "KHR_materials_ior"));
+        // It serialises to a glb (platoon loads and sweeps it in tests/tradeoff.rs).
+        assert!(to_glb(&g).starts_with(b"glTF"));
     }
 
     #[test]

@@ -1,4 +1,5 @@
 //! `platoon-scenegen OUT.glb [--grid N] [--unique]`: writes the benchmark sphere field.
+//! `platoon-scenegen OUT.glb --glossy-glass`: the trade-off tool's glossy-and-glass scene.
 //! `platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]`: writes the
 //! adversarial suite (valid hard scenes, malformed and hostile files, mutations of SCENES).
 
@@ -10,6 +11,7 @@ fn main() -> ExitCode {
     let mut out = None;
     let mut grid = 4u32;
     let mut unique = false;
+    let mut glossy_glass = false;
     let mut adversarial = None;
     let mut shared = PathBuf::from("../shared/scenes");
     let mut mutants = 8usize;
@@ -37,6 +39,7 @@ fn main() -> ExitCode {
                 None => return ExitCode::FAILURE,
             },
             "--unique" => unique = true,
+            "--glossy-glass" => glossy_glass = true,
             "--adversarial" => adversarial = it.next().map(PathBuf::from),
             "--shared" => shared = it.next().map(PathBuf::from).unwrap_or(shared),
             other => out = Some(other.to_string()),
@@ -54,10 +57,15 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let Some(out) = out else {
-        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
+        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
         return ExitCode::FAILURE;
     };
-    let glb = platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(grid, unique));
+    let scene = if glossy_glass {
+        platoon_scenegen::glossy_glass()
+    } else {
+        platoon_scenegen::sphere_field(grid, unique)
+    };
+    let glb = platoon_scenegen::to_glb(&scene);
     let tmp = format!("{out}.part");
     if let Err(e) = std::fs::write(&tmp, &glb).and_then(|_| std::fs::rename(&tmp, &out)) {
         eprintln!("error: {out}: {e}");
