@@ -595,6 +595,7 @@ fn tradeoff_prints_its_rows_as_json_and_refuses_what_it_cannot_measure() {
         "ms",
         "rmse",
         "relmse",
+        "flip",
         "mrays",
         "efficiency",
         "biased",

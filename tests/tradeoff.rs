@@ -32,6 +32,11 @@ fn png_size(path: &std::path::Path) -> (u32, u32) {
     (at(16), at(20))
 }
 
+fn md_has_flip_table(dir: &std::path::Path) -> bool {
+    std::fs::read_to_string(dir.join("report.md"))
+        .is_ok_and(|md| md.contains("Mean LDR-FLIP error"))
+}
+
 fn cornell() -> platoon::Prepared {
     prepare(
         platoon::core::scene::cornell::scene(),
@@ -100,6 +105,12 @@ fn a_depth_cap_and_a_clamp_leave_an_error_floor_that_samples_do_not_lower() {
         "no floor: {c16:?} -> {c64:?}"
     );
     assert!(m64.relmse < 0.4 * m16.relmse, "{m16:?} -> {m64:?}");
+    // The perceptual error falls with samples too, and stays higher with the depth cap.
+    assert!(
+        m64.flip < m16.flip && c64.flip > m64.flip,
+        "{m64:?} {c64:?}"
+    );
+    assert!(md_has_flip_table(dir.path()));
     // Clamping the light after the first bounce loses energy the same way.
     let clamped = rows_of(&report.rows, "clamp=0.02");
     let (k16, k64) = (clamped[2], clamped[4]);

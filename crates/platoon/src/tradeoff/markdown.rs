@@ -72,7 +72,8 @@ fn error_scale(finals: &[(String, Film)], reference: &Film) -> f32 {
         .unwrap_or(1.0)
 }
 
-fn table(rows: &[Row]) -> String {
+/// One row per technique, one column per sample count, each cell `cell(row)`.
+fn table(rows: &[Row], cell: fn(&Row) -> String) -> String {
     let mut spps: Vec<u32> = rows.iter().map(|r| r.spp).collect();
     spps.sort_unstable();
     spps.dedup();
@@ -95,7 +96,7 @@ fn table(rows: &[Row]) -> String {
         for spp in &spps {
             match rows.iter().find(|r| r.technique == t && r.spp == *spp) {
                 Some(r) => {
-                    let _ = write!(s, " {:.1} / {:.4} / {:.1} |", r.ms, r.rmse, r.mrays);
+                    let _ = write!(s, " {} |", cell(r));
                 }
                 None => s.push_str(" - |"),
             }
@@ -135,12 +136,14 @@ pub fn write(
     let mut md = format!(
         "# platoon tradeoff: {scene}\n\nReference: `{}` ({origin}).\n\nEach cell is ms / RMSE / \
          Mrays/s (Bikker's appendix D); a biased technique converges to something else than the \
-         reference.\n\n{}\n## Error against time\n\n![error against time](tradeoff-error.png)\n\n\
+         reference.\n\n{}\nMean LDR-FLIP error (perceptual, 0 = identical, 1 = opposite; the images \
+         as platoon's PNGs show them, at 67 pixels per degree):\n\n{}\n## Error against time\n\n![error against time](tradeoff-error.png)\n\n\
          ## Efficiency at {spp} spp\n\n![efficiency](tradeoff-efficiency.png)\n\n## Images at \
          {spp} spp\n\nError maps: mean absolute error per pixel, black = 0, white = {scale:.3} \
          (the 99th percentile over all maps).\n\n| reference |",
         report.reference.display(),
-        table(&report.rows)
+        table(&report.rows, |r| format!("{:.1} / {:.4} / {:.1}", r.ms, r.rmse, r.mrays)),
+        table(&report.rows, |r| format!("{:.4}", r.flip)),
     );
     for (t, _) in finals {
         let _ = write!(md, " {t} |");

@@ -5,6 +5,12 @@
 //! - Relative MSE, (x - r)^2 / (r^2 + 0.01) averaged over pixels and channels (pbrt's and
 //!   Mitsuba's habit): every pixel counts for its relative error, so dark regions matter too.
 //!
+//! - LDR-FLIP (Andersson et al. 2020, NVIDIA's reference implementation through the `nv-flip`
+//!   crate): the mean perceived difference, 0 to 1, between the two images as platoon's PNGs
+//!   show them (the same tone curve), at the default 67 pixels per degree. A perceptual metric
+//!   sees a noise pattern and a darkened caustic for what they look like, where the two MSEs
+//!   weigh one pixel's error alone. HDR-FLIP would skip the tone curve; the crate offers LDR.
+//!
 //! Efficiency is 1 / (MSE x seconds): a technique twice as fast at the same error, or with half
 //! the variance at the same time, is twice as efficient (Veach; the fair single number).
 
@@ -17,6 +23,8 @@ const REL_EPSILON: f64 = 0.01;
 pub struct Errors {
     pub rmse: f64,
     pub relmse: f64,
+    /// Mean LDR-FLIP error in [0, 1].
+    pub flip: f64,
 }
 
 /// Errors of `film` against `reference` (same size: the caller checks).
@@ -34,7 +42,19 @@ pub fn errors(film: &Film, reference: &Film) -> Errors {
     Errors {
         rmse: (se / n).sqrt(),
         relmse: rel / n,
+        flip: flip(film, reference),
     }
+}
+
+/// Mean LDR-FLIP of `film` against `reference`, both tone-mapped as platoon's PNGs are.
+pub fn flip(film: &Film, reference: &Film) -> f64 {
+    let image = |f: &Film| nv_flip::FlipImageRgb8::with_data(f.width, f.height, &f.srgb8());
+    let map = nv_flip::flip(
+        image(reference),
+        image(film),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    nv_flip::FlipPool::from_image(&map).mean() as f64
 }
 
 /// 1 / (RMSE^2 x seconds).
@@ -82,6 +102,10 @@ mod tests {
         assert!((e.rmse - (0.5f64).sqrt()).abs() < 1e-12);
         assert!((e.relmse - 0.5 / REL_EPSILON).abs() < 1e-9);
         assert_eq!(errors(&film(&[2.0]), &film(&[2.0])).rmse, 0.0);
+        assert_eq!(errors(&film(&[2.0]), &film(&[2.0])).flip, 0.0);
+        // A black pixel where the reference is white is a large perceived error.
+        let (black, white) = (film(&[0.0; 16]), film(&[1.0; 16]));
+        assert!(flip(&black, &white) > 0.5);
         assert_eq!(efficiency(0.5, 2.0), 2.0);
         let slope = log_log_slope(&[(4.0, 0.5), (16.0, 0.25), (64.0, 0.125)]);
         assert!((slope + 0.5).abs() < 1e-12);

@@ -74,6 +74,8 @@ pub struct Row {
     pub ms: f64,
     pub rmse: f64,
     pub relmse: f64,
+    /// Mean LDR-FLIP error (perceptual, 0 to 1).
+    pub flip: f64,
     pub mrays: f64,
     pub efficiency: f64,
     pub biased: bool,
@@ -187,6 +189,7 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
                     ms: 0.0,
                     rmse: e.rmse,
                     relmse: e.relmse,
+                    flip: e.flip,
                     mrays: 0.0,
                     efficiency: 0.0,
                     biased: technique.biased(),

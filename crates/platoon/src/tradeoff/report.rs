@@ -56,12 +56,13 @@ pub fn table(rows: &[Row]) -> String {
     s
 }
 
-const COLUMNS: [&str; 8] = [
+const COLUMNS: [&str; 9] = [
     "technique",
     "spp",
     "ms",
     "rmse",
     "relmse",
+    "flip",
     "mrays",
     "efficiency",
     "biased",
@@ -77,6 +78,7 @@ pub fn csv(rows: &[Row]) -> String {
             format!("{:.3}", r.ms),
             format!("{:.6e}", r.rmse),
             format!("{:.6e}", r.relmse),
+            format!("{:.5}", r.flip),
             format!("{:.3}", r.mrays),
             format!("{:.6e}", r.efficiency),
             r.biased.to_string(),
@@ -96,6 +98,7 @@ pub fn json(report: &Report) -> String {
                 "ms": r.ms,
                 "rmse": r.rmse,
                 "relmse": r.relmse,
+                "flip": r.flip,
                 "mrays": r.mrays,
                 "efficiency": r.efficiency,
                 "biased": r.biased,
@@ -121,6 +124,7 @@ mod tests {
             ms: 1.5,
             rmse: 0.25,
             relmse: 0.5,
+            flip: 0.1,
             mrays: 10.0,
             efficiency: 10.0,
             biased,
