@@ -333,6 +333,18 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
         sorted(defines(Technique::UniformLights)),
         sorted(with("LIGHT_SELECT_UNIFORM"))
     );
+    let generic = defines(Technique::GenericKernel);
+    for effect in [
+        "HAS_TEXTURES",
+        "HAS_TRANSMISSION",
+        "HAS_ENVIRONMENT_MAP",
+        "HAS_ALPHA_MASK",
+    ] {
+        assert!(
+            generic.contains(&effect) && !plain.contains(&effect),
+            "{effect}"
+        );
+    }
     let fixed = Technique::parse("rr-fixed=50").unwrap();
     assert_eq!(sorted(defines(fixed)), sorted(with("RR_FIXED")));
 }
@@ -362,4 +374,43 @@ fn the_generated_glossy_glass_scene_loads_and_sweeps() {
         .rows
         .iter()
         .all(|r| r.rmse.is_finite() && r.rmse > 0.0));
+}
+
+#[test]
+fn a_generic_kernel_renders_the_specialised_kernels_image() {
+    // Every effect compiled in (what a renderer that does not specialise runs) must change the
+    // time only: the same estimator, the same random numbers, so the same image.
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let glossy = dir.path().join("glossy.glb");
+    std::fs::write(
+        &glossy,
+        platoon_scenegen::to_glb(&platoon_scenegen::glossy_glass()),
+    )
+    .unwrap();
+    let scenes = [
+        cornell(),
+        prepare(
+            platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap(),
+            constant_env(0.8),
+        ),
+        prepare(
+            platoon::load_scene(Some(&glossy)).unwrap(),
+            platoon::EnvChoice::Scene,
+        ),
+    ];
+    for prepared in &scenes {
+        let mut t = tracer(prepared, Sampling::Mis);
+        let params = FrameParams::new(24, 24, 4, prepared.camera);
+        let mut generic = params.clone();
+        generic.generic_kernel = true;
+        assert_ne!(t.kernel_defines(&params), t.kernel_defines(&generic));
+        let a = render_with(&mut t, &params);
+        let b = render_with(&mut t, &generic);
+        assert!(
+            a == b,
+            "the generic kernel's image differs ({})",
+            prepared.env_label
+        );
+    }
 }

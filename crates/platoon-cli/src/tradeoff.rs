@@ -22,7 +22,7 @@ pub struct TradeoffArgs {
     #[arg(long, value_delimiter = ',', default_value = "4,8,16,32,64")]
     spp_list: Vec<u32>,
     /// Techniques: mis, bsdf, light, max-depth=N, rr-depth=N, rr-survival=PERCENT,
-    /// rr-fixed=PERCENT, clamp=C (biased), uniform-lights, no-regeneration.
+    /// rr-fixed=PERCENT, clamp=C (biased), uniform-lights, no-regeneration, generic-kernel.
     #[arg(
         long,
         value_delimiter = ',',

@@ -71,8 +71,21 @@ impl FeatureSet {
     }
 
     /// The set with the render options of `params` that select kernel code: a thin lens when
-    /// the aperture is open, no bounce code at max depth 1.
+    /// the aperture is open, no bounce code at max depth 1; with `generic_kernel` every effect
+    /// a scene may call for, as a renderer that does not specialise its kernel would run. The
+    /// thin lens stays a camera option: compiled in with a closed aperture it moves the camera
+    /// rays' last bits (the direction is rebuilt through the focus point), and the generic
+    /// kernel must render the specialised kernel's image, bit for bit (tests/tradeoff.rs).
     pub fn with_render_options(mut self, params: &crate::frame::FrameParams) -> FeatureSet {
+        if params.generic_kernel {
+            self.textures = true;
+            self.normal_maps = true;
+            self.transmission = true;
+            self.alpha_mask = true;
+            self.emissive_triangles = true;
+            self.punctual_lights = true;
+            self.environment_map = true;
+        }
         self.thin_lens = params.camera.aperture_radius > 0.0;
         self.camera_rays_only = params.max_depth <= 1;
         self.primary_hit_output = params.output == crate::frame::Output::PrimaryHit;

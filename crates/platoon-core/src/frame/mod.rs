@@ -46,6 +46,9 @@ pub struct FrameParams {
     /// Next-event estimation picks every light with the same probability instead of by power
     /// (unbiased, usually noisier). Compiled in only when set.
     pub uniform_light_selection: bool,
+    /// Compile every effect a scene may call for into the kernel, not only this scene's: what
+    /// a renderer without specialisation pays (the image is the same; the time is not).
+    pub generic_kernel: bool,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -90,6 +93,7 @@ impl FrameParams {
             rr_fixed: None,
             clamp_indirect: None,
             uniform_light_selection: false,
+            generic_kernel: false,
             seed: 0,
             frame: 0,
             first_sample: 0,

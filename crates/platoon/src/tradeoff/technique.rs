@@ -32,6 +32,9 @@ pub enum Technique {
     UniformLights,
     /// One sample per kernel pass: no path regeneration within a pass (Bikker ch. 6).
     NoRegeneration,
+    /// MIS with every effect compiled into the kernel, not only the scene's: the cost of not
+    /// specialising (same image, other time).
+    GenericKernel,
 }
 
 impl Technique {
@@ -45,7 +48,8 @@ impl Technique {
     ];
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
-    /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`.
+    /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
+    /// `generic-kernel`.
     pub fn parse(s: &str) -> Result<Technique> {
         let (name, value) = match s.split_once('=') {
             Some((n, v)) => (n.trim(), Some(v.trim())),
@@ -63,6 +67,7 @@ impl Technique {
             "light" => Technique::Light,
             "no-regeneration" => Technique::NoRegeneration,
             "uniform-lights" => Technique::UniformLights,
+            "generic-kernel" => Technique::GenericKernel,
             "max-depth" => match number("max-depth")? {
                 0 => bail!("technique {s:?}: a path needs at least one segment"),
                 n => Technique::MaxDepth(n),
@@ -82,7 +87,8 @@ impl Technique {
             },
             _ => bail!(
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
-                 rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration"
+                 rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
+                 generic-kernel"
             ),
         })
     }
@@ -111,6 +117,7 @@ impl Technique {
             Technique::Clamp(bits) => params.clamp_indirect = Some(f32::from_bits(bits)),
             Technique::NoRegeneration => params.samples_per_pass = 1,
             Technique::UniformLights => params.uniform_light_selection = true,
+            Technique::GenericKernel => params.generic_kernel = true,
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
         }
     }
@@ -129,6 +136,7 @@ impl fmt::Display for Technique {
             Technique::Clamp(bits) => write!(f, "clamp={}", f32::from_bits(*bits)),
             Technique::NoRegeneration => write!(f, "no-regeneration"),
             Technique::UniformLights => write!(f, "uniform-lights"),
+            Technique::GenericKernel => write!(f, "generic-kernel"),
         }
     }
 }
@@ -150,6 +158,7 @@ mod tests {
             Technique::Clamp(2.5f32.to_bits()),
             Technique::UniformLights,
             Technique::NoRegeneration,
+            Technique::GenericKernel,
         ] {
             assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
         }
