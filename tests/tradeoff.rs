@@ -414,3 +414,42 @@ fn a_generic_kernel_renders_the_specialised_kernels_image() {
         );
     }
 }
+
+#[test]
+fn each_effect_the_scene_uses_has_a_time_and_an_error_and_the_others_are_skipped() {
+    // CesiumMan is textured and lit by an environment map; it has no normal maps and no
+    // transmission.
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let man = prepare(
+        platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap(),
+        platoon::EnvChoice::File(shared("envmaps/courtyard.exr")),
+    );
+    let effects: Vec<Technique> = ["no-textures", "env-mean", "no-normal-maps", "opaque"]
+        .iter()
+        .map(|t| Technique::parse(t).unwrap())
+        .collect();
+    let o = Options {
+        reference_spp: 512,
+        ..options(
+            dir.path(),
+            &[32],
+            &[&[Technique::Mis][..], &effects].concat(),
+        )
+    };
+    let report = tradeoff::run(&man, &o, &mut |_| {}).unwrap();
+    let names: Vec<&str> = report.rows.iter().map(|r| r.technique.as_str()).collect();
+    assert_eq!(names, vec!["mis", "no-textures", "env-mean"]);
+    assert_eq!(report.skipped.len(), 2, "{:?}", report.skipped);
+    assert!(report.skipped[0].starts_with("no-normal-maps"));
+    let mis = &report.rows[0];
+    for r in &report.rows[1..] {
+        // An approximation: biased, and further from the reference than the noise of MIS.
+        assert!(
+            r.biased && r.relmse > mis.relmse && r.flip > mis.flip,
+            "{r:?} vs {mis:?}"
+        );
+    }
+    let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(md.contains("Not run: no-normal-maps"), "{md}");
+}

@@ -113,6 +113,9 @@ pub fn run(args: TradeoffArgs) -> Result<()> {
         (Some(spp), false) => format!("platoon, {spp} spp, rendered now"),
         (None, _) => "given".into(),
     };
+    for s in &report.skipped {
+        eprintln!("skipped {s}");
+    }
     let text = format!(
         "reference: {} ({origin})\n{}wrote {} (the rows), tradeoff-error.png, \
          tradeoff-efficiency.png and report.md",

@@ -49,6 +49,8 @@ pub struct Prepared {
     pub note: Option<String>,
     pub env_label: String,
     pub prepare_time: Duration,
+    /// The animation time it was posed at.
+    pub time: f32,
 }
 
 pub struct PrepareOptions {
@@ -139,5 +141,6 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
         note,
         env_label,
         prepare_time: start.elapsed(),
+        time: options.time,
     })
 }

@@ -159,6 +159,11 @@ pub fn write(
         let _ = write!(md, " ![{t} error](images/{}-error.png) |", file(t));
     }
     md.push('\n');
+    if !report.skipped.is_empty() {
+        md.push_str("\nNot run: ");
+        md.push_str(&report.skipped.join("; "));
+        md.push_str(".\n");
+    }
     platoon_core::output::write_text(&dir.join("report.md"), &md)?;
     Ok(())
 }

@@ -4,6 +4,7 @@
 //! Against an unbiased reference bias shows up as an error floor that more samples do not
 //! lower, which a reference rendered by the same technique (Bikker's) would hide.
 
+pub mod effects;
 pub mod markdown;
 pub mod metrics;
 pub mod plots;
@@ -87,6 +88,8 @@ pub struct Report {
     /// Samples of the reference (None for a user's file).
     pub reference_spp: Option<u32>,
     pub reference_loaded: bool,
+    /// Techniques not run, and why (an effect the scene does not use).
+    pub skipped: Vec<String>,
 }
 
 /// What the sweep is doing, for a progress display.
@@ -116,20 +119,32 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             })?
         }
     };
-    // One tracer per estimator; each technique's parameters; every kernel variant warmed up
-    // (its first dispatch pays for compiling it: not a cost of the technique).
-    let mut tracers: HashMap<Sampling, Tracer> = HashMap::new();
+    // One tracer per estimator and scene variant; each technique's parameters; every kernel
+    // variant warmed up (its first dispatch pays for compiling it: not a cost of the technique).
+    let mut tracers: HashMap<(Sampling, Option<effects::Effect>), Tracer> = HashMap::new();
     let mut setups = Vec::with_capacity(o.techniques.len());
+    let mut skipped = Vec::new();
     for technique in &o.techniques {
-        let tracer = match tracers.entry(technique.sampling()) {
+        let key = (technique.sampling(), technique.effect());
+        let tracer = match tracers.entry(key) {
             Entry::Occupied(e) => e.into_mut(),
-            Entry::Vacant(e) => e.insert(Tracer::new(
-                &TracerOptions {
+            Entry::Vacant(e) => {
+                let options = TracerOptions {
                     sampling: technique.sampling(),
                     ..Default::default()
-                },
-                &prepared.gpu,
-            )?),
+                };
+                let tracer = match technique.effect() {
+                    None => Tracer::new(&options, &prepared.gpu)?,
+                    Some(effect) => match without(prepared, effect)? {
+                        Some(variant) => Tracer::new(&options, &variant.gpu)?,
+                        None => {
+                            skipped.push(format!("{technique}: the scene has no such effect"));
+                            continue;
+                        }
+                    },
+                };
+                e.insert(tracer)
+            }
         };
         let mut params = base.clone();
         technique.apply(&mut params);
@@ -164,8 +179,8 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             let mut params = params.clone();
             params.spp = spp;
             let tracer = tracers
-                .get_mut(&technique.sampling())
-                .expect("a tracer per estimator");
+                .get_mut(&(technique.sampling(), technique.effect()))
+                .expect("a tracer per estimator and scene variant");
             let band = tracer
                 .render(&params, 0, o.height, &mut |_| {})
                 .with_context(|| format!("rendering {label} at {spp} spp"))?;
@@ -208,6 +223,7 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
         reference: reference.path,
         reference_spp: reference.spp,
         reference_loaded: reference.loaded,
+        skipped,
     };
     let title = format!("{} at {}x{}", o.scene_label, o.width, o.height);
     plots::write_error_png(&o.out.join("tradeoff-error.png"), &report.rows, &title)?;
@@ -218,4 +234,23 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
     )?;
     markdown::write(&o.out, &report, &reference.film, &finals, &o.scene_label)?;
     Ok(report)
+}
+
+/// `prepared` without `effect` (its stand-in instead), seen by the same camera; None when the
+/// scene does not use the effect.
+fn without(prepared: &Prepared, effect: effects::Effect) -> Result<Option<Prepared>> {
+    let mut scene = prepared.scene.clone();
+    if !effect.remove(&mut scene) {
+        return Ok(None);
+    }
+    let mut variant = crate::prepare(
+        scene,
+        &crate::PrepareOptions {
+            time: prepared.time,
+            ..Default::default()
+        },
+    )
+    .with_context(|| format!("preparing the scene without {}", effect.name()))?;
+    variant.camera = prepared.camera;
+    Ok(Some(variant))
 }

@@ -8,6 +8,8 @@ use anyhow::{bail, Result};
 use platoon_core::frame::FrameParams;
 use platoon_tracer::Sampling;
 
+use super::effects::Effect;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Technique {
     /// Next-event estimation and BSDF sampling combined by MIS: platoon's default.
@@ -35,6 +37,9 @@ pub enum Technique {
     /// MIS with every effect compiled into the kernel, not only the scene's: the cost of not
     /// specialising (same image, other time).
     GenericKernel,
+    /// MIS on the scene without one of its effects (its stand-in instead): what the effect
+    /// costs in time and what removing it does to the image.
+    Without(Effect),
 }
 
 impl Technique {
@@ -49,8 +54,11 @@ impl Technique {
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
-    /// `generic-kernel`.
+    /// `generic-kernel`, `no-textures`, `no-normal-maps`, `opaque`, `env-mean`.
     pub fn parse(s: &str) -> Result<Technique> {
+        if let Some(effect) = Effect::parse(s.trim()) {
+            return Ok(Technique::Without(effect));
+        }
         let (name, value) = match s.split_once('=') {
             Some((n, v)) => (n.trim(), Some(v.trim())),
             None => (s.trim(), None),
@@ -88,14 +96,17 @@ impl Technique {
             _ => bail!(
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
-                 generic-kernel"
+                 generic-kernel, no-textures, no-normal-maps, opaque, env-mean"
             ),
         })
     }
 
     /// Converges to something else than the reference.
     pub fn biased(self) -> bool {
-        matches!(self, Technique::MaxDepth(_) | Technique::Clamp(_))
+        matches!(
+            self,
+            Technique::MaxDepth(_) | Technique::Clamp(_) | Technique::Without(_)
+        )
     }
 
     /// The estimator its tracer is built with.
@@ -104,6 +115,14 @@ impl Technique {
             Technique::Bsdf => Sampling::Bsdf,
             Technique::Light => Sampling::Light,
             _ => Sampling::Mis,
+        }
+    }
+
+    /// The effect it removes from the scene, if it is such a technique.
+    pub fn effect(self) -> Option<Effect> {
+        match self {
+            Technique::Without(e) => Some(e),
+            _ => None,
         }
     }
 
@@ -118,6 +137,8 @@ impl Technique {
             Technique::NoRegeneration => params.samples_per_pass = 1,
             Technique::UniformLights => params.uniform_light_selection = true,
             Technique::GenericKernel => params.generic_kernel = true,
+            // Its change is to the scene (`effect`).
+            Technique::Without(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
         }
     }
@@ -137,6 +158,7 @@ impl fmt::Display for Technique {
             Technique::NoRegeneration => write!(f, "no-regeneration"),
             Technique::UniformLights => write!(f, "uniform-lights"),
             Technique::GenericKernel => write!(f, "generic-kernel"),
+            Technique::Without(e) => write!(f, "{}", e.name()),
         }
     }
 }
@@ -159,6 +181,8 @@ mod tests {
             Technique::UniformLights,
             Technique::NoRegeneration,
             Technique::GenericKernel,
+            Technique::Without(Effect::Textures),
+            Technique::Without(Effect::EnvironmentMap),
         ] {
             assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
         }
