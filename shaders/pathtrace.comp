@@ -71,10 +71,12 @@ struct Path {
     bool after_delta;  // the camera ray counts like a delta bounce
     float bsdf_pdf;
     uint depth;
+    uint sample_index;  // the pixel's sample: what deterministic termination (DPT) reads
+    uint diffuse;       // non-delta bounces so far (single diffuse bounce)
 };
 
-Path path_start(Ray ray) {
-    return Path(ray, vec3(0.0), vec3(1.0), true, 0.0, 0u);
+Path path_start(Ray ray, uint sample_index) {
+    return Path(ray, vec3(0.0), vec3(1.0), true, 0.0, 0u, sample_index, 0u);
 }
 
 // Extends the path by one vertex; false once the path has ended (its radiance is in p.L).
@@ -108,6 +110,12 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     Bsdf bsdf = make_bsdf(s, wo);
     // The geometric side the ray arrived on; new rays leave from the side they head to.
     vec3 ng_wo = dot(s.ng, p.ray.dir) < 0.0 ? s.ng : -s.ng;
+    // With SINGLE_DIFFUSE_BOUNCE (Bikker's games) the path ends at its second non-delta vertex:
+    // its NEE then takes the whole of the direct light, as no BSDF ray will follow for MIS.
+    bool last_diffuse = false;
+#ifdef SINGLE_DIFFUSE_BOUNCE
+    last_diffuse = p.diffuse >= 1u;
+#endif
 
 #ifndef SAMPLING_BSDF
     if (!bsdf_all_delta(bsdf)) {
@@ -125,7 +133,7 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
 #if defined(SAMPLING_LIGHT)
                     float w = 1.0;
 #else
-                    float w = ls.delta ? 1.0 : power_heuristic(ls.pdf, pdf);
+                    float w = (ls.delta || last_diffuse) ? 1.0 : power_heuristic(ls.pdf, pdf);
 #endif
                     add_light(p.L, p.throughput * f * ls.radiance * (w / ls.pdf), p.depth);
                 }
@@ -138,11 +146,25 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     if (!bsdf_sample(bsdf, wo, rng, bs)) return false;
     vec3 wi = to_world(bs.wi, t, b, s.ns);
     if (!sides_agree(ng_wo, wi, bs.wi.z * wo.z)) return false;
+#ifdef SINGLE_DIFFUSE_BOUNCE
+    if (!bs.delta) {
+        if (last_diffuse) return false;
+        p.diffuse++;
+    }
+#endif
     p.throughput *= bs.weight;
     p.after_delta = bs.delta;
     p.bsdf_pdf = bs.pdf;
     if (!any(greaterThan(p.throughput, vec3(0.0)))) return false;
     if (p.depth >= rr_depth) {
+#ifdef RR_DETERMINISTIC
+        // Bikker's deterministic path termination: the k-th test passes for the samples whose
+        // index has bit k set, so of a pixel's N samples N/2 end at the first test, N/4 at the
+        // second...; survivors weigh 2 per test. Paths cannot outlive log2(N) tests: biased.
+        uint test = p.depth - rr_depth;
+        if (test >= 32u || ((p.sample_index >> test) & 1u) == 0u) return false;
+        p.throughput *= 2.0;
+#else
 #ifdef RR_FIXED
         float survive = pc.rr_survival;
 #else
@@ -150,6 +172,7 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
 #endif
         if (rng_next(rng) >= survive) return false;
         p.throughput /= survive;
+#endif
     }
     p.ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude), wi, INF);
     p.depth++;
@@ -190,7 +213,7 @@ void main() {
     sum = pc.g.accum.v[index].xyz;
     uint si = pc.sample_begin;
     Rng rng = rng_init(pixel, si, F.params.y, F.params.z);
-    Path p = path_start(camera_ray(pixel, rng));
+    Path p = path_start(camera_ray(pixel, rng), si);
     while (true) {
         if (path_step(p, rng, rays)) continue;
         // NaN/Inf guard: such a sample contributes zero and is counted (pbrt-v4's policy).
@@ -198,7 +221,7 @@ void main() {
         else sum += p.L;
         if (++si == pc.sample_end) break;
         rng = rng_init(pixel, si, F.params.y, F.params.z);
-        p = path_start(camera_ray(pixel, rng));
+        p = path_start(camera_ray(pixel, rng), si);
     }
 #endif
     pc.g.accum.v[index] = vec4(sum, 0.0);

@@ -87,10 +87,16 @@ fn a_depth_cap_and_a_clamp_leave_an_error_floor_that_samples_do_not_lower() {
     let o = options(
         dir.path(),
         &spps,
-        &[Technique::Mis, Technique::MaxDepth(2), clamp],
+        &[
+            Technique::Mis,
+            Technique::MaxDepth(2),
+            clamp,
+            Technique::SingleDiffuseBounce,
+            Technique::DeterministicTermination,
+        ],
     );
     let report = tradeoff::run(&cornell(), &o, &mut |_| {}).unwrap();
-    assert_eq!(report.rows.len(), 15);
+    assert_eq!(report.rows.len(), 25);
     let mis = rows_of(&report.rows, "mis");
     // Light after two segments is lost: more samples do not bring the capped paths to the
     // reference. At 64 spp the cap's error stands well above the unbiased one, and its
@@ -122,10 +128,28 @@ fn a_depth_cap_and_a_clamp_leave_an_error_floor_that_samples_do_not_lower() {
         k64.relmse > 0.6 * k16.relmse,
         "no floor: {k16:?} -> {k64:?}"
     );
+    // One diffuse bounce of indirect light: the Cornell box's interreflections are lost.
+    let single = rows_of(&report.rows, "single-bounce");
+    let (s16, s64) = (single[2], single[4]);
+    assert!(
+        s64.biased && s64.relmse > 3.0 * m64.relmse,
+        "{s64:?} vs {m64:?}"
+    );
+    assert!(
+        s64.relmse > 0.6 * s16.relmse,
+        "no floor: {s16:?} -> {s64:?}"
+    );
+    // Deterministic termination truncates paths only past log2(spp) tests: at 64 spp its
+    // bias is below the noise and its error falls like MIS's.
+    let dpt = rows_of(&report.rows, "dpt");
+    assert!(
+        dpt[4].biased && dpt[4].relmse < 0.4 * dpt[2].relmse,
+        "{dpt:?}"
+    );
     // The CSV holds every row (it is rewritten after each); the plots, the report and its
     // images are written beside it.
     let csv = std::fs::read_to_string(dir.path().join("tradeoff.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 16);
+    assert_eq!(csv.lines().count(), 26);
     for png in ["tradeoff-error.png", "tradeoff-efficiency.png"] {
         let (w, h) = png_size(&dir.path().join(png));
         assert!(w >= 800 && h >= 400, "{png}: {w}x{h}");
@@ -332,6 +356,14 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
     assert_eq!(
         sorted(defines(Technique::UniformLights)),
         sorted(with("LIGHT_SELECT_UNIFORM"))
+    );
+    assert_eq!(
+        sorted(defines(Technique::DeterministicTermination)),
+        sorted(with("RR_DETERMINISTIC"))
+    );
+    assert_eq!(
+        sorted(defines(Technique::SingleDiffuseBounce)),
+        sorted(with("SINGLE_DIFFUSE_BOUNCE"))
     );
     let generic = defines(Technique::GenericKernel);
     for effect in [

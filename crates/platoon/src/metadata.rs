@@ -36,9 +36,10 @@ pub fn metadata(
         ("russian_roulette_depth".into(), params.rr_depth.to_string()),
         (
             "russian_roulette_survival".into(),
-            match params.rr_fixed {
-                Some(p) => format!("fixed {p}"),
-                None => format!("throughput x {}", params.rr_survival),
+            match (params.deterministic_termination, params.rr_fixed) {
+                (true, _) => "deterministic (DPT)".to_string(),
+                (false, Some(p)) => format!("fixed {p}"),
+                (false, None) => format!("throughput x {}", params.rr_survival),
             },
         ),
         (
@@ -96,6 +97,12 @@ pub fn approximations(params: &FrameParams) -> String {
     }
     if let Some(c) = params.clamp_indirect {
         a.push(format!("light after the first bounce clamped at {c}"));
+    }
+    if params.deterministic_termination {
+        a.push("deterministic path termination: no path outlives log2(spp) tests".into());
+    }
+    if params.single_diffuse_bounce {
+        a.push("a single diffuse bounce of indirect light".into());
     }
     a.join("; ")
 }

@@ -25,6 +25,10 @@ pub struct FeatureSet {
     pub fixed_roulette: bool,
     /// Next-event estimation picks every light alike (`FrameParams::uniform_light_selection`).
     pub uniform_lights: bool,
+    /// Bikker's deterministic path termination (`FrameParams::deterministic_termination`).
+    pub deterministic_termination: bool,
+    /// Paths end at their second non-delta vertex (`FrameParams::single_diffuse_bounce`).
+    pub single_diffuse_bounce: bool,
 }
 
 impl FeatureSet {
@@ -67,6 +71,8 @@ impl FeatureSet {
             clamp_indirect: false,
             fixed_roulette: false,
             uniform_lights: false,
+            deterministic_termination: false,
+            single_diffuse_bounce: false,
         }
     }
 
@@ -92,10 +98,12 @@ impl FeatureSet {
         self.clamp_indirect = params.clamp_indirect.is_some();
         self.fixed_roulette = params.rr_fixed.is_some();
         self.uniform_lights = params.uniform_light_selection;
+        self.deterministic_termination = params.deterministic_termination;
+        self.single_diffuse_bounce = params.single_diffuse_bounce;
         self
     }
 
-    fn entries(&self) -> [(&'static str, &'static str, bool); 13] {
+    fn entries(&self) -> [(&'static str, &'static str, bool); 15] {
         [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
@@ -133,6 +141,16 @@ impl FeatureSet {
                 "uniform-lights",
                 "LIGHT_SELECT_UNIFORM",
                 self.uniform_lights,
+            ),
+            (
+                "deterministic-termination",
+                "RR_DETERMINISTIC",
+                self.deterministic_termination,
+            ),
+            (
+                "single-diffuse-bounce",
+                "SINGLE_DIFFUSE_BOUNCE",
+                self.single_diffuse_bounce,
             ),
         ]
     }

@@ -49,6 +49,13 @@ pub struct FrameParams {
     /// Compile every effect a scene may call for into the kernel, not only this scene's: what
     /// a renderer without specialisation pays (the image is the same; the time is not).
     pub generic_kernel: bool,
+    /// Bikker's deterministic path termination instead of Russian roulette: of a pixel's N
+    /// samples N/2 end at the first test, N/4 at the second... (biased: no path outlives log2 N
+    /// tests). Compiled in only when set.
+    pub deterministic_termination: bool,
+    /// Paths end at their second non-delta vertex: direct light and one diffuse bounce of
+    /// indirect (Bikker's games; biased). Compiled in only when set.
+    pub single_diffuse_bounce: bool,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -94,6 +101,8 @@ impl FrameParams {
             clamp_indirect: None,
             uniform_light_selection: false,
             generic_kernel: false,
+            deterministic_termination: false,
+            single_diffuse_bounce: false,
             seed: 0,
             frame: 0,
             first_sample: 0,

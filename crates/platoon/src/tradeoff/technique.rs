@@ -34,6 +34,10 @@ pub enum Technique {
     UniformLights,
     /// One sample per kernel pass: no path regeneration within a pass (Bikker ch. 6).
     NoRegeneration,
+    /// Bikker's deterministic path termination instead of Russian roulette (biased).
+    DeterministicTermination,
+    /// Paths end at their second non-delta vertex (biased).
+    SingleDiffuseBounce,
     /// MIS with every effect compiled into the kernel, not only the scene's: the cost of not
     /// specialising (same image, other time).
     GenericKernel,
@@ -54,7 +58,8 @@ impl Technique {
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
-    /// `generic-kernel`, `no-textures`, `no-normal-maps`, `opaque`, `env-mean`.
+    /// `generic-kernel`, `dpt`, `single-bounce`, `no-textures`, `no-normal-maps`, `opaque`,
+    /// `env-mean`.
     pub fn parse(s: &str) -> Result<Technique> {
         if let Some(effect) = Effect::parse(s.trim()) {
             return Ok(Technique::Without(effect));
@@ -76,6 +81,8 @@ impl Technique {
             "no-regeneration" => Technique::NoRegeneration,
             "uniform-lights" => Technique::UniformLights,
             "generic-kernel" => Technique::GenericKernel,
+            "dpt" => Technique::DeterministicTermination,
+            "single-bounce" => Technique::SingleDiffuseBounce,
             "max-depth" => match number("max-depth")? {
                 0 => bail!("technique {s:?}: a path needs at least one segment"),
                 n => Technique::MaxDepth(n),
@@ -96,7 +103,8 @@ impl Technique {
             _ => bail!(
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
-                 generic-kernel, no-textures, no-normal-maps, opaque, env-mean"
+                 generic-kernel, dpt, single-bounce, no-textures, no-normal-maps, opaque, \
+                 env-mean"
             ),
         })
     }
@@ -105,7 +113,11 @@ impl Technique {
     pub fn biased(self) -> bool {
         matches!(
             self,
-            Technique::MaxDepth(_) | Technique::Clamp(_) | Technique::Without(_)
+            Technique::MaxDepth(_)
+                | Technique::Clamp(_)
+                | Technique::Without(_)
+                | Technique::DeterministicTermination
+                | Technique::SingleDiffuseBounce
         )
     }
 
@@ -137,6 +149,8 @@ impl Technique {
             Technique::NoRegeneration => params.samples_per_pass = 1,
             Technique::UniformLights => params.uniform_light_selection = true,
             Technique::GenericKernel => params.generic_kernel = true,
+            Technique::DeterministicTermination => params.deterministic_termination = true,
+            Technique::SingleDiffuseBounce => params.single_diffuse_bounce = true,
             // Its change is to the scene (`effect`).
             Technique::Without(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
@@ -158,6 +172,8 @@ impl fmt::Display for Technique {
             Technique::NoRegeneration => write!(f, "no-regeneration"),
             Technique::UniformLights => write!(f, "uniform-lights"),
             Technique::GenericKernel => write!(f, "generic-kernel"),
+            Technique::DeterministicTermination => write!(f, "dpt"),
+            Technique::SingleDiffuseBounce => write!(f, "single-bounce"),
             Technique::Without(e) => write!(f, "{}", e.name()),
         }
     }
@@ -181,6 +197,8 @@ mod tests {
             Technique::UniformLights,
             Technique::NoRegeneration,
             Technique::GenericKernel,
+            Technique::DeterministicTermination,
+            Technique::SingleDiffuseBounce,
             Technique::Without(Effect::Textures),
             Technique::Without(Effect::EnvironmentMap),
         ] {
