@@ -49,7 +49,7 @@ float environment_light_pdf(vec3 dir) {
     return light_pick(l) * env_pdf(dir);
 }
 
-bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
+bool sample_one_light(vec3 p, inout Rng rng, out LightSample ls) {
     float ul = rng_next(rng);
     vec2 u = rng_next2(rng);
     ls.pdf = 0.0;
@@ -135,3 +135,33 @@ bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
     }
     return false;
 }
+
+#ifdef LIGHT_SELECT_RIS
+// Resampled importance sampling (Talbot et al. 2005): pc.ris_candidates lights are drawn as
+// NEE draws one, each weighed by its unshadowed emitted luminance over its pdf, and one is kept
+// in proportion (a weighted reservoir). Its pdf becomes luminance x M / (sum of the weights):
+// the estimator f Le / pdf is then the RIS estimator. The scene's lights must share a measure
+// (solid angle: emissive triangles and the environment; the tracer refuses punctual lights).
+bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
+    uint m = max(pc.ris_candidates, 1u);
+    float wsum = 0.0;
+    bool found = false;
+    for (uint j = 0u; j < m; j++) {
+        LightSample c;
+        bool ok = sample_one_light(p, rng, c);
+        float w = (ok && c.pdf > 0.0) ? luminance(c.radiance) / c.pdf : 0.0;
+        wsum += w;
+        if (w > 0.0 && rng_next(rng) * wsum < w) {
+            ls = c;
+            found = true;
+        }
+    }
+    if (!found || !(wsum > 0.0)) return false;
+    ls.pdf = luminance(ls.radiance) * float(m) / wsum;
+    return ls.pdf > 0.0;
+}
+#else
+bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
+    return sample_one_light(p, rng, ls);
+}
+#endif

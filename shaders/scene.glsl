@@ -78,7 +78,8 @@ layout(push_constant) uniform Push {
     float rr_survival;
     // Largest component of a contribution after the first bounce, with CLAMP_INDIRECT.
     float clamp_indirect;
-    uint pad;
+    // Candidates of resampled light selection, with LIGHT_SELECT_RIS.
+    uint ris_candidates;
 } pc;
 
 #include "scene_arrays.glsl"

@@ -189,14 +189,14 @@ fn unbiased_knobs_converge_to_the_reference_with_no_floor() {
         Technique::UniformLights,
         Technique::parse("rr-fixed=50").unwrap(),
         Technique::RouletteSurvival(40),
+        Technique::Ris(4),
     ];
     let o = options(
         dir.path(),
         &[16, 64],
-        &[&[Technique::Mis][..], &knobs].concat(),
+        &[&[Technique::Mis, Technique::Light][..], &knobs].concat(),
     );
     let report = tradeoff::run(&lit, &o, &mut |_| {}).unwrap();
-    let mis = rows_of(&report.rows, "mis");
     for knob in knobs {
         let rows = rows_of(&report.rows, &knob.to_string());
         let (at16, at64) = (rows[0], rows[1]);
@@ -205,13 +205,26 @@ fn unbiased_knobs_converge_to_the_reference_with_no_floor() {
             at64.relmse < 0.45 * at16.relmse,
             "{knob}: {at16:?} -> {at64:?}"
         );
+        // And in the estimator's own league: RIS has no MIS (its M = 1 case is light
+        // sampling), the others are MIS with another roulette or light pick.
+        let league = if matches!(knob, Technique::Ris(_)) {
+            "light"
+        } else {
+            "mis"
+        };
+        let peer = rows_of(&report.rows, league)[1];
         assert!(
-            at64.relmse < 4.0 * mis[1].relmse,
-            "{knob}: {at64:?} vs {:?}",
-            mis[1]
+            at64.relmse < 4.0 * peer.relmse,
+            "{knob}: {at64:?} vs {peer:?}"
         );
         assert!(!at64.biased);
     }
+    // RIS over 4 candidates beats picking one light by power, without MIS either way.
+    let (ris, light) = (
+        rows_of(&report.rows, "ris=4")[1],
+        rows_of(&report.rows, "light")[1],
+    );
+    assert!(ris.relmse < light.relmse, "{ris:?} vs {light:?}");
 }
 
 #[test]
@@ -364,6 +377,10 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
     assert_eq!(
         sorted(defines(Technique::SingleDiffuseBounce)),
         sorted(with("SINGLE_DIFFUSE_BOUNCE"))
+    );
+    assert_eq!(
+        sorted(defines(Technique::Ris(4))),
+        sorted(with("LIGHT_SELECT_RIS"))
     );
     let generic = defines(Technique::GenericKernel);
     for effect in [

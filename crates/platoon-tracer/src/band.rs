@@ -73,6 +73,18 @@ impl Tracer {
                 "a fixed Russian-roulette survival probability must be in (0, 1]".into(),
             ));
         }
+        if params.ris_candidates == Some(0) {
+            return Err(crate::Error::Invalid(
+                "resampled light selection needs at least one candidate".into(),
+            ));
+        }
+        if params.ris_candidates.is_some() && self.features.punctual_lights {
+            return Err(crate::Error::Invalid(
+                "resampled light selection weighs lights in solid angle: the scene's punctual \
+                 lights have no such density"
+                    .into(),
+            ));
+        }
         if params
             .clamp_indirect
             .is_some_and(|c| c.is_nan() || c <= 0.0)
@@ -183,7 +195,7 @@ impl Tracer {
                 stride,
                 rr_survival: params.rr_fixed.unwrap_or(params.rr_survival),
                 clamp_indirect: params.clamp_indirect.unwrap_or(f32::INFINITY),
-                _pad: 0,
+                ris_candidates: params.ris_candidates.unwrap_or(1),
             };
             self.submit(|d, cb| unsafe {
                 // Earlier passes wrote the accumulation buffer.

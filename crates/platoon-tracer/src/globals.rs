@@ -76,7 +76,8 @@ pub(crate) struct Push {
     pub rr_survival: f32,
     /// FrameParams::clamp_indirect (read with CLAMP_INDIRECT).
     pub clamp_indirect: f32,
-    pub _pad: u32,
+    /// FrameParams::ris_candidates (read with LIGHT_SELECT_RIS).
+    pub ris_candidates: u32,
 }
 
 const _: () = assert!(std::mem::size_of::<Globals>() == 144 + 8 * 16);

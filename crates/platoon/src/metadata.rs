@@ -44,12 +44,11 @@ pub fn metadata(
         ),
         (
             "light_selection".into(),
-            if params.uniform_light_selection {
-                "uniform"
-            } else {
-                "power"
-            }
-            .into(),
+            match (params.ris_candidates, params.uniform_light_selection) {
+                (Some(m), _) => format!("RIS over {m} candidates"),
+                (None, true) => "uniform".into(),
+                (None, false) => "power".into(),
+            },
         ),
         (
             "clamp_indirect".into(),

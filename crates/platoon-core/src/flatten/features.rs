@@ -29,6 +29,8 @@ pub struct FeatureSet {
     pub deterministic_termination: bool,
     /// Paths end at their second non-delta vertex (`FrameParams::single_diffuse_bounce`).
     pub single_diffuse_bounce: bool,
+    /// Resampled light selection (`FrameParams::ris_candidates`).
+    pub ris_lights: bool,
 }
 
 impl FeatureSet {
@@ -73,6 +75,7 @@ impl FeatureSet {
             uniform_lights: false,
             deterministic_termination: false,
             single_diffuse_bounce: false,
+            ris_lights: false,
         }
     }
 
@@ -100,10 +103,11 @@ impl FeatureSet {
         self.uniform_lights = params.uniform_light_selection;
         self.deterministic_termination = params.deterministic_termination;
         self.single_diffuse_bounce = params.single_diffuse_bounce;
+        self.ris_lights = params.ris_candidates.is_some();
         self
     }
 
-    fn entries(&self) -> [(&'static str, &'static str, bool); 15] {
+    fn entries(&self) -> [(&'static str, &'static str, bool); 16] {
         [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
@@ -152,6 +156,7 @@ impl FeatureSet {
                 "SINGLE_DIFFUSE_BOUNCE",
                 self.single_diffuse_bounce,
             ),
+            ("ris-lights", "LIGHT_SELECT_RIS", self.ris_lights),
         ]
     }
 

@@ -56,6 +56,9 @@ pub struct FrameParams {
     /// Paths end at their second non-delta vertex: direct light and one diffuse bounce of
     /// indirect (Bikker's games; biased). Compiled in only when set.
     pub single_diffuse_bounce: bool,
+    /// Next-event estimation by resampled importance sampling over this many candidate lights
+    /// (Talbot et al. 2005; unbiased, no MIS with BSDF sampling). Compiled in only when set.
+    pub ris_candidates: Option<u32>,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -103,6 +106,7 @@ impl FrameParams {
             generic_kernel: false,
             deterministic_termination: false,
             single_diffuse_bounce: false,
+            ris_candidates: None,
             seed: 0,
             frame: 0,
             first_sample: 0,

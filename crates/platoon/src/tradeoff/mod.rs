@@ -125,6 +125,13 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
     let mut setups = Vec::with_capacity(o.techniques.len());
     let mut skipped = Vec::new();
     for technique in &o.techniques {
+        if matches!(technique, Technique::Ris(_)) && prepared.gpu.features.punctual_lights {
+            skipped.push(format!(
+                "{technique}: RIS weighs lights in solid angle, the scene's punctual lights have \
+                 no such density"
+            ));
+            continue;
+        }
         let key = (technique.sampling(), technique.effect());
         let tracer = match tracers.entry(key) {
             Entry::Occupied(e) => e.into_mut(),

@@ -34,6 +34,8 @@ pub enum Technique {
     UniformLights,
     /// One sample per kernel pass: no path regeneration within a pass (Bikker ch. 6).
     NoRegeneration,
+    /// NEE by resampled importance sampling over M candidate lights (unbiased; no MIS).
+    Ris(u32),
     /// Bikker's deterministic path termination instead of Russian roulette (biased).
     DeterministicTermination,
     /// Paths end at their second non-delta vertex (biased).
@@ -58,7 +60,7 @@ impl Technique {
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
-    /// `generic-kernel`, `dpt`, `single-bounce`, `no-textures`, `no-normal-maps`, `opaque`,
+    /// `generic-kernel`, `ris=M`, `dpt`, `single-bounce`, `no-textures`, `no-normal-maps`, `opaque`,
     /// `env-mean`.
     pub fn parse(s: &str) -> Result<Technique> {
         if let Some(effect) = Effect::parse(s.trim()) {
@@ -82,6 +84,10 @@ impl Technique {
             "uniform-lights" => Technique::UniformLights,
             "generic-kernel" => Technique::GenericKernel,
             "dpt" => Technique::DeterministicTermination,
+            "ris" => match number("ris (candidates)")? {
+                0 => bail!("technique {s:?}: RIS needs at least one candidate"),
+                m => Technique::Ris(m),
+            },
             "single-bounce" => Technique::SingleDiffuseBounce,
             "max-depth" => match number("max-depth")? {
                 0 => bail!("technique {s:?}: a path needs at least one segment"),
@@ -103,7 +109,7 @@ impl Technique {
             _ => bail!(
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
-                 generic-kernel, dpt, single-bounce, no-textures, no-normal-maps, opaque, \
+                 generic-kernel, ris=M, dpt, single-bounce, no-textures, no-normal-maps, opaque, \
                  env-mean"
             ),
         })
@@ -150,6 +156,7 @@ impl Technique {
             Technique::UniformLights => params.uniform_light_selection = true,
             Technique::GenericKernel => params.generic_kernel = true,
             Technique::DeterministicTermination => params.deterministic_termination = true,
+            Technique::Ris(m) => params.ris_candidates = Some(m),
             Technique::SingleDiffuseBounce => params.single_diffuse_bounce = true,
             // Its change is to the scene (`effect`).
             Technique::Without(_) => {}
@@ -173,6 +180,7 @@ impl fmt::Display for Technique {
             Technique::UniformLights => write!(f, "uniform-lights"),
             Technique::GenericKernel => write!(f, "generic-kernel"),
             Technique::DeterministicTermination => write!(f, "dpt"),
+            Technique::Ris(m) => write!(f, "ris={m}"),
             Technique::SingleDiffuseBounce => write!(f, "single-bounce"),
             Technique::Without(e) => write!(f, "{}", e.name()),
         }
@@ -199,6 +207,7 @@ mod tests {
             Technique::GenericKernel,
             Technique::DeterministicTermination,
             Technique::SingleDiffuseBounce,
+            Technique::Ris(8),
             Technique::Without(Effect::Textures),
             Technique::Without(Effect::EnvironmentMap),
         ] {
