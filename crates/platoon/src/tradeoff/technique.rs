@@ -213,11 +213,12 @@ mod tests {
         ] {
             assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
         }
-        let e = Technique::parse("ris").unwrap_err().to_string();
+        let e = Technique::parse("mis+ris").unwrap_err().to_string();
         assert!(
             e.contains("unknown technique") && e.contains("max-depth=N"),
             "{e}"
         );
+        assert!(Technique::parse("ris").is_err() && Technique::parse("ris=0").is_err());
         assert!(Technique::parse("max-depth").is_err());
         assert!(Technique::parse("max-depth=0").is_err());
         assert!(Technique::parse("rr-survival=0").is_err());
