@@ -613,8 +613,8 @@ fn tradeoff_prints_its_rows_as_json_and_refuses_what_it_cannot_measure() {
     let csv = std::fs::read_to_string(dir.path().join("tradeoff.csv")).unwrap();
     assert_eq!(csv.lines().count(), 5);
 
-    let o = platoon(&[&common[..], &["--techniques", "ris=4"]].concat());
-    assert!(!o.status.success() && stderr(&o).contains("unknown technique \"ris=4\""));
+    let o = platoon(&[&common[..], &["--techniques", "mis+ris"]].concat());
+    assert!(!o.status.success() && stderr(&o).contains("unknown technique \"mis+ris\""));
     let missing = dir.path().join("nope.exr");
     let o = platoon(&[&common[..], &["--reference", missing.to_str().unwrap()]].concat());
     assert!(
