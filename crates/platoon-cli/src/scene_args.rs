@@ -33,6 +33,19 @@ impl SceneArgs {
         platoon::load_scene_with(self.scene.as_deref(), &options)
     }
 
+    /// The scene loaded and prepared with the arguments' light and time (and the rest of
+    /// `PrepareOptions` at their defaults: the scene's first camera, a pinhole).
+    pub fn prepare(&self) -> Result<platoon::Prepared> {
+        platoon::prepare(
+            self.load()?,
+            &platoon::PrepareOptions {
+                env: self.env_choice(),
+                time: self.time,
+                ..Default::default()
+            },
+        )
+    }
+
     /// The distant light the arguments ask for.
     pub fn env_choice(&self) -> EnvChoice {
         match (&self.env, self.env_color) {

@@ -74,15 +74,7 @@ pub fn run(args: TradeoffArgs) -> Result<()> {
             }),
     };
     options.validate()?;
-    let scene = args.scene.load()?;
-    let prepared = platoon::prepare(
-        scene,
-        &platoon::PrepareOptions {
-            env: args.scene.env_choice(),
-            time: args.scene.time,
-            ..Default::default()
-        },
-    )?;
+    let prepared = args.scene.prepare()?;
     if let Some(note) = &prepared.note {
         eprintln!("note: {note}");
     }

@@ -61,15 +61,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
              to render without a window use `platoon render`"
         )
     })?;
-    let scene = args.scene.load()?;
-    let prepared = platoon::prepare(
-        scene,
-        &platoon::PrepareOptions {
-            env: args.scene.env_choice(),
-            time: args.scene.time,
-            ..Default::default()
-        },
-    )?;
+    let prepared = args.scene.prepare()?;
     let (w, h) = args.size;
     let mut options = GameOptions::new(DriverOptions::new(w, h));
     options.driver.target = Some(Duration::from_secs_f64(args.target_ms.max(1.0) * 1e-3));

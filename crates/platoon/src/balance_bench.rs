@@ -438,20 +438,22 @@ pub fn interleaved_idle(map: &CostMap, speeds: &[f64]) -> f64 {
     100.0 * mean(&per_frame)
 }
 
-/// The replayed idle % of interleaved lines, in the table's four columns.
-pub fn interleaved_row(o: &Options) -> Result<String> {
+/// A row of the table that is not a balancer: `idle` of every replayed map and speeds, in the
+/// table's columns.
+fn reference_row(o: &Options, name: &str, idle: fn(&CostMap, &[f64]) -> f64) -> Result<String> {
     let maps = cost_maps(o)?;
-    let mut s = format!("{:<16}", "interleaved");
+    let mut s = format!("{name:<16}");
     for speeds in [&o.speeds2, &o.speeds3] {
         for (_, map) in &maps {
-            let _ = write!(
-                s,
-                " {:>9.2}",
-                interleaved_idle(&map.take(o.frames as usize), speeds)
-            );
+            let _ = write!(s, " {:>9.2}", idle(&map.take(o.frames as usize), speeds));
         }
     }
     Ok(s)
+}
+
+/// The replayed idle % of interleaved lines, in the table's columns.
+pub fn interleaved_row(o: &Options) -> Result<String> {
+    reference_row(o, "interleaved", interleaved_idle)
 }
 
 /// Mean idle % of a split that is told, for each frame, the mean of the costs of the frames
@@ -490,18 +492,7 @@ pub fn hindsight_idle(map: &CostMap, speeds: &[f64]) -> f64 {
 
 /// The hindsight split's idle % in the table's columns.
 pub fn hindsight_row(o: &Options) -> Result<String> {
-    let maps = cost_maps(o)?;
-    let mut s = format!("{:<16}", "hindsight");
-    for speeds in [&o.speeds2, &o.speeds3] {
-        for (_, map) in &maps {
-            let _ = write!(
-                s,
-                " {:>9.2}",
-                hindsight_idle(&map.take(o.frames as usize), speeds)
-            );
-        }
-    }
-    Ok(s)
+    reference_row(o, "hindsight", hindsight_idle)
 }
 
 /// Time to render the outdoor frame on one tracer as one contiguous band and as `stride`
