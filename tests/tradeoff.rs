@@ -165,6 +165,9 @@ fn a_depth_cap_and_a_clamp_leave_an_error_floor_that_samples_do_not_lower() {
         "mis-error",
         "max-depth-2",
         "clamp-0-02-error",
+        "reference-crop",
+        "mis-crop",
+        "mis-error-crop",
     ] {
         assert!(
             md.contains(&format!("images/{image}.png")),

@@ -15,9 +15,14 @@ const ZOOM: u32 = 4;
 
 /// A film enlarged `ZOOM` times, pixel by pixel.
 fn zoomed(film: &Film) -> Film {
-    let (w, h) = (film.width * ZOOM, film.height * ZOOM);
+    enlarged(film, ZOOM)
+}
+
+/// A film enlarged `k` times, pixel by pixel.
+fn enlarged(film: &Film, k: u32) -> Film {
+    let (w, h) = (film.width * k, film.height * k);
     let pixels = (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x / ZOOM, y / ZOOM)))
+        .flat_map(|y| (0..w).map(move |x| (x / k, y / k)))
         .map(|(x, y)| film.pixels[(y * film.width + x) as usize])
         .collect();
     Film {
@@ -25,6 +30,53 @@ fn zoomed(film: &Film) -> Film {
         height: h,
         pixels,
     }
+}
+
+/// A square region of a film: (x, y, side).
+type Region = (u32, u32, u32);
+
+fn crop(film: &Film, (x0, y0, side): Region) -> Film {
+    let pixels = (y0..y0 + side)
+        .flat_map(|y| (x0..x0 + side).map(move |x| (x, y)))
+        .map(|(x, y)| film.pixels[(y * film.width + x) as usize])
+        .collect();
+    Film {
+        width: side,
+        height: side,
+        pixels,
+    }
+}
+
+/// The quarter-size square (on a grid of eighths) where the renders differ most from the
+/// reference, summed over every technique: where a reader should look.
+fn worst_region(finals: &[(String, Film)], reference: &Film) -> Region {
+    let side = (reference.width.min(reference.height) / 4).max(1);
+    let step = (side / 2).max(1);
+    let error = |x: u32, y: u32| -> f64 {
+        finals
+            .iter()
+            .map(|(_, f)| {
+                let i = (y * f.width + x) as usize;
+                (0..3)
+                    .map(|k| (f.pixels[i][k] - reference.pixels[i][k]).abs() as f64)
+                    .filter(|v| v.is_finite())
+                    .sum::<f64>()
+            })
+            .sum()
+    };
+    let mut best = ((0, 0, side), -1.0);
+    for y0 in (0..=reference.height - side).step_by(step as usize) {
+        for x0 in (0..=reference.width - side).step_by(step as usize) {
+            let e: f64 = (y0..y0 + side)
+                .flat_map(|y| (x0..x0 + side).map(move |x| (x, y)))
+                .map(|(x, y)| error(x, y))
+                .sum();
+            if e > best.1 {
+                best = ((x0, y0, side), e);
+            }
+        }
+    }
+    best.0
 }
 
 /// |film - reference| per pixel (luminance), as a black-red-yellow-white ramp where white is
@@ -116,16 +168,24 @@ pub fn write(
 ) -> Result<()> {
     let images = dir.join("images");
     std::fs::create_dir_all(&images)?;
-    write_image(&images.join("reference.png"), &zoomed(reference), &[])?;
+    // Crops of the region where the renders are furthest from the reference, enlarged to the
+    // whole images' size.
+    let region = worst_region(finals, reference);
+    let crop_zoom = (ZOOM * reference.width / region.2).max(1);
+    let write_both = |name: &str, film: &Film| -> Result<()> {
+        write_image(&images.join(format!("{name}.png")), &zoomed(film), &[])?;
+        let cropped = enlarged(&crop(film, region), crop_zoom);
+        write_image(&images.join(format!("{name}-crop.png")), &cropped, &[])?;
+        Ok(())
+    };
+    write_both("reference", reference)?;
     let scale = error_scale(finals, reference);
     let file = |t: &str| t.replace(['=', '.'], "-");
     for (t, film) in finals {
-        write_image(&images.join(format!("{}.png", file(t))), &zoomed(film), &[])?;
-        let map = error_map(film, reference, scale);
-        write_image(
-            &images.join(format!("{}-error.png", file(t))),
-            &zoomed(&map),
-            &[],
+        write_both(&file(t), film)?;
+        write_both(
+            &format!("{}-error", file(t)),
+            &error_map(film, reference, scale),
         )?;
     }
     let spp = report.rows.iter().map(|r| r.spp).max().unwrap_or(0);
@@ -158,6 +218,31 @@ pub fn write(
     for (t, _) in finals {
         let _ = write!(md, " ![{t} error](images/{}-error.png) |", file(t));
     }
+    let _ = write!(
+        md,
+        "\n\nCrops of the {side}x{side} pixels at ({x}, {y}) where the renders differ most from \
+         the reference:\n\n| reference |",
+        side = region.2,
+        x = region.0,
+        y = region.1
+    );
+    for (t, _) in finals {
+        let _ = write!(md, " {t} |");
+    }
+    md.push_str("\n|---|");
+    md.push_str(&"---|".repeat(finals.len()));
+    md.push_str("\n| ![reference crop](images/reference-crop.png) |");
+    for (t, _) in finals {
+        let _ = write!(md, " ![{t} crop](images/{}-crop.png) |", file(t));
+    }
+    md.push_str("\n| error |");
+    for (t, _) in finals {
+        let _ = write!(
+            md,
+            " ![{t} error crop](images/{}-error-crop.png) |",
+            file(t)
+        );
+    }
     md.push('\n');
     if !report.skipped.is_empty() {
         md.push_str("\nNot run: ");
@@ -166,4 +251,39 @@ pub fn write(
     }
     platoon_core::output::write_text(&dir.join("report.md"), &md)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn film(w: u32, h: u32, f: impl Fn(u32, u32) -> f32) -> Film {
+        Film {
+            width: w,
+            height: h,
+            pixels: (0..h)
+                .flat_map(|y| (0..w).map(move |x| (x, y)))
+                .map(|(x, y)| [f(x, y); 3])
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_crop_goes_where_the_renders_differ_most() {
+        let reference = film(32, 32, |_, _| 0.5);
+        // One render wrong in the block at (20..28, 4..12).
+        let wrong = film(32, 32, |x, y| {
+            if (20..28).contains(&x) && (4..12).contains(&y) {
+                2.0
+            } else {
+                0.5
+            }
+        });
+        let region = worst_region(&[("t".into(), wrong.clone())], &reference);
+        assert_eq!(region, (20, 4, 8));
+        let c = crop(&wrong, region);
+        assert_eq!((c.width, c.height), (8, 8));
+        assert!(c.pixels.iter().all(|p| p[0] == 2.0));
+        assert_eq!(enlarged(&c, 3).width, 24);
+    }
 }
