@@ -7,6 +7,10 @@ struct LightSample {
     bool infinite;  // directional or environment: shadow ray to infinity
     vec3 radiance;  // incident radiance (or irradiance-like value for delta lights)
     float pdf;
+    // The pdf MIS weighs the sample with: `pdf` itself, but for RIS, whose own density of a
+    // direction has no closed form, the pdf of drawing the kept candidate (what the BSDF side's
+    // weight uses too, so the two weights still sum to one: unbiased).
+    float mis_pdf;
     bool delta;
 };
 
@@ -140,7 +144,8 @@ bool sample_one_light(vec3 p, inout Rng rng, out LightSample ls) {
 // Resampled importance sampling (Talbot et al. 2005): pc.ris_candidates lights are drawn as
 // NEE draws one, each weighed by its unshadowed emitted luminance over its pdf, and one is kept
 // in proportion (a weighted reservoir). Its pdf becomes luminance x M / (sum of the weights):
-// the estimator f Le / pdf is then the RIS estimator. The scene's lights must share a measure
+// the estimator f Le / pdf is then the RIS estimator. With RIS_MIS it is combined with BSDF
+// sampling by MIS weights computed from the candidate's own pdf (Bikker's MIS+RIS). The scene's lights must share a measure
 // (solid angle: emissive triangles and the environment; the tracer refuses punctual lights).
 bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
     uint m = max(pc.ris_candidates, 1u);
@@ -157,11 +162,14 @@ bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
         }
     }
     if (!found || !(wsum > 0.0)) return false;
+    ls.mis_pdf = ls.pdf;
     ls.pdf = luminance(ls.radiance) * float(m) / wsum;
     return ls.pdf > 0.0;
 }
 #else
 bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
-    return sample_one_light(p, rng, ls);
+    bool ok = sample_one_light(p, rng, ls);
+    ls.mis_pdf = ls.pdf;
+    return ok;
 }
 #endif

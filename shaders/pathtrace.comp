@@ -21,8 +21,8 @@ float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
     if (after_delta) return 1.0;
 #if defined(SAMPLING_BSDF)
     return 1.0;
-#elif defined(SAMPLING_LIGHT) || defined(LIGHT_SELECT_RIS)
-    // RIS's pdf of a direction is not known in closed form: no MIS, the light sample alone.
+#elif defined(SAMPLING_LIGHT) || (defined(LIGHT_SELECT_RIS) && !defined(RIS_MIS))
+    // RIS alone: its pdf of a direction is not known in closed form, the light sample alone.
     return light_pdf > 0.0 ? 0.0 : 1.0;
 #else
     return power_heuristic(bsdf_pdf, light_pdf);
@@ -131,10 +131,10 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
                 Hit sh;
                 rays++;
                 if (!trace(shadow, true, sh)) {
-#if defined(SAMPLING_LIGHT) || defined(LIGHT_SELECT_RIS)
+#if defined(SAMPLING_LIGHT) || (defined(LIGHT_SELECT_RIS) && !defined(RIS_MIS))
                     float w = 1.0;
 #else
-                    float w = (ls.delta || last_diffuse) ? 1.0 : power_heuristic(ls.pdf, pdf);
+                    float w = (ls.delta || last_diffuse) ? 1.0 : power_heuristic(ls.mis_pdf, pdf);
 #endif
                     add_light(p.L, p.throughput * f * ls.radiance * (w / ls.pdf), p.depth);
                 }

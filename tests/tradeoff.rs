@@ -193,6 +193,7 @@ fn unbiased_knobs_converge_to_the_reference_with_no_floor() {
         Technique::parse("rr-fixed=50").unwrap(),
         Technique::RouletteSurvival(40),
         Technique::Ris(4),
+        Technique::MisRis(4),
     ];
     let o = options(
         dir.path(),
@@ -228,6 +229,9 @@ fn unbiased_knobs_converge_to_the_reference_with_no_floor() {
         rows_of(&report.rows, "light")[1],
     );
     assert!(ris.relmse < light.relmse, "{ris:?} vs {light:?}");
+    // And combining it with BSDF sampling by MIS (Bikker's MIS+RIS) beats RIS alone.
+    let mis_ris = rows_of(&report.rows, "mis-ris=4")[1];
+    assert!(mis_ris.relmse < ris.relmse, "{mis_ris:?} vs {ris:?}");
 }
 
 #[test]
@@ -385,6 +389,9 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
         sorted(defines(Technique::Ris(4))),
         sorted(with("LIGHT_SELECT_RIS"))
     );
+    let mut both = with("LIGHT_SELECT_RIS");
+    both.push("RIS_MIS");
+    assert_eq!(sorted(defines(Technique::MisRis(4))), sorted(both));
     let generic = defines(Technique::GenericKernel);
     for effect in [
         "HAS_TEXTURES",

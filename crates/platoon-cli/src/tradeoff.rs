@@ -22,7 +22,8 @@ pub struct TradeoffArgs {
     #[arg(long, value_delimiter = ',', default_value = "4,8,16,32,64")]
     spp_list: Vec<u32>,
     /// Techniques: mis, bsdf, light, max-depth=N, rr-depth=N, rr-survival=PERCENT,
-    /// rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, generic-kernel, dpt,
+    /// rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, generic-kernel, ris=M,
+    /// mis-ris=M, dpt,
     /// single-bounce, no-textures, no-normal-maps, opaque, env-mean.
     #[arg(
         long,

@@ -45,6 +45,7 @@ pub fn metadata(
         (
             "light_selection".into(),
             match (params.ris_candidates, params.uniform_light_selection) {
+                (Some(m), _) if params.ris_mis => format!("MIS+RIS over {m} candidates"),
                 (Some(m), _) => format!("RIS over {m} candidates"),
                 (None, true) => "uniform".into(),
                 (None, false) => "power".into(),

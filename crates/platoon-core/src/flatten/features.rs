@@ -31,6 +31,8 @@ pub struct FeatureSet {
     pub single_diffuse_bounce: bool,
     /// Resampled light selection (`FrameParams::ris_candidates`).
     pub ris_lights: bool,
+    /// ... combined with BSDF sampling by MIS (`FrameParams::ris_mis`).
+    pub ris_mis: bool,
 }
 
 impl FeatureSet {
@@ -76,6 +78,7 @@ impl FeatureSet {
             deterministic_termination: false,
             single_diffuse_bounce: false,
             ris_lights: false,
+            ris_mis: false,
         }
     }
 
@@ -104,10 +107,11 @@ impl FeatureSet {
         self.deterministic_termination = params.deterministic_termination;
         self.single_diffuse_bounce = params.single_diffuse_bounce;
         self.ris_lights = params.ris_candidates.is_some();
+        self.ris_mis = self.ris_lights && params.ris_mis;
         self
     }
 
-    fn entries(&self) -> [(&'static str, &'static str, bool); 16] {
+    fn entries(&self) -> [(&'static str, &'static str, bool); 17] {
         [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
@@ -157,6 +161,7 @@ impl FeatureSet {
                 self.single_diffuse_bounce,
             ),
             ("ris-lights", "LIGHT_SELECT_RIS", self.ris_lights),
+            ("ris-mis", "RIS_MIS", self.ris_mis),
         ]
     }
 

@@ -59,6 +59,9 @@ pub struct FrameParams {
     /// Next-event estimation by resampled importance sampling over this many candidate lights
     /// (Talbot et al. 2005; unbiased, no MIS with BSDF sampling). Compiled in only when set.
     pub ris_candidates: Option<u32>,
+    /// With `ris_candidates`: combine the RIS light sample with BSDF sampling by MIS, weighing
+    /// with the kept candidate's own pdf (Bikker's MIS+RIS; still unbiased).
+    pub ris_mis: bool,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -107,6 +110,7 @@ impl FrameParams {
             deterministic_termination: false,
             single_diffuse_bounce: false,
             ris_candidates: None,
+            ris_mis: false,
             seed: 0,
             frame: 0,
             first_sample: 0,

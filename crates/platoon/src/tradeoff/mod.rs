@@ -125,7 +125,9 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
     let mut setups = Vec::with_capacity(o.techniques.len());
     let mut skipped = Vec::new();
     for technique in &o.techniques {
-        if matches!(technique, Technique::Ris(_)) && prepared.gpu.features.punctual_lights {
+        if matches!(technique, Technique::Ris(_) | Technique::MisRis(_))
+            && prepared.gpu.features.punctual_lights
+        {
             skipped.push(format!(
                 "{technique}: RIS weighs lights in solid angle, the scene's punctual lights have \
                  no such density"

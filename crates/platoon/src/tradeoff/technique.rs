@@ -36,6 +36,8 @@ pub enum Technique {
     NoRegeneration,
     /// NEE by resampled importance sampling over M candidate lights (unbiased; no MIS).
     Ris(u32),
+    /// The same combined with BSDF sampling by MIS (Bikker's MIS+RIS; unbiased).
+    MisRis(u32),
     /// Bikker's deterministic path termination instead of Russian roulette (biased).
     DeterministicTermination,
     /// Paths end at their second non-delta vertex (biased).
@@ -60,7 +62,7 @@ impl Technique {
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
-    /// `generic-kernel`, `ris=M`, `dpt`, `single-bounce`, `no-textures`, `no-normal-maps`, `opaque`,
+    /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `no-textures`, `no-normal-maps`, `opaque`,
     /// `env-mean`.
     pub fn parse(s: &str) -> Result<Technique> {
         if let Some(effect) = Effect::parse(s.trim()) {
@@ -84,9 +86,10 @@ impl Technique {
             "uniform-lights" => Technique::UniformLights,
             "generic-kernel" => Technique::GenericKernel,
             "dpt" => Technique::DeterministicTermination,
-            "ris" => match number("ris (candidates)")? {
+            "ris" | "mis-ris" => match number("ris (candidates)")? {
                 0 => bail!("technique {s:?}: RIS needs at least one candidate"),
-                m => Technique::Ris(m),
+                m if name == "ris" => Technique::Ris(m),
+                m => Technique::MisRis(m),
             },
             "single-bounce" => Technique::SingleDiffuseBounce,
             "max-depth" => match number("max-depth")? {
@@ -109,7 +112,7 @@ impl Technique {
             _ => bail!(
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
-                 generic-kernel, ris=M, dpt, single-bounce, no-textures, no-normal-maps, opaque, \
+                 generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, no-textures, no-normal-maps, opaque, \
                  env-mean"
             ),
         })
@@ -157,6 +160,10 @@ impl Technique {
             Technique::GenericKernel => params.generic_kernel = true,
             Technique::DeterministicTermination => params.deterministic_termination = true,
             Technique::Ris(m) => params.ris_candidates = Some(m),
+            Technique::MisRis(m) => {
+                params.ris_candidates = Some(m);
+                params.ris_mis = true;
+            }
             Technique::SingleDiffuseBounce => params.single_diffuse_bounce = true,
             // Its change is to the scene (`effect`).
             Technique::Without(_) => {}
@@ -181,6 +188,7 @@ impl fmt::Display for Technique {
             Technique::GenericKernel => write!(f, "generic-kernel"),
             Technique::DeterministicTermination => write!(f, "dpt"),
             Technique::Ris(m) => write!(f, "ris={m}"),
+            Technique::MisRis(m) => write!(f, "mis-ris={m}"),
             Technique::SingleDiffuseBounce => write!(f, "single-bounce"),
             Technique::Without(e) => write!(f, "{}", e.name()),
         }
@@ -208,6 +216,7 @@ mod tests {
             Technique::DeterministicTermination,
             Technique::SingleDiffuseBounce,
             Technique::Ris(8),
+            Technique::MisRis(4),
             Technique::Without(Effect::Textures),
             Technique::Without(Effect::EnvironmentMap),
         ] {
