@@ -34,6 +34,11 @@ pub fn metadata(
         ("frame".into(), params.frame.to_string()),
         ("max_depth".into(), params.max_depth.to_string()),
         ("russian_roulette_depth".into(), params.rr_depth.to_string()),
+        // 1 means no path regeneration within a kernel pass (a trade-off knob).
+        (
+            "samples_per_pass".into(),
+            params.samples_per_pass.to_string(),
+        ),
         (
             "russian_roulette_survival".into(),
             match (params.deterministic_termination, params.rr_fixed) {
@@ -105,4 +110,46 @@ pub fn approximations(params: &FrameParams) -> String {
         a.push("a single diffuse bounce of indirect light".into());
     }
     a.join("; ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use platoon_core::scene::camera::Camera;
+
+    #[test]
+    fn every_biased_knob_is_listed_as_an_approximation() {
+        let mut p = FrameParams::new(
+            4,
+            4,
+            1,
+            Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
+        );
+        let plain = approximations(&p);
+        p.max_depth = 2;
+        p.clamp_indirect = Some(1.5);
+        p.deterministic_termination = true;
+        p.single_diffuse_bounce = true;
+        let a = approximations(&p);
+        for says in [
+            "capped at 2",
+            "clamped at 1.5",
+            "deterministic path termination",
+            "single diffuse bounce",
+        ] {
+            assert!(a.contains(says) && !plain.contains(says), "{says}: {a}");
+        }
+        // Unbiased knobs are not approximations.
+        let mut q = FrameParams::new(
+            4,
+            4,
+            1,
+            Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
+        );
+        q.rr_fixed = Some(0.5);
+        q.uniform_light_selection = true;
+        q.ris_candidates = Some(4);
+        q.ris_mis = true;
+        assert_eq!(approximations(&q), plain);
+    }
 }
