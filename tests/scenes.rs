@@ -118,3 +118,40 @@ fn each_scene_gets_the_kernel_its_features_call_for() {
         "the featureless kernel is not smaller"
     );
 }
+
+#[test]
+fn the_generated_conference_room_loads_and_renders_lit_by_its_point_lights() {
+    // The IGI scene (issue 11): platoon-scenegen --conference-room.
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("room.glb");
+    std::fs::write(
+        &path,
+        platoon_scenegen::to_glb(&platoon_scenegen::conference_room()),
+    )
+    .unwrap();
+    let scene = platoon::load_scene(Some(&path)).unwrap();
+    assert!(
+        scene.triangle_count() > 100_000,
+        "{}",
+        scene.triangle_count()
+    );
+    let prepared = prepare(scene, platoon::EnvChoice::Scene);
+    let f = prepared.gpu.features;
+    assert!(f.punctual_lights && !f.emissive_triangles && !f.transmission && !f.textures);
+    // Lit by its own lights (platoon added no sky), seen from inside the room.
+    assert!(prepared.note.is_none(), "{:?}", prepared.note);
+    let params = platoon::core::frame::FrameParams::new(16, 12, 4, prepared.camera);
+    let film = render(&prepared, &params, Sampling::Mis);
+    assert_eq!(film.count_non_finite(), 0);
+    let lit = film
+        .pixels
+        .iter()
+        .filter(|p| p[0] + p[1] + p[2] > 0.0)
+        .count();
+    assert!(
+        lit > film.pixels.len() * 3 / 4,
+        "{lit} of {} pixels lit",
+        film.pixels.len()
+    );
+}

@@ -168,6 +168,65 @@ pub fn smooth_box() -> MeshData {
     }
 }
 
+/// The cube [-1, 1]^3 with a flat normal per face (24 corners): furniture.
+pub fn flat_box() -> MeshData {
+    // Each face: its normal and two in-plane axes (u x v = normal, so corners wind outward).
+    let faces: [([f32; 3], [f32; 3], [f32; 3]); 6] = [
+        ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+        ([-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]),
+        ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
+        ([0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+        ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        ([0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]),
+    ];
+    let mut m = MeshData {
+        positions: Vec::new(),
+        normals: Vec::new(),
+        indices: Vec::new(),
+    };
+    for (n, u, v) in faces {
+        let base = m.positions.len() as u32;
+        for (a, b) in [(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            m.positions
+                .push(std::array::from_fn(|k| n[k] + a * u[k] + b * v[k]));
+            m.normals.push(n);
+        }
+        m.indices
+            .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+    }
+    m
+}
+
+/// A square grid of `cells` x `cells` quads over [-1, 1]^2 in the xz plane facing +y: a floor
+/// or wall with enough triangles to weigh like real architecture.
+pub fn grid(cells: u32) -> MeshData {
+    let n = cells.max(1);
+    let mut m = MeshData {
+        positions: Vec::new(),
+        normals: Vec::new(),
+        indices: Vec::new(),
+    };
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (
+                i as f32 / n as f32 * 2.0 - 1.0,
+                j as f32 / n as f32 * 2.0 - 1.0,
+            );
+            m.positions.push([x, 0.0, z]);
+            m.normals.push([0.0, 1.0, 0.0]);
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i;
+            let (b, c, d) = (a + 1, a + n + 2, a + n + 1);
+            // Counter-clockwise seen from +y.
+            m.indices.extend([a, d, c, a, c, b]);
+        }
+    }
+    m
+}
+
 /// A one-sided quad (a, b, c, d), counter-clockwise seen from the side it faces.
 pub fn quad_from(corners: [[f32; 3]; 4]) -> MeshData {
     let [a, b, c, _] = corners;
@@ -477,6 +536,142 @@ pub fn glossy_glass() -> SceneData {
     }
 }
 
+/// The IGI scene (issue 11, after Marques and Santos' conference room): a 12 x 3 x 8 m room
+/// of tessellated walls, floor and ceiling, a long table with twelve chairs, a whiteboard, a
+/// row of vases along the walls, lit by four point lights under the ceiling; all diffuse, about
+/// 130k triangles.
+pub fn conference_room() -> SceneData {
+    let materials = vec![
+        json!({"name": "walls", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.72, 0.65, 1], "metallicFactor": 0, "roughnessFactor": 1}}),
+        json!({"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.25, 0.18, 1], "metallicFactor": 0, "roughnessFactor": 0.9}}),
+        json!({"name": "ceiling", "pbrMetallicRoughness": {"baseColorFactor": [0.85, 0.85, 0.85, 1], "metallicFactor": 0, "roughnessFactor": 1}}),
+        json!({"name": "table", "pbrMetallicRoughness": {"baseColorFactor": [0.45, 0.3, 0.2, 1], "metallicFactor": 0, "roughnessFactor": 0.8}}),
+        json!({"name": "chairs", "pbrMetallicRoughness": {"baseColorFactor": [0.15, 0.25, 0.5, 1], "metallicFactor": 0, "roughnessFactor": 1}}),
+        json!({"name": "board", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1], "metallicFactor": 0, "roughnessFactor": 0.7}}),
+        json!({"name": "vases", "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.3, 0.2, 1], "metallicFactor": 0, "roughnessFactor": 1}}),
+    ];
+    let (w, h, d) = (6.0f64, 3.0f64, 4.0f64); // half width, height, half depth
+    let mut meshes: Vec<(MeshData, usize)> = Vec::new();
+    let mut nodes: Vec<NodeData> = Vec::new();
+    let mut place =
+        |mesh: MeshData, material: usize, at: [f64; 3], rotation: [f32; 4], scale: [f32; 3]| {
+            meshes.push((mesh, material));
+            nodes.push(NodeData {
+                mesh: Some(meshes.len() - 1),
+                translation: at,
+                rotation,
+                scale,
+                ..NodeData::new()
+            });
+        };
+    let turn = |axis: usize, degrees: f32| -> [f32; 4] {
+        let (s, c) = (degrees.to_radians() / 2.0).sin_cos();
+        let mut q = [0.0, 0.0, 0.0, c];
+        q[axis] = s;
+        q
+    };
+    let id = [0.0, 0.0, 0.0, 1.0];
+    // Floor (facing up), ceiling (down), four walls (inward), each a tessellated grid.
+    place(grid(96), 1, [0.0, 0.0, 0.0], id, [w as f32, 1.0, d as f32]);
+    place(
+        grid(96),
+        2,
+        [0.0, h, 0.0],
+        turn(0, 180.0),
+        [w as f32, 1.0, d as f32],
+    );
+    place(
+        grid(64),
+        0,
+        [0.0, h / 2.0, -d],
+        turn(0, 90.0),
+        [w as f32, 1.0, (h / 2.0) as f32],
+    );
+    place(
+        grid(64),
+        0,
+        [0.0, h / 2.0, d],
+        turn(0, -90.0),
+        [w as f32, 1.0, (h / 2.0) as f32],
+    );
+    place(
+        grid(64),
+        0,
+        [-w, h / 2.0, 0.0],
+        turn(2, -90.0),
+        [(h / 2.0) as f32, 1.0, d as f32],
+    );
+    place(
+        grid(64),
+        0,
+        [w, h / 2.0, 0.0],
+        turn(2, 90.0),
+        [(h / 2.0) as f32, 1.0, d as f32],
+    );
+    // The table: top and four legs.
+    place(flat_box(), 3, [0.0, 0.75, 0.0], id, [3.0, 0.03, 1.0]);
+    for (x, z) in [(-2.8, -0.8), (2.8, -0.8), (-2.8, 0.8), (2.8, 0.8)] {
+        place(flat_box(), 3, [x, 0.36, z], id, [0.05, 0.36, 0.05]);
+    }
+    // Twelve chairs: seat, back, four legs each.
+    for k in 0..12 {
+        let side = if k < 6 { -1.0 } else { 1.0 };
+        let x = -2.5 + (k % 6) as f64 * 1.0;
+        let z = side * 1.5;
+        place(flat_box(), 4, [x, 0.45, z], id, [0.22, 0.03, 0.22]);
+        place(
+            flat_box(),
+            4,
+            [x, 0.75, z + side * 0.2],
+            id,
+            [0.22, 0.3, 0.03],
+        );
+        for (dx, dz) in [(-0.18, -0.18), (0.18, -0.18), (-0.18, 0.18), (0.18, 0.18)] {
+            place(
+                flat_box(),
+                4,
+                [x + dx, 0.22, z + dz],
+                id,
+                [0.02, 0.22, 0.02],
+            );
+        }
+    }
+    // A whiteboard on the far wall.
+    place(flat_box(), 5, [0.0, 1.6, -d + 0.03], id, [2.0, 0.6, 0.02]);
+    // Vases along the side walls (the bulk of the triangles, as their furniture was).
+    for k in 0..16 {
+        let x = -5.0 + (k % 8) as f64 * (10.0 / 7.0);
+        let z = if k < 8 { -d + 0.4 } else { d - 0.4 };
+        place(icosphere(4), 6, [x, 0.3, z], id, [0.25, 0.3, 0.25]);
+    }
+    // Four point lights under the ceiling, above the table.
+    let lights: Vec<Value> = (0..4)
+        .map(|_| json!({"type": "point", "color": [1.0, 0.92, 0.8], "intensity": 5.0}))
+        .collect();
+    for (k, x) in [-4.0, -1.35, 1.35, 4.0].into_iter().enumerate() {
+        nodes.push(NodeData {
+            translation: [x, h - 0.3, 0.0],
+            light: Some(k),
+            ..NodeData::new()
+        });
+    }
+    let mut camera = NodeData::new();
+    camera.translation = [-5.3, 1.7, 3.4];
+    // Looking along the room towards its far corner: turned about y, tilted down a little.
+    let (sy, cy) = (-50.0f32.to_radians() / 2.0).sin_cos();
+    let (sx, cx) = (-12.0f32.to_radians() / 2.0).sin_cos();
+    camera.rotation = [cy * sx, sy * cx, -sy * sx, cy * cx];
+    camera.camera_yfov = Some(1.0);
+    nodes.push(camera);
+    SceneData {
+        meshes,
+        materials,
+        nodes,
+        lights,
+        ..Default::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -513,6 +708,42 @@ mod tests {
         assert!(g.extensions_used.iter().any(|e| e == "KHR_materials_ior"));
         // It serialises to a glb (platoon loads and sweeps it in tests/tradeoff.rs).
         assert!(to_glb(&g).starts_with(b"glTF"));
+    }
+
+    #[test]
+    fn the_conference_room_is_big_diffuse_and_lit_by_points() {
+        let room = conference_room();
+        let tris: usize = room
+            .nodes
+            .iter()
+            .filter_map(|n| n.mesh)
+            .map(|m| room.meshes[m].0.indices.len() / 3)
+            .sum();
+        assert!((100_000..300_000).contains(&tris), "{tris} triangles");
+        assert_eq!(room.lights.len(), 4);
+        assert!(room.lights.iter().all(|l| l["type"] == "point"));
+        // Mostly diffuse: no metal, no transmission.
+        assert!(room
+            .materials
+            .iter()
+            .all(|m| m["pbrMetallicRoughness"]["metallicFactor"] == 0
+                && m.get("extensions").is_none()));
+        let b = flat_box();
+        assert_eq!((b.positions.len(), b.indices.len()), (24, 36));
+        // Flat faces: every corner's normal is its face's, and each face winds outward.
+        for t in b.indices.chunks(3) {
+            let [p0, p1, p2] = [t[0], t[1], t[2]].map(|i| b.positions[i as usize]);
+            let e1 = [p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]];
+            let e2 = [p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]];
+            let n = [
+                e1[1] * e2[2] - e1[2] * e2[1],
+                e1[2] * e2[0] - e1[0] * e2[2],
+                e1[0] * e2[1] - e1[1] * e2[0],
+            ];
+            let s = b.normals[t[0] as usize];
+            assert!(n[0] * s[0] + n[1] * s[1] + n[2] * s[2] > 0.0);
+        }
+        assert_eq!(grid(4).indices.len() / 3, 32);
     }
 
     #[test]

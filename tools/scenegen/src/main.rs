@@ -1,5 +1,6 @@
 //! `platoon-scenegen OUT.glb [--grid N] [--unique]`: writes the benchmark sphere field.
 //! `platoon-scenegen OUT.glb --glossy-glass`: the trade-off tool's glossy-and-glass scene.
+//! `platoon-scenegen OUT.glb --conference-room`: the IGI scene (a room lit by point lights).
 //! `platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]`: writes the
 //! adversarial suite (valid hard scenes, malformed and hostile files, mutations of SCENES).
 
@@ -12,6 +13,7 @@ fn main() -> ExitCode {
     let mut grid = 4u32;
     let mut unique = false;
     let mut glossy_glass = false;
+    let mut conference_room = false;
     let mut adversarial = None;
     let mut shared = PathBuf::from("../shared/scenes");
     let mut mutants = 8usize;
@@ -40,6 +42,7 @@ fn main() -> ExitCode {
             },
             "--unique" => unique = true,
             "--glossy-glass" => glossy_glass = true,
+            "--conference-room" => conference_room = true,
             "--adversarial" => adversarial = it.next().map(PathBuf::from),
             "--shared" => shared = it.next().map(PathBuf::from).unwrap_or(shared),
             other => out = Some(other.to_string()),
@@ -57,11 +60,13 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let Some(out) = out else {
-        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
+        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
         return ExitCode::FAILURE;
     };
     let scene = if glossy_glass {
         platoon_scenegen::glossy_glass()
+    } else if conference_room {
+        platoon_scenegen::conference_room()
     } else {
         platoon_scenegen::sphere_field(grid, unique)
     };
