@@ -123,14 +123,7 @@ fn each_scene_gets_the_kernel_its_features_call_for() {
 fn the_generated_conference_room_loads_and_renders_lit_by_its_point_lights() {
     // The IGI scene (issue 11): platoon-scenegen --conference-room.
     init();
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("room.glb");
-    std::fs::write(
-        &path,
-        platoon_scenegen::to_glb(&platoon_scenegen::conference_room()),
-    )
-    .unwrap();
-    let scene = platoon::load_scene(Some(&path)).unwrap();
+    let scene = load_generated(&platoon_scenegen::conference_room());
     assert!(
         scene.triangle_count() > 100_000,
         "{}",

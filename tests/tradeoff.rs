@@ -412,13 +412,7 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
 fn the_generated_glossy_glass_scene_loads_and_sweeps() {
     init();
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("glossy.glb");
-    std::fs::write(
-        &path,
-        platoon_scenegen::to_glb(&platoon_scenegen::glossy_glass()),
-    )
-    .unwrap();
-    let scene = platoon::load_scene(Some(&path)).unwrap();
+    let scene = load_generated(&platoon_scenegen::glossy_glass());
     let prepared = prepare(scene, platoon::EnvChoice::Scene);
     assert!(prepared.gpu.features.transmission && prepared.gpu.features.emissive_triangles);
     let o = Options {
@@ -440,13 +434,6 @@ fn a_generic_kernel_renders_the_specialised_kernels_image() {
     // Every effect compiled in (what a renderer that does not specialise runs) must change the
     // time only: the same estimator, the same random numbers, so the same image.
     init();
-    let dir = tempfile::tempdir().unwrap();
-    let glossy = dir.path().join("glossy.glb");
-    std::fs::write(
-        &glossy,
-        platoon_scenegen::to_glb(&platoon_scenegen::glossy_glass()),
-    )
-    .unwrap();
     let scenes = [
         cornell(),
         prepare(
@@ -454,7 +441,7 @@ fn a_generic_kernel_renders_the_specialised_kernels_image() {
             constant_env(0.8),
         ),
         prepare(
-            platoon::load_scene(Some(&glossy)).unwrap(),
+            load_generated(&platoon_scenegen::glossy_glass()),
             platoon::EnvChoice::Scene,
         ),
     ];

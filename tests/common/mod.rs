@@ -95,6 +95,15 @@ pub fn prepare(scene: platoon::core::Scene, env: platoon::EnvChoice) -> Prepared
     .expect("prepare")
 }
 
+/// A generated scene written as a .glb and loaded back through the glTF loader, as a user's
+/// `platoon-scenegen OUT.glb` file would be.
+pub fn load_generated(data: &platoon_scenegen::SceneData) -> platoon::core::Scene {
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let path = dir.path().join("generated.glb");
+    std::fs::write(&path, platoon_scenegen::to_glb(data)).expect("write the glb");
+    platoon::load_scene(Some(&path)).expect("load the generated glb")
+}
+
 pub fn constant_env(c: f32) -> platoon::EnvChoice {
     platoon::EnvChoice::Color(Vec3::splat(c))
 }

@@ -158,6 +158,35 @@ fn table(rows: &[Row], cell: fn(&Row) -> String) -> String {
     s
 }
 
+/// A file name for a technique's images.
+fn file(technique: &str) -> String {
+    technique.replace(['=', '.'], "-")
+}
+
+/// The table of images with `suffix` (`""` or `"-crop"`): the reference and each technique's
+/// render in a row, their error maps in the next.
+fn image_grid(md: &mut String, finals: &[(String, Film)], suffix: &str) {
+    let what = if suffix.is_empty() { "" } else { " crop" };
+    md.push_str("| reference |");
+    for (t, _) in finals {
+        let _ = write!(md, " {t} |");
+    }
+    md.push_str("\n|---|");
+    md.push_str(&"---|".repeat(finals.len()));
+    let _ = write!(md, "\n| ![reference{what}](images/reference{suffix}.png) |");
+    for (t, _) in finals {
+        let _ = write!(md, " ![{t}{what}](images/{}{suffix}.png) |", file(t));
+    }
+    md.push_str("\n| error |");
+    for (t, _) in finals {
+        let _ = write!(
+            md,
+            " ![{t} error{what}](images/{}-error{suffix}.png) |",
+            file(t)
+        );
+    }
+}
+
 /// Writes `report.md` and its images into `dir`.
 pub fn write(
     dir: &Path,
@@ -180,7 +209,6 @@ pub fn write(
     };
     write_both("reference", reference)?;
     let scale = error_scale(finals, reference);
-    let file = |t: &str| t.replace(['=', '.'], "-");
     for (t, film) in finals {
         write_both(&file(t), film)?;
         write_both(
@@ -200,49 +228,21 @@ pub fn write(
          as platoon's PNGs show them, at 67 pixels per degree):\n\n{}\n## Error against time\n\n![error against time](tradeoff-error.png)\n\n\
          ## Efficiency at {spp} spp\n\n![efficiency](tradeoff-efficiency.png)\n\n## Images at \
          {spp} spp\n\nError maps: mean absolute error per pixel, black = 0, white = {scale:.3} \
-         (the 99th percentile over all maps).\n\n| reference |",
+         (the 99th percentile over all maps).\n\n",
         report.reference.display(),
         table(&report.rows, |r| format!("{:.1} / {:.4} / {:.1}", r.ms, r.rmse, r.mrays)),
         table(&report.rows, |r| format!("{:.4}", r.flip)),
     );
-    for (t, _) in finals {
-        let _ = write!(md, " {t} |");
-    }
-    md.push_str("\n|---|");
-    md.push_str(&"---|".repeat(finals.len()));
-    md.push_str("\n| ![reference](images/reference.png) |");
-    for (t, _) in finals {
-        let _ = write!(md, " ![{t}](images/{}.png) |", file(t));
-    }
-    md.push_str("\n| error |");
-    for (t, _) in finals {
-        let _ = write!(md, " ![{t} error](images/{}-error.png) |", file(t));
-    }
+    image_grid(&mut md, finals, "");
     let _ = write!(
         md,
         "\n\nCrops of the {side}x{side} pixels at ({x}, {y}) where the renders differ most from \
-         the reference:\n\n| reference |",
+         the reference:\n\n",
         side = region.2,
         x = region.0,
         y = region.1
     );
-    for (t, _) in finals {
-        let _ = write!(md, " {t} |");
-    }
-    md.push_str("\n|---|");
-    md.push_str(&"---|".repeat(finals.len()));
-    md.push_str("\n| ![reference crop](images/reference-crop.png) |");
-    for (t, _) in finals {
-        let _ = write!(md, " ![{t} crop](images/{}-crop.png) |", file(t));
-    }
-    md.push_str("\n| error |");
-    for (t, _) in finals {
-        let _ = write!(
-            md,
-            " ![{t} error crop](images/{}-error-crop.png) |",
-            file(t)
-        );
-    }
+    image_grid(&mut md, finals, "-crop");
     md.push('\n');
     if !report.skipped.is_empty() {
         md.push_str("\nNot run: ");
