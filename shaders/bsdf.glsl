@@ -103,6 +103,18 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
 
 bool bsdf_all_delta(Bsdf b) { return b.delta && b.p.x == 0.0; }
 
+// Albedo of the dielectric's diffuse term, under specular-layer reflectance fr.
+vec3 diffuse_reflectance(Bsdf b, vec3 fr) { return b.w.x * (1.0 - b.specular * max3(fr)) * b.base_color; }
+
+// The diffuse term of bsdf_eval alone, times |cos(wi)|: what IGI's VPLs stand in for.
+vec3 bsdf_diffuse(Bsdf b, vec3 wo, vec3 wi) {
+    if (wo.z * wi.z <= 0.0) return vec3(0.0);
+    vec3 o = wo.z < 0.0 ? -wo : wo;
+    vec3 i = wo.z < 0.0 ? -wi : wi;
+    vec3 h = normalize(o + i);
+    return diffuse_reflectance(b, schlick(b.f0, dot(o, h))) * INV_PI * i.z;
+}
+
 // Non-delta part of the BSDF times |cos(wi)|, and the matching sampling pdf (solid angle).
 vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
     pdf = 0.0;
@@ -115,7 +127,7 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         vec3 h = normalize(o + i);
         float oh = dot(o, h);
         vec3 fr = schlick(b.f0, oh);
-        f += b.w.x * (1.0 - b.specular * max3(fr)) * b.base_color * INV_PI * i.z;
+        f += diffuse_reflectance(b, fr) * INV_PI * i.z;
         pdf += b.p.x * i.z * INV_PI;
         if (!b.delta) {
             float spec = ggx_d(b.alpha, h.z) * ggx_g2(b.alpha, o, i) / (4.0 * o.z);
@@ -156,9 +168,8 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
 
 struct BsdfSample { vec3 wi; vec3 weight; float pdf; bool delta; };
 
-bool bsdf_sample(Bsdf b, vec3 wo, inout Rng rng, out BsdfSample bs) {
-    float ul = rng_next(rng);
-    vec2 u = rng_next2(rng);
+// Samples a lobe with ul and a direction in it with u (and a Fresnel choice from rng).
+bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out BsdfSample bs) {
     bs.delta = false;
     bs.pdf = 0.0;
     if (wo.z == 0.0) return false;
@@ -204,4 +215,10 @@ bool bsdf_sample(Bsdf b, vec3 wo, inout Rng rng, out BsdfSample bs) {
     if (!(bs.pdf > 0.0)) return false;
     bs.weight = f / bs.pdf;
     return true;
+}
+
+bool bsdf_sample(Bsdf b, vec3 wo, inout Rng rng, out BsdfSample bs) {
+    float ul = rng_next(rng);
+    vec2 u = rng_next2(rng);
+    return bsdf_sample_with(b, wo, ul, u, rng, bs);
 }

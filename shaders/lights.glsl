@@ -31,6 +31,18 @@ vec3 triangle_emission(Surface s, vec3 dir) {
 }
 
 #ifdef HAS_EMISSIVE_TRIANGLES
+// Radiance of the emissive triangle of light l at barycentrics b (front normal nl), seen along
+// dir: the point shaded as a surface, for textured and one-sided emission.
+vec3 triangle_light_radiance(Light l, vec3 b, vec3 nl, vec3 dir) {
+    Surface s;
+    Triangle T = triangle_at(l.ids.z);
+    Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
+    s.uv = b.x * vec2(v0.position_u.w, v0.normal_v.w) + b.y * vec2(v1.position_u.w, v1.normal_v.w) + b.z * vec2(v2.position_u.w, v2.normal_v.w);
+    s.ng = nl;
+    apply_material(s, material_at(T.material));
+    return triangle_emission(s, dir);
+}
+
 // Solid-angle pdf of NEE picking the emissive triangle hit at distance t along unit `dir`.
 float triangle_light_pdf(Hit hit, vec3 ng_world, vec3 dir) {
     Instance inst = instance_at(hit.instance);
@@ -82,14 +94,7 @@ bool sample_one_light(vec3 p, inout Rng rng, out LightSample ls) {
         float dist2 = dot(d, d);
         if (dist2 <= 0.0) return false;
         ls.wi = d * inversesqrt(dist2);
-        // Shade the sampled point as a surface, for textured and one-sided emission.
-        Surface s;
-        Triangle T = triangle_at(l.ids.z);
-        Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
-        s.uv = b.x * vec2(v0.position_u.w, v0.normal_v.w) + b.y * vec2(v1.position_u.w, v1.normal_v.w) + b.z * vec2(v2.position_u.w, v2.normal_v.w);
-        s.ng = nl;
-        apply_material(s, material_at(T.material));
-        ls.radiance = triangle_emission(s, ls.wi);
+        ls.radiance = triangle_light_radiance(l, b, nl, ls.wi);
         float cos_l = abs(dot(nl, ls.wi));
         if (cos_l <= 0.0 || all(equal(ls.radiance, vec3(0.0)))) return false;
         ls.pdf = pmf * dist2 / (cos_l * area);

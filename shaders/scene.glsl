@@ -31,6 +31,21 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Li
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Accum { vec4 v[]; };
 // stats: [0] rejected (NaN/Inf) samples, [1..3] unused, [4 + y] rays traced in row y
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Stats { uint v[]; };
+// IGI's virtual point lights (igi/emit.comp), its gathering vertices (igi/vertex.glsl) and, with IGI_FILTERED, three vec4 per pixel for
+// the filters after assembly (IgiTexel in crates/platoon-core/src/igi/mod.rs).
+struct Vpl { vec4 position; vec4 normal; vec4 power; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vpls { Vpl v[]; };
+// IGI's gathering vertex of a pixel's current sample: what the camera pass leaves for the gather
+// passes, in world space on the side the path arrived from (igi/camera.comp says why deferred).
+struct IgiVertex {
+    vec4 position;  // xyz, w: coordinate magnitude (offset_ray)
+    vec4 ns;        // shading normal, xyz; w: the specular layer's weight
+    vec4 ng;        // geometric normal, xyz; w: 1 when the sample has a vertex to gather at
+    vec4 wo;        // direction back along the path, xyz
+    vec4 albedo;    // path throughput x dielectric weight x base colour, xyz
+    vec4 f0;        // the specular layer's f0, xyz
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer IgiVertices { IgiVertex v[]; };
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Globals {
     Vertices vertices;
@@ -50,8 +65,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Gl
     Floats env_conditional;
     Accum accum;
     Stats stats;
-    uint pad0;
-    uint pad1;
+    Vpls vpls;
+    Accum aux;
+    IgiVertices igi_vertices;
     vec4 cam_origin;   // xyz, lens radius
     vec4 cam_right;    // unit right, w = tan(fov_y/2) * aspect
     vec4 cam_up;       // unit up, w = tan(fov_y/2)
@@ -80,6 +96,16 @@ layout(push_constant) uniform Push {
     float clamp_indirect;
     // Candidates of resampled light selection, with LIGHT_SELECT_RIS.
     uint ris_candidates;
+    // IGI (crates/platoon-core/src/igi): light paths and VPLs per path, the bounded geometry
+    // term's minimum distance, the gather grid's cell size and the interleaving tile.
+    uint vpl_paths;
+    uint vpl_bounces;
+    float vpl_min_distance;
+    uint igi_downsample;
+    uvec2 igi_tile;
+    // The VPL slots a gather pass takes.
+    uint vpl_first;
+    uint vpl_end;
 } pc;
 
 #include "scene_arrays.glsl"

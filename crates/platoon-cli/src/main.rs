@@ -6,6 +6,7 @@ mod bench;
 mod devices;
 mod game_bench;
 mod game_costs;
+mod igi_args;
 mod info;
 mod render;
 mod scene_args;

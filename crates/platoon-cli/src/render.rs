@@ -11,6 +11,7 @@ use platoon::devices::DeviceSpec;
 use platoon::tracer::Sampling;
 use platoon::PrepareOptions;
 
+use crate::igi_args::MethodArgs;
 use crate::scene_args::SceneArgs;
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -32,6 +33,8 @@ pub enum SamplingArg {
 pub struct RenderArgs {
     #[command(flatten)]
     scene: SceneArgs,
+    #[command(flatten)]
+    method: MethodArgs,
     #[arg(long, default_value_t = 64)]
     spp: u32,
     /// Stop at the last complete pass within this many seconds (then --spp is an upper
@@ -92,6 +95,7 @@ fn parse_balancer(s: &str) -> Result<String, String> {
 pub fn run(a: RenderArgs) -> Result<()> {
     let RenderArgs {
         scene,
+        method,
         spp,
         time_limit,
         width,
@@ -109,6 +113,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         out,
     } = a;
     platoon::core::output::check_image_path(&out)?;
+    let igi = method.igi()?;
     if width == 0 || height == 0 || spp == 0 {
         bail!("--width, --height and --spp must be positive");
     }
@@ -129,6 +134,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     let mut params = FrameParams::new(width, height, spp, prepared.camera);
     params.seed = seed;
+    params.igi = igi;
     if let Some(d) = max_depth {
         params.max_depth = d.max(1);
     }

@@ -5,6 +5,7 @@
 //! - [`flatten`]: a posed scene made into the plain GPU-ready arrays of [`flatten::GpuScene`]
 //!   (BVHs, materials and textures, lights and their selection CDF, the feature set);
 //! - [`frame`]: frame parameters, bands of lines, the multi-tracer frame loop and fault injection;
+//! - [`igi`]: instant global illumination's options and its filters after assembly;
 //! - [`balance`]: the line balancers and the replay of recorded costs;
 //! - [`drive`]: a living scene: the game's edits, and generations of the flattened scene with
 //!   what changed between them;
@@ -18,6 +19,7 @@ pub mod drive;
 pub mod error;
 pub mod flatten;
 pub mod frame;
+pub mod igi;
 pub mod measure;
 pub mod output;
 pub mod scene;

@@ -7,9 +7,10 @@ use std::time::{Duration, Instant};
 use ash::vk;
 use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
+use crate::dispatch::{record_dispatch, timestamp, Dispatchable};
 use crate::globals::{Globals, Push};
 use crate::tracer::Tracer;
-use crate::{Result, VkContext};
+use crate::Result;
 
 impl Tracer {
     /// Renders lines [y0, y1) of the frame at `params.spp` samples per pixel (fewer, in whole
@@ -108,7 +109,8 @@ impl Tracer {
             None => unreachable!("frame buffers were just created"),
         };
 
-        let g = self.scene.globals.for_frame(params, accum.1, stats.1);
+        let igi = self.igi_addresses(params)?;
+        let g = self.scene.globals.for_frame(params, accum.1, stats.1, igi);
         self.globals_buffer.mapped()[..std::mem::size_of::<Globals>()]
             .copy_from_slice(bytemuck::bytes_of(&g));
         let globals_address = self.globals_buffer.address;
@@ -175,74 +177,43 @@ impl Tracer {
             );
         })?;
 
+        let mut push = Push {
+            globals: globals_address,
+            y0,
+            y1,
+            pixel_begin: span.begin,
+            pixel_end: span.end,
+            stride,
+            rr_survival: params.rr_fixed.unwrap_or(params.rr_survival),
+            clamp_indirect: params.clamp_indirect.unwrap_or(f32::INFINITY),
+            ris_candidates: params.ris_candidates.unwrap_or(1),
+            ..Default::default()
+        };
+        Tracer::igi_push(params, &mut push);
+        // IGI's first pass: the frame's VPLs, before any sample gathers them.
+        band.gpu_time += self.emit_vpls(params, &push, span)?;
+
         let spp = params.spp;
-        let per_pass = params.samples_per_pass.max(1);
+        // IGI renders a sample at a time: its gather passes follow each camera pass.
+        let per_pass = if params.igi.is_some() {
+            1
+        } else {
+            params.samples_per_pass.max(1)
+        };
         let groups = (width.div_ceil(8), (y1 - y0).div_ceil(stride).div_ceil(8));
-        let query_pool = self.query_pool;
-        let period = self.ctx.properties.limits.timestamp_period as f64;
         let mut begin = 0;
         let mut pass_start = Duration::ZERO;
         while begin < spp {
             let end = (begin + per_pass).min(spp);
             let push = Push {
-                globals: globals_address,
-                y0,
-                y1,
-                pixel_begin: span.begin,
-                pixel_end: span.end,
                 sample_begin: params.first_sample.wrapping_add(begin),
                 sample_end: params.first_sample.wrapping_add(end),
-                stride,
-                rr_survival: params.rr_fixed.unwrap_or(params.rr_survival),
-                clamp_indirect: params.clamp_indirect.unwrap_or(f32::INFINITY),
-                ris_candidates: params.ris_candidates.unwrap_or(1),
+                ..push
             };
-            self.submit(|d, cb| unsafe {
-                // Earlier passes wrote the accumulation buffer.
-                compute_barrier(
-                    d,
-                    cb,
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::AccessFlags::SHADER_WRITE,
-                );
-                if let Some(q) = query_pool {
-                    d.cmd_reset_query_pool(cb, q, 0, 2);
-                    d.cmd_write_timestamp(cb, vk::PipelineStageFlags::TOP_OF_PIPE, q, 0);
-                }
-                d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipeline);
-                d.cmd_bind_descriptor_sets(
-                    cb,
-                    vk::PipelineBindPoint::COMPUTE,
-                    layout,
-                    0,
-                    &[scene_set],
-                    &[],
-                );
-                d.cmd_push_constants(
-                    cb,
-                    layout,
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    bytemuck::bytes_of(&push),
-                );
-                d.cmd_dispatch(cb, groups.0, groups.1, 1);
-                if let Some(q) = query_pool {
-                    d.cmd_write_timestamp(cb, vk::PipelineStageFlags::BOTTOM_OF_PIPE, q, 1);
-                }
-            })?;
-            if let Some(q) = query_pool {
-                let mut ts = [0u64; 2];
-                unsafe {
-                    self.ctx.device.get_query_pool_results(
-                        q,
-                        0,
-                        &mut ts,
-                        vk::QueryResultFlags::TYPE_64,
-                    )
-                }
-                .ctx("reading timestamps")?;
-                band.gpu_time +=
-                    Duration::from_nanos((ts[1].saturating_sub(ts[0]) as f64 * period) as u64);
+            if params.igi.is_some() {
+                band.gpu_time += self.igi_sample(params, &push, groups)?;
+            } else {
+                band.gpu_time += self.pass(&push, (pipeline, layout, scene_set), groups)?;
             }
             begin = end;
             progress(end);
@@ -304,8 +275,23 @@ impl Tracer {
             .map(|&r| r as u64)
             .collect();
         band.rays = band.line_rays.iter().sum();
+        band.aux = self.read_texels(params, span);
         band.wall_time = wall.elapsed();
         Ok(band)
+    }
+}
+
+impl Tracer {
+    /// One pass of the path tracer's samples; returns its device time.
+    fn pass(&mut self, push: &Push, kernel: Dispatchable, groups: (u32, u32)) -> Result<Duration> {
+        let query_pool = self.query_pool;
+        self.submit(|d, cb| unsafe {
+            timestamp(d, cb, query_pool, 0);
+            // Earlier passes wrote the accumulation buffer.
+            record_dispatch(d, cb, kernel, push, groups);
+            timestamp(d, cb, query_pool, 1);
+        })?;
+        self.timestamps()
     }
 }
 

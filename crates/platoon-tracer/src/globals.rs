@@ -24,7 +24,10 @@ pub(crate) struct Globals {
     pub env_conditional: u64,
     pub accum: u64,
     pub stats: u64,
-    pub _pad: [u32; 2],
+    /// IGI's VPLs, per-pixel texels (when filtered) and gathering vertices (0 when not IGI).
+    pub vpls: u64,
+    pub aux: u64,
+    pub igi_vertices: u64,
     pub cam_origin: [f32; 4],
     pub cam_right: [f32; 4],
     pub cam_up: [f32; 4],
@@ -37,10 +40,17 @@ pub(crate) struct Globals {
 
 impl Globals {
     /// This block with the camera, frame parameters and per-frame buffers of one render.
-    pub fn for_frame(&self, params: &FrameParams, accum: u64, stats: u64) -> Globals {
+    pub fn for_frame(
+        &self,
+        params: &FrameParams,
+        accum: u64,
+        stats: u64,
+        igi: [u64; 3],
+    ) -> Globals {
         let mut g = *self;
         g.accum = accum;
         g.stats = stats;
+        [g.vpls, g.aux, g.igi_vertices] = igi;
         let cam = &params.camera;
         let b = cam.basis(params.width, params.height);
         g.cam_origin = b.origin.extend(cam.aperture_radius).to_array();
@@ -78,8 +88,18 @@ pub(crate) struct Push {
     pub clamp_indirect: f32,
     /// FrameParams::ris_candidates (read with LIGHT_SELECT_RIS).
     pub ris_candidates: u32,
+    /// FrameParams::igi (read with METHOD_IGI): paths, bounces, minimum distance, downsampling
+    /// and the interleaving tile.
+    pub vpl_paths: u32,
+    pub vpl_bounces: u32,
+    pub vpl_min_distance: f32,
+    pub igi_downsample: u32,
+    pub igi_tile: [u32; 2],
+    /// The VPL slots [vpl_first, vpl_end) an IGI gather pass takes.
+    pub vpl_first: u32,
+    pub vpl_end: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<Globals>() == 144 + 8 * 16);
+const _: () = assert!(std::mem::size_of::<Globals>() == 160 + 8 * 16);
 // Must match the push-constant block of shaders/scene.glsl.
-const _: () = assert!(std::mem::size_of::<Push>() == 48);
+const _: () = assert!(std::mem::size_of::<Push>() == 80);

@@ -44,7 +44,46 @@ const SOURCES: &[(&str, &str)] = &[
     ),
     ("bsdf.glsl", include_str!("../../../shaders/bsdf.glsl")),
     ("lights.glsl", include_str!("../../../shaders/lights.glsl")),
+    ("path.glsl", include_str!("../../../shaders/path.glsl")),
+    (
+        "igi/emit.comp",
+        include_str!("../../../shaders/igi/emit.comp"),
+    ),
+    (
+        "igi/camera.comp",
+        include_str!("../../../shaders/igi/camera.comp"),
+    ),
+    (
+        "igi/gather.comp",
+        include_str!("../../../shaders/igi/gather.comp"),
+    ),
+    (
+        "igi/pixel.glsl",
+        include_str!("../../../shaders/igi/pixel.glsl"),
+    ),
+    (
+        "igi/visibility.glsl",
+        include_str!("../../../shaders/igi/visibility.glsl"),
+    ),
 ];
+
+/// Defines that select IGI's VPL pass and gather passes instead of its camera pass.
+pub(crate) const EMIT_VPLS: &str = "IGI_EMIT_VPLS";
+pub(crate) const GATHER: &str = "IGI_GATHER";
+
+/// The main source of a kernel variant: IGI's passes when its defines say so, else the path
+/// tracer.
+fn main_source(defines: &[&str]) -> &'static str {
+    if defines.contains(&EMIT_VPLS) {
+        "igi/emit.comp"
+    } else if defines.contains(&GATHER) {
+        "igi/gather.comp"
+    } else if defines.contains(&"METHOD_IGI") {
+        "igi/camera.comp"
+    } else {
+        "pathtrace.comp"
+    }
+}
 
 /// The kernel sources: the embedded ones, or with $PLATOON_SHADER_DIR set, the files of that
 /// folder read now (kernel work on lavapipe then needs no rebuild per edit; the SPIR-V cache is
@@ -184,11 +223,16 @@ fn compile(sources: &[(&'static str, String)], defines: &[&str]) -> Result<Vec<u
             })
             .ok_or_else(|| format!("no shader include named {name}"))
     });
+    let main = main_source(defines);
+    let (name, text) = sources
+        .iter()
+        .find(|(n, _)| *n == main)
+        .expect("every main source is in SOURCES");
     let artifact = compiler
         .compile_into_spirv(
-            &sources[0].1,
+            text,
             shaderc::ShaderKind::Compute,
-            sources[0].0,
+            name,
             "main",
             Some(&options),
         )

@@ -46,6 +46,7 @@ pub struct Tracer {
     pub(crate) scene: SceneBuffers,
     pub(crate) globals_buffer: GpuBuffer,
     pub(crate) frame_buffers: Option<(u32, u32, GpuBuffer, GpuBuffer, GpuBuffer)>,
+    pub(crate) igi: crate::igi::IgiBuffers,
     pub(crate) kernels: HashMap<Vec<&'static str>, Kernel>,
     pub(crate) pipelines_built: u32,
     pub(crate) pipeline_cache: PipelineCache,
@@ -113,6 +114,7 @@ impl Tracer {
             },
             globals_buffer,
             frame_buffers: None,
+            igi: Default::default(),
             kernels: HashMap::new(),
             pipelines_built: 0,
             pipeline_cache,
@@ -430,6 +432,7 @@ impl Drop for Tracer {
             let _ = device.device_wait_idle();
         }
         self.destroy_frame_buffers();
+        self.igi.destroy(&device, &mut self.allocator);
         let mut list = std::mem::take(&mut self.scene.list);
         for b in &mut list {
             b.destroy(&device, &mut self.allocator);

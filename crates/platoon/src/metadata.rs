@@ -78,6 +78,7 @@ pub fn metadata(
         ("features".into(), features.to_string()),
         ("kernel_defines".into(), rendered.kernel_defines.join(",")),
         ("sampling".into(), sampling.into()),
+        ("method".into(), method(params)),
         ("environment".into(), prepared.env_label.clone()),
         (
             "render_origin".into(),
@@ -94,6 +95,29 @@ pub fn metadata(
     ]
 }
 
+/// The rendering method and its options.
+fn method(params: &FrameParams) -> String {
+    match params.igi {
+        None => "path tracing".into(),
+        Some(o) => format!(
+            "instant global illumination: {} VPLs ({} paths x {} bounces), min distance {}, \
+             visibility {}, downsample {}, interleave {}x{}",
+            o.slots(),
+            o.paths,
+            o.bounces,
+            o.min_distance,
+            if o.imperfect_visibility {
+                "leaf boxes"
+            } else {
+                "exact"
+            },
+            o.downsample,
+            o.interleave[0],
+            o.interleave[1]
+        ),
+    }
+}
+
 /// Every approximation in effect, so a reader of the image knows what it is not.
 pub fn approximations(params: &FrameParams) -> String {
     let mut a = vec!["roughness<0.01 rendered as perfectly specular".to_string()];
@@ -108,6 +132,9 @@ pub fn approximations(params: &FrameParams) -> String {
     }
     if params.single_diffuse_bounce {
         a.push("a single diffuse bounce of indirect light".into());
+    }
+    if let Some(igi) = params.igi {
+        a.extend(igi.approximations());
     }
     a.join("; ")
 }
@@ -130,12 +157,24 @@ mod tests {
         p.clamp_indirect = Some(1.5);
         p.deterministic_termination = true;
         p.single_diffuse_bounce = true;
+        p.igi = Some(platoon_core::igi::IgiOptions {
+            min_distance: 0.1,
+            imperfect_visibility: true,
+            downsample: 4,
+            interleave: [3, 3],
+            ..Default::default()
+        });
         let a = approximations(&p);
         for says in [
             "capped at 2",
             "clamped at 1.5",
             "deterministic path termination",
             "single diffuse bounce",
+            "instant global illumination",
+            "minimum distance",
+            "leaf boxes",
+            "1/4 x 1/4",
+            "3x3 VPL subsets",
         ] {
             assert!(a.contains(says) && !plain.contains(says), "{says}: {a}");
         }

@@ -59,6 +59,8 @@ pub fn render_bands(
                 .context("render failed")?,
         );
     }
+    // IGI's filters need the whole frame (platoon_core::igi::filter says why).
+    platoon_core::igi::filter::finish_bands(params, &mut out);
     Ok(Rendered {
         film: assemble(params, &out),
         spp: out

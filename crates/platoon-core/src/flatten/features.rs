@@ -33,6 +33,15 @@ pub struct FeatureSet {
     pub ris_lights: bool,
     /// ... combined with BSDF sampling by MIS (`FrameParams::ris_mis`).
     pub ris_mis: bool,
+    /// Instant global illumination (`FrameParams::igi`): the IGI kernels instead of the path
+    /// tracer's; the flags below are its options that select code.
+    pub igi: bool,
+    pub igi_imperfect_visibility: bool,
+    pub igi_bounded: bool,
+    /// The gather leaves irradiance and a G-buffer for the filters after assembly.
+    pub igi_filtered: bool,
+    pub igi_downsampled: bool,
+    pub igi_interleaved: bool,
 }
 
 impl FeatureSet {
@@ -79,6 +88,12 @@ impl FeatureSet {
             single_diffuse_bounce: false,
             ris_lights: false,
             ris_mis: false,
+            igi: false,
+            igi_imperfect_visibility: false,
+            igi_bounded: false,
+            igi_filtered: false,
+            igi_downsampled: false,
+            igi_interleaved: false,
         }
     }
 
@@ -108,10 +123,17 @@ impl FeatureSet {
         self.single_diffuse_bounce = params.single_diffuse_bounce;
         self.ris_lights = params.ris_candidates.is_some();
         self.ris_mis = self.ris_lights && params.ris_mis;
+        let igi = params.igi;
+        self.igi = igi.is_some();
+        self.igi_imperfect_visibility = igi.is_some_and(|o| o.imperfect_visibility);
+        self.igi_bounded = igi.is_some_and(|o| o.min_distance > 0.0);
+        self.igi_filtered = igi.is_some_and(|o| o.filtered());
+        self.igi_downsampled = igi.is_some_and(|o| o.downsample > 1);
+        self.igi_interleaved = igi.is_some_and(|o| o.interleave != [1, 1]);
         self
     }
 
-    fn entries(&self) -> [(&'static str, &'static str, bool); 17] {
+    fn entries(&self) -> [(&'static str, &'static str, bool); 23] {
         [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
@@ -162,6 +184,16 @@ impl FeatureSet {
             ),
             ("ris-lights", "LIGHT_SELECT_RIS", self.ris_lights),
             ("ris-mis", "RIS_MIS", self.ris_mis),
+            ("igi", "METHOD_IGI", self.igi),
+            (
+                "igi-imperfect-visibility",
+                "IGI_IMPERFECT_VISIBILITY",
+                self.igi_imperfect_visibility,
+            ),
+            ("igi-bounded", "IGI_BOUNDED", self.igi_bounded),
+            ("igi-filtered", "IGI_FILTERED", self.igi_filtered),
+            ("igi-downsampled", "IGI_DOWNSAMPLED", self.igi_downsampled),
+            ("igi-interleaved", "IGI_INTERLEAVED", self.igi_interleaved),
         ]
     }
 

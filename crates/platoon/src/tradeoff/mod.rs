@@ -193,11 +193,17 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             let band = tracer
                 .render(&params, 0, o.height, &mut |_| {})
                 .with_context(|| format!("rendering {label} at {spp} spp"))?;
-            times[c].push(if band.gpu_time.is_zero() {
-                band.wall_time.as_secs_f64()
+            let device = if band.gpu_time.is_zero() {
+                band.wall_time
             } else {
-                band.gpu_time.as_secs_f64()
-            });
+                band.gpu_time
+            };
+            // IGI's filters run on the CPU after assembly: their time is the technique's too.
+            let filters = std::time::Instant::now();
+            let mut bands = [band];
+            platoon_core::igi::filter::finish_bands(&params, &mut bands);
+            let [band] = bands;
+            times[c].push((device + filters.elapsed()).as_secs_f64());
             let seconds = platoon_core::measure::median(times[c].clone());
             if round == 0 {
                 // The errors are the same every round (the same random numbers).

@@ -6,6 +6,7 @@ use std::fmt;
 
 use anyhow::{bail, Result};
 use platoon_core::frame::FrameParams;
+use platoon_core::igi::IgiOptions;
 use platoon_tracer::Sampling;
 
 use super::effects::Effect;
@@ -48,6 +49,95 @@ pub enum Technique {
     /// MIS on the scene without one of its effects (its stand-in instead): what the effect
     /// costs in time and what removing it does to the image.
     Without(Effect),
+    /// Instant global illumination with N VPLs and some of its accelerations (biased).
+    Igi(IgiTechnique),
+}
+
+/// IGI's options as a technique: `igi=N` (N VPLs, exact) with `+boxes` (imperfect
+/// visibility), `+downK`, `+interMxN`, `+minD` (bounded geometry term) or `+all` (boxes, down4
+/// and inter3x3, the paper's combination).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct IgiTechnique {
+    pub vpls: u32,
+    pub boxes: bool,
+    pub downsample: u32,
+    pub interleave: [u32; 2],
+    /// The minimum distance's f32 bits (0: unbounded).
+    pub min_distance: u32,
+}
+
+impl IgiTechnique {
+    pub fn options(self) -> IgiOptions {
+        IgiOptions {
+            min_distance: f32::from_bits(self.min_distance),
+            imperfect_visibility: self.boxes,
+            downsample: self.downsample,
+            interleave: self.interleave,
+            ..IgiOptions::with_vpls(self.vpls)
+        }
+    }
+
+    fn parse(s: &str, value: &str) -> Result<IgiTechnique> {
+        let mut parts = value.split('+');
+        let vpls = match parts.next().map(|v| v.trim().parse::<u32>()) {
+            Some(Ok(n)) if n > 0 => n,
+            _ => bail!("technique {s:?}: igi needs a VPL count, e.g. igi=180+boxes"),
+        };
+        let mut t = IgiTechnique {
+            vpls,
+            boxes: false,
+            downsample: 1,
+            interleave: [1, 1],
+            min_distance: 0,
+        };
+        for part in parts {
+            let part = part.trim();
+            let bad = || {
+                anyhow::anyhow!(
+                "technique {s:?}: unknown IGI option {part:?} (boxes, downK, interMxN, minD, all)"
+            )
+            };
+            if part == "boxes" {
+                t.boxes = true;
+            } else if part == "all" {
+                t.boxes = true;
+                t.downsample = 4;
+                t.interleave = [3, 3];
+            } else if let Some(k) = part.strip_prefix("down") {
+                t.downsample = k.parse().map_err(|_| bad())?;
+            } else if let Some(tile) = part.strip_prefix("inter") {
+                let (m, n) = tile.split_once('x').ok_or_else(bad)?;
+                t.interleave = [m.parse().map_err(|_| bad())?, n.parse().map_err(|_| bad())?];
+            } else if let Some(d) = part.strip_prefix("min") {
+                t.min_distance = d.parse::<f32>().map_err(|_| bad())?.to_bits();
+            } else {
+                return Err(bad());
+            }
+        }
+        t.options()
+            .validate()
+            .map_err(|e| anyhow::anyhow!("technique {s:?}: {e}"))?;
+        Ok(t)
+    }
+}
+
+impl fmt::Display for IgiTechnique {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "igi={}", self.vpls)?;
+        if self.boxes {
+            write!(f, "+boxes")?;
+        }
+        if self.downsample > 1 {
+            write!(f, "+down{}", self.downsample)?;
+        }
+        if self.interleave != [1, 1] {
+            write!(f, "+inter{}x{}", self.interleave[0], self.interleave[1])?;
+        }
+        if self.min_distance != 0 {
+            write!(f, "+min{}", f32::from_bits(self.min_distance))?;
+        }
+        Ok(())
+    }
 }
 
 impl Technique {
@@ -79,6 +169,7 @@ impl Technique {
             }
         };
         Ok(match name {
+            "igi" => Technique::Igi(IgiTechnique::parse(s, value.unwrap_or(""))?),
             "mis" => Technique::Mis,
             "bsdf" => Technique::Bsdf,
             "light" => Technique::Light,
@@ -113,7 +204,7 @@ impl Technique {
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
                  generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, no-textures, no-normal-maps, opaque, \
-                 env-mean"
+                 env-mean, igi=N[+boxes][+downK][+interMxN][+minD]"
             ),
         })
     }
@@ -127,6 +218,7 @@ impl Technique {
                 | Technique::Without(_)
                 | Technique::DeterministicTermination
                 | Technique::SingleDiffuseBounce
+                | Technique::Igi(_)
         )
     }
 
@@ -165,6 +257,7 @@ impl Technique {
                 params.ris_mis = true;
             }
             Technique::SingleDiffuseBounce => params.single_diffuse_bounce = true,
+            Technique::Igi(t) => params.igi = Some(t.options()),
             // Its change is to the scene (`effect`).
             Technique::Without(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
@@ -191,6 +284,7 @@ impl fmt::Display for Technique {
             Technique::MisRis(m) => write!(f, "mis-ris={m}"),
             Technique::SingleDiffuseBounce => write!(f, "single-bounce"),
             Technique::Without(e) => write!(f, "{}", e.name()),
+            Technique::Igi(t) => write!(f, "{t}"),
         }
     }
 }

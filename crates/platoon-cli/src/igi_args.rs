@@ -1,0 +1,89 @@
+//! The rendering method's flags: the path tracer (default) or instant global illumination with
+//! its options (platoon::core::igi).
+
+use anyhow::{bail, Result};
+use clap::ValueEnum;
+use platoon::core::igi::IgiOptions;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    /// Path tracing with NEE and MIS: unbiased, the reference.
+    #[default]
+    Path,
+    /// Instant global illumination: indirect diffuse light from virtual point lights.
+    Igi,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct MethodArgs {
+    /// Rendering method.
+    #[arg(long, value_enum, default_value = "path")]
+    pub method: MethodArg,
+    /// IGI: VPLs per frame (light paths x --vpl-bounces).
+    #[arg(long)]
+    pub vpls: Option<u32>,
+    /// IGI: VPLs a light path leaves at most (light bounced more often is lost).
+    #[arg(long)]
+    pub vpl_bounces: Option<u32>,
+    /// IGI: bound the geometry term below this distance (0: unbounded).
+    #[arg(long)]
+    pub vpl_min_distance: Option<f32>,
+    /// IGI: VPL shadow rays against BVH leaf boxes instead of triangles.
+    #[arg(long)]
+    pub igi_imperfect_visibility: bool,
+    /// IGI: gather indirect light at one pixel in K x K and upsample it.
+    #[arg(long)]
+    pub igi_downsample: Option<u32>,
+    /// IGI: interleave M x N subsets of the VPLs (e.g. 3x3), recombined by a discontinuity
+    /// buffer.
+    #[arg(long, value_parser = parse_tile)]
+    pub igi_interleave: Option<[u32; 2]>,
+}
+
+fn parse_tile(s: &str) -> Result<[u32; 2], String> {
+    let bad = || format!("{s:?}: an interleaving tile is MxN, e.g. 3x3");
+    let (m, n) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    Ok([
+        m.trim().parse().map_err(|_| bad())?,
+        n.trim().parse().map_err(|_| bad())?,
+    ])
+}
+
+impl MethodArgs {
+    /// IGI's options when the method is IGI; refuses IGI flags given to the path tracer.
+    pub fn igi(&self) -> Result<Option<IgiOptions>> {
+        let any_igi_flag = self.vpls.is_some()
+            || self.vpl_bounces.is_some()
+            || self.vpl_min_distance.is_some()
+            || self.igi_imperfect_visibility
+            || self.igi_downsample.is_some()
+            || self.igi_interleave.is_some();
+        if self.method == MethodArg::Path {
+            if any_igi_flag {
+                bail!("the --vpl* and --igi-* flags set instant global illumination: add --method igi");
+            }
+            return Ok(None);
+        }
+        let mut o = IgiOptions::default();
+        if let Some(b) = self.vpl_bounces {
+            o.bounces = b;
+        }
+        if let Some(n) = self.vpls {
+            o.paths = n.div_ceil(o.bounces.max(1)).max(1);
+        }
+        if let Some(d) = self.vpl_min_distance {
+            o.min_distance = d;
+        }
+        o.imperfect_visibility = self.igi_imperfect_visibility;
+        if let Some(k) = self.igi_downsample {
+            o.downsample = k;
+        }
+        if let Some(t) = self.igi_interleave {
+            o.interleave = t;
+        }
+        if let Err(e) = o.validate() {
+            bail!("{e}");
+        }
+        Ok(Some(o))
+    }
+}

@@ -1,0 +1,62 @@
+#version 460
+// IGI, camera pass (one sample per dispatch): the path tracer's camera paths (path.glsl), whose
+// first diffuse vertex is recorded for the gather passes (vertex.glsl) instead of being lit by
+// indirect paths. Direct light and specular chains are the path tracer's, so only indirect
+// diffuse light is approximated. With IGI_FILTERED it also adds the pixel's G-buffer sums for
+// the filters after assembly. Defines: crates/platoon-core/src/flatten/features.rs.
+//
+// The gather is deferred to passes of its own rather than run inline in the path because
+// llvmpipe ends a shader invocation's loops after 65535 iterations in all (Mesa's
+// LP_MAX_TGSI_LOOP_ITERATIONS, shared by every loop of the invocation): hundreds of VPLs, each a
+// BVH traversal, over a pass of samples exceed it and the loops stop short, silently. Each
+// gather pass takes a bounded chunk of the VPLs for one sample.
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+#include "scene.glsl"
+#include "rng.glsl"
+#include "sampling.glsl"
+#include "textures.glsl"
+#include "intersect.glsl"
+#include "surface.glsl"
+#include "environment.glsl"
+#include "bsdf.glsl"
+#include "lights.glsl"
+#include "path.glsl"
+#include "igi/pixel.glsl"
+
+uvec2 igi_pixel;
+IgiVertex igi_vertex;
+
+void igi_record(Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo) {
+    vec3 n = wo.z >= 0.0 ? s.ns : -s.ns;
+    vec3 w = -p.ray.dir;
+    vec3 albedo = p.throughput * bsdf.w.x * bsdf.base_color;
+#ifdef IGI_FILTERED
+    // The G-buffer of the filters: IgiTexel in crates/platoon-core/src/igi/mod.rs. The albedo
+    // with the specular layer's Fresnel at the viewing direction (the filters gather irradiance
+    // and apply it after).
+    uint a = 3u * (igi_pixel.y * F.dims.x + igi_pixel.x);
+    vec3 reflectance = p.throughput * diffuse_reflectance(bsdf, schlick(bsdf.f0, abs(wo.z))) * INV_PI;
+    pc.g.aux.v[a] += vec4(0.0, 0.0, 0.0, 1.0);
+    pc.g.aux.v[a + 1u] += vec4(reflectance, distance(F.cam_origin.xyz, s.position));
+    pc.g.aux.v[a + 2u] += vec4(n, 0.0);
+    if (!igi_gathers(igi_pixel)) return;
+#endif
+    igi_vertex = IgiVertex(vec4(s.position, s.magnitude), vec4(n, bsdf.specular), vec4(ng_wo, 1.0), vec4(w, 0.0), vec4(albedo, 0.0), vec4(bsdf.f0, 0.0));
+}
+
+void main() {
+    load_frame_constants();
+    uvec2 pixel;
+    uint index;
+    if (!band_pixel(pixel, index)) return;
+    igi_pixel = pixel;
+    igi_vertex = IgiVertex(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
+    uint rays = 0u;
+    uint rejected = 0u;
+    pc.g.accum.v[index] = vec4(pixel_samples(pixel, pc.g.accum.v[index].xyz, rays, rejected), 0.0);
+    pc.g.igi_vertices.v[index] = igi_vertex;
+    if (rejected > 0u) atomicAdd(pc.g.stats.v[0], rejected);
+    atomicAdd(pc.g.stats.v[4u + pixel.y], rays);
+}

@@ -1,0 +1,248 @@
+// The path tracer's paths: one vertex at a time (path_step), the samples of a pixel with path
+// regeneration (pixel_samples). Shared by pathtrace.comp and IGI's gather (igi/gather.comp), which
+// hooks its gather into the first diffuse vertex (METHOD_IGI).
+
+// Weight of emission found by a BSDF-sampled ray, against the NEE pdf of the same light.
+float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
+    if (after_delta) return 1.0;
+#if defined(SAMPLING_BSDF)
+    return 1.0;
+#elif defined(SAMPLING_LIGHT) || (defined(LIGHT_SELECT_RIS) && !defined(RIS_MIS))
+    // RIS alone: its pdf of a direction is not known in closed form, the light sample alone.
+    return light_pdf > 0.0 ? 0.0 : 1.0;
+#else
+    return power_heuristic(bsdf_pdf, light_pdf);
+#endif
+}
+
+// Adds light a path gathered. With CLAMP_INDIRECT what arrives after the first bounce is clamped
+// to a largest component (biased: a firefly suppressor); direct light is never clamped.
+void add_light(inout vec3 L, vec3 c, uint depth) {
+#ifdef CLAMP_INDIRECT
+    float m = max3(c);
+    if (depth >= 1u && m > pc.clamp_indirect) c *= pc.clamp_indirect / m;
+#endif
+    L += c;
+}
+
+// Shading normals bend the hemispheres: a direction the shading frame calls reflection may cross
+// the geometric surface (and the reverse). Such a direction must carry no light, or light leaks
+// through closed smooth meshes (pbrt-v3's reflect/transmit test against the geometric normal).
+// ng_wo: geometric normal on wo's side; shading_cos_product: wo.z * wi.z in the shading frame.
+bool sides_agree(vec3 ng_wo, vec3 wi, float shading_cos_product) {
+    return (dot(wi, ng_wo) > 0.0) == (shading_cos_product > 0.0);
+}
+
+Ray camera_ray(uvec2 pixel, inout Rng rng) {
+    vec2 jitter = rng_next2(rng);
+    vec2 lens = rng_next2(rng);
+    vec2 size = vec2(F.dims.xy);
+    vec2 ndc = vec2(2.0 * (float(pixel.x) + jitter.x) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + jitter.y) / size.y);
+    vec3 dir = F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
+    vec3 origin = F.cam_origin.xyz;
+#ifdef HAS_THIN_LENS
+    // dir has unit forward component, so the focus plane point is origin + dir * focus.
+    vec3 focus = origin + dir * F.cam_forward.w;
+    vec2 d = sample_disk_concentric(lens) * F.cam_origin.w;
+    origin += d.x * F.cam_right.xyz + d.y * F.cam_up.xyz;
+    dir = focus - origin;
+#endif
+    return Ray(origin, normalize(dir), INF);
+}
+
+// One path in flight: what the bounce loop carries from one vertex to the next.
+struct Path {
+    Ray ray;
+    vec3 L;
+    vec3 throughput;
+    bool after_delta;  // the camera ray counts like a delta bounce
+    float bsdf_pdf;
+    uint depth;
+    uint sample_index;  // the pixel's sample: what deterministic termination (DPT) reads
+    uint diffuse;       // non-delta bounces so far (single diffuse bounce)
+#ifdef METHOD_IGI
+    bool gathered;       // the first diffuse vertex has gathered the VPLs' light
+    vec3 indirect_scale; // what of the throughput carries on past the next vertex's emission
+#endif
+};
+
+Path path_start(Ray ray, uint sample_index) {
+    Path p;
+    p.ray = ray;
+    p.L = vec3(0.0);
+    p.throughput = vec3(1.0);
+    p.after_delta = true;
+    p.bsdf_pdf = 0.0;
+    p.depth = 0u;
+    p.sample_index = sample_index;
+    p.diffuse = 0u;
+#ifdef METHOD_IGI
+    p.gathered = false;
+    p.indirect_scale = vec3(1.0);
+#endif
+    return p;
+}
+
+#ifdef METHOD_IGI
+// Records the path's first diffuse vertex for IGI's gather passes (igi/camera.comp).
+void igi_record(Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
+#endif
+
+// Extends the path by one vertex; false once the path has ended (its radiance is in p.L).
+bool path_step(inout Path p, inout Rng rng, inout uint rays) {
+    uint max_depth = F.params.x;
+    uint rr_depth = F.params.w;
+    Hit hit;
+    rays++;
+    if (!trace(p.ray, false, hit)) {
+        if (F.counts.w != 0u)
+            add_light(p.L, p.throughput * env_radiance(p.ray.dir) * emission_weight(p.after_delta, p.bsdf_pdf, environment_light_pdf(p.ray.dir)), p.depth);
+        return false;
+    }
+    Surface s = surface_at(hit);
+#ifdef HAS_EMISSIVE_TRIANGLES
+    vec3 le = triangle_emission(s, p.ray.dir);
+    if (any(greaterThan(le, vec3(0.0))))
+        add_light(p.L, p.throughput * le * emission_weight(p.after_delta, p.bsdf_pdf, triangle_light_pdf(hit, s.ng, p.ray.dir)), p.depth);
+#endif
+#ifdef METHOD_IGI
+    // Past the gathering vertex the path carries only what its other lobes reflect.
+    p.throughput *= p.indirect_scale;
+    p.indirect_scale = vec3(1.0);
+    if (!any(greaterThan(p.throughput, vec3(0.0)))) return false;
+#endif
+    // depth + 1 segments so far; the next vertex would make depth + 2 (Mitsuba's max_depth).
+    if (p.depth + 1u >= max_depth) return false;
+#ifdef CAMERA_RAYS_ONLY
+    // Max depth 1 compiles the bounce away: llvmpipe runs every instruction of a loop body under
+    // a lane mask whichever way its branches go, so code skipped at run time still costs.
+    return false;
+#else
+
+    vec3 t, b;
+    make_frame(s.ns, t, b);
+    vec3 wo = to_local(-p.ray.dir, t, b, s.ns);
+    Bsdf bsdf = make_bsdf(s, wo);
+    // The geometric side the ray arrived on; new rays leave from the side they head to.
+    vec3 ng_wo = dot(s.ng, p.ray.dir) < 0.0 ? s.ng : -s.ng;
+    // With SINGLE_DIFFUSE_BOUNCE (Bikker's games) the path ends at its second non-delta vertex:
+    // its NEE then takes the whole of the direct light, as no BSDF ray will follow for MIS.
+    bool last_diffuse = false;
+#ifdef SINGLE_DIFFUSE_BOUNCE
+    last_diffuse = p.diffuse >= 1u;
+#endif
+#ifdef METHOD_IGI
+    // Instant global illumination: the first vertex with a diffuse lobe takes its indirect
+    // diffuse light from the VPLs (gathered by later passes); its direct light stays the path tracer's (NEE below, and
+    // the emission the BSDF ray finds next, both weighed by MIS).
+    bool gathering = !p.gathered && bsdf.p.x > 0.0;
+    if (gathering) {
+        p.gathered = true;
+        igi_record(p, s, bsdf, wo, ng_wo);
+    }
+#endif
+
+#ifndef SAMPLING_BSDF
+    if (!bsdf_all_delta(bsdf)) {
+        LightSample ls;
+        if (sample_light(s.position, rng, ls)) {
+            float pdf;
+            vec3 wi_local = to_local(ls.wi, t, b, s.ns);
+            vec3 f = bsdf_eval(bsdf, wo, wi_local, pdf);
+            if (any(greaterThan(f, vec3(0.0))) && sides_agree(ng_wo, ls.wi, wi_local.z * wo.z)) {
+                vec3 o = offset_ray(s.position, dot(ls.wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude);
+                Ray shadow = ls.infinite ? Ray(o, ls.wi, INF) : Ray(o, ls.target - o, 1.0);
+                Hit sh;
+                rays++;
+                if (!trace(shadow, true, sh)) {
+#if defined(SAMPLING_LIGHT) || (defined(LIGHT_SELECT_RIS) && !defined(RIS_MIS))
+                    float w = 1.0;
+#else
+                    float w = (ls.delta || last_diffuse) ? 1.0 : power_heuristic(ls.mis_pdf, pdf);
+#endif
+                    add_light(p.L, p.throughput * f * ls.radiance * (w / ls.pdf), p.depth);
+                }
+            }
+        }
+    }
+#endif
+
+    BsdfSample bs;
+    if (!bsdf_sample(bsdf, wo, rng, bs)) return false;
+    vec3 wi = to_world(bs.wi, t, b, s.ns);
+    if (!sides_agree(ng_wo, wi, bs.wi.z * wo.z)) return false;
+#ifdef SINGLE_DIFFUSE_BOUNCE
+    if (!bs.delta) {
+        if (last_diffuse) return false;
+        p.diffuse++;
+    }
+#endif
+    p.throughput *= bs.weight;
+#ifdef METHOD_IGI
+    // The emission at the next vertex is direct light (full BSDF); the light beyond it is
+    // indirect, whose diffuse share the VPLs gave: the rest of the BSDF, (f - f_diffuse) / f.
+    if (gathering && !bs.delta) {
+        vec3 f = bs.weight * bs.pdf;
+        vec3 rest = max(f - bsdf_diffuse(bsdf, wo, bs.wi), vec3(0.0));
+        p.indirect_scale = vec3(f.x > 0.0 ? rest.x / f.x : 0.0, f.y > 0.0 ? rest.y / f.y : 0.0, f.z > 0.0 ? rest.z / f.z : 0.0);
+    }
+#endif
+    p.after_delta = bs.delta;
+    p.bsdf_pdf = bs.pdf;
+    if (!any(greaterThan(p.throughput, vec3(0.0)))) return false;
+    if (p.depth >= rr_depth) {
+#ifdef RR_DETERMINISTIC
+        // Bikker's deterministic path termination: the k-th test passes for the samples whose
+        // index has bit k set, so of a pixel's N samples N/2 end at the first test, N/4 at the
+        // second...; survivors weigh 2 per test. Paths cannot outlive log2(N) tests: biased.
+        uint test = p.depth - rr_depth;
+        if (test >= 32u || ((p.sample_index >> test) & 1u) == 0u) return false;
+        p.throughput *= 2.0;
+#else
+#ifdef RR_FIXED
+        float survive = pc.rr_survival;
+#else
+        float survive = min(max3(p.throughput) * pc.rr_survival, 0.95);
+#endif
+        if (rng_next(rng) >= survive) return false;
+        p.throughput /= survive;
+#endif
+    }
+    p.ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude), wi, INF);
+    p.depth++;
+    return true;
+#endif
+}
+
+// The band pixel of this invocation and its row-major index; false outside the band.
+bool band_pixel(out uvec2 pixel, out uint index) {
+    pixel = uvec2(gl_GlobalInvocationID.x, pc.y0 + gl_GlobalInvocationID.y * pc.stride);
+    uint width = F.dims.x;
+    index = pixel.y * width + pixel.x;
+    // Sample indices may wrap past 2^32 (a view converging for days): compare for equality.
+    if (pixel.x >= width || pixel.y >= pc.y1 || pc.sample_begin == pc.sample_end) return false;
+    return index >= pc.pixel_begin && index < pc.pixel_end;
+}
+
+// The pass's samples of one pixel, added onto `sum`.
+vec3 pixel_samples(uvec2 pixel, vec3 sum, inout uint rays, inout uint rejected) {
+    // Path regeneration (Bikker, ch. 6): samples and bounces share one loop, so a lane whose path
+    // ends starts its next sample at once instead of idling until the longest path of its SIMD
+    // group ends. Each sample still has its own random stream and is summed in sample order, so
+    // the result is the same bits as one loop per sample. The sum continues the buffer's (earlier
+    // passes, or earlier frames of a converging view) one sample at a time, so the bits do not
+    // depend on how the samples were cut into passes or frames.
+    uint si = pc.sample_begin;
+    Rng rng = rng_init(pixel, si, F.params.y, F.params.z);
+    Path p = path_start(camera_ray(pixel, rng), si);
+    while (true) {
+        if (path_step(p, rng, rays)) continue;
+        // NaN/Inf guard: such a sample contributes zero and is counted (pbrt-v4's policy).
+        if (any(isnan(p.L)) || any(isinf(p.L))) rejected++;
+        else sum += p.L;
+        if (++si == pc.sample_end) break;
+        rng = rng_init(pixel, si, F.params.y, F.params.z);
+        p = path_start(camera_ray(pixel, rng), si);
+    }
+    return sum;
+}

@@ -1,0 +1,227 @@
+//! Instant global illumination (issue 11): IGI's indirect light converges to the path tracer's,
+//! each acceleration changes the kernel only when enabled, and a frame is the same bits for one
+//! and three tracers with every option.
+
+mod common;
+
+use common::*;
+use platoon::core::balance::by_name;
+use platoon::core::frame::renderer::Renderer;
+use platoon::core::frame::FrameParams;
+use platoon::core::igi::IgiOptions;
+use platoon::core::output::Film;
+use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::tracer::Sampling;
+
+fn cornell() -> platoon::Prepared {
+    prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Scene,
+    )
+}
+
+fn rmse(a: &Film, b: &Film) -> f64 {
+    let n = a.pixels.len() as f64 * 3.0;
+    let sum: f64 = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] as f64 - q[c] as f64).powi(2)))
+        .sum();
+    (sum / n).sqrt()
+}
+
+fn mean(film: &Film) -> f64 {
+    film.pixels
+        .iter()
+        .map(|p| (p[0] + p[1] + p[2]) as f64)
+        .sum::<f64>()
+        / (3 * film.pixels.len()) as f64
+}
+
+fn minus(a: &Film, b: &Film) -> Film {
+    let mut d = a.clone();
+    for (p, q) in d.pixels.iter_mut().zip(&b.pixels) {
+        for c in 0..3 {
+            p[c] -= q[c];
+        }
+    }
+    d
+}
+
+/// The Cornell box is Lambertian: IGI with exact visibility, no bound on the geometry term and
+/// B bounces of VPLs estimates what the path tracer does with paths of B + 2 segments. Its
+/// direct light uses the random numbers of the path tracer capped at 2 segments, so IGI minus
+/// that render is its indirect light alone, free of the direct light's noise.
+#[test]
+fn igi_indirect_light_converges_to_the_path_tracers_as_the_vpls_grow_in_number() {
+    let prepared = cornell();
+    let mut tracer = tracer(&prepared, Sampling::Mis);
+    let mut params = FrameParams::new(32, 32, 4096, prepared.camera);
+    let bounces = IgiOptions::default().bounces;
+    params.max_depth = bounces + 2;
+    let full = render_with(&mut tracer, &params);
+    params.max_depth = 2;
+    let reference = minus(&full, &render_with(&mut tracer, &params));
+    params.spp = 8;
+    params.seed = 1;
+    let direct = render_with(&mut tracer, &params);
+    params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
+    let mut errors = Vec::new();
+    for vpls in [12, 48, 192, 768] {
+        params.igi = Some(IgiOptions::with_vpls(vpls));
+        let indirect = minus(&render_with(&mut tracer, &params), &direct);
+        errors.push((vpls, rmse(&indirect, &reference), mean(&indirect)));
+    }
+    let m = mean(&reference);
+    println!("path-traced indirect: mean {m:.4} (of {:.4})", mean(&full));
+    for (vpls, e, mi) in &errors {
+        println!("{vpls:4} VPLs: indirect RMSE {e:.4}, mean {mi:.4}");
+    }
+    assert!(m > 0.15 * mean(&full), "the box has indirect light to find");
+    for w in errors.windows(2) {
+        assert!(
+            w[1].1 < w[0].1,
+            "error does not fall with VPL count: {errors:?}"
+        );
+    }
+    let (_, last_error, last_mean) = errors[errors.len() - 1];
+    assert!((last_mean - m).abs() < 0.03 * m, "mean {last_mean} vs {m}");
+    assert!(last_error < 0.35 * errors[0].1, "{errors:?}");
+}
+
+fn every_option() -> Vec<IgiOptions> {
+    let base = IgiOptions::with_vpls(48);
+    vec![
+        base,
+        IgiOptions {
+            imperfect_visibility: true,
+            ..base
+        },
+        IgiOptions {
+            min_distance: 0.05,
+            ..base
+        },
+        IgiOptions {
+            downsample: 4,
+            ..base
+        },
+        IgiOptions {
+            interleave: [3, 3],
+            ..base
+        },
+        IgiOptions {
+            imperfect_visibility: true,
+            min_distance: 0.05,
+            downsample: 2,
+            interleave: [2, 3],
+            ..base
+        },
+    ]
+}
+
+#[test]
+fn each_igi_option_changes_the_kernel_only_when_enabled() {
+    let prepared = cornell();
+    let tracer = tracer(&prepared, Sampling::Mis);
+    let mut params = FrameParams::new(8, 8, 1, prepared.camera);
+    let path = tracer.kernel_defines(&params);
+    assert!(path.iter().all(|d| !d.contains("IGI")), "{path:?}");
+    let with = |o: IgiOptions| {
+        let mut p = params.clone();
+        p.igi = Some(o);
+        let d = tracer.kernel_defines(&p);
+        let mut added: Vec<&str> = d.into_iter().filter(|d| !path.contains(d)).collect();
+        added.sort();
+        added
+    };
+    let base = IgiOptions::with_vpls(48);
+    assert_eq!(with(base), ["METHOD_IGI"]);
+    // Run-time knobs are push constants: the same kernel.
+    assert_eq!(
+        with(IgiOptions {
+            paths: 7,
+            bounces: 5,
+            ..base
+        }),
+        ["METHOD_IGI"]
+    );
+    for (o, own) in [
+        (
+            IgiOptions {
+                imperfect_visibility: true,
+                ..base
+            },
+            vec!["IGI_IMPERFECT_VISIBILITY"],
+        ),
+        (
+            IgiOptions {
+                min_distance: 0.1,
+                ..base
+            },
+            vec!["IGI_BOUNDED"],
+        ),
+        (
+            IgiOptions {
+                downsample: 4,
+                ..base
+            },
+            vec!["IGI_DOWNSAMPLED", "IGI_FILTERED"],
+        ),
+        (
+            IgiOptions {
+                interleave: [3, 3],
+                ..base
+            },
+            vec!["IGI_FILTERED", "IGI_INTERLEAVED"],
+        ),
+    ] {
+        let mut want = own.clone();
+        want.push("METHOD_IGI");
+        want.sort();
+        assert_eq!(with(o), want, "{o:?}");
+    }
+    params.igi = None;
+    assert_eq!(tracer.kernel_defines(&params), path);
+}
+
+#[test]
+fn igi_frames_are_bit_identical_for_one_and_three_tracers_with_every_option() {
+    init();
+    let prepared = cornell();
+    let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
+    let mut tracers = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis).unwrap();
+    let mut one = tracer(&prepared, Sampling::Mis);
+    for o in every_option() {
+        let mut params = FrameParams::new(24, 20, 2, prepared.camera);
+        params.igi = Some(o);
+        let reference = render_with(&mut one, &params);
+        assert!(mean(&reference) > 0.0, "{o:?}: black");
+        let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
+        // Several frames, so that the cuts move (within lines too) between them.
+        for frame in 0..3 {
+            let f = renderer.render_frame(&params).unwrap();
+            assert!(f.film == reference, "{o:?}, frame {frame}: image differs");
+            assert_eq!(f.rejected_samples, 0);
+        }
+        tracers = renderer.into_tracers();
+    }
+    for t in &tracers {
+        assert_no_validation_messages(t);
+    }
+}
+
+#[test]
+fn the_vpls_change_with_the_frame_and_the_seed_and_not_otherwise() {
+    let prepared = cornell();
+    let mut tracer = tracer(&prepared, Sampling::Mis);
+    let mut params = FrameParams::new(16, 16, 1, prepared.camera);
+    params.igi = Some(IgiOptions::with_vpls(12));
+    let a = render_with(&mut tracer, &params);
+    assert!(render_with(&mut tracer, &params) == a);
+    params.frame = 1;
+    assert!(render_with(&mut tracer, &params) != a);
+    params.frame = 0;
+    params.seed = 9;
+    assert!(render_with(&mut tracer, &params) != a);
+}
