@@ -76,6 +76,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Gl
     uvec4 dims;        // width, height, env width, env height
     uvec4 counts;      // lights, instances, top-level root item, env kind (0 none, 1 constant, 2 map)
     uvec4 params;      // max depth, frame, seed, russian-roulette start depth
+    vec4 scene_sphere; // the scene's bounding sphere: centre, radius
 };
 
 layout(push_constant) uniform Push {
@@ -116,7 +117,7 @@ layout(push_constant) uniform Push {
 // whole-struct loads are correct.
 struct FrameConstants {
     vec4 cam_origin; vec4 cam_right; vec4 cam_up; vec4 cam_forward; vec4 env_color;
-    uvec4 dims; uvec4 counts; uvec4 params;
+    uvec4 dims; uvec4 counts; uvec4 params; vec4 scene_sphere;
 };
 FrameConstants F;
 
@@ -129,6 +130,7 @@ void load_frame_constants() {
     F.dims = pc.g.dims;
     F.counts = pc.g.counts;
     F.params = pc.g.params;
+    F.scene_sphere = pc.g.scene_sphere;
 }
 
 const float PI = 3.14159265358979323846;

@@ -42,42 +42,6 @@ float halton(uint i, uint d) {
     return min(fract(u), 0.99999994);
 }
 
-void grow(inout vec3 lo, inout vec3 hi, vec3 a, vec3 b) { lo = min(lo, a); hi = max(hi, b); }
-
-// The world box of the scene: the top level's root node, or the one instance's bottom level.
-void scene_box(out vec3 lo, out vec3 hi) {
-    lo = vec3(INF);
-    hi = vec3(-INF);
-    uint item = F.counts.z;
-    uint count = item & ITEM_COUNT_MASK, index = item >> ITEM_INDEX_SHIFT;
-    if (count == 0u) {
-        BvhNode n = tlas_at(index);
-        grow(lo, hi, n.min0, n.max0);
-        grow(lo, hi, n.min1, n.max1);
-        return;
-    }
-    for (uint i = index; i < index + count; ++i) {
-        Instance inst = instance_at(i);
-        uint root = inst.blas_root;
-        vec3 a = vec3(INF), b = vec3(-INF);
-        if ((root & ITEM_COUNT_MASK) == 0u) {
-            BvhNode n = blas_at(root >> ITEM_INDEX_SHIFT);
-            grow(a, b, n.min0, n.max0);
-            grow(a, b, n.min1, n.max1);
-        } else {
-            uint first = root >> ITEM_INDEX_SHIFT;
-            for (uint t = 0u; t < 3u * (root & ITEM_COUNT_MASK); ++t) {
-                vec3 p = tri_pos_at(3u * first + t).xyz;
-                grow(a, b, p, p);
-            }
-        }
-        for (uint c = 0u; c < 8u; ++c) {
-            vec3 p = instance_point(inst, vec3((c & 1u) != 0u ? b.x : a.x, (c & 2u) != 0u ? b.y : a.y, (c & 4u) != 0u ? b.z : a.z));
-            grow(lo, hi, p, p);
-        }
-    }
-}
-
 // A point on the disk of radius r about c facing along unit d.
 vec3 disk_point(vec3 c, vec3 d, float r, vec2 u) {
     vec3 t, b;
@@ -147,10 +111,9 @@ bool emit(uint path, out Ray ray, out vec3 power, out float range) {
         return f > 0.0;
     }
     if (kind == LIGHT_DIRECTIONAL) {
-        vec3 lo, hi;
-        scene_box(lo, hi);
-        vec3 c = 0.5 * (lo + hi);
-        float r = max(0.5 * length(hi - lo), 1e-3) * 1.01;
+        // The scene's bounding sphere, from just outside it.
+        vec3 c = F.scene_sphere.xyz;
+        float r = F.scene_sphere.w * 1.01;
         vec3 dir = l.b.xyz;
         ray = Ray(disk_point(c - dir * r, dir, r, u_pos), dir, INF);
         power = l.emission.rgb * (PI * r * r) / pick;
@@ -158,10 +121,9 @@ bool emit(uint path, out Ray ray, out vec3 power, out float range) {
     }
 #endif
     if (kind == LIGHT_ENVIRONMENT) {
-        vec3 lo, hi;
-        scene_box(lo, hi);
-        vec3 c = 0.5 * (lo + hi);
-        float r = max(0.5 * length(hi - lo), 1e-3) * 1.01;
+        // The scene's bounding sphere, from just outside it.
+        vec3 c = F.scene_sphere.xyz;
+        float r = F.scene_sphere.w * 1.01;
         float pdf;
         vec3 wi = env_sample(u_dir, pdf);
         if (!(pdf > 0.0)) return false;
@@ -205,11 +167,18 @@ void main() {
         vec3 wo = to_local(-ray.dir, t, b, s.ns);
         Bsdf bsdf = make_bsdf(s, wo);
         vec3 ng_wo = dot(s.ng, ray.dir) < 0.0 ? s.ng : -s.ng;
+        // Light arrives through the geometric surface but is reflected about the shading normal:
+        // particles carry the adjoint's correction |wo.ns| / |wo.ng| (Veach 1997, 5.3), so that
+        // the VPLs reflect what the path tracer's shading points do.
+        float cos_ng_in = abs(dot(-ray.dir, s.ng));
+        if (!(cos_ng_in > 0.0)) return;
+        float shading_in = abs(wo.z) / cos_ng_in;
         if (bsdf.p.x > 0.0) {
-            // Radiant intensity / cos of the diffuse reflection: flux x albedo / pi (Fresnel of
-            // the specular layer taken at the incoming direction).
+            // Radiance x area of the diffuse reflection: flux x albedo / pi (Fresnel of the
+            // specular layer taken at the incoming direction); it leaves through the geometric
+            // surface, on the side the light arrived on.
             vec3 albedo = diffuse_reflectance(bsdf, schlick(bsdf.f0, abs(wo.z)));
-            store(base + k, offset_ray(s.position, ng_wo, s.magnitude), wo.z >= 0.0 ? s.ns : -s.ns, power * albedo * INV_PI);
+            store(base + k, offset_ray(s.position, ng_wo, s.magnitude), ng_wo, power * albedo * (INV_PI * shading_in));
         }
         if (k + 1u == bounces) return;
         uint d = 5u + 3u * k;
@@ -217,7 +186,8 @@ void main() {
         if (!bsdf_sample_with(bsdf, wo, halton(path, d), vec2(halton(path, d + 1u), halton(path, d + 2u)), rng, bs)) return;
         vec3 wi = to_world(bs.wi, t, b, s.ns);
         if ((dot(wi, ng_wo) > 0.0) != (bs.wi.z * wo.z > 0.0)) return;
-        power *= bs.weight;
+        float cos_ns_out = abs(bs.wi.z);
+        power *= cos_ns_out > 0.0 ? bs.weight * (shading_in * abs(dot(wi, s.ng)) / cos_ns_out) : vec3(0.0);
         if (!any(greaterThan(power, vec3(0.0)))) return;
         ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude), wi, INF);
     }

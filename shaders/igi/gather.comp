@@ -52,6 +52,7 @@ void main() {
         float d2 = dot(d, d);
         if (!(d2 > 0.0)) continue;
         vec3 wi = d * inversesqrt(d2);
+        // The VPL's geometric normal: its radiance leaves a patch of the surface.
         float cos_y = -dot(wi, v.normal.xyz);
         float cos_x = dot(wi, n);
         // Both in front: of the VPL, and of the shading and geometric normals on the path's side.

@@ -8,6 +8,7 @@ use anyhow::{anyhow, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use platoon::tradeoff::{self, report, Progress, Technique};
 
+use crate::igi_args::MethodArg;
 use crate::scene_args::SceneArgs;
 
 #[derive(clap::Args)]
@@ -24,13 +25,16 @@ pub struct TradeoffArgs {
     /// Techniques: mis, bsdf, light, max-depth=N, rr-depth=N, rr-survival=PERCENT,
     /// rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, generic-kernel, ris=M,
     /// mis-ris=M, dpt,
-    /// single-bounce, no-textures, no-normal-maps, opaque, env-mean.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "mis,bsdf,light,max-depth=2,no-regeneration"
-    )]
-    techniques: Vec<String>,
+    /// single-bounce, no-textures, no-normal-maps, opaque, env-mean,
+    /// igi=N[+boxes][+downK][+interMxN][+minD]. Default: mis,bsdf,light,max-depth=2,
+    /// no-regeneration; with --method igi the IGI sweep.
+    #[arg(long, value_delimiter = ',')]
+    techniques: Option<Vec<String>>,
+    /// `igi` sweeps instant global illumination against the path tracer (mis) by default: VPL
+    /// counts 30, 90, 180 and 720, then at 180 each acceleration alone (imperfect visibility,
+    /// 4x4 downsampling, 3x3 interleaving) and all three.
+    #[arg(long, value_enum, default_value = "path")]
+    method: MethodArg,
     #[arg(long, default_value_t = 0)]
     seed: u32,
     /// Renders timed per cell (the median is reported).
@@ -51,11 +55,14 @@ pub struct TradeoffArgs {
 }
 
 pub fn run(args: TradeoffArgs) -> Result<()> {
-    let techniques = args
-        .techniques
-        .iter()
-        .map(|t| Technique::parse(t))
-        .collect::<Result<Vec<_>>>()?;
+    let techniques = match (&args.techniques, args.method) {
+        (Some(list), _) => list
+            .iter()
+            .map(|t| Technique::parse(t))
+            .collect::<Result<Vec<_>>>()?,
+        (None, MethodArg::Path) => Technique::DEFAULT.to_vec(),
+        (None, MethodArg::Igi) => Technique::igi_sweep(),
+    };
     let options = tradeoff::Options {
         width: args.width,
         height: args.height,

@@ -36,6 +36,8 @@ pub(crate) struct Globals {
     pub dims: [u32; 4],
     pub counts: [u32; 4],
     pub params: [u32; 4],
+    /// The scene's bounding sphere (centre, radius).
+    pub scene_sphere: [f32; 4],
 }
 
 impl Globals {
@@ -100,6 +102,6 @@ pub(crate) struct Push {
     pub vpl_end: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<Globals>() == 160 + 8 * 16);
+const _: () = assert!(std::mem::size_of::<Globals>() == 160 + 9 * 16);
 // Must match the push-constant block of shaders/scene.glsl.
 const _: () = assert!(std::mem::size_of::<Push>() == 80);

@@ -349,6 +349,7 @@ impl Tracer {
         g.dims[2] = h.env_size[0];
         g.dims[3] = h.env_size[1];
         g.counts = [h.lights, h.instances, h.tlas_root, h.env_kind];
+        g.scene_sphere = h.scene_sphere;
         self.scene.globals = g;
         self.features = h.features;
     }

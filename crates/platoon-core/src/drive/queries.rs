@@ -100,6 +100,8 @@ impl QueryScene {
                 mean_radiance: [0.0; 3],
             },
             features: h.features,
+            scene_radius: h.scene_sphere[3] as f64,
+            scene_center: [h.scene_sphere[0], h.scene_sphere[1], h.scene_sphere[2]],
             ..Default::default()
         }
     }

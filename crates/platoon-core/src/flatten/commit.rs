@@ -53,6 +53,8 @@ pub struct SceneHeader {
     pub env_integral: f32,
     pub env_size: [u32; 2],
     pub features: crate::flatten::features::FeatureSet,
+    /// The scene's bounding sphere: centre and radius.
+    pub scene_sphere: [f32; 4],
 }
 
 impl GpuScene {
@@ -66,6 +68,12 @@ impl GpuScene {
             env_integral: self.env.integral,
             env_size: [self.env.width, self.env.height],
             features: self.features,
+            scene_sphere: [
+                self.scene_center[0],
+                self.scene_center[1],
+                self.scene_center[2],
+                self.scene_radius as f32,
+            ],
         }
     }
 }

@@ -224,5 +224,6 @@ pub(super) fn top_level<'a>(
     g.tlas_root = tlas.root;
     let (lo, hi) = tlas.bounds();
     g.scene_radius = ((hi.as_dvec3() - lo.as_dvec3()).length() * 0.5).max(1e-3);
+    g.scene_center = ((lo.as_dvec3() + hi.as_dvec3()) * 0.5).as_vec3().to_array();
     (tlas, live, time)
 }

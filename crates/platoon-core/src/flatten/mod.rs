@@ -53,6 +53,9 @@ pub struct GpuScene {
     /// Radius of the scene's bounding sphere (for directional and environment light power), in
     /// f64: a vertex at 1e30 makes its square overflow f32.
     pub scene_radius: f64,
+    /// Centre of that sphere (where IGI's particles from directional lights and the
+    /// environment aim).
+    pub scene_center: [f32; 3],
     /// Where each posed mesh lives in the arrays (CPU side).
     pub regions: Vec<MeshRegion>,
 }

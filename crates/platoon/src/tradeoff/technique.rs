@@ -124,13 +124,16 @@ impl IgiTechnique {
 impl fmt::Display for IgiTechnique {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "igi={}", self.vpls)?;
-        if self.boxes {
+        let all = self.boxes && self.downsample == 4 && self.interleave == [3, 3];
+        if all {
+            write!(f, "+all")?;
+        } else if self.boxes {
             write!(f, "+boxes")?;
         }
-        if self.downsample > 1 {
+        if self.downsample > 1 && !all {
             write!(f, "+down{}", self.downsample)?;
         }
-        if self.interleave != [1, 1] {
+        if self.interleave != [1, 1] && !all {
             write!(f, "+inter{}x{}", self.interleave[0], self.interleave[1])?;
         }
         if self.min_distance != 0 {
@@ -149,6 +152,24 @@ impl Technique {
         Technique::MaxDepth(2),
         Technique::NoRegeneration,
     ];
+
+    /// What `tradeoff --method igi` sweeps: the path tracer, IGI at the paper's VPL counts,
+    /// then at 180 VPLs each acceleration alone and the three together.
+    pub fn igi_sweep() -> Vec<Technique> {
+        [
+            "mis",
+            "igi=30",
+            "igi=90",
+            "igi=180",
+            "igi=720",
+            "igi=180+boxes",
+            "igi=180+down4",
+        ]
+        .into_iter()
+        .chain(["igi=180+inter3x3", "igi=180+all"])
+        .map(|t| Technique::parse(t).expect("a valid technique"))
+        .collect()
+    }
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
