@@ -623,3 +623,89 @@ fn tradeoff_prints_its_rows_as_json_and_refuses_what_it_cannot_measure() {
         stderr(&o)
     );
 }
+
+#[test]
+fn renders_by_instant_global_illumination_and_says_so_in_the_metadata() {
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("igi.exr");
+    let o = platoon(&[
+        "render",
+        "--method",
+        "igi",
+        "--vpls",
+        "30",
+        "--igi-downsample",
+        "2",
+        "--igi-interleave",
+        "3x3",
+        "--igi-imperfect-visibility",
+        "--spp",
+        "2",
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--validation",
+        "--out",
+        exr.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("validation:"), "{}", stderr(&o));
+    let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
+    assert!(film.mean()[0] > 0.01);
+    let get = |k: &str| metadata_value(&meta, k);
+    assert!(
+        get("method").contains("instant global illumination: 30 VPLs"),
+        "{meta:?}"
+    );
+    let approximations = get("approximations");
+    for says in [
+        "instant global illumination",
+        "leaf boxes",
+        "1/2 x 1/2",
+        "3x3 VPL subsets",
+    ] {
+        assert!(approximations.contains(says), "{says}: {approximations}");
+    }
+    assert!(get("kernel_defines").contains("METHOD_IGI"));
+    // IGI's flags without the method, and options out of range, are refused by name.
+    let out = dir.path().join("refused.png");
+    let o = out.to_str().unwrap();
+    assert_fails_naming(
+        &["render", "--vpls", "30", "--out", o],
+        "--method igi",
+        &out,
+    );
+    assert_fails_naming(
+        &[
+            "render",
+            "--method",
+            "igi",
+            "--igi-interleave",
+            "3by3",
+            "--out",
+            o,
+        ],
+        "MxN",
+        &out,
+    );
+    assert_fails_naming(
+        &[
+            "render",
+            "--method",
+            "igi",
+            "--vpl-bounces",
+            "20",
+            "--out",
+            o,
+        ],
+        "bounces",
+        &out,
+    );
+    let p = platoon(&["tradeoff", "--techniques", "igi=30+sideways", "--out", "."]);
+    assert!(
+        !p.status.success() && stderr(&p).contains("unknown IGI option"),
+        "{}",
+        stderr(&p)
+    );
+}
