@@ -13,6 +13,7 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 #include "sampling.glsl"
 #include "textures.glsl"
 #include "intersect.glsl"
+#include "trace.glsl"
 #include "surface.glsl"
 #include "environment.glsl"
 #include "bsdf.glsl"

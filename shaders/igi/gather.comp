@@ -13,13 +13,14 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #include "sampling.glsl"
 #include "textures.glsl"
 #include "intersect.glsl"
+#include "igi/visibility.glsl"
+#include "trace.glsl"
 #include "surface.glsl"
 #include "environment.glsl"
 #include "bsdf.glsl"
 #include "lights.glsl"
 #include "path.glsl"
 #include "igi/pixel.glsl"
-#include "igi/visibility.glsl"
 
 float bounded_inv_square(float d2) {
 #ifdef IGI_BOUNDED
@@ -67,7 +68,8 @@ void main() {
         vec3 c = f * v.power.rgb * (cos_y * bounded_inv_square(d2));
         if (!any(greaterThan(c, vec3(0.0)))) continue;
         rays++;
-        if (!vpl_blocked(origin, v.position.xyz)) sum += c;
+        Hit h;
+        if (!trace(Ray(origin, v.position.xyz - origin, 1.0), true, h)) sum += c;
     }
     sum *= float(step);
 #ifdef IGI_FILTERED

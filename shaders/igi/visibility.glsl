@@ -15,11 +15,13 @@ bool passes_through(RayTri r, vec3 lo, vec3 hi, float tmax) {
     return tn > 0.0 && tn <= tf && tf < tmax;
 }
 
-bool leaf_boxes_block(RayTri r, uint root, uint instance, float tmax) {
+// The bottom level with leaves as solid boxes; the signature of traverse_blas, whose place it
+// takes in trace() (trace.glsl). A hit says only that the segment is blocked.
+bool leaf_boxes_block(RayTri r, uint root, uint instance, bool any_hit, inout Hit hit) {
+    float tmax = hit.t;
     if ((root & ITEM_COUNT_MASK) != 0u) {
         // A bottom level that is one leaf has no box of its own in the tree: its triangles.
-        Hit h = Hit(tmax, 0.0, 0.0, 0u, 0u);
-        return traverse_blas(r, root, instance, true, h);
+        return traverse_blas(r, root, instance, any_hit, hit);
     }
     uint stack[64];
     int sp = 0;
@@ -42,44 +44,5 @@ bool leaf_boxes_block(RayTri r, uint root, uint instance, float tmax) {
     return false;
 }
 
-bool boxes_block(Ray ray) {
-    if (F.counts.y == 0u) return false;
-    RayTri world = ray_tri_setup(ray.origin, ray.dir);
-    uint stack[32];
-    int sp = 0;
-    uint item = F.counts.z;
-    while (true) {
-        uint count = item & ITEM_COUNT_MASK, index = item >> ITEM_INDEX_SHIFT;
-        if (count > 0u) {
-            for (uint i = index; i < index + count; ++i) {
-                Instance inst = instance_at(i);
-                vec3 o = vec3(dot(inst.w2o[0], vec4(ray.origin, 1.0)), dot(inst.w2o[1], vec4(ray.origin, 1.0)), dot(inst.w2o[2], vec4(ray.origin, 1.0)));
-                vec3 d = vec3(dot(inst.w2o[0].xyz, ray.dir), dot(inst.w2o[1].xyz, ray.dir), dot(inst.w2o[2].xyz, ray.dir));
-                if (leaf_boxes_block(ray_tri_setup(o, d), inst.blas_root, i, ray.tmax)) return true;
-            }
-        } else {
-            uint near, far;
-            int hits = order_children(world, tlas_at(index), ray.tmax, near, far);
-            if (hits > 0) {
-                if (hits == 2 && sp < 32) stack[sp++] = far;
-                item = near;
-                continue;
-            }
-        }
-        if (sp == 0) break;
-        item = stack[--sp];
-    }
-    return false;
-}
+#define VISIT_BLAS leaf_boxes_block
 #endif
-
-// Whether the segment from `origin` to `target` is blocked.
-bool vpl_blocked(vec3 origin, vec3 target) {
-    Ray shadow = Ray(origin, target - origin, 1.0);
-#ifdef IGI_IMPERFECT_VISIBILITY
-    return boxes_block(shadow);
-#else
-    Hit h;
-    return trace(shadow, true, h);
-#endif
-}

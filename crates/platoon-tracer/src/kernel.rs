@@ -34,6 +34,7 @@ const SOURCES: &[(&str, &str)] = &[
         "intersect.glsl",
         include_str!("../../../shaders/intersect.glsl"),
     ),
+    ("trace.glsl", include_str!("../../../shaders/trace.glsl")),
     (
         "surface.glsl",
         include_str!("../../../shaders/surface.glsl"),
