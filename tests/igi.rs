@@ -347,3 +347,65 @@ fn every_light_kind_gives_the_path_tracers_indirect_light() {
         );
     }
 }
+
+/// In the frame driver a still view's frames each gather a VPL set of their own (keyed by the
+/// frame's first sample) and the film sums them: the film is, bit for bit, the frames rendered
+/// one by one onto each other's sums, and not one render of as many samples from one set.
+#[test]
+fn a_still_view_in_the_frame_driver_averages_over_vpl_sets() {
+    use platoon::core::drive::{DriverOptions, FrameDriver, Pipeline};
+    init();
+    let scene = platoon::load_scene(None).unwrap();
+    let camera =
+        platoon::core::scene::camera::Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
+    let (k, s) = (4u32, 2u32);
+    let filtered = IgiOptions {
+        downsample: 2,
+        interleave: [2, 2],
+        ..IgiOptions::with_vpls(30)
+    };
+    for igi in [IgiOptions::with_vpls(30), filtered] {
+        let (pipeline, first) = Pipeline::new(scene.clone(), 0.0, glam::DVec3::ZERO).unwrap();
+        let spec: DeviceSpec = "lavapipe:1,1".parse().unwrap();
+        let tracers = create_tracers(&spec, &first, true, Sampling::Mis).unwrap();
+        let offline =
+            create_tracers(&"lavapipe:1".parse().unwrap(), &first, true, Sampling::Mis).unwrap();
+        let mut options = DriverOptions::new(16, 16);
+        options.spp = s;
+        options.igi = Some(igi);
+        let cost_aware = by_name("cost-aware").unwrap();
+        let mut d = FrameDriver::new(pipeline, &first, tracers, cost_aware, options).unwrap();
+        for _ in 0..k {
+            d.frame(camera).unwrap();
+        }
+        let done = d.finish().unwrap().expect("the last frame");
+        assert_eq!(done.stats.film_samples, Some(k * s));
+
+        // The same frames on one tracer, each continuing the last one's sums.
+        let mut renderer = Renderer::new(offline, by_name("none").unwrap());
+        let mut params = FrameParams::new(16, 16, s, camera);
+        params.igi = Some(igi);
+        for i in 0..k {
+            params.first_sample = i * s;
+            let sums = renderer.render_frame(&params).unwrap().sums;
+            params.accumulated = Some(sums.into());
+        }
+        let inv = 1.0 / (k * s) as f32;
+        let sums = params.accumulated.as_ref().unwrap();
+        let expected: Vec<[f32; 3]> = sums.iter().map(|p| p.map(|v| v * inv)).collect();
+        assert!(
+            done.film.pixels == expected,
+            "{igi:?}: the driver's film differs"
+        );
+
+        // One render of k s samples gathers one set: another image.
+        params.first_sample = 0;
+        params.accumulated = None;
+        params.spp = k * s;
+        let one_set = renderer.render_frame(&params).unwrap().film;
+        assert!(
+            one_set.pixels != expected,
+            "{igi:?}: frames shared their VPLs"
+        );
+    }
+}

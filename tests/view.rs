@@ -184,4 +184,27 @@ fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
     let (a, b) = (camera(start), camera(end));
     let moved = (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f32>().sqrt();
     assert!(moved > 0.1, "W did not fly the camera: {start} / {end}");
+
+    // The same window by instant global illumination: the title says so.
+    let mut view = platoon()
+        .args(["view", "--size", "24x16", "--devices", "lavapipe:1"])
+        .args(["--method", "igi", "--vpls", "12", "--frames", "3000"])
+        .env("DISPLAY", &x.display)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for(Duration::from_secs(120), || {
+        if let Some(status) = view.try_wait().unwrap() {
+            let err = std::io::read_to_string(view.stderr.take().unwrap()).unwrap();
+            panic!("the IGI viewer ended before its window showed frames ({status}): {err}");
+        }
+        let id = x.xdotool(&["search", "--name", "^platoon"]);
+        let id = id.lines().next()?.to_string();
+        x.xdotool(&["getwindowname", &id])
+            .contains("IGI 12 VPLs")
+            .then_some(())
+    });
+    let _ = view.kill();
+    let _ = view.wait();
 }

@@ -4,7 +4,8 @@
 // on a surface with a diffuse lobe leaving a VPL in slot i * bounces + hit (an empty slot, power
 // w = 0, where the path ended early). The random numbers are a Halton sequence over the paths,
 // rotated per (frame, seed): the set is a pure function of (scene, frame, seed), so every tracer
-// builds the same one and a frame split between devices is the same bits.
+// builds the same one and a frame split between devices is the same bits. (A frame that
+// continues a converging view's sums also keys it by its first sample: see halton.)
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
@@ -36,9 +37,12 @@ float radical_inverse(uint base, uint i) {
     return r;
 }
 
-// Dimension d of path i, Cranley-Patterson rotated by a hash of (seed, frame, d).
+// Dimension d of path i, Cranley-Patterson rotated by a hash of (seed, frame, d) and, for the
+// frames that continue a converging view's sums (first sample past 0), of the first sample: each
+// such frame gathers a VPL set of its own, and the film averages over sets.
 float halton(uint i, uint d) {
     uint h = pcg_hash(pcg_hash(pcg_hash(F.params.z ^ 0x68bc21ebu) ^ F.params.y) ^ d);
+    if (pc.sample_begin != 0u) h = pcg_hash(h ^ (pc.sample_begin * 0x9e3779b9u));
     float u = radical_inverse(PRIMES[d], i + 1u) + float(h >> 8) * (1.0 / 16777216.0);
     return min(fract(u), 0.99999994);
 }

@@ -184,6 +184,9 @@ impl Tracer {
             pixel_begin: span.begin,
             pixel_end: span.end,
             stride,
+            // What IGI's VPL pass keys its set by, besides frame and seed.
+            sample_begin: params.first_sample,
+            sample_end: params.first_sample,
             rr_survival: params.rr_fixed.unwrap_or(params.rr_survival),
             clamp_indirect: params.clamp_indirect.unwrap_or(f32::INFINITY),
             ris_candidates: params.ris_candidates.unwrap_or(1),
