@@ -164,11 +164,16 @@ impl Tracer {
         if let Some(rows) = &start {
             self.write_buffers(&[(accum.0, band_offset, bytemuck::cast_slice(rows))])?;
         }
+        // A filtered IGI gather adds onto the span's texels: cleared with the rest.
+        let texels = self.igi_texel_range(params, span);
         self.submit(|d, cb| unsafe {
             if start.is_none() {
                 d.cmd_fill_buffer(cb, accum.0, band_offset, band_size, 0);
             }
             d.cmd_fill_buffer(cb, stats.0, 0, vk::WHOLE_SIZE, 0);
+            if let Some((buffer, offset, size)) = texels {
+                d.cmd_fill_buffer(cb, buffer, offset, size, 0);
+            }
             compute_barrier(
                 d,
                 cb,
@@ -194,7 +199,7 @@ impl Tracer {
         };
         Tracer::igi_push(params, &mut push);
         // IGI's first pass: the frame's VPLs, before any sample gathers them.
-        band.gpu_time += self.emit_vpls(params, &push, span)?;
+        band.gpu_time += self.emit_vpls(params, &push)?;
 
         let spp = params.spp;
         // IGI renders a sample at a time: its gather passes follow each camera pass.

@@ -119,51 +119,39 @@ impl Tracer {
         Ok([vpls, texels, vertices])
     }
 
-    /// Shoots the frame's VPLs and clears the span's texels; returns the device time.
-    pub(crate) fn emit_vpls(
-        &mut self,
+    /// The span's texels as (buffer, offset, size) when the gather is filtered: what the band
+    /// clears before its first pass.
+    pub(crate) fn igi_texel_range(
+        &self,
         params: &FrameParams,
-        push: &Push,
         span: Span,
-    ) -> Result<Duration> {
+    ) -> Option<(vk::Buffer, u64, u64)> {
+        if !params.igi.is_some_and(|o| o.filtered()) {
+            return None;
+        }
+        let b = self.igi.texels.as_ref()?;
+        Some((
+            b.buffer,
+            span.begin as u64 * TEXEL_BYTES,
+            span.len() as u64 * TEXEL_BYTES,
+        ))
+    }
+
+    /// Shoots the frame's VPLs; returns the device time. (The next dispatch's barrier makes
+    /// them visible to the gather.)
+    pub(crate) fn emit_vpls(&mut self, params: &FrameParams, push: &Push) -> Result<Duration> {
         let Some(o) = params.igi else {
             return Ok(Duration::ZERO);
         };
         let mut defines = self.kernel_defines(params);
         defines.push(EMIT_VPLS);
-        let (pipeline, layout, scene_set) = self.kernel(defines)?;
-        let texels = o
-            .filtered()
-            .then(|| self.igi.texels.as_ref().map(|b| b.buffer))
-            .flatten();
+        let kernel = self.kernel(defines)?;
         let query_pool = self.query_pool;
         let groups = o.paths.div_ceil(64);
         self.submit(|d, cb| unsafe {
-            if let Some(t) = texels {
-                d.cmd_fill_buffer(
-                    cb,
-                    t,
-                    span.begin as u64 * TEXEL_BYTES,
-                    span.len() as u64 * TEXEL_BYTES,
-                    0,
-                );
-            }
             timestamp(d, cb, query_pool, 0);
-            record_dispatch(d, cb, (pipeline, layout, scene_set), push, (groups, 1));
+            record_dispatch(d, cb, kernel, push, (groups, 1));
             timestamp(d, cb, query_pool, 1);
-            // The gather reads the VPLs and adds onto the cleared texels.
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
         })?;
         self.timestamps()
     }
@@ -179,8 +167,8 @@ impl Tracer {
         let Some(o) = params.igi else {
             return Ok(Duration::ZERO);
         };
-        let camera = self.kernel(self.kernel_defines(params))?;
         let mut defines = self.kernel_defines(params);
+        let camera = self.kernel(defines.clone())?;
         defines.push(GATHER);
         let gather = self.kernel(defines)?;
         let chunk = GATHER_CHUNK * o.subsets();
