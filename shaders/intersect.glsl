@@ -102,21 +102,22 @@ int order_children(RayTri r, BvhNode n, float tmax, out uint near, out uint far)
     return ta == INF ? 0 : (tb == INF ? 1 : 2);
 }
 
-#ifdef HAS_ALPHA_MASK
-bool alpha_rejects(uint tri, float b1, float b2) {
+#if defined(HAS_ALPHA_MASK) || defined(HAS_ALPHA_BLEND)
+#define HAS_ALPHA_TEST
+// Whether a ray passes through triangle `tri` at (b1, b2): alphaMode MASK below its cutoff, and
+// BLEND with probability 1 - alpha (stochastic transparency: unbiased for coverage, for shadow
+// rays too). The blend's number is a hash of the ray and the hit, so it is a pure function of
+// the pixel's sample like every other random number.
+bool alpha_rejects(RayTri r, uint tri, float b1, float b2) {
     Triangle T = triangle_at(tri);
     Material m = material_at(T.material);
-    if ((m.textures1.w & MATERIAL_ALPHA_MASK) == 0) return false;
-    float alpha = m.base_color.a;
-#ifdef HAS_TEXTURES
-    if (m.textures0.x >= 0) {
-        Vertex a = vertex_at(T.v.x), b = vertex_at(T.v.y), c = vertex_at(T.v.z);
-        vec2 uv = (1.0 - b1 - b2) * vec2(a.position_u.w, a.normal_v.w) + b1 * vec2(b.position_u.w, b.normal_v.w)
-                + b2 * vec2(c.position_u.w, c.normal_v.w);
-        alpha *= sample_texture(m.textures0.x, uv, true).a;
-    }
-#endif
-    return alpha < m.misc.x;
+    int flags = m.textures1.w;
+    if ((flags & (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND)) == 0) return false;
+    float alpha = material_alpha(m, vertex_attributes(T, m, vec3(1.0 - b1 - b2, b1, b2)));
+    if ((flags & MATERIAL_ALPHA_MASK) != 0) return alpha < m.misc.x;
+    uint h = pcg_hash(tri ^ pcg_hash(floatBitsToUint(b1) ^ pcg_hash(floatBitsToUint(b2)
+        ^ pcg_hash(floatBitsToUint(r.org.x) ^ pcg_hash(floatBitsToUint(r.org.y) ^ pcg_hash(floatBitsToUint(r.inv_dir.z)))))));
+    return float(h >> 8) * (1.0 / 16777216.0) >= alpha;
 }
 #endif
 
@@ -134,8 +135,8 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
             float t, b1, b2;
             vec3 v0 = tri_pos_at(3u * index).xyz, v1 = tri_pos_at(3u * index + 1u).xyz, v2 = tri_pos_at(3u * index + 2u).xyz;
             if (intersect_triangle(r, v0, v1, v2, hit.t, t, b1, b2)
-#ifdef HAS_ALPHA_MASK
-                && !alpha_rejects(index, b1, b2)
+#ifdef HAS_ALPHA_TEST
+                && !alpha_rejects(r, index, b1, b2)
 #endif
             ) {
                 hit = Hit(t, b1, b2, instance, index);

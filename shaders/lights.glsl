@@ -36,10 +36,10 @@ vec3 triangle_emission(Surface s, vec3 dir) {
 vec3 triangle_light_radiance(Light l, vec3 b, vec3 nl, vec3 dir) {
     Surface s;
     Triangle T = triangle_at(l.ids.z);
-    Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
-    s.uv = b.x * vec2(v0.position_u.w, v0.normal_v.w) + b.y * vec2(v1.position_u.w, v1.normal_v.w) + b.z * vec2(v2.position_u.w, v2.normal_v.w);
+    Material m = material_at(T.material);
+    s.attr = vertex_attributes(T, m, b);
     s.ng = nl;
-    apply_material(s, material_at(T.material));
+    apply_material(s, m);
     return triangle_emission(s, dir);
 }
 

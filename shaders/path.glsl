@@ -40,6 +40,11 @@ Ray camera_ray(uvec2 pixel, inout Rng rng) {
     vec2 ndc = vec2(2.0 * (float(pixel.x) + jitter.x) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + jitter.y) / size.y);
     vec3 dir = F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
     vec3 origin = F.cam_origin.xyz;
+#ifdef HAS_ORTHOGRAPHIC
+    // Parallel rays from the image plane: cam_right.w and cam_up.w hold xmag and ymag.
+    origin += ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
+    dir = F.cam_forward.xyz;
+#endif
 #ifdef HAS_THIN_LENS
     // dir has unit forward component, so the focus plane point is origin + dir * focus.
     vec3 focus = origin + dir * F.cam_forward.w;
@@ -100,6 +105,15 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
         return false;
     }
     Surface s = surface_at(hit);
+#ifdef HAS_UNLIT
+    // KHR_materials_unlit (the spec's advice to a path tracer): the base colour is radiance the
+    // surface emits toward every viewer, and it reflects nothing. NEE never picks it, so a BSDF
+    // ray that finds it takes it whole.
+    if (s.unlit) {
+        add_light(p.L, p.throughput * s.base_color, p.depth);
+        return false;
+    }
+#endif
 #ifdef HAS_EMISSIVE_TRIANGLES
     vec3 le = triangle_emission(s, p.ray.dir);
     if (any(greaterThan(le, vec3(0.0))))

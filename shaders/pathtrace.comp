@@ -18,6 +18,9 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #include "lights.glsl"
 
 #include "path.glsl"
+#if defined(OUTPUT_BSDF_SAMPLE) || defined(OUTPUT_BSDF_VALUE)
+#include "bsdf_probe.glsl"
+#endif
 
 void main() {
     load_frame_constants();
@@ -39,6 +42,9 @@ void main() {
         sum = vec3(first.t, float(first.instance), float(first.triangle));
     else
         sum = vec3(-1.0);
+#elif defined(OUTPUT_BSDF_SAMPLE) || defined(OUTPUT_BSDF_VALUE)
+    rays = 1u;
+    sum = bsdf_probe(pixel);
 #else
     sum = pixel_samples(pixel, pc.g.accum.v[index].xyz, rays, rejected);
 #endif

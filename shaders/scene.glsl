@@ -6,20 +6,25 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 
 struct Vertex { vec4 position_u; vec4 normal_v; vec4 tangent; };
+// TEXCOORD_1 and COLOR_0 (RGBA, 16-bit unorms two to a uint): GpuVertexExtra.
+struct VertexExtra { vec2 uv1; uvec2 color; };
 struct Triangle { uvec3 v; uint material; };
 // An inner BVH2 node with both children's boxes and items (crates/platoon-core/src/flatten/bvh.rs): an
 // item is (index << 4) | count, count 0 naming inner node `index`, else `count` primitives.
 struct BvhNode { vec3 min0; uint item0; vec3 max0; uint pad0; vec3 min1; uint item1; vec3 max1; uint pad1; };
 struct Instance { vec4 w2o[3]; vec4 o2w[3]; uint blas_root; uint light_base; uint pad0; uint pad1; };
+// uv_rows: per texture slot (TEXTURE_SLOT_*), the UV transform's two rows; the first's w is the UV set.
 struct Material {
     vec4 base_color; vec4 emissive; vec4 params; vec4 specular;
     ivec4 textures0; ivec4 textures1; vec4 misc;
+    vec4 uv_rows[14];
 };
 struct Texture { uint offset; uint width; uint height; uint wrap; };
 struct Light { vec4 a; vec4 b; vec4 c; vec4 emission; uvec4 ids; };
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Vertices { Vertex v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Vec4s { vec4 v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer VertexExtras { VertexExtra v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Triangles { Triangle v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Uints { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Floats { float v[]; };
@@ -68,6 +73,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Gl
     Vpls vpls;
     Accum aux;
     IgiVertices igi_vertices;
+    VertexExtras vertex_extras;
+    uint64_t pad_addresses;
     vec4 cam_origin;   // xyz, lens radius
     vec4 cam_right;    // unit right, w = tan(fov_y/2) * aspect
     vec4 cam_up;       // unit up, w = tan(fov_y/2)
@@ -145,6 +152,16 @@ const uint LIGHT_ENVIRONMENT = 4u;
 
 const int MATERIAL_DOUBLE_SIDED = 1;
 const int MATERIAL_ALPHA_MASK = 2;
+const int MATERIAL_ALPHA_BLEND = 4;
+const int MATERIAL_UNLIT = 8;
+const int MATERIAL_USES_UV1 = 16;
+const int TEXTURE_SLOT_BASE_COLOR = 0;
+const int TEXTURE_SLOT_METALLIC_ROUGHNESS = 1;
+const int TEXTURE_SLOT_NORMAL = 2;
+const int TEXTURE_SLOT_EMISSIVE = 3;
+const int TEXTURE_SLOT_SPECULAR = 4;
+const int TEXTURE_SLOT_SPECULAR_COLOR = 5;
+const int TEXTURE_SLOT_TRANSMISSION = 6;
 
 float max3(vec3 v) { return max(v.x, max(v.y, v.z)); }
 float min3(vec3 v) { return min(v.x, min(v.y, v.z)); }

@@ -41,9 +41,15 @@ Instance unpack_instance(utextureBuffer t, uint i) {
                     ids.x, ids.y, ids.z, ids.w);
 }
 Material unpack_material(utextureBuffer t, uint i) {
-    uint b = 7u * i;
+    uint b = 21u * i;
+    // Written out: llvmpipe counts every loop iteration of an invocation against one limit.
+    vec4 rows[14] = vec4[14](fetch_vec4(t, b + 7u), fetch_vec4(t, b + 8u), fetch_vec4(t, b + 9u), fetch_vec4(t, b + 10u), fetch_vec4(t, b + 11u), fetch_vec4(t, b + 12u), fetch_vec4(t, b + 13u), fetch_vec4(t, b + 14u), fetch_vec4(t, b + 15u), fetch_vec4(t, b + 16u), fetch_vec4(t, b + 17u), fetch_vec4(t, b + 18u), fetch_vec4(t, b + 19u), fetch_vec4(t, b + 20u));
     return Material(fetch_vec4(t, b), fetch_vec4(t, b + 1u), fetch_vec4(t, b + 2u), fetch_vec4(t, b + 3u),
-                    ivec4(texelFetch(t, int(b + 4u))), ivec4(texelFetch(t, int(b + 5u))), fetch_vec4(t, b + 6u));
+                    ivec4(texelFetch(t, int(b + 4u))), ivec4(texelFetch(t, int(b + 5u))), fetch_vec4(t, b + 6u), rows);
+}
+VertexExtra unpack_vertex_extra(utextureBuffer t, uint i) {
+    uvec4 a = texelFetch(t, int(i));
+    return VertexExtra(uintBitsToFloat(a.xy), a.zw);
 }
 Texture unpack_texture(utextureBuffer t, uint i) {
     uvec4 a = texelFetch(t, int(i));
@@ -173,4 +179,12 @@ TEXEL_ARRAY(float, env_conditional_at, 14, unpack_float)
 STORAGE_ARRAY(float, env_conditional_at, 14)
 #else
 ADDRESS_ARRAY(float, env_conditional_at, env_conditional)
+#endif
+
+#if defined(TEXEL_VERTEX_EXTRAS)
+TEXEL_ARRAY(VertexExtra, vertex_extra_at, 15, unpack_vertex_extra)
+#elif defined(SSBO_VERTEX_EXTRAS)
+STORAGE_ARRAY(VertexExtra, vertex_extra_at, 15)
+#else
+ADDRESS_ARRAY(VertexExtra, vertex_extra_at, vertex_extras)
 #endif

@@ -6,7 +6,7 @@ struct Surface {
     vec3 ng;        // geometric normal, world, front side by winding (object handedness kept)
     vec3 ns;        // shading normal, on the same side as ng
     float magnitude; // bound on the triangle's world coordinates, for offset_ray
-    vec2 uv;
+    VertexAttributes attr;
     uint material;
     vec3 base_color;
     float metallic;
@@ -17,6 +17,7 @@ struct Surface {
     vec3 specular_color;
     vec3 emission;
     bool double_sided;
+    bool unlit;      // KHR_materials_unlit: base_color is emitted, nothing reflected
 };
 
 vec3 instance_point(Instance inst, vec3 p) {
@@ -35,9 +36,9 @@ vec3 instance_normal(Instance inst, vec3 n) {
     return inst.w2o[0].xyz * n.x + inst.w2o[1].xyz * n.y + inst.w2o[2].xyz * n.z;
 }
 
-// Material inputs at uv, shared by surface shading and emissive-light sampling.
+// Material inputs at s.attr, shared by surface shading and emissive-light sampling.
 void apply_material(inout Surface s, Material m) {
-    s.base_color = m.base_color.rgb;
+    s.base_color = m.base_color.rgb * s.attr.color.rgb;
     s.metallic = m.params.x;
     s.roughness = m.params.y;
     s.transmission = m.params.z;
@@ -46,17 +47,22 @@ void apply_material(inout Surface s, Material m) {
     s.specular_color = m.specular.rgb;
     s.emission = m.emissive.rgb;
     s.double_sided = (m.textures1.w & MATERIAL_DOUBLE_SIDED) != 0;
+    s.unlit = false;
+#ifdef HAS_UNLIT
+    s.unlit = (m.textures1.w & MATERIAL_UNLIT) != 0;
+#endif
 #ifdef HAS_TEXTURES
-    if (m.textures0.x >= 0) s.base_color *= sample_texture(m.textures0.x, s.uv, true).rgb;
+    VertexAttributes a = s.attr;
+    if (m.textures0.x >= 0) s.base_color *= sample_texture(m.textures0.x, slot_uv(m, TEXTURE_SLOT_BASE_COLOR, a), true).rgb;
     if (m.textures0.y >= 0) {
-        vec4 mr = sample_texture(m.textures0.y, s.uv, false);
+        vec4 mr = sample_texture(m.textures0.y, slot_uv(m, TEXTURE_SLOT_METALLIC_ROUGHNESS, a), false);
         s.roughness *= mr.g;
         s.metallic *= mr.b;
     }
-    if (m.textures0.w >= 0) s.emission *= sample_texture(m.textures0.w, s.uv, true).rgb;
-    if (m.textures1.x >= 0) s.specular *= sample_texture(m.textures1.x, s.uv, false).a;
-    if (m.textures1.y >= 0) s.specular_color *= sample_texture(m.textures1.y, s.uv, true).rgb;
-    if (m.textures1.z >= 0) s.transmission *= sample_texture(m.textures1.z, s.uv, false).r;
+    if (m.textures0.w >= 0) s.emission *= sample_texture(m.textures0.w, slot_uv(m, TEXTURE_SLOT_EMISSIVE, a), true).rgb;
+    if (m.textures1.x >= 0) s.specular *= sample_texture(m.textures1.x, slot_uv(m, TEXTURE_SLOT_SPECULAR, a), false).a;
+    if (m.textures1.y >= 0) s.specular_color *= sample_texture(m.textures1.y, slot_uv(m, TEXTURE_SLOT_SPECULAR_COLOR, a), true).rgb;
+    if (m.textures1.z >= 0) s.transmission *= sample_texture(m.textures1.z, slot_uv(m, TEXTURE_SLOT_TRANSMISSION, a), false).r;
 #endif
 #ifndef HAS_TRANSMISSION
     s.transmission = 0.0;
@@ -76,12 +82,12 @@ Surface surface_at(Hit hit) {
     s.ng = normalize(instance_normal(inst, cross(p1 - p0, p2 - p0)));
     s.magnitude = instance_magnitude(inst, coordinate_magnitude(p0, p1, p2));
     Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
-    s.uv = b0 * vec2(v0.position_u.w, v0.normal_v.w) + hit.b1 * vec2(v1.position_u.w, v1.normal_v.w) + hit.b2 * vec2(v2.position_u.w, v2.normal_v.w);
+    Material m = material_at(T.material);
+    s.attr = vertex_attributes(T, m, vec3(b0, hit.b1, hit.b2));
     vec3 n = b0 * v0.normal_v.xyz + hit.b1 * v1.normal_v.xyz + hit.b2 * v2.normal_v.xyz;
     s.ns = dot(n, n) > 1e-12 ? normalize(instance_normal(inst, n)) : s.ng;
     if (dot(s.ns, s.ng) < 0.0) s.ns = -s.ns;
     s.material = T.material;
-    Material m = material_at(T.material);
     apply_material(s, m);
 #ifdef HAS_NORMAL_MAPS
     if (m.textures0.z >= 0) {
@@ -91,7 +97,7 @@ Surface surface_at(Hit hit) {
         if (dot(tw, tw) > 1e-12) {
             tw = normalize(tw);
             vec3 bw = cross(s.ns, tw) * (v0.tangent.w < 0.0 ? -1.0 : 1.0);
-            vec3 tn = sample_texture(m.textures0.z, s.uv, false).xyz * 2.0 - 1.0;
+            vec3 tn = sample_texture(m.textures0.z, slot_uv(m, TEXTURE_SLOT_NORMAL, s.attr), false).xyz * 2.0 - 1.0;
             tn.xy *= m.emissive.w;
             vec3 mapped = tn.x * tw + tn.y * bw + tn.z * s.ns;
             if (dot(mapped, mapped) > 1e-12) {

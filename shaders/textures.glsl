@@ -36,3 +36,52 @@ vec4 sample_texture(int index, vec2 uv, bool srgb) {
     if (srgb) { a = srgb_to_linear(a); b = srgb_to_linear(b); c = srgb_to_linear(c); d = srgb_to_linear(d); }
     return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
 }
+
+// What a triangle's vertices give a point at barycentrics b: TEXCOORD_0, TEXCOORD_1 and COLOR_0
+// (white without HAS_VERTEX_COLORS). TEXCOORD_1 is read only for materials that use it
+// (MATERIAL_USES_UV1): the vertex extras exist whenever one does.
+struct VertexAttributes { vec2 uv; vec2 uv1; vec4 color; };
+
+vec4 unpack_color(uvec2 c) { return vec4(unpackUnorm2x16(c.x), unpackUnorm2x16(c.y)); }
+
+VertexAttributes vertex_attributes(Triangle T, Material m, vec3 b) {
+    VertexAttributes a;
+    Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
+    a.uv = b.x * vec2(v0.position_u.w, v0.normal_v.w) + b.y * vec2(v1.position_u.w, v1.normal_v.w) + b.z * vec2(v2.position_u.w, v2.normal_v.w);
+    a.uv1 = vec2(0.0);
+    a.color = vec4(1.0);
+#if defined(HAS_VERTEX_COLORS) || defined(HAS_UV_TRANSFORMS)
+#ifndef HAS_VERTEX_COLORS
+    if ((m.textures1.w & MATERIAL_USES_UV1) != 0)
+#endif
+    {
+        VertexExtra e0 = vertex_extra_at(T.v.x), e1 = vertex_extra_at(T.v.y), e2 = vertex_extra_at(T.v.z);
+        a.uv1 = b.x * e0.uv1 + b.y * e1.uv1 + b.z * e2.uv1;
+#ifdef HAS_VERTEX_COLORS
+        a.color = b.x * unpack_color(e0.color) + b.y * unpack_color(e1.color) + b.z * unpack_color(e2.color);
+#endif
+    }
+#endif
+    return a;
+}
+
+// The UV at which material m reads texture slot `slot` (TEXTURE_SLOT_*): its UV set through its
+// KHR_texture_transform.
+vec2 slot_uv(Material m, int slot, VertexAttributes a) {
+#ifdef HAS_UV_TRANSFORMS
+    vec4 r0 = m.uv_rows[2 * slot], r1 = m.uv_rows[2 * slot + 1];
+    vec3 uv = vec3(r0.w > 0.5 ? a.uv1 : a.uv, 1.0);
+    return vec2(dot(r0.xyz, uv), dot(r1.xyz, uv));
+#else
+    return a.uv;
+#endif
+}
+
+// Coverage: the base colour's alpha times its texture's and the vertex colour's.
+float material_alpha(Material m, VertexAttributes a) {
+    float alpha = m.base_color.a * a.color.a;
+#ifdef HAS_TEXTURES
+    if (m.textures0.x >= 0) alpha *= sample_texture(m.textures0.x, slot_uv(m, TEXTURE_SLOT_BASE_COLOR, a), true).a;
+#endif
+    return alpha;
+}

@@ -221,7 +221,7 @@ fn info_prints_counts_and_features() {
     assert!(text.contains("features:     textures"), "{text}");
     assert!(text.contains("-DHAS_TEXTURES"), "{text}");
     assert!(
-        text.contains("memory:       texel buffers for all 15"),
+        text.contains("memory:       texel buffers for all 16"),
         "{text}"
     );
     let o = platoon(&["devices"]);
@@ -708,4 +708,127 @@ fn renders_by_instant_global_illumination_and_says_so_in_the_metadata() {
         "{}",
         stderr(&p)
     );
+}
+
+/// `platoon ARGS` run from `dir`.
+fn platoon_in(dir: &Path, args: &[&str]) -> Output {
+    common::init();
+    Command::new(env!("CARGO_BIN_EXE_platoon"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("run platoon")
+}
+
+#[test]
+fn a_scene_named_in_any_form_finds_its_buffer_and_texture_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().canonicalize().unwrap();
+    let scene_dir = root.join("scene");
+    std::fs::create_dir_all(scene_dir.join("textures")).unwrap();
+    std::fs::create_dir_all(root.join("other")).unwrap();
+    let (json, files) = platoon_scenegen::twins::with_separate_files();
+    std::fs::write(scene_dir.join("scene.gltf"), json).unwrap();
+    for (name, bytes) in files {
+        std::fs::write(scene_dir.join(name), bytes).unwrap();
+    }
+    std::os::unix::fs::symlink(&scene_dir, root.join("link")).unwrap();
+    let absolute = scene_dir.join("scene.gltf");
+    // (run from, the scene's path as typed)
+    let forms = [
+        (scene_dir.clone(), "scene.gltf".to_string()),
+        (scene_dir.clone(), "./scene.gltf".to_string()),
+        (root.join("other"), "../scene/scene.gltf".to_string()),
+        (root.join("other"), absolute.to_str().unwrap().to_string()),
+        (root.clone(), "link/scene.gltf".to_string()),
+        (root.join("link"), "scene.gltf".to_string()),
+    ];
+    for (k, (cwd, scene)) in forms.iter().enumerate() {
+        let out = root.join(format!("out{k}.png"));
+        let o = platoon_in(
+            cwd,
+            &[
+                "render",
+                scene,
+                "--spp",
+                "1",
+                "--width",
+                "8",
+                "--height",
+                "8",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert!(
+            o.status.success(),
+            "render {scene} from {}: {}",
+            cwd.display(),
+            stderr(&o)
+        );
+        assert!(out.exists());
+        let o = platoon_in(cwd, &["info", scene]);
+        assert!(o.status.success(), "info {scene}: {}", stderr(&o));
+        assert!(String::from_utf8_lossy(&o.stdout).contains("textures"));
+    }
+    let o = platoon_in(
+        &scene_dir,
+        &[
+            "tradeoff",
+            "scene.gltf",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--reference-spp",
+            "4",
+            "--spp-list",
+            "1",
+            "--repeat",
+            "1",
+            "--techniques",
+            "mis",
+            "--out",
+            root.to_str().unwrap(),
+        ],
+    );
+    assert!(o.status.success(), "tradeoff scene.gltf: {}", stderr(&o));
+}
+
+#[test]
+fn paths_that_are_not_files_and_non_finite_times_are_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = d.join("out.png");
+    let o = out.to_str().unwrap();
+    let pipe = d.join("scene.glb");
+    let made = Command::new("mkfifo")
+        .arg(&pipe)
+        .status()
+        .expect("run mkfifo");
+    assert!(made.success());
+    let started = std::time::Instant::now();
+    assert_fails_naming(&["render", "/dev/zero", "--out", o], "a device", &out);
+    assert_fails_naming(
+        &["render", pipe.to_str().unwrap(), "--out", o],
+        "a named pipe",
+        &out,
+    );
+    assert_fails_naming(&["info", d.to_str().unwrap()], "a folder", &out);
+    assert_fails_naming(
+        &["render", "--env", "/dev/zero", "--out", o],
+        "a device",
+        &out,
+    );
+    let sky = d.join("sky.exr");
+    std::os::unix::fs::symlink(&pipe, &sky).unwrap();
+    assert_fails_naming(
+        &["render", "--env", sky.to_str().unwrap(), "--out", o],
+        "a named pipe",
+        &out,
+    );
+    for t in ["--time=nan", "--time=inf", "--time=-inf"] {
+        assert_fails_naming(&["render", t, "--out", o], "--time", &out);
+    }
+    assert!(started.elapsed().as_secs() < 60, "a refusal waited");
 }

@@ -129,10 +129,11 @@ fn texel_buffers_storage_buffers_and_device_addresses_give_the_same_bits() {
                 let defines = t.kernel_defines(&params);
                 let bound = |p: &str| defines.iter().filter(|d| d.starts_with(p)).count();
                 // Every array of these small scenes fits the texel and storage limits.
-                let expected = if prefix.is_empty() { 0 } else { 15 };
+                let arrays = platoon::tracer::SCENE_ARRAYS.len();
+                let expected = if prefix.is_empty() { 0 } else { arrays };
                 assert_eq!(bound("TEXEL_") + bound("SSBO_"), expected, "{memory:?}");
                 if !prefix.is_empty() {
-                    assert_eq!(bound(prefix), 15, "{memory:?}");
+                    assert_eq!(bound(prefix), arrays, "{memory:?}");
                 }
                 let film = render_with(&mut t, &params);
                 assert_no_validation_messages(&t);

@@ -57,6 +57,7 @@ fn background_follows_the_equirectangular_mapping() {
         name: "c".into(),
         yfov: 1.2,
         aspect_ratio: None,
+        orthographic: None,
     });
     let prepared = common::prepare(scene, EnvChoice::File(map));
     let (w, h) = (32u32, 16u32);

@@ -225,7 +225,7 @@ fn texture_larger_than_the_storage_buffer_range_renders_on_every_path() {
     std::sync::Arc::make_mut(&mut scene.meshes[0]).uvs =
         vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
     scene.textures.push(texture);
-    scene.materials[0].base_color_texture = Some(TextureRef { texture: 0 });
+    scene.materials[0].base_color_texture = Some(TextureRef::new(0));
     scene.materials[0].base_color = Vec3::ONE.extend(1.0);
     let prepared = prepare(scene, constant_env(L));
     assert!(prepared.gpu.features.textures);

@@ -157,6 +157,7 @@ pub fn scene_of(
         name: "camera".into(),
         yfov,
         aspect_ratio: None,
+        orthographic: None,
     });
     scene
 }

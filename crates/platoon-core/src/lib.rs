@@ -20,6 +20,7 @@ pub mod error;
 pub mod flatten;
 pub mod frame;
 pub mod igi;
+pub mod input;
 pub mod measure;
 pub mod output;
 pub mod scene;

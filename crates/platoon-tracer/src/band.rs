@@ -58,10 +58,11 @@ impl Tracer {
         stride: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
-        if params.output == platoon_core::frame::Output::PrimaryHit && params.spp != 1 {
-            return Err(crate::Error::Invalid(
-                "the primary-hit output is one sample per pixel: set spp to 1".into(),
-            ));
+        if params.output != platoon_core::frame::Output::Radiance && params.spp != 1 {
+            return Err(crate::Error::Invalid(format!(
+                "the {:?} output is one sample per pixel: set spp to 1",
+                params.output
+            )));
         }
         if !(params.rr_survival > 0.0 && params.rr_survival <= 1.0) {
             return Err(crate::Error::Invalid(format!(

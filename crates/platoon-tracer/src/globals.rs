@@ -28,6 +28,10 @@ pub(crate) struct Globals {
     pub vpls: u64,
     pub aux: u64,
     pub igi_vertices: u64,
+    /// COLOR_0 and TEXCOORD_1 (an empty array when the scene has neither).
+    pub vertex_extras: u64,
+    /// Pads the addresses to a whole vec4 before the camera.
+    pub _pad: u64,
     pub cam_origin: [f32; 4],
     pub cam_right: [f32; 4],
     pub cam_up: [f32; 4],
@@ -102,6 +106,6 @@ pub(crate) struct Push {
     pub vpl_end: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<Globals>() == 160 + 9 * 16);
+const _: () = assert!(std::mem::size_of::<Globals>() == 176 + 9 * 16);
 // Must match the push-constant block of shaders/scene.glsl.
 const _: () = assert!(std::mem::size_of::<Push>() == 80);

@@ -47,6 +47,10 @@ const SOURCES: &[(&str, &str)] = &[
     ("lights.glsl", include_str!("../../../shaders/lights.glsl")),
     ("path.glsl", include_str!("../../../shaders/path.glsl")),
     (
+        "bsdf_probe.glsl",
+        include_str!("../../../shaders/bsdf_probe.glsl"),
+    ),
+    (
         "igi/emit.comp",
         include_str!("../../../shaders/igi/emit.comp"),
     ),

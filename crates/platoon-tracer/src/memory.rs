@@ -78,7 +78,7 @@ const fn array(
 
 /// The read-only scene arrays in upload and binding order. Must match
 /// shaders/scene_arrays.glsl.
-pub const SCENE_ARRAYS: [SceneArray; 15] = [
+pub const SCENE_ARRAYS: [SceneArray; 16] = [
     array("vertices", "TEXEL_VERTICES", "SSBO_VERTICES", 16),
     array("triangle positions", "TEXEL_TRI_POS", "SSBO_TRI_POS", 16),
     array("triangles", "TEXEL_TRIANGLES", "SSBO_TRIANGLES", 16),
@@ -104,10 +104,16 @@ pub const SCENE_ARRAYS: [SceneArray; 15] = [
         "SSBO_ENV_CONDITIONAL",
         4,
     ),
+    array(
+        "vertex extras",
+        "TEXEL_VERTEX_EXTRAS",
+        "SSBO_VERTEX_EXTRAS",
+        16,
+    ),
 ];
 
 /// The bytes of each scene array of `s`, in `SCENE_ARRAYS` order.
-pub fn scene_array_bytes(s: &GpuScene) -> [&[u8]; 15] {
+pub fn scene_array_bytes(s: &GpuScene) -> [&[u8]; 16] {
     s.array_bytes()
 }
 
@@ -313,13 +319,16 @@ mod tests {
 
     #[test]
     fn arrays_past_the_limits_fall_back_to_the_next_path() {
-        let mut sizes = [16u64; 15];
+        let mut sizes = [16u64; 16];
         sizes[9] = 149_000_000; // a texel array past lavapipe's 128 MiB storage range
         sizes[4] = 3 << 30; // 192 Mi texels: past the texel limit too
         let auto = choose(&sizes, &LAVAPIPE, MemoryPath::Auto);
         assert_eq!(auto[9], ArrayPath::Texel);
         assert_eq!(auto[4], ArrayPath::Address);
-        assert_eq!(auto.iter().filter(|&&p| p == ArrayPath::Texel).count(), 14);
+        assert_eq!(
+            auto.iter().filter(|&&p| p == ArrayPath::Texel).count(),
+            SCENE_ARRAYS.len() - 1
+        );
         let storage = choose(&sizes, &LAVAPIPE, MemoryPath::StorageBuffers);
         assert_eq!(storage[9], ArrayPath::Address);
         assert!(!defines(&storage).contains(&"SSBO_TEXELS"));

@@ -338,6 +338,7 @@ impl Tracer {
             env_texels: a[12],
             env_marginal: a[13],
             env_conditional: a[14],
+            vertex_extras: a[15],
             ..Default::default()
         };
         g.env_color = [

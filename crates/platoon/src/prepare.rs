@@ -111,6 +111,12 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
     };
     // Render space is centred near the camera (a floating origin), so a scene far from the
     // world origin keeps its precision; the first pose only finds where the camera is.
+    if !options.time.is_finite() {
+        bail!(
+            "--time must be a finite number of seconds, not {}",
+            options.time
+        );
+    }
     let mut origin = FloatingOrigin::default();
     let mut posed = scene.pose(options.time);
     let camera = Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
@@ -119,7 +125,8 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
     }
     let mut camera =
         Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
-    if !camera.camera_to_world.is_finite() || !(f32::EPSILON..PI).contains(&camera.yfov) {
+    let view_ok = camera.orthographic.is_some() || (f32::EPSILON..PI).contains(&camera.yfov);
+    if !camera.camera_to_world.is_finite() || !view_ok {
         return Err(in_scene(platoon_core::Error::Invalid(
             "the camera has a non-finite transform or a field of view outside (0, 180) degrees"
                 .into(),

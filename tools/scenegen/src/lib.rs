@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 use serde_json::{json, Value};
 
 pub mod adversarial;
+pub mod twins;
 
 /// One mesh as flat arrays.
 #[derive(Default)]

@@ -7,11 +7,11 @@
 use super::GpuScene;
 
 /// The scene arrays in upload and binding order (the tracer's `SCENE_ARRAYS` follow it).
-pub const ARRAY_COUNT: usize = 15;
+pub const ARRAY_COUNT: usize = 16;
 
 /// Indices of the arrays that hold mesh data (vertices, triangle positions, triangles, their
-/// light indices, bottom-level nodes): what a camera-only frame must not send.
-pub const MESH_ARRAYS: [usize; 5] = [0, 1, 2, 3, 4];
+/// light indices, bottom-level nodes, vertex extras): what a camera-only frame must not send.
+pub const MESH_ARRAYS: [usize; 6] = [0, 1, 2, 3, 4, 15];
 
 /// Granularity of the comparison: small enough that a moving character does not drag its
 /// neighbours along, large enough that a commit holds few ranges.
@@ -37,6 +37,7 @@ impl GpuScene {
             b(&self.env.texels),
             b(&self.env.marginal_cdf),
             b(&self.env.conditional_cdf),
+            b(&self.vertex_extras),
         ]
     }
 }

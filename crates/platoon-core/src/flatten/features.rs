@@ -11,14 +11,28 @@ pub struct FeatureSet {
     pub normal_maps: bool,
     pub transmission: bool,
     pub alpha_mask: bool,
+    /// Stochastic transparency (alphaMode BLEND).
+    pub alpha_blend: bool,
+    /// COLOR_0 multiplies some used material's base colour.
+    pub vertex_colors: bool,
+    /// Some texture is read at TEXCOORD_1 or through KHR_texture_transform.
+    pub uv_transforms: bool,
+    /// KHR_materials_unlit.
+    pub unlit: bool,
     pub emissive_triangles: bool,
     pub punctual_lights: bool,
     pub environment_map: bool,
     pub thin_lens: bool,
+    /// An orthographic camera (a render option, from the camera).
+    pub orthographic: bool,
     /// Max depth 1: the kernel has no bounce code (a render option, set by the caller).
     pub camera_rays_only: bool,
     /// The kernel writes primary hits instead of radiance (`frame::Output::PrimaryHit`).
     pub primary_hit_output: bool,
+    /// The kernel samples or evaluates the first hit's BSDF (`frame::Output::BsdfSample`,
+    /// `BsdfValue`).
+    pub bsdf_sample_output: bool,
+    pub bsdf_value_output: bool,
     /// Indirect contributions clamped (`FrameParams::clamp_indirect`; biased).
     pub clamp_indirect: bool,
     /// Russian roulette with a fixed survival probability (`FrameParams::rr_fixed`).
@@ -48,13 +62,12 @@ impl FeatureSet {
     /// Features of the scene's materials and lights (thin lens, camera rays only and the
     /// environment are render options, set by the caller).
     pub fn of_scene(scene: &Scene) -> FeatureSet {
+        let drawn = || scene.nodes.iter().filter_map(|n| n.mesh);
         let used: Vec<&crate::scene::Material> = {
             let mut used = vec![false; scene.materials.len()];
-            for node in &scene.nodes {
-                if let Some(m) = node.mesh {
-                    for &t in &scene.meshes[m].triangle_materials {
-                        used[t as usize] = true;
-                    }
+            for m in drawn() {
+                for &t in &scene.meshes[m].triangle_materials {
+                    used[t as usize] = true;
                 }
             }
             scene
@@ -72,6 +85,10 @@ impl FeatureSet {
             alpha_mask: used
                 .iter()
                 .any(|m| matches!(m.alpha_mode, AlphaMode::Mask(_))),
+            alpha_blend: used.iter().any(|m| m.alpha_mode == AlphaMode::Blend),
+            vertex_colors: drawn().any(|m| !scene.meshes[m].colors.is_empty()),
+            uv_transforms: used.iter().any(|m| m.textures().any(|t| !t.is_plain())),
+            unlit: used.iter().any(|m| m.unlit),
             emissive_triangles: used.iter().any(|m| m.is_emissive()),
             punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
             environment_map: matches!(
@@ -79,8 +96,11 @@ impl FeatureSet {
                 Some(crate::scene::environment::Environment::Map(_))
             ),
             thin_lens: false,
+            orthographic: false,
             camera_rays_only: false,
             primary_hit_output: false,
+            bsdf_sample_output: false,
+            bsdf_value_output: false,
             clamp_indirect: false,
             fixed_roulette: false,
             uniform_lights: false,
@@ -109,13 +129,22 @@ impl FeatureSet {
             self.normal_maps = true;
             self.transmission = true;
             self.alpha_mask = true;
+            self.alpha_blend = true;
+            // Not vertex colours: their code reads the vertex extras, which only a scene with
+            // colours or a second UV set has.
+            self.uv_transforms = true;
+            self.unlit = true;
             self.emissive_triangles = true;
             self.punctual_lights = true;
             self.environment_map = true;
         }
-        self.thin_lens = params.camera.aperture_radius > 0.0;
+        self.orthographic = params.camera.orthographic.is_some();
+        // An orthographic camera has no lens.
+        self.thin_lens = params.camera.aperture_radius > 0.0 && !self.orthographic;
         self.camera_rays_only = params.max_depth <= 1;
         self.primary_hit_output = params.output == crate::frame::Output::PrimaryHit;
+        self.bsdf_sample_output = params.output == crate::frame::Output::BsdfSample;
+        self.bsdf_value_output = params.output == crate::frame::Output::BsdfValue;
         self.clamp_indirect = params.clamp_indirect.is_some();
         self.fixed_roulette = params.rr_fixed.is_some();
         self.uniform_lights = params.uniform_light_selection;
@@ -133,12 +162,16 @@ impl FeatureSet {
         self
     }
 
-    fn entries(&self) -> [(&'static str, &'static str, bool); 23] {
+    fn entries(&self) -> [(&'static str, &'static str, bool); 30] {
         [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
             ("transmission", "HAS_TRANSMISSION", self.transmission),
             ("alpha-mask", "HAS_ALPHA_MASK", self.alpha_mask),
+            ("alpha-blend", "HAS_ALPHA_BLEND", self.alpha_blend),
+            ("vertex-colors", "HAS_VERTEX_COLORS", self.vertex_colors),
+            ("uv-transforms", "HAS_UV_TRANSFORMS", self.uv_transforms),
+            ("unlit", "HAS_UNLIT", self.unlit),
             (
                 "emissive-triangles",
                 "HAS_EMISSIVE_TRIANGLES",
@@ -155,6 +188,7 @@ impl FeatureSet {
                 self.environment_map,
             ),
             ("thin-lens", "HAS_THIN_LENS", self.thin_lens),
+            ("orthographic", "HAS_ORTHOGRAPHIC", self.orthographic),
             (
                 "camera-rays-only",
                 "CAMERA_RAYS_ONLY",
@@ -164,6 +198,16 @@ impl FeatureSet {
                 "primary-hit-output",
                 "OUTPUT_PRIMARY_HIT",
                 self.primary_hit_output,
+            ),
+            (
+                "bsdf-sample-output",
+                "OUTPUT_BSDF_SAMPLE",
+                self.bsdf_sample_output,
+            ),
+            (
+                "bsdf-value-output",
+                "OUTPUT_BSDF_VALUE",
+                self.bsdf_value_output,
             ),
             ("clamp-indirect", "CLAMP_INDIRECT", self.clamp_indirect),
             ("fixed-roulette", "RR_FIXED", self.fixed_roulette),

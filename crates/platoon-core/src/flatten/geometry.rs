@@ -5,7 +5,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use super::bvh::{self, FlatBvh};
-use super::layout::{GpuTriangle, GpuVertex};
+use super::layout::{GpuTriangle, GpuVertex, GpuVertexExtra};
 use super::GpuScene;
 use crate::error::{Error, Result};
 use crate::scene::{Instance, Mesh, Posed, Scene};
@@ -49,6 +49,15 @@ pub(super) fn bottom_level(
     g: &mut GpuScene,
 ) -> Result<()> {
     g.regions.clear();
+    // Whenever the kernel may read them (vertex colours, or a texture at TEXCOORD_1).
+    let extras = scene
+        .meshes
+        .iter()
+        .any(|m| !m.colors.is_empty() || !m.uvs1.is_empty())
+        || scene
+            .materials
+            .iter()
+            .any(|m| m.textures().any(|t| t.tex_coord == 1));
     for ((mesh, flat), &capacity) in meshes.iter().zip(mesh_bvhs).zip(node_capacity) {
         let region = MeshRegion {
             vertex_base: g.vertices.len() as u32,
@@ -63,6 +72,9 @@ pub(super) fn bottom_level(
             g.vertices.len() + region.vertex_count as usize,
             Default::default(),
         );
+        if extras {
+            g.vertex_extras.resize(g.vertices.len(), Default::default());
+        }
         let triangles = region.triangle_count as usize;
         g.triangle_positions
             .resize(g.triangle_positions.len() + 3 * triangles, [0.0; 4]);
@@ -177,6 +189,21 @@ fn check_fits(index: usize, r: MeshRegion, mesh: &Mesh, flat: &FlatBvh) -> Resul
 }
 
 fn write_vertices(mesh: &Mesh, r: MeshRegion, g: &mut GpuScene) {
+    if !g.vertex_extras.is_empty() {
+        let extras = &mut g.vertex_extras[r.vertex_base as usize..][..r.vertex_count as usize];
+        let unorm16 = |a: f32, b: f32| {
+            let q = |c: f32| (c.clamp(0.0, 1.0) * 65535.0).round() as u32;
+            q(a) | q(b) << 16
+        };
+        for (i, e) in extras.iter_mut().enumerate() {
+            let uv1 = mesh.uvs1.get(i).copied().unwrap_or_default();
+            let c = mesh.colors.get(i).copied().unwrap_or(glam::Vec4::ONE);
+            *e = GpuVertexExtra {
+                uv1: uv1.to_array(),
+                color: [unorm16(c.x, c.y), unorm16(c.z, c.w)],
+            };
+        }
+    }
     let vertices = &mut g.vertices[r.vertex_base as usize..][..r.vertex_count as usize];
     for (i, (v, p)) in vertices.iter_mut().zip(&mesh.positions).enumerate() {
         let uv = mesh.uvs.get(i).copied().unwrap_or_default();

@@ -14,6 +14,15 @@ pub struct GpuVertex {
     pub tangent: [f32; 4],
 }
 
+/// What some vertices have beyond [`GpuVertex`]: the second UV set and COLOR_0 (RGBA as
+/// 16-bit unorms, two to a u32). The array is empty unless some mesh has either.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuVertexExtra {
+    pub uv1: [f32; 2],
+    pub color: [u32; 2],
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuTriangle {
@@ -38,6 +47,13 @@ pub struct GpuInstance {
 pub const NO_TEXTURE: i32 = -1;
 pub const MATERIAL_DOUBLE_SIDED: i32 = 1;
 pub const MATERIAL_ALPHA_MASK: i32 = 2;
+pub const MATERIAL_ALPHA_BLEND: i32 = 4;
+pub const MATERIAL_UNLIT: i32 = 8;
+/// Some texture slot reads TEXCOORD_1 (the kernel then reads the vertex extras).
+pub const MATERIAL_USES_UV1: i32 = 16;
+/// Texture slots in `GpuMaterial` order: base colour, metallic-roughness, normal, emissive,
+/// specular, specular colour, transmission.
+pub const TEXTURE_SLOTS: usize = 7;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -55,6 +71,9 @@ pub struct GpuMaterial {
     pub textures1: [i32; 4],
     /// alpha cutoff
     pub misc: [f32; 4],
+    /// Per texture slot, the UV transform's two rows (xyz: the 2 x 3 matrix applied to
+    /// (u, v, 1)); the first row's w is the UV set (0 or 1).
+    pub uv_rows: [[f32; 4]; 2 * TEXTURE_SLOTS],
 }
 
 #[repr(C)]
@@ -110,7 +129,8 @@ const _: () = {
     assert!(std::mem::size_of::<GpuVertex>() == 48);
     assert!(std::mem::size_of::<GpuTriangle>() == 16);
     assert!(std::mem::size_of::<GpuInstance>() == 112);
-    assert!(std::mem::size_of::<GpuMaterial>() == 112);
+    assert!(std::mem::size_of::<GpuMaterial>() == 336);
+    assert!(std::mem::size_of::<GpuVertexExtra>() == 16);
     assert!(std::mem::size_of::<GpuTexture>() == 16);
     assert!(std::mem::size_of::<GpuLight>() == 80);
     assert!(std::mem::size_of::<super::bvh::BvhNode>() == 64);

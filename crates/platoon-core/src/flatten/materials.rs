@@ -2,7 +2,8 @@
 //! RGBA8 texels in one texel array.
 
 use super::layout::{
-    GpuMaterial, GpuTexture, MATERIAL_ALPHA_MASK, MATERIAL_DOUBLE_SIDED, NO_TEXTURE,
+    GpuMaterial, GpuTexture, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_DOUBLE_SIDED,
+    MATERIAL_UNLIT, MATERIAL_USES_UV1, NO_TEXTURE, TEXTURE_SLOTS,
 };
 use super::GpuScene;
 use crate::scene::{AlphaMode, Scene, Wrap};
@@ -47,8 +48,34 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             flags |= MATERIAL_ALPHA_MASK;
             c
         }
-        _ => 0.0,
+        AlphaMode::Blend => {
+            flags |= MATERIAL_ALPHA_BLEND;
+            0.0
+        }
+        AlphaMode::Opaque => 0.0,
     };
+    if m.unlit {
+        flags |= MATERIAL_UNLIT;
+    }
+    if m.textures().any(|t| t.tex_coord == 1) {
+        flags |= MATERIAL_USES_UV1;
+    }
+    let slots = [
+        m.base_color_texture,
+        m.metallic_roughness_texture,
+        m.normal_texture,
+        m.emissive_texture,
+        m.specular_texture,
+        m.specular_color_texture,
+        m.transmission_texture,
+    ];
+    let mut uv_rows = [[0.0; 4]; 2 * TEXTURE_SLOTS];
+    for (k, slot) in slots.iter().enumerate() {
+        let r = slot.unwrap_or(crate::scene::TextureRef::new(0));
+        let [a, b] = r.transform;
+        uv_rows[2 * k] = [a[0], a[1], a[2], r.tex_coord as f32];
+        uv_rows[2 * k + 1] = [b[0], b[1], b[2], 0.0];
+    }
     GpuMaterial {
         base_color: m.base_color.to_array(),
         emissive: m.emissive.extend(m.normal_scale).to_array(),
@@ -72,5 +99,6 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             flags,
         ],
         misc: [cutoff, 0.0, 0.0, 0.0],
+        uv_rows,
     }
 }

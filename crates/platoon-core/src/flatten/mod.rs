@@ -30,6 +30,8 @@ pub use geometry::{used_meshes, MeshRegion};
 #[derive(Clone, Debug, Default)]
 pub struct GpuScene {
     pub vertices: Vec<GpuVertex>,
+    /// One per vertex when some mesh has COLOR_0 or TEXCOORD_1, else empty.
+    pub vertex_extras: Vec<GpuVertexExtra>,
     /// Object-space triangle corners in BLAS leaf order, xyz + pad.
     pub triangle_positions: Vec<[f32; 4]>,
     pub triangles: Vec<GpuTriangle>,
@@ -67,26 +69,10 @@ impl GpuScene {
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
         let e = &self.env;
-        for bytes in [
-            bytemuck::cast_slice::<_, u8>(&self.vertices),
-            bytemuck::cast_slice(&self.triangle_positions),
-            bytemuck::cast_slice(&self.triangles),
-            bytemuck::cast_slice(&self.triangle_lights),
-            bytemuck::cast_slice(&self.blas_nodes),
-            bytemuck::cast_slice(&self.tlas_nodes),
-            bytemuck::cast_slice(&self.instances),
-            bytemuck::cast_slice(&self.materials),
-            bytemuck::cast_slice(&self.textures),
-            bytemuck::cast_slice(&self.texels),
-            bytemuck::cast_slice(&self.lights),
-            bytemuck::cast_slice(&self.light_cdf),
-            bytemuck::cast_slice(&e.texels),
-            bytemuck::cast_slice(&e.marginal_cdf),
-            bytemuck::cast_slice(&e.conditional_cdf),
-            bytemuck::cast_slice(&e.color),
-        ] {
+        for bytes in self.array_bytes() {
             bytes.hash(&mut h);
         }
+        bytemuck::cast_slice::<_, u8>(&e.color).hash(&mut h);
         (
             self.tlas_root,
             e.kind,

@@ -95,6 +95,15 @@ pub enum Output {
     /// -1 for a miss (instance and triangle in BLAS leaf order, exact as floats below 2^24): what
     /// the CPU ray queries are checked against. One sample per pixel.
     PrimaryHit,
+    /// The BSDF probe of the surface the ray through each pixel's centre hits first (the tests'
+    /// window on the kernel's own BSDF code, `shaders/bsdf_probe.glsl`): one direction sampled
+    /// per pixel, in the hit's shading frame (x, y, z; zero when sampling failed). One sample
+    /// per pixel; the pixel and the seed pick the random numbers.
+    BsdfSample,
+    /// ... its sampling pdf and values at the direction a pixel stands for: pixel (x, y) of a
+    /// W x H image is cos θ = 1 - 2 (y + 0.5) / H, φ = 2π (x + 0.5) / W in the shading frame;
+    /// written are (pdf, luminance of f(wo, wi), luminance of f(wi, wo)), f without the cosine.
+    BsdfValue,
 }
 
 impl FrameParams {

@@ -17,7 +17,7 @@ pub enum Property {
     Translation,
     Rotation,
     Scale,
-    /// Morph-target weights: loaded and counted, not applied (no morph targets are rendered).
+    /// Morph-target weights (as many as the node's mesh has targets).
     Weights,
 }
 
@@ -60,76 +60,125 @@ impl Animation {
                     let q = ch.sample::<4>(time);
                     node.rotation = Quat::from_array(q).normalize();
                 }
-                Property::Weights => {}
+                Property::Weights => node.weights = Some(ch.sample_weights(time)),
             }
         }
     }
 }
 
 impl Channel {
-    fn key<const N: usize>(&self, i: usize, slot: usize) -> [f32; N] {
-        let stride = if self.interpolation == Interpolation::CubicSpline {
+    /// Values of one key: `n` of them from output slot `slot` (CUBICSPLINE keys hold three).
+    fn key(&self, i: usize, slot: usize, n: usize) -> &[f32] {
+        let base = (i * self.stride() + slot) * n;
+        &self.values[base..base + n]
+    }
+
+    fn stride(&self) -> usize {
+        if self.interpolation == Interpolation::CubicSpline {
             3
         } else {
             1
-        };
-        let base = (i * stride + slot) * N;
-        let mut out = [0.0; N];
-        out.copy_from_slice(&self.values[base..base + N]);
-        out
+        }
     }
 
     /// Value at `time`, clamped to the first and last keys.
     pub fn sample<const N: usize>(&self, time: f32) -> [f32; N] {
+        let mut out = [0.0; N];
+        out.copy_from_slice(&self.sample_n(time, N, N == 4));
+        out
+    }
+
+    /// Morph-target weights at `time`: as many as the keys hold (the mesh's target count).
+    pub fn sample_weights(&self, time: f32) -> Vec<f32> {
+        let keys = self.times.len() * self.stride();
+        let n = self.values.len().checked_div(keys).unwrap_or(0);
+        self.sample_n(time, n, false)
+    }
+
+    /// `n` values at `time`; `slerp`: they are a rotation, interpolated spherically.
+    fn sample_n(&self, time: f32, n: usize, slerp: bool) -> Vec<f32> {
         let value_slot = if self.interpolation == Interpolation::CubicSpline {
             1
         } else {
             0
         };
-        let n = self.times.len();
-        if n == 0 {
-            return [0.0; N];
+        let keys = self.times.len();
+        if keys == 0 || self.values.len() < keys * self.stride() * n {
+            return vec![0.0; n];
         }
-        if time <= self.times[0] || n == 1 {
-            return self.key(0, value_slot);
+        if time <= self.times[0] || keys == 1 {
+            return self.key(0, value_slot, n).to_vec();
         }
-        if time >= self.times[n - 1] {
-            return self.key(n - 1, value_slot);
+        if time >= self.times[keys - 1] {
+            return self.key(keys - 1, value_slot, n).to_vec();
         }
         let i = self.times.partition_point(|&t| t <= time) - 1;
         let (t0, t1) = (self.times[i], self.times[i + 1]);
         let dt = t1 - t0;
         let s = if dt > 0.0 { (time - t0) / dt } else { 0.0 };
-        let mut out = [0.0; N];
         match self.interpolation {
-            Interpolation::Step => return self.key(i, 0),
+            Interpolation::Step => self.key(i, 0, n).to_vec(),
             Interpolation::Linear => {
-                let (a, b) = (self.key::<N>(i, 0), self.key::<N>(i + 1, 0));
-                if N == 4 {
-                    // Rotations interpolate spherically.
-                    let q = Quat::from_slice(&a).slerp(Quat::from_slice(&b), s);
-                    out.copy_from_slice(&q.to_array()[..N]);
+                let (a, b) = (self.key(i, 0, n), self.key(i + 1, 0, n));
+                if slerp {
+                    Quat::from_slice(a)
+                        .slerp(Quat::from_slice(b), s)
+                        .to_array()
+                        .to_vec()
                 } else {
-                    for k in 0..N {
-                        out[k] = a[k] + (b[k] - a[k]) * s;
-                    }
+                    a.iter().zip(b).map(|(a, b)| a + (b - a) * s).collect()
                 }
             }
             Interpolation::CubicSpline => {
                 // glTF spec, Appendix C: Hermite spline with tangents scaled by the key interval.
-                let (v0, b0) = (self.key::<N>(i, 1), self.key::<N>(i, 2));
-                let (a1, v1) = (self.key::<N>(i + 1, 0), self.key::<N>(i + 1, 1));
+                let (v0, b0) = (self.key(i, 1, n), self.key(i, 2, n));
+                let (a1, v1) = (self.key(i + 1, 0, n), self.key(i + 1, 1, n));
                 let (s2, s3) = (s * s, s * s * s);
-                for k in 0..N {
-                    out[k] = (2.0 * s3 - 3.0 * s2 + 1.0) * v0[k]
-                        + (s3 - 2.0 * s2 + s) * dt * b0[k]
-                        + (-2.0 * s3 + 3.0 * s2) * v1[k]
-                        + (s3 - s2) * dt * a1[k];
-                }
+                (0..n)
+                    .map(|k| {
+                        (2.0 * s3 - 3.0 * s2 + 1.0) * v0[k]
+                            + (s3 - 2.0 * s2 + s) * dt * b0[k]
+                            + (-2.0 * s3 + 3.0 * s2) * v1[k]
+                            + (s3 - s2) * dt * a1[k]
+                    })
+                    .collect()
             }
         }
-        out
     }
+}
+
+/// A mesh with its morph targets blended in at `weights` (glTF 2.0, 3.7.2.2: each attribute
+/// plus the weighted sum of its targets' displacements). Normals and tangents are renormalised;
+/// a tangent keeps its handedness.
+pub fn morph_mesh(mesh: &Mesh, weights: &[f32]) -> Mesh {
+    let mut out = Mesh {
+        targets: Vec::new(),
+        morph_weights: Vec::new(),
+        ..mesh.clone()
+    };
+    for (target, &w) in mesh.targets.iter().zip(weights) {
+        if w == 0.0 {
+            continue;
+        }
+        for (p, d) in out.positions.iter_mut().zip(&target.positions) {
+            *p += w * *d;
+        }
+        for (n, d) in out.normals.iter_mut().zip(&target.normals) {
+            *n += w * *d;
+        }
+        for (t, d) in out.tangents.iter_mut().zip(&target.tangents) {
+            *t += (w * *d).extend(0.0);
+        }
+    }
+    if !mesh.targets.is_empty() {
+        for n in &mut out.normals {
+            *n = n.normalize_or_zero();
+        }
+        for t in &mut out.tangents {
+            *t = t.truncate().normalize_or_zero().extend(t.w);
+        }
+    }
+    out
 }
 
 /// Linear-blend skinning of `mesh` into world space (the skinned instance then has an identity
@@ -210,10 +259,13 @@ pub fn skin_mesh(mesh: &Mesh, skin: &Skin, world: &[Mat4]) -> Mesh {
         normals,
         tangents,
         uvs: mesh.uvs.clone(),
+        uvs1: mesh.uvs1.clone(),
+        colors: mesh.colors.clone(),
         indices: mesh.indices.clone(),
         triangle_materials: mesh.triangle_materials.clone(),
         joints: Vec::new(),
         weights: Vec::new(),
+        ..Default::default()
     }
 }
 

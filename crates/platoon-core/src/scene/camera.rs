@@ -13,6 +13,9 @@ pub struct Camera {
     pub aperture_radius: f32,
     /// Distance to the plane in focus along the view direction.
     pub focus_distance: f32,
+    /// An orthographic camera's half width and height (glTF's xmag, ymag): rays leave the
+    /// image plane in parallel and `yfov` is unused.
+    pub orthographic: Option<[f32; 2]>,
 }
 
 /// The camera's frame as the kernel builds its rays ("Must match GPU side": `camera_ray` in
@@ -23,7 +26,7 @@ pub struct CameraBasis {
     pub right: Vec3,
     pub up: Vec3,
     pub forward: Vec3,
-    /// tan(yfov / 2) times the image aspect, and tan(yfov / 2).
+    /// tan(yfov / 2) times the image aspect, and tan(yfov / 2); orthographic: xmag and ymag.
     pub tan_half_x: f32,
     pub tan_half_y: f32,
 }
@@ -44,13 +47,17 @@ impl Camera {
     pub fn basis(&self, width: u32, height: u32) -> CameraBasis {
         let m = self.camera_to_world;
         let tan_half_y = (self.yfov * 0.5).tan();
+        let [half_x, half_y] = self.orthographic.unwrap_or([
+            tan_half_y * (width as f32 / height.max(1) as f32),
+            tan_half_y,
+        ]);
         CameraBasis {
             origin: m.w_axis.truncate(),
             right: m.x_axis.truncate().normalize(),
             up: m.y_axis.truncate().normalize(),
             forward: -m.z_axis.truncate().normalize(),
-            tan_half_x: tan_half_y * (width as f32 / height.max(1) as f32),
-            tan_half_y,
+            tan_half_x: half_x,
+            tan_half_y: half_y,
         }
     }
 
@@ -78,6 +85,7 @@ impl Camera {
             yfov,
             aperture_radius: 0.0,
             focus_distance: (target - eye).length(),
+            orthographic: None,
         }
     }
 
@@ -110,11 +118,13 @@ impl Camera {
                 let camera_to_world = Mat4::from_rotation_translation(rot, pos);
                 let (lo, hi) = posed.bounds();
                 let focus = (pos - (lo + hi) * 0.5).length().max(1e-3);
+                let model = &scene.cameras[placed.camera];
                 Ok(Camera {
                     camera_to_world,
-                    yfov: scene.cameras[placed.camera].yfov,
+                    yfov: model.yfov,
                     aperture_radius: 0.0,
                     focus_distance: focus,
+                    orthographic: model.orthographic,
                 })
             }
         }

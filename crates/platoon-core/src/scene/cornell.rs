@@ -162,6 +162,7 @@ pub fn scene() -> Scene {
             name: "cornell".into(),
             yfov: cam.yfov,
             aspect_ratio: Some(1.0),
+            orthographic: None,
         }],
         ..Default::default()
     }

@@ -64,6 +64,8 @@ impl EnvMap {
             .and_then(|e| e.to_str())
             .unwrap_or("")
             .to_ascii_lowercase();
+        crate::input::regular_file(path)
+            .map_err(|e| Error::file(path, format!("cannot read environment map: {e}")))?;
         let (width, height, texels) = match ext.as_str() {
             "exr" => {
                 use exr::prelude::*;

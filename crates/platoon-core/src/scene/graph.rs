@@ -19,12 +19,33 @@ pub struct Mesh {
     pub tangents: Vec<Vec4>,
     /// TEXCOORD_0; empty when absent.
     pub uvs: Vec<Vec2>,
+    /// TEXCOORD_1; empty when absent.
+    pub uvs1: Vec<Vec2>,
+    /// COLOR_0 as linear RGBA (RGB files get alpha 1); empty when absent (white).
+    pub colors: Vec<Vec4>,
     pub indices: Vec<[u32; 3]>,
     /// Material index of each triangle (a glTF mesh's primitives are merged into one mesh).
     pub triangle_materials: Vec<u32>,
     /// Skinning data (JOINTS_0 / WEIGHTS_0) when the mesh is skinned.
     pub joints: Vec<[u16; 4]>,
     pub weights: Vec<Vec4>,
+    /// Morph targets: displacements of the positions, normals and tangents (each empty or one
+    /// per vertex), blended in at the node's weights when the scene is posed.
+    pub targets: Vec<MorphTarget>,
+    /// The mesh's default target weights (a node's own, or an animation's, take their place).
+    pub morph_weights: Vec<f32>,
+    /// Where the positions were moved from: the glTF loader recentres a mesh whose vertices an
+    /// exporter baked far from the origin (in f64, so they keep f32's precision), and every
+    /// instance's transform puts it back (source position = position + offset).
+    pub offset: DVec3,
+}
+
+/// One morph target of a mesh (glTF 2.0, 3.7.2.2).
+#[derive(Clone, Debug, Default)]
+pub struct MorphTarget {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub tangents: Vec<Vec3>,
 }
 
 impl Mesh {
@@ -33,16 +54,40 @@ impl Mesh {
     }
 }
 
+/// A material's use of a texture: which texture, read at which UV set, through which transform.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TextureRef {
     pub texture: u32,
+    /// The UV set: 0 (TEXCOORD_0) or 1 (TEXCOORD_1).
+    pub tex_coord: u32,
+    /// KHR_texture_transform as the rows of a 2 x 3 matrix applied to (u, v, 1).
+    pub transform: [[f32; 3]; 2],
+}
+
+impl TextureRef {
+    pub const IDENTITY: [[f32; 3]; 2] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
+    /// Texture `texture` at TEXCOORD_0, untransformed.
+    pub fn new(texture: u32) -> TextureRef {
+        TextureRef {
+            texture,
+            tex_coord: 0,
+            transform: Self::IDENTITY,
+        }
+    }
+
+    /// Read at TEXCOORD_0 without a transform: what a kernel without UV transforms does.
+    pub fn is_plain(&self) -> bool {
+        self.tex_coord == 0 && self.transform == Self::IDENTITY
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum AlphaMode {
     Opaque,
     Mask(f32),
-    /// Rendered as opaque: stochastic transparency is not implemented (reported by `info`).
+    /// Stochastic transparency: a ray passes the surface with probability 1 - alpha (unbiased
+    /// for coverage, shadow rays too).
     Blend,
 }
 
@@ -72,6 +117,8 @@ pub struct Material {
     pub ior: f32,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
+    /// KHR_materials_unlit: the base colour is emitted radiance and nothing is reflected.
+    pub unlit: bool,
 }
 
 impl Default for Material {
@@ -97,6 +144,7 @@ impl Default for Material {
             ior: 1.5,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
+            unlit: false,
         }
     }
 }
@@ -156,12 +204,16 @@ pub struct PunctualLight {
     pub range: f32,
 }
 
-/// Perspective camera; thin-lens parameters are platoon options (glTF has none).
+/// A glTF camera; thin-lens parameters are platoon options (glTF has none).
 #[derive(Clone, Debug)]
 pub struct CameraModel {
     pub name: String,
+    /// Perspective: the vertical field of view (radians).
     pub yfov: f32,
     pub aspect_ratio: Option<f32>,
+    /// Orthographic: half the view's width and height in scene units (glTF's xmag, ymag); the
+    /// field of view is then unused.
+    pub orthographic: Option<[f32; 2]>,
 }
 
 #[derive(Clone, Debug)]
@@ -176,6 +228,9 @@ pub struct Node {
     pub skin: Option<usize>,
     pub camera: Option<usize>,
     pub light: Option<usize>,
+    /// Morph-target weights of the node's mesh (glTF node.weights, or animated); the mesh's
+    /// defaults when `None`.
+    pub weights: Option<Vec<f32>>,
 }
 
 impl Node {
@@ -190,6 +245,7 @@ impl Node {
             skin: None,
             camera: None,
             light: None,
+            weights: None,
         }
     }
     pub fn local_matrix(&self) -> DMat4 {
@@ -298,23 +354,26 @@ impl Scene {
         }
         let local: Vec<DMat4> = nodes.iter().map(Node::local_matrix).collect();
         let to_render = DMat4::from_translation(-origin);
-        let world: Vec<Mat4> = self
+        let world64: Vec<DMat4> = self
             .world_matrices(&local)
             .iter()
-            .map(|m| (to_render * *m).as_mat4())
+            .map(|m| to_render * *m)
             .collect();
+        let world: Vec<Mat4> = world64.iter().map(DMat4::as_mat4).collect();
         let mut meshes = self.meshes.clone();
-        let mut skins: Vec<(usize, usize, usize)> = Vec::new();
+        // (posed slot, mesh, skin, node): meshes posed per node, after the scene's own.
+        let mut skins: Vec<(usize, usize, Option<usize>, usize)> = Vec::new();
         let mut instances = Vec::new();
         let mut lights = Vec::new();
         let mut cameras = Vec::new();
         for (i, node) in nodes.iter().enumerate() {
             if let Some(m) = node.mesh {
+                let morphs = !self.meshes[m].targets.is_empty();
                 match node.skin {
                     // glTF: a skinned mesh ignores its node's transform; joints place it.
                     Some(s) => {
                         // Skinned below, in parallel: placeholder until then.
-                        skins.push((meshes.len(), m, s));
+                        skins.push((meshes.len(), m, Some(s), i));
                         meshes.push(Arc::default());
                         instances.push(Instance {
                             mesh: meshes.len() - 1,
@@ -322,12 +381,26 @@ impl Scene {
                             node: i,
                         });
                     }
-                    None if invertible_and_finite(&world[i]) => instances.push(Instance {
-                        mesh: m,
-                        object_to_world: world[i],
-                        node: i,
-                    }),
-                    None => {}
+                    None => {
+                        let placed =
+                            (world64[i] * DMat4::from_translation(self.meshes[m].offset)).as_mat4();
+                        if invertible_and_finite(&placed) {
+                            // A morphing mesh is posed per node (weights are the node's), so a
+                            // living scene deforms it as it deforms a skinned one.
+                            let mesh = if morphs {
+                                skins.push((meshes.len(), m, None, i));
+                                meshes.push(Arc::default());
+                                meshes.len() - 1
+                            } else {
+                                m
+                            };
+                            instances.push(Instance {
+                                mesh,
+                                object_to_world: placed,
+                                node: i,
+                            });
+                        }
+                    }
                 }
             }
             if let Some(l) = node.light {
@@ -353,10 +426,21 @@ impl Scene {
         use rayon::prelude::*;
         let skinned: Vec<(usize, Mesh)> = skins
             .par_iter()
-            .map(|&(slot, m, s)| {
-                let mesh =
-                    crate::scene::animation::skin_mesh(&self.meshes[m], &self.skins[s], &world);
-                (slot, mesh)
+            .map(|&(slot, m, s, node)| {
+                use crate::scene::animation::{morph_mesh, skin_mesh};
+                let source = &self.meshes[m];
+                let weights = nodes[node]
+                    .weights
+                    .as_ref()
+                    .unwrap_or(&source.morph_weights);
+                let posed = match s {
+                    Some(s) if source.targets.is_empty() => {
+                        skin_mesh(source, &self.skins[s], &world)
+                    }
+                    Some(s) => skin_mesh(&morph_mesh(source, weights), &self.skins[s], &world),
+                    None => morph_mesh(source, weights),
+                };
+                (slot, posed)
             })
             .collect();
         for (slot, mesh) in skinned {

@@ -83,6 +83,7 @@ fn with_textures_moved(m: &Material, base: u32) -> Material {
     let moved = |t: Option<TextureRef>| {
         t.map(|t| TextureRef {
             texture: t.texture + base,
+            ..t
         })
     };
     Material {

@@ -148,7 +148,7 @@ mod tests {
             wrap_t: Wrap::Repeat,
         });
         scene.materials.push(Material {
-            base_color_texture: Some(TextureRef { texture: 0 }),
+            base_color_texture: Some(TextureRef::new(0)),
             ..Material::default()
         });
         assert!(Effect::Textures.remove(&mut scene));

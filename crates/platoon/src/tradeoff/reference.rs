@@ -35,6 +35,7 @@ pub fn cache_path(prepared: &Prepared, base: &FrameParams, spp: u32) -> Result<P
         .to_cols_array()
         .iter()
         .chain(&[c.yfov, c.aperture_radius, c.focus_distance])
+        .chain(c.orthographic.iter().flatten())
         .map(|v| v.to_bits())
         .collect();
     (

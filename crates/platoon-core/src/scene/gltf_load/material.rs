@@ -14,10 +14,39 @@ fn wrap(mode: gltf::texture::WrappingMode) -> Wrap {
     }
 }
 
+/// The image a texture shows: EXT_texture_webp's source where the file gives one (its `source`
+/// is then a fallback, or absent), else its own.
+pub fn texture_image(t: &gltf::Texture, images: usize) -> Check<usize> {
+    let webp = t
+        .extension_value("EXT_texture_webp")
+        .and_then(|e| e.get("source"))
+        .map(|s| {
+            s.as_u64()
+                .ok_or("EXT_texture_webp's source is not an image index")
+        })
+        .transpose()?;
+    let index = match (webp, t.source()) {
+        (Some(w), _) => w as usize,
+        (None, Some(image)) => image.index(),
+        (None, None) => return Err(format!("texture {} has no image", t.index())),
+    };
+    if index >= images {
+        return Err(format!(
+            "texture {} shows image {index}; the file has {images}",
+            t.index()
+        ));
+    }
+    Ok(index)
+}
+
 pub fn texture(t: &gltf::Texture, image: &Rgba8) -> Texture {
     let sampler = t.sampler();
     Texture {
-        name: t.name().or(t.source().name()).unwrap_or("").to_string(),
+        name: t
+            .name()
+            .or(t.source().and_then(|s| s.name()))
+            .unwrap_or("")
+            .to_string(),
         width: image.width,
         height: image.height,
         rgba8: image.pixels.clone(),
@@ -26,74 +55,119 @@ pub fn texture(t: &gltf::Texture, image: &Rgba8) -> Texture {
     }
 }
 
-fn tex_ref(
-    info: Option<gltf::texture::Info>,
+fn tex_ref(info: Option<gltf::texture::Info>, what: &str) -> Check<Option<TextureRef>> {
+    let Some(info) = info else {
+        return Ok(None);
+    };
+    let transform = info.extension_value("KHR_texture_transform");
+    texture_ref(info.texture().index(), info.tex_coord(), transform, what).map(Some)
+}
+
+/// A texture reference with its UV set and KHR_texture_transform (`transform`, the extension's
+/// JSON object, whose texCoord overrides the reference's).
+fn texture_ref(
+    texture: usize,
+    tex_coord: u32,
+    transform: Option<&serde_json::Value>,
     what: &str,
-    warnings: &mut Vec<String>,
-) -> Option<TextureRef> {
-    let info = info?;
-    if info.tex_coord() != 0 {
-        warnings.push(format!(
-            "{what} uses TEXCOORD_{}; platoon reads TEXCOORD_0",
-            info.tex_coord()
+) -> Check<TextureRef> {
+    let mut r = TextureRef::new(texture as u32);
+    r.tex_coord = tex_coord;
+    if let Some(t) = transform {
+        let numbers = |key: &str, default: &[f32]| -> Check<Vec<f32>> {
+            match t.get(key) {
+                None => Ok(default.to_vec()),
+                Some(v) => {
+                    let parsed: Option<Vec<f32>> = match v {
+                        serde_json::Value::Array(a) => {
+                            a.iter().map(|x| x.as_f64().map(|x| x as f32)).collect()
+                        }
+                        x => x.as_f64().map(|x| vec![x as f32]),
+                    };
+                    match parsed {
+                        Some(p) if p.len() == default.len() && p.iter().all(|x| x.is_finite()) => {
+                            Ok(p)
+                        }
+                        _ => Err(format!(
+                            "{what}: KHR_texture_transform {key} is not {} finite number(s)",
+                            default.len()
+                        )),
+                    }
+                }
+            }
+        };
+        let offset = numbers("offset", &[0.0, 0.0])?;
+        let rotation = numbers("rotation", &[0.0])?[0];
+        let scale = numbers("scale", &[1.0, 1.0])?;
+        // uv' = T(offset) R(rotation) S(scale) uv, with the spec's rotation matrix
+        // [cos sin; -sin cos] (counter-clockwise in UV space, whose v points down).
+        let (s, c) = rotation.sin_cos();
+        r.transform = [
+            [c * scale[0], s * scale[1], offset[0]],
+            [-s * scale[0], c * scale[1], offset[1]],
+        ];
+        if let Some(set) = t.get("texCoord") {
+            r.tex_coord = set.as_u64().ok_or(format!(
+                "{what}: KHR_texture_transform texCoord is not an index"
+            ))? as u32;
+        }
+    }
+    if r.tex_coord > 1 {
+        return Err(format!(
+            "{what} reads TEXCOORD_{}; platoon reads TEXCOORD_0 and TEXCOORD_1",
+            r.tex_coord
         ));
     }
-    Some(TextureRef {
-        texture: info.texture().index() as u32,
-    })
+    Ok(r)
 }
 
 /// The material, or why it cannot be rendered (a factor that is not finite: JSON numbers past
 /// f32's range read as infinity).
-pub fn material(m: &gltf::Material, warnings: &mut Vec<String>) -> Check<Material> {
+pub fn material(m: &gltf::Material) -> Check<Material> {
     let pbr = m.pbr_metallic_roughness();
     let name = m.name().unwrap_or("").to_string();
     let mut mat = Material {
         name: name.clone(),
         base_color: Vec4::from_array(pbr.base_color_factor()),
-        base_color_texture: tex_ref(pbr.base_color_texture(), "baseColorTexture", warnings),
+        base_color_texture: tex_ref(pbr.base_color_texture(), "baseColorTexture")?,
         metallic: pbr.metallic_factor(),
         roughness: pbr.roughness_factor(),
         metallic_roughness_texture: tex_ref(
             pbr.metallic_roughness_texture(),
             "metallicRoughnessTexture",
-            warnings,
-        ),
+        )?,
         normal_texture: None,
         normal_scale: 1.0,
         emissive: Vec3::from_array(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0),
-        emissive_texture: tex_ref(m.emissive_texture(), "emissiveTexture", warnings),
+        emissive_texture: tex_ref(m.emissive_texture(), "emissiveTexture")?,
         alpha_mode: match m.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
-            gltf::material::AlphaMode::Blend => {
-                warnings.push(format!(
-                    "material '{name}': alpha mode BLEND is rendered as OPAQUE"
-                ));
-                AlphaMode::Blend
-            }
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         },
         double_sided: m.double_sided(),
         ior: m.ior().unwrap_or(1.5),
+        unlit: m.extension_value("KHR_materials_unlit").is_some(),
         ..Material::default()
     };
     if let Some(n) = m.normal_texture() {
         mat.normal_scale = n.scale();
-        mat.normal_texture = Some(TextureRef {
-            texture: n.texture().index() as u32,
-        });
+        mat.normal_texture = Some(texture_ref(
+            n.texture().index(),
+            n.tex_coord(),
+            n.extension_value("KHR_texture_transform"),
+            "normalTexture",
+        )?);
     }
     if let Some(s) = m.specular() {
         mat.specular = s.specular_factor();
-        mat.specular_texture = tex_ref(s.specular_texture(), "specularTexture", warnings);
+        mat.specular_texture = tex_ref(s.specular_texture(), "specularTexture")?;
         mat.specular_color = Vec3::from_array(s.specular_color_factor());
-        mat.specular_color_texture =
-            tex_ref(s.specular_color_texture(), "specularColorTexture", warnings);
+        mat.specular_color_texture = tex_ref(s.specular_color_texture(), "specularColorTexture")?;
     }
     if let Some(t) = m.transmission() {
         mat.transmission = t.transmission_factor();
-        mat.transmission_texture =
-            tex_ref(t.transmission_texture(), "transmissionTexture", warnings);
+        mat.transmission_texture = tex_ref(t.transmission_texture(), "transmissionTexture")?;
     }
     let factors = [
         mat.base_color.to_array().as_slice(),

@@ -1,20 +1,33 @@
 //! A glTF mesh (its triangle primitives merged) as one platoon mesh. Every accessor is checked
 //! (validate::accessor) before the crate's reader decodes it.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 use gltf::accessor::Dimensions;
 use gltf::mesh::Semantic;
 
+use super::attributes;
 use super::validate::{self, Check, Expect};
 use crate::scene::*;
 
-/// The accessor expectations of each vertex attribute platoon reads.
-fn expectation(semantic: &Semantic) -> Option<Expect> {
+/// The accessor expectations of each vertex attribute platoon reads: floats, or the integer
+/// types KHR_mesh_quantization allows.
+fn expectation(semantic: &Semantic, dims: Dimensions) -> Option<Expect> {
     let (what, types, dims) = match semantic {
-        Semantic::Positions => ("POSITION", validate::FLOAT, Dimensions::Vec3),
-        Semantic::Normals => ("NORMAL", validate::FLOAT, Dimensions::Vec3),
-        Semantic::Tangents => ("TANGENT", validate::FLOAT, Dimensions::Vec4),
-        Semantic::TexCoords(0) => ("TEXCOORD_0", validate::UNORM_OR_FLOAT, Dimensions::Vec2),
+        Semantic::Positions => ("POSITION", validate::NORM_OR_FLOAT, Dimensions::Vec3),
+        Semantic::Normals => ("NORMAL", validate::SNORM_OR_FLOAT, Dimensions::Vec3),
+        Semantic::Tangents => ("TANGENT", validate::SNORM_OR_FLOAT, Dimensions::Vec4),
+        Semantic::TexCoords(0) => ("TEXCOORD_0", validate::NORM_OR_FLOAT, Dimensions::Vec2),
+        Semantic::TexCoords(1) => ("TEXCOORD_1", validate::NORM_OR_FLOAT, Dimensions::Vec2),
+        // RGB or RGBA.
+        Semantic::Colors(0) => (
+            "COLOR_0",
+            validate::UNORM_OR_FLOAT,
+            if dims == Dimensions::Vec3 {
+                Dimensions::Vec3
+            } else {
+                Dimensions::Vec4
+            },
+        ),
         Semantic::Joints(0) => ("JOINTS_0", validate::JOINT, Dimensions::Vec4),
         Semantic::Weights(0) => ("WEIGHTS_0", validate::UNORM_OR_FLOAT, Dimensions::Vec4),
         _ => return None,
@@ -28,10 +41,55 @@ struct Primitive {
     normals: Option<Vec<Vec3>>,
     tangents: Option<Vec<Vec4>>,
     uvs: Option<Vec<Vec2>>,
+    uvs1: Option<Vec<Vec2>>,
+    colors: Option<Vec<Vec4>>,
     joints: Option<Vec<[u16; 4]>>,
     weights: Option<Vec<Vec4>>,
+    targets: Vec<MorphTarget>,
     indices: Vec<u32>,
     material: u32,
+}
+
+/// A primitive's morph targets, every attribute checked and of the POSITION count (or absent).
+fn read_targets(
+    name: &str,
+    prim: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+    n: usize,
+) -> Check<Vec<MorphTarget>> {
+    let read = |a: Option<gltf::Accessor>, what: &'static str, types| -> Check<Vec<Vec3>> {
+        let Some(a) = a else {
+            return Ok(Vec::new());
+        };
+        validate::accessor(
+            &a,
+            &Expect {
+                what,
+                types,
+                dims: Dimensions::Vec3,
+            },
+        )?;
+        let v: Vec<Vec3> = attributes::read::<3>(&a, buffers)?
+            .into_iter()
+            .map(Vec3::from_array)
+            .collect();
+        if v.len() != n {
+            return Err(format!(
+                "mesh '{name}': a morph target's {what} has {} entries for {n} vertices",
+                v.len()
+            ));
+        }
+        Ok(v)
+    };
+    prim.morph_targets()
+        .map(|t| {
+            Ok(MorphTarget {
+                positions: read(t.positions(), "morph POSITION", validate::NORM_OR_FLOAT)?,
+                normals: read(t.normals(), "morph NORMAL", validate::SNORM_OR_FLOAT)?,
+                tangents: read(t.tangents(), "morph TANGENT", validate::SNORM_OR_FLOAT)?,
+            })
+        })
+        .collect()
 }
 
 fn read_primitive(
@@ -41,7 +99,7 @@ fn read_primitive(
     default_material: u32,
 ) -> Check<Primitive> {
     for (semantic, accessor) in prim.attributes() {
-        if let Some(expect) = expectation(&semantic) {
+        if let Some(expect) = expectation(&semantic, accessor.dimensions()) {
             validate::accessor(&accessor, &expect)?;
         }
     }
@@ -55,12 +113,14 @@ fn read_primitive(
             },
         )?;
     }
-    let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-    let positions: Vec<Vec3> = reader
-        .read_positions()
-        .ok_or_else(|| format!("mesh '{name}' has a primitive without POSITION"))?
-        .map(Vec3::from_array)
-        .collect();
+    let attribute = |semantic: Semantic| prim.get(&semantic);
+    let positions: Vec<Vec3> = match attribute(Semantic::Positions) {
+        Some(a) => attributes::read::<3>(&a, buffers)?
+            .into_iter()
+            .map(Vec3::from_array)
+            .collect(),
+        None => return Err(format!("mesh '{name}' has a primitive without POSITION")),
+    };
     let n = positions.len();
     let same_count = |what: &str, len: usize| -> Check<()> {
         if len == n {
@@ -71,20 +131,50 @@ fn read_primitive(
             ))
         }
     };
+    let read3 = |s: Semantic| -> Check<Option<Vec<Vec3>>> {
+        attribute(s)
+            .map(|a| {
+                attributes::read::<3>(&a, buffers)
+                    .map(|v| v.into_iter().map(Vec3::from_array).collect())
+            })
+            .transpose()
+    };
+    let read2 = |s: Semantic| -> Check<Option<Vec<Vec2>>> {
+        attribute(s)
+            .map(|a| {
+                attributes::read::<2>(&a, buffers)
+                    .map(|v| v.into_iter().map(Vec2::from_array).collect())
+            })
+            .transpose()
+    };
+    let read4 = |s: Semantic| -> Check<Option<Vec<Vec4>>> {
+        attribute(s)
+            .map(|a| {
+                attributes::read::<4>(&a, buffers)
+                    .map(|v| v.into_iter().map(Vec4::from_array).collect())
+            })
+            .transpose()
+    };
+    let colors = match attribute(Semantic::Colors(0)) {
+        Some(a) if a.dimensions() == Dimensions::Vec3 => Some(
+            attributes::read::<3>(&a, buffers)?
+                .into_iter()
+                .map(|c| Vec3::from_array(c).extend(1.0))
+                .collect(),
+        ),
+        Some(_) => read4(Semantic::Colors(0))?,
+        None => None,
+    };
+    let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
     let p = Primitive {
-        normals: reader
-            .read_normals()
-            .map(|it| it.map(Vec3::from_array).collect()),
-        tangents: reader
-            .read_tangents()
-            .map(|it| it.map(Vec4::from_array).collect()),
-        uvs: reader
-            .read_tex_coords(0)
-            .map(|it| it.into_f32().map(Vec2::from_array).collect()),
+        targets: read_targets(name, prim, buffers, n)?,
+        normals: read3(Semantic::Normals)?,
+        tangents: read4(Semantic::Tangents)?,
+        uvs: read2(Semantic::TexCoords(0))?,
+        uvs1: read2(Semantic::TexCoords(1))?,
+        colors,
         joints: reader.read_joints(0).map(|it| it.into_u16().collect()),
-        weights: reader
-            .read_weights(0)
-            .map(|it| it.into_f32().map(Vec4::from_array).collect()),
+        weights: read4(Semantic::Weights(0))?,
         indices: match (prim.indices(), reader.read_indices()) {
             (None, _) => (0..n as u32).collect(),
             (Some(_), Some(it)) => it.into_u32().collect(),
@@ -102,25 +192,71 @@ fn read_primitive(
             .unwrap_or(default_material),
         positions,
     };
-    if let Some(v) = &p.normals {
-        same_count("NORMAL", v.len())?;
-    }
-    if let Some(v) = &p.tangents {
-        same_count("TANGENT", v.len())?;
-    }
-    if let Some(v) = &p.uvs {
-        same_count("TEXCOORD_0", v.len())?;
-    }
-    if let Some(v) = &p.joints {
-        same_count("JOINTS_0", v.len())?;
-    }
-    if let Some(v) = &p.weights {
-        same_count("WEIGHTS_0", v.len())?;
+    let lengths = [
+        ("NORMAL", p.normals.as_ref().map(Vec::len)),
+        ("TANGENT", p.tangents.as_ref().map(Vec::len)),
+        ("TEXCOORD_0", p.uvs.as_ref().map(Vec::len)),
+        ("TEXCOORD_1", p.uvs1.as_ref().map(Vec::len)),
+        ("COLOR_0", p.colors.as_ref().map(Vec::len)),
+        ("JOINTS_0", p.joints.as_ref().map(Vec::len)),
+        ("WEIGHTS_0", p.weights.as_ref().map(Vec::len)),
+    ];
+    for (what, len) in lengths {
+        if let Some(len) = len {
+            same_count(what, len)?;
+        }
     }
     if p.indices.iter().any(|&i| i as usize >= n) {
         return Err(format!("mesh '{name}' has an index out of range"));
     }
     Ok(p)
+}
+
+/// The triangles of a primitive's index sequence as a list, three indices each, with the winding
+/// glTF 2.0 (3.7.2.1) defines: strip triangle i is (v_i, v_{i+1+i%2}, v_{i+2-i%2}), fan triangle i
+/// is (v_{i+1}, v_{i+2}, v_0). A list's trailing indices that make no triangle are dropped.
+fn triangle_list(mode: gltf::mesh::Mode, v: &[u32]) -> Vec<u32> {
+    use gltf::mesh::Mode;
+    let triangles = v.len().saturating_sub(2);
+    match mode {
+        Mode::TriangleStrip => (0..triangles)
+            .flat_map(|i| [v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]])
+            .collect(),
+        Mode::TriangleFan => (0..triangles)
+            .flat_map(|i| [v[i + 1], v[i + 2], v[0]])
+            .collect(),
+        _ => v[..v.len() / 3 * 3].to_vec(),
+    }
+}
+
+/// Moves a mesh whose vertices lie far from its object's origin (by more than eight times its
+/// own half-size) onto its bounds' centre, computed and subtracted in f64: an exporter that bakes
+/// world coordinates into the vertices leaves a 2-unit room at 1e6, where f32 world coordinates
+/// are 1/16 apart. The offset goes into the instances' transforms (`Mesh::offset`), which the
+/// floating origin composes in f64 as it does node translations.
+fn recentre(mesh: &mut Mesh) {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for p in &mesh.positions {
+        if crate::flatten::bvh::placeable(*p) {
+            lo = lo.min(p.as_dvec3());
+            hi = hi.max(p.as_dvec3());
+        }
+    }
+    if lo.x > hi.x {
+        return;
+    }
+    let centre = (lo + hi) * 0.5;
+    let half = ((hi - lo) * 0.5).max_element();
+    if centre.abs().max_element() <= 8.0 * half {
+        return;
+    }
+    for p in &mut mesh.positions {
+        if crate::flatten::bvh::placeable(*p) {
+            *p = (p.as_dvec3() - centre).as_vec3();
+        }
+    }
+    mesh.offset = centre;
 }
 
 pub fn load_mesh(
@@ -137,24 +273,80 @@ pub fn load_mesh(
     };
     let mut parts = Vec::new();
     for prim in mesh.primitives() {
-        if prim.mode() != gltf::mesh::Mode::Triangles {
+        use gltf::mesh::Mode;
+        if !matches!(
+            prim.mode(),
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
             warnings.push(format!(
-                "mesh '{name}': primitive mode {:?} skipped (triangles only)",
+                "mesh '{name}': primitive mode {:?} skipped (points and lines have no area)",
                 prim.mode()
             ));
             continue;
         }
-        parts.push(read_primitive(&name, &prim, buffers, default_material)?);
+        for (semantic, _) in prim.attributes() {
+            let ignored = match semantic {
+                Semantic::TexCoords(n) if n >= 2 => Some(format!("TEXCOORD_{n}")),
+                Semantic::Colors(n) if n >= 1 => Some(format!("COLOR_{n}")),
+                Semantic::Joints(n) | Semantic::Weights(n) if n >= 1 => Some(format!(
+                    "JOINTS_{n}/WEIGHTS_{n} (over four joint influences)"
+                )),
+                _ => None,
+            };
+            if let Some(what) = ignored {
+                let warning = format!("mesh '{name}': {what} is ignored");
+                if !warnings.contains(&warning) {
+                    warnings.push(warning);
+                }
+            }
+        }
+        let mut p = read_primitive(&name, &prim, buffers, default_material)?;
+        p.indices = triangle_list(prim.mode(), &p.indices);
+        parts.push(p);
     }
     let any_normals = parts.iter().any(|p| p.normals.is_some());
     let any_tangents = parts.iter().any(|p| p.tangents.is_some());
     let any_uvs = parts.iter().any(|p| p.uvs.is_some());
+    let any_uvs1 = parts.iter().any(|p| p.uvs1.is_some());
+    let any_colors = parts.iter().any(|p| p.colors.is_some());
+    let target_count = parts.iter().map(|p| p.targets.len()).max().unwrap_or(0);
+    if parts.iter().any(|p| p.targets.len() != target_count) {
+        return Err(format!(
+            "mesh '{name}': its primitives have different numbers of morph targets"
+        ));
+    }
+    out.targets = vec![MorphTarget::default(); target_count];
+    // Which attributes some primitive displaces, per target (the others' vertices get zeros).
+    let displaced: Vec<[bool; 3]> = (0..target_count)
+        .map(|t| {
+            let any = |f: fn(&MorphTarget) -> bool| parts.iter().any(|p| f(&p.targets[t]));
+            [
+                any(|m| !m.positions.is_empty()),
+                any(|m| !m.normals.is_empty()),
+                any(|m| !m.tangents.is_empty()),
+            ]
+        })
+        .collect();
+    out.morph_weights = mesh.weights().map(<[f32]>::to_vec).unwrap_or_default();
+    out.morph_weights.resize(target_count, 0.0);
     let any_skin = parts
         .iter()
         .any(|p| p.joints.is_some() && p.weights.is_some());
     for p in parts {
         let base = out.positions.len() as u32;
         let n = p.positions.len();
+        for ((into, from), d) in out.targets.iter_mut().zip(p.targets).zip(&displaced) {
+            let fill = |v: Vec<Vec3>| if v.is_empty() { vec![Vec3::ZERO; n] } else { v };
+            if d[0] {
+                into.positions.extend(fill(from.positions));
+            }
+            if d[1] {
+                into.normals.extend(fill(from.normals));
+            }
+            if d[2] {
+                into.tangents.extend(fill(from.tangents));
+            }
+        }
         out.positions.extend(p.positions);
         if any_normals {
             out.normals
@@ -167,6 +359,15 @@ pub fn load_mesh(
         if any_uvs {
             out.uvs.extend(p.uvs.unwrap_or_else(|| vec![Vec2::ZERO; n]));
         }
+        if any_uvs1 {
+            out.uvs1
+                .extend(p.uvs1.unwrap_or_else(|| vec![Vec2::ZERO; n]));
+        }
+        // A primitive without COLOR_0 multiplies its base colour by one.
+        if any_colors {
+            out.colors
+                .extend(p.colors.unwrap_or_else(|| vec![Vec4::ONE; n]));
+        }
         if any_skin {
             out.joints
                 .extend(p.joints.unwrap_or_else(|| vec![[0; 4]; n]));
@@ -177,6 +378,10 @@ pub fn load_mesh(
             out.indices.push([t[0] + base, t[1] + base, t[2] + base]);
             out.triangle_materials.push(p.material);
         }
+    }
+    // A skinned mesh is placed by its joints from the bind-pose positions as they are.
+    if !any_skin {
+        recentre(&mut out);
     }
     let unplaceable = out
         .positions
@@ -198,4 +403,43 @@ pub fn load_mesh(
             crate::scene::tangents::generate(&out.positions, &out.normals, &out.uvs, &out.indices);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gltf::mesh::Mode;
+
+    #[test]
+    fn strips_and_fans_triangulate_with_the_specs_winding() {
+        let v = [10, 11, 12, 13, 14];
+        assert_eq!(
+            triangle_list(Mode::TriangleStrip, &v),
+            [10, 11, 12, 11, 13, 12, 12, 13, 14]
+        );
+        assert_eq!(
+            triangle_list(Mode::TriangleFan, &v),
+            [11, 12, 10, 12, 13, 10, 13, 14, 10]
+        );
+        assert_eq!(triangle_list(Mode::Triangles, &v), [10, 11, 12]);
+        assert!(triangle_list(Mode::TriangleStrip, &v[..2]).is_empty());
+    }
+
+    #[test]
+    fn a_mesh_baked_far_away_is_recentred_exactly_and_a_centred_one_is_left() {
+        let mut far = Mesh {
+            positions: vec![Vec3::splat(1e6 - 1.0), Vec3::splat(1e6 + 1.0)],
+            ..Default::default()
+        };
+        recentre(&mut far);
+        assert_eq!(far.offset, DVec3::splat(1e6));
+        assert_eq!(far.positions, [Vec3::splat(-1.0), Vec3::splat(1.0)]);
+        let mut near = Mesh {
+            positions: vec![Vec3::new(0.5, 0.0, 0.0), Vec3::new(2.0, 1.0, 1.0)],
+            ..Default::default()
+        };
+        recentre(&mut near);
+        assert_eq!(near.offset, DVec3::ZERO);
+        assert_eq!(near.positions[0], Vec3::new(0.5, 0.0, 0.0));
+    }
 }

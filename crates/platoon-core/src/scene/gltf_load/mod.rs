@@ -5,6 +5,7 @@
 //! every URI passes one policy (`resources.rs`), and a panic that still happens inside a
 //! dependency becomes an error (`guard.rs`).
 
+mod attributes;
 mod guard;
 mod material;
 mod mesh;
@@ -27,7 +28,15 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    "KHR_mesh_quantization",
+    "EXT_texture_webp",
+    "KHR_texture_transform",
+    "KHR_materials_unlit",
+    "EXT_mesh_gpu_instancing",
 ];
+
+/// Extensions that change nothing a path tracer renders (metadata), ignored without a warning.
+pub const INERT_EXTENSIONS: &[&str] = &["KHR_xmp_json_ld", "KHR_materials_variants"];
 
 #[derive(Clone, Debug, Default)]
 pub struct LoadOptions {
@@ -41,10 +50,18 @@ pub fn load(path: &Path) -> Result<Scene> {
 }
 
 pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene> {
-    let bytes =
-        std::fs::read(path).map_err(|e| Error::file(path, format!("cannot read scene: {e}")))?;
-    let base = path.parent().unwrap_or(Path::new("."));
+    let bytes = crate::input::read_regular_file(path, None)
+        .map_err(|e| Error::file(path, format!("cannot read scene: {e}")))?;
+    let base = folder_of(path);
     guard::catching_panics(path, || load_from_slice(path, &bytes, base, options))
+}
+
+/// The folder a scene's relative URIs resolve against: a bare file name lives in the current
+/// directory (`Path::parent` gives the empty path for it, which names no folder).
+pub fn folder_of(path: &Path) -> &Path {
+    path.parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
 }
 
 /// Loads a scene from the bytes of `path`, resolving URIs against `base`. Unlike
@@ -59,6 +76,10 @@ pub fn load_from_slice(
     validate::in_file(path, validate::glb_header(bytes))?;
     let unvalidated = Gltf::from_slice_without_validation(bytes)
         .map_err(|e| Error::file(path, format!("not a valid glTF file: {e}")))?;
+    validate::in_file(
+        path,
+        validate::asset_version(&unvalidated.document.as_json().asset),
+    )?;
     for ext in unvalidated.extensions_required() {
         if !SUPPORTED_EXTENSIONS.contains(&ext) {
             return Err(Error::file(
@@ -67,9 +88,21 @@ pub fn load_from_slice(
             ));
         }
     }
+    let mut warnings = Vec::new();
+    for ext in unvalidated.extensions_used() {
+        if !SUPPORTED_EXTENSIONS.contains(&ext) && !INERT_EXTENSIONS.contains(&ext) {
+            warnings.push(format!(
+                "uses the glTF extension {ext}, which platoon ignores (docs/GLTF.md)"
+            ));
+        }
+    }
     validate::in_file(path, validate::references(unvalidated.document.as_json()))?;
     let Gltf { document, blob } = unvalidated;
-    let doc = gltf::Document::from_json(document.into_json())
+    let mut json = document.into_json();
+    // Every required extension was checked against platoon's own list above; the crate's
+    // validation would refuse those it does not model itself (KHR_mesh_quantization, ...).
+    json.extensions_required.clear();
+    let doc = gltf::Document::from_json(json)
         .map_err(|e| Error::file(path, format!("invalid glTF: {e}")))?;
 
     let policy = resources::UriPolicy { base, options };
@@ -79,14 +112,15 @@ pub fn load_from_slice(
 
     let mut scene = Scene {
         source: Some(path.to_path_buf()),
+        warnings,
         ..Default::default()
     };
-    scene.textures = doc
-        .textures()
-        .map(|t| material::texture(&t, &images[t.source().index()]))
-        .collect();
+    for t in doc.textures() {
+        let image = validate::in_file(path, material::texture_image(&t, images.len()))?;
+        scene.textures.push(material::texture(&t, &images[image]));
+    }
     for m in doc.materials() {
-        let m = validate::in_file(path, material::material(&m, &mut scene.warnings))?;
+        let m = validate::in_file(path, material::material(&m))?;
         scene.materials.push(m);
     }
     // Primitives without a material use the glTF default material, appended last when needed.

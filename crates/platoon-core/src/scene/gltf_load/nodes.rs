@@ -18,6 +18,7 @@ pub fn load_nodes(doc: &gltf::Document, buffers: &[Vec<u8>], scene: &mut Scene) 
         .flat_map(|s| s.nodes())
         .map(|n| (n, None))
         .collect();
+    let mut pending = Vec::new();
     while let Some((gn, parent)) = queue.pop_front() {
         if map.contains_key(&gn.index()) {
             return Err(format!(
@@ -45,28 +46,58 @@ pub fn load_nodes(doc: &gltf::Document, buffers: &[Vec<u8>], scene: &mut Scene) 
             node.scale = Vec3::ZERO;
         }
         node.mesh = gn.mesh().map(|m| m.index());
+        node.weights = gn.weights().map(<[f32]>::to_vec);
         node.skin = gn.skin().map(|s| s.index());
         if let Some(c) = gn.camera() {
-            match c.projection() {
-                gltf::camera::Projection::Perspective(p) => {
-                    node.camera = Some(scene.cameras.len());
-                    scene.cameras.push(CameraModel {
-                        name: c.name().unwrap_or("").into(),
-                        yfov: p.yfov(),
-                        aspect_ratio: p.aspect_ratio(),
-                    });
+            let name = c.name().unwrap_or("");
+            let model = match c.projection() {
+                gltf::camera::Projection::Perspective(p) => CameraModel {
+                    name: name.into(),
+                    yfov: p.yfov(),
+                    aspect_ratio: p.aspect_ratio(),
+                    orthographic: None,
+                },
+                gltf::camera::Projection::Orthographic(o) => {
+                    let (x, y) = (o.xmag(), o.ymag());
+                    // glTF forbids zero magnifications; a negative one would mirror the view.
+                    if !(x.is_finite() && y.is_finite() && x > 0.0 && y > 0.0) {
+                        return Err(format!(
+                            "camera '{name}': orthographic xmag {x} and ymag {y} must be positive"
+                        ));
+                    }
+                    CameraModel {
+                        name: name.into(),
+                        yfov: 0.0,
+                        aspect_ratio: None,
+                        orthographic: Some([x, y]),
+                    }
                 }
-                gltf::camera::Projection::Orthographic(_) => scene.warnings.push(format!(
-                    "camera '{}': orthographic cameras are skipped",
-                    c.name().unwrap_or("")
-                )),
-            }
+            };
+            node.camera = Some(scene.cameras.len());
+            scene.cameras.push(model);
         }
         if let Some(l) = gn.light() {
             node.light = Some(scene.lights.len());
             scene.lights.push(light(&l)?);
         }
+        let instances = gpu_instances(doc, &gn, buffers)?;
+        if !instances.is_empty() {
+            // EXT_mesh_gpu_instancing: the node's mesh drawn once per instance, each placed by
+            // its TRS under the node (children of it, so the node's own transform applies).
+            for (k, (t, r, s)) in instances.into_iter().enumerate() {
+                let mut instance = Node::new(format!("{} instance {k}", node.name));
+                instance.parent = Some(idx);
+                instance.mesh = node.mesh;
+                instance.weights = node.weights.clone();
+                instance.translation = t.as_dvec3();
+                instance.rotation = r;
+                instance.scale = s;
+                pending.push(instance);
+            }
+            node.mesh = None;
+        }
         scene.nodes.push(node);
+        scene.nodes.append(&mut pending);
         for child in gn.children() {
             queue.push_back((child, Some(idx)));
         }
@@ -223,4 +254,71 @@ fn animation_accessors(ch: &gltf::animation::Channel) -> Check {
             dims,
         },
     )
+}
+
+/// The instances of EXT_mesh_gpu_instancing on node `gn` (none without it): translation,
+/// rotation and scale accessors of one count, each defaulting to the identity.
+fn gpu_instances(
+    doc: &gltf::Document,
+    gn: &gltf::Node,
+    buffers: &[Vec<u8>],
+) -> Check<Vec<(Vec3, Quat, Vec3)>> {
+    let Some(ext) = gn.extension_value("EXT_mesh_gpu_instancing") else {
+        return Ok(Vec::new());
+    };
+    let name = format!("node {} EXT_mesh_gpu_instancing", gn.index());
+    let attribute = |key: &'static str, types, dims| -> Check<Option<Vec<Vec<f32>>>> {
+        let Some(index) = ext.get("attributes").and_then(|a| a.get(key)) else {
+            return Ok(None);
+        };
+        let accessor = index
+            .as_u64()
+            .and_then(|i| doc.accessors().nth(i as usize))
+            .ok_or_else(|| format!("{name}: {key} names no accessor"))?;
+        validate::accessor(
+            &accessor,
+            &Expect {
+                what: key,
+                types,
+                dims,
+            },
+        )?;
+        let rows = match dims {
+            Dimensions::Vec3 => super::attributes::read::<3>(&accessor, buffers)?
+                .into_iter()
+                .map(|v| v.to_vec())
+                .collect(),
+            _ => super::attributes::read::<4>(&accessor, buffers)?
+                .into_iter()
+                .map(|v| v.to_vec())
+                .collect(),
+        };
+        Ok(Some(rows))
+    };
+    let t = attribute("TRANSLATION", validate::FLOAT, Dimensions::Vec3)?;
+    let r = attribute("ROTATION", validate::SNORM_OR_FLOAT, Dimensions::Vec4)?;
+    let s = attribute("SCALE", validate::FLOAT, Dimensions::Vec3)?;
+    let counts: Vec<usize> = [&t, &r, &s]
+        .iter()
+        .filter_map(|a| a.as_ref().map(Vec::len))
+        .collect();
+    let Some(&count) = counts.first() else {
+        return Ok(Vec::new());
+    };
+    if counts.iter().any(|&c| c != count) {
+        return Err(format!("{name}: its attributes have different counts"));
+    }
+    let at = |a: &Option<Vec<Vec<f32>>>, i: usize| a.as_ref().map(|rows| rows[i].clone());
+    (0..count)
+        .map(|i| {
+            let t = at(&t, i).map_or(Vec3::ZERO, |v| Vec3::from_slice(&v));
+            // As a node's rotation is read: glTF asks for unit quaternions.
+            let r = at(&r, i).map_or(Quat::IDENTITY, |v| Quat::from_slice(&v));
+            let s = at(&s, i).map_or(Vec3::ONE, |v| Vec3::from_slice(&v));
+            if !(t.is_finite() && r.is_finite() && s.is_finite()) {
+                return Err(format!("{name}: instance {i} is not finite"));
+            }
+            Ok((t, r, s))
+        })
+        .collect()
 }

@@ -4,7 +4,6 @@
 //! canonicalisation, so `..`, percent-encoded `..` and symlinks count) is refused unless the
 //! user allows external files.
 
-use std::io::Read as _;
 use std::path::{Path, PathBuf};
 
 use base64::Engine as _;
@@ -12,6 +11,7 @@ use percent_encoding::percent_decode_str;
 
 use super::validate::Check;
 use super::LoadOptions;
+use crate::input::read_regular_file;
 
 /// Where a scene's relative URIs resolve, and whether they may leave its folder.
 pub struct UriPolicy<'a> {
@@ -27,11 +27,8 @@ impl UriPolicy<'_> {
             return decode_data_uri(data).map_err(|e| format!("{what} data URI: {e}"));
         }
         let file = self.resolve(uri, what)?;
-        let mut bytes = Vec::new();
-        std::fs::File::open(&file)
-            .and_then(|f| f.take(limit.unwrap_or(u64::MAX)).read_to_end(&mut bytes))
-            .map_err(|e| format!("cannot read {what} file {}: {e}", file.display()))?;
-        Ok(bytes)
+        read_regular_file(&file, limit)
+            .map_err(|e| format!("cannot read {what} file {}: {e}", file.display()))
     }
 
     fn resolve(&self, uri: &str, what: &str) -> Check<PathBuf> {

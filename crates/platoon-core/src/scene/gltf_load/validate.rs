@@ -37,10 +37,16 @@ pub fn glb_header(bytes: &[u8]) -> Check {
 pub fn references(root: &json::Root) -> Check {
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, prim) in mesh.primitives.iter().enumerate() {
+            let targets = prim.targets.iter().flatten().flat_map(|t| {
+                [&t.positions, &t.normals, &t.tangents]
+                    .into_iter()
+                    .flatten()
+            });
             let accessors = prim
                 .attributes
                 .values()
                 .chain(prim.indices.as_ref())
+                .chain(targets)
                 .map(|i| i.value());
             for a in accessors {
                 if a >= root.accessors.len() {
@@ -86,6 +92,8 @@ pub const FLOAT: &[DataType] = &[DataType::F32];
 pub const UNORM_OR_FLOAT: &[DataType] = &[DataType::F32, DataType::U8, DataType::U16];
 pub const INDEX: &[DataType] = &[DataType::U8, DataType::U16, DataType::U32];
 pub const JOINT: &[DataType] = &[DataType::U8, DataType::U16];
+/// Floats or the signed normalized integers KHR_mesh_quantization allows for unit vectors.
+pub const SNORM_OR_FLOAT: &[DataType] = &[DataType::F32, DataType::I8, DataType::I16];
 pub const NORM_OR_FLOAT: &[DataType] = &[
     DataType::F32,
     DataType::I8,
@@ -163,4 +171,36 @@ fn in_view(view: &gltf::buffer::View, offset: usize, count: usize, elem: usize) 
 /// Converts a [`Check`] into the loader's error, naming the file.
 pub fn in_file<T>(path: &std::path::Path, check: Check<T>) -> Result<T> {
     check.map_err(|m| crate::error::Error::file(path, m))
+}
+
+/// glTF 2.x only: `asset.version` is "major.minor" and a 2.x reader must refuse another major
+/// version, or a `minVersion` it does not know (above 2.0).
+pub fn asset_version(asset: &json::Asset) -> Check {
+    let major_minor = |v: &str| -> Option<(u32, u32)> {
+        let (major, minor) = v.split_once('.')?;
+        Some((major.parse().ok()?, minor.parse().ok()?))
+    };
+    match major_minor(&asset.version) {
+        Some((2, _)) => {}
+        Some(_) => {
+            return Err(format!(
+                "glTF version {} is not supported (platoon reads glTF 2.x)",
+                asset.version
+            ))
+        }
+        None => {
+            return Err(format!(
+                "asset.version '{}' is not MAJOR.MINOR",
+                asset.version
+            ))
+        }
+    }
+    if let Some(min) = &asset.min_version {
+        if major_minor(min) != Some((2, 0)) {
+            return Err(format!(
+                "asset.minVersion {min} is newer than glTF 2.0, which platoon reads"
+            ));
+        }
+    }
+    Ok(())
 }

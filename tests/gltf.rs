@@ -1,0 +1,310 @@
+//! glTF as the files are written: each feature proved by a twin scene (tools/scenegen's
+//! `twins`) that writes the same scene without it and must render alike.
+
+mod common;
+
+use common::*;
+use platoon::core::frame::FrameParams;
+use platoon::core::output::Film;
+use platoon::tracer::Sampling;
+
+/// A .glb's bytes loaded through the glTF loader, as a user's file is.
+fn load_glb(bytes: &[u8]) -> platoon::core::Scene {
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let path = dir.path().join("twin.glb");
+    std::fs::write(&path, bytes).expect("write the glb");
+    platoon::load_scene(Some(&path)).expect("load the twin")
+}
+
+fn load_error(bytes: &[u8]) -> String {
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let path = dir.path().join("twin.glb");
+    std::fs::write(&path, bytes).expect("write the glb");
+    match platoon::load_scene(Some(&path)) {
+        Ok(_) => panic!("the file loaded"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// The twin rendered at `size` x `size` pixels and `spp` samples under a uniform sky of `sky`.
+fn render_twin(bytes: &[u8], size: u32, spp: u32, sky: f32, sampling: Sampling) -> Film {
+    let scene = load_glb(bytes);
+    assert!(scene.warnings.is_empty(), "warnings: {:?}", scene.warnings);
+    let prepared = prepare(scene, constant_env(sky));
+    let params = FrameParams::new(size, size, spp, prepared.camera);
+    render(&prepared, &params, sampling)
+}
+
+fn mean(film: &Film) -> f64 {
+    film.mean().iter().sum::<f64>() / 3.0
+}
+
+#[test]
+fn strips_and_fans_render_the_bits_of_their_triangle_lists() {
+    let (strips, lists) = platoon_scenegen::twins::strips_and_fans();
+    let a = render_twin(&strips, 24, 4, 1.0, Sampling::Mis);
+    let b = render_twin(&lists, 24, 4, 1.0, Sampling::Mis);
+    assert!(mean(&a) > 0.05, "nothing was drawn");
+    assert!(a == b, "a strip or fan renders unlike its triangle list");
+}
+
+#[test]
+fn a_room_baked_far_from_the_origin_renders_as_the_room_at_the_origin() {
+    // The image's mean and its standard error over pixels.
+    let measure = |offset: f64, sampling| {
+        let film = render_twin(
+            &platoon_scenegen::twins::baked_room(offset),
+            16,
+            64,
+            0.0,
+            sampling,
+        );
+        mean_and_stderr(
+            film.pixels
+                .iter()
+                .map(|p| (p[0] + p[1] + p[2]) as f64 / 3.0),
+        )
+    };
+    for sampling in [Sampling::Mis, Sampling::Bsdf, Sampling::Light] {
+        let (at_origin, se0) = measure(0.0, sampling);
+        assert!(at_origin > 0.05, "the room is dark: {at_origin}");
+        for offset in [1e6, 1e7] {
+            // Render space differs by the camera's place, so the paths differ in their last
+            // bits and decorrelate: the two are compared as independent estimates.
+            let (far, se) = measure(offset, sampling);
+            let bound = 4.0 * (se0 * se0 + se * se).sqrt() + 0.002 * at_origin;
+            assert!(
+                (far - at_origin).abs() < bound,
+                "{sampling:?}: the room at {offset:e} renders {far:.4}, at the origin {at_origin:.4} (bound {bound:.4})"
+            );
+        }
+    }
+}
+
+#[test]
+fn assets_of_another_gltf_major_version_are_refused() {
+    for version in ["1.0", "3.0", "two"] {
+        let message = load_error(&platoon_scenegen::twins::with_version(version));
+        assert!(
+            message.contains(version) && message.contains("twin.glb"),
+            "{message}"
+        );
+    }
+    load_glb(&platoon_scenegen::twins::with_version("2.1"));
+}
+
+/// Means of the film's 4 x 4 blocks of pixels (channel-averaged): where a texture lookup went
+/// shows in them, unlike in the whole image's mean.
+fn block_means(film: &Film) -> Vec<f64> {
+    let (w, h) = (film.width as usize, film.height as usize);
+    let (bw, bh) = (w / 4, h / 4);
+    let mut out = [0.0; 16];
+    for y in 0..h {
+        for x in 0..w {
+            let p = film.pixels[y * w + x];
+            out[(y / bh).min(3) * 4 + (x / bw).min(3)] += (p[0] + p[1] + p[2]) as f64 / 3.0;
+        }
+    }
+    out.iter().map(|s| s / (bw * bh) as f64).collect()
+}
+
+/// The twins render alike: every block's mean within `tolerance` (relative to the image mean).
+fn assert_alike(with: &[u8], without: &[u8], tolerance: f64, what: &str) {
+    let a = render_twin(with, 32, 8, 1.0, Sampling::Mis);
+    let b = render_twin(without, 32, 8, 1.0, Sampling::Mis);
+    let scale = mean(&b);
+    assert!(scale > 0.05, "{what}: nothing was drawn");
+    for (k, (x, y)) in block_means(&a).iter().zip(block_means(&b)).enumerate() {
+        assert!(
+            (x - y).abs() <= tolerance * scale,
+            "{what}: block {k} renders {x:.5} with the feature, {y:.5} without"
+        );
+    }
+}
+
+#[test]
+fn vertex_colours_multiply_the_base_colour_as_the_same_factor_would() {
+    use platoon_scenegen::twins::{FLOAT, UNSIGNED_BYTE, UNSIGNED_SHORT};
+    for (component, name) in [
+        (FLOAT, "float RGB"),
+        (UNSIGNED_BYTE, "unorm8 RGBA"),
+        (UNSIGNED_SHORT, "unorm16 RGBA"),
+    ] {
+        let (with, without) = platoon_scenegen::twins::vertex_colors(component);
+        assert_alike(&with, &without, 2e-3, name);
+    }
+}
+
+#[test]
+fn a_texture_read_at_texcoord_1_is_the_texture_at_those_uvs_in_texcoord_0() {
+    let (with, without) = platoon_scenegen::twins::second_uv_set();
+    assert_alike(&with, &without, 1e-3, "TEXCOORD_1");
+}
+
+#[test]
+fn a_texture_transform_renders_as_the_uvs_transformed_in_the_buffer() {
+    let (with, without) = platoon_scenegen::twins::texture_transform();
+    assert_alike(&with, &without, 2e-3, "KHR_texture_transform");
+}
+
+#[test]
+fn a_webp_texture_renders_the_bits_of_its_png_twin() {
+    let (webp, png) = platoon_scenegen::twins::webp_texture();
+    let a = render_twin(&webp, 16, 2, 1.0, Sampling::Mis);
+    let b = render_twin(&png, 16, 2, 1.0, Sampling::Mis);
+    assert!(a == b, "the WebP texture renders unlike its PNG");
+}
+
+#[test]
+fn a_quantized_mesh_renders_as_its_float_twin_within_quantization() {
+    let (quantized, float) = platoon_scenegen::twins::quantized();
+    assert_alike(&quantized, &float, 1e-2, "KHR_mesh_quantization");
+}
+
+#[test]
+fn an_orthographic_camera_sees_a_quad_at_its_size_whatever_its_distance() {
+    for z in [0.0, -2.0] {
+        let film = render_twin(
+            &platoon_scenegen::twins::orthographic(z),
+            32,
+            4,
+            0.0,
+            Sampling::Mis,
+        );
+        // xmag = ymag = 1: the view is [-1, 1]^2, the quad [-0.5, 0.5]^2 its middle 16 x 16 pixels.
+        for y in 0..32 {
+            for x in 0..32 {
+                let inside = (8..24).contains(&x) && (8..24).contains(&y);
+                let v = film.pixels[y * 32 + x][1];
+                let expected = if inside { 1.0 } else { 0.0 };
+                assert!(
+                    (v - expected).abs() < 1e-4,
+                    "z = {z}: pixel ({x}, {y}) is {v}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_blended_quad_shows_alpha_of_itself_and_the_rest_of_what_is_behind() {
+    let alpha = 0.3;
+    let film = render_twin(
+        &platoon_scenegen::twins::blended(alpha, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        32,
+        64,
+        0.0,
+        Sampling::Mis,
+    );
+    // The front quad covers [-0.5, 0.5]^2 at z = 1, two units from the camera (yfov 0.8): the
+    // middle pixels see it.
+    let middle: Vec<[f32; 3]> = (12..20)
+        .flat_map(|y| (12..20).map(move |x| (x, y)))
+        .map(|(x, y)| film.pixels[y * 32 + x])
+        .collect();
+    for (c, expected) in [(0, alpha as f64), (1, 1.0 - alpha as f64)] {
+        let (m, se) = mean_and_stderr(middle.iter().map(|p| p[c] as f64));
+        assert!(
+            (m - expected).abs() < 4.0 * se + 1e-3,
+            "channel {c}: {m:.4} +- {se:.4}, expected {expected}"
+        );
+    }
+}
+
+#[test]
+fn an_unlit_surface_shows_its_base_colour_under_any_light() {
+    let colour = [0.3f32, 0.6, 0.9];
+    for sky in [0.0, 5.0] {
+        let film = render_twin(
+            &platoon_scenegen::twins::unlit(colour),
+            16,
+            4,
+            sky,
+            Sampling::Mis,
+        );
+        let p = film.pixels[8 * 16 + 8];
+        for c in 0..3 {
+            assert!((p[c] - colour[c]).abs() < 1e-5, "sky {sky}: {p:?}");
+        }
+    }
+}
+
+/// The twin rendered at animation time `time`.
+fn render_twin_at(bytes: &[u8], time: f32) -> Film {
+    let scene = load_glb(bytes);
+    assert!(scene.warnings.is_empty(), "warnings: {:?}", scene.warnings);
+    let prepared = platoon::prepare(
+        scene,
+        &platoon::PrepareOptions {
+            env: constant_env(1.0),
+            time,
+            ..Default::default()
+        },
+    )
+    .expect("prepare");
+    let params = FrameParams::new(32, 32, 8, prepared.camera);
+    render(&prepared, &params, Sampling::Mis)
+}
+
+#[test]
+fn a_morph_at_its_weights_renders_as_the_mesh_baked_at_them() {
+    for animated in [false, true] {
+        let (morphed, baked) = platoon_scenegen::twins::morphed(animated);
+        let a = block_means(&render_twin_at(&morphed, 0.5));
+        let b = block_means(&render_twin_at(&baked, 0.0));
+        let scale = b.iter().sum::<f64>() / 16.0;
+        for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+            assert!(
+                (x - y).abs() <= 2e-3 * scale,
+                "animated {animated}: block {k} renders {x:.5} morphed, {y:.5} baked"
+            );
+        }
+    }
+}
+
+#[test]
+fn animated_weights_deform_a_living_scene_through_commits() {
+    use platoon::core::drive::Updater;
+    use platoon::core::scene::environment::Environment;
+    let (morphed, baked) = platoon_scenegen::twins::morphed(true);
+    let mut scene = load_glb(&morphed);
+    scene.environment = Some(Environment::Constant(glam::Vec3::ONE));
+    let camera =
+        platoon::core::scene::camera::Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
+    let mut updater = Updater::new(scene, 0.0, glam::DVec3::ZERO).unwrap();
+    let mut followed = tracer_reading(updater.flattened(), Default::default());
+    let params = FrameParams::new(32, 32, 8, camera);
+    let flat = render_with(&mut followed, &params);
+    updater.set_time(0.5).unwrap();
+    let g = updater.update().unwrap();
+    assert!(g.refitted + g.rebuilt > 0, "the weights deformed nothing");
+    assert!(g.commit.mesh_bytes() > 0);
+    followed.apply_commit(&g.commit).unwrap();
+    let after = render_with(&mut followed, &params);
+    let mut fresh = tracer_reading(updater.flattened(), Default::default());
+    assert!(
+        after == render_with(&mut fresh, &params),
+        "commits drifted from the scene"
+    );
+    assert!(after != flat, "the animation moved nothing");
+    let (a, b) = (
+        block_means(&after),
+        block_means(&render_twin_at(&baked, 0.0)),
+    );
+    let scale = b.iter().sum::<f64>() / 16.0;
+    for (x, y) in a.iter().zip(&b) {
+        assert!(
+            (x - y).abs() <= 2e-3 * scale,
+            "{x:.5} morphed against {y:.5} baked"
+        );
+    }
+}
+
+#[test]
+fn gpu_instancing_draws_each_instance_as_a_node_of_its_transform_would() {
+    let (instanced, explicit) = platoon_scenegen::twins::gpu_instancing();
+    let a = render_twin(&instanced, 24, 4, 1.0, Sampling::Mis);
+    let b = render_twin(&explicit, 24, 4, 1.0, Sampling::Mis);
+    assert_eq!(load_glb(&instanced).triangle_count(), 3 * 32);
+    assert!(a == b, "instances render unlike the nodes they stand for");
+}

@@ -1,0 +1,452 @@
+//! Every specular lobe held to the glTF specification's formula, integrated on the CPU by this
+//! file's own quadrature (none of the kernel's code): a plane of the material under a uniform
+//! sky, seen by an orthographic camera from one direction, shows its directional albedo
+//! ∫ f(wo, wi) |cos θi| dωi times the sky (every reflected and refracted ray meets the sky).
+//! Rendered with MIS, BSDF sampling alone and light sampling alone, so that an error in the BSDF
+//! (its D, G or Fresnel) and one between its sampling and its pdf both show.
+
+mod common;
+
+use std::f64::consts::PI;
+
+use common::*;
+use glam::{DVec3, Vec3, Vec4};
+use platoon::core::frame::{FrameParams, Output};
+use platoon::core::scene::Material;
+use platoon::tracer::Sampling;
+
+/// The glTF 2.0 BRDF (appendix B) with KHR_materials_specular (specular 1, white) and
+/// KHR_materials_transmission's rough dielectric interface (Walter et al. 2007, radiance
+/// compressed by the squared ratio of indices), written from the formulas, not the kernel.
+#[derive(Clone, Copy, Debug)]
+struct Lobe {
+    base: f64,
+    metallic: f64,
+    roughness: f64,
+    transmission: f64,
+    ior: f64,
+}
+
+/// Trowbridge-Reitz (GGX) with alpha = roughness^2.
+fn d_ggx(alpha: f64, n_h: f64) -> f64 {
+    if n_h <= 0.0 {
+        return 0.0;
+    }
+    let a2 = alpha * alpha;
+    let k = n_h * n_h * (a2 - 1.0) + 1.0;
+    a2 / (PI * k * k)
+}
+
+/// The spec's height-correlated Smith visibility V = G / (4 |n.l| |n.v|).
+fn v_smith(alpha: f64, n_l: f64, n_v: f64) -> f64 {
+    let a2 = alpha * alpha;
+    let l = n_l.abs();
+    let v = n_v.abs();
+    let ggxv = l * (v * v * (1.0 - a2) + a2).sqrt();
+    let ggxl = v * (l * l * (1.0 - a2) + a2).sqrt();
+    0.5 / (ggxv + ggxl)
+}
+
+fn schlick(f0: f64, v_h: f64) -> f64 {
+    f0 + (1.0 - f0) * (1.0 - v_h.abs()).powi(5)
+}
+
+/// Unpolarised Fresnel reflectance of a dielectric of relative index eta, cos_i > 0.
+fn fresnel(cos_i: f64, eta: f64) -> f64 {
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    0.5 * (rs * rs + rp * rp)
+}
+
+impl Lobe {
+    /// f(v, l) |n.l| with n = +z, v above the surface.
+    fn f_cos(&self, v: DVec3, l: DVec3) -> f64 {
+        let alpha = self.roughness * self.roughness;
+        let f0 = ((self.ior - 1.0) / (self.ior + 1.0)).powi(2);
+        let mut f = 0.0;
+        if l.z > 0.0 {
+            let h = (v + l).normalize();
+            let spec = d_ggx(alpha, h.z) * v_smith(alpha, l.z, v.z);
+            let metal = schlick(self.base, v.dot(h)) * spec;
+            let fr = schlick(f0, v.dot(h));
+            let dielectric = (1.0 - fr) * self.base / PI + fr * spec;
+            let glass_reflect = fresnel(v.dot(h), self.ior) * spec;
+            let opaque = (1.0 - self.transmission) * dielectric + self.transmission * glass_reflect;
+            f = self.metallic * metal + (1.0 - self.metallic) * opaque;
+        } else if self.transmission > 0.0 {
+            // Refraction into the index `ior` below: h from the generalised half vector.
+            let eta = self.ior;
+            let mut h = -(v + eta * l).normalize();
+            if h.z < 0.0 {
+                h = -h;
+            }
+            let (vh, lh) = (v.dot(h), l.dot(h));
+            if vh > 0.0 && lh < 0.0 {
+                let denom = vh + eta * lh;
+                let g = 4.0 * v_smith(alpha, l.z, v.z) * l.z.abs() * v.z;
+                let t = (1.0 - fresnel(vh, eta)) * d_ggx(alpha, h.z) * g * (vh * lh).abs()
+                    / (l.z.abs() * v.z * denom * denom);
+                f = (1.0 - self.metallic) * self.transmission * self.base * t;
+            }
+        }
+        f * l.z.abs()
+    }
+
+    /// ∫ f |cos| over the sphere of l, by the midpoint rule in (cos θ, φ) on each hemisphere,
+    /// finer near the poles' directions where the lobes peak.
+    fn albedo(&self, v: DVec3) -> f64 {
+        let (nt, np) = (1600, 720);
+        let mut sum = 0.0;
+        for side in [1.0, -1.0] {
+            for i in 0..nt {
+                // cos θ = 1 - s^2 spreads samples toward the horizon and the pole alike.
+                let s = (i as f64 + 0.5) / nt as f64;
+                let c = 1.0 - s * s;
+                let dc = 2.0 * s / nt as f64;
+                let st = (1.0 - c * c).max(0.0).sqrt();
+                for j in 0..np {
+                    let phi = 2.0 * PI * (j as f64 + 0.5) / np as f64;
+                    let l = DVec3::new(st * phi.cos(), st * phi.sin(), side * c);
+                    sum += self.f_cos(v, l) * dc * 2.0 * PI / np as f64;
+                }
+            }
+        }
+        sum
+    }
+
+    fn material(&self) -> Material {
+        Material {
+            name: "lobe".into(),
+            base_color: Vec4::new(self.base as f32, self.base as f32, self.base as f32, 1.0),
+            metallic: self.metallic as f32,
+            roughness: self.roughness as f32,
+            transmission: self.transmission as f32,
+            ior: self.ior as f32,
+            specular: 1.0,
+            specular_color: Vec3::ONE,
+            double_sided: false,
+            ..Material::default()
+        }
+    }
+}
+
+/// The plane of the lobe's material seen from cos θ = `cos_view` by an orthographic camera,
+/// under a sky of 1.
+fn plane(lobe: &Lobe, cos_view: f64) -> platoon::Prepared {
+    let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
+    // The plane is y = 0 facing +y; the camera looks down at it from (s, c) in the x-y plane.
+    let eye = Vec3::new(s, c, 0.0) * 10.0;
+    let mut scene = scene_of(
+        vec![(
+            mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0),
+            Vec3::ZERO,
+            1000.0,
+        )],
+        vec![lobe.material()],
+        eye,
+        Vec3::ZERO,
+        0.5,
+    );
+    scene.cameras[0].orthographic = Some([0.05, 0.05]);
+    prepare(scene, constant_env(1.0))
+}
+
+/// The plane's mean pixel and its standard error, seen along `v` (cos θ = v.z) under a sky of 1.
+fn rendered(lobe: &Lobe, cos_view: f64, sampling: Sampling, spp: u32) -> (f64, f64) {
+    let prepared = plane(lobe, cos_view);
+    let mut params = FrameParams::new(32, 32, spp, prepared.camera);
+    params.max_depth = 8;
+    let film = render(&prepared, &params, sampling);
+    mean_and_stderr(film.pixels.iter().map(|p| p[0] as f64))
+}
+
+fn check(name: &str, lobe: Lobe) {
+    for cos_view in [0.9f64, 0.5, 0.15] {
+        let theta = cos_view.acos();
+        let v = DVec3::new(theta.sin(), 0.0, cos_view);
+        let expected = lobe.albedo(v);
+        for sampling in [Sampling::Mis, Sampling::Bsdf, Sampling::Light] {
+            let (m, se) = rendered(&lobe, cos_view, sampling, 512);
+            eprintln!(
+                "{name} cos {cos_view} {sampling:?}: {m:.5} +- {se:.5}, formula {expected:.5}"
+            );
+            assert!(
+                (m - expected).abs() < 4.0 * se + 0.006 * expected,
+                "{name}, cos θ {cos_view}, {sampling:?}: rendered {m:.5} +- {se:.5}, the formula integrates to {expected:.5}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_quadrature_gives_a_lambertian_plane_its_albedo() {
+    // The reference's own check: roughness 1 dielectric without its specular layer is ρ.
+    let lambert = |_v: DVec3, l: DVec3| if l.z > 0.0 { 0.5 / PI * l.z } else { 0.0 };
+    let lobe = Lobe {
+        base: 0.5,
+        metallic: 0.0,
+        roughness: 1.0,
+        transmission: 0.0,
+        ior: 1.5,
+    };
+    let v = DVec3::new(0.6, 0.0, 0.8);
+    let quadrature = {
+        let (nt, np) = (1600, 720);
+        let mut sum = 0.0;
+        for i in 0..nt {
+            let s = (i as f64 + 0.5) / nt as f64;
+            let c = 1.0 - s * s;
+            let st = (1.0 - c * c).sqrt();
+            for j in 0..np {
+                let phi = 2.0 * PI * (j as f64 + 0.5) / np as f64;
+                let l = DVec3::new(st * phi.cos(), st * phi.sin(), c);
+                sum += lambert(v, l) * 2.0 * s / nt as f64 * 2.0 * PI / np as f64;
+            }
+        }
+        sum
+    };
+    assert!((quadrature - 0.5).abs() < 1e-4, "{quadrature}");
+    // A white furnace of the rough metal loses energy to single scattering only (< 1).
+    let white_metal = Lobe {
+        base: 1.0,
+        metallic: 1.0,
+        roughness: 0.5,
+        ..lobe
+    };
+    let a = white_metal.albedo(v);
+    assert!(a < 1.0 && a > 0.85, "{a}");
+}
+
+#[test]
+fn rough_and_glossy_metals_reflect_as_the_spec_integrates() {
+    for roughness in [0.3, 0.6] {
+        check(
+            &format!("metal r {roughness}"),
+            Lobe {
+                base: 0.6,
+                metallic: 1.0,
+                roughness,
+                transmission: 0.0,
+                ior: 1.5,
+            },
+        );
+    }
+}
+
+#[test]
+fn the_dielectric_diffuse_and_specular_layer_reflect_as_the_spec_integrates() {
+    for roughness in [0.3, 0.7] {
+        check(
+            &format!("dielectric r {roughness}"),
+            Lobe {
+                base: 0.5,
+                metallic: 0.0,
+                roughness,
+                transmission: 0.0,
+                ior: 1.5,
+            },
+        );
+    }
+}
+
+#[test]
+fn rough_glass_reflects_and_refracts_as_the_spec_integrates() {
+    for roughness in [0.3, 0.6] {
+        check(
+            &format!("glass r {roughness}"),
+            Lobe {
+                base: 1.0,
+                metallic: 0.0,
+                roughness,
+                transmission: 1.0,
+                ior: 1.5,
+            },
+        );
+    }
+}
+
+/// The kernel's BSDF probe (`frame::Output`) of the plane's point, a `w` x `h` image.
+fn probe(
+    prepared: &platoon::Prepared,
+    output: Output,
+    w: u32,
+    h: u32,
+    frame: u32,
+) -> Vec<[f32; 3]> {
+    let mut params = FrameParams::new(w, h, 1, prepared.camera);
+    params.output = output;
+    params.frame = frame;
+    render(prepared, &params, Sampling::Mis).pixels
+}
+
+/// Bins of the sphere of directions: `CT` in cos θ by `CP` in φ, equal solid angles.
+const CT: usize = 20;
+const CP: usize = 40;
+/// The pdf is evaluated at SUB x SUB points of every bin.
+const SUB: usize = 24;
+
+fn bin_of(wi: [f32; 3]) -> usize {
+    let t = (((1.0 - wi[2] as f64) / 2.0 * CT as f64) as usize).min(CT - 1);
+    let phi = (wi[1] as f64).atan2(wi[0] as f64).rem_euclid(2.0 * PI);
+    let p = ((phi / (2.0 * PI) * CP as f64) as usize).min(CP - 1);
+    t * CP + p
+}
+
+/// Wilson and Hilferty's normal approximation of a chi-square statistic of `dof` degrees.
+fn chi_square_z(chi2: f64, dof: f64) -> f64 {
+    let k = 2.0 / (9.0 * dof);
+    ((chi2 / dof).powf(1.0 / 3.0) - (1.0 - k)) / k.sqrt()
+}
+
+/// Chi-square goodness of fit of the kernel's sampled directions against its own pdf (Mitsuba's
+/// and pbrt-v4's BSDF test), with bins of too few expected samples pooled; the pdf integrates to
+/// at most one (the rest is the chance that sampling fails); reflection is reciprocal.
+fn sampling_fits_pdf(name: &str, lobe: Lobe, cos_view: f64) {
+    let prepared = plane(&lobe, cos_view);
+    let values = probe(
+        &prepared,
+        Output::BsdfValue,
+        (CP * SUB) as u32,
+        (CT * SUB) as u32,
+        0,
+    );
+    let cell = 4.0 * PI / (CP * SUB * CT * SUB) as f64;
+    let mut mass = vec![0.0f64; CT * CP];
+    for (k, v) in values.iter().enumerate() {
+        let (x, y) = (k % (CP * SUB), k / (CP * SUB));
+        mass[(y / SUB) * CP + x / SUB] += v[0] as f64 * cell;
+        // Reciprocity of the reflection: f(wo, wi) = f(wi, wo).
+        let c = 1.0 - 2.0 * (y as f64 + 0.5) / (CT * SUB) as f64;
+        if c > 0.05 && v[1] > 1e-3 {
+            let rel = ((v[1] - v[2]) / v[1]).abs();
+            assert!(
+                rel < 2e-3,
+                "{name}: f(wo, wi) {} but f(wi, wo) {} at cos {c:.3}",
+                v[1],
+                v[2]
+            );
+        }
+    }
+    let total: f64 = mass.iter().sum();
+    assert!(
+        total <= 1.0 + 5e-3,
+        "{name}, cos {cos_view}: the pdf integrates to {total}"
+    );
+    let (side, frames) = (256u32, 4u32);
+    let mut observed = vec![0.0f64; CT * CP];
+    let mut failed = 0.0;
+    for frame in 0..frames {
+        for wi in probe(&prepared, Output::BsdfSample, side, side, frame) {
+            if wi == [0.0; 3] {
+                failed += 1.0;
+            } else {
+                observed[bin_of(wi)] += 1.0;
+            }
+        }
+    }
+    let n = (side * side * frames) as f64;
+    let mut pairs: Vec<(f64, f64)> = mass.iter().map(|m| m * n).zip(observed).collect();
+    pairs.push(((1.0 - total).max(0.0) * n, failed));
+    let (mut chi2, mut bins, mut pooled) = (0.0, 0usize, (0.0, 0.0));
+    for (e, o) in pairs {
+        if e < 5.0 {
+            pooled = (pooled.0 + e, pooled.1 + o);
+        } else {
+            chi2 += (o - e) * (o - e) / e;
+            bins += 1;
+        }
+    }
+    if pooled.0 >= 5.0 {
+        chi2 += (pooled.1 - pooled.0) * (pooled.1 - pooled.0) / pooled.0;
+        bins += 1;
+    } else {
+        // Too few expected to test apart: at least nothing much may land there.
+        assert!(
+            pooled.1 < 5.0 + 5.0 * pooled.0.sqrt() + pooled.0,
+            "{name}: {} samples where the pdf expects {}",
+            pooled.1,
+            pooled.0
+        );
+    }
+    let z = chi_square_z(chi2, (bins - 1) as f64);
+    eprintln!(
+        "{name} cos {cos_view}: chi2 {chi2:.1} over {bins} bins (z {z:.2}), pdf mass {total:.4}"
+    );
+    assert!(z < 5.0, "{name}, cos {cos_view}: the samples do not follow the pdf (chi2 {chi2:.1} over {bins} bins, z {z:.2})");
+}
+
+#[test]
+fn every_lobe_samples_as_its_pdf_says() {
+    let lobes = [
+        (
+            "metal r 0.3",
+            Lobe {
+                base: 0.6,
+                metallic: 1.0,
+                roughness: 0.3,
+                transmission: 0.0,
+                ior: 1.5,
+            },
+        ),
+        (
+            "metal r 0.7",
+            Lobe {
+                base: 0.6,
+                metallic: 1.0,
+                roughness: 0.7,
+                transmission: 0.0,
+                ior: 1.5,
+            },
+        ),
+        (
+            "dielectric r 0.4",
+            Lobe {
+                base: 0.5,
+                metallic: 0.0,
+                roughness: 0.4,
+                transmission: 0.0,
+                ior: 1.5,
+            },
+        ),
+        (
+            "glass r 0.3",
+            Lobe {
+                base: 1.0,
+                metallic: 0.0,
+                roughness: 0.3,
+                transmission: 1.0,
+                ior: 1.5,
+            },
+        ),
+        (
+            "glass r 0.6",
+            Lobe {
+                base: 1.0,
+                metallic: 0.0,
+                roughness: 0.6,
+                transmission: 1.0,
+                ior: 1.5,
+            },
+        ),
+        (
+            "half metal r 0.5",
+            Lobe {
+                base: 0.7,
+                metallic: 0.5,
+                roughness: 0.5,
+                transmission: 0.0,
+                ior: 1.5,
+            },
+        ),
+    ];
+    for (name, lobe) in lobes {
+        for cos_view in [0.9, 0.4] {
+            sampling_fits_pdf(name, lobe, cos_view);
+        }
+    }
+}
