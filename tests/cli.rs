@@ -724,15 +724,7 @@ fn platoon_in(dir: &Path, args: &[&str]) -> Output {
 fn a_scene_named_in_any_form_finds_its_buffer_and_texture_files() {
     let dir = tempfile::tempdir().unwrap();
     let root = dir.path().canonicalize().unwrap();
-    let scene_dir = root.join("scene");
-    std::fs::create_dir_all(scene_dir.join("textures")).unwrap();
-    std::fs::create_dir_all(root.join("other")).unwrap();
-    let (json, files) = platoon_scenegen::twins::with_separate_files();
-    std::fs::write(scene_dir.join("scene.gltf"), json).unwrap();
-    for (name, bytes) in files {
-        std::fs::write(scene_dir.join(name), bytes).unwrap();
-    }
-    std::os::unix::fs::symlink(&scene_dir, root.join("link")).unwrap();
+    let scene_dir = platoon_scenegen::twins::write_scene_folders(&root).unwrap();
     let absolute = scene_dir.join("scene.gltf");
     // (run from, the scene's path as typed)
     let forms = [

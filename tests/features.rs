@@ -304,3 +304,87 @@ fn max_depth_one_compiles_the_bounce_away_and_sees_only_emitters() {
     let film = render_with(&mut t, &params);
     assert!(film.pixels.iter().filter(|p| p[0] > 0.0).count() > film.pixels.len() / 2);
 }
+
+#[test]
+fn a_blended_cover_passes_camera_and_shadow_rays_with_its_transparency() {
+    // A black BLEND cover of alpha a between a camera and a ground lit by a sun straight down:
+    // the sun's light reaches the ground through it with probability 1 - a, and the camera sees
+    // the ground through it with the same: (1 - a)^2 rho / pi E, the cover itself black.
+    let (alpha, e) = (0.4f32, 2.0f32);
+    let cover = Material {
+        name: "blended".into(),
+        base_color: Vec3::ZERO.extend(alpha),
+        alpha_mode: AlphaMode::Blend,
+        ..lambertian("b", Vec3::ZERO)
+    };
+    let mut scene = ground(
+        vec![(
+            mesh_from(&platoon_scenegen::quad(1.0, 1.0), 1),
+            Vec3::new(0.0, 1.0, 0.0),
+            20.0,
+        )],
+        vec![cover],
+    );
+    add_light(
+        &mut scene,
+        LightKind::Directional,
+        e,
+        Vec3::new(0.0, 5.0, 0.0),
+    );
+    let prepared = prepare(scene, platoon::EnvChoice::Scene);
+    assert!(prepared.gpu.features.alpha_blend);
+    let film = render(
+        &prepared,
+        &FrameParams::new(16, 16, 64, prepared.camera),
+        Sampling::Mis,
+    );
+    let (m, se) = mean_and_stderr(film.pixels.iter().map(|p| p[0] as f64));
+    let expected = ((1.0 - alpha) * (1.0 - alpha) * RHO / PI * e) as f64;
+    assert!(
+        (m - expected).abs() < 4.0 * se + 1e-3,
+        "{m:.4} +- {se:.4}, expected (1 - a)^2 rho E / pi = {expected:.4}"
+    );
+}
+
+#[test]
+fn a_blended_or_masked_emitter_lights_as_much_as_rays_find_of_it() {
+    // A panel facing down beside the view lights the ground. Of a BLEND panel of alpha a, BSDF
+    // rays find it with probability a: every estimator must give what an opaque panel of a
+    // times its emission gives. A MASK panel cut out everywhere lights nothing.
+    let panel = |alpha_mode: AlphaMode, alpha: f32, emission: f32| Material {
+        name: "panel".into(),
+        base_color: Vec3::ZERO.extend(alpha),
+        emissive: Vec3::splat(emission),
+        alpha_mode,
+        ..lambertian("p", Vec3::ZERO)
+    };
+    let lit_by = |m: Material, sampling: Sampling| {
+        let scene = ground(
+            vec![(
+                mesh_from(&platoon_scenegen::quad(1.0, -1.0), 1),
+                Vec3::new(1.8, 0.6, 0.0),
+                0.5,
+            )],
+            vec![m],
+        );
+        let prepared = prepare(scene, platoon::EnvChoice::Scene);
+        let film = render(
+            &prepared,
+            &FrameParams::new(16, 16, 64, prepared.camera),
+            sampling,
+        );
+        mean_and_stderr(film.pixels.iter().map(|p| p[0] as f64))
+    };
+    let a = 0.35;
+    for sampling in [Sampling::Mis, Sampling::Light, Sampling::Bsdf] {
+        let (blended, se0) = lit_by(panel(AlphaMode::Blend, a, 4.0), sampling);
+        let (opaque, se1) = lit_by(panel(AlphaMode::Opaque, 1.0, 4.0 * a), sampling);
+        assert!(opaque > 0.01, "the panel lights nothing");
+        assert!(
+            (blended - opaque).abs() < 4.0 * (se0 * se0 + se1 * se1).sqrt() + 0.01 * opaque,
+            "{sampling:?}: a blended panel lights {blended:.4}, an opaque one of a x its emission {opaque:.4}"
+        );
+    }
+    let (masked, _) = lit_by(panel(AlphaMode::Mask(0.5), 0.3, 4.0), Sampling::Light);
+    assert!(masked == 0.0, "a cut-out emitter lights {masked}");
+}

@@ -10,15 +10,7 @@ use platoon_core::scene::gltf_load;
 fn a_bare_file_name_and_every_other_form_find_the_scenes_files() {
     let dir = tempfile::tempdir().unwrap();
     let root = dir.path().canonicalize().unwrap();
-    let scene_dir = root.join("scene");
-    std::fs::create_dir_all(scene_dir.join("textures")).unwrap();
-    std::fs::create_dir_all(root.join("other")).unwrap();
-    let (json, files) = platoon_scenegen::twins::with_separate_files();
-    std::fs::write(scene_dir.join("scene.gltf"), json).unwrap();
-    for (name, bytes) in files {
-        std::fs::write(scene_dir.join(name), bytes).unwrap();
-    }
-    std::os::unix::fs::symlink(&scene_dir, root.join("link")).unwrap();
+    let scene_dir = platoon_scenegen::twins::write_scene_folders(&root).unwrap();
     let forms = [
         (scene_dir.clone(), "scene.gltf"),
         (scene_dir.clone(), "./scene.gltf"),

@@ -329,6 +329,22 @@ pub fn with_separate_files() -> (String, Vec<(String, Vec<u8>)>) {
     )
 }
 
+/// Writes the [`with_separate_files`] scene under `root` as `scene/scene.gltf` (with
+/// `scene/scene.bin` and `scene/textures/checker.png`), beside an empty folder `other/` and a
+/// symlink `link` to `scene/`: every way a user names a scene. Returns `scene/`.
+pub fn write_scene_folders(root: &std::path::Path) -> std::io::Result<std::path::PathBuf> {
+    let scene_dir = root.join("scene");
+    std::fs::create_dir_all(scene_dir.join("textures"))?;
+    std::fs::create_dir_all(root.join("other"))?;
+    let (json, files) = with_separate_files();
+    std::fs::write(scene_dir.join("scene.gltf"), json)?;
+    for (name, bytes) in files {
+        std::fs::write(scene_dir.join(name), bytes)?;
+    }
+    std::os::unix::fs::symlink(&scene_dir, root.join("link"))?;
+    Ok(scene_dir)
+}
+
 /// The JSON and the binary chunk of a .glb written by [`glb`].
 pub fn split_glb(bytes: &[u8]) -> (Value, Vec<u8>) {
     let u32_at =

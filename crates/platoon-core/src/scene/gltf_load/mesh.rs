@@ -69,10 +69,7 @@ fn read_targets(
                 dims: Dimensions::Vec3,
             },
         )?;
-        let v: Vec<Vec3> = attributes::read::<3>(&a, buffers)?
-            .into_iter()
-            .map(Vec3::from_array)
-            .collect();
+        let v = read_as(Some(a), buffers, Vec3::from_array)?.unwrap_or_default();
         if v.len() != n {
             return Err(format!(
                 "mesh '{name}': a morph target's {what} has {} entries for {n} vertices",
@@ -90,6 +87,17 @@ fn read_targets(
             })
         })
         .collect()
+}
+
+/// An attribute's elements, if the primitive has it, each converted to a glam vector.
+fn read_as<const N: usize, T>(
+    accessor: Option<gltf::Accessor>,
+    buffers: &[Vec<u8>],
+    convert: fn([f32; N]) -> T,
+) -> Check<Option<Vec<T>>> {
+    accessor
+        .map(|a| attributes::read::<N>(&a, buffers).map(|v| v.into_iter().map(convert).collect()))
+        .transpose()
 }
 
 fn read_primitive(
@@ -131,30 +139,9 @@ fn read_primitive(
             ))
         }
     };
-    let read3 = |s: Semantic| -> Check<Option<Vec<Vec3>>> {
-        attribute(s)
-            .map(|a| {
-                attributes::read::<3>(&a, buffers)
-                    .map(|v| v.into_iter().map(Vec3::from_array).collect())
-            })
-            .transpose()
-    };
-    let read2 = |s: Semantic| -> Check<Option<Vec<Vec2>>> {
-        attribute(s)
-            .map(|a| {
-                attributes::read::<2>(&a, buffers)
-                    .map(|v| v.into_iter().map(Vec2::from_array).collect())
-            })
-            .transpose()
-    };
-    let read4 = |s: Semantic| -> Check<Option<Vec<Vec4>>> {
-        attribute(s)
-            .map(|a| {
-                attributes::read::<4>(&a, buffers)
-                    .map(|v| v.into_iter().map(Vec4::from_array).collect())
-            })
-            .transpose()
-    };
+    let read3 = |s| read_as(attribute(s), buffers, Vec3::from_array);
+    let read2 = |s| read_as(attribute(s), buffers, Vec2::from_array);
+    let read4 = |s| read_as(attribute(s), buffers, Vec4::from_array);
     let colors = match attribute(Semantic::Colors(0)) {
         Some(a) if a.dimensions() == Dimensions::Vec3 => Some(
             attributes::read::<3>(&a, buffers)?
