@@ -141,4 +141,33 @@ mod tests {
         assert_eq!(component(&[0xfe, 0xff], 0, DataType::I16, false), -2.0);
         assert_eq!(component(&[200], 0, DataType::U8, false), 200.0);
     }
+
+    #[test]
+    fn sparse_entries_replace_their_elements_with_or_without_a_view() {
+        // Buffer: four VEC2 floats (0,1) (2,3) (4,5) (6,7), then sparse indices u8 [1, 3]
+        // (padded to 4 bytes), then their values (9,9) (7,7).
+        let mut bin: Vec<u8> = (0..8).flat_map(|v| (v as f32).to_le_bytes()).collect();
+        bin.extend([1u8, 3, 0, 0]);
+        bin.extend([9.0f32, 9.0, 7.0, 7.0].iter().flat_map(|v| v.to_le_bytes()));
+        let json = r#"{"asset": {"version": "2.0"},
+            "buffers": [{"byteLength": 52}],
+            "bufferViews": [{"buffer": 0, "byteLength": 32}, {"buffer": 0, "byteOffset": 32, "byteLength": 4},
+                            {"buffer": 0, "byteOffset": 36, "byteLength": 16}],
+            "accessors": [
+                {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC2",
+                 "sparse": {"count": 2, "indices": {"bufferView": 1, "componentType": 5121}, "values": {"bufferView": 2}}},
+                {"componentType": 5126, "count": 4, "type": "VEC2",
+                 "sparse": {"count": 2, "indices": {"bufferView": 1, "componentType": 5121}, "values": {"bufferView": 2}}}]}"#;
+        let gltf = gltf::Gltf::from_slice_without_validation(json.as_bytes()).unwrap();
+        let accessors: Vec<_> = gltf.document.accessors().collect();
+        let buffers = [bin];
+        assert_eq!(
+            read::<2>(&accessors[0], &buffers).unwrap(),
+            [[0.0, 1.0], [9.0, 9.0], [4.0, 5.0], [7.0, 7.0]]
+        );
+        assert_eq!(
+            read::<2>(&accessors[1], &buffers).unwrap(),
+            [[0.0, 0.0], [9.0, 9.0], [0.0, 0.0], [7.0, 7.0]]
+        );
+    }
 }
