@@ -23,12 +23,18 @@ vec4 srgb_to_linear(vec4 c) {
     return vec4(mix(lo, hi, greaterThan(c.rgb, vec3(0.04045))), c.a);
 }
 
-// Bilinear lookup; sRGB textures are decoded per texel before filtering.
+// Bilinear lookup (the texel under uv with magFilter NEAREST); sRGB textures are decoded per
+// texel before filtering.
 vec4 sample_texture(int index, vec2 uv, bool srgb) {
     Texture t = texture_at(index);
     vec2 p = uv * vec2(t.width, t.height) - 0.5;
     if (any(isnan(p)) || any(isinf(p))) p = vec2(0.0);
     p = clamp(p, vec2(-1e7), vec2(1e7));
+    if ((t.wrap & 16u) != 0u) {
+        ivec2 n = ivec2(floor(p + 0.5));
+        vec4 c = texel(t, n.x, n.y);
+        return srgb ? srgb_to_linear(c) : c;
+    }
     vec2 f = fract(p);
     ivec2 i = ivec2(floor(p));
     vec4 a = texel(t, i.x, i.y), b = texel(t, i.x + 1, i.y);

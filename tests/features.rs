@@ -219,6 +219,7 @@ fn texture_larger_than_the_storage_buffer_range_renders_on_every_path() {
         rgba8: [128u8, 128, 128, 255].repeat((side * side) as usize),
         wrap_s: Wrap::Repeat,
         wrap_t: Wrap::Repeat,
+        nearest: false,
     };
     assert!(texture.rgba8.len() > 128 << 20);
     let mut scene = ground(vec![], vec![]);

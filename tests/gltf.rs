@@ -308,3 +308,28 @@ fn gpu_instancing_draws_each_instance_as_a_node_of_its_transform_would() {
     assert_eq!(load_glb(&instanced).triangle_count(), 3 * 32);
     assert!(a == b, "instances render unlike the nodes they stand for");
 }
+
+#[test]
+fn a_nearest_magnification_filter_keeps_texels_sharp() {
+    // Pixels where red and blue both show: bilinear blends the two texels across the quad,
+    // NEAREST only in the pixels that straddle the texels' edge.
+    let mixed = |nearest: bool| {
+        let film = render_twin(
+            &platoon_scenegen::twins::magnified(nearest),
+            32,
+            4,
+            1.0,
+            Sampling::Mis,
+        );
+        film.pixels
+            .iter()
+            .filter(|p| p[0].min(p[2]) > 0.05 * p[0].max(p[2]) && p[1] < 0.5 * p[0].max(p[2]))
+            .count()
+    };
+    let (sharp, blended) = (mixed(true), mixed(false));
+    assert!(
+        sharp <= 2 * 32,
+        "{sharp} pixels mix the texels under NEAREST"
+    );
+    assert!(blended > 400, "only {blended} pixels blend under LINEAR");
+}

@@ -875,3 +875,17 @@ pub fn gpu_instancing() -> (Vec<u8>, Vec<u8>) {
     };
     (write(true), write(false))
 }
+
+/// A quad textured by two texels, red | blue, with magFilter NEAREST (`nearest`) or LINEAR.
+pub fn magnified(nearest: bool) -> Vec<u8> {
+    let (_, _, uv, _) = quad();
+    let mut doc = Doc::default();
+    let prims = uv_quad(&mut doc, &uv, None, 0);
+    let img = doc.image(
+        &png(2, 1, vec![255, 0, 0, 255, 0, 0, 255, 255]),
+        "image/png",
+    );
+    let mut root = texture_root(img, json!([textured(json!({"index": 0}))]), &[]);
+    root["samplers"][0]["magFilter"] = json!(if nearest { 9728 } else { 9729 });
+    doc.glb(vec![prims], vec![json!({})], root)
+}

@@ -82,7 +82,8 @@ pub struct GpuTexture {
     pub offset: u32,
     pub width: u32,
     pub height: u32,
-    /// wrap_s | wrap_t << 2 (0 repeat, 1 mirrored repeat, 2 clamp)
+    /// wrap_s | wrap_t << 2 (0 repeat, 1 mirrored repeat, 2 clamp) | nearest << 4 (glTF
+    /// magFilter NEAREST)
     pub wrap: u32,
 }
 

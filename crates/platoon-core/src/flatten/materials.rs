@@ -16,7 +16,7 @@ pub(super) fn add(scene: &Scene, g: &mut GpuScene) {
             offset: g.texels.len() as u32,
             width: t.width,
             height: t.height,
-            wrap: wrap_code(t.wrap_s) | wrap_code(t.wrap_t) << 2,
+            wrap: wrap_code(t.wrap_s) | wrap_code(t.wrap_t) << 2 | (t.nearest as u32) << 4,
         });
         g.texels.extend(
             t.rgba8

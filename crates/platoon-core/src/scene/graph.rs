@@ -184,6 +184,8 @@ pub struct Texture {
     pub rgba8: Vec<u8>,
     pub wrap_s: Wrap,
     pub wrap_t: Wrap,
+    /// glTF magFilter NEAREST: magnified texels stay sharp (pixel art); else bilinear.
+    pub nearest: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

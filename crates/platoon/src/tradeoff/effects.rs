@@ -146,6 +146,7 @@ mod tests {
             rgba8: vec![255, 255, 255, 255, 0, 0, 0, 255],
             wrap_s: Wrap::Repeat,
             wrap_t: Wrap::Repeat,
+            nearest: false,
         });
         scene.materials.push(Material {
             base_color_texture: Some(TextureRef::new(0)),
