@@ -207,4 +207,39 @@ fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
     });
     let _ = view.kill();
     let _ = view.wait();
+
+    // A scene with separate buffer and texture files, named bare from its own folder.
+    let dir = tempfile::tempdir().unwrap();
+    let scene_dir = platoon_scenegen::twins::write_scene_folders(dir.path()).unwrap();
+    let mut view = platoon()
+        .current_dir(&scene_dir)
+        .args([
+            "view",
+            "scene.gltf",
+            "--size",
+            "24x16",
+            "--devices",
+            "lavapipe:1",
+        ])
+        .args(["--frames", "3000"])
+        .env("DISPLAY", &x.display)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for(Duration::from_secs(120), || {
+        if let Some(status) = view.try_wait().unwrap() {
+            let err = std::io::read_to_string(view.stderr.take().unwrap()).unwrap();
+            panic!(
+                "the viewer of scene.gltf ended before its window showed frames ({status}): {err}"
+            );
+        }
+        let id = x.xdotool(&["search", "--name", "^platoon"]);
+        let id = id.lines().next()?.to_string();
+        x.xdotool(&["getwindowname", &id])
+            .contains("spp")
+            .then_some(())
+    });
+    let _ = view.kill();
+    let _ = view.wait();
 }

@@ -273,6 +273,66 @@ pub fn skin_mesh(mesh: &Mesh, skin: &Skin, world: &[Mat4]) -> Mesh {
 mod tests {
     use super::*;
 
+    fn morphing_vertex() -> Mesh {
+        Mesh {
+            positions: vec![Vec3::ZERO],
+            normals: vec![Vec3::Z],
+            tangents: vec![Vec4::new(1.0, 0.0, 0.0, -1.0)],
+            indices: vec![[0, 0, 0]],
+            triangle_materials: vec![0],
+            targets: vec![crate::scene::MorphTarget {
+                positions: vec![Vec3::X],
+                normals: vec![Vec3::Y],
+                tangents: vec![Vec3::Y],
+            }],
+            morph_weights: vec![1.0],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn morphs_blend_positions_normals_and_tangents_keeping_handedness() {
+        let m = morph_mesh(&morphing_vertex(), &[0.5]);
+        assert_eq!(m.positions[0], Vec3::new(0.5, 0.0, 0.0));
+        assert!((m.normals[0] - Vec3::new(0.0, 0.5, 1.0).normalize()).length() < 1e-6);
+        assert!((m.tangents[0].truncate() - Vec3::new(1.0, 0.5, 0.0).normalize()).length() < 1e-6);
+        assert_eq!(m.tangents[0].w, -1.0);
+        assert!(m.targets.is_empty(), "the morphed mesh carries no targets");
+    }
+
+    #[test]
+    fn a_skinned_mesh_is_morphed_first_then_skinned_at_the_nodes_weights() {
+        use crate::scene::{Node, Scene};
+        let mut scene = Scene {
+            meshes: vec![std::sync::Arc::new(morphing_vertex())],
+            ..Default::default()
+        };
+        scene.meshes[0] = std::sync::Arc::new(Mesh {
+            joints: vec![[0, 0, 0, 0]],
+            weights: vec![Vec4::X],
+            ..morphing_vertex()
+        });
+        let mut joint = Node::new("joint");
+        joint.translation = glam::DVec3::new(0.0, 2.0, 0.0);
+        let mut skinned = Node::new("skinned");
+        skinned.mesh = Some(0);
+        skinned.skin = Some(0);
+        skinned.weights = Some(vec![0.25]);
+        scene.nodes = vec![joint, skinned];
+        scene.skins.push(Skin {
+            name: String::new(),
+            joints: vec![0],
+            inverse_bind_matrices: Vec::new(),
+        });
+        let posed = scene.pose(0.0);
+        let instance = posed.instances.iter().find(|i| i.node == 1).expect("posed");
+        // Morphed to (0.25, 0, 0) by the node's weight (not the mesh's 1), then moved by the joint.
+        assert_eq!(
+            posed.meshes[instance.mesh].positions[0],
+            Vec3::new(0.25, 2.0, 0.0)
+        );
+    }
+
     #[test]
     fn linear_translation_interpolates_and_clamps() {
         let ch = Channel {
