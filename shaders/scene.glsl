@@ -36,7 +36,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Li
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Accum { vec4 v[]; };
 // stats: [0] rejected (NaN/Inf) samples, [1..3] unused, [4 + y] rays traced in row y
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Stats { uint v[]; };
-// IGI's virtual point lights (igi/emit.comp), its gathering vertices (igi/vertex.glsl) and, with IGI_FILTERED, three vec4 per pixel for
+// IGI's virtual point lights (igi/emit.comp), its gathering vertices (igi/camera.comp) and, with IGI_FILTERED, three vec4 per pixel for
 // the filters after assembly (IgiTexel in crates/platoon-core/src/igi/mod.rs).
 struct Vpl { vec4 position; vec4 normal; vec4 power; };
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vpls { Vpl v[]; };

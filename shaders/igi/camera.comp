@@ -1,6 +1,6 @@
 #version 460
 // IGI, camera pass (one sample per dispatch): the path tracer's camera paths (path.glsl), whose
-// first diffuse vertex is recorded for the gather passes (vertex.glsl) instead of being lit by
+// first diffuse vertex is recorded for the gather passes (IgiVertex, scene.glsl) instead of being lit by
 // indirect paths. Direct light and specular chains are the path tracer's, so only indirect
 // diffuse light is approximated. With IGI_FILTERED it also adds the pixel's G-buffer sums for
 // the filters after assembly. Defines: crates/platoon-core/src/flatten/features.rs.

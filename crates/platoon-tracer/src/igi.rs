@@ -15,7 +15,7 @@ use crate::dispatch::{record_dispatch, timestamp};
 use crate::globals::Push;
 use crate::kernel::{EMIT_VPLS, GATHER};
 use crate::tracer::Tracer;
-use crate::{Error, Result, VkContext};
+use crate::{Error, Result};
 
 const VPL_BYTES: u64 = 48;
 const TEXEL_BYTES: u64 = std::mem::size_of::<IgiTexel>() as u64;
@@ -215,23 +215,5 @@ impl Tracer {
             push.igi_downsample = o.downsample;
             push.igi_tile = o.interleave;
         }
-    }
-
-    /// The time between the two timestamps of the last submission (zero without timestamps).
-    pub(crate) fn timestamps(&self) -> Result<Duration> {
-        let Some(q) = self.query_pool else {
-            return Ok(Duration::ZERO);
-        };
-        let mut ts = [0u64; 2];
-        unsafe {
-            self.ctx
-                .device
-                .get_query_pool_results(q, 0, &mut ts, vk::QueryResultFlags::TYPE_64)
-        }
-        .ctx("reading timestamps")?;
-        let period = self.ctx.properties.limits.timestamp_period as f64;
-        Ok(Duration::from_nanos(
-            (ts[1].saturating_sub(ts[0]) as f64 * period) as u64,
-        ))
     }
 }

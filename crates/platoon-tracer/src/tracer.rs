@@ -2,6 +2,7 @@
 
 use std::collections::HashMap;
 use std::mem::ManuallyDrop;
+use std::time::Duration;
 
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -63,6 +64,24 @@ pub struct Tracer {
 unsafe impl Send for Tracer {}
 
 impl Tracer {
+    /// The time between the two timestamps of the last submission (zero without timestamps).
+    pub(crate) fn timestamps(&self) -> Result<Duration> {
+        let Some(q) = self.query_pool else {
+            return Ok(Duration::ZERO);
+        };
+        let mut ts = [0u64; 2];
+        unsafe {
+            self.ctx
+                .device
+                .get_query_pool_results(q, 0, &mut ts, vk::QueryResultFlags::TYPE_64)
+        }
+        .ctx("reading timestamps")?;
+        let period = self.ctx.properties.limits.timestamp_period as f64;
+        Ok(Duration::from_nanos(
+            (ts[1].saturating_sub(ts[0]) as f64 * period) as u64,
+        ))
+    }
+
     pub fn new(options: &TracerOptions, scene: &GpuScene) -> Result<Tracer> {
         let ctx = Context::new(options.device, options.validation, options.lavapipe_threads)?;
         let device = ctx.device.clone();

@@ -6,7 +6,7 @@
 
 mod cost_aware;
 mod cycles;
-mod none;
+mod equal_split;
 mod perfect;
 mod perfect_smooth;
 pub mod replay;
@@ -14,7 +14,7 @@ mod robin_hood;
 
 pub use cost_aware::{fractional_cuts, spans_at, CostAware};
 pub use cycles::CyclesDamped;
-pub use none::EqualSplit;
+pub use equal_split::EqualSplit;
 pub use perfect::Perfect;
 pub use perfect_smooth::PerfectSmooth;
 pub use robin_hood::RobinHood;

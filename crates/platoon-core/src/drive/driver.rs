@@ -18,7 +18,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use super::film::Accumulation;
+use super::accumulation::Accumulation;
 use super::plan::{FramePlan, Join, Motion, Planner};
 use super::scaling::{BelowOneSample, Workload, WorkloadScaler};
 use super::{Pipeline, QueryScene, UpdateTimes};

@@ -6,8 +6,8 @@
 //! each game frame's samples and how they join the film; [`driver::FrameDriver`] carries the
 //! plan out, one call per game frame, with the tracers on their threads and the [`film`].
 
+pub mod accumulation;
 pub mod driver;
-pub mod film;
 pub mod pipeline;
 pub mod plan;
 pub mod queries;

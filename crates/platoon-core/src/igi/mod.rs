@@ -151,7 +151,7 @@ impl IgiOptions {
     }
 
     /// The gather grid: the pixels that gather indirect light, one per k x k cell, at the
-    /// cell's centre (the last cell's clamped into the frame). Mirrors shaders/igi/gather.glsl.
+    /// cell's centre (the last cell's clamped into the frame). Mirrors shaders/igi/pixel.glsl.
     pub fn grid(&self, width: u32, height: u32) -> Grid {
         Grid {
             k: self.downsample.max(1),
