@@ -2,6 +2,7 @@
 //! array plus the per-render parameters. Mirrors `Globals` in shaders/scene.glsl (std430).
 
 use bytemuck::{Pod, Zeroable};
+use platoon_core::flatten::arrays::SceneArray;
 use platoon_core::frame::FrameParams;
 
 #[repr(C)]
@@ -45,6 +46,29 @@ pub(crate) struct Globals {
 }
 
 impl Globals {
+    /// The field holding `array`'s buffer device address (its `globals_field` in the table).
+    pub fn address_mut(&mut self, array: SceneArray) -> &mut u64 {
+        use SceneArray::*;
+        match array {
+            Vertices => &mut self.vertices,
+            TrianglePositions => &mut self.tri_pos,
+            Triangles => &mut self.triangles,
+            TriangleLights => &mut self.tri_lights,
+            Blas => &mut self.blas,
+            Tlas => &mut self.tlas,
+            Instances => &mut self.instances,
+            Materials => &mut self.materials,
+            Textures => &mut self.textures,
+            Texels => &mut self.texels,
+            Lights => &mut self.lights,
+            LightCdf => &mut self.light_cdf,
+            EnvTexels => &mut self.env_texels,
+            EnvMarginal => &mut self.env_marginal,
+            EnvConditional => &mut self.env_conditional,
+            VertexExtras => &mut self.vertex_extras,
+        }
+    }
+
     /// This block with the camera, frame parameters and per-frame buffers of one render.
     pub fn for_frame(
         &self,

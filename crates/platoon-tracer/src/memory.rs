@@ -52,72 +52,17 @@ pub struct MemoryLimits {
     pub cpu: bool,
 }
 
-/// One scene array: its name, the defines that select its texel or storage path in
-/// shaders/scene_arrays.glsl, and the size of its texels (16 bytes for arrays of vec4-sized
-/// structs, 4 for arrays of scalars).
-pub struct SceneArray {
-    pub name: &'static str,
-    pub texel_define: &'static str,
-    pub storage_define: &'static str,
-    pub texel_bytes: u64,
-}
+/// The read-only scene arrays in upload and binding order: core's table, which
+/// shaders/scene_arrays.glsl is checked against.
+pub use platoon_core::flatten::arrays::ArrayInfo as SceneArray;
 
-const fn array(
-    name: &'static str,
-    texel_define: &'static str,
-    storage_define: &'static str,
-    texel_bytes: u64,
-) -> SceneArray {
-    SceneArray {
-        name,
-        texel_define,
-        storage_define,
-        texel_bytes,
-    }
-}
-
-/// The read-only scene arrays in upload and binding order. Must match
-/// shaders/scene_arrays.glsl.
-pub const SCENE_ARRAYS: [SceneArray; 16] = [
-    array("vertices", "TEXEL_VERTICES", "SSBO_VERTICES", 16),
-    array("triangle positions", "TEXEL_TRI_POS", "SSBO_TRI_POS", 16),
-    array("triangles", "TEXEL_TRIANGLES", "SSBO_TRIANGLES", 16),
-    array("triangle lights", "TEXEL_TRI_LIGHTS", "SSBO_TRI_LIGHTS", 4),
-    array("blas", "TEXEL_BLAS", "SSBO_BLAS", 16),
-    array("tlas", "TEXEL_TLAS", "SSBO_TLAS", 16),
-    array("instances", "TEXEL_INSTANCES", "SSBO_INSTANCES", 16),
-    array("materials", "TEXEL_MATERIALS", "SSBO_MATERIALS", 16),
-    array("textures", "TEXEL_TEXTURES", "SSBO_TEXTURES", 16),
-    array("texels", "TEXEL_TEXELS", "SSBO_TEXELS", 4),
-    array("lights", "TEXEL_LIGHTS", "SSBO_LIGHTS", 16),
-    array("light cdf", "TEXEL_LIGHT_CDF", "SSBO_LIGHT_CDF", 4),
-    array("environment", "TEXEL_ENV_TEXELS", "SSBO_ENV_TEXELS", 16),
-    array(
-        "environment marginal",
-        "TEXEL_ENV_MARGINAL",
-        "SSBO_ENV_MARGINAL",
-        4,
-    ),
-    array(
-        "environment conditional",
-        "TEXEL_ENV_CONDITIONAL",
-        "SSBO_ENV_CONDITIONAL",
-        4,
-    ),
-    array(
-        "vertex extras",
-        "TEXEL_VERTEX_EXTRAS",
-        "SSBO_VERTEX_EXTRAS",
-        16,
-    ),
-];
+pub const SCENE_ARRAYS: [SceneArray; platoon_core::flatten::arrays::ARRAY_COUNT] =
+    platoon_core::flatten::arrays::ARRAYS_INFO;
 
 /// The bytes of each scene array of `s`, in `SCENE_ARRAYS` order.
-pub fn scene_array_bytes(s: &GpuScene) -> [&[u8]; 16] {
+pub fn scene_array_bytes(s: &GpuScene) -> [&[u8]; SCENE_ARRAYS.len()] {
     s.array_bytes()
 }
-
-const _: () = assert!(SCENE_ARRAYS.len() == platoon_core::flatten::commit::ARRAY_COUNT);
 
 /// The path of each scene array of these byte sizes (`SCENE_ARRAYS` order).
 pub fn choose(sizes: &[u64], limits: &MemoryLimits, policy: MemoryPath) -> Vec<ArrayPath> {
@@ -319,7 +264,7 @@ mod tests {
 
     #[test]
     fn arrays_past_the_limits_fall_back_to_the_next_path() {
-        let mut sizes = [16u64; 16];
+        let mut sizes = [16u64; SCENE_ARRAYS.len()];
         sizes[9] = 149_000_000; // a texel array past lavapipe's 128 MiB storage range
         sizes[4] = 3 << 30; // 192 Mi texels: past the texel limit too
         let auto = choose(&sizes, &LAVAPIPE, MemoryPath::Auto);

@@ -340,26 +340,13 @@ impl Tracer {
 
     /// The Globals fields that come from the scene: array addresses, counts, environment.
     pub(crate) fn refresh_globals(&mut self, h: &SceneHeader) {
-        let a: Vec<u64> = self.scene.list.iter().map(|b| b.address).collect();
-        let mut g = Globals {
-            vertices: a[0],
-            tri_pos: a[1],
-            triangles: a[2],
-            tri_lights: a[3],
-            blas: a[4],
-            tlas: a[5],
-            instances: a[6],
-            materials: a[7],
-            textures: a[8],
-            texels: a[9],
-            lights: a[10],
-            light_cdf: a[11],
-            env_texels: a[12],
-            env_marginal: a[13],
-            env_conditional: a[14],
-            vertex_extras: a[15],
-            ..Default::default()
-        };
+        let mut g = Globals::default();
+        for ((array, _), buffer) in platoon_core::flatten::arrays::ARRAYS
+            .iter()
+            .zip(&self.scene.list)
+        {
+            *g.address_mut(*array) = buffer.address;
+        }
         g.env_color = [
             h.env_color[0],
             h.env_color[1],

@@ -7,6 +7,7 @@
 
 use glam::{Vec3, Vec4};
 
+use crate::flatten::arrays::SceneArray;
 use crate::flatten::bvh::{unpack_item, BvhNode};
 use crate::flatten::commit::{Commit, SceneHeader, ARRAY_COUNT};
 use crate::flatten::{GpuInstance, GpuScene};
@@ -31,11 +32,11 @@ pub struct QueryHit {
     pub triangle: u32,
 }
 
-const TRI_POS: usize = 1;
-const TRIANGLES: usize = 2;
-const BLAS: usize = 4;
-const TLAS: usize = 5;
-const INSTANCES: usize = 6;
+const TRI_POS: usize = SceneArray::TrianglePositions.index();
+const TRIANGLES: usize = SceneArray::Triangles.index();
+const BLAS: usize = SceneArray::Blas.index();
+const TLAS: usize = SceneArray::Tlas.index();
+const INSTANCES: usize = SceneArray::Instances.index();
 
 impl QueryScene {
     pub fn new(scene: &GpuScene) -> QueryScene {
@@ -70,32 +71,34 @@ impl QueryScene {
         fn typed<T: bytemuck::Pod>(words: &[u32]) -> Vec<T> {
             bytemuck::pod_collect_to_vec(bytemuck::cast_slice::<u32, u8>(words))
         }
-        let a = &self.arrays;
+        use SceneArray::*;
+        let a = |array: SceneArray| &self.arrays[array.index()];
         let h = &self.header;
-        let triangles: Vec<crate::flatten::GpuTriangle> = typed(&a[2]);
+        let triangles: Vec<crate::flatten::GpuTriangle> = typed(a(Triangles));
         GpuScene {
-            vertices: typed(&a[0]),
-            triangle_positions: typed(&a[1]),
+            vertices: typed(a(Vertices)),
+            vertex_extras: typed(a(VertexExtras)),
+            triangle_positions: typed(a(TrianglePositions)),
             triangle_count: triangles.len(),
             triangles,
-            triangle_lights: typed(&a[3]),
-            blas_nodes: typed(&a[4]),
-            tlas_nodes: typed(&a[5]),
+            triangle_lights: typed(a(TriangleLights)),
+            blas_nodes: typed(a(Blas)),
+            tlas_nodes: typed(a(Tlas)),
             tlas_root: h.tlas_root,
-            instances: typed(&a[6]),
-            materials: typed(&a[7]),
-            textures: typed(&a[8]),
-            texels: typed(&a[9]),
-            lights: typed(&a[10]),
-            light_cdf: typed(&a[11]),
+            instances: typed(a(Instances)),
+            materials: typed(a(Materials)),
+            textures: typed(a(Textures)),
+            texels: typed(a(Texels)),
+            lights: typed(a(Lights)),
+            light_cdf: typed(a(LightCdf)),
             env: crate::flatten::GpuEnvironment {
                 kind: h.env_kind,
                 color: h.env_color,
                 width: h.env_size[0],
                 height: h.env_size[1],
-                texels: typed(&a[12]),
-                marginal_cdf: typed(&a[13]),
-                conditional_cdf: typed(&a[14]),
+                texels: typed(a(EnvTexels)),
+                marginal_cdf: typed(a(EnvMarginal)),
+                conditional_cdf: typed(a(EnvConditional)),
                 integral: h.env_integral,
                 mean_radiance: [0.0; 3],
             },

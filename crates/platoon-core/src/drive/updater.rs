@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use glam::DVec3;
 
 use crate::error::Result;
+use crate::flatten::arrays::SceneArray;
 use crate::flatten::bvh::{build_mesh_bvh, FlatBvh};
 use crate::flatten::commit::Commit;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
@@ -490,7 +491,12 @@ struct Levels {
 }
 
 /// The arrays rebuilt whole every generation: top level, instances, lights, selection CDF.
-const TOP_ARRAYS: [usize; 4] = [5, 6, 10, 11];
+const TOP_ARRAYS: [usize; 4] = [
+    SceneArray::Tlas.index(),
+    SceneArray::Instances.index(),
+    SceneArray::Lights.index(),
+    SceneArray::LightCdf.index(),
+];
 
 fn top_arrays(g: &GpuScene) -> [Vec<u8>; 4] {
     let b = g.array_bytes();

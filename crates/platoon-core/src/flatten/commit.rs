@@ -4,14 +4,20 @@
 //! frame where only the camera moved commits no scene bytes at all and a skinned character
 //! commits its own vertices, triangles and nodes but not the static world around it.
 
+pub use super::arrays::ARRAY_COUNT;
+use super::arrays::{SceneArray, ARRAYS};
 use super::GpuScene;
-
-/// The scene arrays in upload and binding order (the tracer's `SCENE_ARRAYS` follow it).
-pub const ARRAY_COUNT: usize = 16;
 
 /// Indices of the arrays that hold mesh data (vertices, triangle positions, triangles, their
 /// light indices, bottom-level nodes, vertex extras): what a camera-only frame must not send.
-pub const MESH_ARRAYS: [usize; 6] = [0, 1, 2, 3, 4, 15];
+pub const MESH_ARRAYS: [usize; 6] = [
+    SceneArray::Vertices.index(),
+    SceneArray::TrianglePositions.index(),
+    SceneArray::Triangles.index(),
+    SceneArray::TriangleLights.index(),
+    SceneArray::Blas.index(),
+    SceneArray::VertexExtras.index(),
+];
 
 /// Granularity of the comparison: small enough that a moving character does not drag its
 /// neighbours along, large enough that a commit holds few ranges.
@@ -20,25 +26,31 @@ pub const CHUNK_BYTES: usize = 16 << 10;
 impl GpuScene {
     /// The bytes of each scene array, in binding order.
     pub fn array_bytes(&self) -> [&[u8]; ARRAY_COUNT] {
+        ARRAYS.map(|(array, _)| self.bytes_of(array))
+    }
+
+    /// The bytes of one scene array.
+    pub fn bytes_of(&self, array: SceneArray) -> &[u8] {
         use bytemuck::cast_slice as b;
-        [
-            b(&self.vertices),
-            b(&self.triangle_positions),
-            b(&self.triangles),
-            b(&self.triangle_lights),
-            b(&self.blas_nodes),
-            b(&self.tlas_nodes),
-            b(&self.instances),
-            b(&self.materials),
-            b(&self.textures),
-            b(&self.texels),
-            b(&self.lights),
-            b(&self.light_cdf),
-            b(&self.env.texels),
-            b(&self.env.marginal_cdf),
-            b(&self.env.conditional_cdf),
-            b(&self.vertex_extras),
-        ]
+        use SceneArray::*;
+        match array {
+            Vertices => b(&self.vertices),
+            TrianglePositions => b(&self.triangle_positions),
+            Triangles => b(&self.triangles),
+            TriangleLights => b(&self.triangle_lights),
+            Blas => b(&self.blas_nodes),
+            Tlas => b(&self.tlas_nodes),
+            Instances => b(&self.instances),
+            Materials => b(&self.materials),
+            Textures => b(&self.textures),
+            Texels => b(&self.texels),
+            Lights => b(&self.lights),
+            LightCdf => b(&self.light_cdf),
+            EnvTexels => b(&self.env.texels),
+            EnvMarginal => b(&self.env.marginal_cdf),
+            EnvConditional => b(&self.env.conditional_cdf),
+            VertexExtras => b(&self.vertex_extras),
+        }
     }
 }
 
@@ -231,7 +243,7 @@ mod tests {
         let c = Commit::between(&old, &new);
         assert_eq!(c.arrays.len(), 1);
         let a = &c.arrays[0];
-        assert_eq!(a.array, 9);
+        assert_eq!(a.array, SceneArray::Texels.index());
         assert_eq!(a.len, new.texels.len() as u64 * 4);
         let chunk = CHUNK_BYTES as u64;
         assert_eq!(a.ranges, vec![(chunk, chunk), (3 * chunk, 20)]);

@@ -6,6 +6,7 @@
 //! [`refit`] keeps a deforming mesh's BVH from frame to frame; [`commit`] says what changed
 //! between two flattened scenes.
 
+pub mod arrays;
 pub mod bvh;
 pub mod commit;
 pub mod features;
