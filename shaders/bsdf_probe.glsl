@@ -16,7 +16,7 @@ vec3 bsdf_probe(uvec2 pixel) {
     vec3 wo = to_local(-ray.dir, t, b, s.ns);
     Bsdf bsdf = make_bsdf(s, wo);
 #ifdef OUTPUT_BSDF_SAMPLE
-    Rng rng = rng_init(pixel, pc.sample_begin, F.params.y, F.params.z);
+    Rng rng = rng_init(pixel, pc.sample_begin, frame_index(), render_seed());
     BsdfSample bs;
     if (!bsdf_sample(bsdf, wo, rng, bs) || bs.delta) return vec3(0.0);
     return bs.wi;

@@ -23,7 +23,8 @@ ivec2 env_texel(vec2 uv) {
 
 // Discrete probability of texel (x, y) times the texel count: the uv-space density.
 float env_uv_pdf(ivec2 t) {
-    uint w = F.dims.z, h = F.dims.w;
+    uvec2 size = env_size();
+    uint w = size.x, h = size.y;
     float pm = env_marginal_at(t.y + 1) - env_marginal_at(t.y);
     uint row = uint(t.y) * (w + 1u);
     float pc_ = env_conditional_at(row + uint(t.x) + 1u) - env_conditional_at(row + uint(t.x));
@@ -32,12 +33,12 @@ float env_uv_pdf(ivec2 t) {
 #endif
 
 vec3 env_radiance(vec3 d) {
-    uint kind = F.counts.w;
-    if (kind == 0u) return vec3(0.0);
+    uint kind = env_kind();
+    if (kind == ENV_NONE) return vec3(0.0);
 #ifdef HAS_ENVIRONMENT_MAP
-    if (kind == 2u) {
+    if (kind == ENV_MAP) {
         ivec2 t = env_texel(direction_to_uv(d));
-        return env_texel_at(uint(t.y) * F.dims.z + uint(t.x)).rgb;
+        return env_texel_at(uint(t.y) * env_size().x + uint(t.x)).rgb;
     }
 #endif
     return F.env_color.rgb;
@@ -46,7 +47,7 @@ vec3 env_radiance(vec3 d) {
 // Solid-angle density of env_sample for direction d.
 float env_pdf(vec3 d) {
 #ifdef HAS_ENVIRONMENT_MAP
-    if (F.counts.w == 2u) {
+    if (env_kind() == ENV_MAP) {
         vec2 uv = direction_to_uv(d);
         float st = sqrt(max(0.0, 1.0 - d.y * d.y));
         if (st <= 0.0) return 0.0;
@@ -58,8 +59,9 @@ float env_pdf(vec3 d) {
 
 vec3 env_sample(vec2 u, out float pdf) {
 #ifdef HAS_ENVIRONMENT_MAP
-    if (F.counts.w == 2u) {
-        uint w = F.dims.z, h = F.dims.w;
+    if (env_kind() == ENV_MAP) {
+        uvec2 size = env_size();
+    uint w = size.x, h = size.y;
         uint y = search_cdf(CDF_ENV_ROWS, 0u, h, u.y);
         float c0 = env_marginal_at(y), c1 = env_marginal_at(y + 1u);
         float fy = c1 > c0 ? (u.y - c0) / (c1 - c0) : 0.5;

@@ -18,7 +18,7 @@ struct LightSample {
 // LIGHT_SELECT_UNIFORM one in n (every light alike, Bikker's baseline).
 float light_pick(Light l) {
 #ifdef LIGHT_SELECT_UNIFORM
-    return 1.0 / float(max(F.counts.x, 1u));
+    return 1.0 / float(max(light_count(), 1u));
 #else
     return l.emission.w;
 #endif
@@ -68,8 +68,8 @@ float triangle_light_pdf(Hit hit, vec3 ng_world, vec3 dir) {
 #endif
 
 float environment_light_pdf(vec3 dir) {
-    uint n = F.counts.x;
-    if (n == 0u || F.counts.w == 0u) return 0.0;
+    uint n = light_count();
+    if (n == 0u || env_kind() == ENV_NONE) return 0.0;
     // The environment is always the last entry.
     Light l = light_at(n - 1u);
     if (l.ids.x != LIGHT_ENVIRONMENT) return 0.0;
@@ -82,7 +82,7 @@ bool sample_one_light(vec3 p, inout Rng rng, out LightSample ls) {
     ls.pdf = 0.0;
     ls.delta = false;
     ls.infinite = false;
-    uint n = F.counts.x;
+    uint n = light_count();
     if (n == 0u) return false;
 #ifdef LIGHT_SELECT_UNIFORM
     Light l = light_at(min(uint(ul * float(n)), n - 1u));

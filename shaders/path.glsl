@@ -95,12 +95,10 @@ void igi_record(Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
 
 // Extends the path by one vertex; false once the path has ended (its radiance is in p.L).
 bool path_step(inout Path p, inout Rng rng, inout uint rays) {
-    uint max_depth = F.params.x;
-    uint rr_depth = F.params.w;
     Hit hit;
     rays++;
     if (!trace(p.ray, false, hit)) {
-        if (F.counts.w != 0u)
+        if (env_kind() != ENV_NONE)
             add_light(p.L, p.throughput * env_radiance(p.ray.dir) * emission_weight(p.after_delta, p.bsdf_pdf, environment_light_pdf(p.ray.dir)), p.depth);
         return false;
     }
@@ -126,7 +124,7 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     if (!any(greaterThan(p.throughput, vec3(0.0)))) return false;
 #endif
     // depth + 1 segments so far; the next vertex would make depth + 2 (Mitsuba's max_depth).
-    if (p.depth + 1u >= max_depth) return false;
+    if (p.depth + 1u >= max_depth()) return false;
 #ifdef CAMERA_RAYS_ONLY
     // Max depth 1 compiles the bounce away: llvmpipe runs every instruction of a loop body under
     // a lane mask whichever way its branches go, so code skipped at run time still costs.
@@ -204,12 +202,12 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     p.after_delta = bs.delta;
     p.bsdf_pdf = bs.pdf;
     if (!any(greaterThan(p.throughput, vec3(0.0)))) return false;
-    if (p.depth >= rr_depth) {
+    if (p.depth >= rr_depth()) {
 #ifdef RR_DETERMINISTIC
         // Bikker's deterministic path termination: the k-th test passes for the samples whose
         // index has bit k set, so of a pixel's N samples N/2 end at the first test, N/4 at the
         // second...; survivors weigh 2 per test. Paths cannot outlive log2(N) tests: biased.
-        uint test = p.depth - rr_depth;
+        uint test = p.depth - rr_depth();
         if (test >= 32u || ((p.sample_index >> test) & 1u) == 0u) return false;
         p.throughput *= 2.0;
 #else
@@ -247,7 +245,7 @@ vec3 pixel_samples(uvec2 pixel, vec3 sum, inout uint rays, inout uint rejected) 
     // passes, or earlier frames of a converging view) one sample at a time, so the bits do not
     // depend on how the samples were cut into passes or frames.
     uint si = pc.sample_begin;
-    Rng rng = rng_init(pixel, si, F.params.y, F.params.z);
+    Rng rng = rng_init(pixel, si, frame_index(), render_seed());
     Path p = path_start(camera_ray(pixel, rng), si);
     while (true) {
         if (path_step(p, rng, rays)) continue;
@@ -255,7 +253,7 @@ vec3 pixel_samples(uvec2 pixel, vec3 sum, inout uint rays, inout uint rejected) 
         if (any(isnan(p.L)) || any(isinf(p.L))) rejected++;
         else sum += p.L;
         if (++si == pc.sample_end) break;
-        rng = rng_init(pixel, si, F.params.y, F.params.z);
+        rng = rng_init(pixel, si, frame_index(), render_seed());
         p = path_start(camera_ray(pixel, rng), si);
     }
     return sum;

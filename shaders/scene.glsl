@@ -144,6 +144,22 @@ const float PI = 3.14159265358979323846;
 const float INV_PI = 0.31830988618379067154;
 const float INF = 1.0 / 0.0;
 
+// The per-render constants by name (Globals' vectors pack them; crates/platoon-tracer/src/globals.rs).
+uint light_count() { return F.counts.x; }
+uint instance_count() { return F.counts.y; }
+uint tlas_root() { return F.counts.z; }
+uint env_kind() { return F.counts.w; }
+uvec2 env_size() { return F.dims.zw; }
+uint max_depth() { return F.params.x; }
+uint frame_index() { return F.params.y; }
+uint render_seed() { return F.params.z; }
+uint rr_depth() { return F.params.w; }
+
+// env_kind(): GpuEnvironment::kind (crates/platoon-core/src/flatten/layout.rs).
+const uint ENV_NONE = 0u;
+const uint ENV_CONSTANT = 1u;
+const uint ENV_MAP = 2u;
+
 const uint LIGHT_TRIANGLE = 0u;
 const uint LIGHT_POINT = 1u;
 const uint LIGHT_SPOT = 2u;

@@ -8,11 +8,11 @@
 
 bool trace(Ray ray, bool any_hit, out Hit hit) {
     hit = Hit(ray.tmax, 0.0, 0.0, 0u, 0u);
-    if (F.counts.y == 0u) return false;
+    if (instance_count() == 0u) return false;
     RayTri world = ray_tri_setup(ray.origin, ray.dir);
     uint stack[32];
     int sp = 0;
-    uint item = F.counts.z;  // the root: inner node 0, or the one instance's leaf
+    uint item = tlas_root();  // the root: inner node 0, or the one instance's leaf
     bool found = false;
     while (true) {
         uint count = item & ITEM_COUNT_MASK, index = item >> ITEM_INDEX_SHIFT;

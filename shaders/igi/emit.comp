@@ -41,7 +41,7 @@ float radical_inverse(uint base, uint i) {
 // frames that continue a converging view's sums (first sample past 0), of the first sample: each
 // such frame gathers a VPL set of its own, and the film averages over sets.
 float halton(uint i, uint d) {
-    uint h = pcg_hash(pcg_hash(pcg_hash(F.params.z ^ 0x68bc21ebu) ^ F.params.y) ^ d);
+    uint h = pcg_hash(pcg_hash(pcg_hash(render_seed() ^ 0x68bc21ebu) ^ frame_index()) ^ d);
     if (pc.sample_begin != 0u) h = pcg_hash(h ^ (pc.sample_begin * 0x9e3779b9u));
     float u = radical_inverse(PRIMES[d], i + 1u) + float(h >> 8) * (1.0 / 16777216.0);
     return min(fract(u), 0.99999994);
@@ -58,7 +58,7 @@ vec3 disk_point(vec3 c, vec3 d, float r, vec2 u) {
 // The light a path starts from: origin, direction and the flux it carries (before dividing
 // among the paths). False when the light gives nothing in that direction.
 bool emit(uint path, out Ray ray, out vec3 power, out float range) {
-    uint n = F.counts.x;
+    uint n = light_count();
     range = 0.0;
     if (n == 0u) return false;
     uint index = search_cdf(CDF_LIGHTS, 0u, n, halton(path, 0u));
@@ -156,7 +156,7 @@ void main() {
     if (!emit(path, ray, power, range)) return;
     power /= float(pc.vpl_paths);
     // The lobe choice of transmission's Fresnel test is the one number not from the sequence.
-    Rng rng = rng_init(uvec2(path, 0xffffffffu), 0u, F.params.y, F.params.z);
+    Rng rng = rng_init(uvec2(path, 0xffffffffu), 0u, frame_index(), render_seed());
     for (uint k = 0u; k < bounces; ++k) {
         Hit hit;
         if (!trace(ray, false, hit)) return;

@@ -111,9 +111,14 @@ pub struct GpuLight {
     pub ids: [u32; 4],
 }
 
+/// `GpuEnvironment::kind`, the kernel's `env_kind()` (shaders/scene.glsl).
+pub const ENV_NONE: u32 = 0;
+pub const ENV_CONSTANT: u32 = 1;
+pub const ENV_MAP: u32 = 2;
+
 #[derive(Clone, Debug, Default)]
 pub struct GpuEnvironment {
-    /// 0 = none (black), 1 = constant colour, 2 = map
+    /// ENV_NONE (black), ENV_CONSTANT (a colour) or ENV_MAP
     pub kind: u32,
     pub color: [f32; 3],
     pub width: u32,
@@ -136,3 +141,40 @@ const _: () = {
     assert!(std::mem::size_of::<GpuLight>() == 80);
     assert!(std::mem::size_of::<super::bvh::BvhNode>() == 64);
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every code the kernel shares with these structs has one value on both sides.
+    #[test]
+    fn the_kernels_constants_match_these() {
+        let glsl = include_str!("../../../../shaders/scene.glsl");
+        let uints = [
+            ("ENV_NONE", ENV_NONE),
+            ("ENV_CONSTANT", ENV_CONSTANT),
+            ("ENV_MAP", ENV_MAP),
+            ("LIGHT_TRIANGLE", LIGHT_TRIANGLE),
+            ("LIGHT_POINT", LIGHT_POINT),
+            ("LIGHT_SPOT", LIGHT_SPOT),
+            ("LIGHT_DIRECTIONAL", LIGHT_DIRECTIONAL),
+            ("LIGHT_ENVIRONMENT", LIGHT_ENVIRONMENT),
+        ];
+        for (name, value) in uints {
+            let line = format!("const uint {name} = {value}u;");
+            assert!(glsl.contains(&line), "scene.glsl lacks {line}");
+        }
+        let ints = [
+            ("MATERIAL_DOUBLE_SIDED", MATERIAL_DOUBLE_SIDED),
+            ("MATERIAL_ALPHA_MASK", MATERIAL_ALPHA_MASK),
+            ("MATERIAL_ALPHA_BLEND", MATERIAL_ALPHA_BLEND),
+            ("MATERIAL_UNLIT", MATERIAL_UNLIT),
+            ("MATERIAL_USES_UV1", MATERIAL_USES_UV1),
+        ];
+        for (name, value) in ints {
+            let line = format!("const int {name} = {value};");
+            assert!(glsl.contains(&line), "scene.glsl lacks {line}");
+        }
+        assert!(glsl.contains(&format!("vec4 uv_rows[{}];", 2 * TEXTURE_SLOTS)));
+    }
+}

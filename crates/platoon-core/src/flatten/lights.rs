@@ -107,7 +107,7 @@ pub fn selection_distribution(power: &[f64]) -> Result<(Vec<f32>, Vec<f32>)> {
 fn gpu_environment(env: &Environment) -> GpuEnvironment {
     match env {
         Environment::Constant(c) => GpuEnvironment {
-            kind: 1,
+            kind: super::layout::ENV_CONSTANT,
             color: c.to_array(),
             mean_radiance: c.to_array(),
             ..Default::default()
@@ -115,7 +115,7 @@ fn gpu_environment(env: &Environment) -> GpuEnvironment {
         Environment::Map(map) => {
             let d = map.distribution();
             GpuEnvironment {
-                kind: 2,
+                kind: super::layout::ENV_MAP,
                 color: [1.0; 3],
                 width: map.width,
                 height: map.height,

@@ -176,13 +176,13 @@ impl GpuScene {
         // Light order: emissive triangles (by instance), punctual lights, the environment.
         let mut power = instances::add(scene, &tlas, &live, mesh_bvhs, self);
         lights::add_punctual(scene, posed, self, &mut power);
-        if self.env.kind != 0 {
+        if self.env.kind != ENV_NONE {
             lights::add_environment_light(self, &mut power);
         }
         lights::set_selection(self, &power)?;
         self.features = FeatureSet::of_scene(scene);
         self.features.emissive_triangles = self.lights.iter().any(|l| l.ids[0] == LIGHT_TRIANGLE);
-        self.features.environment_map = self.env.kind == 2;
+        self.features.environment_map = self.env.kind == ENV_MAP;
         Ok(())
     }
 }
