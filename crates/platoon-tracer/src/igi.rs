@@ -17,10 +17,9 @@ use crate::kernel::{EMIT_VPLS, GATHER};
 use crate::tracer::Tracer;
 use crate::{Error, Result};
 
-const VPL_BYTES: u64 = 48;
+const VPL_BYTES: u64 = std::mem::size_of::<platoon_core::igi::Vpl>() as u64;
 const TEXEL_BYTES: u64 = std::mem::size_of::<IgiTexel>() as u64;
-/// IgiVertex in shaders/scene.glsl.
-const VERTEX_BYTES: u64 = 96;
+const VERTEX_BYTES: u64 = std::mem::size_of::<platoon_core::igi::IgiVertex>() as u64;
 /// VPLs one gather pass takes per pixel: 128 shadow rays of up to ~500 BVH steps stay within
 /// llvmpipe's 65535 loop iterations per invocation (shaders/igi/camera.comp). The same on every
 /// device, so that the sums add in the same order whatever the split.

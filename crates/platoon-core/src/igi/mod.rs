@@ -180,6 +180,37 @@ impl Grid {
     }
 }
 
+/// A virtual point light as igi/emit.comp writes it (`Vpl` in shaders/scene.glsl, std430).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vpl {
+    /// xyz; w unused.
+    pub position: [f32; 4],
+    /// The surface's normal, xyz.
+    pub normal: [f32; 4],
+    /// Flux x albedo / pi, rgb; w 1 in a slot that holds a VPL, all zero where its path ended.
+    pub power: [f32; 4],
+}
+
+/// A pixel's gathering vertex, what the camera pass leaves the gather passes (`IgiVertex` in
+/// shaders/scene.glsl, std430; the field comments there say what each holds).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct IgiVertex {
+    pub position: [f32; 4],
+    pub ns: [f32; 4],
+    pub ng: [f32; 4],
+    pub wo: [f32; 4],
+    pub albedo: [f32; 4],
+    pub f0: [f32; 4],
+}
+
+const _: () = {
+    assert!(std::mem::size_of::<Vpl>() == 48);
+    assert!(std::mem::size_of::<IgiVertex>() == 96);
+    assert!(std::mem::size_of::<IgiTexel>() == 48);
+};
+
 /// What the IGI kernel leaves per pixel for the filters (sums over the frame's samples; std430
 /// layout of three vec4s in the kernel's aux buffer).
 #[repr(C)]
