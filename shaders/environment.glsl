@@ -61,7 +61,7 @@ vec3 env_sample(vec2 u, out float pdf) {
 #ifdef HAS_ENVIRONMENT_MAP
     if (env_kind() == ENV_MAP) {
         uvec2 size = env_size();
-    uint w = size.x, h = size.y;
+        uint w = size.x, h = size.y;
         uint y = search_cdf(CDF_ENV_ROWS, 0u, h, u.y);
         float c0 = env_marginal_at(y), c1 = env_marginal_at(y + 1u);
         float fy = c1 > c0 ? (u.y - c0) / (c1 - c0) : 0.5;

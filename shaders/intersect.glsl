@@ -111,13 +111,13 @@ int order_children(RayTri r, BvhNode n, float tmax, out uint near, out uint far)
 bool alpha_rejects(RayTri r, uint tri, float b1, float b2) {
     Triangle T = triangle_at(tri);
     Material m = material_at(T.material);
-    int flags = m.textures1.w;
-    if ((flags & (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND)) == 0) return false;
-    float alpha = material_alpha(m, vertex_attributes(T, m, vec3(1.0 - b1 - b2, b1, b2)));
-    if ((flags & MATERIAL_ALPHA_MASK) != 0) return alpha < m.misc.x;
+    if ((m.textures1.w & (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND)) == 0) return false;
+    float coverage = material_coverage(m, vertex_attributes(T, m, vec3(1.0 - b1 - b2, b1, b2)));
+    if (coverage >= 1.0) return false;
+    if (coverage <= 0.0) return true;
     uint h = pcg_hash(tri ^ pcg_hash(floatBitsToUint(b1) ^ pcg_hash(floatBitsToUint(b2)
         ^ pcg_hash(floatBitsToUint(r.org.x) ^ pcg_hash(floatBitsToUint(r.org.y) ^ pcg_hash(floatBitsToUint(r.inv_dir.z)))))));
-    return float(h >> 8) * (1.0 / 16777216.0) >= alpha;
+    return float(h >> 8) * (1.0 / 16777216.0) >= coverage;
 }
 #endif
 

@@ -44,14 +44,10 @@ vec3 triangle_light_radiance(Light l, vec3 b, vec3 nl, vec3 dir) {
     // An emitter that rays pass with probability 1 - alpha (BLEND), or always where it is cut
     // out (MASK), emits on average what a BSDF ray finds there: NEE's shadow ray ends at the
     // light and never tests its coverage, so the coverage scales its radiance.
-    int flags = m.textures1.w;
-    if ((flags & (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND)) != 0) {
-        float alpha = material_alpha(m, s.attr);
-        float coverage = (flags & MATERIAL_ALPHA_MASK) != 0 ? (alpha < m.misc.x ? 0.0 : 1.0) : alpha;
-        return coverage * triangle_emission(s, dir);
-    }
-#endif
+    return material_coverage(m, s.attr) * triangle_emission(s, dir);
+#else
     return triangle_emission(s, dir);
+#endif
 }
 
 // Solid-angle pdf of NEE picking the emissive triangle hit at distance t along unit `dir`.

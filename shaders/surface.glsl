@@ -83,7 +83,7 @@ Surface surface_at(Hit hit) {
     s.magnitude = instance_magnitude(inst, coordinate_magnitude(p0, p1, p2));
     Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
     Material m = material_at(T.material);
-    s.attr = vertex_attributes(T, m, vec3(b0, hit.b1, hit.b2));
+    s.attr = vertex_attributes(T, v0, v1, v2, m, vec3(b0, hit.b1, hit.b2));
     vec3 n = b0 * v0.normal_v.xyz + hit.b1 * v1.normal_v.xyz + hit.b2 * v2.normal_v.xyz;
     s.ns = dot(n, n) > 1e-12 ? normalize(instance_normal(inst, n)) : s.ng;
     if (dot(s.ns, s.ng) < 0.0) s.ns = -s.ns;

@@ -50,9 +50,9 @@ struct VertexAttributes { vec2 uv; vec2 uv1; vec4 color; };
 
 vec4 unpack_color(uvec2 c) { return vec4(unpackUnorm2x16(c.x), unpackUnorm2x16(c.y)); }
 
-VertexAttributes vertex_attributes(Triangle T, Material m, vec3 b) {
+// From the triangle's vertices as loaded (surface_at reads them for its normals too).
+VertexAttributes vertex_attributes(Triangle T, Vertex v0, Vertex v1, Vertex v2, Material m, vec3 b) {
     VertexAttributes a;
-    Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
     a.uv = b.x * vec2(v0.position_u.w, v0.normal_v.w) + b.y * vec2(v1.position_u.w, v1.normal_v.w) + b.z * vec2(v2.position_u.w, v2.normal_v.w);
     a.uv1 = vec2(0.0);
     a.color = vec4(1.0);
@@ -71,6 +71,10 @@ VertexAttributes vertex_attributes(Triangle T, Material m, vec3 b) {
     return a;
 }
 
+VertexAttributes vertex_attributes(Triangle T, Material m, vec3 b) {
+    return vertex_attributes(T, vertex_at(T.v.x), vertex_at(T.v.y), vertex_at(T.v.z), m, b);
+}
+
 // The UV at which material m reads texture slot `slot` (TEXTURE_SLOT_*): its UV set through its
 // KHR_texture_transform.
 vec2 slot_uv(Material m, int slot, VertexAttributes a) {
@@ -83,11 +87,21 @@ vec2 slot_uv(Material m, int slot, VertexAttributes a) {
 #endif
 }
 
-// Coverage: the base colour's alpha times its texture's and the vertex colour's.
+// Alpha: the base colour's times its texture's and the vertex colour's.
 float material_alpha(Material m, VertexAttributes a) {
     float alpha = m.base_color.a * a.color.a;
 #ifdef HAS_TEXTURES
     if (m.textures0.x >= 0) alpha *= sample_texture(m.textures0.x, slot_uv(m, TEXTURE_SLOT_BASE_COLOR, a), true).a;
 #endif
+    return alpha;
+}
+
+// The chance that a ray meets the surface there: 1 when opaque, 0 or 1 by the cutoff with
+// alphaMode MASK, alpha itself with BLEND (stochastic transparency).
+float material_coverage(Material m, VertexAttributes a) {
+    int flags = m.textures1.w;
+    if ((flags & (MATERIAL_ALPHA_MASK | MATERIAL_ALPHA_BLEND)) == 0) return 1.0;
+    float alpha = material_alpha(m, a);
+    if ((flags & MATERIAL_ALPHA_MASK) != 0) return alpha < m.misc.x ? 0.0 : 1.0;
     return alpha;
 }

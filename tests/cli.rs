@@ -7,11 +7,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 fn platoon(args: &[&str]) -> Output {
-    common::init();
-    Command::new(env!("CARGO_BIN_EXE_platoon"))
-        .args(args)
-        .output()
-        .expect("run platoon")
+    platoon_in(Path::new("."), args)
 }
 
 /// The value of EXR metadata entry `platoon:<key>` ("" when absent).

@@ -83,6 +83,31 @@ impl Xvfb {
             .filter(|p| p.iter().any(|&c| c > 8))
             .count()
     }
+
+    /// `view`, a `platoon view` command, started on this display.
+    fn open(&self, view: &mut Command) -> Child {
+        view.env("DISPLAY", &self.display)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap()
+    }
+
+    /// The id of `view`'s window once its title contains `title`; fails saying `what` ended
+    /// first if the viewer exits before.
+    fn window_titled(&self, view: &mut Child, title: &str, what: &str) -> String {
+        wait_for(Duration::from_secs(120), || {
+            if let Some(status) = view.try_wait().unwrap() {
+                let err = std::io::read_to_string(view.stderr.take().unwrap()).unwrap();
+                panic!("{what} ended before its window showed frames ({status}): {err}");
+            }
+            let id = self.xdotool(&["search", "--name", "^platoon"]);
+            let id = id.lines().next()?.to_string();
+            self.xdotool(&["getwindowname", &id])
+                .contains(title)
+                .then_some(id)
+        })
+    }
 }
 
 impl Drop for Xvfb {
@@ -132,34 +157,21 @@ fn without_a_display_the_viewer_says_so_and_fails() {
 fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
     let x = Xvfb::start();
     let black = x.lit_pixels();
-    let mut view = platoon()
-        .args([
-            "view",
-            "--size",
-            "40x30",
-            "--target-ms",
-            "40",
-            "--devices",
-            "lavapipe:1",
-        ])
-        .args(["--frames", "3000"])
-        .env("DISPLAY", &x.display)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut view = x.open(
+        platoon()
+            .args([
+                "view",
+                "--size",
+                "40x30",
+                "--target-ms",
+                "40",
+                "--devices",
+                "lavapipe:1",
+            ])
+            .args(["--frames", "3000"]),
+    );
     // The window opens, and its title starts counting frames.
-    let window = wait_for(Duration::from_secs(120), || {
-        if let Some(status) = view.try_wait().unwrap() {
-            let err = std::io::read_to_string(view.stderr.take().unwrap()).unwrap();
-            panic!("the viewer ended before its window showed frames ({status}): {err}");
-        }
-        let id = x.xdotool(&["search", "--name", "^platoon"]);
-        let id = id.lines().next()?.to_string();
-        x.xdotool(&["getwindowname", &id])
-            .contains("spp")
-            .then_some(id)
-    });
+    let window = x.window_titled(&mut view, "spp", "the viewer");
     std::thread::sleep(Duration::from_millis(500));
     let lit = x.lit_pixels();
     assert!(
@@ -186,60 +198,32 @@ fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
     assert!(moved > 0.1, "W did not fly the camera: {start} / {end}");
 
     // The same window by instant global illumination: the title says so.
-    let mut view = platoon()
-        .args(["view", "--size", "24x16", "--devices", "lavapipe:1"])
-        .args(["--method", "igi", "--vpls", "12", "--frames", "3000"])
-        .env("DISPLAY", &x.display)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    wait_for(Duration::from_secs(120), || {
-        if let Some(status) = view.try_wait().unwrap() {
-            let err = std::io::read_to_string(view.stderr.take().unwrap()).unwrap();
-            panic!("the IGI viewer ended before its window showed frames ({status}): {err}");
-        }
-        let id = x.xdotool(&["search", "--name", "^platoon"]);
-        let id = id.lines().next()?.to_string();
-        x.xdotool(&["getwindowname", &id])
-            .contains("IGI 12 VPLs")
-            .then_some(())
-    });
+    let mut view = x.open(
+        platoon()
+            .args(["view", "--size", "24x16", "--devices", "lavapipe:1"])
+            .args(["--method", "igi", "--vpls", "12", "--frames", "3000"]),
+    );
+    x.window_titled(&mut view, "IGI 12 VPLs", "the IGI viewer");
     let _ = view.kill();
     let _ = view.wait();
 
     // A scene with separate buffer and texture files, named bare from its own folder.
     let dir = tempfile::tempdir().unwrap();
     let scene_dir = platoon_scenegen::twins::write_scene_folders(dir.path()).unwrap();
-    let mut view = platoon()
-        .current_dir(&scene_dir)
-        .args([
-            "view",
-            "scene.gltf",
-            "--size",
-            "24x16",
-            "--devices",
-            "lavapipe:1",
-        ])
-        .args(["--frames", "3000"])
-        .env("DISPLAY", &x.display)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    wait_for(Duration::from_secs(120), || {
-        if let Some(status) = view.try_wait().unwrap() {
-            let err = std::io::read_to_string(view.stderr.take().unwrap()).unwrap();
-            panic!(
-                "the viewer of scene.gltf ended before its window showed frames ({status}): {err}"
-            );
-        }
-        let id = x.xdotool(&["search", "--name", "^platoon"]);
-        let id = id.lines().next()?.to_string();
-        x.xdotool(&["getwindowname", &id])
-            .contains("spp")
-            .then_some(())
-    });
+    let mut view = x.open(
+        platoon()
+            .current_dir(&scene_dir)
+            .args([
+                "view",
+                "scene.gltf",
+                "--size",
+                "24x16",
+                "--devices",
+                "lavapipe:1",
+            ])
+            .args(["--frames", "3000"]),
+    );
+    x.window_titled(&mut view, "spp", "the viewer of scene.gltf");
     let _ = view.kill();
     let _ = view.wait();
 }

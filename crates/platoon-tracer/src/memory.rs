@@ -54,10 +54,7 @@ pub struct MemoryLimits {
 
 /// The read-only scene arrays in upload and binding order: core's table, which
 /// shaders/scene_arrays.glsl is checked against.
-pub use platoon_core::flatten::arrays::ArrayInfo as SceneArray;
-
-pub const SCENE_ARRAYS: [SceneArray; platoon_core::flatten::arrays::ARRAY_COUNT] =
-    platoon_core::flatten::arrays::ARRAYS_INFO;
+pub use platoon_core::flatten::arrays::ARRAYS as SCENE_ARRAYS;
 
 /// The bytes of each scene array of `s`, in `SCENE_ARRAYS` order.
 pub fn scene_array_bytes(s: &GpuScene) -> [&[u8]; SCENE_ARRAYS.len()] {

@@ -341,11 +341,8 @@ impl Tracer {
     /// The Globals fields that come from the scene: array addresses, counts, environment.
     pub(crate) fn refresh_globals(&mut self, h: &SceneHeader) {
         let mut g = Globals::default();
-        for ((array, _), buffer) in platoon_core::flatten::arrays::ARRAYS
-            .iter()
-            .zip(&self.scene.list)
-        {
-            *g.address_mut(*array) = buffer.address;
+        for (info, buffer) in SCENE_ARRAYS.iter().zip(&self.scene.list) {
+            *g.address_mut(info.array) = buffer.address;
         }
         g.env_color = [
             h.env_color[0],

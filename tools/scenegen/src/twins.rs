@@ -173,6 +173,19 @@ pub fn bumpy_grid(n: usize) -> Vec<[f32; 3]> {
     v
 }
 
+/// The triangles of [`bumpy_grid`]`(n)`, two per cell, counter-clockwise seen from +z.
+pub fn grid_indices(n: usize) -> Vec<u32> {
+    let mut indices = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let a = (j * (n + 1) + i) as u32;
+            let c = a + (n + 1) as u32;
+            indices.extend([a, a + 1, c + 1, a, c + 1, c]);
+        }
+    }
+    indices
+}
+
 /// A grey single-sided material, so that a triangle's winding shows.
 fn grey() -> Value {
     json!({"pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.5, 0.4, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5}})
@@ -632,15 +645,7 @@ pub fn quantized() -> (Vec<u8>, Vec<u8>) {
         .iter()
         .map(|&[x, y, _]| [(x + 1.0) * 0.5, (1.0 - y) * 0.5])
         .collect();
-    let mut indices = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let a = (j * (n + 1) + i) as u32;
-            let b = a + 1;
-            let c = a + (n + 1) as u32;
-            indices.extend([a, b, c + 1, a, c + 1, c]);
-        }
-    }
+    let indices = grid_indices(n);
     let (qp, qn, quv, qi) = quad();
     let small: Vec<[f32; 3]> = qp
         .iter()
@@ -768,14 +773,7 @@ pub fn morphed(animated: bool) -> (Vec<u8>, Vec<u8>) {
         .collect();
     let dn0: Vec<[f32; 3]> = grid.iter().map(|_| [-0.3, 0.0, 0.0]).collect();
     let dn1: Vec<[f32; 3]> = grid.iter().map(|p| [0.0, 0.5 * p[1], 0.0]).collect();
-    let mut indices = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let a = (j * (n + 1) + i) as u32;
-            let c = a + (n + 1) as u32;
-            indices.extend([a, a + 1, c + 1, a, c + 1, c]);
-        }
-    }
+    let indices = grid_indices(n);
     let (w0, w1) = (0.6f32, 0.3f32);
     let with = {
         let mut doc = Doc::default();
@@ -837,14 +835,7 @@ pub fn gpu_instancing() -> (Vec<u8>, Vec<u8>) {
         [0.258_819, 0.0, 0.0, 0.965_925_8],
     ];
     let s = [[0.3f32; 3], [0.25, 0.4, 0.3], [0.35; 3]];
-    let grid = bumpy_grid(4);
-    let mut indices = Vec::new();
-    for j in 0..4u32 {
-        for i in 0..4u32 {
-            let a = j * 5 + i;
-            indices.extend([a, a + 1, a + 6, a, a + 6, a + 5]);
-        }
-    }
+    let (grid, indices) = (bumpy_grid(4), grid_indices(4));
     let write = |extension: bool| {
         let mut doc = Doc::default();
         let (p, i) = (doc.floats(&grid), doc.indices(&indices));

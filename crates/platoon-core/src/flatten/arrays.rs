@@ -27,6 +27,7 @@ pub enum SceneArray {
 /// What the kernel and the tracer need to know of an array.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ArrayInfo {
+    pub array: SceneArray,
     pub name: &'static str,
     /// The define that reads it through a uniform texel buffer, and through a storage buffer.
     pub texel_define: &'static str,
@@ -38,6 +39,7 @@ pub struct ArrayInfo {
 }
 
 const fn info(
+    array: SceneArray,
     name: &'static str,
     texel_define: &'static str,
     storage_define: &'static str,
@@ -45,6 +47,7 @@ const fn info(
     texel_bytes: u64,
 ) -> ArrayInfo {
     ArrayInfo {
+        array,
         name,
         texel_define,
         storage_define,
@@ -54,138 +57,115 @@ const fn info(
 }
 
 /// Every array, in order.
-pub const ARRAYS: [(SceneArray, ArrayInfo); 16] = {
+pub const ARRAYS: [ArrayInfo; 16] = {
     use SceneArray::*;
     [
-        (
+        info(
             Vertices,
-            info(
-                "vertices",
-                "TEXEL_VERTICES",
-                "SSBO_VERTICES",
-                "vertices",
-                16,
-            ),
+            "vertices",
+            "TEXEL_VERTICES",
+            "SSBO_VERTICES",
+            "vertices",
+            16,
         ),
-        (
+        info(
             TrianglePositions,
-            info(
-                "triangle positions",
-                "TEXEL_TRI_POS",
-                "SSBO_TRI_POS",
-                "tri_pos",
-                16,
-            ),
+            "triangle positions",
+            "TEXEL_TRI_POS",
+            "SSBO_TRI_POS",
+            "tri_pos",
+            16,
         ),
-        (
+        info(
             Triangles,
-            info(
-                "triangles",
-                "TEXEL_TRIANGLES",
-                "SSBO_TRIANGLES",
-                "triangles",
-                16,
-            ),
+            "triangles",
+            "TEXEL_TRIANGLES",
+            "SSBO_TRIANGLES",
+            "triangles",
+            16,
         ),
-        (
+        info(
             TriangleLights,
-            info(
-                "triangle lights",
-                "TEXEL_TRI_LIGHTS",
-                "SSBO_TRI_LIGHTS",
-                "tri_lights",
-                4,
-            ),
+            "triangle lights",
+            "TEXEL_TRI_LIGHTS",
+            "SSBO_TRI_LIGHTS",
+            "tri_lights",
+            4,
         ),
-        (Blas, info("blas", "TEXEL_BLAS", "SSBO_BLAS", "blas", 16)),
-        (Tlas, info("tlas", "TEXEL_TLAS", "SSBO_TLAS", "tlas", 16)),
-        (
+        info(Blas, "blas", "TEXEL_BLAS", "SSBO_BLAS", "blas", 16),
+        info(Tlas, "tlas", "TEXEL_TLAS", "SSBO_TLAS", "tlas", 16),
+        info(
             Instances,
-            info(
-                "instances",
-                "TEXEL_INSTANCES",
-                "SSBO_INSTANCES",
-                "instances",
-                16,
-            ),
+            "instances",
+            "TEXEL_INSTANCES",
+            "SSBO_INSTANCES",
+            "instances",
+            16,
         ),
-        (
+        info(
             Materials,
-            info(
-                "materials",
-                "TEXEL_MATERIALS",
-                "SSBO_MATERIALS",
-                "materials",
-                16,
-            ),
+            "materials",
+            "TEXEL_MATERIALS",
+            "SSBO_MATERIALS",
+            "materials",
+            16,
         ),
-        (
+        info(
             Textures,
-            info(
-                "textures",
-                "TEXEL_TEXTURES",
-                "SSBO_TEXTURES",
-                "textures",
-                16,
-            ),
+            "textures",
+            "TEXEL_TEXTURES",
+            "SSBO_TEXTURES",
+            "textures",
+            16,
         ),
-        (
-            Texels,
-            info("texels", "TEXEL_TEXELS", "SSBO_TEXELS", "texels", 4),
-        ),
-        (
+        info(Texels, "texels", "TEXEL_TEXELS", "SSBO_TEXELS", "texels", 4),
+        info(
             Lights,
-            info("lights", "TEXEL_LIGHTS", "SSBO_LIGHTS", "lights", 16),
+            "lights",
+            "TEXEL_LIGHTS",
+            "SSBO_LIGHTS",
+            "lights",
+            16,
         ),
-        (
+        info(
             LightCdf,
-            info(
-                "light cdf",
-                "TEXEL_LIGHT_CDF",
-                "SSBO_LIGHT_CDF",
-                "light_cdf",
-                4,
-            ),
+            "light cdf",
+            "TEXEL_LIGHT_CDF",
+            "SSBO_LIGHT_CDF",
+            "light_cdf",
+            4,
         ),
-        (
+        info(
             EnvTexels,
-            info(
-                "environment",
-                "TEXEL_ENV_TEXELS",
-                "SSBO_ENV_TEXELS",
-                "env_texels",
-                16,
-            ),
+            "environment",
+            "TEXEL_ENV_TEXELS",
+            "SSBO_ENV_TEXELS",
+            "env_texels",
+            16,
         ),
-        (
+        info(
             EnvMarginal,
-            info(
-                "environment marginal",
-                "TEXEL_ENV_MARGINAL",
-                "SSBO_ENV_MARGINAL",
-                "env_marginal",
-                4,
-            ),
+            "environment marginal",
+            "TEXEL_ENV_MARGINAL",
+            "SSBO_ENV_MARGINAL",
+            "env_marginal",
+            4,
         ),
-        (
+        info(
             EnvConditional,
-            info(
-                "environment conditional",
-                "TEXEL_ENV_CONDITIONAL",
-                "SSBO_ENV_CONDITIONAL",
-                "env_conditional",
-                4,
-            ),
+            "environment conditional",
+            "TEXEL_ENV_CONDITIONAL",
+            "SSBO_ENV_CONDITIONAL",
+            "env_conditional",
+            4,
         ),
-        (
+        info(
             VertexExtras,
-            info(
-                "vertex extras",
-                "TEXEL_VERTEX_EXTRAS",
-                "SSBO_VERTEX_EXTRAS",
-                "vertex_extras",
-                16,
-            ),
+            "vertex extras",
+            "TEXEL_VERTEX_EXTRAS",
+            "SSBO_VERTEX_EXTRAS",
+            "vertex_extras",
+            16,
         ),
     ]
 };
@@ -193,25 +173,10 @@ pub const ARRAYS: [(SceneArray, ArrayInfo); 16] = {
 /// How many arrays there are.
 pub const ARRAY_COUNT: usize = ARRAYS.len();
 
-/// The table's descriptions alone, in order.
-pub const ARRAYS_INFO: [ArrayInfo; ARRAY_COUNT] = {
-    let mut out = [ARRAYS[0].1; ARRAY_COUNT];
-    let mut k = 0;
-    while k < ARRAY_COUNT {
-        out[k] = ARRAYS[k].1;
-        k += 1;
-    }
-    out
-};
-
 impl SceneArray {
     /// Its position in every array list.
     pub const fn index(self) -> usize {
         self as usize
-    }
-
-    pub const fn info(self) -> ArrayInfo {
-        ARRAYS[self as usize].1
     }
 }
 
@@ -219,7 +184,7 @@ const _: () = {
     // The table's rows are in the enum's order.
     let mut k = 0;
     while k < ARRAY_COUNT {
-        assert!(ARRAYS[k].0 as usize == k);
+        assert!(ARRAYS[k].array as usize == k);
         k += 1;
     }
 };
@@ -234,8 +199,8 @@ mod tests {
     fn the_kernels_array_declarations_follow_the_table() {
         let arrays = include_str!("../../../../shaders/scene_arrays.glsl");
         let globals = include_str!("../../../../shaders/scene.glsl");
-        for (array, info) in ARRAYS {
-            let k = array.index();
+        for info in ARRAYS {
+            let k = info.array.index();
             let texel = format!("#if defined({})\nTEXEL_ARRAY(", info.texel_define);
             let at = arrays
                 .find(&texel)

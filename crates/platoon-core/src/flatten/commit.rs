@@ -26,7 +26,7 @@ pub const CHUNK_BYTES: usize = 16 << 10;
 impl GpuScene {
     /// The bytes of each scene array, in binding order.
     pub fn array_bytes(&self) -> [&[u8]; ARRAY_COUNT] {
-        ARRAYS.map(|(array, _)| self.bytes_of(array))
+        ARRAYS.map(|a| self.bytes_of(a.array))
     }
 
     /// The bytes of one scene array.

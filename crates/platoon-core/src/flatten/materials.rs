@@ -60,17 +60,8 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
     if m.textures().any(|t| t.tex_coord == 1) {
         flags |= MATERIAL_USES_UV1;
     }
-    let slots = [
-        m.base_color_texture,
-        m.metallic_roughness_texture,
-        m.normal_texture,
-        m.emissive_texture,
-        m.specular_texture,
-        m.specular_color_texture,
-        m.transmission_texture,
-    ];
     let mut uv_rows = [[0.0; 4]; 2 * TEXTURE_SLOTS];
-    for (k, slot) in slots.iter().enumerate() {
+    for (k, slot) in m.texture_slots().iter().enumerate() {
         let r = slot.unwrap_or(crate::scene::TextureRef::new(0));
         let [a, b] = r.transform;
         uv_rows[2 * k] = [a[0], a[1], a[2], r.tex_coord as f32];

@@ -153,7 +153,10 @@ impl Material {
     pub fn is_emissive(&self) -> bool {
         self.emissive.max_element() > 0.0
     }
-    pub fn textures(&self) -> impl Iterator<Item = TextureRef> + '_ {
+    /// Every texture slot, in the kernel's order (`flatten::TEXTURE_SLOTS`, TEXTURE_SLOT_* in
+    /// shaders/scene.glsl): base colour, metallic-roughness, normal, emissive, specular,
+    /// specular colour, transmission.
+    pub fn texture_slots(&self) -> [Option<TextureRef>; crate::flatten::TEXTURE_SLOTS] {
         [
             self.base_color_texture,
             self.metallic_roughness_texture,
@@ -163,8 +166,11 @@ impl Material {
             self.specular_color_texture,
             self.transmission_texture,
         ]
-        .into_iter()
-        .flatten()
+    }
+
+    /// The textures it uses.
+    pub fn textures(&self) -> impl Iterator<Item = TextureRef> + '_ {
+        self.texture_slots().into_iter().flatten()
     }
 }
 

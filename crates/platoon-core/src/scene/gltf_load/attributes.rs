@@ -126,6 +126,17 @@ pub fn read<const N: usize>(
     Ok(out)
 }
 
+/// The elements of `accessor`, if there is one, each converted (to a glam vector).
+pub fn read_as<const N: usize, T>(
+    accessor: Option<gltf::Accessor>,
+    buffers: &[Vec<u8>],
+    convert: fn([f32; N]) -> T,
+) -> Check<Option<Vec<T>>> {
+    accessor
+        .map(|a| read::<N>(&a, buffers).map(|v| v.into_iter().map(convert).collect()))
+        .transpose()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -69,7 +69,7 @@ fn read_targets(
                 dims: Dimensions::Vec3,
             },
         )?;
-        let v = read_as(Some(a), buffers, Vec3::from_array)?.unwrap_or_default();
+        let v = attributes::read_as(Some(a), buffers, Vec3::from_array)?.unwrap_or_default();
         if v.len() != n {
             return Err(format!(
                 "mesh '{name}': a morph target's {what} has {} entries for {n} vertices",
@@ -87,17 +87,6 @@ fn read_targets(
             })
         })
         .collect()
-}
-
-/// An attribute's elements, if the primitive has it, each converted to a glam vector.
-fn read_as<const N: usize, T>(
-    accessor: Option<gltf::Accessor>,
-    buffers: &[Vec<u8>],
-    convert: fn([f32; N]) -> T,
-) -> Check<Option<Vec<T>>> {
-    accessor
-        .map(|a| attributes::read::<N>(&a, buffers).map(|v| v.into_iter().map(convert).collect()))
-        .transpose()
 }
 
 fn read_primitive(
@@ -122,13 +111,11 @@ fn read_primitive(
         )?;
     }
     let attribute = |semantic: Semantic| prim.get(&semantic);
-    let positions: Vec<Vec3> = match attribute(Semantic::Positions) {
-        Some(a) => attributes::read::<3>(&a, buffers)?
-            .into_iter()
-            .map(Vec3::from_array)
-            .collect(),
-        None => return Err(format!("mesh '{name}' has a primitive without POSITION")),
-    };
+    let read3 = |s| attributes::read_as(attribute(s), buffers, Vec3::from_array);
+    let read2 = |s| attributes::read_as(attribute(s), buffers, Vec2::from_array);
+    let read4 = |s| attributes::read_as(attribute(s), buffers, Vec4::from_array);
+    let positions = read3(Semantic::Positions)?
+        .ok_or_else(|| format!("mesh '{name}' has a primitive without POSITION"))?;
     let n = positions.len();
     let same_count = |what: &str, len: usize| -> Check<()> {
         if len == n {
@@ -139,18 +126,12 @@ fn read_primitive(
             ))
         }
     };
-    let read3 = |s| read_as(attribute(s), buffers, Vec3::from_array);
-    let read2 = |s| read_as(attribute(s), buffers, Vec2::from_array);
-    let read4 = |s| read_as(attribute(s), buffers, Vec4::from_array);
+    // RGB colours get alpha 1.
     let colors = match attribute(Semantic::Colors(0)) {
-        Some(a) if a.dimensions() == Dimensions::Vec3 => Some(
-            attributes::read::<3>(&a, buffers)?
-                .into_iter()
-                .map(|c| Vec3::from_array(c).extend(1.0))
-                .collect(),
-        ),
-        Some(_) => read4(Semantic::Colors(0))?,
-        None => None,
+        Some(a) if a.dimensions() == Dimensions::Vec3 => {
+            attributes::read_as(Some(a), buffers, |c| Vec3::from_array(c).extend(1.0))?
+        }
+        _ => read4(Semantic::Colors(0))?,
     };
     let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
     let p = Primitive {

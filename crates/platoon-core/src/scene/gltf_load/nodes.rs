@@ -267,7 +267,8 @@ fn gpu_instances(
         return Ok(Vec::new());
     };
     let name = format!("node {} EXT_mesh_gpu_instancing", gn.index());
-    let attribute = |key: &'static str, types, dims| -> Check<Option<Vec<Vec<f32>>>> {
+    // The checked accessor an attribute names, if it names one.
+    let accessor = |key: &'static str, types, dims| -> Check<Option<gltf::Accessor>> {
         let Some(index) = ext.get("attributes").and_then(|a| a.get(key)) else {
             return Ok(None);
         };
@@ -283,38 +284,45 @@ fn gpu_instances(
                 dims,
             },
         )?;
-        let rows = match dims {
-            Dimensions::Vec3 => super::attributes::read::<3>(&accessor, buffers)?
-                .into_iter()
-                .map(|v| v.to_vec())
-                .collect(),
-            _ => super::attributes::read::<4>(&accessor, buffers)?
-                .into_iter()
-                .map(|v| v.to_vec())
-                .collect(),
-        };
-        Ok(Some(rows))
+        Ok(Some(accessor))
     };
-    let t = attribute("TRANSLATION", validate::FLOAT, Dimensions::Vec3)?;
-    let r = attribute("ROTATION", validate::SNORM_OR_FLOAT, Dimensions::Vec4)?;
-    let s = attribute("SCALE", validate::FLOAT, Dimensions::Vec3)?;
-    let counts: Vec<usize> = [&t, &r, &s]
-        .iter()
-        .filter_map(|a| a.as_ref().map(Vec::len))
-        .collect();
+    use super::attributes::read_as;
+    let vec3 = Dimensions::Vec3;
+    let t = read_as(
+        accessor("TRANSLATION", validate::FLOAT, vec3)?,
+        buffers,
+        Vec3::from_array,
+    )?;
+    // As a node's rotation is read: glTF asks for unit quaternions.
+    let r = read_as(
+        accessor("ROTATION", validate::SNORM_OR_FLOAT, Dimensions::Vec4)?,
+        buffers,
+        Quat::from_array,
+    )?;
+    let s = read_as(
+        accessor("SCALE", validate::FLOAT, vec3)?,
+        buffers,
+        Vec3::from_array,
+    )?;
+    let counts: Vec<usize> = [
+        t.as_ref().map(Vec::len),
+        r.as_ref().map(Vec::len),
+        s.as_ref().map(Vec::len),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
     let Some(&count) = counts.first() else {
         return Ok(Vec::new());
     };
     if counts.iter().any(|&c| c != count) {
         return Err(format!("{name}: its attributes have different counts"));
     }
-    let at = |a: &Option<Vec<Vec<f32>>>, i: usize| a.as_ref().map(|rows| rows[i].clone());
     (0..count)
         .map(|i| {
-            let t = at(&t, i).map_or(Vec3::ZERO, |v| Vec3::from_slice(&v));
-            // As a node's rotation is read: glTF asks for unit quaternions.
-            let r = at(&r, i).map_or(Quat::IDENTITY, |v| Quat::from_slice(&v));
-            let s = at(&s, i).map_or(Vec3::ONE, |v| Vec3::from_slice(&v));
+            let t = t.as_ref().map_or(Vec3::ZERO, |v| v[i]);
+            let r = r.as_ref().map_or(Quat::IDENTITY, |v| v[i]);
+            let s = s.as_ref().map_or(Vec3::ONE, |v| v[i]);
             if !(t.is_finite() && r.is_finite() && s.is_finite()) {
                 return Err(format!("{name}: instance {i} is not finite"));
             }
