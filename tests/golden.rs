@@ -14,10 +14,11 @@ use platoon::core::balance::by_name;
 use platoon::core::drive::Updater;
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
-use platoon::core::igi::IgiOptions;
+use platoon::core::method::igi::IgiOptions;
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::environment::Environment;
+use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::tracer::Sampling;
 
@@ -180,7 +181,7 @@ fn the_conference_room_by_igi_keeps_its_bits_with_every_option() {
     let mut renders = Vec::new();
     for (name, o) in options {
         let mut params = FrameParams::new(24, 16, 2, room.camera);
-        params.igi = Some(o);
+        params.method = Method::Igi(o);
         renders.extend(one_and_three(&format!("room igi {name}"), &room, &params));
     }
     check(IGI, renders);

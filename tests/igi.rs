@@ -8,8 +8,9 @@ use common::*;
 use platoon::core::balance::by_name;
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
-use platoon::core::igi::IgiOptions;
+use platoon::core::method::igi::IgiOptions;
 use platoon::core::output::Film;
+use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::tracer::Sampling;
 
@@ -69,7 +70,7 @@ fn igi_indirect_light_converges_to_the_path_tracers_as_the_vpls_grow_in_number()
     params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
     let mut errors = Vec::new();
     for vpls in [12, 48, 192, 768] {
-        params.igi = Some(IgiOptions::with_vpls(vpls));
+        params.method = Method::Igi(IgiOptions::with_vpls(vpls));
         let indirect = minus(&render_with(&mut tracer, &params), &direct);
         errors.push((vpls, rmse(&indirect, &reference), mean(&indirect)));
     }
@@ -129,7 +130,7 @@ fn each_igi_option_changes_the_kernel_only_when_enabled() {
     assert!(path.iter().all(|d| !d.contains("IGI")), "{path:?}");
     let with = |o: IgiOptions| {
         let mut p = params.clone();
-        p.igi = Some(o);
+        p.method = Method::Igi(o);
         let d = tracer.kernel_defines(&p);
         let mut added: Vec<&str> = d.into_iter().filter(|d| !path.contains(d)).collect();
         added.sort();
@@ -181,7 +182,7 @@ fn each_igi_option_changes_the_kernel_only_when_enabled() {
         want.sort();
         assert_eq!(with(o), want, "{o:?}");
     }
-    params.igi = None;
+    params.method = Method::PathTracing;
     assert_eq!(tracer.kernel_defines(&params), path);
 }
 
@@ -194,7 +195,7 @@ fn igi_frames_are_bit_identical_for_one_and_three_tracers_with_every_option() {
     let mut one = tracer(&prepared, Sampling::Mis);
     for o in every_option() {
         let mut params = FrameParams::new(24, 20, 2, prepared.camera);
-        params.igi = Some(o);
+        params.method = Method::Igi(o);
         let reference = render_with(&mut one, &params);
         assert!(mean(&reference) > 0.0, "{o:?}: black");
         let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
@@ -216,7 +217,7 @@ fn the_vpls_change_with_the_frame_and_the_seed_and_not_otherwise() {
     let prepared = cornell();
     let mut tracer = tracer(&prepared, Sampling::Mis);
     let mut params = FrameParams::new(16, 16, 1, prepared.camera);
-    params.igi = Some(IgiOptions::with_vpls(12));
+    params.method = Method::Igi(IgiOptions::with_vpls(12));
     let a = render_with(&mut tracer, &params);
     assert!(render_with(&mut tracer, &params) == a);
     params.frame = 1;
@@ -322,10 +323,10 @@ fn every_light_kind_gives_the_path_tracers_indirect_light() {
         for frame in 0..frames {
             params.frame = frame;
             params.max_depth = 2;
-            params.igi = None;
+            params.method = Method::PathTracing;
             let direct = render_with(&mut tracer, &params);
             params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
-            params.igi = Some(IgiOptions {
+            params.method = Method::Igi(IgiOptions {
                 paths: 4096,
                 bounces,
                 ..Default::default()
@@ -372,7 +373,7 @@ fn a_still_view_in_the_frame_driver_averages_over_vpl_sets() {
             create_tracers(&"lavapipe:1".parse().unwrap(), &first, true, Sampling::Mis).unwrap();
         let mut options = DriverOptions::new(16, 16);
         options.spp = s;
-        options.igi = Some(igi);
+        options.method = Method::Igi(igi);
         let cost_aware = by_name("cost-aware").unwrap();
         let mut d = FrameDriver::new(pipeline, &first, tracers, cost_aware, options).unwrap();
         for _ in 0..k {
@@ -384,7 +385,7 @@ fn a_still_view_in_the_frame_driver_averages_over_vpl_sets() {
         // The same frames on one tracer, each continuing the last one's sums.
         let mut renderer = Renderer::new(offline, by_name("none").unwrap());
         let mut params = FrameParams::new(16, 16, s, camera);
-        params.igi = Some(igi);
+        params.method = Method::Igi(igi);
         for i in 0..k {
             params.first_sample = i * s;
             let sums = renderer.render_frame(&params).unwrap().sums;

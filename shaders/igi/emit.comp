@@ -1,6 +1,6 @@
 #version 460
 // IGI, first pass: the frame's virtual point lights (Keller 1997). Invocation i shoots light path
-// i: a light picked by power, a point and direction on it, then up to pc.vpl_bounces hits, each
+// i: a light picked by power, a point and direction on it, then up to vpl_bounces() hits, each
 // on a surface with a diffuse lobe leaving a VPL in slot i * bounces + hit (an empty slot, power
 // w = 0, where the path ended early). The random numbers are a Halton sequence over the paths,
 // rotated per (frame, seed): the set is a pure function of (scene, frame, seed), so every tracer
@@ -9,16 +9,17 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
-#include "scene.glsl"
-#include "rng.glsl"
-#include "sampling.glsl"
-#include "textures.glsl"
-#include "intersect.glsl"
-#include "trace.glsl"
-#include "surface.glsl"
-#include "environment.glsl"
-#include "bsdf.glsl"
-#include "lights.glsl"
+#include "common/scene.glsl"
+#include "igi/igi.glsl"
+#include "common/rng.glsl"
+#include "common/sampling.glsl"
+#include "common/textures.glsl"
+#include "common/intersect.glsl"
+#include "common/trace.glsl"
+#include "common/surface.glsl"
+#include "common/environment.glsl"
+#include "common/bsdf.glsl"
+#include "common/lights.glsl"
 
 // Bases of the Halton dimensions: light pick, point (2), direction (2), then lobe and direction
 // (3) per bounce after the first (crates/platoon-core/src/igi: MAX_BOUNCES = 8).
@@ -140,21 +141,21 @@ bool emit(uint path, out Ray ray, out vec3 power, out float range) {
 }
 
 void store(uint slot, vec3 position, vec3 normal, vec3 power) {
-    pc.g.vpls.v[slot] = Vpl(vec4(position, 0.0), vec4(normal, 0.0), vec4(power, 1.0));
+    IGI_VPLS.v[slot] = Vpl(vec4(position, 0.0), vec4(normal, 0.0), vec4(power, 1.0));
 }
 
 void main() {
     load_frame_constants();
     uint path = gl_GlobalInvocationID.x;
-    if (path >= pc.vpl_paths) return;
-    uint bounces = pc.vpl_bounces;
+    if (path >= vpl_paths()) return;
+    uint bounces = vpl_bounces();
     uint base = path * bounces;
-    for (uint k = 0u; k < bounces; ++k) pc.g.vpls.v[base + k] = Vpl(vec4(0.0), vec4(0.0), vec4(0.0));
+    for (uint k = 0u; k < bounces; ++k) IGI_VPLS.v[base + k] = Vpl(vec4(0.0), vec4(0.0), vec4(0.0));
     Ray ray;
     vec3 power;
     float range;
     if (!emit(path, ray, power, range)) return;
-    power /= float(pc.vpl_paths);
+    power /= float(vpl_paths());
     // The lobe choice of transmission's Fresnel test is the one number not from the sequence.
     Rng rng = rng_init(uvec2(path, 0xffffffffu), 0u, frame_index(), render_seed());
     for (uint k = 0u; k < bounces; ++k) {

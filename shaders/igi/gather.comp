@@ -1,31 +1,32 @@
 #version 460
-// IGI, gather pass: the VPLs [pc.vpl_first, pc.vpl_end) of the pixel's subset lighting the
+// IGI, gather pass: the VPLs [vpl_first(), vpl_end()) of the pixel's subset lighting the
 // vertex the camera pass recorded, as rho / pi * I * cos * cos / d^2 * V summed into the pixel's
 // radiance, or with IGI_FILTERED as irradiance into its texel (the filters after assembly apply
 // the albedo). With IGI_BOUNDED the 1/d^2 is bounded near the VPLs (the paper's clamp); with
 // IGI_DOWNSAMPLED only the grid's pixels have a vertex; with IGI_INTERLEAVED a pixel gathers one
-// of pc.igi_tile.x * pc.igi_tile.y subsets, scaled up by their number.
+// of igi_tile().x * igi_tile().y subsets, scaled up by their number.
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-#include "scene.glsl"
-#include "rng.glsl"
-#include "sampling.glsl"
-#include "textures.glsl"
-#include "intersect.glsl"
+#include "common/scene.glsl"
+#include "igi/igi.glsl"
+#include "common/rng.glsl"
+#include "common/sampling.glsl"
+#include "common/textures.glsl"
+#include "common/intersect.glsl"
 #include "igi/visibility.glsl"
-#include "trace.glsl"
-#include "surface.glsl"
-#include "environment.glsl"
-#include "bsdf.glsl"
-#include "lights.glsl"
-#include "path.glsl"
+#include "common/trace.glsl"
+#include "common/surface.glsl"
+#include "common/environment.glsl"
+#include "common/bsdf.glsl"
+#include "common/lights.glsl"
+#include "path/path.glsl"
 #include "igi/pixel.glsl"
 
 float bounded_inv_square(float d2) {
 #ifdef IGI_BOUNDED
     // Marques and Santos: blended from 1/d_min^2 into 1/d^2 between 0.8 and 1.2 d_min.
-    float dmin = pc.vpl_min_distance;
+    float dmin = vpl_min_distance();
     return mix(1.0 / (dmin * dmin), 1.0 / d2, smoothstep(0.8 * dmin, 1.2 * dmin, sqrt(d2)));
 #else
     return 1.0 / d2;
@@ -37,17 +38,17 @@ void main() {
     uvec2 pixel;
     uint index;
     if (!band_pixel(pixel, index)) return;
-    IgiVertex x = pc.g.igi_vertices.v[index];
+    IgiVertex x = IGI_VERTICES.v[index];
     if (x.ng.w == 0.0) return;
     vec3 n = x.ns.xyz, ng = x.ng.xyz, wo = x.wo.xyz;
     uint step = igi_subsets();
     // The first VPL of the chunk in the pixel's subset.
-    uint first = pc.vpl_first + (igi_subset(pixel) + step - pc.vpl_first % step) % step;
+    uint first = vpl_first() + (igi_subset(pixel) + step - vpl_first() % step) % step;
     vec3 origin = offset_ray(x.position.xyz, ng, x.position.w);
     vec3 sum = vec3(0.0);
     uint rays = 0u;
-    for (uint j = first; j < pc.vpl_end; j += step) {
-        Vpl v = pc.g.vpls.v[j];
+    for (uint j = first; j < vpl_end(); j += step) {
+        Vpl v = IGI_VPLS.v[j];
         if (v.power.w == 0.0) continue;
         vec3 d = v.position.xyz - x.position.xyz;
         float d2 = dot(d, d);
@@ -73,7 +74,7 @@ void main() {
     }
     sum *= float(step);
 #ifdef IGI_FILTERED
-    pc.g.aux.v[3u * index] += vec4(sum, 0.0);
+    IGI_TEXELS.v[3u * index] += vec4(sum, 0.0);
 #else
     pc.g.accum.v[index] += vec4(sum, 0.0);
 #endif

@@ -4,7 +4,7 @@
 // gathers for it: the cell's centre, or the frame's last pixel for a cell the edge cuts.
 uint igi_cell(uint x, uint n, out bool gathers) {
 #ifdef IGI_DOWNSAMPLED
-    uint k = pc.igi_downsample;
+    uint k = igi_downsample();
     uint c = x / k;
     gathers = x == min(c * k + k / 2u, n - 1u);
     return c;
@@ -27,7 +27,7 @@ uint igi_subset(uvec2 pixel) {
 #ifdef IGI_INTERLEAVED
     bool g;
     uvec2 cell = uvec2(igi_cell(pixel.x, F.dims.x, g), igi_cell(pixel.y, F.dims.y, g));
-    return (cell.x % pc.igi_tile.x) + pc.igi_tile.x * (cell.y % pc.igi_tile.y);
+    return (cell.x % igi_tile().x) + igi_tile().x * (cell.y % igi_tile().y);
 #else
     return 0u;
 #endif
@@ -35,7 +35,7 @@ uint igi_subset(uvec2 pixel) {
 
 uint igi_subsets() {
 #ifdef IGI_INTERLEAVED
-    return pc.igi_tile.x * pc.igi_tile.y;
+    return igi_tile().x * igi_tile().y;
 #else
     return 1u;
 #endif

@@ -11,7 +11,7 @@ use platoon::devices::DeviceSpec;
 use platoon::tracer::Sampling;
 use platoon::PrepareOptions;
 
-use crate::igi_args::MethodArgs;
+use crate::method_args::MethodArgs;
 use crate::scene_args::SceneArgs;
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -113,7 +113,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         out,
     } = a;
     platoon::core::output::check_image_path(&out)?;
-    let igi = method.igi()?;
+    let method = method.method()?;
     if width == 0 || height == 0 || spp == 0 {
         bail!("--width, --height and --spp must be positive");
     }
@@ -134,7 +134,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     let mut params = FrameParams::new(width, height, spp, prepared.camera);
     params.seed = seed;
-    params.igi = igi;
+    params.method = method;
     if let Some(d) = max_depth {
         params.max_depth = d.max(1);
     }

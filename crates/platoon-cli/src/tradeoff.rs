@@ -8,7 +8,7 @@ use anyhow::{anyhow, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use platoon::tradeoff::{self, report, Progress, Technique};
 
-use crate::igi_args::MethodArg;
+use crate::method_args::MethodArg;
 use crate::scene_args::SceneArgs;
 
 #[derive(clap::Args)]

@@ -30,7 +30,7 @@ pub struct ViewArgs {
     #[command(flatten)]
     scene: SceneArgs,
     #[command(flatten)]
-    method: crate::igi_args::MethodArgs,
+    method: crate::method_args::MethodArgs,
     /// Render size, WIDTHxHEIGHT; the window shows it scaled to its size.
     #[arg(long, default_value = "320x240", value_parser = crate::bench::parse_size)]
     size: (u32, u32),
@@ -63,11 +63,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
              to render without a window use `platoon render`"
         )
     })?;
-    let igi = args.method.igi()?;
+    let method = args.method.method()?;
     let prepared = args.scene.prepare()?;
     let (w, h) = args.size;
     let mut options = GameOptions::new(DriverOptions::new(w, h));
-    options.driver.igi = igi;
+    options.driver.method = method;
     options.driver.target = Some(Duration::from_secs_f64(args.target_ms.max(1.0) * 1e-3));
     options.driver.below_one = platoon::core::drive::scaling::BelowOneSample {
         roulette: args.roulette_scaling,
@@ -252,7 +252,7 @@ impl Viewer {
             if s.plan.resolution < 1.0 {
                 below += &format!(", {:.0}% resolution (upscaled)", 100.0 * s.plan.resolution);
             }
-            if let Some(igi) = self.driver.options().igi {
+            if let Some(igi) = self.driver.options().method.igi() {
                 below += &format!(", IGI {} VPLs", igi.slots());
             }
             window.set_title(&format!(

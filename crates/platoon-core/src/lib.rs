@@ -5,7 +5,8 @@
 //! - [`flatten`]: a posed scene made into the plain GPU-ready arrays of [`flatten::GpuScene`]
 //!   (BVHs, materials and textures, lights and their selection CDF, the feature set);
 //! - [`frame`]: frame parameters, bands of lines, the multi-tracer frame loop and fault injection;
-//! - [`igi`]: instant global illumination's options and its filters after assembly;
+//! - [`method`]: the rendering methods (path tracing, instant global illumination): their
+//!   options, the kernel variant a render runs, the passes after assembly;
 //! - [`balance`]: the line balancers and the replay of recorded costs;
 //! - [`drive`]: a living scene: the game's edits, and generations of the flattened scene with
 //!   what changed between them;
@@ -19,14 +20,16 @@ pub mod drive;
 pub mod error;
 pub mod flatten;
 pub mod frame;
-pub mod igi;
 pub mod input;
 pub mod measure;
+pub mod method;
 pub mod output;
 pub mod scene;
 
 pub use error::{Error, Result};
-pub use flatten::features::FeatureSet;
+pub use flatten::features::SceneFeatures;
+pub use method::variant::KernelVariant;
+pub use method::Method;
 pub use scene::Scene;
 
 #[cfg(test)]

@@ -1,14 +1,15 @@
 //! The dispatch of one band of pixels: clear it (or start it from the sums of earlier samples),
-//! add `samples_per_pass` samples per dispatch with GPU timestamps around each, copy it back with
-//! its per-line counters.
+//! have the frame's rendering method (`method::MethodPasses`) add its passes of samples with GPU
+//! timestamps around each, copy it back with its per-line counters and what the method leaves
+//! per pixel.
 
 use std::time::{Duration, Instant};
 
 use ash::vk;
 use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
-use crate::dispatch::{record_dispatch, timestamp, Dispatchable};
 use crate::globals::{Globals, Push};
+use crate::method::{passes_of, MethodPasses, Recorder};
 use crate::tracer::Tracer;
 use crate::Result;
 
@@ -95,6 +96,27 @@ impl Tracer {
                 "the indirect clamp must be a positive radiance".into(),
             ));
         }
+        let method = params.method.unit();
+        method.validate(params).map_err(crate::Error::Invalid)?;
+        // The method's device side is taken out while it records, and kept for the next band.
+        let name = method.name();
+        let mut passes = self
+            .methods
+            .remove(name)
+            .unwrap_or_else(|| passes_of(&params.method));
+        let band = self.render_with(passes.as_mut(), params, span, stride, progress);
+        self.methods.insert(name, passes);
+        band
+    }
+
+    fn render_with(
+        &mut self,
+        method: &mut dyn MethodPasses,
+        params: &FrameParams,
+        span: Span,
+        stride: u32,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<Band> {
         let stride = stride.max(1);
         let (width, height) = (params.width, params.height);
         let pixels = width * height;
@@ -102,16 +124,27 @@ impl Tracer {
         let span = Span::new(span.begin.min(span.end), span.end);
         let (y0, y1) = (span.first_line(width), span.end_line(width));
         self.ensure_frame_buffers(width, height)?;
+        let defines = self.kernel_defines(params);
+        let scene = self
+            .scene
+            .descriptors
+            .as_ref()
+            .expect("created with the tracer");
         // Compiling a kernel variant happens once; it is not part of the band's time.
-        let (pipeline, layout, scene_set) = self.kernel(self.kernel_defines(params))?;
+        for &entry in method.kernels() {
+            self.gpu.kernel((entry, defines.clone()), scene)?;
+        }
         let wall = Instant::now();
         let (accum, stats, readback) = match &self.frame_buffers {
             Some((_, _, a, s, r)) => ((a.buffer, a.address), (s.buffer, s.address), r.buffer),
             None => unreachable!("frame buffers were just created"),
         };
 
-        let igi = self.igi_addresses(params)?;
-        let g = self.scene.globals.for_frame(params, accum.1, stats.1, igi);
+        let method_buffers = method.prepare(&mut self.gpu, params)?;
+        let g = self
+            .scene
+            .globals
+            .for_frame(params, accum.1, stats.1, method_buffers);
         self.globals_buffer.mapped()[..std::mem::size_of::<Globals>()]
             .copy_from_slice(bytemuck::bytes_of(&g));
         let globals_address = self.globals_buffer.address;
@@ -163,16 +196,17 @@ impl Tracer {
             None => None,
         };
         if let Some(rows) = &start {
-            self.write_buffers(&[(accum.0, band_offset, bytemuck::cast_slice(rows))])?;
+            self.gpu
+                .write_buffers(&[(accum.0, band_offset, bytemuck::cast_slice(rows))])?;
         }
-        // A filtered IGI gather adds onto the span's texels: cleared with the rest.
-        let texels = self.igi_texel_range(params, span);
-        self.submit(|d, cb| unsafe {
+        // What the method's passes add onto is cleared with the rest.
+        let clears = method.clears(params, span);
+        self.gpu.submit(|d, cb| unsafe {
             if start.is_none() {
                 d.cmd_fill_buffer(cb, accum.0, band_offset, band_size, 0);
             }
             d.cmd_fill_buffer(cb, stats.0, 0, vk::WHOLE_SIZE, 0);
-            if let Some((buffer, offset, size)) = texels {
+            for &(buffer, offset, size) in &clears {
                 d.cmd_fill_buffer(cb, buffer, offset, size, 0);
             }
             compute_barrier(
@@ -183,32 +217,31 @@ impl Tracer {
             );
         })?;
 
-        let mut push = Push {
+        let push = Push {
             globals: globals_address,
             y0,
             y1,
             pixel_begin: span.begin,
             pixel_end: span.end,
             stride,
-            // What IGI's VPL pass keys its set by, besides frame and seed.
+            // What a method's first pass may key its work by, besides frame and seed.
             sample_begin: params.first_sample,
             sample_end: params.first_sample,
             rr_survival: params.rr_fixed.unwrap_or(params.rr_survival),
             clamp_indirect: params.clamp_indirect.unwrap_or(f32::INFINITY),
             ris_candidates: params.ris_candidates.unwrap_or(1),
-            ..Default::default()
+            method: method.push_words(params),
         };
-        Tracer::igi_push(params, &mut push);
-        // IGI's first pass: the frame's VPLs, before any sample gathers them.
-        band.gpu_time += self.emit_vpls(params, &push)?;
+        let mut rec = Recorder {
+            params,
+            gpu: &mut self.gpu,
+            scene,
+            defines: &defines,
+        };
+        band.gpu_time += method.begin_band(&mut rec, &push)?;
 
         let spp = params.spp;
-        // IGI renders a sample at a time: its gather passes follow each camera pass.
-        let per_pass = if params.igi.is_some() {
-            1
-        } else {
-            params.samples_per_pass.max(1)
-        };
+        let per_pass = method.samples_per_pass(params);
         let groups = (width.div_ceil(8), (y1 - y0).div_ceil(stride).div_ceil(8));
         let mut begin = 0;
         let mut pass_start = Duration::ZERO;
@@ -219,11 +252,7 @@ impl Tracer {
                 sample_end: params.first_sample.wrapping_add(end),
                 ..push
             };
-            if params.igi.is_some() {
-                band.gpu_time += self.igi_sample(params, &push, groups)?;
-            } else {
-                band.gpu_time += self.pass(&push, (pipeline, layout, scene_set), groups)?;
-            }
+            band.gpu_time += method.pass(&mut rec, &push, groups)?;
             begin = end;
             progress(end);
             // Stop before a pass that would end past the limit (passes take about as long as
@@ -240,7 +269,7 @@ impl Tracer {
         }
         band.samples = begin;
 
-        self.submit(|d, cb| unsafe {
+        self.gpu.submit(|d, cb| unsafe {
             let barrier = vk::MemoryBarrier::default()
                 .src_access_mask(vk::AccessFlags::SHADER_WRITE)
                 .dst_access_mask(vk::AccessFlags::TRANSFER_READ);
@@ -284,23 +313,9 @@ impl Tracer {
             .map(|&r| r as u64)
             .collect();
         band.rays = band.line_rays.iter().sum();
-        band.aux = self.read_texels(params, span);
+        band.per_pixel = method.per_pixel(params, span);
         band.wall_time = wall.elapsed();
         Ok(band)
-    }
-}
-
-impl Tracer {
-    /// One pass of the path tracer's samples; returns its device time.
-    fn pass(&mut self, push: &Push, kernel: Dispatchable, groups: (u32, u32)) -> Result<Duration> {
-        let query_pool = self.query_pool;
-        self.submit(|d, cb| unsafe {
-            timestamp(d, cb, query_pool, 0);
-            // Earlier passes wrote the accumulation buffer.
-            record_dispatch(d, cb, kernel, push, groups);
-            timestamp(d, cb, query_pool, 1);
-        })?;
-        self.timestamps()
     }
 }
 

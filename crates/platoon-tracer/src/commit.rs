@@ -34,8 +34,8 @@ impl Tracer {
                 let capacity = a.len + a.len / 2;
                 let buffer = self.array_buffer(SCENE_ARRAYS[a.array].name, capacity)?;
                 let mut old = std::mem::replace(&mut self.scene.list[a.array], buffer);
-                self.wait_idle()?;
-                old.destroy(&self.ctx.device, &mut self.allocator);
+                self.gpu.wait_idle()?;
+                self.gpu.destroy_buffer(&mut old);
                 stats.reallocated += 1;
             }
             writes.extend(a.pieces().map(|(offset, bytes)| (a.array, offset, bytes)));

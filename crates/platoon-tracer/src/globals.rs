@@ -25,10 +25,9 @@ pub(crate) struct Globals {
     pub env_conditional: u64,
     pub accum: u64,
     pub stats: u64,
-    /// IGI's VPLs, per-pixel texels (when filtered) and gathering vertices (0 when not IGI).
-    pub vpls: u64,
-    pub aux: u64,
-    pub igi_vertices: u64,
+    /// The rendering method's buffers (`MethodPasses::prepare`; IGI's VPLs, per-pixel texels and
+    /// gathering vertices), 0 where a method has none.
+    pub method_buffers: [u64; 3],
     /// COLOR_0 and TEXCOORD_1 (an empty array when the scene has neither).
     pub vertex_extras: u64,
     /// Pads the addresses to a whole vec4 before the camera.
@@ -75,12 +74,12 @@ impl Globals {
         params: &FrameParams,
         accum: u64,
         stats: u64,
-        igi: [u64; 3],
+        method_buffers: [u64; 3],
     ) -> Globals {
         let mut g = *self;
         g.accum = accum;
         g.stats = stats;
-        [g.vpls, g.aux, g.igi_vertices] = igi;
+        g.method_buffers = method_buffers;
         let cam = &params.camera;
         let b = cam.basis(params.width, params.height);
         g.cam_origin = b.origin.extend(cam.aperture_radius).to_array();
@@ -98,6 +97,10 @@ impl Globals {
         g
     }
 }
+
+/// Push-constant words a rendering method has for its options (`Push::method`; its shaders
+/// name them).
+pub(crate) const METHOD_WORDS: usize = 8;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -118,16 +121,8 @@ pub(crate) struct Push {
     pub clamp_indirect: f32,
     /// FrameParams::ris_candidates (read with LIGHT_SELECT_RIS).
     pub ris_candidates: u32,
-    /// FrameParams::igi (read with METHOD_IGI): paths, bounces, minimum distance, downsampling
-    /// and the interleaving tile.
-    pub vpl_paths: u32,
-    pub vpl_bounces: u32,
-    pub vpl_min_distance: f32,
-    pub igi_downsample: u32,
-    pub igi_tile: [u32; 2],
-    /// The VPL slots [vpl_first, vpl_end) an IGI gather pass takes.
-    pub vpl_first: u32,
-    pub vpl_end: u32,
+    /// The rendering method's words (`MethodPasses::push_words`; its shaders name them).
+    pub method: [u32; METHOD_WORDS],
 }
 
 const _: () = assert!(std::mem::size_of::<Globals>() == 176 + 9 * 16);

@@ -1,94 +1,20 @@
-//! The path-tracing kernel: GLSL from shaders/ (embedded in the binary), compiled at run time by
-//! shaderc with the scene's feature defines, one compute pipeline per variant. SPIR-V and the
-//! driver's pipeline cache are kept on disk so repeated runs and tests skip recompilation.
+//! The kernels: GLSL from shaders/ (embedded in the binary), compiled at run time by shaderc
+//! from a method's entry file with the render's kernel-variant defines, one compute pipeline per
+//! variant. SPIR-V and the driver's pipeline cache are kept on disk so repeated runs and tests
+//! skip recompilation.
 
 use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 
 use ash::vk;
-use platoon_core::FeatureSet;
 
 use crate::{Error, Result, VkContext};
 
-const SOURCES: &[(&str, &str)] = &[
-    (
-        "pathtrace.comp",
-        include_str!("../../../shaders/pathtrace.comp"),
-    ),
-    ("scene.glsl", include_str!("../../../shaders/scene.glsl")),
-    (
-        "scene_arrays.glsl",
-        include_str!("../../../shaders/scene_arrays.glsl"),
-    ),
-    ("rng.glsl", include_str!("../../../shaders/rng.glsl")),
-    (
-        "sampling.glsl",
-        include_str!("../../../shaders/sampling.glsl"),
-    ),
-    (
-        "textures.glsl",
-        include_str!("../../../shaders/textures.glsl"),
-    ),
-    (
-        "intersect.glsl",
-        include_str!("../../../shaders/intersect.glsl"),
-    ),
-    ("trace.glsl", include_str!("../../../shaders/trace.glsl")),
-    (
-        "surface.glsl",
-        include_str!("../../../shaders/surface.glsl"),
-    ),
-    (
-        "environment.glsl",
-        include_str!("../../../shaders/environment.glsl"),
-    ),
-    ("bsdf.glsl", include_str!("../../../shaders/bsdf.glsl")),
-    ("lights.glsl", include_str!("../../../shaders/lights.glsl")),
-    ("path.glsl", include_str!("../../../shaders/path.glsl")),
-    (
-        "bsdf_probe.glsl",
-        include_str!("../../../shaders/bsdf_probe.glsl"),
-    ),
-    (
-        "igi/emit.comp",
-        include_str!("../../../shaders/igi/emit.comp"),
-    ),
-    (
-        "igi/camera.comp",
-        include_str!("../../../shaders/igi/camera.comp"),
-    ),
-    (
-        "igi/gather.comp",
-        include_str!("../../../shaders/igi/gather.comp"),
-    ),
-    (
-        "igi/pixel.glsl",
-        include_str!("../../../shaders/igi/pixel.glsl"),
-    ),
-    (
-        "igi/visibility.glsl",
-        include_str!("../../../shaders/igi/visibility.glsl"),
-    ),
-];
-
-/// Defines that select IGI's VPL pass and gather passes instead of its camera pass.
-pub(crate) const EMIT_VPLS: &str = "IGI_EMIT_VPLS";
-pub(crate) const GATHER: &str = "IGI_GATHER";
-
-/// The main source of a kernel variant: IGI's passes when its defines say so, else the path
-/// tracer.
-fn main_source(defines: &[&str]) -> &'static str {
-    if defines.contains(&EMIT_VPLS) {
-        "igi/emit.comp"
-    } else if defines.contains(&GATHER) {
-        "igi/gather.comp"
-    } else if defines.contains(&"METHOD_IGI") {
-        "igi/camera.comp"
-    } else {
-        "pathtrace.comp"
-    }
-}
+/// Every file under shaders/ by its path there (what `#include` names): the kernel registry's
+/// sources, listed by build.rs. A kernel is an entry file among them (a method's `kernels`) and
+/// its defines.
+const SOURCES: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
 /// The kernel sources: the embedded ones, or with $PLATOON_SHADER_DIR set, the files of that
 /// folder read now (kernel work on lavapipe then needs no rebuild per edit; the SPIR-V cache is
@@ -132,7 +58,7 @@ pub enum Sampling {
 }
 
 impl Sampling {
-    fn define(self) -> Option<&'static str> {
+    pub(crate) fn define(self) -> Option<&'static str> {
         match self {
             Sampling::Mis => None,
             Sampling::Bsdf => Some("SAMPLING_BSDF"),
@@ -152,13 +78,6 @@ pub fn cache_dir() -> PathBuf {
         .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
         .unwrap_or_else(std::env::temp_dir);
     base.join("platoon")
-}
-
-/// The defines of one kernel variant, in a stable order.
-pub fn defines(features: FeatureSet, sampling: Sampling) -> Vec<&'static str> {
-    let mut d = features.defines();
-    d.extend(sampling.define());
-    d
 }
 
 fn hash_of(parts: &[&[u8]]) -> u64 {
@@ -183,13 +102,14 @@ fn store(path: &Path, bytes: &[u8]) {
     }
 }
 
-/// SPIR-V for the variant, from the disk cache or compiled now.
-pub(crate) fn spirv(defines: &[&str]) -> Result<Vec<u32>> {
+/// SPIR-V of the entry file `entry` with `defines`, from the disk cache or compiled now.
+pub(crate) fn spirv(entry: &str, defines: &[&str]) -> Result<Vec<u32>> {
     let sources = sources()?;
     let mut parts: Vec<&[u8]> = sources
         .iter()
         .flat_map(|(n, s)| [n.as_bytes(), s.as_bytes()])
         .collect();
+    parts.push(entry.as_bytes());
     parts.extend(defines.iter().map(|d| d.as_bytes()));
     let key = hash_of(&parts);
     let path = cache_dir().join(format!("spirv-{key:016x}.spv"));
@@ -201,12 +121,12 @@ pub(crate) fn spirv(defines: &[&str]) -> Result<Vec<u32>> {
                 .collect());
         }
     }
-    let words = compile(&sources, defines)?;
+    let words = compile(&sources, entry, defines)?;
     store(&path, bytemuck::cast_slice(&words));
     Ok(words)
 }
 
-fn compile(sources: &[(&'static str, String)], defines: &[&str]) -> Result<Vec<u32>> {
+fn compile(sources: &[(&'static str, String)], entry: &str, defines: &[&str]) -> Result<Vec<u32>> {
     let compiler = shaderc::Compiler::new().map_err(|e| Error::Shader(e.to_string()))?;
     let mut options = shaderc::CompileOptions::new().map_err(|e| Error::Shader(e.to_string()))?;
     options.set_target_env(
@@ -228,11 +148,10 @@ fn compile(sources: &[(&'static str, String)], defines: &[&str]) -> Result<Vec<u
             })
             .ok_or_else(|| format!("no shader include named {name}"))
     });
-    let main = main_source(defines);
     let (name, text) = sources
         .iter()
-        .find(|(n, _)| *n == main)
-        .expect("every main source is in SOURCES");
+        .find(|(n, _)| *n == entry)
+        .ok_or_else(|| Error::Shader(format!("no kernel entry file shaders/{entry}")))?;
     let artifact = compiler
         .compile_into_spirv(
             text,
@@ -291,14 +210,16 @@ pub(crate) struct Kernel {
 }
 
 impl Kernel {
-    /// The pipeline of `defines`, reading the SSBO scene arrays through `set_layout` (set 0).
+    /// The pipeline of `entry` with `defines`, reading the SSBO scene arrays through
+    /// `set_layout` (set 0).
     pub fn new(
         device: &ash::Device,
         cache: &PipelineCache,
+        entry: &str,
         defines: &[&str],
         set_layout: vk::DescriptorSetLayout,
     ) -> Result<Kernel> {
-        let code = spirv(defines)?;
+        let code = spirv(entry, defines)?;
         let module = unsafe {
             device.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&code), None)
         }
@@ -339,19 +260,4 @@ impl Kernel {
             device.destroy_pipeline_layout(self.layout, None);
         }
     }
-}
-
-/// Human-readable name of the kernel variant for a feature set (MIS estimator).
-pub fn kernel_label(features: FeatureSet) -> String {
-    let d = defines(features, Sampling::Mis);
-    if d.is_empty() {
-        "pathtrace.comp (no feature defines)".into()
-    } else {
-        format!("pathtrace.comp -D{}", d.join(" -D"))
-    }
-}
-
-/// The SPIR-V of the kernel variant for a feature set and estimator (cached on disk).
-pub fn kernel_spirv(features: FeatureSet, sampling: Sampling) -> Result<Vec<u32>> {
-    spirv(&defines(features, sampling))
 }

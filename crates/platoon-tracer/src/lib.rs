@@ -1,6 +1,7 @@
-//! platoon-tracer: one Vulkan device. It owns the device's memory, the path-tracing pipelines
-//! (GLSL compiled at run time by shaderc, specialised per scene feature set) and the dispatch of
-//! a band of pixel lines. It receives only plain data from platoon-core.
+//! platoon-tracer: one Vulkan device. It owns the device's memory (`gpu`), the kernels (GLSL
+//! compiled at run time by shaderc, specialised per kernel variant), the device side of each
+//! rendering method (`method`) and the dispatch of a band of pixels (`band`). It receives only
+//! plain data from platoon-core.
 
 mod band;
 mod buffer;
@@ -8,18 +9,20 @@ mod commit;
 mod context;
 mod dispatch;
 mod globals;
-mod igi;
+mod gpu;
 mod kernel;
 mod memory;
+mod method;
 mod tracer;
 
 pub use commit::CommitStats;
 pub use context::{list_devices, DeviceInfo};
-pub use kernel::{cache_dir, kernel_label, kernel_spirv, sources_hash, Sampling};
+pub use kernel::{cache_dir, sources_hash, Sampling};
 pub use memory::{
     choose as choose_memory_paths, scene_array_bytes, ArrayPath, MemoryLimits, MemoryPath,
     SCENE_ARRAYS,
 };
+pub use method::{kernel_label, kernel_spirv};
 pub use tracer::{Tracer, TracerOptions};
 
 /// Tracer failures; each says which device or file it concerns.

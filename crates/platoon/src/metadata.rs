@@ -11,7 +11,7 @@ pub fn metadata(
     rendered: &Rendered,
     sampling: &str,
 ) -> Vec<(String, String)> {
-    let features = prepared.gpu.features.with_render_options(params);
+    let features = platoon_core::KernelVariant::new(prepared.gpu.features, params);
     let source = prepared
         .scene
         .source
@@ -97,25 +97,7 @@ pub fn metadata(
 
 /// The rendering method and its options.
 fn method(params: &FrameParams) -> String {
-    match params.igi {
-        None => "path tracing".into(),
-        Some(o) => format!(
-            "instant global illumination: {} VPLs ({} paths x {} bounces), min distance {}, \
-             visibility {}, downsample {}, interleave {}x{}",
-            o.slots(),
-            o.paths,
-            o.bounces,
-            o.min_distance,
-            if o.imperfect_visibility {
-                "leaf boxes"
-            } else {
-                "exact"
-            },
-            o.downsample,
-            o.interleave[0],
-            o.interleave[1]
-        ),
-    }
+    params.method.unit().describe()
 }
 
 /// Every approximation in effect, so a reader of the image knows what it is not.
@@ -133,9 +115,7 @@ pub fn approximations(params: &FrameParams) -> String {
     if params.single_diffuse_bounce {
         a.push("a single diffuse bounce of indirect light".into());
     }
-    if let Some(igi) = params.igi {
-        a.extend(igi.approximations());
-    }
+    a.extend(params.method.unit().approximations());
     a.join("; ")
 }
 
@@ -157,7 +137,7 @@ mod tests {
         p.clamp_indirect = Some(1.5);
         p.deterministic_termination = true;
         p.single_diffuse_bounce = true;
-        p.igi = Some(platoon_core::igi::IgiOptions {
+        p.method = platoon_core::Method::Igi(platoon_core::method::igi::IgiOptions {
             min_distance: 0.1,
             imperfect_visibility: true,
             downsample: 4,

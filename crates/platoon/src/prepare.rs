@@ -92,7 +92,7 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
         }
         EnvChoice::Scene => env_label = "none".into(),
     }
-    let lit = platoon_core::FeatureSet::of_scene(&scene);
+    let lit = platoon_core::SceneFeatures::of_scene(&scene);
     let env_label = if scene.environment.is_none()
         && !lit.emissive_triangles
         && !lit.punctual_lights

@@ -59,8 +59,8 @@ pub fn render_bands(
                 .context("render failed")?,
         );
     }
-    // IGI's filters need the whole frame (platoon_core::igi::filter says why).
-    platoon_core::igi::filter::finish_bands(params, &mut out);
+    // The method's pass over the whole frame (IGI's filters: platoon_core::method::igi::filter).
+    params.method.unit().finish(params, &mut out);
     Ok(Rendered {
         film: assemble(params, &out),
         spp: out

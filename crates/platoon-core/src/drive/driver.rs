@@ -48,9 +48,9 @@ pub struct DriverOptions {
     pub max_depth: u32,
     pub rr_depth: u32,
     pub samples_per_pass: u32,
-    /// Render by instant global illumination (`crate::igi`); a still view's frames each gather
-    /// a VPL set of their own, so the film averages over sets.
-    pub igi: Option<crate::igi::IgiOptions>,
+    /// The rendering method (`crate::method`). With instant global illumination a still
+    /// view's frames each gather a VPL set of their own, so the film averages over sets.
+    pub method: crate::method::Method,
     /// Keep a [`QueryScene`] of the generation being rendered, for the game's ray queries.
     pub queries: bool,
 }
@@ -68,7 +68,7 @@ impl DriverOptions {
             max_depth: DEFAULT_MAX_DEPTH,
             rr_depth: 3,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
-            igi: None,
+            method: crate::method::Method::PathTracing,
             queries: false,
         }
     }
@@ -311,7 +311,7 @@ impl FrameDriver {
             params.rr_depth = params.rr_depth.min(1);
         }
         params.samples_per_pass = o.samples_per_pass;
-        params.igi = o.igi;
+        params.method = o.method;
         let (commit, update) = match generation {
             Some(g) if !g.commit.is_empty() => (Some(g.commit), g.times),
             Some(g) => (None, g.times),

@@ -32,7 +32,7 @@ pub struct ArrayInfo {
     /// The define that reads it through a uniform texel buffer, and through a storage buffer.
     pub texel_define: &'static str,
     pub storage_define: &'static str,
-    /// Its `Globals` field (buffer device address) in shaders/scene.glsl.
+    /// Its `Globals` field (buffer device address) in shaders/common/scene.glsl.
     pub globals_field: &'static str,
     /// Bytes of one texel: 16 for arrays of vec4-sized structs, 4 for arrays of scalars.
     pub texel_bytes: u64,
@@ -193,12 +193,12 @@ const _: () = {
 mod tests {
     use super::*;
 
-    /// shaders/scene_arrays.glsl declares each array's accessor under its two defines, at its
+    /// shaders/common/scene_arrays.glsl declares each array's accessor under its two defines, at its
     /// binding, with its Globals field; and scene.glsl's Globals has that field.
     #[test]
     fn the_kernels_array_declarations_follow_the_table() {
-        let arrays = include_str!("../../../../shaders/scene_arrays.glsl");
-        let globals = include_str!("../../../../shaders/scene.glsl");
+        let arrays = include_str!("../../../../shaders/common/scene_arrays.glsl");
+        let globals = include_str!("../../../../shaders/common/scene.glsl");
         for info in ARRAYS {
             let k = info.array.index();
             let texel = format!("#if defined({})\nTEXEL_ARRAY(", info.texel_define);

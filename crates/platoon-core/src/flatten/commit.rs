@@ -65,7 +65,7 @@ pub struct SceneHeader {
     pub env_color: [f32; 3],
     pub env_integral: f32,
     pub env_size: [u32; 2],
-    pub features: crate::flatten::features::FeatureSet,
+    pub features: crate::flatten::features::SceneFeatures,
     /// The scene's bounding sphere: centre and radius.
     pub scene_sphere: [f32; 4],
 }

@@ -1,4 +1,4 @@
-//! The GPU structs of the scene arrays: std430 layouts that shaders/scene.glsl mirrors ("Must
+//! The GPU structs of the scene arrays: std430 layouts that shaders/common/scene.glsl mirrors ("Must
 //! match GPU side"); each asserts its size.
 
 use bytemuck::{Pod, Zeroable};
@@ -110,7 +110,7 @@ pub struct GpuLight {
     pub ids: [u32; 4],
 }
 
-/// `GpuEnvironment::kind`, the kernel's `env_kind()` (shaders/scene.glsl).
+/// `GpuEnvironment::kind`, the kernel's `env_kind()` (shaders/common/scene.glsl).
 pub const ENV_NONE: u32 = 0;
 pub const ENV_CONSTANT: u32 = 1;
 pub const ENV_MAP: u32 = 2;
@@ -148,7 +148,7 @@ mod tests {
     /// Every code the kernel shares with these structs has one value on both sides.
     #[test]
     fn the_kernels_constants_match_these() {
-        let glsl = include_str!("../../../../shaders/scene.glsl");
+        let glsl = include_str!("../../../../shaders/common/scene.glsl");
         let uints = [
             ("ENV_NONE", ENV_NONE),
             ("ENV_CONSTANT", ENV_CONSTANT),

@@ -21,7 +21,7 @@ pub use layout::*;
 pub use lights::selection_distribution;
 
 use crate::error::Result;
-use crate::flatten::features::FeatureSet;
+use crate::flatten::features::SceneFeatures;
 use crate::scene::environment::Environment;
 use crate::scene::{Posed, Scene};
 use bvh::{BvhNode, FlatBvh};
@@ -50,7 +50,7 @@ pub struct GpuScene {
     /// Light selection CDF, `lights.len() + 1` entries.
     pub light_cdf: Vec<f32>,
     pub env: GpuEnvironment,
-    pub features: FeatureSet,
+    pub features: SceneFeatures,
     pub triangle_count: usize,
     pub build_times: bvh::BuildTimes,
     /// Radius of the scene's bounding sphere (for directional and environment light power), in
@@ -180,7 +180,7 @@ impl GpuScene {
             lights::add_environment_light(self, &mut power);
         }
         lights::set_selection(self, &power)?;
-        self.features = FeatureSet::of_scene(scene);
+        self.features = SceneFeatures::of_scene(scene);
         self.features.emissive_triangles = self.lights.iter().any(|l| l.ids[0] == LIGHT_TRIANGLE);
         self.features.environment_map = self.env.kind == ENV_MAP;
         Ok(())

@@ -62,9 +62,8 @@ pub struct FrameParams {
     /// With `ris_candidates`: combine the RIS light sample with BSDF sampling by MIS, weighing
     /// with the kept candidate's own pdf (Bikker's MIS+RIS; still unbiased).
     pub ris_mis: bool,
-    /// Render by instant global illumination instead of path tracing (`crate::igi`; biased,
-    /// listed as an approximation). Its kernel is compiled in only when set.
-    pub igi: Option<crate::igi::IgiOptions>,
+    /// The rendering method and its options (`crate::method`; path tracing by default).
+    pub method: crate::method::Method,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -123,7 +122,7 @@ impl FrameParams {
             single_diffuse_bounce: false,
             ris_candidates: None,
             ris_mis: false,
-            igi: None,
+            method: crate::method::Method::PathTracing,
             seed: 0,
             frame: 0,
             first_sample: 0,
@@ -194,9 +193,10 @@ pub struct Band {
     pub line_rays: Vec<u64>,
     /// Samples whose radiance was NaN or Inf, zeroed by the kernel.
     pub rejected_samples: u64,
-    /// With filtered IGI (`IgiOptions::filtered`), one texel per pixel of the span for the
-    /// filters that finish the frame after assembly (`igi::filter::finish_bands`); else empty.
-    pub aux: Vec<crate::igi::IgiTexel>,
+    /// What the method leaves per pixel of the span for its pass after assembly
+    /// (`RenderMethod::finish`), in a layout of its own (IGI's filters: three vec4s a pixel);
+    /// empty for methods without one.
+    pub per_pixel: Vec<[f32; 4]>,
     pub gpu_time: Duration,
     pub wall_time: Duration,
 }

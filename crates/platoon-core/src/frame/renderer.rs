@@ -332,8 +332,8 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             });
         }
         self.failures.extend(new_failures.iter().cloned());
-        // IGI's filters need the whole frame (crate::igi::filter says why).
-        crate::igi::filter::finish_bands(params, &mut done);
+        // The method's pass over the whole frame (what needs neighbours across band edges).
+        params.method.unit().finish(params, &mut done);
         Ok(FrameResult {
             film: assemble(params, &done),
             sums: gather_sums(params, &done),

@@ -198,10 +198,11 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             } else {
                 band.gpu_time
             };
-            // IGI's filters run on the CPU after assembly: their time is the technique's too.
+            // A method's pass after assembly runs on the CPU (IGI's filters): its time is the
+            // technique's too.
             let filters = std::time::Instant::now();
             let mut bands = [band];
-            platoon_core::igi::filter::finish_bands(&params, &mut bands);
+            params.method.unit().finish(&params, &mut bands);
             let [band] = bands;
             times[c].push((device + filters.elapsed()).as_secs_f64());
             let seconds = platoon_core::measure::median(times[c].clone());

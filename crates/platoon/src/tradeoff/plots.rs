@@ -7,7 +7,7 @@ use anyhow::{anyhow, Result};
 use plotters::prelude::*;
 
 use super::Row;
-use crate::plot::write_through_temp;
+use crate::plot::{draw_legend, write_through_temp};
 
 /// Ten distinguishable colours (a sweep has up to a dozen techniques).
 const COLORS: [RGBColor; 10] = [
@@ -115,12 +115,7 @@ pub fn write_error_png(path: &Path, rows: &[Row], title: &str) -> Result<()> {
                 .map_err(|e| anyhow!("{e}"))?;
         }
         if text {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| anyhow!("{e}"))?;
+            draw_legend(&mut chart)?;
         }
         Ok(())
     })

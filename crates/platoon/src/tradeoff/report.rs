@@ -56,7 +56,8 @@ pub fn table(rows: &[Row]) -> String {
     s
 }
 
-const COLUMNS: [&str; 9] = [
+/// The columns of a report row, in the CSV and as the JSON rows' keys.
+pub const COLUMNS: [&str; 9] = [
     "technique",
     "spp",
     "ms",

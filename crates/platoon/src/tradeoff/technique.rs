@@ -6,7 +6,7 @@ use std::fmt;
 
 use anyhow::{bail, Result};
 use platoon_core::frame::FrameParams;
-use platoon_core::igi::IgiOptions;
+use platoon_core::method::igi::IgiOptions;
 use platoon_tracer::Sampling;
 
 use super::effects::Effect;
@@ -278,7 +278,7 @@ impl Technique {
                 params.ris_mis = true;
             }
             Technique::SingleDiffuseBounce => params.single_diffuse_bounce = true,
-            Technique::Igi(t) => params.igi = Some(t.options()),
+            Technique::Igi(t) => params.method = platoon_core::Method::Igi(t.options()),
             // Its change is to the scene (`effect`).
             Technique::Without(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}

@@ -6,20 +6,20 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-#include "scene.glsl"
-#include "rng.glsl"
-#include "sampling.glsl"
-#include "textures.glsl"
-#include "intersect.glsl"
-#include "trace.glsl"
-#include "surface.glsl"
-#include "environment.glsl"
-#include "bsdf.glsl"
-#include "lights.glsl"
+#include "common/scene.glsl"
+#include "common/rng.glsl"
+#include "common/sampling.glsl"
+#include "common/textures.glsl"
+#include "common/intersect.glsl"
+#include "common/trace.glsl"
+#include "common/surface.glsl"
+#include "common/environment.glsl"
+#include "common/bsdf.glsl"
+#include "common/lights.glsl"
 
-#include "path.glsl"
+#include "path/path.glsl"
 #if defined(OUTPUT_BSDF_SAMPLE) || defined(OUTPUT_BSDF_VALUE)
-#include "bsdf_probe.glsl"
+#include "path/bsdf_probe.glsl"
 #endif
 
 void main() {

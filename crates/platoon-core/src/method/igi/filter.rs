@@ -52,18 +52,20 @@ impl Sample {
 }
 
 /// Adds the filtered indirect light to the bands' sums: what the IGI kernel leaves undone when
-/// its options are `filtered()`. Every band must carry its texels (`Band::aux`).
-pub fn finish_bands(params: &FrameParams, bands: &mut [Band]) {
-    let Some(options) = params.igi.filter(|o| o.filtered()) else {
+/// its options are `filtered()`. Every band must carry its texels (`Band::per_pixel`, three
+/// vec4s a pixel).
+pub fn finish_bands(options: &IgiOptions, params: &FrameParams, bands: &mut [Band]) {
+    if !options.filtered() {
         return;
-    };
+    }
     let (w, h) = (params.width, params.height);
     let mut texels = vec![IgiTexel::default(); w as usize * h as usize];
     for b in bands.iter() {
         let start = b.span.begin as usize;
-        texels[start..start + b.aux.len()].copy_from_slice(&b.aux);
+        let theirs: &[IgiTexel] = bytemuck::cast_slice(&b.per_pixel);
+        texels[start..start + theirs.len()].copy_from_slice(theirs);
     }
-    let indirect = indirect_radiance(&options, w, h, &texels);
+    let indirect = indirect_radiance(options, w, h, &texels);
     for b in bands.iter_mut() {
         let start = b.span.begin as usize;
         for (i, s) in b.sums.iter_mut().enumerate() {

@@ -1,6 +1,17 @@
 // The path tracer's paths: one vertex at a time (path_step), the samples of a pixel with path
-// regeneration (pixel_samples). Shared by pathtrace.comp and IGI's gather (igi/gather.comp), which
-// hooks its gather into the first diffuse vertex (METHOD_IGI).
+// regeneration (pixel_samples). Shared by pathtrace.comp and the methods that reuse the path loop
+// (IGI's camera pass records its gathering vertex through the hooks).
+//
+// Hooks. A kernel that defines PATH_HOOKS defines, before including this file, the struct
+// PathHook (what it carries along a path, Path::hook) and, after it, these functions:
+//   void hook_path_start(inout PathHook h);
+//       a new path;
+//   bool hook_after_emission(inout Path p);
+//       after a vertex added its emission, before the path goes on from it; false ends the path;
+//   void hook_vertex(inout Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
+//       at a vertex the path scatters from, before its next-event estimation;
+//   void hook_bsdf_sampled(inout Path p, Bsdf bsdf, vec3 wo, BsdfSample bs);
+//       after the vertex's BSDF sample weighed the throughput, before roulette.
 
 // Weight of emission found by a BSDF-sampled ray, against the NEE pdf of the same light.
 float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
@@ -65,11 +76,17 @@ struct Path {
     uint depth;
     uint sample_index;  // the pixel's sample: what deterministic termination (DPT) reads
     uint diffuse;       // non-delta bounces so far (single diffuse bounce)
-#ifdef METHOD_IGI
-    bool gathered;       // the first diffuse vertex has gathered the VPLs' light
-    vec3 indirect_scale; // what of the throughput carries on past the next vertex's emission
+#ifdef PATH_HOOKS
+    PathHook hook;
 #endif
 };
+
+#ifdef PATH_HOOKS
+void hook_path_start(inout PathHook h);
+bool hook_after_emission(inout Path p);
+void hook_vertex(inout Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
+void hook_bsdf_sampled(inout Path p, Bsdf bsdf, vec3 wo, BsdfSample bs);
+#endif
 
 Path path_start(Ray ray, uint sample_index) {
     Path p;
@@ -81,17 +98,12 @@ Path path_start(Ray ray, uint sample_index) {
     p.depth = 0u;
     p.sample_index = sample_index;
     p.diffuse = 0u;
-#ifdef METHOD_IGI
-    p.gathered = false;
-    p.indirect_scale = vec3(1.0);
+#ifdef PATH_HOOKS
+    hook_path_start(p.hook);
 #endif
     return p;
 }
 
-#ifdef METHOD_IGI
-// Records the path's first diffuse vertex for IGI's gather passes (igi/camera.comp).
-void igi_record(Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
-#endif
 
 // Extends the path by one vertex; false once the path has ended (its radiance is in p.L).
 bool path_step(inout Path p, inout Rng rng, inout uint rays) {
@@ -117,11 +129,8 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     if (any(greaterThan(le, vec3(0.0))))
         add_light(p.L, p.throughput * le * emission_weight(p.after_delta, p.bsdf_pdf, triangle_light_pdf(hit, s.ng, p.ray.dir)), p.depth);
 #endif
-#ifdef METHOD_IGI
-    // Past the gathering vertex the path carries only what its other lobes reflect.
-    p.throughput *= p.indirect_scale;
-    p.indirect_scale = vec3(1.0);
-    if (!any(greaterThan(p.throughput, vec3(0.0)))) return false;
+#ifdef PATH_HOOKS
+    if (!hook_after_emission(p)) return false;
 #endif
     // depth + 1 segments so far; the next vertex would make depth + 2 (Mitsuba's max_depth).
     if (p.depth + 1u >= max_depth()) return false;
@@ -143,15 +152,8 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
 #ifdef SINGLE_DIFFUSE_BOUNCE
     last_diffuse = p.diffuse >= 1u;
 #endif
-#ifdef METHOD_IGI
-    // Instant global illumination: the first vertex with a diffuse lobe takes its indirect
-    // diffuse light from the VPLs (gathered by later passes); its direct light stays the path tracer's (NEE below, and
-    // the emission the BSDF ray finds next, both weighed by MIS).
-    bool gathering = !p.gathered && bsdf.p.x > 0.0;
-    if (gathering) {
-        p.gathered = true;
-        igi_record(p, s, bsdf, wo, ng_wo);
-    }
+#ifdef PATH_HOOKS
+    hook_vertex(p, s, bsdf, wo, ng_wo);
 #endif
 
 #ifndef SAMPLING_BSDF
@@ -190,14 +192,8 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     }
 #endif
     p.throughput *= bs.weight;
-#ifdef METHOD_IGI
-    // The emission at the next vertex is direct light (full BSDF); the light beyond it is
-    // indirect, whose diffuse share the VPLs gave: the rest of the BSDF, (f - f_diffuse) / f.
-    if (gathering && !bs.delta) {
-        vec3 f = bs.weight * bs.pdf;
-        vec3 rest = max(f - bsdf_diffuse(bsdf, wo, bs.wi), vec3(0.0));
-        p.indirect_scale = vec3(f.x > 0.0 ? rest.x / f.x : 0.0, f.y > 0.0 ? rest.y / f.y : 0.0, f.z > 0.0 ? rest.z / f.z : 0.0);
-    }
+#ifdef PATH_HOOKS
+    hook_bsdf_sampled(p, bsdf, wo, bs);
 #endif
     p.after_delta = bs.delta;
     p.bsdf_pdf = bs.pdf;

@@ -36,22 +36,6 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Li
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Accum { vec4 v[]; };
 // stats: [0] rejected (NaN/Inf) samples, [1..3] unused, [4 + y] rays traced in row y
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Stats { uint v[]; };
-// IGI's virtual point lights (igi/emit.comp), its gathering vertices (igi/camera.comp) and, with IGI_FILTERED, three vec4 per pixel for
-// the filters after assembly (IgiTexel in crates/platoon-core/src/igi/mod.rs).
-struct Vpl { vec4 position; vec4 normal; vec4 power; };
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer Vpls { Vpl v[]; };
-// IGI's gathering vertex of a pixel's current sample: what the camera pass leaves for the gather
-// passes, in world space on the side the path arrived from (igi/camera.comp says why deferred).
-struct IgiVertex {
-    vec4 position;  // xyz, w: coordinate magnitude (offset_ray)
-    vec4 ns;        // shading normal, xyz; w: the specular layer's weight
-    vec4 ng;        // geometric normal, xyz; w: 1 when the sample has a vertex to gather at
-    vec4 wo;        // direction back along the path, xyz
-    vec4 albedo;    // path throughput x dielectric weight x base colour, xyz
-    vec4 f0;        // the specular layer's f0, xyz
-};
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer IgiVertices { IgiVertex v[]; };
-
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Globals {
     Vertices vertices;
     Vec4s tri_pos;
@@ -70,9 +54,11 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Gl
     Floats env_conditional;
     Accum accum;
     Stats stats;
-    Vpls vpls;
-    Accum aux;
-    IgiVertices igi_vertices;
+    // The rendering method's buffers (MethodPasses::prepare in crates/platoon-tracer/src/method):
+    // each method's shaders name and type them (IGI: igi/igi.glsl).
+    uint64_t method_buffer0;
+    uint64_t method_buffer1;
+    uint64_t method_buffer2;
     VertexExtras vertex_extras;
     uint64_t pad_addresses;
     vec4 cam_origin;   // xyz, lens radius
@@ -104,19 +90,12 @@ layout(push_constant) uniform Push {
     float clamp_indirect;
     // Candidates of resampled light selection, with LIGHT_SELECT_RIS.
     uint ris_candidates;
-    // IGI (crates/platoon-core/src/igi): light paths and VPLs per path, the bounded geometry
-    // term's minimum distance, the gather grid's cell size and the interleaving tile.
-    uint vpl_paths;
-    uint vpl_bounces;
-    float vpl_min_distance;
-    uint igi_downsample;
-    uvec2 igi_tile;
-    // The VPL slots a gather pass takes.
-    uint vpl_first;
-    uint vpl_end;
+    // The rendering method's words (MethodPasses::push_words): each method's shaders name
+    // them (IGI: igi/igi.glsl).
+    uint method_words[8];
 } pc;
 
-#include "scene_arrays.glsl"
+#include "common/scene_arrays.glsl"
 
 // Per-render constants, copied from Globals once per invocation. Components are never read
 // through the buffer reference directly: Mesa 22.3 lavapipe miscompiles a scalar access to a

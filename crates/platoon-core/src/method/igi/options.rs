@@ -1,17 +1,5 @@
-//! Instant global illumination (Keller 1997), with the three accelerations of Marques and Santos'
-//! IGI on OptiX: a second rendering method beside the path tracer, which stays the default and
-//! the reference. Per frame the tracers shoot particles from the lights and leave a virtual
-//! point light (VPL) at each hit on a surface with a diffuse component; the first diffuse hit
-//! of each camera path gathers its indirect diffuse light from them, while direct light and
-//! specular chains are traced exactly as the path tracer does.
-//!
-//! This module holds the method's options (plain data the tracer turns into kernel defines and
-//! push constants) and the filters that need neighbouring pixels (`filter`): the
-//! discontinuity buffer of interleaved sampling and the joint bilateral upsampling of a
-//! downsampled gather. Those run once on the assembled frame, after every band is in, so the
-//! image is the same bits for any split between devices (see `filter`).
-
-pub mod filter;
+//! IGI's options: plain data the tracer turns into kernel defines and push constants, and the
+//! gather grid they imply (mirrored by shaders/igi/pixel.glsl).
 
 /// How IGI renders a frame. The defaults are the exact method: every pixel gathers every VPL
 /// through exact visibility with the unbounded geometry term (consistent: it converges to the
@@ -178,54 +166,4 @@ impl Grid {
         let at = |c: u32, n: u32| (c * self.k + self.k / 2).min(n - 1);
         (at(i, self.width), at(j, self.height))
     }
-}
-
-/// A virtual point light as igi/emit.comp writes it (`Vpl` in shaders/scene.glsl, std430).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Vpl {
-    /// xyz; w unused.
-    pub position: [f32; 4],
-    /// The surface's normal, xyz.
-    pub normal: [f32; 4],
-    /// Flux x albedo / pi, rgb; w 1 in a slot that holds a VPL, all zero where its path ended.
-    pub power: [f32; 4],
-}
-
-/// A pixel's gathering vertex, what the camera pass leaves the gather passes (`IgiVertex` in
-/// shaders/scene.glsl, std430; the field comments there say what each holds).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct IgiVertex {
-    pub position: [f32; 4],
-    pub ns: [f32; 4],
-    pub ng: [f32; 4],
-    pub wo: [f32; 4],
-    pub albedo: [f32; 4],
-    pub f0: [f32; 4],
-}
-
-const _: () = {
-    assert!(std::mem::size_of::<Vpl>() == 48);
-    assert!(std::mem::size_of::<IgiVertex>() == 96);
-    assert!(std::mem::size_of::<IgiTexel>() == 48);
-};
-
-/// What the IGI kernel leaves per pixel for the filters (sums over the frame's samples; std430
-/// layout of three vec4s in the kernel's aux buffer).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct IgiTexel {
-    /// Irradiance gathered from the VPLs (gather pixels only; the interleaving subset's
-    /// estimate of the whole set's, scaled by the subset count).
-    pub irradiance: [f32; 3],
-    /// Samples whose first diffuse hit the sums below describe.
-    pub diffuse_samples: f32,
-    /// Path throughput x diffuse albedo / pi: what turns the irradiance into radiance.
-    pub reflectance: [f32; 3],
-    /// Distance from the camera to the first diffuse hit.
-    pub depth: f32,
-    /// Shading normal at the first diffuse hit, facing the camera path.
-    pub normal: [f32; 3],
-    pub _pad: f32,
 }

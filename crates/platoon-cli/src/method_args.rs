@@ -1,9 +1,10 @@
 //! The rendering method's flags: the path tracer (default) or instant global illumination with
-//! its options (platoon::core::igi).
+//! its options (platoon::core::method).
 
 use anyhow::{bail, Result};
 use clap::ValueEnum;
-use platoon::core::igi::IgiOptions;
+use platoon::core::method::igi::IgiOptions;
+use platoon::core::Method;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum MethodArg {
@@ -50,8 +51,8 @@ fn parse_tile(s: &str) -> Result<[u32; 2], String> {
 }
 
 impl MethodArgs {
-    /// IGI's options when the method is IGI; refuses IGI flags given to the path tracer.
-    pub fn igi(&self) -> Result<Option<IgiOptions>> {
+    /// The method with its options; refuses IGI flags given to the path tracer.
+    pub fn method(&self) -> Result<Method> {
         let any_igi_flag = self.vpls.is_some()
             || self.vpl_bounces.is_some()
             || self.vpl_min_distance.is_some()
@@ -62,7 +63,7 @@ impl MethodArgs {
             if any_igi_flag {
                 bail!("the --vpl* and --igi-* flags set instant global illumination: add --method igi");
             }
-            return Ok(None);
+            return Ok(Method::PathTracing);
         }
         let mut o = IgiOptions::default();
         if let Some(b) = self.vpl_bounces {
@@ -84,6 +85,6 @@ impl MethodArgs {
         if let Err(e) = o.validate() {
             bail!("{e}");
         }
-        Ok(Some(o))
+        Ok(Method::Igi(o))
     }
 }

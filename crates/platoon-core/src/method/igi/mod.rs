@@ -1,0 +1,135 @@
+//! Instant global illumination (Keller 1997), with the three accelerations of Marques and Santos'
+//! IGI on OptiX: a second rendering method beside the path tracer, which stays the default and
+//! the reference. Per frame the tracers shoot particles from the lights and leave a virtual
+//! point light (VPL) at each hit on a surface with a diffuse component; the first diffuse hit
+//! of each camera path gathers its indirect diffuse light from them, while direct light and
+//! specular chains are traced exactly as the path tracer does.
+//!
+//! This module holds the method's options (`options`), the structs its kernels share with the
+//! tracer, its place among the methods (`RenderMethod`) and the filters that need neighbouring pixels (`filter`): the
+//! discontinuity buffer of interleaved sampling and the joint bilateral upsampling of a
+//! downsampled gather. Those run once on the assembled frame, after every band is in, so the
+//! image is the same bits for any split between devices (see `filter`).
+
+pub mod filter;
+mod options;
+
+pub use options::{Grid, IgiOptions, DEPTH_THRESHOLD, MAX_BOUNCES, NORMAL_THRESHOLD};
+
+use crate::frame::{Band, FrameParams, Output};
+use crate::method::render_method::RenderMethod;
+
+impl RenderMethod for IgiOptions {
+    fn name(&self) -> &'static str {
+        "igi"
+    }
+
+    fn describe(&self) -> String {
+        format!(
+            "instant global illumination: {} VPLs ({} paths x {} bounces), min distance {}, \
+             visibility {}, downsample {}, interleave {}x{}",
+            self.slots(),
+            self.paths,
+            self.bounces,
+            self.min_distance,
+            if self.imperfect_visibility {
+                "leaf boxes"
+            } else {
+                "exact"
+            },
+            self.downsample,
+            self.interleave[0],
+            self.interleave[1]
+        )
+    }
+
+    fn validate(&self, params: &FrameParams) -> Result<(), String> {
+        IgiOptions::validate(self)?;
+        if params.output != Output::Radiance {
+            return Err("IGI renders radiance only".into());
+        }
+        Ok(())
+    }
+
+    fn kernel_options(&self) -> Vec<(&'static str, &'static str)> {
+        let options = [
+            ("igi", "METHOD_IGI", true),
+            (
+                "igi-imperfect-visibility",
+                "IGI_IMPERFECT_VISIBILITY",
+                self.imperfect_visibility,
+            ),
+            ("igi-bounded", "IGI_BOUNDED", self.min_distance > 0.0),
+            ("igi-filtered", "IGI_FILTERED", self.filtered()),
+            ("igi-downsampled", "IGI_DOWNSAMPLED", self.downsample > 1),
+            (
+                "igi-interleaved",
+                "IGI_INTERLEAVED",
+                self.interleave != [1, 1],
+            ),
+        ];
+        options
+            .into_iter()
+            .filter(|o| o.2)
+            .map(|(label, define, _)| (label, define))
+            .collect()
+    }
+
+    fn approximations(&self) -> Vec<String> {
+        IgiOptions::approximations(self)
+    }
+
+    fn finish(&self, params: &FrameParams, bands: &mut [Band]) {
+        filter::finish_bands(self, params, bands);
+    }
+}
+
+/// A virtual point light as igi/emit.comp writes it (`Vpl` in shaders/igi/igi.glsl, std430).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vpl {
+    /// xyz; w unused.
+    pub position: [f32; 4],
+    /// The surface's normal, xyz.
+    pub normal: [f32; 4],
+    /// Flux x albedo / pi, rgb; w 1 in a slot that holds a VPL, all zero where its path ended.
+    pub power: [f32; 4],
+}
+
+/// A pixel's gathering vertex, what the camera pass leaves the gather passes (`IgiVertex` in
+/// shaders/igi/igi.glsl, std430; the field comments there say what each holds).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct IgiVertex {
+    pub position: [f32; 4],
+    pub ns: [f32; 4],
+    pub ng: [f32; 4],
+    pub wo: [f32; 4],
+    pub albedo: [f32; 4],
+    pub f0: [f32; 4],
+}
+
+const _: () = {
+    assert!(std::mem::size_of::<Vpl>() == 48);
+    assert!(std::mem::size_of::<IgiVertex>() == 96);
+    assert!(std::mem::size_of::<IgiTexel>() == 48);
+};
+
+/// What the IGI kernel leaves per pixel for the filters (sums over the frame's samples; std430
+/// layout of three vec4s in the kernel's aux buffer).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct IgiTexel {
+    /// Irradiance gathered from the VPLs (gather pixels only; the interleaving subset's
+    /// estimate of the whole set's, scaled by the subset count).
+    pub irradiance: [f32; 3],
+    /// Samples whose first diffuse hit the sums below describe.
+    pub diffuse_samples: f32,
+    /// Path throughput x diffuse albedo / pi: what turns the irradiance into radiance.
+    pub reflectance: [f32; 3],
+    /// Distance from the camera to the first diffuse hit.
+    pub depth: f32,
+    /// Shading normal at the first diffuse hit, facing the camera path.
+    pub normal: [f32; 3],
+    pub _pad: f32,
+}

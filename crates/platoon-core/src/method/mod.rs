@@ -1,0 +1,34 @@
+//! Rendering methods. Each is one unit: a module here (its options, their validation, the
+//! approximations it lists in the output's metadata, its pass after assembly), a module of the
+//! tracer (its kernels and buffers on one device, `platoon-tracer/src/method/`), a shader folder
+//! and one line in each registry (`Method::unit` in `registry` here, the tracer's
+//! `method::passes_of`). docs/ARCHITECTURE.md, "Adding a rendering method", lists the files.
+//!
+//! - [`path`]: unidirectional path tracing, the default and the reference;
+//! - [`igi`]: instant global illumination (VPLs) with Marques and Santos' accelerations.
+
+pub mod igi;
+pub mod path;
+pub mod registry;
+pub mod render_method;
+pub mod variant;
+
+/// How a frame is rendered: a method and its options.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Method {
+    /// Path tracing (`path`): unbiased.
+    #[default]
+    PathTracing,
+    /// Instant global illumination (`igi`; biased, listed as an approximation).
+    Igi(igi::IgiOptions),
+}
+
+impl Method {
+    /// IGI's options when the method is IGI.
+    pub fn igi(&self) -> Option<&igi::IgiOptions> {
+        match self {
+            Method::Igi(o) => Some(o),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,27 @@
+//! Path tracing: the default method and the reference every other is measured against. Its
+//! options are `FrameParams`' estimator knobs (shared with the methods that reuse the path loop,
+//! shaders/path/), so the method itself adds no defines and no pass after assembly.
+
+use crate::frame::FrameParams;
+use crate::method::render_method::RenderMethod;
+
+/// The path tracer (`Method::PathTracing`).
+pub struct PathTracing;
+
+impl RenderMethod for PathTracing {
+    fn name(&self) -> &'static str {
+        "path"
+    }
+    fn describe(&self) -> String {
+        "path tracing".into()
+    }
+    fn validate(&self, _params: &FrameParams) -> Result<(), String> {
+        Ok(())
+    }
+    fn kernel_options(&self) -> Vec<(&'static str, &'static str)> {
+        Vec::new()
+    }
+    fn approximations(&self) -> Vec<String> {
+        Vec::new()
+    }
+}

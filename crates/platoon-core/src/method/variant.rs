@@ -1,0 +1,118 @@
+//! The kernel variant of a render: the scene's features, the render options that select code
+//! and the method's options, each a `#define`, derived once per render from what the three own.
+//! A scene without (say) transmission, rendered without a clamp, runs a kernel with neither.
+
+use std::fmt;
+
+use crate::flatten::features::SceneFeatures;
+use crate::frame::{FrameParams, Output};
+
+/// The defines of one kernel variant, in a stable order, each with the label `platoon info` and
+/// the output's metadata show.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct KernelVariant {
+    entries: Vec<(&'static str, &'static str)>,
+}
+
+impl KernelVariant {
+    /// The variant that renders `params` of a scene with `scene`'s features. With
+    /// `generic_kernel` every effect a scene may call for is compiled in, as a renderer that
+    /// does not specialise its kernel would run. The thin lens stays a camera option: compiled
+    /// in with a closed aperture it moves the camera rays' last bits (the direction is rebuilt
+    /// through the focus point), and the generic kernel must render the specialised kernel's
+    /// image, bit for bit (tests/tradeoff.rs).
+    pub fn new(scene: SceneFeatures, params: &FrameParams) -> KernelVariant {
+        let scene = if params.generic_kernel {
+            scene.generic()
+        } else {
+            scene
+        };
+        let orthographic = params.camera.orthographic.is_some();
+        let ris = params.ris_candidates.is_some();
+        let render_options = [
+            // An orthographic camera has no lens.
+            (
+                "thin-lens",
+                "HAS_THIN_LENS",
+                params.camera.aperture_radius > 0.0 && !orthographic,
+            ),
+            ("orthographic", "HAS_ORTHOGRAPHIC", orthographic),
+            // Max depth 1: the kernel has no bounce code.
+            (
+                "camera-rays-only",
+                "CAMERA_RAYS_ONLY",
+                params.max_depth <= 1,
+            ),
+            (
+                "primary-hit-output",
+                "OUTPUT_PRIMARY_HIT",
+                params.output == Output::PrimaryHit,
+            ),
+            (
+                "bsdf-sample-output",
+                "OUTPUT_BSDF_SAMPLE",
+                params.output == Output::BsdfSample,
+            ),
+            (
+                "bsdf-value-output",
+                "OUTPUT_BSDF_VALUE",
+                params.output == Output::BsdfValue,
+            ),
+            (
+                "clamp-indirect",
+                "CLAMP_INDIRECT",
+                params.clamp_indirect.is_some(),
+            ),
+            ("fixed-roulette", "RR_FIXED", params.rr_fixed.is_some()),
+            (
+                "uniform-lights",
+                "LIGHT_SELECT_UNIFORM",
+                params.uniform_light_selection,
+            ),
+            (
+                "deterministic-termination",
+                "RR_DETERMINISTIC",
+                params.deterministic_termination,
+            ),
+            (
+                "single-diffuse-bounce",
+                "SINGLE_DIFFUSE_BOUNCE",
+                params.single_diffuse_bounce,
+            ),
+            ("ris-lights", "LIGHT_SELECT_RIS", ris),
+            ("ris-mis", "RIS_MIS", ris && params.ris_mis),
+        ];
+        let mut entries = scene.entries();
+        entries.extend(
+            render_options
+                .into_iter()
+                .filter(|o| o.2)
+                .map(|(label, define, _)| (label, define)),
+        );
+        entries.extend(params.method.unit().kernel_options());
+        KernelVariant { entries }
+    }
+
+    /// The variant of a plain render of the scene (no render option selecting code, path
+    /// tracing): what `platoon info` shows.
+    pub fn of_scene(scene: SceneFeatures) -> KernelVariant {
+        KernelVariant {
+            entries: scene.entries(),
+        }
+    }
+
+    /// Preprocessor defines selecting the kernel's code paths.
+    pub fn defines(&self) -> Vec<&'static str> {
+        self.entries.iter().map(|e| e.1).collect()
+    }
+}
+
+impl fmt::Display for KernelVariant {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.entries.is_empty() {
+            return write!(f, "(none)");
+        }
+        let names: Vec<&str> = self.entries.iter().map(|e| e.0).collect();
+        write!(f, "{}", names.join(","))
+    }
+}

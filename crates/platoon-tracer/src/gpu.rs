@@ -1,0 +1,254 @@
+//! One device's means of work: its memory, the command buffer, fence and timestamp queries a
+//! tracer submits through, and its compiled kernels. What the tracer and its rendering methods
+//! (`method/`) share; each owns the buffers it makes here.
+
+use std::collections::HashMap;
+use std::mem::ManuallyDrop;
+use std::time::Duration;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use gpu_allocator::MemoryLocation;
+
+use crate::buffer::GpuBuffer;
+use crate::context::Context;
+use crate::dispatch::{timestamp, Dispatchable};
+use crate::kernel::{Kernel, PipelineCache};
+use crate::memory::SceneDescriptors;
+use crate::{Result, VkContext};
+
+/// A kernel variant: its entry file (shaders/, `kernel::SOURCES`) and its defines.
+pub(crate) type KernelKey = (&'static str, Vec<&'static str>);
+
+pub(crate) struct Gpu {
+    pub ctx: ManuallyDrop<Context>,
+    pub allocator: ManuallyDrop<Allocator>,
+    command_pool: vk::CommandPool,
+    command_buffer: vk::CommandBuffer,
+    fence: vk::Fence,
+    query_pool: Option<vk::QueryPool>,
+    pipeline_cache: PipelineCache,
+    kernels: HashMap<KernelKey, Kernel>,
+    pipelines_built: u32,
+}
+
+impl Gpu {
+    pub fn new(ctx: Context) -> Result<Gpu> {
+        let device = ctx.device.clone();
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: ctx.instance.clone(),
+            device: device.clone(),
+            physical_device: ctx.physical,
+            debug_settings: Default::default(),
+            buffer_device_address: true,
+            allocation_sizes: Default::default(),
+        })?;
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(ctx.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let command_pool = unsafe { device.create_command_pool(&pool_info, None) }
+            .ctx("creating a command pool")?;
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(command_pool)
+            .command_buffer_count(1);
+        let command_buffer = unsafe { device.allocate_command_buffers(&alloc) }
+            .ctx("allocating a command buffer")?[0];
+        let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .ctx("creating a fence")?;
+        let query_pool = if ctx.timestamp_bits > 0 {
+            let info = vk::QueryPoolCreateInfo::default()
+                .query_type(vk::QueryType::TIMESTAMP)
+                .query_count(2);
+            Some(unsafe { device.create_query_pool(&info, None) }.ctx("creating a query pool")?)
+        } else {
+            None
+        };
+        let pipeline_cache = PipelineCache::open(&device, &ctx.properties)?;
+        Ok(Gpu {
+            ctx: ManuallyDrop::new(ctx),
+            allocator: ManuallyDrop::new(allocator),
+            command_pool,
+            command_buffer,
+            fence,
+            query_pool,
+            pipeline_cache,
+            kernels: HashMap::new(),
+            pipelines_built: 0,
+        })
+    }
+
+    pub fn device(&self) -> &ash::Device {
+        &self.ctx.device
+    }
+
+    pub fn wait_idle(&self) -> Result<()> {
+        unsafe { self.ctx.device.device_wait_idle() }.ctx("waiting for the device")
+    }
+
+    /// Submits `record` on the command buffer and waits for it.
+    pub fn submit(&mut self, record: impl FnOnce(&ash::Device, vk::CommandBuffer)) -> Result<()> {
+        let device = &self.ctx.device;
+        let cb = self.command_buffer;
+        unsafe {
+            device
+                .reset_command_buffer(cb, vk::CommandBufferResetFlags::empty())
+                .ctx("resetting a command buffer")?;
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device
+                .begin_command_buffer(cb, &begin)
+                .ctx("beginning a command buffer")?;
+            record(device, cb);
+            device
+                .end_command_buffer(cb)
+                .ctx("ending a command buffer")?;
+            let cbs = [cb];
+            let submit = vk::SubmitInfo::default().command_buffers(&cbs);
+            device
+                .queue_submit(self.ctx.queue, &[submit], self.fence)
+                .ctx("submitting work")?;
+            device
+                .wait_for_fences(&[self.fence], true, u64::MAX)
+                .ctx("waiting for the device")?;
+            device
+                .reset_fences(&[self.fence])
+                .ctx("resetting a fence")?;
+        }
+        Ok(())
+    }
+
+    /// Submits `record` between two timestamps; returns the device time between them (zero on
+    /// a device without timestamps).
+    pub fn timed(
+        &mut self,
+        record: impl FnOnce(&ash::Device, vk::CommandBuffer),
+    ) -> Result<Duration> {
+        let pool = self.query_pool;
+        self.submit(|d, cb| unsafe {
+            timestamp(d, cb, pool, 0);
+            record(d, cb);
+            timestamp(d, cb, pool, 1);
+        })?;
+        let Some(q) = self.query_pool else {
+            return Ok(Duration::ZERO);
+        };
+        let mut ts = [0u64; 2];
+        unsafe {
+            self.ctx
+                .device
+                .get_query_pool_results(q, 0, &mut ts, vk::QueryResultFlags::TYPE_64)
+        }
+        .ctx("reading timestamps")?;
+        let period = self.ctx.properties.limits.timestamp_period as f64;
+        Ok(Duration::from_nanos(
+            (ts[1].saturating_sub(ts[0]) as f64 * period) as u64,
+        ))
+    }
+
+    pub fn buffer(
+        &mut self,
+        name: &str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        location: MemoryLocation,
+    ) -> Result<GpuBuffer> {
+        GpuBuffer::new(
+            &self.ctx.device,
+            &mut self.allocator,
+            name,
+            size,
+            usage,
+            location,
+        )
+    }
+
+    pub fn destroy_buffer(&mut self, buffer: &mut GpuBuffer) {
+        buffer.destroy(&self.ctx.device, &mut self.allocator);
+    }
+
+    /// Copies `(buffer, offset, bytes)` writes into device-local buffers through one staging
+    /// buffer and one submission.
+    pub fn write_buffers(&mut self, writes: &[(vk::Buffer, u64, &[u8])]) -> Result<()> {
+        let total: usize = writes.iter().map(|w| w.2.len()).sum();
+        if total == 0 {
+            return Ok(());
+        }
+        let mut staging = self.buffer(
+            "staging",
+            total as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let mut copies: Vec<(vk::Buffer, vk::BufferCopy)> = Vec::with_capacity(writes.len());
+        let mut at = 0usize;
+        let mapped = staging.mapped();
+        for &(dst, offset, bytes) in writes {
+            mapped[at..at + bytes.len()].copy_from_slice(bytes);
+            let region = vk::BufferCopy::default()
+                .src_offset(at as u64)
+                .dst_offset(offset)
+                .size(bytes.len() as u64);
+            copies.push((dst, region));
+            at += bytes.len();
+        }
+        let src = staging.buffer;
+        let result = self.submit(|d, cb| unsafe {
+            for (dst, region) in &copies {
+                d.cmd_copy_buffer(cb, src, *dst, std::slice::from_ref(region));
+            }
+        });
+        self.destroy_buffer(&mut staging);
+        result
+    }
+
+    /// The kernel `key`, reading the scene arrays through `scene`'s set, built on first use.
+    pub fn kernel(&mut self, key: KernelKey, scene: &SceneDescriptors) -> Result<Dispatchable> {
+        if !self.kernels.contains_key(&key) {
+            let k = Kernel::new(
+                &self.ctx.device,
+                &self.pipeline_cache,
+                key.0,
+                &key.1,
+                scene.layout,
+            )?;
+            self.kernels.insert(key.clone(), k);
+            self.pipelines_built += 1;
+        }
+        let k = &self.kernels[&key];
+        Ok((k.pipeline, k.layout, scene.set))
+    }
+
+    /// Destroys every kernel (the scene's bindings changed: they are built again on use).
+    pub fn drop_kernels(&mut self) {
+        for k in self.kernels.values() {
+            k.destroy(&self.ctx.device);
+        }
+        self.kernels.clear();
+    }
+
+    /// Compute pipelines built so far.
+    pub fn pipelines_built(&self) -> u32 {
+        self.pipelines_built
+    }
+}
+
+impl Drop for Gpu {
+    fn drop(&mut self) {
+        let device = self.ctx.device.clone();
+        unsafe {
+            let _ = device.device_wait_idle();
+        }
+        self.drop_kernels();
+        unsafe {
+            self.pipeline_cache.save(&device);
+            device.destroy_pipeline_cache(self.pipeline_cache.cache, None);
+            if let Some(q) = self.query_pool {
+                device.destroy_query_pool(q, None);
+            }
+            device.destroy_fence(self.fence, None);
+            device.destroy_command_pool(self.command_pool, None);
+            ManuallyDrop::drop(&mut self.allocator);
+            ManuallyDrop::drop(&mut self.ctx);
+        }
+    }
+}

@@ -1,0 +1,84 @@
+//! Rendering methods on one device. A method's device side is one module here implementing
+//! `MethodPasses` (the kernels it registers, the buffers it owns, how it records a band's
+//! passes, what it leaves per pixel for its pass after assembly) and one arm of `passes_of`;
+//! its options, validation and that pass are the core's (`platoon_core::method`), its kernels
+//! a folder of shaders/.
+
+mod igi;
+mod path;
+
+pub use path::{kernel_label, kernel_spirv};
+
+use std::time::Duration;
+
+use ash::vk;
+use platoon_core::frame::{FrameParams, Span};
+use platoon_core::method::Method;
+
+use crate::dispatch::Dispatchable;
+use crate::globals::{Push, METHOD_WORDS};
+use crate::gpu::Gpu;
+use crate::memory::SceneDescriptors;
+use crate::Result;
+
+/// What a band's passes record with: the frame, the device, the scene's descriptor set and the
+/// defines of the render's kernel variant.
+pub(crate) struct Recorder<'a> {
+    pub params: &'a FrameParams,
+    pub gpu: &'a mut Gpu,
+    pub scene: &'a SceneDescriptors,
+    pub defines: &'a [&'static str],
+}
+
+impl Recorder<'_> {
+    /// The render's kernel variant of the entry file `entry` (one of the method's `kernels`).
+    pub fn kernel(&mut self, entry: &'static str) -> Result<Dispatchable> {
+        self.gpu.kernel((entry, self.defines.to_vec()), self.scene)
+    }
+}
+
+/// A rendering method on one device. The band (band.rs) clears the accumulation and the
+/// method's `clears`, calls `begin_band`, then `pass` until the samples are in, and reads back
+/// the sums and `per_pixel`.
+pub(crate) trait MethodPasses {
+    /// The entry files of its kernels (shaders/), built before the band's clock starts.
+    fn kernels(&self) -> &'static [&'static str];
+    /// Makes or grows the buffers its kernels read for `params`; returns their addresses
+    /// (Globals' method buffers; 0 where unused).
+    fn prepare(&mut self, _gpu: &mut Gpu, _params: &FrameParams) -> Result<[u64; 3]> {
+        Ok([0; 3])
+    }
+    /// Its push-constant words for `params`.
+    fn push_words(&self, _params: &FrameParams) -> [u32; METHOD_WORDS] {
+        [0; METHOD_WORDS]
+    }
+    /// Ranges of its buffers (buffer, offset, size) the band clears before its first pass.
+    fn clears(&self, _params: &FrameParams, _span: Span) -> Vec<(vk::Buffer, u64, u64)> {
+        Vec::new()
+    }
+    /// Samples one pass adds per pixel.
+    fn samples_per_pass(&self, params: &FrameParams) -> u32 {
+        params.samples_per_pass.max(1)
+    }
+    /// Work before the band's first pass; returns its device time.
+    fn begin_band(&mut self, _rec: &mut Recorder, _push: &Push) -> Result<Duration> {
+        Ok(Duration::ZERO)
+    }
+    /// One pass: the samples [push.sample_begin, push.sample_end) of the band's pixels, over
+    /// `groups` workgroups of 8 x 8; returns its device time.
+    fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration>;
+    /// What the span leaves for the method's pass after assembly (`Band::per_pixel`).
+    fn per_pixel(&mut self, _params: &FrameParams, _span: Span) -> Vec<[f32; 4]> {
+        Vec::new()
+    }
+    /// Frees its buffers.
+    fn destroy(&mut self, _gpu: &mut Gpu) {}
+}
+
+/// The device side of `method`: the registration of every method.
+pub(crate) fn passes_of(method: &Method) -> Box<dyn MethodPasses> {
+    match method {
+        Method::PathTracing => Box::new(path::PathPasses),
+        Method::Igi(_) => Box::<igi::IgiPasses>::default(),
+    }
+}
