@@ -9,6 +9,7 @@ use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
 use platoon::core::drive::plan::Join;
 use platoon::core::drive::scaling::BelowOneSample;
+use platoon::core::drive::Edit;
 use platoon::core::drive::{DriverOptions, FrameDriver, FrameStats, Pipeline};
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
@@ -120,7 +121,11 @@ fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
     let (mut d, camera, _) = driver("lavapipe:1", options);
     let prop = d
         .scene()
-        .add_instance(0, Placement::at(DVec3::new(0.0, 0.5, 0.0)))
+        .push(Edit::AddInstance {
+            mesh: 0,
+            placement: Placement::at(DVec3::new(0.0, 0.5, 0.0)),
+        })
+        .unwrap()
         .unwrap();
     let mut moved = camera;
     moved.camera_to_world = glam::Mat4::from_translation(Vec3::X * 0.01) * camera.camera_to_world;
@@ -133,7 +138,12 @@ fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
         |d, f| {
             if f >= 9 {
                 let p = Placement::at(DVec3::new(0.05 * f as f64, 0.5, 0.0));
-                d.scene().set_placement(prop, p).unwrap();
+                d.scene()
+                    .push(Edit::Placement {
+                        node: prop,
+                        placement: p,
+                    })
+                    .unwrap();
             }
         },
     );

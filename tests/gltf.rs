@@ -4,6 +4,7 @@
 mod common;
 
 use common::*;
+use platoon::core::drive::Edit;
 use platoon::core::frame::FrameParams;
 use platoon::core::output::Film;
 use platoon::tracer::Sampling;
@@ -275,7 +276,7 @@ fn animated_weights_deform_a_living_scene_through_commits() {
     let mut followed = tracer_reading(updater.flattened(), Default::default());
     let params = FrameParams::new(32, 32, 8, camera);
     let flat = render_with(&mut followed, &params);
-    updater.set_time(0.5).unwrap();
+    updater.apply(Edit::Time(0.5)).unwrap();
     let g = updater.update().unwrap();
     assert!(g.refitted + g.rebuilt > 0, "the weights deformed nothing");
     assert!(g.commit.mesh_bytes() > 0);

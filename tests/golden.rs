@@ -11,6 +11,7 @@ mod common;
 use common::*;
 use glam::DVec3;
 use platoon::core::balance::by_name;
+use platoon::core::drive::Edit;
 use platoon::core::drive::Updater;
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
@@ -211,7 +212,7 @@ fn the_living_scene_keeps_its_bits_over_three_generations() {
     let mut renders = Vec::new();
     for (generation, t) in [0.0f32, 0.3, 0.6, 0.9].into_iter().enumerate() {
         if generation > 0 {
-            updater.set_time(t).unwrap();
+            updater.apply(Edit::Time(t)).unwrap();
             let g = updater.update().unwrap();
             tracer.apply_commit(&g.commit).unwrap();
             renderer.apply_commit(&g.commit, generation as u32).unwrap();

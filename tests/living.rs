@@ -6,6 +6,7 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
+use platoon::core::drive::Edit;
 use platoon::core::drive::{Pipeline, QueryScene, Updater};
 use platoon::core::frame::fault::FaultInjector;
 use platoon::core::frame::renderer::Renderer;
@@ -37,7 +38,7 @@ fn a_tracer_that_follows_commits_renders_the_bits_of_a_fresh_upload() {
     let params = FrameParams::new(24, 24, 4, camera);
     let before = render_with(&mut followed, &params);
     for t in [0.3f32, 0.6, 0.9] {
-        updater.set_time(t).unwrap();
+        updater.apply(Edit::Time(t)).unwrap();
         let g = updater.update().unwrap();
         assert!(g.refitted + g.rebuilt > 0, "the skin deformed its mesh");
         assert!(g.commit.mesh_bytes() > 0);
@@ -86,9 +87,16 @@ fn added_and_removed_instances_on_three_tracers_with_one_killed() {
                     scale: Vec3::splat(0.3),
                     ..Placement::at(DVec3::new(0.2, 0.1, 0.0))
                 };
-                added = Some(updater.add_instance(0, at).unwrap());
+                added = updater
+                    .apply(Edit::AddInstance {
+                        mesh: 0,
+                        placement: at,
+                    })
+                    .unwrap();
             }
-            3 => updater.remove_instance(added.unwrap()).unwrap(),
+            3 => {
+                updater.apply(Edit::RemoveInstance(added.unwrap())).unwrap();
+            }
             _ => {}
         }
         let g = updater.update().unwrap();
@@ -115,7 +123,7 @@ fn cpu_ray_queries_agree_with_the_kernels_primary_hits() {
     let mut tracer = new_tracer(updater.flattened());
     let mut queries = QueryScene::new(updater.flattened());
     // Both follow the same commits to a walking pose.
-    updater.set_time(0.7).unwrap();
+    updater.apply(Edit::Time(0.7)).unwrap();
     let g = updater.update().unwrap();
     tracer.apply_commit(&g.commit).unwrap();
     queries.apply_commit(&g.commit);
@@ -176,14 +184,28 @@ fn the_threaded_pipeline_feeds_tracers_the_bits_of_a_fresh_upload() {
         let g = pipeline.take().unwrap();
         // The game edits the next generation while this one renders.
         let at = Placement::at(DVec3::new(0.05 * f as f64, 0.0, 0.0));
-        pipeline.set_time(0.25 * f as f32).unwrap();
-        pipeline.set_placement(node, at).unwrap();
-        reference.set_time(0.25 * f as f32).unwrap();
-        reference.set_placement(node, at).unwrap();
+        pipeline.push(Edit::Time(0.25 * f as f32)).unwrap();
+        pipeline
+            .push(Edit::Placement {
+                node,
+                placement: at,
+            })
+            .unwrap();
+        reference.apply(Edit::Time(0.25 * f as f32)).unwrap();
+        reference
+            .apply(Edit::Placement {
+                node,
+                placement: at,
+            })
+            .unwrap();
         if f == 2 {
             let sky = Environment::Constant(Vec3::new(0.2, 0.4, 0.9));
-            pipeline.set_environment(Some(sky.clone())).unwrap();
-            reference.set_environment(Some(sky)).unwrap();
+            pipeline
+                .push(Edit::Environment(Box::new(Some(sky.clone()))))
+                .unwrap();
+            reference
+                .apply(Edit::Environment(Box::new(Some(sky))))
+                .unwrap();
         }
         pipeline.submit().unwrap();
         reference.update().unwrap();

@@ -12,6 +12,7 @@ use std::time::{Duration, Instant};
 use anyhow::{anyhow, Context, Result};
 use glam::{Vec2, Vec3};
 use platoon::core::balance;
+use platoon::core::drive::Edit;
 use platoon::core::drive::{DriverOptions, FrameDriver};
 use platoon::core::output::{write_image, Film};
 use platoon::core::scene::camera::Camera;
@@ -232,7 +233,7 @@ impl Viewer {
         self.camera.fly(&self.keys, dt);
         if self.playing && self.animation > 0.0 {
             self.time = (self.time + dt) % self.animation;
-            self.driver.scene().set_time(self.time)?;
+            self.driver.scene().push(Edit::Time(self.time))?;
         }
         let out = self.driver.frame(self.camera.camera())?;
         let Some(done) = out.finished else {

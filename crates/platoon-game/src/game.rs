@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::Result;
 use glam::{DVec3, Quat, Vec3};
+use platoon::core::drive::Edit;
 use platoon::core::drive::{DriverOptions, FinishedFrame, FrameDriver, UpdaterThreads};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::{Material, Placement};
@@ -124,16 +125,20 @@ impl Game {
         self.physics.step();
         for (i, &node) in self.body_nodes.iter().enumerate() {
             if !self.physics.sleeping(i) {
-                self.driver
-                    .scene()
-                    .set_placement(node, self.physics.placement(i))?;
+                self.driver.scene().push(Edit::Placement {
+                    node,
+                    placement: self.physics.placement(i),
+                })?;
             }
         }
         for (c, character) in self.characters.iter().enumerate() {
             let p = walking(c, t, self.unit);
-            self.driver.scene().set_placement(character.node, p)?;
+            self.driver.scene().push(Edit::Placement {
+                node: character.node,
+                placement: p,
+            })?;
         }
-        self.driver.scene().set_time(t % self.walk_cycle)?;
+        self.driver.scene().push(Edit::Time(t % self.walk_cycle))?;
         let camera = self.camera(t);
         self.highlight(camera)?;
         let game = start.elapsed();
@@ -164,7 +169,11 @@ impl Game {
         let node = self
             .driver
             .scene()
-            .add_instance(mesh, self.physics.placement(i))?;
+            .push(Edit::AddInstance {
+                mesh,
+                placement: self.physics.placement(i),
+            })?
+            .expect("an added instance has a node");
         self.body_nodes.push(node);
         Ok(())
     }
@@ -213,13 +222,13 @@ impl Game {
             for &m in &self.characters[old].materials {
                 self.driver
                     .scene()
-                    .set_material(m, self.materials[m].clone())?;
+                    .push(Edit::Material(m, Box::new(self.materials[m].clone())))?;
             }
         }
         if let Some(new) = seen {
             for &m in &self.characters[new].materials {
                 let lit = world::highlighted(&self.materials[m]);
-                self.driver.scene().set_material(m, lit)?;
+                self.driver.scene().push(Edit::Material(m, Box::new(lit)))?;
             }
         }
         self.highlighted = seen;

@@ -12,6 +12,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use glam::{DVec3, Quat, Vec3};
 use platoon::core::balance;
+use platoon::core::drive::Edit;
 use platoon::core::drive::{Pipeline, QueryScene};
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
@@ -52,7 +53,12 @@ fn main() -> Result<()> {
     let camera = Camera::look_at(center + Vec3::new(0.0, 0.3, 2.2) * size, center, 0.8);
 
     let (mut pipeline, first) = Pipeline::new(scene, 0.0, DVec3::ZERO)?;
-    let prop = pipeline.add_instance(0, Placement::at(center.as_dvec3()))?;
+    let prop = pipeline
+        .push(Edit::AddInstance {
+            mesh: 0,
+            placement: Placement::at(center.as_dvec3()),
+        })?
+        .expect("an added instance has a node");
     let policy = balance::by_name("cost-aware").expect("a known balancer");
     let tracers = devices::create_tracers(&spec, &first, false, Sampling::Mis)?;
     let mut renderer = Renderer::new(tracers, policy);
@@ -65,16 +71,16 @@ fn main() -> Result<()> {
         let generation = pipeline.take()?;
         // The game's changes for the next frame: time runs, the prop circles.
         let a = 0.3 * f as f64;
-        pipeline.set_time(((f + 1) as f32 / 30.0) % walk)?;
-        pipeline.set_placement(
-            prop,
-            Placement {
+        pipeline.push(Edit::Time(((f + 1) as f32 / 30.0) % walk))?;
+        pipeline.push(Edit::Placement {
+            node: prop,
+            placement: Placement {
                 translation: center.as_dvec3()
                     + DVec3::new(a.cos(), 0.2, a.sin()) * 0.6 * size as f64,
                 rotation: Quat::from_rotation_y(a as f32),
                 scale: Vec3::splat(0.3),
             },
-        )?;
+        })?;
         pipeline.submit()?;
 
         // The tracers and the game's own copy take this frame's changes, then the frame renders.

@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context as _, Result};
 use glam::{DVec3, Quat, Vec3};
+use platoon_core::drive::Edit;
 use platoon_core::drive::{Pipeline, UpdaterThreads};
 use platoon_core::flatten::bvh::{build_instance_bvh, build_mesh_bvh};
 use platoon_core::flatten::refit::MeshBvh;
@@ -240,9 +241,12 @@ fn run_frames(o: &Options, kind: RunKind) -> Result<Run> {
     let edits = |p: &mut Pipeline, f: u32| -> Result<()> {
         if animated {
             // 30 frames a second, the walk cycle looping.
-            p.set_time((f as f32 / 30.0) % duration)?;
+            p.push(Edit::Time((f as f32 / 30.0) % duration))?;
             for (i, &node) in movers.iter().enumerate() {
-                p.set_placement(node, mover_placement(i, movers.len(), f, center, radius))?;
+                p.push(Edit::Placement {
+                    node,
+                    placement: mover_placement(i, movers.len(), f, center, radius),
+                })?;
             }
         }
         Ok(())
@@ -374,7 +378,7 @@ fn characters_ms(o: &Options, threads: usize) -> Result<f64> {
         let mut updater = platoon_core::drive::Updater::new(scene, 0.0, DVec3::ZERO)?;
         let mut times = Vec::new();
         for f in 1..=o.frames.min(60) {
-            updater.set_time((f as f32 / 30.0) % duration)?;
+            updater.apply(Edit::Time((f as f32 / 30.0) % duration))?;
             let g = updater.update()?;
             times.push(ms(g.times.pose + g.times.bottom_level));
         }

@@ -13,7 +13,7 @@
 //! options.driver.target = Some(std::time::Duration::from_millis(33)); // hold 30 fps
 //! let mut driver = start(scene, &options)?;
 //! for _ in 0..100 {
-//!     // The game's edits for the frame: driver.scene().set_placement(node, placement)?, ...
+//!     // The game's edits for the frame: driver.scene().push(Edit::Placement { node, placement })?, ...
 //!     let out = driver.frame(camera)?; // renders this frame, returns the previous one
 //!     if let Some(done) = out.finished {
 //!         let _image = done.film; // show it; done.stats says what it cost

@@ -1,5 +1,6 @@
 //! Driving a living scene from a game (Brigade's double-buffered updates): the game edits the
-//! scene ([`updater::Updater`]'s edit calls, validated at the call), and each update poses it,
+//! scene ([`edit::Edit`] values, checked once and applied by [`updater::Updater::apply`] or
+//! queued by [`pipeline::Pipeline::push`]), and each update poses it,
 //! keeps every mesh's BVH (static meshes built once, skinned ones refitted, rebuilt only when
 //! degraded), rebuilds the top level, flattens, and says what changed since the previous
 //! generation as a [`crate::flatten::commit::Commit`] for the tracers to apply. [`plan`] decides
@@ -8,6 +9,7 @@
 
 pub mod accumulation;
 pub mod driver;
+pub mod edit;
 pub mod pipeline;
 pub mod plan;
 pub mod queries;
@@ -16,6 +18,7 @@ pub mod threads;
 pub mod updater;
 
 pub use driver::{DriverOptions, FinishedFrame, FrameDriver, FrameOutput, FrameStats};
+pub use edit::Edit;
 pub use pipeline::{Pipeline, UpdaterThreads};
 pub use queries::{QueryHit, QueryScene};
 pub use updater::{Generation, UpdateTimes, Updater};

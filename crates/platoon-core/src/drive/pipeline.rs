@@ -1,11 +1,11 @@
 //! Double buffering (Brigade): the updater runs on its own thread and builds generation N+1
-//! while the tracers render generation N. The game thread edits through the pipeline, each edit
-//! checked at the call against a mirror of the scene's structure (so a refused edit never reaches
-//! the updater), then [`Pipeline::submit`]s them and later [`Pipeline::take`]s the generation.
+//! while the tracers render generation N. The game thread [`Pipeline::push`]es its edits, each
+//! checked at the call against the scene's structure (so a refused edit never reaches the
+//! updater), then [`Pipeline::submit`]s them and later [`Pipeline::take`]s the generation.
 //! It waits only when it asks for a generation that is not built yet, or submits while one is
 //! still in flight (the one-frame-ahead throttle); both waits are measured.
 
-use std::collections::{HashSet, VecDeque};
+use std::collections::VecDeque;
 use std::sync::mpsc::{self, Receiver, SyncSender};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -13,64 +13,11 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 
+use super::edit::{Edit, Structure};
 use super::{Generation, Updater};
 use crate::error::{Error, Result};
 use crate::flatten::GpuScene;
-use crate::scene::environment::Environment;
-use crate::scene::placement::invalid;
-use crate::scene::{Material, Placement, PunctualLight, Scene};
-
-/// One checked edit, as the updater thread replays it.
-enum Edit {
-    Time(f32),
-    Placement(usize, Placement),
-    AddInstance(usize, Placement),
-    RemoveInstance(usize),
-    Material(usize, Box<Material>),
-    Light(usize, Box<PunctualLight>),
-    Environment(Box<Option<Environment>>),
-    FollowCamera(DVec3),
-}
-
-/// What the game thread knows of the scene's structure, to check edits without the updater.
-struct Mirror {
-    nodes: usize,
-    meshes: usize,
-    materials: usize,
-    lights: usize,
-    removed: HashSet<usize>,
-    instanced: HashSet<usize>,
-}
-
-impl Mirror {
-    fn of(scene: &Scene) -> Mirror {
-        Mirror {
-            nodes: scene.nodes.len(),
-            meshes: scene.meshes.len(),
-            materials: scene.materials.len(),
-            lights: scene.lights.len(),
-            removed: HashSet::new(),
-            instanced: (0..scene.nodes.len())
-                .filter(|&i| scene.nodes[i].mesh.is_some())
-                .collect(),
-        }
-    }
-
-    fn live(&self, node: usize) -> Result<()> {
-        if self.removed.contains(&node) {
-            return Err(invalid(format!(
-                "node {node}'s instance was already removed"
-            )));
-        }
-        if node >= self.nodes {
-            return Err(invalid(format!(
-                "no node {node} (the scene has {})",
-                self.nodes
-            )));
-        }
-        Ok(())
-    }
-}
+use crate::scene::Scene;
 
 /// The updater's threads: how many, and the cores they may run on (empty: any). See
 /// [`super::threads`] for why a game may want them apart from its tracers' cores.
@@ -90,7 +37,8 @@ impl Default for UpdaterThreads {
 }
 
 pub struct Pipeline {
-    mirror: Mirror,
+    /// What edits are checked against on the game thread.
+    structure: Structure,
     pending: Vec<Edit>,
     to_updater: Option<SyncSender<Vec<Edit>>>,
     from_updater: Receiver<Result<Generation>>,
@@ -143,7 +91,7 @@ impl Pipeline {
             })
             .build()
             .map_err(|e| Error::Invalid(format!("starting the updater threads: {e}")))?;
-        let mirror = Mirror::of(&scene);
+        let structure = Structure::of(&scene);
         let mut updater = pool.install(|| Updater::new(scene, time, origin))?;
         let first = Arc::new(updater.flattened().clone());
         let (to_updater, edits) = mpsc::sync_channel::<Vec<Edit>>(1);
@@ -165,7 +113,7 @@ impl Pipeline {
             })
             .map_err(|e| Error::Invalid(format!("starting the updater thread: {e}")))?;
         let pipeline = Pipeline {
-            mirror,
+            structure,
             pending: Vec::new(),
             to_updater: Some(to_updater),
             from_updater,
@@ -177,81 +125,14 @@ impl Pipeline {
         Ok((pipeline, first))
     }
 
-    pub fn set_time(&mut self, time: f32) -> Result<()> {
-        crate::drive::updater::check_time(time)?;
-        self.pending.push(Edit::Time(time));
-        Ok(())
-    }
-
-    pub fn set_placement(&mut self, node: usize, placement: Placement) -> Result<()> {
-        let p = placement.checked()?;
-        self.mirror.live(node)?;
-        self.pending.push(Edit::Placement(node, p));
-        Ok(())
-    }
-
-    /// Returns the node the new instance will have.
-    pub fn add_instance(&mut self, mesh: usize, placement: Placement) -> Result<usize> {
-        let p = placement.checked()?;
-        if mesh >= self.mirror.meshes {
-            return Err(invalid(format!(
-                "no mesh {mesh} (the scene has {})",
-                self.mirror.meshes
-            )));
-        }
-        self.pending.push(Edit::AddInstance(mesh, p));
-        let node = self.mirror.nodes;
-        self.mirror.nodes += 1;
-        self.mirror.instanced.insert(node);
-        Ok(node)
-    }
-
-    pub fn remove_instance(&mut self, node: usize) -> Result<()> {
-        self.mirror.live(node)?;
-        if !self.mirror.instanced.remove(&node) {
-            return Err(invalid(format!("node {node} places no instance")));
-        }
-        self.mirror.removed.insert(node);
-        self.pending.push(Edit::RemoveInstance(node));
-        Ok(())
-    }
-
-    pub fn set_material(&mut self, index: usize, material: Material) -> Result<()> {
-        if index >= self.mirror.materials {
-            return Err(invalid(format!(
-                "no material {index} (the scene has {})",
-                self.mirror.materials
-            )));
-        }
-        crate::drive::updater::check_material(index, &material)?;
-        self.pending.push(Edit::Material(index, Box::new(material)));
-        Ok(())
-    }
-
-    pub fn set_light(&mut self, index: usize, light: PunctualLight) -> Result<()> {
-        if index >= self.mirror.lights {
-            return Err(invalid(format!(
-                "no light {index} (the scene has {})",
-                self.mirror.lights
-            )));
-        }
-        crate::drive::updater::check_light(index, &light)?;
-        self.pending.push(Edit::Light(index, Box::new(light)));
-        Ok(())
-    }
-
-    pub fn set_environment(&mut self, environment: Option<Environment>) -> Result<()> {
-        crate::drive::updater::check_environment(environment.as_ref())?;
-        self.pending.push(Edit::Environment(Box::new(environment)));
-        Ok(())
-    }
-
-    /// Where the camera is (world space): the render origin follows it when it drifts far
-    /// (see [`Updater::follow_camera`]; each generation says its origin).
-    pub fn follow_camera(&mut self, camera: DVec3) -> Result<()> {
-        crate::drive::updater::check_camera(camera)?;
-        self.pending.push(Edit::FollowCamera(camera));
-        Ok(())
+    /// Checks `edit` (its values, and that it names what exists in the scene as edited so
+    /// far) and queues it for the next submit; returns the node of an added instance. A refused
+    /// edit never reaches the updater.
+    pub fn push(&mut self, edit: Edit) -> Result<Option<usize>> {
+        let edit = edit.checked()?;
+        let added = self.structure.admit(&edit)?;
+        self.pending.push(edit);
+        Ok(added)
     }
 
     /// Hands the edits made since the last submit to the updater, which starts building the
@@ -350,18 +231,7 @@ impl Drop for Pipeline {
 
 fn apply(updater: &mut Updater, batch: Vec<Edit>) -> Result<()> {
     for e in batch {
-        match e {
-            Edit::Time(t) => updater.set_time(t)?,
-            Edit::Placement(node, p) => updater.set_placement(node, p)?,
-            Edit::AddInstance(mesh, p) => {
-                updater.add_instance(mesh, p)?;
-            }
-            Edit::RemoveInstance(node) => updater.remove_instance(node)?,
-            Edit::Material(i, m) => updater.set_material(i, *m)?,
-            Edit::Light(i, l) => updater.set_light(i, *l)?,
-            Edit::Environment(e) => updater.set_environment(*e)?,
-            Edit::FollowCamera(c) => updater.follow_camera(c)?,
-        }
+        updater.apply(e)?;
     }
     Ok(())
 }
@@ -369,15 +239,26 @@ fn apply(updater: &mut Updater, batch: Vec<Edit>) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Placement;
 
     #[test]
     fn generations_arrive_in_order_with_the_edits_of_their_submission() {
         let scene = crate::scene::cornell::scene();
         let node = scene.nodes.iter().position(|n| n.mesh.is_some()).unwrap();
         let (mut p, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
-        let added = p.add_instance(0, Placement::at(DVec3::X * 3.0)).unwrap();
+        let added = p
+            .push(Edit::AddInstance {
+                mesh: 0,
+                placement: Placement::at(DVec3::X * 3.0),
+            })
+            .unwrap()
+            .unwrap();
         p.submit().unwrap();
-        p.set_placement(node, Placement::at(DVec3::Y)).unwrap();
+        p.push(Edit::Placement {
+            node,
+            placement: Placement::at(DVec3::Y),
+        })
+        .unwrap();
         // A second submit while the first is built: it waits, and keeps the first generation.
         p.submit().unwrap();
         let a = p.take().unwrap();
@@ -388,16 +269,26 @@ mod tests {
         assert_eq!(b.commit.mesh_bytes(), 0);
         assert!(p.take().is_err(), "nothing submitted");
         // Refused at the call, never reaching the updater.
-        assert!(p.remove_instance(added).is_ok());
-        assert!(p.remove_instance(added).is_err());
-        assert!(p.set_placement(9999, Placement::at(DVec3::ZERO)).is_err());
-        assert!(p.add_instance(42, Placement::at(DVec3::ZERO)).is_err());
+        assert!(p.push(Edit::RemoveInstance(added)).is_ok());
+        assert!(p.push(Edit::RemoveInstance(added)).is_err());
+        assert!(p
+            .push(Edit::Placement {
+                node: 9999,
+                placement: Placement::at(DVec3::ZERO)
+            })
+            .is_err());
+        assert!(p
+            .push(Edit::AddInstance {
+                mesh: 42,
+                placement: Placement::at(DVec3::ZERO)
+            })
+            .is_err());
         p.submit().unwrap();
         let c = p.take().unwrap();
         assert_eq!(c.commit.header.instances, first.instances.len() as u32);
         assert_eq!(p.blocked_times().len(), 6);
         // Without waiting: nothing until the generation is built, then it, once.
-        p.set_time(0.5).unwrap();
+        p.push(Edit::Time(0.5)).unwrap();
         p.submit().unwrap();
         let start = std::time::Instant::now();
         let got = loop {

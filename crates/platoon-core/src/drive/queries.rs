@@ -366,7 +366,7 @@ impl RayTri {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drive::Updater;
+    use crate::drive::{Edit, Updater};
     use crate::scene::Placement;
     use glam::DVec3;
 
@@ -407,14 +407,15 @@ mod tests {
     fn queries_find_what_testing_every_triangle_finds_and_follow_commits() {
         let mut updater = Updater::new(crate::scene::cornell::scene(), 0.0, DVec3::ZERO).unwrap();
         updater
-            .add_instance(
-                0,
-                Placement {
+            .apply(Edit::AddInstance {
+                mesh: 0,
+                placement: Placement {
                     scale: glam::Vec3::splat(0.2),
                     ..Placement::at(DVec3::new(0.1, 0.2, 0.3))
                 },
-            )
-            .unwrap();
+            })
+            .unwrap()
+            .expect("an added instance has a node");
         let mut q = QueryScene::new(updater.flattened());
         let g = updater.update().unwrap();
         q.apply_commit(&g.commit);

@@ -18,10 +18,10 @@ use crate::flatten::bvh::{build_mesh_bvh, FlatBvh};
 use crate::flatten::commit::Commit;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
 use crate::flatten::{used_meshes, GpuScene, MeshRegion};
-use crate::scene::environment::Environment;
 use crate::scene::floating_origin::FloatingOrigin;
-use crate::scene::placement::{invalid, Placement};
-use crate::scene::{LightKind, Material, Mesh, Node, Posed, PunctualLight, Scene};
+use crate::scene::{Mesh, Node, Posed, Scene};
+
+use super::edit::{Edit, Structure};
 
 /// Where an update spent its time.
 #[derive(Clone, Copy, Debug, Default)]
@@ -47,7 +47,7 @@ pub struct UpdateTimes {
 pub struct Generation {
     pub id: u64,
     /// The world point at render space's origin in this generation (see
-    /// [`Updater::follow_camera`]): the frame's camera is placed relative to it.
+    /// `Edit::FollowCamera`): the frame's camera is placed relative to it.
     pub origin: DVec3,
     /// What changed from the previous generation's scene, with the bytes.
     pub commit: Arc<Commit>,
@@ -68,8 +68,8 @@ pub struct Updater {
     /// Skinned meshes by the node that poses them: the pose last flattened, its BVH kept from
     /// frame to frame, and that BVH flattened.
     deforming: HashMap<usize, Skinned>,
-    /// Nodes whose instance the game removed.
-    removed: HashSet<usize>,
+    /// What edits are checked against.
+    structure: Structure,
     /// The latest generation, flattened (rewritten in place where meshes deform).
     state: GpuScene,
     /// Per posed mesh: vertices, triangles and node capacity of the layout of `state`.
@@ -86,6 +86,7 @@ impl Updater {
     /// generation flattened (see [`Updater::flattened`]: what a new tracer uploads).
     pub fn new(scene: Scene, time: f32, origin: DVec3) -> Result<Updater> {
         let mut updater = Updater {
+            structure: Structure::of(&scene),
             scene,
             origin: FloatingOrigin {
                 origin,
@@ -95,7 +96,6 @@ impl Updater {
             policy: RefitPolicy::default(),
             static_bvhs: HashMap::new(),
             deforming: HashMap::new(),
-            removed: HashSet::new(),
             state: GpuScene::default(),
             layout: Vec::new(),
             materials_dirty: false,
@@ -130,125 +130,55 @@ impl Updater {
         self.origin.origin
     }
 
-    /// Tells the updater where the camera is (world space): when it has drifted more than
-    /// `recenter_distance` from the render origin, the origin moves onto it and the next
-    /// generation is posed around it (issue 6's floating origin, for a scene that lives), so a
-    /// world far larger than f32 can place stays precise where the camera looks.
-    pub fn follow_camera(&mut self, camera: DVec3) -> Result<()> {
-        check_camera(camera)?;
-        if self.origin.follow(camera) {
-            self.edited = true;
-        }
-        Ok(())
-    }
-
     pub fn set_refit_policy(&mut self, policy: RefitPolicy) {
         self.policy = policy;
     }
 
-    /// Animation time of the next generation (glTF animations and the skins they drive).
-    pub fn set_time(&mut self, time: f32) -> Result<()> {
-        check_time(time)?;
-        self.time = time;
-        self.edited = true;
-        Ok(())
-    }
-
-    /// Moves, rotates and scales `node` relative to its parent. An animated node follows its
-    /// animation again at the next update.
-    pub fn set_placement(&mut self, node: usize, placement: Placement) -> Result<()> {
-        let p = placement.checked()?;
-        let n = self.live_node(node)?;
-        n.translation = p.translation;
-        n.rotation = p.rotation;
-        n.scale = p.scale;
-        self.edited = true;
-        Ok(())
-    }
-
-    /// A new instance of scene mesh `mesh` at `placement` (in world space); returns its node.
-    pub fn add_instance(&mut self, mesh: usize, placement: Placement) -> Result<usize> {
-        let p = placement.checked()?;
-        if mesh >= self.scene.meshes.len() {
-            return Err(invalid(format!(
-                "no mesh {mesh} (the scene has {})",
-                self.scene.meshes.len()
-            )));
+    /// Applies `edit` to the scene of the next generation after checking it (its values, and
+    /// that it names what exists); returns the node of an added instance.
+    pub fn apply(&mut self, edit: Edit) -> Result<Option<usize>> {
+        let edit = edit.checked()?;
+        let added = self.structure.admit(&edit)?;
+        match edit {
+            Edit::Time(t) => self.time = t,
+            Edit::Placement { node, placement } => {
+                let n = &mut self.scene.nodes[node];
+                n.translation = placement.translation;
+                n.rotation = placement.rotation;
+                n.scale = placement.scale;
+            }
+            Edit::AddInstance { mesh, placement } => {
+                let mut node = Node::new(format!("instance of mesh {mesh}"));
+                node.mesh = Some(mesh);
+                node.translation = placement.translation;
+                node.rotation = placement.rotation;
+                node.scale = placement.scale;
+                self.scene.nodes.push(node);
+            }
+            Edit::RemoveInstance(node) => {
+                let n = &mut self.scene.nodes[node];
+                n.mesh = None;
+                n.skin = None;
+                self.deforming.remove(&node);
+            }
+            Edit::Material(i, m) => {
+                self.scene.materials[i] = *m;
+                self.materials_dirty = true;
+            }
+            Edit::Light(i, l) => self.scene.lights[i] = *l,
+            Edit::Environment(e) => {
+                self.scene.environment = *e;
+                self.environment_dirty = true;
+            }
+            Edit::FollowCamera(c) => {
+                // Only a moved origin changes the scene (the camera is the frame's).
+                if !self.origin.follow(c) {
+                    return Ok(None);
+                }
+            }
         }
-        let mut node = Node::new(format!("instance of mesh {mesh}"));
-        node.mesh = Some(mesh);
-        node.translation = p.translation;
-        node.rotation = p.rotation;
-        node.scale = p.scale;
-        self.scene.nodes.push(node);
         self.edited = true;
-        Ok(self.scene.nodes.len() - 1)
-    }
-
-    /// Removes the instance `node` places (the node stays, without its mesh: node indices used
-    /// by parents, skins and animations keep their meaning).
-    pub fn remove_instance(&mut self, node: usize) -> Result<()> {
-        let n = self.live_node(node)?;
-        if n.mesh.take().is_none() {
-            return Err(invalid(format!("node {node} places no instance")));
-        }
-        n.skin = None;
-        self.removed.insert(node);
-        self.edited = true;
-        self.deforming.remove(&node);
-        Ok(())
-    }
-
-    /// Replaces material `index`; its factors must be finite.
-    pub fn set_material(&mut self, index: usize, material: Material) -> Result<()> {
-        let count = self.scene.materials.len();
-        let slot = self
-            .scene
-            .materials
-            .get_mut(index)
-            .ok_or_else(|| invalid(format!("no material {index} (the scene has {count})")))?;
-        check_material(index, &material)?;
-        *slot = material;
-        self.edited = true;
-        self.materials_dirty = true;
-        Ok(())
-    }
-
-    /// Replaces punctual light `index` (its node places it): finite, non-negative colour and
-    /// intensity, a non-negative range, cones within (0, pi/2] with the inner one inside.
-    pub fn set_light(&mut self, index: usize, light: PunctualLight) -> Result<()> {
-        check_light(index, &light)?;
-        let count = self.scene.lights.len();
-        let slot = self
-            .scene
-            .lights
-            .get_mut(index)
-            .ok_or_else(|| invalid(format!("no light {index} (the scene has {count})")))?;
-        *slot = light;
-        self.edited = true;
-        Ok(())
-    }
-
-    /// Replaces the distant light (None: black). A map is re-sampled into its CDFs here.
-    pub fn set_environment(&mut self, environment: Option<Environment>) -> Result<()> {
-        check_environment(environment.as_ref())?;
-        self.scene.environment = environment;
-        self.environment_dirty = true;
-        self.edited = true;
-        Ok(())
-    }
-
-    fn live_node(&mut self, node: usize) -> Result<&mut Node> {
-        if self.removed.contains(&node) {
-            return Err(invalid(format!(
-                "node {node}'s instance was already removed"
-            )));
-        }
-        let count = self.scene.nodes.len();
-        self.scene
-            .nodes
-            .get_mut(node)
-            .ok_or_else(|| invalid(format!("no node {node} (the scene has {count})")))
+        Ok(added)
     }
 
     /// Makes the next generation from the scene as edited so far. When every posed mesh keeps
@@ -528,83 +458,6 @@ fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, 
     ranges
 }
 
-/// An animation time a game may set: finite.
-pub(crate) fn check_time(time: f32) -> Result<()> {
-    if !time.is_finite() {
-        return Err(invalid(format!("animation time {time} is not finite")));
-    }
-    Ok(())
-}
-
-/// A camera position the render origin may follow: finite.
-pub(crate) fn check_camera(camera: DVec3) -> Result<()> {
-    if !camera.is_finite() {
-        return Err(invalid(format!("camera position {camera} is not finite")));
-    }
-    Ok(())
-}
-
-/// An environment a game may set: a constant one finite and non-negative (a map was checked
-/// when it was read).
-pub(crate) fn check_environment(environment: Option<&Environment>) -> Result<()> {
-    if let Some(Environment::Constant(c)) = environment {
-        if !c.is_finite() || c.min_element() < 0.0 {
-            return Err(invalid(format!(
-                "environment colour {c} is not finite and non-negative"
-            )));
-        }
-    }
-    Ok(())
-}
-
-/// A light a game may set.
-pub(crate) fn check_light(index: usize, l: &PunctualLight) -> Result<()> {
-    let cones_ok = match l.kind {
-        LightKind::Spot {
-            inner_cone,
-            outer_cone,
-        } => {
-            inner_cone >= 0.0
-                && inner_cone <= outer_cone
-                && outer_cone > 0.0
-                && outer_cone <= std::f32::consts::FRAC_PI_2
-        }
-        _ => true,
-    };
-    let ok = l.color.is_finite()
-        && l.color.min_element() >= 0.0
-        && l.intensity.is_finite()
-        && l.intensity >= 0.0
-        && l.range.is_finite()
-        && l.range >= 0.0
-        && cones_ok;
-    if !ok {
-        return Err(invalid(format!(
-            "light {index}: colour, intensity and range must be finite and non-negative, spot cones within (0, 90] degrees"
-        )));
-    }
-    Ok(())
-}
-
-/// A material a game may set: every factor finite.
-pub(crate) fn check_material(index: usize, m: &Material) -> Result<()> {
-    let finite = [
-        m.base_color.is_finite(),
-        m.emissive.is_finite(),
-        m.metallic.is_finite(),
-        m.roughness.is_finite(),
-        m.transmission.is_finite(),
-        m.ior.is_finite(),
-        m.specular.is_finite(),
-        m.specular_color.is_finite(),
-        m.normal_scale.is_finite(),
-    ];
-    if finite.contains(&false) {
-        return Err(invalid(format!("material {index} has a non-finite factor")));
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -637,18 +490,20 @@ mod tests {
         let mut u = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
         let far = u.flattened().instances[0].object_to_world[0][3];
         assert_eq!(far, 1e7);
-        u.follow_camera(DVec3::new(100.0, 0.0, 0.0)).unwrap();
+        u.apply(Edit::FollowCamera(DVec3::new(100.0, 0.0, 0.0)))
+            .unwrap();
         assert!(
             u.update().unwrap().commit.is_empty(),
             "within the recentring distance"
         );
-        u.follow_camera(DVec3::new(1e7, 0.0, -5.0)).unwrap();
+        u.apply(Edit::FollowCamera(DVec3::new(1e7, 0.0, -5.0)))
+            .unwrap();
         let g = u.update().unwrap();
         assert_eq!(g.origin, DVec3::new(1e7, 0.0, -5.0));
         assert_eq!(g.commit.mesh_bytes(), 0, "object-space meshes do not move");
         let near = u.flattened().instances[0].object_to_world[0][3];
         assert_eq!(near, 0.0);
-        assert!(u.follow_camera(DVec3::splat(f64::NAN)).is_err());
+        assert!(u.apply(Edit::FollowCamera(DVec3::splat(f64::NAN))).is_err());
     }
 
     #[test]
@@ -660,8 +515,11 @@ mod tests {
             .iter()
             .position(|n| n.mesh.is_some())
             .unwrap();
-        u.set_placement(node, Placement::at(DVec3::new(0.1, 0.0, 0.0)))
-            .unwrap();
+        u.apply(Edit::Placement {
+            node,
+            placement: Placement::at(DVec3::new(0.1, 0.0, 0.0)),
+        })
+        .unwrap();
         let g = u.update().unwrap();
         assert!(!g.commit.is_empty());
         assert_eq!(g.commit.mesh_bytes(), 0);
@@ -676,7 +534,11 @@ mod tests {
         let mut u = cornell();
         let instances = u.flattened().instances.len();
         let node = u
-            .add_instance(0, Placement::at(DVec3::new(3.0, 0.0, 0.0)))
+            .apply(Edit::AddInstance {
+                mesh: 0,
+                placement: Placement::at(DVec3::new(3.0, 0.0, 0.0)),
+            })
+            .unwrap()
             .unwrap();
         let g = u.update().unwrap();
         assert_eq!(u.flattened().instances.len(), instances + 1);
@@ -686,23 +548,33 @@ mod tests {
             .arrays
             .iter()
             .all(|a| !MESH_ARRAYS.contains(&a.array)));
-        u.remove_instance(node).unwrap();
+        u.apply(Edit::RemoveInstance(node)).unwrap();
         u.update().unwrap();
         assert_eq!(u.flattened().instances.len(), instances);
-        let twice = u.remove_instance(node).unwrap_err().to_string();
+        let twice = u.apply(Edit::RemoveInstance(node)).unwrap_err().to_string();
         assert!(twice.contains("already removed"), "{twice}");
-        assert!(u.add_instance(99, Placement::at(DVec3::ZERO)).is_err());
-        assert!(u.set_placement(999, Placement::at(DVec3::ZERO)).is_err());
-        assert!(u.set_time(f32::NAN).is_err());
+        assert!(u
+            .apply(Edit::AddInstance {
+                mesh: 99,
+                placement: Placement::at(DVec3::ZERO)
+            })
+            .is_err());
+        assert!(u
+            .apply(Edit::Placement {
+                node: 999,
+                placement: Placement::at(DVec3::ZERO)
+            })
+            .is_err());
+        assert!(u.apply(Edit::Time(f32::NAN)).is_err());
         let mut m = u.scene().materials[0].clone();
         m.roughness = f32::NAN;
-        assert!(u.set_material(0, m).is_err());
+        assert!(u.apply(Edit::Material(0, Box::new(m))).is_err());
         // Nothing refused reached the scene.
         assert!(u.update().unwrap().commit.is_empty());
         // A material edit sends the materials.
         let mut m = u.scene().materials[0].clone();
         m.roughness = 0.5;
-        u.set_material(0, m).unwrap();
+        u.apply(Edit::Material(0, Box::new(m))).unwrap();
         let g = u.update().unwrap();
         assert_eq!(
             g.commit.arrays.iter().map(|a| a.array).collect::<Vec<_>>(),
