@@ -585,7 +585,7 @@ fn tradeoff_prints_its_rows_as_json_and_refuses_what_it_cannot_measure() {
     let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let rows = json["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 4);
-    for key in platoon::tradeoff::report::COLUMNS {
+    for key in platoon_lab::tradeoff::report::COLUMNS {
         assert!(
             rows.iter().all(|r| !r[key].is_null()),
             "{key} missing: {json}"

@@ -4,13 +4,13 @@
 mod common;
 
 use common::*;
-use platoon::balance_bench as bb;
 use platoon::core::balance::{by_name, NAMES};
 use platoon::core::frame::fault::FaultInjector;
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::tracer::Sampling;
+use platoon_lab::balance_bench as bb;
 
 fn scene() -> platoon::Prepared {
     let scene = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();

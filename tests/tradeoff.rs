@@ -7,7 +7,7 @@ mod common;
 use common::*;
 use platoon::core::frame::FrameParams;
 use platoon::tracer::Sampling;
-use platoon::tradeoff::{self, metrics, Options, Row, Technique};
+use platoon_lab::tradeoff::{self, metrics, Options, Row, Technique};
 
 fn options(out: &std::path::Path, spp_list: &[u32], techniques: &[Technique]) -> Options {
     Options {

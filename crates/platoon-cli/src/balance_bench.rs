@@ -3,8 +3,8 @@
 
 use anyhow::Result;
 
-pub fn run(options: platoon::balance_bench::Options, json: bool) -> Result<()> {
-    use platoon::balance_bench::{self as bb, Mode};
+pub fn run(options: platoon_lab::balance_bench::Options, json: bool) -> Result<()> {
+    use platoon_lab::balance_bench::{self as bb, Mode};
     options.validate()?;
     let out = options.out.clone();
     let frames = options.frames;
@@ -40,7 +40,7 @@ pub fn run(options: platoon::balance_bench::Options, json: bool) -> Result<()> {
         print!("{table}");
     }
     platoon::core::output::write_text(&out.join("balance.csv"), &bb::csv(&cells))?;
-    platoon::plot::write_png(&out.join("balance.png"), &cells, &title)?;
+    platoon_lab::plot::write_png(&out.join("balance.png"), &cells, &title)?;
     eprintln!(
         "wrote {} and {}",
         out.join("balance.csv").display(),

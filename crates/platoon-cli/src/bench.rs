@@ -80,7 +80,7 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
     drop(tracer);
 
     // Contiguous bands against interleaved lines: what interleaving costs in coherence.
-    let layout = platoon::balance_bench::Options {
+    let layout = platoon_lab::balance_bench::Options {
         width: 192,
         height: 144,
         spp,
@@ -88,7 +88,7 @@ pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
     };
     let one = platoon::devices::DeviceSpec::Indices(vec![device]);
     for stride in [2, 3] {
-        let (c, i) = platoon::balance_bench::coherence(&layout, &one, stride, repeat)?;
+        let (c, i) = platoon_lab::balance_bench::coherence(&layout, &one, stride, repeat)?;
         println!("outdoor 192x144, {stride} interleaved passes vs one band: {:.3} s vs {:.3} s ({:+.1}%)", i, c, 100.0 * (i / c - 1.0));
     }
 
@@ -161,61 +161,12 @@ fn refit_row(p: &Prepared) {
     );
 }
 
-/// BVH2 against CWBVH on the CPU: the 100k-triangle field flattened to world space, one
-/// primary ray per pixel of a 256x256 view plus as many random rays from inside the scene.
+/// BVH2 against CWBVH on the CPU (platoon_lab::layout_bench).
 fn compare_layouts(p: &Prepared) {
-    use glam::{Vec3, Vec3A};
-    use obvhs::ray::Ray;
-    let mut tris = Vec::new();
-    for inst in &p.posed.instances {
-        let mesh = &p.posed.meshes[inst.mesh];
-        for t in &mesh.indices {
-            let v = t.map(|i| {
-                Vec3A::from(
-                    inst.object_to_world
-                        .transform_point3(mesh.positions[i as usize]),
-                )
-            });
-            tris.push(obvhs::triangle::Triangle {
-                v0: v[0],
-                v1: v[1],
-                v2: v[2],
-            });
-        }
-    }
-    let cam = p.camera.camera_to_world;
-    let origin = Vec3A::from(cam.transform_point3(Vec3::ZERO));
-    let tan = (p.camera.yfov * 0.5).tan();
-    let mut rays = Vec::new();
-    let mut state = 0x1234_5678u32;
-    let mut rnd = || {
-        state ^= state << 13;
-        state ^= state >> 17;
-        state ^= state << 5;
-        state as f32 / u32::MAX as f32
-    };
-    for y in 0..256 {
-        for x in 0..256 {
-            let d = Vec3::new(
-                (x as f32 / 128.0 - 1.0) * tan,
-                (1.0 - y as f32 / 128.0) * tan,
-                -1.0,
-            );
-            rays.push(Ray::new_inf(
-                origin,
-                Vec3A::from(cam.transform_vector3(d).normalize()),
-            ));
-            let o = Vec3A::new(rnd() * 10.0 - 5.0, rnd() * 3.0, rnd() * 10.0 - 5.0);
-            let d = Vec3A::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize_or(Vec3A::Y);
-            rays.push(Ray::new_inf(o, d));
-        }
-    }
-    let c = platoon::core::flatten::bvh::compare_layouts(&tris, &rays);
+    let (c, triangles, rays) = platoon_lab::layout_bench::on_prepared(p);
     println!(
         "BVH layouts on the CPU (1 thread, {} triangles, {} rays; same hits: {}):",
-        tris.len(),
-        rays.len(),
-        c.hits_agree
+        triangles, rays, c.hits_agree
     );
     println!(
         "  BVH2:  {:>6.2} Mrays/s, nodes {:>6.2} MB, build {:>6.1} ms",
@@ -312,7 +263,7 @@ pub fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
 }
 
 pub fn run_dynamic(a: &DynamicArgs, device: usize) -> Result<()> {
-    use platoon::dynamic_bench as db;
+    use platoon_lab::dynamic_bench as db;
     if !a.out.is_dir() {
         anyhow::bail!("{}: output folder does not exist", a.out.display());
     }

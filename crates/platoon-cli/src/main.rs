@@ -47,7 +47,7 @@ enum Command {
     /// Compare the line balancers over an orbiting camera (Brigade's Table 16 for platoon).
     BalanceBench {
         #[command(flatten)]
-        options: platoon::balance_bench::Options,
+        options: platoon_lab::balance_bench::Options,
         /// Print the cells as JSON on stdout (the table goes to stderr).
         #[arg(long)]
         json: bool,

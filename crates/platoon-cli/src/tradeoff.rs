@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{anyhow, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use platoon::tradeoff::{self, report, Progress, Technique};
+use platoon_lab::tradeoff::{self, report, Progress, Technique};
 
 use crate::method_args::MethodArg;
 use crate::scene_args::SceneArgs;

@@ -1,19 +1,17 @@
 //! platoon: the embedding API. Load a scene (glTF or the built-in Cornell box), choose its
 //! environment and camera and flatten it for the devices ([`mod@prepare`]); create tracers from
 //! device specs ([`devices`]); render a frame on one tracer or many ([`mod@render`]); describe the
-//! result ([`mod@metadata`]); drive a game loop ([`game`]). The `platoon` command line and the examples are thin layers over it.
+//! result ([`mod@metadata`]); drive a game loop ([`game`]). The `platoon` command line and the
+//! examples are thin layers over it; what measures platoon (benches, the trade-off tool, plots)
+//! is the lab's crate, platoon-lab.
 //! [`core`] and [`tracer`] are the two crates underneath.
 
-pub mod balance_bench;
 pub mod devices;
-pub mod dynamic_bench;
 pub mod game;
 pub mod generated;
 pub mod metadata;
-pub mod plot;
 pub mod prepare;
 pub mod render;
-pub mod tradeoff;
 
 pub use metadata::{approximations, metadata};
 pub use platoon_core as core;

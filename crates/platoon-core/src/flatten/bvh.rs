@@ -146,7 +146,8 @@ fn leaf_item(first: u32, count: u32, lo: Vec3, hi: Vec3, nodes: &mut Vec<BvhNode
     item(index as u32, 0)
 }
 
-fn flatten(bvh: &Bvh2) -> FlatBvh {
+/// The BVH2 `bvh` in the kernel's layout: both children's boxes in the node.
+pub fn flatten(bvh: &Bvh2) -> FlatBvh {
     let Some(root) = bvh.nodes.first() else {
         return FlatBvh::default();
     };
@@ -181,7 +182,7 @@ fn flatten(bvh: &Bvh2) -> FlatBvh {
 
 /// The build preset: obvhs' "medium" (PLOC + reinsertion), without spatial pre-splits so that
 /// every triangle appears in exactly one leaf (triangles are reordered into leaf order).
-fn params() -> BvhBuildParams {
+pub fn build_params() -> BvhBuildParams {
     let mut p = BvhBuildParams::medium_build();
     p.pre_split = false;
     p
@@ -219,7 +220,7 @@ pub fn placeable_triangles(mesh: &Mesh) -> (Vec<Triangle>, Vec<u32>) {
 /// The obvhs BVH2 of triangles, with platoon's build preset.
 pub fn build_bvh2(tris: &[Triangle]) -> Bvh2 {
     let mut time = Duration::ZERO;
-    obvhs::bvh2::builder::build_bvh2_from_tris(tris, params(), &mut time)
+    obvhs::bvh2::builder::build_bvh2_from_tris(tris, build_params(), &mut time)
 }
 
 /// The flattened BVH of `bvh`, whose primitive `i` is mesh triangle `original[i]`.
@@ -459,56 +460,5 @@ mod tests {
         let bvh = build_mesh_bvh(&mesh);
         assert_eq!(bvh.order, vec![3]);
         assert_eq!(bvh.bounds().1, far);
-    }
-}
-
-/// CPU traversal cost of the two node layouts obvhs builds, on the same triangles and rays:
-/// the evidence behind the BVH2 choice (docs/ARCHITECTURE.md). lavapipe runs kernels on these
-/// same CPU cores, so the CPU figures bound what each layout can reach there.
-#[derive(Clone, Copy, Debug)]
-pub struct LayoutComparison {
-    pub bvh2_rays_per_s: f64,
-    pub cwbvh_rays_per_s: f64,
-    pub bvh2_node_bytes: usize,
-    pub cwbvh_node_bytes: usize,
-    pub bvh2_build: Duration,
-    pub cwbvh_build: Duration,
-    /// Both layouts found the same closest hits.
-    pub hits_agree: bool,
-}
-
-pub fn compare_layouts(tris: &[Triangle], rays: &[obvhs::ray::Ray]) -> LayoutComparison {
-    use obvhs::ray::RayHit;
-    let mut bvh2_build = Duration::ZERO;
-    let mut cwbvh_build = Duration::ZERO;
-    let b2 = obvhs::bvh2::builder::build_bvh2_from_tris(tris, params(), &mut bvh2_build);
-    let cw = obvhs::cwbvh::builder::build_cwbvh_from_tris(tris, params(), &mut cwbvh_build);
-    let run = |trace: &dyn Fn(&obvhs::ray::Ray) -> f32| {
-        let start = Instant::now();
-        let hits: Vec<f32> = rays.iter().map(trace).collect();
-        (rays.len() as f64 / start.elapsed().as_secs_f64(), hits)
-    };
-    let (bvh2_rays_per_s, h2) = run(&|ray| {
-        let mut hit = RayHit::none();
-        b2.ray_traverse(*ray, &mut hit, |r, i| {
-            tris[b2.primitive_indices[i] as usize].intersect(r)
-        });
-        hit.t
-    });
-    let (cwbvh_rays_per_s, hc) = run(&|ray| {
-        let mut hit = RayHit::none();
-        cw.ray_traverse(*ray, &mut hit, |r, i| {
-            tris[cw.primitive_indices[i] as usize].intersect(r)
-        });
-        hit.t
-    });
-    LayoutComparison {
-        bvh2_rays_per_s,
-        cwbvh_rays_per_s,
-        bvh2_node_bytes: std::mem::size_of::<BvhNode>() * flatten(&b2).nodes.len(),
-        cwbvh_node_bytes: std::mem::size_of_val(cw.nodes.as_slice()),
-        bvh2_build,
-        cwbvh_build,
-        hits_agree: h2 == hc,
     }
 }

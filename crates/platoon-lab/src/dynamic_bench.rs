@@ -131,14 +131,14 @@ fn build_scene(o: &Options) -> Result<(Scene, Vec<usize>, Camera)> {
         &field,
         platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, false)),
     )?;
-    let mut scene = crate::load_scene(Some(&field))?;
+    let mut scene = platoon::load_scene(Some(&field))?;
     if !o.character.exists() {
         bail!(
             "{}: the character to animate is missing (pass --character with a skinned glTF)",
             o.character.display()
         );
     }
-    let character = crate::load_scene(Some(&o.character))?;
+    let character = platoon::load_scene(Some(&o.character))?;
     if character.skins.is_empty() || character.animations.is_empty() {
         bail!("{}: not a skinned, animated glTF", o.character.display());
     }
@@ -170,7 +170,7 @@ fn build_scene(o: &Options) -> Result<(Scene, Vec<usize>, Camera)> {
 
 /// Length of the character's animation (its walk cycle), in seconds.
 fn walk_duration(o: &Options) -> Result<f32> {
-    let character = crate::load_scene(Some(&o.character))?;
+    let character = platoon::load_scene(Some(&o.character))?;
     let d = character.animations.first().map_or(0.0, |a| a.duration());
     if d.is_nan() || d <= 0.0 {
         bail!("{}: its animation has no duration", o.character.display());
@@ -304,10 +304,10 @@ fn run_frames(o: &Options, kind: RunKind) -> Result<Run> {
         let mut params = FrameParams::new(o.width, o.height, 1, camera);
         params.frame = f;
         let render = Instant::now();
-        crate::render_bands(
+        platoon::render_bands(
             &mut tracer,
             &params,
-            &[crate::whole_frame(&params)],
+            &[platoon::whole_frame(&params)],
             &mut |_| {},
         )?;
         record.render_ms = ms(render.elapsed());
@@ -363,7 +363,7 @@ impl Drop for ThreadCores {
 /// movers) per update, median of `frames`, with the updater's work on `threads` threads and
 /// nothing rendering beside it.
 fn characters_ms(o: &Options, threads: usize) -> Result<f64> {
-    let character = crate::load_scene(Some(&o.character))?;
+    let character = platoon::load_scene(Some(&o.character))?;
     let duration = walk_duration(o)?;
     let mut scene = Scene::default();
     for c in 0..o.characters {

@@ -18,8 +18,8 @@ use platoon_core::frame::FrameParams;
 use platoon_core::scene::camera::Camera;
 use platoon_tracer::Sampling;
 
-use crate::devices::{create_tracers, DeviceSpec};
-use crate::{prepare, EnvChoice, PrepareOptions, Prepared};
+use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::{prepare, EnvChoice, PrepareOptions, Prepared};
 
 /// Recorded cost maps shipped with platoon (`--record-costs` makes new orbit ones,
 /// `platoon bench --game --record-costs` new game ones), in column order.
@@ -154,7 +154,7 @@ pub fn outdoor_scene() -> Result<Prepared> {
         &path,
         platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, false)),
     )?;
-    let scene = crate::load_scene(Some(&path))?;
+    let scene = platoon::load_scene(Some(&path))?;
     prepare(
         scene,
         &PrepareOptions {

@@ -10,7 +10,7 @@ use platoon_core::frame::FrameParams;
 use platoon_core::output::{read_exr, write_image, Film};
 use platoon_tracer::{Tracer, TracerOptions};
 
-use crate::Prepared;
+use platoon::Prepared;
 
 /// Seed offset of platoon's reference, so that its samples are independent of every sweep
 /// render's (a reference sharing their random numbers would hide part of their error).

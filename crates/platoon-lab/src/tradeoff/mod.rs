@@ -22,7 +22,7 @@ use platoon_tracer::{Sampling, Tracer, TracerOptions};
 
 pub use technique::Technique;
 
-use crate::Prepared;
+use platoon::Prepared;
 
 #[derive(Clone, Debug)]
 pub struct Options {
@@ -259,9 +259,9 @@ fn without(prepared: &Prepared, effect: effects::Effect) -> Result<Option<Prepar
     if !effect.remove(&mut scene) {
         return Ok(None);
     }
-    let mut variant = crate::prepare(
+    let mut variant = platoon::prepare(
         scene,
-        &crate::PrepareOptions {
+        &platoon::PrepareOptions {
             time: prepared.time,
             ..Default::default()
         },
