@@ -10,6 +10,54 @@ fn platoon(args: &[&str]) -> Output {
     platoon_in(Path::new("."), args)
 }
 
+/// A `platoon` command line, built flag by flag: `Cli::new("render").spp(4).size(32, 32)
+/// .out(&png).run()`. Every invocation of this file goes through it.
+struct Cli {
+    args: Vec<std::ffi::OsString>,
+}
+
+impl Cli {
+    fn new(command: &str) -> Cli {
+        Cli {
+            args: vec![command.into()],
+        }
+    }
+    /// A positional argument or a switch.
+    fn arg(mut self, a: impl AsRef<std::ffi::OsStr>) -> Cli {
+        self.args.push(a.as_ref().to_owned());
+        self
+    }
+    fn flag(self, name: &str, value: impl AsRef<std::ffi::OsStr>) -> Cli {
+        self.arg(name).arg(value)
+    }
+    fn spp(self, spp: u32) -> Cli {
+        self.flag("--spp", spp.to_string())
+    }
+    fn size(self, width: u32, height: u32) -> Cli {
+        self.flag("--width", width.to_string())
+            .flag("--height", height.to_string())
+    }
+    fn out(self, path: impl AsRef<std::ffi::OsStr>) -> Cli {
+        self.flag("--out", path)
+    }
+    fn strs(&self) -> Vec<&str> {
+        self.args
+            .iter()
+            .map(|a| a.to_str().expect("a UTF-8 argument"))
+            .collect()
+    }
+    fn run(&self) -> Output {
+        platoon(&self.strs())
+    }
+    fn run_in(&self, dir: &Path) -> Output {
+        platoon_in(dir, &self.strs())
+    }
+    /// Runs it and checks it fails naming `names`, writing nothing at `out`.
+    fn fails_naming(&self, names: &str, out: &Path) {
+        assert_fails_naming(&self.strs(), names, out)
+    }
+}
+
 /// The value of EXR metadata entry `platoon:<key>` ("" when absent).
 fn metadata_value(meta: &[(String, String)], key: &str) -> String {
     meta.iter()
@@ -61,18 +109,12 @@ fn assert_fails_naming(args: &[&str], names: &str, out: &Path) {
 fn renders_the_built_in_scene_to_png_and_exr_with_metadata() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("cornell.png");
-    let o = platoon(&[
-        "render",
-        "--spp",
-        "4",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "--validation",
-        "--out",
-        png.to_str().unwrap(),
-    ]);
+    let o = Cli::new("render")
+        .spp(4)
+        .size(32, 32)
+        .arg("--validation")
+        .out(&png)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     let img = image_dims(&png);
     assert_eq!(img, (32, 32));
@@ -85,19 +127,12 @@ fn renders_the_built_in_scene_to_png_and_exr_with_metadata() {
         );
     }
     let exr = dir.path().join("cornell.exr");
-    let o = platoon(&[
-        "render",
-        "--spp",
-        "4",
-        "--width",
-        "16",
-        "--height",
-        "8",
-        "--seed",
-        "7",
-        "--out",
-        exr.to_str().unwrap(),
-    ]);
+    let o = Cli::new("render")
+        .spp(4)
+        .size(16, 8)
+        .flag("--seed", "7")
+        .out(&exr)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
     assert_eq!((film.width, film.height), (16, 8));
@@ -116,19 +151,12 @@ fn renders_the_built_in_scene_to_png_and_exr_with_metadata() {
 fn a_time_limit_stops_at_a_whole_pass_and_reports_the_spp_reached() {
     let dir = tempfile::tempdir().unwrap();
     let exr = dir.path().join("quick.exr");
-    let o = platoon(&[
-        "render",
-        "--spp",
-        "100000",
-        "--time-limit",
-        "0.2",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "--out",
-        exr.to_str().unwrap(),
-    ]);
+    let o = Cli::new("render")
+        .spp(100000)
+        .flag("--time-limit", "0.2")
+        .size(32, 32)
+        .out(&exr)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
     let get = |k: &str| metadata_value(&meta, k);
@@ -142,15 +170,11 @@ fn a_time_limit_stops_at_a_whole_pass_and_reports_the_spp_reached() {
     assert_eq!(film.count_non_finite(), 0);
     // Normalised by the samples reached, not by --spp: the Cornell box is not black.
     assert!(film.mean()[0] > 0.01, "{:?}", film.mean());
-    let o = platoon(&[
-        "render",
-        "--time-limit",
-        "1",
-        "--devices",
-        "lavapipe:1,1",
-        "--out",
-        exr.to_str().unwrap(),
-    ]);
+    let o = Cli::new("render")
+        .flag("--time-limit", "1")
+        .flag("--devices", "lavapipe:1,1")
+        .out(&exr)
+        .run();
     assert!(
         !o.status.success() && stderr(&o).contains("one device"),
         "{}",
@@ -173,44 +197,30 @@ fn renders_a_shared_scene_with_an_environment_and_reports_a_default_sky() {
     let out = dir.path().join("teapot.png");
     let teapot = common::shared("scenes/teapot.gltf");
     let forest = common::shared("envmaps/forest.exr");
-    let o = platoon(&[
-        "render",
-        teapot.to_str().unwrap(),
-        "--env",
-        forest.to_str().unwrap(),
-        "--spp",
-        "2",
-        "--width",
-        "24",
-        "--height",
-        "24",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = Cli::new("render")
+        .arg(&teapot)
+        .flag("--env", &forest)
+        .spp(2)
+        .size(24, 24)
+        .out(&out)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!stderr(&o).contains("no lights"));
-    let o = platoon(&[
-        "render",
-        teapot.to_str().unwrap(),
-        "--spp",
-        "2",
-        "--width",
-        "24",
-        "--height",
-        "24",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = Cli::new("render")
+        .arg(&teapot)
+        .spp(2)
+        .size(24, 24)
+        .out(&out)
+        .run();
     assert!(o.status.success());
     assert!(stderr(&o).contains("no lights"), "{}", stderr(&o));
 }
 
 #[test]
 fn info_prints_counts_and_features() {
-    let o = platoon(&[
-        "info",
-        common::shared("scenes/CesiumMan.glb").to_str().unwrap(),
-    ]);
+    let o = Cli::new("info")
+        .arg(common::shared("scenes/CesiumMan.glb"))
+        .run();
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success());
     assert!(text.contains("4672"), "{text}");
@@ -220,7 +230,7 @@ fn info_prints_counts_and_features() {
         text.contains("memory:       texel buffers for all 16"),
         "{text}"
     );
-    let o = platoon(&["devices"]);
+    let o = Cli::new("devices").run();
     assert!(String::from_utf8_lossy(&o.stdout).contains("llvmpipe"));
 }
 
@@ -231,19 +241,17 @@ fn bad_inputs_fail_cleanly() {
     let out = d.join("out.png");
     let o = out.to_str().unwrap();
     let missing = d.join("nope.glb");
-    assert_fails_naming(
-        &["render", missing.to_str().unwrap(), "--out", o],
-        "nope.glb",
-        &out,
-    );
+    Cli::new("render")
+        .arg(&missing)
+        .out(o)
+        .fails_naming("nope.glb", &out);
 
     let garbage = d.join("garbage.gltf");
     std::fs::write(&garbage, b"this is not json").unwrap();
-    assert_fails_naming(
-        &["render", garbage.to_str().unwrap(), "--out", o],
-        "garbage.gltf",
-        &out,
-    );
+    Cli::new("render")
+        .arg(&garbage)
+        .out(o)
+        .fails_naming("garbage.gltf", &out);
 
     let draco = write_gltf(
         d,
@@ -251,12 +259,13 @@ fn bad_inputs_fail_cleanly() {
         r#","extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"]"#,
         "",
     );
-    assert_fails_naming(
-        &["render", draco.to_str().unwrap(), "--out", o],
-        "KHR_draco_mesh_compression",
-        &out,
-    );
-    assert_fails_naming(&["info", draco.to_str().unwrap()], "draco.gltf", &out);
+    Cli::new("render")
+        .arg(&draco)
+        .out(o)
+        .fails_naming("KHR_draco_mesh_compression", &out);
+    Cli::new("info")
+        .arg(&draco)
+        .fails_naming("draco.gltf", &out);
 
     let textured = write_gltf(
         d,
@@ -264,41 +273,37 @@ fn bad_inputs_fail_cleanly() {
         r#","materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}],"textures":[{"source":0}],"images":[{"uri":"missing.png"}]"#,
         r#","material":0"#,
     );
-    assert_fails_naming(
-        &["render", textured.to_str().unwrap(), "--out", o],
-        "missing.png",
-        &out,
-    );
+    Cli::new("render")
+        .arg(&textured)
+        .out(o)
+        .fails_naming("missing.png", &out);
 
     let ok = write_gltf(d, "ok.gltf", "", "");
     std::fs::remove_file(d.join("tri.bin")).unwrap();
-    assert_fails_naming(
-        &["render", ok.to_str().unwrap(), "--out", o],
-        "tri.bin",
-        &out,
-    );
+    Cli::new("render")
+        .arg(&ok)
+        .out(o)
+        .fails_naming("tri.bin", &out);
 
     let bad_env = d.join("sky.exr");
     std::fs::write(&bad_env, b"not an exr").unwrap();
-    assert_fails_naming(
-        &["render", "--env", bad_env.to_str().unwrap(), "--out", o],
-        "sky.exr",
-        &out,
-    );
+    Cli::new("render")
+        .flag("--env", &bad_env)
+        .out(o)
+        .fails_naming("sky.exr", &out);
 
     let bad_out = d.join("out.jpg");
-    assert_fails_naming(
-        &["render", "--out", bad_out.to_str().unwrap()],
-        "out.jpg",
-        &bad_out,
-    );
+    Cli::new("render")
+        .out(&bad_out)
+        .fails_naming("out.jpg", &bad_out);
     let no_dir = d.join("missing-dir/out.png");
-    assert_fails_naming(
-        &["render", "--out", no_dir.to_str().unwrap()],
-        "missing-dir",
-        &no_dir,
-    );
-    assert_fails_naming(&["render", "--camera", "3", "--out", o], "camera 3", &out);
+    Cli::new("render")
+        .out(&no_dir)
+        .fails_naming("missing-dir", &no_dir);
+    Cli::new("render")
+        .flag("--camera", "3")
+        .out(o)
+        .fails_naming("camera 3", &out);
 }
 
 #[test]
@@ -306,26 +311,14 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     let dir = tempfile::tempdir().unwrap();
     let one = dir.path().join("one.exr");
     let two = dir.path().join("two.exr");
-    let common = [
-        "--spp", "2", "--width", "16", "--height", "20", "--seed", "3",
-    ];
-    let o = platoon(&[&["render", "--out", one.to_str().unwrap()][..], &common].concat());
+    let render = || Cli::new("render").spp(2).size(16, 20).flag("--seed", "3");
+    let o = render().out(&one).run();
     assert!(o.status.success(), "{}", stderr(&o));
-    let o = platoon(
-        &[
-            &[
-                "render",
-                "--devices",
-                "lavapipe:1,1",
-                "--balancer",
-                "perfect",
-                "--out",
-                two.to_str().unwrap(),
-            ][..],
-            &common,
-        ]
-        .concat(),
-    );
+    let o = render()
+        .flag("--devices", "lavapipe:1,1")
+        .flag("--balancer", "perfect")
+        .out(&two)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("tracer 1: lines"), "{}", stderr(&o));
     let (a, _) = platoon::core::output::read_exr(&one).unwrap();
@@ -335,25 +328,23 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
         .iter()
         .any(|(k, v)| k == "platoon:balancer" && v == "perfect"));
 
-    let o = platoon(&[
-        "render",
-        "--balancer",
-        "fastest",
-        "--out",
-        one.to_str().unwrap(),
-    ]);
+    let o = Cli::new("render")
+        .flag("--balancer", "fastest")
+        .out(&one)
+        .run();
     assert!(!o.status.success() && stderr(&o).contains("unknown balancer fastest"));
-    let o = platoon(&[
-        "render",
-        "--devices",
-        "lavapipe:0",
-        "--out",
-        one.to_str().unwrap(),
-    ]);
+    let o = Cli::new("render")
+        .flag("--devices", "lavapipe:0")
+        .out(&one)
+        .run();
     assert!(!o.status.success() && stderr(&o).contains("at least one thread"));
 
     let d = dir.path().to_str().unwrap();
-    let o = platoon(&["balance-bench", "--frames", "12", "--json", "--out", d]);
+    let o = Cli::new("balance-bench")
+        .flag("--frames", "12")
+        .arg("--json")
+        .out(d)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     let json = String::from_utf8_lossy(&o.stdout);
     // 6 balancers x (2, 3 devices) x (slow, fast, game cost maps).
@@ -366,22 +357,13 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     assert_eq!(image_dims(&dir.path().join("balance.png")), (1500, 800));
 
     let costs = dir.path().join("costs");
-    let record = [
-        "balance-bench",
-        "--record-costs",
-        costs.to_str().unwrap(),
-        "--frames",
-        "3",
-        "--width",
-        "12",
-        "--height",
-        "9",
-        "--spp",
-        "1",
-        "--out",
-        d,
-    ];
-    let o = platoon(&record);
+    let o = Cli::new("balance-bench")
+        .flag("--record-costs", &costs)
+        .flag("--frames", "3")
+        .size(12, 9)
+        .spp(1)
+        .out(d)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     for camera in ["slow", "fast"] {
         let map =
@@ -395,15 +377,11 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     }
     // The tuning orbit goes apart: replaying the folder judges on slow and fast only.
     assert!(costs.join("tune").join("orbit.csv").is_file());
-    let o = platoon(&[
-        "balance-bench",
-        "--costs",
-        costs.to_str().unwrap(),
-        "--frames",
-        "3",
-        "--out",
-        d,
-    ]);
+    let o = Cli::new("balance-bench")
+        .flag("--costs", &costs)
+        .flag("--frames", "3")
+        .out(d)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     let table = String::from_utf8_lossy(&o.stdout);
     assert!(
@@ -411,7 +389,7 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
         "{table}"
     );
     // A folder whose CSV is no cost map is refused, naming the file.
-    let o = platoon(&["balance-bench", "--costs", d, "--out", d]);
+    let o = Cli::new("balance-bench").flag("--costs", d).out(d).run();
     assert!(
         !o.status.success() && stderr(&o).contains("balance.csv"),
         "{}",
@@ -419,38 +397,25 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     );
     let empty = dir.path().join("empty");
     std::fs::create_dir(&empty).unwrap();
-    let o = platoon(&[
-        "balance-bench",
-        "--costs",
-        empty.to_str().unwrap(),
-        "--out",
-        d,
-    ]);
+    let o = Cli::new("balance-bench")
+        .flag("--costs", &empty)
+        .out(d)
+        .run();
     assert!(
         !o.status.success() && stderr(&o).contains("no cost maps"),
         "{}",
         stderr(&o)
     );
 
-    let o = platoon(&[
-        "balance-bench",
-        "--mode",
-        "real",
-        "--frames",
-        "3",
-        "--width",
-        "12",
-        "--height",
-        "9",
-        "--spp",
-        "1",
-        "--devices2",
-        "lavapipe:1,1",
-        "--devices3",
-        "lavapipe:1,1,1",
-        "--out",
-        d,
-    ]);
+    let o = Cli::new("balance-bench")
+        .flag("--mode", "real")
+        .flag("--frames", "3")
+        .size(12, 9)
+        .spp(1)
+        .flag("--devices2", "lavapipe:1,1")
+        .flag("--devices3", "lavapipe:1,1,1")
+        .out(d)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     let table = String::from_utf8_lossy(&o.stdout);
     for name in platoon::core::balance::NAMES {
@@ -467,21 +432,15 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
 fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
     let dir = tempfile::tempdir().unwrap();
     let character = common::shared("scenes/CesiumMan.glb");
-    let o = platoon(&[
-        "bench",
-        "--dynamic",
-        "--frames",
-        "4",
-        "--characters",
-        "2",
-        "--movers",
-        "3",
-        "--character",
-        character.to_str().unwrap(),
-        "--json",
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
+    let o = Cli::new("bench")
+        .arg("--dynamic")
+        .flag("--frames", "4")
+        .flag("--characters", "2")
+        .flag("--movers", "3")
+        .flag("--character", &character)
+        .arg("--json")
+        .out(dir.path())
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
     let json = out.lines().last().unwrap();
@@ -506,7 +465,10 @@ fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
     assert!(csv.starts_with("run,frame,"), "{csv}");
     assert_eq!(csv.lines().filter(|l| l.starts_with("alone,")).count(), 4);
     assert!(dir.path().join("dynamic.png").exists());
-    let missing = platoon(&["bench", "--dynamic", "--character", "/nonexistent/man.glb"]);
+    let missing = Cli::new("bench")
+        .arg("--dynamic")
+        .flag("--character", "/nonexistent/man.glb")
+        .run();
     assert!(!missing.status.success());
     assert!(
         stderr(&missing).contains("/nonexistent/man.glb"),
@@ -519,23 +481,16 @@ fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
 fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     let dir = tempfile::tempdir().unwrap();
     let character = common::shared("scenes/CesiumMan.glb");
-    let o = platoon(&[
-        "bench",
-        "--game",
-        "--frames",
-        "8",
-        "--size",
-        "16x12",
-        "--target-ms",
-        "30",
-        "--devices",
-        "lavapipe:1,1",
-        "--character",
-        character.to_str().unwrap(),
-        "--json",
-        "--out",
-        dir.path().to_str().unwrap(),
-    ]);
+    let o = Cli::new("bench")
+        .arg("--game")
+        .flag("--frames", "8")
+        .flag("--size", "16x12")
+        .flag("--target-ms", "30")
+        .flag("--devices", "lavapipe:1,1")
+        .flag("--character", &character)
+        .arg("--json")
+        .out(dir.path())
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
     let json: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
@@ -555,7 +510,11 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     let csv = std::fs::read_to_string(dir.path().join("game.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8);
     for bad in [["--target-ms", "0"], ["--size", "0x5"]] {
-        let o = platoon(&["bench", "--game", bad[0], bad[1]]);
+        let o = Cli::new("bench")
+            .arg("--game")
+            .arg(bad[0])
+            .arg(bad[1])
+            .run();
         assert!(!o.status.success());
         assert!(stderr(&o).contains(bad[0]), "{}", stderr(&o));
     }
@@ -565,22 +524,13 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
 fn tradeoff_prints_its_rows_as_json_and_refuses_what_it_cannot_measure() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path().to_str().unwrap();
-    let common = ["tradeoff", "--width", "16", "--height", "16", "--out", d];
-    let o = platoon(
-        &[
-            &common[..],
-            &[
-                "--spp-list",
-                "1,2",
-                "--techniques",
-                "mis,max-depth=2",
-                "--reference-spp",
-                "64",
-                "--json",
-            ],
-        ]
-        .concat(),
-    );
+    let tradeoff = || Cli::new("tradeoff").size(16, 16).out(d);
+    let o = tradeoff()
+        .flag("--spp-list", "1,2")
+        .flag("--techniques", "mis,max-depth=2")
+        .flag("--reference-spp", "64")
+        .arg("--json")
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let rows = json["rows"].as_array().unwrap();
@@ -599,10 +549,10 @@ fn tradeoff_prints_its_rows_as_json_and_refuses_what_it_cannot_measure() {
     let csv = std::fs::read_to_string(dir.path().join("tradeoff.csv")).unwrap();
     assert_eq!(csv.lines().count(), 5);
 
-    let o = platoon(&[&common[..], &["--techniques", "mis+ris"]].concat());
+    let o = tradeoff().flag("--techniques", "mis+ris").run();
     assert!(!o.status.success() && stderr(&o).contains("unknown technique \"mis+ris\""));
     let missing = dir.path().join("nope.exr");
-    let o = platoon(&[&common[..], &["--reference", missing.to_str().unwrap()]].concat());
+    let o = tradeoff().flag("--reference", &missing).run();
     assert!(
         !o.status.success() && stderr(&o).contains("nope.exr: the reference does not exist"),
         "{}",
@@ -614,27 +564,17 @@ fn tradeoff_prints_its_rows_as_json_and_refuses_what_it_cannot_measure() {
 fn renders_by_instant_global_illumination_and_says_so_in_the_metadata() {
     let dir = tempfile::tempdir().unwrap();
     let exr = dir.path().join("igi.exr");
-    let o = platoon(&[
-        "render",
-        "--method",
-        "igi",
-        "--vpls",
-        "30",
-        "--igi-downsample",
-        "2",
-        "--igi-interleave",
-        "3x3",
-        "--igi-imperfect-visibility",
-        "--spp",
-        "2",
-        "--width",
-        "24",
-        "--height",
-        "16",
-        "--validation",
-        "--out",
-        exr.to_str().unwrap(),
-    ]);
+    let o = Cli::new("render")
+        .flag("--method", "igi")
+        .flag("--vpls", "30")
+        .flag("--igi-downsample", "2")
+        .flag("--igi-interleave", "3x3")
+        .arg("--igi-imperfect-visibility")
+        .spp(2)
+        .size(24, 16)
+        .arg("--validation")
+        .out(&exr)
+        .run();
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!stderr(&o).contains("validation:"), "{}", stderr(&o));
     let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
@@ -657,38 +597,24 @@ fn renders_by_instant_global_illumination_and_says_so_in_the_metadata() {
     // IGI's flags without the method, and options out of range, are refused by name.
     let out = dir.path().join("refused.png");
     let o = out.to_str().unwrap();
-    assert_fails_naming(
-        &["render", "--vpls", "30", "--out", o],
-        "--method igi",
-        &out,
-    );
-    assert_fails_naming(
-        &[
-            "render",
-            "--method",
-            "igi",
-            "--igi-interleave",
-            "3by3",
-            "--out",
-            o,
-        ],
-        "MxN",
-        &out,
-    );
-    assert_fails_naming(
-        &[
-            "render",
-            "--method",
-            "igi",
-            "--vpl-bounces",
-            "20",
-            "--out",
-            o,
-        ],
-        "bounces",
-        &out,
-    );
-    let p = platoon(&["tradeoff", "--techniques", "igi=30+sideways", "--out", "."]);
+    Cli::new("render")
+        .flag("--vpls", "30")
+        .out(o)
+        .fails_naming("--method igi", &out);
+    Cli::new("render")
+        .flag("--method", "igi")
+        .flag("--igi-interleave", "3by3")
+        .out(o)
+        .fails_naming("MxN", &out);
+    Cli::new("render")
+        .flag("--method", "igi")
+        .flag("--vpl-bounces", "20")
+        .out(o)
+        .fails_naming("bounces", &out);
+    let p = Cli::new("tradeoff")
+        .flag("--techniques", "igi=30+sideways")
+        .out(".")
+        .run();
     assert!(
         !p.status.success() && stderr(&p).contains("unknown IGI option"),
         "{}",
@@ -723,21 +649,12 @@ fn a_scene_named_in_any_form_finds_its_buffer_and_texture_files() {
     ];
     for (k, (cwd, scene)) in forms.iter().enumerate() {
         let out = root.join(format!("out{k}.png"));
-        let o = platoon_in(
-            cwd,
-            &[
-                "render",
-                scene,
-                "--spp",
-                "1",
-                "--width",
-                "8",
-                "--height",
-                "8",
-                "--out",
-                out.to_str().unwrap(),
-            ],
-        );
+        let o = Cli::new("render")
+            .arg(scene)
+            .spp(1)
+            .size(8, 8)
+            .out(&out)
+            .run_in(cwd);
         assert!(
             o.status.success(),
             "render {scene} from {}: {}",
@@ -745,31 +662,19 @@ fn a_scene_named_in_any_form_finds_its_buffer_and_texture_files() {
             stderr(&o)
         );
         assert!(out.exists());
-        let o = platoon_in(cwd, &["info", scene]);
+        let o = Cli::new("info").arg(scene).run_in(cwd);
         assert!(o.status.success(), "info {scene}: {}", stderr(&o));
         assert!(String::from_utf8_lossy(&o.stdout).contains("textures"));
     }
-    let o = platoon_in(
-        &scene_dir,
-        &[
-            "tradeoff",
-            "scene.gltf",
-            "--width",
-            "8",
-            "--height",
-            "8",
-            "--reference-spp",
-            "4",
-            "--spp-list",
-            "1",
-            "--repeat",
-            "1",
-            "--techniques",
-            "mis",
-            "--out",
-            root.to_str().unwrap(),
-        ],
-    );
+    let o = Cli::new("tradeoff")
+        .arg("scene.gltf")
+        .size(8, 8)
+        .flag("--reference-spp", "4")
+        .flag("--spp-list", "1")
+        .flag("--repeat", "1")
+        .flag("--techniques", "mis")
+        .out(&root)
+        .run_in(&scene_dir);
     assert!(o.status.success(), "tradeoff scene.gltf: {}", stderr(&o));
 }
 
@@ -786,27 +691,30 @@ fn paths_that_are_not_files_and_non_finite_times_are_refused_at_once() {
         .expect("run mkfifo");
     assert!(made.success());
     let started = std::time::Instant::now();
-    assert_fails_naming(&["render", "/dev/zero", "--out", o], "a device", &out);
-    assert_fails_naming(
-        &["render", pipe.to_str().unwrap(), "--out", o],
-        "a named pipe",
-        &out,
-    );
-    assert_fails_naming(&["info", d.to_str().unwrap()], "a folder", &out);
-    assert_fails_naming(
-        &["render", "--env", "/dev/zero", "--out", o],
-        "a device",
-        &out,
-    );
+    Cli::new("render")
+        .arg("/dev/zero")
+        .out(o)
+        .fails_naming("a device", &out);
+    Cli::new("render")
+        .arg(&pipe)
+        .out(o)
+        .fails_naming("a named pipe", &out);
+    Cli::new("info").arg(d).fails_naming("a folder", &out);
+    Cli::new("render")
+        .flag("--env", "/dev/zero")
+        .out(o)
+        .fails_naming("a device", &out);
     let sky = d.join("sky.exr");
     std::os::unix::fs::symlink(&pipe, &sky).unwrap();
-    assert_fails_naming(
-        &["render", "--env", sky.to_str().unwrap(), "--out", o],
-        "a named pipe",
-        &out,
-    );
+    Cli::new("render")
+        .flag("--env", &sky)
+        .out(o)
+        .fails_naming("a named pipe", &out);
     for t in ["--time=nan", "--time=inf", "--time=-inf"] {
-        assert_fails_naming(&["render", t, "--out", o], "--time", &out);
+        Cli::new("render")
+            .arg(t)
+            .out(o)
+            .fails_naming("--time", &out);
     }
     assert!(started.elapsed().as_secs() < 60, "a refusal waited");
 }
