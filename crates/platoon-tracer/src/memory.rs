@@ -3,7 +3,7 @@
 //! is compiled into a loop over the SIMD lanes for every 32-bit component and an SSBO load into
 //! one such loop per vector, while a texel fetch is straight-line vector loads (llvmpipe's
 //! texture gather), so texel buffers are the fastest path there; on GPUs storage buffers are the
-//! conventional choice. The image is the same bits on every path (tests/determinism.rs).
+//! conventional choice. The image is the same bits on every path (tests/frame/determinism.rs).
 
 use ash::vk;
 use platoon_core::flatten::GpuScene;

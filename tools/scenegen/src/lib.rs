@@ -707,7 +707,7 @@ mod tests {
             .filter(|m| m["extensions"]["KHR_materials_transmission"]["transmissionFactor"] == 1);
         assert_eq!(glass.count(), 2);
         assert!(g.extensions_used.iter().any(|e| e == "KHR_materials_ior"));
-        // It serialises to a glb (platoon loads and sweeps it in tests/tradeoff.rs).
+        // It serialises to a glb (platoon loads and sweeps it in tests/lab/tradeoff.rs).
         assert!(to_glb(&g).starts_with(b"glTF"));
     }
 

@@ -20,7 +20,7 @@ impl KernelVariant {
     /// does not specialise its kernel would run. The thin lens stays a camera option: compiled
     /// in with a closed aperture it moves the camera rays' last bits (the direction is rebuilt
     /// through the focus point), and the generic kernel must render the specialised kernel's
-    /// image, bit for bit (tests/tradeoff.rs).
+    /// image, bit for bit (tests/lab/tradeoff.rs).
     pub fn new(scene: SceneFeatures, params: &FrameParams) -> KernelVariant {
         let scene = if params.generic_kernel {
             scene.generic()

@@ -1,7 +1,7 @@
 //! The adversarial suite: scenes that are valid but numerically hard, each with a known answer
 //! (a twin it must match, or an exactly black image), and files that are malformed or hostile,
 //! each of which a renderer must refuse cleanly; plus seeded random mutations of real assets.
-//! `platoon-scenegen --adversarial DIR` writes it; tests/hostile.rs and tests/hard_cases.rs
+//! `platoon-scenegen --adversarial DIR` writes it; tests/cli/hostile.rs and tests/kernel/hard_cases.rs
 //! render it.
 
 mod malformed;

@@ -1,6 +1,7 @@
 //! Many tracers, one frame: identical bits for any number of tracers under every balancer, no
 //! lost lines when a tracer dies, and the balance benchmark's published ordering.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

@@ -1,6 +1,7 @@
 //! The environment map seen directly must follow the documented equirectangular mapping, and
 //! its importance sampling must agree with BSDF sampling.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use std::f32::consts::PI;

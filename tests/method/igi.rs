@@ -2,6 +2,7 @@
 //! each acceleration changes the kernel only when enabled, and a frame is the same bits for one
 //! and three tracers with every option.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

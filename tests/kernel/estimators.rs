@@ -1,6 +1,7 @@
 //! BSDF sampling alone, light sampling alone and their MIS combination are three estimators of
 //! the same integral: their images must agree within statistical error, region by region.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

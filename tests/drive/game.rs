@@ -2,6 +2,7 @@
 //! restarts when the camera moves, keeps a floor on the blend weight while objects move, and
 //! the samples per frame follow a target frame time.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

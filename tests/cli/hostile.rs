@@ -2,6 +2,7 @@
 //! finite images; malformed and hostile ones (and the seeded mutations of the shared scenes that
 //! break them) are refused with one line `error: FILE: problem`, no panic and no output file.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use std::path::Path;

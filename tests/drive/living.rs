@@ -1,6 +1,7 @@
 //! Living scenes (issue 8): generations made by the updater reach the tracers as commits, and a
 //! tracer that followed the commits renders the same bits as one given the same scene fresh.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

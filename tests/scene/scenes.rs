@@ -1,5 +1,6 @@
 //! The shared glTF assets load with the right contents, and each gets the kernel it calls for.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

@@ -1,6 +1,7 @@
 //! Effects beyond the basic path: punctual lights against their closed forms, alpha masks,
 //! textures larger than lavapipe's 128 MiB storage-buffer range, and the thin lens.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use std::f32::consts::PI;

@@ -6,6 +6,7 @@
 //! rounds differently. A render whose hash moved prints its new value; update the table only
 //! when an image is meant to change, and say why in the commit.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

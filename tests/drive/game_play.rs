@@ -2,6 +2,7 @@
 //! validation layer on: bodies fall, characters walk, the CPU query highlights, and every
 //! output (PNG sequence, CSV, animated preview) is written.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

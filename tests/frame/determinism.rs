@@ -1,6 +1,7 @@
 //! The image is a pure function of (scene, pixel, sample, frame, seed): bit-identical across
 //! runs and across any split of the frame into bands.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

@@ -3,6 +3,7 @@
 //! twin does under every estimator, and a room 1e6 or 1e7 units out, a room scaled by 1e-4 and a
 //! scene with a vertex at 1e30 match their twins at the origin.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

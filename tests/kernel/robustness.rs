@@ -1,5 +1,6 @@
 //! Hard cases stay numerically stable: no NaN or Inf reaches the film, whatever the geometry.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

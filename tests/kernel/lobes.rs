@@ -5,6 +5,7 @@
 //! Rendered with MIS, BSDF sampling alone and light sampling alone, so that an error in the BSDF
 //! (its D, G or Fresnel) and one between its sampling and its pdf both show.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use std::f64::consts::PI;

@@ -2,6 +2,7 @@
 //! biased techniques show their floor, the figures are reproducible, bad references are refused
 //! before any sweep.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

@@ -1,5 +1,6 @@
 //! Renders held to closed-form answers: the white furnace and a Lambertian plane under a sky.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

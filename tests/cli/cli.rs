@@ -1,6 +1,7 @@
 //! The `platoon` command end to end: renders, and every bad input gets a clear message naming
 //! the file, a non-zero exit and no output file.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use std::path::Path;

@@ -1,6 +1,7 @@
 //! glTF as the files are written: each feature proved by a twin scene (tools/scenegen's
 //! `twins`) that writes the same scene without it and must render alike.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use common::*;

@@ -2,6 +2,7 @@
 //! window opens, frames arrive (the title counts them), what the screen shows is not black, and
 //! synthetic key presses (XTEST, through xdotool) fly the camera.
 
+#[path = "../common/mod.rs"]
 mod common;
 
 use std::path::{Path, PathBuf};
