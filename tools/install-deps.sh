@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what platoon needs on Debian 12 that a machine with Rust may lack: the Vulkan loader,
 # Mesa's lavapipe (software Vulkan), the Khronos validation layer (tests), and the tools that
-# build shaderc from source (cmake, ninja, python3), the font of balance-bench plots, the X11
+# build shaderc from source (cmake, ninja, python3), the font of bench balance plots, the X11
 # libraries `platoon view` opens its window with, and Xvfb and xdotool for the viewer test.
 # Uses sudo only when not root.
 set -euo pipefail

@@ -341,7 +341,8 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     assert!(!o.status.success() && stderr(&o).contains("at least one thread"));
 
     let d = dir.path().to_str().unwrap();
-    let o = Cli::new("balance-bench")
+    let o = Cli::new("bench")
+        .arg("balance")
         .flag("--frames", "12")
         .arg("--json")
         .out(d)
@@ -358,7 +359,8 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     assert_eq!(image_dims(&dir.path().join("balance.png")), (1500, 800));
 
     let costs = dir.path().join("costs");
-    let o = Cli::new("balance-bench")
+    let o = Cli::new("bench")
+        .arg("balance")
         .flag("--record-costs", &costs)
         .flag("--frames", "3")
         .size(12, 9)
@@ -378,7 +380,8 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     }
     // The tuning orbit goes apart: replaying the folder judges on slow and fast only.
     assert!(costs.join("tune").join("orbit.csv").is_file());
-    let o = Cli::new("balance-bench")
+    let o = Cli::new("bench")
+        .arg("balance")
         .flag("--costs", &costs)
         .flag("--frames", "3")
         .out(d)
@@ -390,7 +393,11 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
         "{table}"
     );
     // A folder whose CSV is no cost map is refused, naming the file.
-    let o = Cli::new("balance-bench").flag("--costs", d).out(d).run();
+    let o = Cli::new("bench")
+        .arg("balance")
+        .flag("--costs", d)
+        .out(d)
+        .run();
     assert!(
         !o.status.success() && stderr(&o).contains("balance.csv"),
         "{}",
@@ -398,7 +405,8 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     );
     let empty = dir.path().join("empty");
     std::fs::create_dir(&empty).unwrap();
-    let o = Cli::new("balance-bench")
+    let o = Cli::new("bench")
+        .arg("balance")
         .flag("--costs", &empty)
         .out(d)
         .run();
@@ -408,7 +416,8 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
         stderr(&o)
     );
 
-    let o = Cli::new("balance-bench")
+    let o = Cli::new("bench")
+        .arg("balance")
         .flag("--mode", "real")
         .flag("--frames", "3")
         .size(12, 9)
@@ -434,7 +443,7 @@ fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
     let dir = tempfile::tempdir().unwrap();
     let character = common::shared("scenes/CesiumMan.glb");
     let o = Cli::new("bench")
-        .arg("--dynamic")
+        .arg("dynamic")
         .flag("--frames", "4")
         .flag("--characters", "2")
         .flag("--movers", "3")
@@ -467,7 +476,7 @@ fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
     assert_eq!(csv.lines().filter(|l| l.starts_with("alone,")).count(), 4);
     assert!(dir.path().join("dynamic.png").exists());
     let missing = Cli::new("bench")
-        .arg("--dynamic")
+        .arg("dynamic")
         .flag("--character", "/nonexistent/man.glb")
         .run();
     assert!(!missing.status.success());
@@ -483,7 +492,7 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     let dir = tempfile::tempdir().unwrap();
     let character = common::shared("scenes/CesiumMan.glb");
     let o = Cli::new("bench")
-        .arg("--game")
+        .arg("game")
         .flag("--frames", "8")
         .flag("--size", "16x12")
         .flag("--target-ms", "30")
@@ -511,11 +520,7 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     let csv = std::fs::read_to_string(dir.path().join("game.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8);
     for bad in [["--target-ms", "0"], ["--size", "0x5"]] {
-        let o = Cli::new("bench")
-            .arg("--game")
-            .arg(bad[0])
-            .arg(bad[1])
-            .run();
+        let o = Cli::new("bench").arg("game").arg(bad[0]).arg(bad[1]).run();
         assert!(!o.status.success());
         assert!(stderr(&o).contains(bad[0]), "{}", stderr(&o));
     }

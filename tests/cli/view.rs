@@ -32,36 +32,51 @@ struct Xvfb {
 }
 
 impl Xvfb {
+    /// Takes the first free display number. The tests of this file start their servers at
+    /// once: one lock serialises the choice within the process, and a server that exits before
+    /// its socket appears lost the number to another process, so the next one is tried.
     fn start() -> Xvfb {
+        static CHOOSING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+        let _choosing = CHOOSING.lock().unwrap_or_else(|e| e.into_inner());
         let xvfb = tool("Xvfb");
-        let n = (90..200)
-            .find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists())
-            .expect("a free X display number");
-        let dir = tempfile::tempdir().unwrap();
-        let child = Command::new(xvfb)
-            .arg(format!(":{n}"))
-            .args([
-                "-screen",
-                "0",
-                "320x240x24",
-                "-br",
-                "-nolisten",
-                "tcp",
-                "-fbdir",
-            ])
-            .arg(dir.path())
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
-        wait_for(Duration::from_secs(20), || socket.exists().then_some(()));
-        Xvfb {
-            child,
-            display: format!(":{n}"),
-            screen: dir.path().join("Xvfb_screen0"),
-            _dir: dir,
+        for n in 90..200 {
+            if Path::new(&format!("/tmp/.X{n}-lock")).exists() {
+                continue;
+            }
+            let dir = tempfile::tempdir().unwrap();
+            let mut child = Command::new(&xvfb)
+                .arg(format!(":{n}"))
+                .args([
+                    "-screen",
+                    "0",
+                    "320x240x24",
+                    "-br",
+                    "-nolisten",
+                    "tcp",
+                    "-fbdir",
+                ])
+                .arg(dir.path())
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .unwrap();
+            let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
+            let ours = wait_for(Duration::from_secs(20), || {
+                if child.try_wait().unwrap().is_some() {
+                    return Some(false);
+                }
+                socket.exists().then_some(true)
+            });
+            if ours {
+                return Xvfb {
+                    child,
+                    display: format!(":{n}"),
+                    screen: dir.path().join("Xvfb_screen0"),
+                    _dir: dir,
+                };
+            }
         }
+        panic!("no free X display number in :90..:199");
     }
 
     fn xdotool(&self, args: &[&str]) -> String {

@@ -149,7 +149,7 @@ fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
         },
     );
     // One tracer: its band's time spread over the lines by their rays (what
-    // `bench --game --record-costs` writes for balance-bench).
+    // `bench game --record-costs` writes for bench balance).
     let seconds = stats[3]
         .line_seconds()
         .expect("one tracer rendered the frame");

@@ -33,7 +33,7 @@ pub struct ViewArgs {
     #[command(flatten)]
     method: crate::method_args::MethodArgs,
     /// Render size, WIDTHxHEIGHT; the window shows it scaled to its size.
-    #[arg(long, default_value = "320x240", value_parser = crate::bench::parse_size)]
+    #[arg(long, default_value = "320x240", value_parser = crate::size_arg::parse_size)]
     size: (u32, u32),
     /// Frame time to hold, in milliseconds.
     #[arg(long, default_value_t = 50.0)]

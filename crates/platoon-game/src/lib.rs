@@ -2,7 +2,7 @@
 //! onto a ground and a stack of boxes, skinned characters walk their animation along circles, a
 //! scripted camera alternates between following a character and resting, and a CPU ray query
 //! through the screen centre highlights the character it sees. It is the test and the benchmark
-//! of the frame driver (`platoon bench --game`) and the scene of the game example.
+//! of the frame driver (`platoon bench game`) and the scene of the game example.
 
 pub mod game;
 pub mod physics;

@@ -1,4 +1,4 @@
-//! `platoon balance-bench`: Brigade's Table 16 for platoon. A camera orbits an outdoor scene
+//! `platoon bench balance`: Brigade's Table 16 for platoon. A camera orbits an outdoor scene
 //! (a sky above a field of spheres on a ground plane, so line costs differ strongly) for N
 //! frames, slow and fast, with 2 and 3 tracers, under every balancer; cells are mean idle %.
 //! `--mode replay` replays recorded per-line cost maps against stated device speeds
@@ -22,7 +22,7 @@ use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::{prepare, EnvChoice, PrepareOptions, Prepared};
 
 /// Recorded cost maps shipped with platoon (`--record-costs` makes new orbit ones,
-/// `platoon bench --game --record-costs` new game ones), in column order.
+/// `platoon bench game --record-costs` new game ones), in column order.
 const SHIPPED: [(&str, &str); 3] = [
     ("slow", include_str!("../../../scenes/costs/slow.csv")),
     ("fast", include_str!("../../../scenes/costs/fast.csv")),
@@ -67,7 +67,7 @@ impl CameraSpeed {
     }
 }
 
-/// The benchmark's settings; also the command line of `platoon balance-bench`.
+/// The benchmark's settings; also the command line of `platoon bench balance`.
 #[derive(Clone, Debug, clap::Args)]
 pub struct Options {
     #[arg(long, value_enum, default_value = "replay")]
@@ -114,7 +114,7 @@ impl Default for Options {
             #[command(flatten)]
             options: Options,
         }
-        <Wrapper as clap::Parser>::parse_from(["balance-bench"]).options
+        <Wrapper as clap::Parser>::parse_from(["bench balance"]).options
     }
 }
 

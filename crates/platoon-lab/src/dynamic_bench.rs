@@ -1,4 +1,4 @@
-//! `platoon bench --dynamic`: a living scene under measurement. N walking (skinned) characters
+//! `platoon bench dynamic`: a living scene under measurement. N walking (skinned) characters
 //! and M rigid movers over the 100k-triangle sphere field, driven through the double-buffered
 //! pipeline for a number of frames at small resolution and 1 spp, against the same scene
 //! standing still; plus the refit, rebuild and top-level figures of issue 8's targets.
@@ -19,7 +19,7 @@ use platoon_core::scene::environment::Environment;
 use platoon_core::scene::{Placement, Scene};
 use platoon_tracer::{Tracer, TracerOptions};
 
-/// The bench's settings (`platoon bench --dynamic ...`).
+/// The bench's settings (`platoon bench dynamic ...`).
 #[derive(Clone, Debug)]
 pub struct Options {
     pub frames: u32,
@@ -606,7 +606,7 @@ pub fn write_png(path: &Path, report: &Report) -> Result<()> {
             report.animated.iter().map(|r| r.blocked_ms).collect(),
         ),
     ];
-    crate::plot::write_series_png(path, "platoon bench --dynamic: per frame", &series)
+    crate::plot::write_series_png(path, "platoon bench dynamic: per frame", &series)
 }
 
 /// The summary as one JSON object (the field names are the issue's).
@@ -637,7 +637,7 @@ pub fn json(s: &Summary) -> String {
 /// The summary for people.
 pub fn text(o: &Options, s: &Summary) -> String {
     format!(
-        "platoon bench --dynamic: {} frames at {}x{}, 1 spp, lavapipe with {} thread(s) + the updater thread ({})\n\
+        "platoon bench dynamic: {} frames at {}x{}, 1 spp, lavapipe with {} thread(s) + the updater thread ({})\n\
          scene: {} triangles posed ({} skinned in {} characters), {} rigid movers\n\
          refit (skinned meshes, leaf boxes included, 1 thread): {:.1} M triangles/s, {:.0}x cheaper than rebuilding them\n\
          update per frame (skin, refit, top level, flatten, commit), median: {:.2} ms\n\

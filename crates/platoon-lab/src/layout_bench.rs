@@ -1,6 +1,6 @@
 //! CPU traversal cost of the two node layouts obvhs builds, on the same triangles and rays: the
-//! evidence behind the kernel's BVH2 (docs/ARCHITECTURE.md, "BVH layout"; `platoon bench`
-//! prints it for the field of unique spheres).
+//! evidence behind the kernel's BVH2 (docs/ARCHITECTURE.md, "BVH layout"; `platoon bench
+//! kernel` prints it for the field of unique spheres).
 
 use std::time::{Duration, Instant};
 

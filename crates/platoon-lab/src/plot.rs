@@ -134,7 +134,7 @@ pub(crate) fn write_through_temp(
     Ok(())
 }
 
-/// The balance-bench plot: one panel per table column, one line per balancer.
+/// The bench balance plot: one panel per table column, one line per balancer.
 pub fn write_png(path: &Path, cells: &[Cell], title: &str) -> Result<()> {
     write_through_temp(path, (1500, 800), title, |root, text| {
         let columns = columns(cells);

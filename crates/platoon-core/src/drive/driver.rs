@@ -105,7 +105,7 @@ pub struct FrameStats {
 
 impl FrameStats {
     /// Seconds each line took, when one tracer rendered the whole frame: its band's time spread
-    /// over the lines in proportion to their rays (what `balance-bench` replays). None with
+    /// over the lines in proportion to their rays (what `bench balance` replays). None with
     /// several tracers, whose times are in different devices' units.
     pub fn line_seconds(&self) -> Option<Vec<f64>> {
         let [tracer] = self.tracers.as_slice() else {

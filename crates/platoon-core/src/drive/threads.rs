@@ -1,7 +1,7 @@
 //! Where the updater's threads run and how they yield to the others (Linux; elsewhere these
 //! calls do nothing and say so).
 //!
-//! Two findings of `platoon bench --dynamic` on a 2-core machine, one tracer thread beside one
+//! Two findings of `platoon bench dynamic` on a 2-core machine, one tracer thread beside one
 //! updater thread:
 //! - The game thread's `submit` wakes the updater on the game thread's own core and, with the
 //!   normal policy, is pushed off that core until the scheduler's next balancing tick: 3-5 ms

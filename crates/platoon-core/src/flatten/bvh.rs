@@ -264,7 +264,7 @@ pub fn transform_bounds(m: &Mat4, (lo, hi): (Vec3, Vec3)) -> Aabb {
 /// The top level over instance boxes (every box finite, see [`placeable`]), rebuilt every
 /// generation: a top-down median split on the longest axis of the centroids, one instance per
 /// leaf. It takes a few microseconds per hundred instances where obvhs' fastest PLOC preset took
-/// 0.3 ms for a thousand (measured by `platoon bench --dynamic`); a top level is small and its
+/// 0.3 ms for a thousand (measured by `platoon bench dynamic`); a top level is small and its
 /// quality matters less than the bottom levels'.
 pub fn build_instance_bvh(boxes: &[Aabb]) -> FlatBvh {
     if boxes.is_empty() {
@@ -320,7 +320,7 @@ fn median_split(
     (a.union(&b), item(index as u32, 0))
 }
 
-/// Build timings, reported by `platoon bench`.
+/// Build timings, reported by `platoon bench kernel`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BuildTimes {
     pub meshes: Duration,

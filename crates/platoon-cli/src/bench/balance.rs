@@ -1,10 +1,21 @@
-//! `platoon balance-bench`: the line balancers compared over an orbiting camera, as a table,
+//! `platoon bench balance`: the line balancers compared over an orbiting camera, as a table,
 //! CSV, JSON and a plot.
 
 use anyhow::Result;
 
-pub fn run(options: platoon_lab::balance_bench::Options, json: bool) -> Result<()> {
+/// `platoon bench balance`'s settings.
+#[derive(clap::Args)]
+pub struct BalanceArgs {
+    #[command(flatten)]
+    options: platoon_lab::balance_bench::Options,
+    /// Print the cells as JSON on stdout (the table goes to stderr).
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(a: BalanceArgs) -> Result<()> {
     use platoon_lab::balance_bench::{self as bb, Mode};
+    let (options, json) = (a.options, a.json);
     options.validate()?;
     let out = options.out.clone();
     let frames = options.frames;
@@ -14,7 +25,7 @@ pub fn run(options: platoon_lab::balance_bench::Options, json: bool) -> Result<(
     } else {
         "real"
     };
-    let title = format!("platoon balance-bench ({mode_name}, {frames} frames): idle % per frame");
+    let title = format!("platoon bench balance ({mode_name}, {frames} frames): idle % per frame");
     let mut table = bb::table(&cells);
     if options.mode == Mode::Replay {
         table.push_str(&bb::interleaved_row(&options)?);

@@ -1,4 +1,4 @@
-//! `platoon bench --game`: the game (platoon-game) for a few hundred frames at a target frame
+//! `platoon bench game`: the game (platoon-game) for a few hundred frames at a target frame
 //! time: how closely the frame driver holds it, how long it takes to settle, the frame time's
 //! median and p99, and how much of the CPU's update work is hidden behind rendering.
 
@@ -8,17 +8,41 @@ use anyhow::{bail, Result};
 use platoon::core::measure::{median, percentile};
 use platoon_game::{play, FrameRecord, GameOptions, PlayOptions};
 
-/// The settings `platoon bench --game` takes.
-pub struct Options {
+/// `platoon bench game`'s settings.
+#[derive(clap::Args)]
+pub struct GameArgs {
+    /// The game's frames.
+    #[arg(long, default_value_t = 200)]
     pub frames: u32,
+    /// The frame time to hold, in milliseconds.
+    #[arg(long, default_value_t = 40.0)]
     pub target_ms: f64,
-    pub width: u32,
-    pub height: u32,
+    /// The frame size, WIDTHxHEIGHT (small enough on lavapipe for about 13 samples a frame at
+    /// 40 ms: a sample more or less is then a step of 8%, inside the +-10% band).
+    #[arg(long, default_value = "64x48", value_parser = crate::size_arg::parse_size)]
+    pub size: (u32, u32),
+    /// Below one sample a frame, scale Russian-roulette survival down (unbiased).
+    #[arg(long)]
+    pub roulette_scaling: bool,
+    /// Below one sample a frame, render fewer pixels, upscaled (biased).
+    #[arg(long)]
+    pub resolution_scaling: bool,
+    /// The devices (see `platoon devices`; lavapipe:N,M makes software tracers).
+    #[arg(long, default_value = "all")]
     pub devices: String,
-    pub below_one: platoon::core::drive::scaling::BelowOneSample,
+    /// The skinned, animated glTF the game's characters are.
+    #[arg(long, default_value = "../shared/scenes/CesiumMan.glb")]
     pub character: std::path::PathBuf,
-    pub out: std::path::PathBuf,
+    /// Print one JSON object after the text.
+    #[arg(long)]
     pub json: bool,
+    /// Instead of the bench, record the game's per-line cost maps (game.csv, and tune/game.csv
+    /// for choosing constants) into this folder, for `platoon bench balance --costs`.
+    #[arg(long)]
+    pub record_costs: Option<std::path::PathBuf>,
+    /// Folder for game.csv.
+    #[arg(long, default_value = ".")]
+    pub out: std::path::PathBuf,
 }
 
 /// A frame counts as held when it is within this share of the target.
@@ -39,7 +63,11 @@ pub struct Summary {
     pub idle_percent_median: f64,
 }
 
-pub fn run(o: &Options) -> Result<()> {
+pub fn run(o: &GameArgs) -> Result<()> {
+    if let Some(dir) = &o.record_costs {
+        return super::game_costs::record(&o.character, dir);
+    }
+    let (width, height) = o.size;
     if !(o.target_ms > 0.0 && o.target_ms.is_finite()) {
         bail!("--target-ms must be a positive number of milliseconds");
     }
@@ -53,14 +81,17 @@ pub fn run(o: &Options) -> Result<()> {
         );
     }
     let mut game = GameOptions::new(o.character.clone());
-    game.driver.width = o.width;
-    game.driver.height = o.height;
+    game.driver.width = width;
+    game.driver.height = height;
     game.driver.target = Some(Duration::from_secs_f64(o.target_ms * 1e-3));
-    game.driver.below_one = o.below_one;
+    game.driver.below_one = platoon::core::drive::scaling::BelowOneSample {
+        roulette: o.roulette_scaling,
+        resolution: o.resolution_scaling,
+    };
     game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
     eprintln!(
         "playing {} frames of the game at {}x{} on {}, holding {} ms a frame",
-        o.frames, o.width, o.height, o.devices, o.target_ms
+        o.frames, width, height, o.devices, o.target_ms
     );
     let played = play(
         &PlayOptions {
@@ -121,7 +152,7 @@ pub fn summarize(records: &[FrameRecord], target_ms: f64) -> Summary {
     }
 }
 
-fn text(o: &Options, s: &Summary) -> String {
+fn text(o: &GameArgs, s: &Summary) -> String {
     format!(
         "game bench: {} frames at {}x{} on {}, target {:.1} ms\n\
          settled after {} frames; then frame time median {:.2} ms, p99 {:.2} ms \
@@ -129,8 +160,8 @@ fn text(o: &Options, s: &Summary) -> String {
          samples per frame (median) {}, update {:.2} ms a frame of which {:.1}% hidden behind \
          rendering, tracers idle {:.2}% (median)",
         s.frames,
-        o.width,
-        o.height,
+        o.size.0,
+        o.size.1,
         o.devices,
         o.target_ms,
         s.settle_frames,
@@ -145,12 +176,12 @@ fn text(o: &Options, s: &Summary) -> String {
     )
 }
 
-fn json(o: &Options, s: &Summary) -> String {
+fn json(o: &GameArgs, s: &Summary) -> String {
     serde_json::json!({
         "target_ms": o.target_ms,
         "frames": s.frames,
-        "width": o.width,
-        "height": o.height,
+        "width": o.size.0,
+        "height": o.size.1,
         "devices": o.devices,
         "settle_frames": s.settle_frames,
         "frame_ms_median": s.frame_ms_median,

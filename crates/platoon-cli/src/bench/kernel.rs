@@ -1,4 +1,5 @@
-//! `platoon bench`: samples/s, rays/s and BVH build times of the built-in scenes.
+//! `platoon bench kernel`: samples/s, rays/s and BVH build times of the built-in scenes, the cost
+//! of interleaved lines and the CPU comparison of BVH layouts.
 
 use std::time::Duration;
 
@@ -48,12 +49,26 @@ fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
 }
 
-pub fn run(spp: u32, device: usize, repeat: u32) -> Result<()> {
+/// `platoon bench kernel`'s settings.
+#[derive(clap::Args)]
+pub struct KernelArgs {
+    /// Samples per pixel of each measured render.
+    #[arg(long, default_value_t = 16)]
+    spp: u32,
+    #[arg(long, default_value_t = 0)]
+    device: usize,
+    /// Repetitions of each measurement (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    repeat: u32,
+}
+
+pub fn run(a: &KernelArgs) -> Result<()> {
+    let (spp, device, repeat) = (a.spp, a.device, a.repeat.max(1));
     let options = TracerOptions {
         device,
         ..Default::default()
     };
-    println!("platoon bench: {spp} spp per render, median of {repeat}, 256x256");
+    println!("platoon bench kernel: {spp} spp per render, median of {repeat}, 256x256");
     let cornell = prepare(
         platoon::core::scene::cornell::scene(),
         &PrepareOptions::default(),
@@ -189,104 +204,4 @@ fn print_build_times(g: &GpuScene, label: &str) {
         ms(g.build_times.meshes),
         ms(g.build_times.instances)
     );
-}
-
-/// `platoon bench --dynamic` and its settings.
-#[derive(clap::Args)]
-pub struct DynamicArgs {
-    /// Run the living-scene benchmark.
-    #[arg(long, conflicts_with = "game")]
-    pub dynamic: bool,
-    /// Run the game benchmark: the game of platoon-game at a target frame time.
-    #[arg(long)]
-    pub game: bool,
-    /// Frames of each run (--dynamic: animated, then still; --game: the game's frames).
-    #[arg(long, default_value_t = 200)]
-    pub frames: u32,
-    /// --game: the frame time to hold, in milliseconds.
-    #[arg(long, default_value_t = 40.0)]
-    pub target_ms: f64,
-    /// --game: the frame size, WIDTHxHEIGHT (small enough on lavapipe for about 13 samples a
-    /// frame at 40 ms: a sample more or less is then a step of 8%, inside the +-10% band).
-    #[arg(long, default_value = "64x48", value_parser = parse_size)]
-    pub size: (u32, u32),
-    /// --game: below one sample a frame, scale Russian-roulette survival down (unbiased).
-    #[arg(long, requires = "game")]
-    pub roulette_scaling: bool,
-    /// --game: below one sample a frame, render fewer pixels, upscaled (biased).
-    #[arg(long, requires = "game")]
-    pub resolution_scaling: bool,
-    /// --game: the devices (see `platoon devices`; lavapipe:N,M makes software tracers).
-    #[arg(long, default_value = "all")]
-    pub devices: String,
-    /// Walking (skinned) characters.
-    #[arg(long, default_value_t = 16)]
-    characters: u32,
-    /// Rigid objects moving every frame.
-    #[arg(long, default_value_t = 64)]
-    movers: u32,
-    /// The skinned, animated glTF to place.
-    #[arg(long, default_value = "../shared/scenes/CesiumMan.glb")]
-    pub character: std::path::PathBuf,
-    /// llvmpipe threads of the tracer (1 leaves the other core to the updater).
-    #[arg(long, default_value_t = 1)]
-    lavapipe_threads: u32,
-    /// The game never waits for a generation: a frame whose next one is not built yet renders
-    /// the previous one again (Pipeline::try_take).
-    #[arg(long)]
-    never_wait: bool,
-    /// Let the system place the threads instead of keeping the updater on a core apart from
-    /// the tracer's (it often puts both on one core).
-    #[arg(long)]
-    no_pin: bool,
-    /// Print one JSON object after the text.
-    #[arg(long)]
-    pub json: bool,
-    /// --game: instead of the bench, record the game's per-line cost maps (game.csv, and
-    /// tune/game.csv for choosing constants) into this folder, for `balance-bench --costs`.
-    #[arg(long, requires = "game")]
-    pub record_costs: Option<std::path::PathBuf>,
-    /// Folder for dynamic.csv and dynamic.png (--game: game.csv).
-    #[arg(long, default_value = ".")]
-    pub out: std::path::PathBuf,
-}
-
-pub fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once('x')
-        .ok_or("expected WIDTHxHEIGHT, e.g. 64x48")?;
-    let parse = |v: &str| v.parse::<u32>().ok().filter(|&n| n > 0);
-    match (parse(w), parse(h)) {
-        (Some(w), Some(h)) => Ok((w, h)),
-        _ => Err(format!("{s:?} is not WIDTHxHEIGHT with positive sizes")),
-    }
-}
-
-pub fn run_dynamic(a: &DynamicArgs, device: usize) -> Result<()> {
-    use platoon_lab::dynamic_bench as db;
-    if !a.out.is_dir() {
-        anyhow::bail!("{}: output folder does not exist", a.out.display());
-    }
-    let options = db::Options {
-        frames: a.frames,
-        characters: a.characters,
-        movers: a.movers,
-        character: a.character.clone(),
-        lavapipe_threads: a.lavapipe_threads,
-        device,
-        never_wait: a.never_wait,
-        pin_threads: !a.no_pin,
-        ..Default::default()
-    };
-    let report = db::run(&options)?;
-    print!("{}", db::frames_text(&report));
-    print!("{}", db::text(&options, &report.summary));
-    let (csv, png) = (a.out.join("dynamic.csv"), a.out.join("dynamic.png"));
-    platoon::core::output::write_text(&csv, &db::csv(&report)?)?;
-    db::write_png(&png, &report)?;
-    println!("wrote {} and {}", csv.display(), png.display());
-    if a.json {
-        println!("{}", db::json(&report.summary));
-    }
-    Ok(())
 }

@@ -1,5 +1,5 @@
-//! `platoon bench --game --record-costs DIR`: per-line cost maps of the game for
-//! `balance-bench`'s replay. The game plays on one lavapipe thread at a fixed 2 spp (no
+//! `platoon bench game --record-costs DIR`: per-line cost maps of the game for
+//! `platoon bench balance`'s replay. The game plays on one lavapipe thread at a fixed 2 spp (no
 //! frame-time target, so the costs are the scene's, not the workload scaler's), and each frame's
 //! render time is spread over its lines by the rays each traced. Two stretches of one play are
 //! kept: `game.csv`, the first frames (the camera following a character, then resting while

@@ -1,0 +1,34 @@
+//! `platoon bench <mode>`: what platoon's speed is, one mode a file; the measuring itself is
+//! platoon-lab's.
+
+mod balance;
+mod dynamic;
+mod game;
+mod game_costs;
+mod kernel;
+
+use anyhow::{Context as _, Result};
+
+#[derive(clap::Subcommand)]
+pub enum BenchMode {
+    /// Samples/s, rays/s and BVH build times of the built-in scenes, interleaved lines against
+    /// one band, and BVH2 against CWBVH on the CPU.
+    Kernel(kernel::KernelArgs),
+    /// A living scene: walking characters and moving objects over the sphere field,
+    /// double-buffered updates and commits, against the scene standing still.
+    Dynamic(dynamic::DynamicArgs),
+    /// The game of platoon-game at a target frame time: how closely it is held (or, with
+    /// --record-costs, its per-line cost maps for `bench balance`).
+    Game(game::GameArgs),
+    /// The line balancers compared over an orbiting camera (Brigade's Table 16 for platoon).
+    Balance(balance::BalanceArgs),
+}
+
+pub fn run(mode: BenchMode) -> Result<()> {
+    match mode {
+        BenchMode::Kernel(a) => kernel::run(&a).context("bench kernel failed"),
+        BenchMode::Dynamic(a) => dynamic::run(&a).context("bench dynamic failed"),
+        BenchMode::Game(a) => game::run(&a).context("bench game failed"),
+        BenchMode::Balance(a) => balance::run(a),
+    }
+}
