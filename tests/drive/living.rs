@@ -185,28 +185,21 @@ fn the_threaded_pipeline_feeds_tracers_the_bits_of_a_fresh_upload() {
         let g = pipeline.take().unwrap();
         // The game edits the next generation while this one renders.
         let at = Placement::at(DVec3::new(0.05 * f as f64, 0.0, 0.0));
-        pipeline.push(Edit::Time(0.25 * f as f32)).unwrap();
-        pipeline
-            .push(Edit::Placement {
+        let mut edits = vec![
+            Edit::Time(0.25 * f as f32),
+            Edit::Placement {
                 node,
                 placement: at,
-            })
-            .unwrap();
-        reference.apply(Edit::Time(0.25 * f as f32)).unwrap();
-        reference
-            .apply(Edit::Placement {
-                node,
-                placement: at,
-            })
-            .unwrap();
+            },
+        ];
         if f == 2 {
             let sky = Environment::Constant(Vec3::new(0.2, 0.4, 0.9));
-            pipeline
-                .push(Edit::Environment(Box::new(Some(sky.clone()))))
-                .unwrap();
-            reference
-                .apply(Edit::Environment(Box::new(Some(sky))))
-                .unwrap();
+            edits.push(Edit::Environment(Box::new(Some(sky))));
+        }
+        // The same edits, queued for the updater's thread and applied here.
+        for e in edits {
+            pipeline.push(e.clone()).unwrap();
+            reference.apply(e).unwrap();
         }
         pipeline.submit().unwrap();
         reference.update().unwrap();
