@@ -32,12 +32,12 @@ struct Xvfb {
 }
 
 impl Xvfb {
-    /// Takes the first free display number. The tests of this file start their servers at
-    /// once: one lock serialises the choice within the process, and a server that exits before
-    /// its socket appears lost the number to another process, so the next one is tried.
+    /// Takes the first free display number (a server that exits before its socket appears lost
+    /// the number to another process: the next one is tried) and returns once a client gets
+    /// in. `-noreset`: by default the server resets when its last client leaves, and a viewer
+    /// opened during the reset finds no server ("Failed to open connection to X server": the
+    /// test's windows failed so in 3 suite runs of 7, and in 1 run of 6 under load).
     fn start() -> Xvfb {
-        static CHOOSING: std::sync::Mutex<()> = std::sync::Mutex::new(());
-        let _choosing = CHOOSING.lock().unwrap_or_else(|e| e.into_inner());
         let xvfb = tool("Xvfb");
         for n in 90..200 {
             if Path::new(&format!("/tmp/.X{n}-lock")).exists() {
@@ -51,6 +51,7 @@ impl Xvfb {
                     "0",
                     "320x240x24",
                     "-br",
+                    "-noreset",
                     "-nolisten",
                     "tcp",
                     "-fbdir",
@@ -68,15 +69,29 @@ impl Xvfb {
                 socket.exists().then_some(true)
             });
             if ours {
-                return Xvfb {
+                let x = Xvfb {
                     child,
                     display: format!(":{n}"),
                     screen: dir.path().join("Xvfb_screen0"),
                     _dir: dir,
                 };
+                // The socket appears before the server takes clients: wait for one to get in.
+                wait_for(Duration::from_secs(20), || x.answers().then_some(()));
+                return x;
             }
         }
         panic!("no free X display number in :90..:199");
+    }
+
+    /// A client can connect and ask the server something.
+    fn answers(&self) -> bool {
+        Command::new(tool("xdotool"))
+            .arg("getdisplaygeometry")
+            .env("DISPLAY", &self.display)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
     }
 
     fn xdotool(&self, args: &[&str]) -> String {
