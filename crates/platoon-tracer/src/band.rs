@@ -131,9 +131,11 @@ impl Tracer {
             .as_ref()
             .expect("created with the tracer");
         // Compiling a kernel variant happens once; it is not part of the band's time.
-        for &entry in method.kernels() {
-            self.gpu.kernel((entry, defines.clone()), scene)?;
-        }
+        let kernels = method
+            .kernels()
+            .iter()
+            .map(|&entry| Ok((entry, self.gpu.kernel((entry, defines.clone()), scene)?)))
+            .collect::<Result<Vec<_>>>()?;
         let wall = Instant::now();
         let (accum, stats, readback) = match &self.frame_buffers {
             Some((_, _, a, s, r)) => ((a.buffer, a.address), (s.buffer, s.address), r.buffer),
@@ -235,8 +237,7 @@ impl Tracer {
         let mut rec = Recorder {
             params,
             gpu: &mut self.gpu,
-            scene,
-            defines: &defines,
+            kernels,
         };
         band.gpu_time += method.begin_band(&mut rec, &push)?;
 

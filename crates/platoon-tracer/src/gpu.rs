@@ -203,18 +203,22 @@ impl Gpu {
 
     /// The kernel `key`, reading the scene arrays through `scene`'s set, built on first use.
     pub fn kernel(&mut self, key: KernelKey, scene: &SceneDescriptors) -> Result<Dispatchable> {
-        if !self.kernels.contains_key(&key) {
-            let k = Kernel::new(
-                &self.ctx.device,
-                &self.pipeline_cache,
-                key.0,
-                &key.1,
-                scene.layout,
-            )?;
-            self.kernels.insert(key.clone(), k);
-            self.pipelines_built += 1;
-        }
-        let k = &self.kernels[&key];
+        use std::collections::hash_map::Entry;
+        let k = match self.kernels.entry(key) {
+            Entry::Occupied(e) => e.into_mut(),
+            Entry::Vacant(e) => {
+                let (entry, defines) = e.key();
+                let k = Kernel::new(
+                    &self.ctx.device,
+                    &self.pipeline_cache,
+                    entry,
+                    defines,
+                    scene.layout,
+                )?;
+                self.pipelines_built += 1;
+                e.insert(k)
+            }
+        };
         Ok((k.pipeline, k.layout, scene.set))
     }
 

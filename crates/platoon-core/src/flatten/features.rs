@@ -83,9 +83,9 @@ impl SceneFeatures {
         }
     }
 
-    /// The (label, define) of each feature the scene has, in a stable order.
-    pub(crate) fn entries(&self) -> Vec<(&'static str, &'static str)> {
-        let all = [
+    /// Each feature with whether the scene has it, in a stable order.
+    pub(crate) fn options(&self) -> [KernelOption; 11] {
+        [
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
             ("transmission", "HAS_TRANSMISSION", self.transmission),
@@ -109,26 +109,42 @@ impl SceneFeatures {
                 "HAS_ENVIRONMENT_MAP",
                 self.environment_map,
             ),
-        ];
-        all.into_iter()
-            .filter(|e| e.2)
-            .map(|(label, define, _)| (label, define))
-            .collect()
+        ]
     }
 
     /// The defines of the scene's features (the kernel variant adds the render's own).
     pub fn defines(&self) -> Vec<&'static str> {
-        self.entries().iter().map(|e| e.1).collect()
+        chosen(self.options()).iter().map(|e| e.1).collect()
     }
 }
 
 impl fmt::Display for SceneFeatures {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let names: Vec<&str> = self.entries().iter().map(|e| e.0).collect();
-        if names.is_empty() {
-            write!(f, "(none)")
-        } else {
-            write!(f, "{}", names.join(","))
-        }
+        write_labels(f, &chosen(self.options()))
     }
+}
+
+/// A kernel `#define`: the label `platoon info` and the metadata show, the define, and whether
+/// it is on. The scene's features, the render options and a method's options are lists of them
+/// (`method::variant::KernelVariant` joins the three).
+pub type KernelOption = (&'static str, &'static str, bool);
+
+/// The (label, define) of the options that are on, in their order.
+pub fn chosen(
+    options: impl IntoIterator<Item = KernelOption>,
+) -> Vec<(&'static str, &'static str)> {
+    options
+        .into_iter()
+        .filter(|o| o.2)
+        .map(|(label, define, _)| (label, define))
+        .collect()
+}
+
+/// The labels of `chosen` options, comma-separated, or "(none)".
+pub fn write_labels(f: &mut fmt::Formatter<'_>, chosen: &[(&str, &str)]) -> fmt::Result {
+    if chosen.is_empty() {
+        return write!(f, "(none)");
+    }
+    let labels: Vec<&str> = chosen.iter().map(|e| e.0).collect();
+    write!(f, "{}", labels.join(","))
 }

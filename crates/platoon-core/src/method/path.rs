@@ -2,6 +2,7 @@
 //! options are `FrameParams`' estimator knobs (shared with the methods that reuse the path loop,
 //! shaders/path/), so the method itself adds no defines and no pass after assembly.
 
+use crate::flatten::features::KernelOption;
 use crate::frame::FrameParams;
 use crate::method::render_method::RenderMethod;
 
@@ -18,7 +19,7 @@ impl RenderMethod for PathTracing {
     fn validate(&self, _params: &FrameParams) -> Result<(), String> {
         Ok(())
     }
-    fn kernel_options(&self) -> Vec<(&'static str, &'static str)> {
+    fn kernel_options(&self) -> Vec<KernelOption> {
         Vec::new()
     }
     fn approximations(&self) -> Vec<String> {

@@ -1,5 +1,6 @@
 //! What every rendering method provides to the core.
 
+use crate::flatten::features::KernelOption;
 use crate::frame::{Band, FrameParams};
 
 /// A rendering method as the core sees it: plain data and CPU passes; its device side is the
@@ -11,9 +12,9 @@ pub trait RenderMethod {
     fn describe(&self) -> String;
     /// What is wrong with rendering `params` this way, if anything.
     fn validate(&self, params: &FrameParams) -> Result<(), String>;
-    /// The kernel defines its options select, as (label, define): appended to the scene's
+    /// The kernel defines of its options, each with whether it is on: appended to the scene's
     /// features and the render options in the kernel variant (`variant::KernelVariant`).
-    fn kernel_options(&self) -> Vec<(&'static str, &'static str)>;
+    fn kernel_options(&self) -> Vec<KernelOption>;
     /// Its biased parts, for the output's list of approximations.
     fn approximations(&self) -> Vec<String>;
     /// The pass after every band of the frame is in, on the bands' sums (what needs

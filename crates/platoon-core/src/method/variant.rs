@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use crate::flatten::features::SceneFeatures;
+use crate::flatten::features::{chosen, write_labels, SceneFeatures};
 use crate::frame::{FrameParams, Output};
 
 /// The defines of one kernel variant, in a stable order, each with the label `platoon info` and
@@ -82,22 +82,21 @@ impl KernelVariant {
             ("ris-lights", "LIGHT_SELECT_RIS", ris),
             ("ris-mis", "RIS_MIS", ris && params.ris_mis),
         ];
-        let mut entries = scene.entries();
-        entries.extend(
-            render_options
-                .into_iter()
-                .filter(|o| o.2)
-                .map(|(label, define, _)| (label, define)),
-        );
-        entries.extend(params.method.unit().kernel_options());
-        KernelVariant { entries }
+        let options = scene
+            .options()
+            .into_iter()
+            .chain(render_options)
+            .chain(params.method.unit().kernel_options());
+        KernelVariant {
+            entries: chosen(options),
+        }
     }
 
     /// The variant of a plain render of the scene (no render option selecting code, path
     /// tracing): what `platoon info` shows.
     pub fn of_scene(scene: SceneFeatures) -> KernelVariant {
         KernelVariant {
-            entries: scene.entries(),
+            entries: chosen(scene.options()),
         }
     }
 
@@ -109,10 +108,6 @@ impl KernelVariant {
 
 impl fmt::Display for KernelVariant {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.entries.is_empty() {
-            return write!(f, "(none)");
-        }
-        let names: Vec<&str> = self.entries.iter().map(|e| e.0).collect();
-        write!(f, "{}", names.join(","))
+        write_labels(f, &self.entries)
     }
 }

@@ -18,22 +18,24 @@ use platoon_core::method::Method;
 use crate::dispatch::Dispatchable;
 use crate::globals::{Push, METHOD_WORDS};
 use crate::gpu::Gpu;
-use crate::memory::SceneDescriptors;
 use crate::Result;
 
-/// What a band's passes record with: the frame, the device, the scene's descriptor set and the
-/// defines of the render's kernel variant.
+/// What a band's passes record with: the frame, the device, and the method's kernels in the
+/// render's variant, resolved once for the band (by entry file).
 pub(crate) struct Recorder<'a> {
     pub params: &'a FrameParams,
     pub gpu: &'a mut Gpu,
-    pub scene: &'a SceneDescriptors,
-    pub defines: &'a [&'static str],
+    pub kernels: Vec<(&'static str, Dispatchable)>,
 }
 
 impl Recorder<'_> {
-    /// The render's kernel variant of the entry file `entry` (one of the method's `kernels`).
-    pub fn kernel(&mut self, entry: &'static str) -> Result<Dispatchable> {
-        self.gpu.kernel((entry, self.defines.to_vec()), self.scene)
+    /// The kernel of the entry file `entry` (one of the method's `kernels`).
+    pub fn kernel(&self, entry: &str) -> Dispatchable {
+        self.kernels
+            .iter()
+            .find(|k| k.0 == entry)
+            .map(|k| k.1)
+            .expect("a kernel the method registers")
     }
 }
 

@@ -21,7 +21,7 @@ impl MethodPasses for PathPasses {
     }
 
     fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration> {
-        let kernel = rec.kernel(PATHTRACE)?;
+        let kernel = rec.kernel(PATHTRACE);
         // Earlier passes wrote the accumulation buffer: record_dispatch's barrier orders them.
         rec.gpu
             .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, push, groups) })

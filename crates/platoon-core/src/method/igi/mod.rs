@@ -16,6 +16,7 @@ mod options;
 
 pub use options::{Grid, IgiOptions, DEPTH_THRESHOLD, MAX_BOUNCES, NORMAL_THRESHOLD};
 
+use crate::flatten::features::KernelOption;
 use crate::frame::{Band, FrameParams, Output};
 use crate::method::render_method::RenderMethod;
 
@@ -51,8 +52,8 @@ impl RenderMethod for IgiOptions {
         Ok(())
     }
 
-    fn kernel_options(&self) -> Vec<(&'static str, &'static str)> {
-        let options = [
+    fn kernel_options(&self) -> Vec<KernelOption> {
+        vec![
             ("igi", "METHOD_IGI", true),
             (
                 "igi-imperfect-visibility",
@@ -67,12 +68,7 @@ impl RenderMethod for IgiOptions {
                 "IGI_INTERLEAVED",
                 self.interleave != [1, 1],
             ),
-        ];
-        options
-            .into_iter()
-            .filter(|o| o.2)
-            .map(|(label, define, _)| (label, define))
-            .collect()
+        ]
     }
 
     fn approximations(&self) -> Vec<String> {
