@@ -141,18 +141,11 @@ impl Updater {
         let added = self.structure.admit(&edit)?;
         match edit {
             Edit::Time(t) => self.time = t,
-            Edit::Placement { node, placement } => {
-                let n = &mut self.scene.nodes[node];
-                n.translation = placement.translation;
-                n.rotation = placement.rotation;
-                n.scale = placement.scale;
-            }
+            Edit::Placement { node, placement } => placement.place(&mut self.scene.nodes[node]),
             Edit::AddInstance { mesh, placement } => {
                 let mut node = Node::new(format!("instance of mesh {mesh}"));
                 node.mesh = Some(mesh);
-                node.translation = placement.translation;
-                node.rotation = placement.rotation;
-                node.scale = placement.scale;
+                placement.place(&mut node);
                 self.scene.nodes.push(node);
             }
             Edit::RemoveInstance(node) => {

@@ -24,9 +24,7 @@ impl Scene {
             Some(path) => format!("placed {}", path.display()),
             None => "placed scene".into(),
         });
-        root.translation = p.translation;
-        root.rotation = p.rotation;
-        root.scale = p.scale;
+        p.place(&mut root);
         let root_index = self.nodes.len();
         self.nodes.push(root);
         for n in &other.nodes {

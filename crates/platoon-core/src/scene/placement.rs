@@ -5,6 +5,7 @@
 use glam::{DVec3, Quat, Vec3};
 
 use crate::error::{Error, Result};
+use crate::scene::graph::Node;
 
 /// A node's placement relative to its parent, as a game sets it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -21,6 +22,13 @@ impl Placement {
             rotation: Quat::IDENTITY,
             scale: Vec3::ONE,
         }
+    }
+
+    /// Puts `node` here (relative to its parent).
+    pub fn place(&self, node: &mut Node) {
+        node.translation = self.translation;
+        node.rotation = self.rotation;
+        node.scale = self.scale;
     }
 
     /// The placement with its rotation normalised; an error for a non-finite value, a rotation
