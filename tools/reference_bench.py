@@ -42,12 +42,17 @@ built-in scene, so the two images differ slightly in tint; box sizes also differ
     apt-get install -y libxrender1 libxxf86vm1 libxfixes3 libxi6 libxkbcommon0 libsm6 libgl1
     # note: bpy 5.0.1 pins numpy 1.26.4 (pip downgrades numpy 2.x); mitsuba 3.9.1 still works with it
 
+--scene FILE.xml renders a Mitsuba scene file instead of ``mi.cornell_box()``: what ``platoon bench
+scenes`` writes from each bench scene (crates/platoon-lab/src/mitsuba.rs: platoon's own posed
+geometry, camera, lights and materials), size, samples and depth included.
+
 Usage:
 
     /tmp/refbench/bin/python tools/reference_bench.py --spp 256 --size 256 --max-depth 8
     /tmp/refbench/bin/python tools/reference_bench.py --max-depth 1   # emitters seen directly only
     /tmp/refbench/bin/python tools/reference_bench.py --renderer cycles --spp 256 --size 256 --max-depth 8
     /tmp/refbench/bin/python tools/reference_bench.py --renderer cycles --size 64 --output /tmp/cycles_check.png
+    /tmp/refbench/bin/python tools/reference_bench.py --scene /tmp/bench/spheres/scene.xml
 """
 
 import argparse
@@ -65,6 +70,10 @@ def main() -> int:
     parser.add_argument("--max-depth", type=int, default=8,
                         help="path integrator max_depth; 1 = camera rays only (default 8)")
     parser.add_argument("--repeat", type=int, default=1, help="number of renders (default 1)")
+    parser.add_argument("--check", action="store_true",
+                        help="exit 0 when Mitsuba's llvm_ad_rgb variant loads (mitsuba only)")
+    parser.add_argument("--scene", default=None,
+                        help="a Mitsuba scene file to render instead of the Cornell box (mitsuba only)")
     parser.add_argument("--output", default=None,
                         help="optional path to write the last image (.exr/.png; cycles: .png)")
     args = parser.parse_args()
@@ -74,32 +83,61 @@ def main() -> int:
     return run_mitsuba(args)
 
 
+def newest_libllvm():
+    """The newest libLLVM.so.N of Debian's libllvmN packages that Dr.Jit can use (16 or later)."""
+    import glob
+    import re
+    found = []
+    for path in glob.glob("/usr/lib/x86_64-linux-gnu/libLLVM*.so*"):
+        m = re.search(r"libLLVM(?:-|\.so\.)(\d+)", os.path.basename(path))
+        if m and int(m.group(1)) >= 16:
+            found.append((int(m.group(1)), path))
+    return max(found)[1] if found else None
+
+
 def run_mitsuba(args) -> int:
     if "DRJIT_LIBLLVM_PATH" not in os.environ:
-        print("note: DRJIT_LIBLLVM_PATH is not set; Dr.Jit will search for libLLVM itself",
-              file=sys.stderr)
+        llvm = newest_libllvm()
+        if llvm:
+            os.environ["DRJIT_LIBLLVM_PATH"] = llvm
+        else:
+            print("note: DRJIT_LIBLLVM_PATH is not set and no libLLVM 16+ was found; "
+                  "Dr.Jit will search for libLLVM itself", file=sys.stderr)
 
     t_import = time.perf_counter()
     import mitsuba as mi
     mi.set_variant("llvm_ad_rgb")
+    if args.check:
+        return 0
 
-    scene_dict = mi.cornell_box()
-    scene_dict["sensor"]["film"]["width"] = args.size
-    scene_dict["sensor"]["film"]["height"] = args.size
-    scene_dict["sensor"]["sampler"]["sample_count"] = args.spp
-    scene_dict["integrator"] = {"type": "path", "max_depth": args.max_depth}
-    scene = mi.load_dict(scene_dict)
+    if args.scene:
+        # Size, samples and depth are the file's.
+        scene = mi.load_file(args.scene)
+        film = scene.sensors()[0].film()
+        width, height = film.size()
+        spp = scene.sensors()[0].sampler().sample_count()
+        label = f"scene={args.scene}"
+    else:
+        scene_dict = mi.cornell_box()
+        scene_dict["sensor"]["film"]["width"] = args.size
+        scene_dict["sensor"]["film"]["height"] = args.size
+        scene_dict["sensor"]["sampler"]["sample_count"] = args.spp
+        scene_dict["integrator"] = {"type": "path", "max_depth": args.max_depth}
+        scene = mi.load_dict(scene_dict)
+        width = height = args.size
+        spp = args.spp
+        label = f"max_depth={args.max_depth}"
     setup_s = time.perf_counter() - t_import
 
-    print(f"mitsuba {mi.__version__} variant={mi.variant()} size={args.size}x{args.size} "
-          f"spp={args.spp} max_depth={args.max_depth} (import+load {setup_s:.3f} s)")
+    print(f"mitsuba {mi.__version__} variant={mi.variant()} size={width}x{height} "
+          f"spp={spp} {label} (import+load {setup_s:.3f} s)")
 
-    samples = args.size * args.size * args.spp
+    samples = width * height * spp
     image = None
     for i in range(args.repeat):
         t0 = time.perf_counter()
         # seed varies per run; .numpy() forces evaluation and sync to host
-        image = mi.render(scene, spp=args.spp, seed=i).numpy()
+        image = mi.render(scene, spp=spp, seed=i).numpy()
         dt = time.perf_counter() - t0
         print(f"render {i + 1}: {dt:.3f} s  {samples / dt / 1e6:.2f} M samples/s"
               + ("  (first render: includes trace + JIT compile / kernel-cache load)" if i == 0 else ""))

@@ -97,10 +97,25 @@ layout(push_constant) uniform Push {
 
 #include "common/scene_arrays.glsl"
 
-// Per-render constants, copied from Globals once per invocation. Components are never read
-// through the buffer reference directly: Mesa 22.3 lavapipe miscompiles a scalar access to a
-// vector component behind a buffer reference (pc.g.dims.z returned dims.x); whole-vector and
-// whole-struct loads are correct.
+// Per-render constants, copied once per invocation from the frame block: Globals' constants
+// (after its addresses, 176 bytes) bound as a uniform buffer (FRAME_BINDING in
+// crates/platoon-tracer/src/memory.rs), which lavapipe loads once for all lanes, where a load
+// through the buffer reference is a loop over the lanes one dword at a time (144 ns per lane
+// for these nine vectors: a cost every invocation of the streaming kernels would pay).
+// (Components are never read through the buffer reference: Mesa 22.3 lavapipe miscompiles a
+// scalar access to a vector component behind one; pc.g.dims.z returned dims.x.)
+layout(std140, set = 0, binding = 16) uniform FrameBlock {
+    layout(offset = 176) vec4 cam_origin;
+    vec4 cam_right;
+    vec4 cam_up;
+    vec4 cam_forward;
+    vec4 env_color;
+    uvec4 dims;
+    uvec4 counts;
+    uvec4 params;
+    vec4 scene_sphere;
+} frame_block;
+
 struct FrameConstants {
     vec4 cam_origin; vec4 cam_right; vec4 cam_up; vec4 cam_forward; vec4 env_color;
     uvec4 dims; uvec4 counts; uvec4 params; vec4 scene_sphere;
@@ -108,15 +123,15 @@ struct FrameConstants {
 FrameConstants F;
 
 void load_frame_constants() {
-    F.cam_origin = pc.g.cam_origin;
-    F.cam_right = pc.g.cam_right;
-    F.cam_up = pc.g.cam_up;
-    F.cam_forward = pc.g.cam_forward;
-    F.env_color = pc.g.env_color;
-    F.dims = pc.g.dims;
-    F.counts = pc.g.counts;
-    F.params = pc.g.params;
-    F.scene_sphere = pc.g.scene_sphere;
+    F.cam_origin = frame_block.cam_origin;
+    F.cam_right = frame_block.cam_right;
+    F.cam_up = frame_block.cam_up;
+    F.cam_forward = frame_block.cam_forward;
+    F.env_color = frame_block.env_color;
+    F.dims = frame_block.dims;
+    F.counts = frame_block.counts;
+    F.params = frame_block.params;
+    F.scene_sphere = frame_block.scene_sphere;
 }
 
 const float PI = 3.14159265358979323846;

@@ -28,12 +28,16 @@ float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
 
 // Adds light a path gathered. With CLAMP_INDIRECT what arrives after the first bounce is clamped
 // to a largest component (biased: a firefly suppressor); direct light is never clamped.
-void add_light(inout vec3 L, vec3 c, uint depth) {
+vec3 clamped_light(vec3 c, uint depth) {
 #ifdef CLAMP_INDIRECT
     float m = max3(c);
     if (depth >= 1u && m > pc.clamp_indirect) c *= pc.clamp_indirect / m;
 #endif
-    L += c;
+    return c;
+}
+
+void add_light(inout vec3 L, vec3 c, uint depth) {
+    L += clamped_light(c, depth);
 }
 
 // Shading normals bend the hemispheres: a direction the shading frame calls reflection may cross
@@ -105,11 +109,22 @@ Path path_start(Ray ray, uint sample_index) {
 }
 
 
-// Extends the path by one vertex; false once the path has ended (its radiance is in p.L).
-bool path_step(inout Path p, inout Rng rng, inout uint rays) {
-    Hit hit;
-    rays++;
-    if (!trace(p.ray, false, hit)) {
+// Next-event estimation's shadow ray from a vertex, and the light it brings if nothing blocks
+// it (weighed and clamped already): traced after the vertex's shading, by the megakernel's
+// path_step or the streaming path tracer's connect kernel.
+struct ShadowRay {
+    Ray ray;
+    vec3 light;
+    bool valid;
+};
+
+// The path's vertex where its ray ended (`found`: at `hit`; else it left the scene): the light
+// it finds there, next-event estimation's shadow ray (`shadow`, not traced) and the BSDF sample
+// that carries the path on (p.ray). False once the path has ended; the shadow ray's light is
+// still to be added then.
+bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay shadow) {
+    shadow.valid = false;
+    if (!found) {
         if (env_kind() != ENV_NONE)
             add_light(p.L, p.throughput * env_radiance(p.ray.dir) * emission_weight(p.after_delta, p.bsdf_pdf, environment_light_pdf(p.ray.dir)), p.depth);
         return false;
@@ -165,17 +180,14 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
             vec3 f = bsdf_eval(bsdf, wo, wi_local, pdf);
             if (any(greaterThan(f, vec3(0.0))) && sides_agree(ng_wo, ls.wi, wi_local.z * wo.z)) {
                 vec3 o = offset_ray(s.position, dot(ls.wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude);
-                Ray shadow = ls.infinite ? Ray(o, ls.wi, INF) : Ray(o, ls.target - o, 1.0);
-                Hit sh;
-                rays++;
-                if (!trace(shadow, true, sh)) {
+                shadow.ray = ls.infinite ? Ray(o, ls.wi, INF) : Ray(o, ls.target - o, 1.0);
 #if defined(SAMPLING_LIGHT) || (defined(LIGHT_SELECT_RIS) && !defined(RIS_MIS))
-                    float w = 1.0;
+                float w = 1.0;
 #else
-                    float w = (ls.delta || last_diffuse) ? 1.0 : power_heuristic(ls.mis_pdf, pdf);
+                float w = (ls.delta || last_diffuse) ? 1.0 : power_heuristic(ls.mis_pdf, pdf);
 #endif
-                    add_light(p.L, p.throughput * f * ls.radiance * (w / ls.pdf), p.depth);
-                }
+                shadow.light = clamped_light(p.throughput * f * ls.radiance * (w / ls.pdf), p.depth);
+                shadow.valid = true;
             }
         }
     }
@@ -220,6 +232,21 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     p.depth++;
     return true;
 #endif
+}
+
+// Extends the path by one vertex; false once the path has ended (its radiance is in p.L).
+bool path_step(inout Path p, inout Rng rng, inout uint rays) {
+    Hit hit;
+    rays++;
+    bool found = trace(p.ray, false, hit);
+    ShadowRay shadow;
+    bool going = path_shade(p, found, hit, rng, shadow);
+    if (shadow.valid) {
+        Hit blocker;
+        rays++;
+        if (!trace(shadow.ray, true, blocker)) p.L += shadow.light;
+    }
+    return going;
 }
 
 // The band pixel of this invocation and its row-major index; false outside the band.

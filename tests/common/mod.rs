@@ -6,6 +6,7 @@ use std::sync::Once;
 
 use glam::Vec3;
 use platoon::core::frame::FrameParams;
+use platoon::core::method::path::PathKernel;
 use platoon::core::output::Film;
 use platoon::tracer::{MemoryPath, Sampling, Tracer, TracerOptions};
 use platoon::{PrepareOptions, Prepared};
@@ -65,8 +66,29 @@ pub fn tracer_reading(scene: &platoon::core::flatten::GpuScene, memory: MemoryPa
     Tracer::new(&options, scene).expect("tracer")
 }
 
-/// Renders the whole frame with validation on and asserts the layer said nothing.
+/// Renders the whole frame with validation on and asserts the layer said nothing. A path-traced
+/// radiance render in the default kernel is rendered again by the streaming path tracer, which
+/// must give the same bits: so every closed-form, estimator and feature test holds both kernels.
 pub fn render_with(tracer: &mut Tracer, params: &FrameParams) -> Film {
+    let film = render_once(tracer, params);
+    let path_traced = params.method == platoon::core::Method::PathTracing
+        && params.output == platoon::core::frame::Output::Radiance
+        && params.time_limit.is_none();
+    if path_traced && params.kernel == PathKernel::Auto {
+        let streamed = FrameParams {
+            kernel: PathKernel::Streaming,
+            ..params.clone()
+        };
+        assert!(
+            render_once(tracer, &streamed) == film,
+            "the streaming path tracer's image differs from the megakernel's"
+        );
+    }
+    film
+}
+
+/// Renders the whole frame once in `params`' kernel (see `render_with`).
+pub fn render_once(tracer: &mut Tracer, params: &FrameParams) -> Film {
     let r = platoon::render_bands(tracer, params, &[platoon::whole_frame(params)], &mut |_| {})
         .expect("render");
     assert_eq!(r.rejected_samples(), 0, "NaN/Inf samples were produced");

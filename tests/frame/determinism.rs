@@ -7,7 +7,8 @@ mod common;
 use common::*;
 use platoon::core::balance::{line_bands, proportional};
 use platoon::core::frame::{FrameParams, Span};
-use platoon::tracer::Sampling;
+use platoon::core::method::path::PathKernel;
+use platoon::tracer::{Sampling, TracerOptions};
 
 fn cesium() -> platoon::Prepared {
     let scene = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
@@ -49,37 +50,40 @@ fn any_band_split_gives_the_same_bits() {
         cesium(),
     ] {
         let mut tracer = tracer(&prepared, Sampling::Mis);
-        let params = FrameParams::new(20, 30, 6, prepared.camera);
-        let whole =
-            platoon::render_bands(&mut tracer, &params, &[Span::lines(20, 0, 30)], &mut |_| {})
+        for kernel in [PathKernel::Mega, PathKernel::Streaming] {
+            let mut params = FrameParams::new(20, 30, 6, prepared.camera);
+            params.kernel = kernel;
+            let whole =
+                platoon::render_bands(&mut tracer, &params, &[Span::lines(20, 0, 30)], &mut |_| {})
+                    .unwrap();
+            for parts in [2, 3, 7] {
+                let split = platoon::render_bands(
+                    &mut tracer,
+                    &params,
+                    &line_bands(20, &proportional(30, &vec![1.0; parts])),
+                    &mut |_| {},
+                )
                 .unwrap();
-        for parts in [2, 3, 7] {
-            let split = platoon::render_bands(
+                assert_eq!(whole.film, split.film, "{parts} bands differ from one");
+                assert_eq!(whole.rays(), split.rays());
+            }
+            // Uneven bands, out of order, cut within lines (the cost-aware balancer cuts to the
+            // pixel).
+            let odd = platoon::render_bands(
                 &mut tracer,
                 &params,
-                &line_bands(20, &proportional(30, &vec![1.0; parts])),
+                &[
+                    Span::new(17 * 20 + 3, 600),
+                    Span::new(0, 7),
+                    Span::new(7, 21),
+                    Span::new(21, 17 * 20 + 3),
+                ],
                 &mut |_| {},
             )
             .unwrap();
-            assert_eq!(whole.film, split.film, "{parts} bands differ from one");
-            assert_eq!(whole.rays(), split.rays());
+            assert_eq!(whole.film, odd.film);
+            assert_eq!(whole.rays(), odd.rays());
         }
-        // Uneven bands, out of order, cut within lines (the cost-aware balancer cuts to the
-        // pixel).
-        let odd = platoon::render_bands(
-            &mut tracer,
-            &params,
-            &[
-                Span::new(17 * 20 + 3, 600),
-                Span::new(0, 7),
-                Span::new(7, 21),
-                Span::new(21, 17 * 20 + 3),
-            ],
-            &mut |_| {},
-        )
-        .unwrap();
-        assert_eq!(whole.film, odd.film);
-        assert_eq!(whole.rays(), odd.rays());
         assert_no_validation_messages(&tracer);
     }
 }
@@ -88,21 +92,28 @@ fn any_band_split_gives_the_same_bits() {
 fn interleaved_passes_give_the_contiguous_image() {
     let prepared = cesium();
     let mut tracer = tracer(&prepared, Sampling::Mis);
-    let params = FrameParams::new(12, 17, 3, prepared.camera);
-    let whole = tracer.render(&params, 0, 17, &mut |_| {}).unwrap();
-    let mut sums = vec![[0.0f32; 3]; whole.sums.len()];
-    for k in 0..3 {
-        let pass = tracer
-            .render_strided(&params, k, 17, 3, &mut |_| {})
-            .unwrap();
-        for (i, s) in pass.sums.iter().enumerate() {
-            let line = k as usize + i / 12;
-            if (line - k as usize).is_multiple_of(3) {
-                sums[i + k as usize * 12] = *s;
+    for kernel in [PathKernel::Mega, PathKernel::Streaming] {
+        let mut params = FrameParams::new(12, 17, 3, prepared.camera);
+        params.kernel = kernel;
+        let whole = tracer.render(&params, 0, 17, &mut |_| {}).unwrap();
+        let mut sums = vec![[0.0f32; 3]; whole.sums.len()];
+        for k in 0..3 {
+            let pass = tracer
+                .render_strided(&params, k, 17, 3, &mut |_| {})
+                .unwrap();
+            for (i, s) in pass.sums.iter().enumerate() {
+                let line = k as usize + i / 12;
+                if (line - k as usize).is_multiple_of(3) {
+                    sums[i + k as usize * 12] = *s;
+                }
             }
         }
+        assert!(
+            sums == whole.sums,
+            "{}: interleaved lines differ",
+            kernel.name()
+        );
     }
-    assert!(sums == whole.sums);
     assert_no_validation_messages(&tracer);
 }
 
@@ -147,4 +158,66 @@ fn texel_buffers_storage_buffers_and_device_addresses_give_the_same_bits() {
             "texel buffers and device addresses differ"
         );
     }
+}
+
+#[test]
+fn the_streaming_path_tracer_gives_the_megakernels_bits_with_any_number_of_slots() {
+    // Fewer slots than pixels: a slot takes pixel after pixel as it finishes them (claimed by
+    // an atomic counter, so in no fixed order), and partly filled SIMD groups everywhere.
+    for prepared in [
+        prepare(
+            platoon::core::scene::cornell::scene(),
+            platoon::EnvChoice::Scene,
+        ),
+        cesium(),
+    ] {
+        let mut params = FrameParams::new(20, 30, 6, prepared.camera);
+        params.kernel = PathKernel::Mega;
+        let mut mega_tracer = tracer(&prepared, Sampling::Mis);
+        let mega = mega_tracer.render(&params, 0, 30, &mut |_| {}).unwrap();
+        params.kernel = PathKernel::Streaming;
+        for slots in [1, 7, 64, 600, 5000] {
+            init();
+            let options = TracerOptions {
+                validation: true,
+                stream_slots: Some(slots),
+                ..Default::default()
+            };
+            let mut tracer = platoon::tracer::Tracer::new(&options, &prepared.gpu).unwrap();
+            let streamed = tracer.render(&params, 0, 30, &mut |_| {}).unwrap();
+            assert!(
+                streamed.sums == mega.sums,
+                "{slots} slots: the image differs"
+            );
+            // The same rays, counted on the same lines (what the balancers weigh lines by).
+            assert_eq!(
+                streamed.line_rays, mega.line_rays,
+                "{slots} slots: other rays"
+            );
+            assert_eq!(streamed.rejected_samples, 0);
+            assert_no_validation_messages(&tracer);
+        }
+    }
+}
+
+#[test]
+fn the_streaming_path_tracer_continues_a_sum_as_one_longer_render() {
+    use platoon::core::balance::by_name;
+    use platoon::core::frame::renderer::Renderer;
+    let prepared = cesium();
+    let mut renderer = Renderer::new(
+        vec![tracer(&prepared, Sampling::Mis)],
+        by_name("none").unwrap(),
+    );
+    let mut params = FrameParams::new(16, 12, 5, prepared.camera);
+    params.kernel = PathKernel::Streaming;
+    let whole = renderer.render_frame(&params).unwrap().sums;
+    // 2 samples, then 3 more onto their sums.
+    params.spp = 2;
+    let first = renderer.render_frame(&params).unwrap().sums;
+    params.spp = 3;
+    params.first_sample = 2;
+    params.accumulated = Some(first.into());
+    let rest = renderer.render_frame(&params).unwrap().sums;
+    assert!(rest == whole, "continuing the sum changed the bits");
 }

@@ -9,6 +9,7 @@ use platoon::core::balance::{by_name, NAMES};
 use platoon::core::frame::fault::FaultInjector;
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
+use platoon::core::method::path::PathKernel;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::tracer::Sampling;
 use platoon_lab::balance_bench as bb;
@@ -30,19 +31,28 @@ fn images_are_bit_identical_for_one_two_and_three_tracers_under_every_balancer()
     for spec in ["lavapipe:1,1", "lavapipe:2,1,1"] {
         let spec: DeviceSpec = spec.parse().unwrap();
         let mut tracers = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis).unwrap();
-        for name in NAMES {
-            let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
-            // Several frames, so that the balancers move the cuts between them.
-            for _ in 0..4 {
-                let frame = renderer.render_frame(&params).unwrap();
-                assert!(
-                    frame.film == reference,
-                    "{spec} under {name}: image differs"
-                );
-                assert_eq!(frame.tracers.iter().map(|t| t.pixels).sum::<u32>(), 16 * 24);
-                assert_eq!(frame.rejected_samples, 0);
+        // Both kernels of the path tracer: the streaming one's sums too are taken in sample
+        // order per pixel, whatever the split.
+        for kernel in [PathKernel::Mega, PathKernel::Streaming] {
+            let params = FrameParams {
+                kernel,
+                ..params.clone()
+            };
+            for name in NAMES {
+                let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
+                // Several frames, so that the balancers move the cuts between them.
+                for _ in 0..4 {
+                    let frame = renderer.render_frame(&params).unwrap();
+                    assert!(
+                        frame.film == reference,
+                        "{spec} under {name} in the {} kernel: image differs",
+                        kernel.name()
+                    );
+                    assert_eq!(frame.tracers.iter().map(|t| t.pixels).sum::<u32>(), 16 * 24);
+                    assert_eq!(frame.rejected_samples, 0);
+                }
+                tracers = renderer.into_tracers();
             }
-            tracers = renderer.into_tracers();
         }
         for t in &tracers {
             assert_no_validation_messages(t);

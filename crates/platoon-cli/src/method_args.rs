@@ -4,6 +4,7 @@
 use anyhow::{bail, Result};
 use clap::ValueEnum;
 use platoon::core::method::igi::IgiOptions;
+use platoon::core::method::path::PathKernel;
 use platoon::core::Method;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -39,6 +40,19 @@ pub struct MethodArgs {
     /// buffer.
     #[arg(long, value_parser = parse_tile)]
     pub igi_interleave: Option<[u32; 2]>,
+    /// Path tracing: the megakernel (mega), streaming path tracing (spt), or the one measured
+    /// faster on each kind of device (auto). The same image either way.
+    #[arg(long, default_value = "auto", value_parser = parse_kernel)]
+    pub kernel: PathKernel,
+}
+
+fn parse_kernel(s: &str) -> Result<PathKernel, String> {
+    PathKernel::by_name(s).ok_or_else(|| {
+        format!(
+            "unknown kernel {s}: one of {}",
+            PathKernel::NAMES.join(", ")
+        )
+    })
 }
 
 fn parse_tile(s: &str) -> Result<[u32; 2], String> {

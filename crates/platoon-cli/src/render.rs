@@ -113,6 +113,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         out,
     } = a;
     platoon::core::output::check_image_path(&out)?;
+    let kernel = method.kernel;
     let method = method.method()?;
     if width == 0 || height == 0 || spp == 0 {
         bail!("--width, --height and --spp must be positive");
@@ -135,6 +136,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let mut params = FrameParams::new(width, height, spp, prepared.camera);
     params.seed = seed;
     params.method = method;
+    params.kernel = kernel;
     if let Some(d) = max_depth {
         params.max_depth = d.max(1);
     }

@@ -132,7 +132,7 @@ impl Tracer {
             .expect("created with the tracer");
         // Compiling a kernel variant happens once; it is not part of the band's time.
         let kernels = method
-            .kernels()
+            .kernels(params, self.gpu.ctx.info.cpu)
             .iter()
             .map(|&entry| Ok((entry, self.gpu.kernel((entry, defines.clone()), scene)?)))
             .collect::<Result<Vec<_>>>()?;

@@ -43,6 +43,48 @@ pub(crate) unsafe fn record_dispatch(
     d.cmd_dispatch(cb, groups.0, groups.1, 1);
 }
 
+/// Records a barrier after earlier compute writes (to memory and to dispatch sizes), then the
+/// dispatch of `kernel` with the workgroup count at `offset` of `args`
+/// (VkDispatchIndirectCommand).
+///
+/// # Safety
+/// `cb` is recording and `kernel`'s handles and `args` are alive.
+pub(crate) unsafe fn record_dispatch_indirect(
+    d: &ash::Device,
+    cb: vk::CommandBuffer,
+    (pipeline, layout, set): Dispatchable,
+    push: &Push,
+    args: vk::Buffer,
+    offset: u64,
+) {
+    let barrier = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .dst_access_mask(
+            vk::AccessFlags::SHADER_READ
+                | vk::AccessFlags::SHADER_WRITE
+                | vk::AccessFlags::INDIRECT_COMMAND_READ,
+        );
+    d.cmd_pipeline_barrier(
+        cb,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+        vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::DRAW_INDIRECT,
+        vk::DependencyFlags::empty(),
+        &[barrier],
+        &[],
+        &[],
+    );
+    d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipeline);
+    d.cmd_bind_descriptor_sets(cb, vk::PipelineBindPoint::COMPUTE, layout, 0, &[set], &[]);
+    d.cmd_push_constants(
+        cb,
+        layout,
+        vk::ShaderStageFlags::COMPUTE,
+        0,
+        bytemuck::bytes_of(push),
+    );
+    d.cmd_dispatch_indirect(cb, args, offset);
+}
+
 /// Records timestamp `which` (0: before, resetting the pool; 1: after) when the device has them.
 ///
 /// # Safety

@@ -30,7 +30,15 @@ pub(crate) struct Gpu {
     pipeline_cache: PipelineCache,
     kernels: HashMap<KernelKey, Kernel>,
     pipelines_built: u32,
+    /// Set 1 of every kernel: storage buffers a rendering method binds for its own kernels
+    /// (`METHOD_BINDINGS` of them; the streaming path tracer's stream).
+    pub method_layout: vk::DescriptorSetLayout,
+    /// `TracerOptions::stream_slots`.
+    pub stream_slots: Option<u32>,
 }
+
+/// Storage-buffer bindings of the method set (set 1).
+pub(crate) const METHOD_BINDINGS: u32 = 5;
 
 impl Gpu {
     pub fn new(ctx: Context) -> Result<Gpu> {
@@ -64,6 +72,22 @@ impl Gpu {
             None
         };
         let pipeline_cache = PipelineCache::open(&device, &ctx.properties)?;
+        let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..METHOD_BINDINGS)
+            .map(|i| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(i)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            })
+            .collect();
+        let method_layout = unsafe {
+            device.create_descriptor_set_layout(
+                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
+                None,
+            )
+        }
+        .ctx("creating the method descriptor set layout")?;
         Ok(Gpu {
             ctx: ManuallyDrop::new(ctx),
             allocator: ManuallyDrop::new(allocator),
@@ -74,6 +98,8 @@ impl Gpu {
             pipeline_cache,
             kernels: HashMap::new(),
             pipelines_built: 0,
+            method_layout,
+            stream_slots: None,
         })
     }
 
@@ -213,7 +239,7 @@ impl Gpu {
                     &self.pipeline_cache,
                     entry,
                     defines,
-                    scene.layout,
+                    &[scene.layout, self.method_layout],
                 )?;
                 self.pipelines_built += 1;
                 e.insert(k)
@@ -228,6 +254,58 @@ impl Gpu {
             k.destroy(&self.ctx.device);
         }
         self.kernels.clear();
+    }
+
+    /// A descriptor set of the method layout (set 1) binding `buffers` in order, from a pool of
+    /// its own (destroy the pool to free it).
+    pub fn method_set(
+        &mut self,
+        buffers: &[vk::Buffer],
+    ) -> Result<(vk::DescriptorPool, vk::DescriptorSet)> {
+        let device = &self.ctx.device;
+        let sizes = [vk::DescriptorPoolSize::default()
+            .ty(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(METHOD_BINDINGS)];
+        let pool = unsafe {
+            device.create_descriptor_pool(
+                &vk::DescriptorPoolCreateInfo::default()
+                    .max_sets(1)
+                    .pool_sizes(&sizes),
+                None,
+            )
+        }
+        .ctx("creating a method descriptor pool")?;
+        let layouts = [self.method_layout];
+        let set = unsafe {
+            device.allocate_descriptor_sets(
+                &vk::DescriptorSetAllocateInfo::default()
+                    .descriptor_pool(pool)
+                    .set_layouts(&layouts),
+            )
+        }
+        .ctx("allocating a method descriptor set")?[0];
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+            .iter()
+            .map(|&b| {
+                [vk::DescriptorBufferInfo::default()
+                    .buffer(b)
+                    .offset(0)
+                    .range(vk::WHOLE_SIZE)]
+            })
+            .collect();
+        let writes: Vec<vk::WriteDescriptorSet> = infos
+            .iter()
+            .enumerate()
+            .map(|(i, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(i as u32)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info)
+            })
+            .collect();
+        unsafe { device.update_descriptor_sets(&writes, &[]) };
+        Ok((pool, set))
     }
 
     /// Compute pipelines built so far.
@@ -249,6 +327,7 @@ impl Drop for Gpu {
             if let Some(q) = self.query_pool {
                 device.destroy_query_pool(q, None);
             }
+            device.destroy_descriptor_set_layout(self.method_layout, None);
             device.destroy_fence(self.fence, None);
             device.destroy_command_pool(self.command_pool, None);
             ManuallyDrop::drop(&mut self.allocator);

@@ -210,14 +210,14 @@ pub(crate) struct Kernel {
 }
 
 impl Kernel {
-    /// The pipeline of `entry` with `defines`, reading the SSBO scene arrays through
-    /// `set_layout` (set 0).
+    /// The pipeline of `entry` with `defines`, reading the scene arrays through set 0 and a
+    /// method's buffers through set 1 (`set_layouts`).
     pub fn new(
         device: &ash::Device,
         cache: &PipelineCache,
         entry: &str,
         defines: &[&str],
-        set_layout: vk::DescriptorSetLayout,
+        set_layouts: &[vk::DescriptorSetLayout],
     ) -> Result<Kernel> {
         let code = spirv(entry, defines)?;
         let module = unsafe {
@@ -227,11 +227,10 @@ impl Kernel {
         let ranges = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::COMPUTE)
             .size(std::mem::size_of::<crate::globals::Push>() as u32)];
-        let set_layouts = [set_layout];
         let layout = unsafe {
             device.create_pipeline_layout(
                 &vk::PipelineLayoutCreateInfo::default()
-                    .set_layouts(&set_layouts)
+                    .set_layouts(set_layouts)
                     .push_constant_ranges(&ranges),
                 None,
             )

@@ -22,7 +22,7 @@ pub use memory::{
     choose as choose_memory_paths, scene_array_bytes, ArrayPath, MemoryLimits, MemoryPath,
     SCENE_ARRAYS,
 };
-pub use method::{kernel_label, kernel_spirv};
+pub use method::{kernel_label, kernel_spirv, path_kernel};
 pub use tracer::{Tracer, TracerOptions};
 
 /// Tracer failures; each says which device or file it concerns.

@@ -97,8 +97,12 @@ pub fn defines(paths: &[ArrayPath]) -> Vec<&'static str> {
         .collect()
 }
 
+/// The binding of the frame block: `Globals` read as a uniform buffer (its per-render constants;
+/// shaders/common/scene.glsl), after the scene arrays' bindings.
+pub(crate) const FRAME_BINDING: u32 = SCENE_ARRAYS.len() as u32;
+
 /// The descriptor set binding the scene arrays read through texel or storage buffers (binding
-/// i = `SCENE_ARRAYS[i]`), and the buffer views of the texel ones.
+/// i = `SCENE_ARRAYS[i]`), the buffer views of the texel ones, and the frame block.
 pub(crate) struct SceneDescriptors {
     pub layout: vk::DescriptorSetLayout,
     pub pool: vk::DescriptorPool,
@@ -115,13 +119,20 @@ fn descriptor_type(path: ArrayPath) -> Option<vk::DescriptorType> {
 }
 
 impl SceneDescriptors {
-    /// Binds `buffers[i]` at binding i wherever `paths[i]` is a descriptor path.
-    pub fn new(device: &ash::Device, buffers: &[vk::Buffer], paths: &[ArrayPath]) -> Result<Self> {
-        let bound: Vec<(u32, vk::DescriptorType)> = paths
+    /// Binds `buffers[i]` at binding i wherever `paths[i]` is a descriptor path, and `frame`
+    /// (the tracer's `Globals`) at `FRAME_BINDING`.
+    pub fn new(
+        device: &ash::Device,
+        buffers: &[vk::Buffer],
+        paths: &[ArrayPath],
+        frame: vk::Buffer,
+    ) -> Result<Self> {
+        let mut bound: Vec<(u32, vk::DescriptorType)> = paths
             .iter()
             .enumerate()
             .filter_map(|(i, &p)| descriptor_type(p).map(|t| (i as u32, t)))
             .collect();
+        bound.push((FRAME_BINDING, vk::DescriptorType::UNIFORM_BUFFER));
         let bindings: Vec<vk::DescriptorSetLayoutBinding> = bound
             .iter()
             .map(|&(i, ty)| {
@@ -147,6 +158,9 @@ impl SceneDescriptors {
             vk::DescriptorPoolSize::default()
                 .ty(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
                 .descriptor_count(count(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)),
+            vk::DescriptorPoolSize::default()
+                .ty(vk::DescriptorType::UNIFORM_BUFFER)
+                .descriptor_count(1),
         ];
         let pool = unsafe {
             device.create_descriptor_pool(
@@ -173,6 +187,16 @@ impl SceneDescriptors {
         }
         .ctx("allocating the scene descriptor set")?[0];
         d.write(device, buffers, paths)?;
+        let info = [vk::DescriptorBufferInfo::default()
+            .buffer(frame)
+            .offset(0)
+            .range(vk::WHOLE_SIZE)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(d.set)
+            .dst_binding(FRAME_BINDING)
+            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+            .buffer_info(&info);
+        unsafe { device.update_descriptor_sets(&[write], &[]) };
         Ok(d)
     }
 

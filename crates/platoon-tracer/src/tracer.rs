@@ -29,6 +29,10 @@ pub struct TracerOptions {
     pub lavapipe_threads: Option<u32>,
     /// How the kernel reads the scene arrays (per device kind, by default).
     pub memory: MemoryPath,
+    /// Paths the streaming path tracer keeps in flight (`PathKernel::Streaming`); by default
+    /// a number for the kind of device. Fewer than a band's pixels make slots take pixel after
+    /// pixel.
+    pub stream_slots: Option<u32>,
 }
 
 pub(crate) struct SceneBuffers {
@@ -59,10 +63,11 @@ impl Tracer {
     pub fn new(options: &TracerOptions, scene: &GpuScene) -> Result<Tracer> {
         let ctx = Context::new(options.device, options.validation, options.lavapipe_threads)?;
         let mut gpu = Gpu::new(ctx)?;
+        gpu.stream_slots = options.stream_slots;
         let globals_buffer = gpu.buffer(
             "globals",
             std::mem::size_of::<Globals>() as u64,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?;
         let mut tracer = Tracer {
@@ -106,7 +111,12 @@ impl Tracer {
             d.destroy(&device);
         }
         self.scene.paths = paths;
-        self.scene.descriptors = Some(SceneDescriptors::new(&device, &buffers, &self.scene.paths)?);
+        self.scene.descriptors = Some(SceneDescriptors::new(
+            &device,
+            &buffers,
+            &self.scene.paths,
+            self.globals_buffer.buffer,
+        )?);
         Ok(())
     }
 

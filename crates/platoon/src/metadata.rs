@@ -77,6 +77,7 @@ pub fn metadata(
         ),
         ("features".into(), features.to_string()),
         ("kernel_defines".into(), rendered.kernel_defines.join(",")),
+        ("path_kernel".into(), path_kernel(params.kernel)),
         ("sampling".into(), sampling.into()),
         ("method".into(), method(params)),
         ("environment".into(), prepared.env_label.clone()),
@@ -117,6 +118,19 @@ pub fn approximations(params: &FrameParams) -> String {
     }
     a.extend(params.method.unit().approximations());
     a.join("; ")
+}
+
+/// The path tracer's kernel as asked for; `auto` with what it stands for on each kind of device.
+fn path_kernel(kernel: platoon_core::method::path::PathKernel) -> String {
+    use platoon_core::method::path::PathKernel;
+    match kernel {
+        PathKernel::Auto => format!(
+            "auto ({} on CPU devices, {} on GPUs)",
+            kernel.resolved(true).name(),
+            kernel.resolved(false).name()
+        ),
+        k => k.name().into(),
+    }
 }
 
 #[cfg(test)]

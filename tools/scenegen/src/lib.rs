@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 use serde_json::{json, Value};
 
 pub mod adversarial;
+pub mod bench;
 pub mod twins;
 
 /// One mesh as flat arrays.
@@ -13,6 +14,8 @@ pub mod twins;
 pub struct MeshData {
     pub positions: Vec<[f32; 3]>,
     pub normals: Vec<[f32; 3]>,
+    /// TEXCOORD_0; empty when the mesh has none.
+    pub uvs: Vec<[f32; 2]>,
     pub indices: Vec<u32>,
 }
 
@@ -129,6 +132,7 @@ pub fn icosphere(subdivisions: u32) -> MeshData {
         normals: positions.clone(),
         positions,
         indices: tris.into_iter().flatten().collect(),
+        ..Default::default()
     }
 }
 
@@ -166,6 +170,7 @@ pub fn smooth_box() -> MeshData {
         positions,
         normals,
         indices,
+        ..Default::default()
     }
 }
 
@@ -180,11 +185,7 @@ pub fn flat_box() -> MeshData {
         ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
         ([0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]),
     ];
-    let mut m = MeshData {
-        positions: Vec::new(),
-        normals: Vec::new(),
-        indices: Vec::new(),
-    };
+    let mut m = MeshData::default();
     for (n, u, v) in faces {
         let base = m.positions.len() as u32;
         for (a, b) in [(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
@@ -202,11 +203,7 @@ pub fn flat_box() -> MeshData {
 /// or wall with enough triangles to weigh like real architecture.
 pub fn grid(cells: u32) -> MeshData {
     let n = cells.max(1);
-    let mut m = MeshData {
-        positions: Vec::new(),
-        normals: Vec::new(),
-        indices: Vec::new(),
-    };
+    let mut m = MeshData::default();
     for j in 0..=n {
         for i in 0..=n {
             let (x, z) = (
@@ -245,6 +242,7 @@ pub fn quad_from(corners: [[f32; 3]; 4]) -> MeshData {
         positions: corners.to_vec(),
         normals: vec![[n[0] / l, n[1] / l, n[2] / l]; 4],
         indices: vec![0, 1, 2, 0, 2, 3],
+        ..Default::default()
     }
 }
 
@@ -260,6 +258,7 @@ pub fn quad(h: f32, ny: f32) -> MeshData {
         positions,
         normals: vec![[0.0, ny, 0.0]; 4],
         indices,
+        ..Default::default()
     }
 }
 
@@ -315,6 +314,9 @@ pub struct SceneData {
     pub nodes: Vec<NodeData>,
     pub lights: Vec<Value>,
     pub extensions_used: Vec<String>,
+    /// PNG images, texture `i` showing image `i` (repeating, bilinear): what materials'
+    /// `{"index": i}` texture infos name.
+    pub images: Vec<Vec<u8>>,
 }
 
 fn pad4(v: &mut Vec<u8>, byte: u8) {
@@ -348,6 +350,7 @@ pub fn to_json(scene: &SceneData, bin: &mut Vec<u8>) -> Value {
         };
         let pos = le_bytes(mesh.positions.iter().flatten().map(|f| f.to_le_bytes()));
         let nrm = le_bytes(mesh.normals.iter().flatten().map(|f| f.to_le_bytes()));
+        let uv = le_bytes(mesh.uvs.iter().flatten().map(|f| f.to_le_bytes()));
         let idx = le_bytes(mesh.indices.iter().map(|i| i.to_le_bytes()));
         let n = mesh.positions.len();
         let vp = view(&pos, 34962);
@@ -360,9 +363,23 @@ pub fn to_json(scene: &SceneData, bin: &mut Vec<u8>) -> Value {
                 .push(json!({"bufferView": vn, "componentType": 5126, "count": n, "type": "VEC3"}));
             attributes["NORMAL"] = json!(accessors.len() - 1);
         }
+        if !mesh.uvs.is_empty() {
+            let vt = view(&uv, 34962);
+            accessors
+                .push(json!({"bufferView": vt, "componentType": 5126, "count": n, "type": "VEC2"}));
+            attributes["TEXCOORD_0"] = json!(accessors.len() - 1);
+        }
         let vi = view(&idx, 34963);
         accessors.push(json!({"bufferView": vi, "componentType": 5125, "count": mesh.indices.len(), "type": "SCALAR"}));
         meshes.push(json!({"primitives": [{"attributes": attributes, "indices": accessors.len() - 1, "material": material}]}));
+    }
+    let mut images = Vec::new();
+    for png in &scene.images {
+        let offset = bin.len();
+        bin.extend_from_slice(png);
+        pad4(bin, 0);
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": png.len()}));
+        images.push(json!({"bufferView": views.len() - 1, "mimeType": "image/png"}));
     }
     let mut cameras = Vec::new();
     let nodes: Vec<Value> = scene
@@ -406,6 +423,16 @@ pub fn to_json(scene: &SceneData, bin: &mut Vec<u8>) -> Value {
     });
     if !cameras.is_empty() {
         root["cameras"] = json!(cameras);
+    }
+    if !images.is_empty() {
+        let textures: Vec<Value> = (0..images.len())
+            .map(|i| json!({"source": i, "sampler": 0}))
+            .collect();
+        root["images"] = json!(images);
+        root["textures"] = json!(textures);
+        // REPEAT both ways, bilinear.
+        root["samplers"] =
+            json!([{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497}]);
     }
     if !scene.lights.is_empty() {
         root["extensions"] = json!({"KHR_lights_punctual": {"lights": scene.lights}});

@@ -1,6 +1,8 @@
 //! `platoon-scenegen OUT.glb [--grid N] [--unique]`: writes the benchmark sphere field.
 //! `platoon-scenegen OUT.glb --glossy-glass`: the trade-off tool's glossy-and-glass scene.
 //! `platoon-scenegen OUT.glb --conference-room`: the IGI scene (a room lit by point lights).
+//! `platoon-scenegen OUT.glb --cornell-nodes | --spheres`: the bench scenes as exporters write
+//! them (the Cornell box a node per object; five spheres of glTF materials, textured ground).
 //! `platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]`: writes the
 //! adversarial suite (valid hard scenes, malformed and hostile files, mutations of SCENES).
 
@@ -14,6 +16,8 @@ fn main() -> ExitCode {
     let mut unique = false;
     let mut glossy_glass = false;
     let mut conference_room = false;
+    let mut cornell_nodes = false;
+    let mut spheres = false;
     let mut adversarial = None;
     let mut shared = PathBuf::from("../shared/scenes");
     let mut mutants = 8usize;
@@ -43,6 +47,8 @@ fn main() -> ExitCode {
             "--unique" => unique = true,
             "--glossy-glass" => glossy_glass = true,
             "--conference-room" => conference_room = true,
+            "--cornell-nodes" => cornell_nodes = true,
+            "--spheres" => spheres = true,
             "--adversarial" => adversarial = it.next().map(PathBuf::from),
             "--shared" => shared = it.next().map(PathBuf::from).unwrap_or(shared),
             other => out = Some(other.to_string()),
@@ -60,13 +66,17 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let Some(out) = out else {
-        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
+        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --cornell-nodes | --spheres]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
         return ExitCode::FAILURE;
     };
     let scene = if glossy_glass {
         platoon_scenegen::glossy_glass()
     } else if conference_room {
         platoon_scenegen::conference_room()
+    } else if cornell_nodes {
+        platoon_scenegen::bench::cornell_nodes()
+    } else if spheres {
+        platoon_scenegen::bench::spheres()
     } else {
         platoon_scenegen::sphere_field(grid, unique)
     };

@@ -1,5 +1,6 @@
-//! `platoon bench kernel`: samples/s, rays/s and BVH build times of the built-in scenes, the cost
-//! of interleaved lines and the CPU comparison of BVH layouts.
+//! `platoon bench kernel`: samples/s and rays/s of the bench scenes (platoon_lab::scene_bench)
+//! with each of the path tracer's kernels, BVH build times, the cost of interleaved lines and
+//! the CPU comparison of BVH layouts.
 
 use std::time::Duration;
 
@@ -9,7 +10,9 @@ use platoon::core::frame::FrameParams;
 use platoon::tracer::{Tracer, TracerOptions};
 
 use platoon::core::measure::median;
+use platoon::core::method::path::PathKernel;
 use platoon::{prepare, PrepareOptions, Prepared};
+use platoon_lab::scene_bench;
 
 struct Measure {
     samples_per_s: f64,
@@ -17,32 +20,62 @@ struct Measure {
     seconds: f64,
 }
 
-impl Measure {
-    fn print(&self, label: &str) {
-        let (s, r) = (self.samples_per_s / 1e6, self.rays_per_s / 1e6);
-        println!("{label:<40} {s:>12.3} {r:>12.3} {:>9.3}", self.seconds);
+/// Renders `params` with each of `kernels`, `repeat` times in turn after a warm-up render of
+/// each (the kernel compiles are not timed); the median of each.
+fn measure(
+    tracer: &mut Tracer,
+    params: &FrameParams,
+    kernels: &[PathKernel],
+    repeat: u32,
+) -> Result<Vec<Measure>> {
+    let with = |k: PathKernel| FrameParams {
+        kernel: k,
+        ..params.clone()
+    };
+    for &k in kernels {
+        let mut warm = with(k);
+        warm.spp = 1;
+        tracer.render(&warm, 0, warm.height, &mut |_| {})?;
     }
+    let mut times = vec![Vec::new(); kernels.len()];
+    let mut rays = vec![Vec::new(); kernels.len()];
+    for _ in 0..repeat {
+        for (i, &k) in kernels.iter().enumerate() {
+            let band = tracer.render(&with(k), 0, params.height, &mut |_| {})?;
+            let t = band.wall_time.as_secs_f64();
+            times[i].push(t);
+            rays[i].push(band.rays as f64 / t);
+        }
+    }
+    let samples = params.width as f64 * params.height as f64 * params.spp as f64;
+    Ok(times
+        .into_iter()
+        .zip(rays)
+        .map(|(t, r)| {
+            let t = median(t);
+            Measure {
+                samples_per_s: samples / t,
+                rays_per_s: median(r),
+                seconds: t,
+            }
+        })
+        .collect())
 }
 
-fn measure(tracer: &mut Tracer, params: &FrameParams, repeat: u32) -> Result<Measure> {
-    let mut warm = params.clone();
-    warm.spp = 1;
-    tracer.render(&warm, 0, warm.height, &mut |_| {})?;
-    let mut times = Vec::new();
-    let mut rays = Vec::new();
-    for _ in 0..repeat {
-        let band = tracer.render(params, 0, params.height, &mut |_| {})?;
-        let t = band.wall_time.as_secs_f64();
-        times.push(t);
-        rays.push(band.rays as f64 / t);
+fn print_row(label: &str, m: &[Measure]) {
+    print!("{label:<44}");
+    for k in m {
+        print!(
+            " {:>8.3} {:>8.3} {:>7.3}",
+            k.samples_per_s / 1e6,
+            k.rays_per_s / 1e6,
+            k.seconds
+        );
     }
-    let t = median(times);
-    let samples = params.width as f64 * params.height as f64 * params.spp as f64;
-    Ok(Measure {
-        samples_per_s: samples / t,
-        rays_per_s: median(rays),
-        seconds: t,
-    })
+    if m.len() == 2 {
+        print!(" {:>7.2}x", m[0].seconds / m[1].seconds);
+    }
+    println!();
 }
 
 fn ms(d: Duration) -> f64 {
@@ -60,6 +93,16 @@ pub struct KernelArgs {
     /// Repetitions of each measurement (the median is reported).
     #[arg(long, default_value_t = 3)]
     repeat: u32,
+    /// The path tracer's kernels to measure, in turn (mega, spt), comma-separated.
+    #[arg(long, default_value = "mega,spt", value_delimiter = ',', value_parser = parse_kernel)]
+    kernels: Vec<PathKernel>,
+    /// The folder of the shared test data (CesiumMan and courtyard.exr for the last row).
+    #[arg(long, default_value = "../shared")]
+    shared: std::path::PathBuf,
+}
+
+fn parse_kernel(s: &str) -> Result<PathKernel, String> {
+    PathKernel::by_name(s).ok_or_else(|| format!("unknown kernel {s}: mega or spt"))
 }
 
 pub fn run(a: &KernelArgs) -> Result<()> {
@@ -68,31 +111,61 @@ pub fn run(a: &KernelArgs) -> Result<()> {
         device,
         ..Default::default()
     };
+    let kernels = &a.kernels;
     println!("platoon bench kernel: {spp} spp per render, median of {repeat}, 256x256");
-    let cornell = prepare(
-        platoon::core::scene::cornell::scene(),
-        &PrepareOptions::default(),
-    )?;
-    let mut tracer = Tracer::new(&options, &cornell.gpu)?;
-    println!("device: {}", tracer.device_info().name);
-    println!(
-        "{:<40} {:>12} {:>12} {:>9}",
-        "scene", "Msamples/s", "Mrays/s", "seconds"
-    );
-    // Camera rays only (max depth 1: the emitters seen directly) against full paths.
-    for (label, depth) in [
-        ("cornell box, camera rays only", Some(1)),
-        ("cornell box, depth 8", Some(8)),
-        ("cornell box, unbounded", None),
-    ] {
-        let mut params = FrameParams::new(256, 256, spp, cornell.camera);
-        if let Some(d) = depth {
-            params.max_depth = d;
-        }
-        let m = measure(&mut tracer, &params, repeat)?;
-        m.print(label);
+    let dir = tempfile::tempdir()?;
+    let mut names: Vec<String> = scene_bench::NAMES.iter().map(|s| s.to_string()).collect();
+    if !a.shared.join("scenes/CesiumMan.glb").is_file() {
+        println!("(no {}: CesiumMan left out)", a.shared.display());
+        names.retain(|n| n != "cesium");
     }
-    drop(tracer);
+    let scenes = scene_bench::scenes(dir.path(), &a.shared, &names)?;
+    print!("{:<44}", "scene");
+    for k in kernels {
+        print!(
+            " {:>8} {:>8} {:>7}",
+            format!("{} Ms/s", k.name()),
+            "Mrays/s",
+            "s"
+        );
+    }
+    if kernels.len() == 2 {
+        print!(
+            " {:>8}",
+            format!("{}/{}", kernels[1].name(), kernels[0].name())
+        );
+    }
+    println!();
+    for scene in &scenes {
+        let p = prepare(
+            platoon::load_scene(scene.file.as_deref())?,
+            &PrepareOptions {
+                env: scene.env.clone(),
+                ..Default::default()
+            },
+        )?;
+        let mut tracer = Tracer::new(&options, &p.gpu)?;
+        if scene.name == "cornell" {
+            println!("device: {}", tracer.device_info().name);
+        }
+        // Camera rays only (max depth 1: the emitters seen directly) against full paths.
+        for (what, depth) in [
+            ("camera rays", Some(1)),
+            ("depth 8", Some(8)),
+            ("unbounded", None),
+        ] {
+            let mut params = FrameParams::new(256, 256, spp, p.camera);
+            if let Some(d) = depth {
+                params.max_depth = d;
+            }
+            let m = measure(&mut tracer, &params, kernels, repeat)?;
+            print_row(&format!("{}, {what}", scene.name), &m);
+        }
+        drop(tracer);
+        if scene.name == "field" {
+            print_build_times(&p.gpu, "sphere field, instanced");
+        }
+    }
 
     // Contiguous bands against interleaved lines: what interleaving costs in coherence.
     let layout = platoon_lab::balance_bench::Options {
@@ -107,31 +180,19 @@ pub fn run(a: &KernelArgs) -> Result<()> {
         println!("outdoor 192x144, {stride} interleaved passes vs one band: {:.3} s vs {:.3} s ({:+.1}%)", i, c, 100.0 * (i / c - 1.0));
     }
 
-    let dir = tempfile::tempdir()?;
-    for (label, unique) in [
-        ("sphere field 100k, instanced", false),
-        ("sphere field 100k, unique", true),
-    ] {
-        let path = dir.path().join(format!("field-{unique}.glb"));
-        std::fs::write(
-            &path,
-            platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, unique)),
-        )?;
-        let p = prepare(
-            platoon::load_scene(Some(&path))?,
-            &PrepareOptions::default(),
-        )?;
-        let mut tracer = Tracer::new(&options, &p.gpu)?;
-        let mut params = FrameParams::new(256, 256, spp, p.camera);
-        measure(&mut tracer, &params, repeat)?.print(label);
-        params.max_depth = 1;
-        measure(&mut tracer, &params, repeat)?.print(&format!("{label}, camera rays"));
-        print_build_times(&p.gpu, label);
-        if unique {
-            compare_layouts(&p);
-            refit_row(&p);
-        }
-    }
+    // The 16 distinct meshes of the field: build times, BVH layouts on the CPU, refits.
+    let path = dir.path().join("field-unique.glb");
+    std::fs::write(
+        &path,
+        platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, true)),
+    )?;
+    let p = prepare(
+        platoon::load_scene(Some(&path))?,
+        &PrepareOptions::default(),
+    )?;
+    print_build_times(&p.gpu, "sphere field, unique meshes");
+    compare_layouts(&p);
+    refit_row(&p);
     Ok(())
 }
 

@@ -6,6 +6,7 @@ mod dynamic;
 mod game;
 mod game_costs;
 mod kernel;
+mod scenes;
 
 use anyhow::{Context as _, Result};
 
@@ -14,6 +15,9 @@ pub enum BenchMode {
     /// Samples/s, rays/s and BVH build times of the built-in scenes, interleaved lines against
     /// one band, and BVH2 against CWBVH on the CPU.
     Kernel(kernel::KernelArgs),
+    /// The bench scenes (scenes as exporters write them) as whole renders against Mitsuba 3
+    /// on the same scenes and cores, when it is installed: seconds, samples/s and the ratio.
+    Scenes(scenes::ScenesArgs),
     /// A living scene: walking characters and moving objects over the sphere field,
     /// double-buffered updates and commits, against the scene standing still.
     Dynamic(dynamic::DynamicArgs),
@@ -27,6 +31,7 @@ pub enum BenchMode {
 pub fn run(mode: BenchMode) -> Result<()> {
     match mode {
         BenchMode::Kernel(a) => kernel::run(&a).context("bench kernel failed"),
+        BenchMode::Scenes(a) => scenes::run(&a).context("bench scenes failed"),
         BenchMode::Dynamic(a) => dynamic::run(&a).context("bench dynamic failed"),
         BenchMode::Game(a) => game::run(&a).context("bench game failed"),
         BenchMode::Balance(a) => balance::run(a),

@@ -22,6 +22,8 @@ pub const DEFAULT_SAMPLES_PER_PASS: u32 = 16;
 /// Default path-length limit: high enough to be unbounded in practice (Russian roulette ends
 /// paths long before), low enough to stop a pathological scene. Reported in the output metadata.
 pub const DEFAULT_MAX_DEPTH: u32 = 1024;
+/// The path depth Russian roulette starts at.
+pub const DEFAULT_RR_DEPTH: u32 = 3;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameParams {
@@ -64,6 +66,8 @@ pub struct FrameParams {
     pub ris_mis: bool,
     /// The rendering method and its options (`crate::method`; path tracing by default).
     pub method: crate::method::Method,
+    /// How the path tracer's work is cut into kernels (the same image either way).
+    pub kernel: crate::method::path_kernel::PathKernel,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -112,7 +116,7 @@ impl FrameParams {
             height,
             spp,
             max_depth: DEFAULT_MAX_DEPTH,
-            rr_depth: 3,
+            rr_depth: DEFAULT_RR_DEPTH,
             rr_survival: 1.0,
             rr_fixed: None,
             clamp_indirect: None,
@@ -123,6 +127,7 @@ impl FrameParams {
             ris_candidates: None,
             ris_mis: false,
             method: crate::method::Method::PathTracing,
+            kernel: Default::default(),
             seed: 0,
             frame: 0,
             first_sample: 0,

@@ -9,6 +9,7 @@
 
 pub mod igi;
 pub mod path;
+pub mod path_kernel;
 pub mod registry;
 pub mod render_method;
 pub mod variant;

@@ -1,6 +1,8 @@
 //! Path tracing: the default method and the reference every other is measured against. Its
 //! options are `FrameParams`' estimator knobs (shared with the methods that reuse the path loop,
-//! shaders/path/), so the method itself adds no defines and no pass after assembly.
+//! shaders/path/), so the method itself adds no defines and no pass after assembly; and
+//! [`PathKernel`] (`path_kernel`), how its work is cut into kernels on a device (the same image
+//! either way).
 
 use crate::flatten::features::KernelOption;
 use crate::frame::FrameParams;
@@ -26,3 +28,5 @@ impl RenderMethod for PathTracing {
         Vec::new()
     }
 }
+
+pub use super::path_kernel::PathKernel;

@@ -74,7 +74,7 @@ fn options(params: &FrameParams) -> IgiOptions {
 }
 
 impl MethodPasses for IgiPasses {
-    fn kernels(&self) -> &'static [&'static str] {
+    fn kernels(&self, _params: &FrameParams, _cpu: bool) -> &'static [&'static str] {
         &[EMIT, CAMERA, GATHER]
     }
 

@@ -6,8 +6,9 @@
 
 mod igi;
 mod path;
+mod stream;
 
-pub use path::{kernel_label, kernel_spirv};
+pub use path::{kernel_label, kernel_spirv, path_kernel};
 
 use std::time::Duration;
 
@@ -43,8 +44,9 @@ impl Recorder<'_> {
 /// method's `clears`, calls `begin_band`, then `pass` until the samples are in, and reads back
 /// the sums and `per_pixel`.
 pub(crate) trait MethodPasses {
-    /// The entry files of its kernels (shaders/), built before the band's clock starts.
-    fn kernels(&self) -> &'static [&'static str];
+    /// The entry files of its kernels (shaders/) for `params` on a CPU device (`cpu`) or a
+    /// GPU, built before the band's clock starts.
+    fn kernels(&self, params: &FrameParams, cpu: bool) -> &'static [&'static str];
     /// Makes or grows the buffers its kernels read for `params`; returns their addresses
     /// (Globals' method buffers; 0 where unused).
     fn prepare(&mut self, _gpu: &mut Gpu, _params: &FrameParams) -> Result<[u64; 3]> {
@@ -80,7 +82,7 @@ pub(crate) trait MethodPasses {
 /// The device side of `method`: the registration of every method.
 pub(crate) fn passes_of(method: &Method) -> Box<dyn MethodPasses> {
     match method {
-        Method::PathTracing => Box::new(path::PathPasses),
+        Method::PathTracing => Box::<path::PathPasses>::default(),
         Method::Igi(_) => Box::<igi::IgiPasses>::default(),
     }
 }

@@ -30,6 +30,7 @@ fn scene(
         nodes,
         lights,
         extensions_used: EXTENSIONS.iter().map(|s| s.to_string()).collect(),
+        ..Default::default()
     }
 }
 
@@ -246,6 +247,7 @@ pub fn sunlit(far_vertex: bool) -> SceneData {
             ],
             normals: vec![[0.0, 0.0, 1.0]; 3],
             indices: vec![0, 1, 2],
+            ..Default::default()
         };
         meshes.push((far, 0));
         nodes.push(NodeData::mesh(3, [0.0; 3], 1.0));
