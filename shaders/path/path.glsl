@@ -270,12 +270,35 @@ vec3 pixel_samples(uvec2 pixel, vec3 sum, inout uint rays, inout uint rejected) 
     uint si = pc.sample_begin;
     Rng rng = rng_init(pixel, si, frame_index(), render_seed());
     Path p = path_start(camera_ray(pixel, rng), si);
+#ifdef LAST_PATH_CUT
+    bool done = false;
+#endif
     while (true) {
+#ifdef LAST_PATH_CUT
+        // Bikker's NOP (FrameParams::cut_last_paths): once every lane is on its last sample,
+        // the group stops with the first lane to finish; the others' paths end here, their
+        // light so far counting as the sample's (biased low).
+        if (subgroupAll(done || si + 1u == pc.sample_end) && subgroupAny(done)) {
+            if (!done) {
+                if (any(isnan(p.L)) || any(isinf(p.L))) rejected++;
+                else sum += p.L;
+            }
+            break;
+        }
+        if (done) continue;
+#endif
         if (path_step(p, rng, rays)) continue;
         // NaN/Inf guard: such a sample contributes zero and is counted (pbrt-v4's policy).
         if (any(isnan(p.L)) || any(isinf(p.L))) rejected++;
         else sum += p.L;
-        if (++si == pc.sample_end) break;
+        if (++si == pc.sample_end) {
+#ifdef LAST_PATH_CUT
+            done = true;
+            continue;
+#else
+            break;
+#endif
+        }
         rng = rng_init(pixel, si, frame_index(), render_seed());
         p = path_start(camera_ray(pixel, rng), si);
     }

@@ -1,4 +1,7 @@
 #version 460
+#ifdef LAST_PATH_CUT
+#extension GL_KHR_shader_subgroup_vote : require
+#endif
 // Unidirectional path tracing with next-event estimation and MIS (power heuristic), for the
 // band of pixels (within lines [y0, y1)) and the samples [sample_begin, sample_end) of each pixel.
 // Feature defines (HAS_*) and the estimator (SAMPLING_BSDF / SAMPLING_LIGHT, default MIS) are

@@ -3,7 +3,10 @@
 //! small (a few hundred pixels) but runs every part of the kernel and the frame loop it names.
 //!
 //! The hashes hold for this project's machines (Mesa 22.3 lavapipe, LLVM 15): another driver
-//! rounds differently. A render whose hash moved prints its new value; update the table only
+//! rounds differently. Moved on purpose since: the teapot, RetroUFO and the conference room when
+//! their static geometry was merged into one bottom level (issue 21: hits in render space round
+//! differently from hits in each mesh's own space; tests/scene/scenes.rs holds the merged image
+//! to the instanced one). The built-in box, one mesh at the origin, kept its bits. A render whose hash moved prints its new value; update the table only
 //! when an image is meant to change, and say why in the commit.
 
 #[path = "../common/mod.rs"]
@@ -78,10 +81,10 @@ const SCENES: &[(&str, u64)] = &[
     ("cornell, 3 tracers", 0xc818f334c31191b3),
     ("CesiumMan, courtyard.exr, 1 tracer", 0x42be056dfb6478a2),
     ("CesiumMan, courtyard.exr, 3 tracers", 0x42be056dfb6478a2),
-    ("RetroUFO.glb, 1 tracer", 0x75a13c4bb2ef720b),
-    ("RetroUFO.glb, 3 tracers", 0x75a13c4bb2ef720b),
-    ("teapot.gltf, 1 tracer", 0x64408ff22932cbd2),
-    ("teapot.gltf, 3 tracers", 0x64408ff22932cbd2),
+    ("RetroUFO.glb, 1 tracer", 0x2f07ba2fc6673c51),
+    ("RetroUFO.glb, 3 tracers", 0x2f07ba2fc6673c51),
+    ("teapot.gltf, 1 tracer", 0xc2d05e51e5812bdf),
+    ("teapot.gltf, 3 tracers", 0xc2d05e51e5812bdf),
 ];
 
 #[test]
@@ -118,18 +121,18 @@ fn the_shared_scenes_and_the_built_in_box_keep_their_bits() {
 }
 
 const IGI: &[(&str, u64)] = &[
-    ("room igi exact, 1 tracer", 0x8747bd61ea841d05),
-    ("room igi exact, 3 tracers", 0x8747bd61ea841d05),
-    ("room igi leaf boxes, 1 tracer", 0x2812499314cfcbb2),
-    ("room igi leaf boxes, 3 tracers", 0x2812499314cfcbb2),
-    ("room igi bounded, 1 tracer", 0x00b392b0621d9b2d),
-    ("room igi bounded, 3 tracers", 0x00b392b0621d9b2d),
-    ("room igi down4, 1 tracer", 0xb8512e7b71df85fb),
-    ("room igi down4, 3 tracers", 0xb8512e7b71df85fb),
-    ("room igi inter3x3, 1 tracer", 0xb4801093fa8fea1f),
-    ("room igi inter3x3, 3 tracers", 0xb4801093fa8fea1f),
-    ("room igi all, 1 tracer", 0xfe6f15769d9ea7b1),
-    ("room igi all, 3 tracers", 0xfe6f15769d9ea7b1),
+    ("room igi exact, 1 tracer", 0x39b09228e0093c53),
+    ("room igi exact, 3 tracers", 0x39b09228e0093c53),
+    ("room igi leaf boxes, 1 tracer", 0x88f465926f69721e),
+    ("room igi leaf boxes, 3 tracers", 0x88f465926f69721e),
+    ("room igi bounded, 1 tracer", 0x83984cd6e83645b9),
+    ("room igi bounded, 3 tracers", 0x83984cd6e83645b9),
+    ("room igi down4, 1 tracer", 0xb6a64647f9455e75),
+    ("room igi down4, 3 tracers", 0xb6a64647f9455e75),
+    ("room igi inter3x3, 1 tracer", 0x05e4370e48b329a7),
+    ("room igi inter3x3, 3 tracers", 0x05e4370e48b329a7),
+    ("room igi all, 1 tracer", 0x5329de567d37398d),
+    ("room igi all, 3 tracers", 0x5329de567d37398d),
 ];
 
 #[test]

@@ -125,6 +125,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         camera,
         aperture_radius: aperture,
         focus_distance,
+        ..Default::default()
     };
     let prepared = platoon::prepare(loaded, &options)?;
     for w in &prepared.scene.warnings {

@@ -116,6 +116,9 @@ pub fn approximations(params: &FrameParams) -> String {
     if params.single_diffuse_bounce {
         a.push("a single diffuse bounce of indirect light".into());
     }
+    if params.cut_last_paths {
+        a.push("the last path of a pass cut where its SIMD group stopped (NOP)".into());
+    }
     a.extend(params.method.unit().approximations());
     a.join("; ")
 }

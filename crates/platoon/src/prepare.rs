@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Result};
 use glam::Vec3;
+use platoon_core::flatten::static_merge::StaticMerge;
 use platoon_core::flatten::GpuScene;
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::environment::{EnvMap, Environment};
@@ -42,6 +43,7 @@ pub fn load_scene_with(path: Option<&Path>, options: &LoadOptions) -> Result<Sce
 /// A scene posed and flattened for the devices, with its camera.
 pub struct Prepared {
     pub scene: Scene,
+    /// The scene posed, an instance per node (`gpu` has the objects that never move merged).
     pub posed: Posed,
     pub gpu: GpuScene,
     pub camera: Camera,
@@ -60,6 +62,9 @@ pub struct PrepareOptions {
     pub camera: Option<usize>,
     pub aperture_radius: f32,
     pub focus_distance: Option<f32>,
+    /// Merge the objects that never move into one bottom level
+    /// (`platoon_core::flatten::static_merge`); off keeps an instance per node.
+    pub merge_static: bool,
 }
 
 impl Default for PrepareOptions {
@@ -70,6 +75,7 @@ impl Default for PrepareOptions {
             camera: None,
             aperture_radius: 0.0,
             focus_distance: None,
+            merge_static: true,
         }
     }
 }
@@ -132,7 +138,13 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
                 .into(),
         )));
     }
-    let gpu = GpuScene::build(&scene, &posed, scene.environment.as_ref()).map_err(in_scene)?;
+    let mut merge = if options.merge_static {
+        StaticMerge::of_scene(&scene)
+    } else {
+        StaticMerge::none()
+    };
+    let levels = merge.apply(&scene, posed.clone());
+    let gpu = GpuScene::build(&scene, &levels, scene.environment.as_ref()).map_err(in_scene)?;
     camera.aperture_radius = options.aperture_radius.max(0.0);
     if let Some(f) = options.focus_distance {
         if f.is_nan() || f <= 0.0 {

@@ -184,9 +184,9 @@ pub fn spheres() -> SceneData {
         ..NodeData::new()
     });
     let mut camera = NodeData::new();
-    camera.translation = [0.0, 3.2, 10.0];
-    camera.rotation = facing([0.0, -0.28, -1.0]);
-    camera.camera_yfov = Some(0.62);
+    camera.translation = [0.0, 3.4, 10.5];
+    camera.rotation = facing([0.0, -0.3, -1.0]);
+    camera.camera_yfov = Some(1.0);
     nodes.push(camera);
     SceneData {
         meshes,

@@ -137,33 +137,48 @@ pub fn run(a: &KernelArgs) -> Result<()> {
     }
     println!();
     for scene in &scenes {
-        let p = prepare(
-            platoon::load_scene(scene.file.as_deref())?,
-            &PrepareOptions {
-                env: scene.env.clone(),
-                ..Default::default()
-            },
-        )?;
-        let mut tracer = Tracer::new(&options, &p.gpu)?;
-        if scene.name == "cornell" {
-            println!("device: {}", tracer.device_info().name);
-        }
-        // Camera rays only (max depth 1: the emitters seen directly) against full paths.
-        for (what, depth) in [
-            ("camera rays", Some(1)),
-            ("depth 8", Some(8)),
-            ("unbounded", None),
-        ] {
-            let mut params = FrameParams::new(256, 256, spp, p.camera);
-            if let Some(d) = depth {
-                params.max_depth = d;
+        // Scenes of many nodes also with an instance per node: what merging the objects that
+        // never move into one bottom level gains.
+        let merges: &[bool] = match scene.name {
+            "cornell-nodes" | "field" => &[true, false],
+            _ => &[true],
+        };
+        for &merge_static in merges {
+            let p = prepare(
+                platoon::load_scene(scene.file.as_deref())?,
+                &PrepareOptions {
+                    env: scene.env.clone(),
+                    merge_static,
+                    ..Default::default()
+                },
+            )?;
+            let mut tracer = Tracer::new(&options, &p.gpu)?;
+            if scene.name == "cornell" {
+                println!("device: {}", tracer.device_info().name);
             }
-            let m = measure(&mut tracer, &params, kernels, repeat)?;
-            print_row(&format!("{}, {what}", scene.name), &m);
-        }
-        drop(tracer);
-        if scene.name == "field" {
-            print_build_times(&p.gpu, "sphere field, instanced");
+            // Camera rays only (max depth 1: the emitters seen directly) against full paths;
+            // the instanced variant at depth 8 alone.
+            let depths: &[(&str, Option<u32>)] = if merge_static {
+                &[
+                    ("camera rays", Some(1)),
+                    ("depth 8", Some(8)),
+                    ("unbounded", None),
+                ]
+            } else {
+                &[("depth 8, instanced", Some(8))]
+            };
+            for &(what, depth) in depths {
+                let mut params = FrameParams::new(256, 256, spp, p.camera);
+                if let Some(d) = depth {
+                    params.max_depth = d;
+                }
+                let m = measure(&mut tracer, &params, kernels, repeat)?;
+                print_row(&format!("{}, {what}", scene.name), &m);
+            }
+            drop(tracer);
+            if scene.name == "field" && merge_static {
+                print_build_times(&p.gpu, "sphere field, merged");
+            }
         }
     }
 

@@ -36,6 +36,10 @@ pub struct ScenesArgs {
     /// The folder of the shared test data (scenes/, envmaps/).
     #[arg(long, default_value = "../shared")]
     shared: PathBuf,
+    /// Keep the generated scenes, their Mitsuba exports and the renders in this folder
+    /// (default: a temporary folder, removed at the end).
+    #[arg(long)]
+    keep: Option<PathBuf>,
     /// Further `platoon render` arguments, after `--` (e.g. `-- --kernel spt`).
     #[arg(last = true)]
     render_args: Vec<String>,
@@ -59,9 +63,16 @@ pub fn run(a: &ScenesArgs) -> Result<()> {
     if a.spp == 0 || a.size == 0 {
         bail!("--spp and --size must be positive");
     }
-    let dir = tempfile::tempdir()?;
-    let scenes = scene_bench::scenes(dir.path(), &a.shared, &a.scenes)?;
-    let mitsuba = match Mitsuba::find(a.mitsuba.as_deref(), dir.path()) {
+    let temporary = tempfile::tempdir()?;
+    let dir = match &a.keep {
+        Some(d) => {
+            std::fs::create_dir_all(d)?;
+            d.as_path()
+        }
+        None => temporary.path(),
+    };
+    let scenes = scene_bench::scenes(dir, &a.shared, &a.scenes)?;
+    let mitsuba = match Mitsuba::find(a.mitsuba.as_deref(), dir) {
         Ok(m) => Some(m),
         Err(why) => {
             println!("Mitsuba 3 not found, platoon alone: {why}");
@@ -96,7 +107,7 @@ pub fn run(a: &ScenesArgs) -> Result<()> {
         "scene", "depth", "platoon s", "Msamples/s", "mitsuba s", "ratio"
     );
     for s in &scenes {
-        scene_bench::measure(s, &options, mitsuba.as_ref(), dir.path(), &mut print)?;
+        scene_bench::measure(s, &options, mitsuba.as_ref(), dir, &mut print)?;
     }
     Ok(())
 }

@@ -4,7 +4,9 @@
 //! bottom-level work); a deforming (skinned) mesh is re-posed and its BVH refitted, rebuilt only
 //! when the guard asks ([`RefitPolicy`]); the top level is rebuilt every generation. A deforming
 //! mesh's node region has room for any rebuild of itself, so the arrays keep their layout and a
-//! commit holds only what moved.
+//! commit holds only what moved. Objects that never move are merged into one bottom level
+//! (`flatten::static_merge`); an edit that moves one splits it out (the merged mesh and its BVH
+//! are built again, counted with the rebuilds).
 
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
@@ -17,6 +19,7 @@ use crate::flatten::arrays::SceneArray;
 use crate::flatten::bvh::{build_mesh_bvh, FlatBvh};
 use crate::flatten::commit::Commit;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
+use crate::flatten::static_merge::{StaticMerge, MERGED_NODE};
 use crate::flatten::{used_meshes, GpuScene, MeshRegion};
 use crate::scene::floating_origin::FloatingOrigin;
 use crate::scene::{Mesh, Node, Posed, Scene};
@@ -52,7 +55,8 @@ pub struct Generation {
     /// What changed from the previous generation's scene, with the bytes.
     pub commit: Arc<Commit>,
     pub times: UpdateTimes,
-    /// Deforming meshes refitted and rebuilt in this update.
+    /// Deforming meshes refitted and rebuilt in this update (rebuilt counts the merged static
+    /// geometry too, built again after an edit split an object out of it).
     pub refitted: usize,
     pub rebuilt: usize,
 }
@@ -65,6 +69,9 @@ pub struct Updater {
     policy: RefitPolicy,
     /// Flattened BVHs of static meshes, by scene mesh.
     static_bvhs: HashMap<usize, FlatBvh>,
+    /// The objects that never moved, merged; the BVH of their mesh as last built.
+    merge: StaticMerge,
+    merged_bvh: Option<(Arc<Mesh>, FlatBvh)>,
     /// Skinned meshes by the node that poses them: the pose last flattened, its BVH kept from
     /// frame to frame, and that BVH flattened.
     deforming: HashMap<usize, Skinned>,
@@ -85,8 +92,26 @@ impl Updater {
     /// The updater of `scene` at animation `time`, posed around `origin`, with its first
     /// generation flattened (see [`Updater::flattened`]: what a new tracer uploads).
     pub fn new(scene: Scene, time: f32, origin: DVec3) -> Result<Updater> {
+        Updater::with_merge(scene, time, origin, true)
+    }
+
+    /// The same, with the objects that never move merged into one bottom level or not
+    /// (`merge_static`: each keeps its instance).
+    pub fn with_merge(
+        scene: Scene,
+        time: f32,
+        origin: DVec3,
+        merge_static: bool,
+    ) -> Result<Updater> {
+        let merge = if merge_static {
+            StaticMerge::of_scene(&scene)
+        } else {
+            StaticMerge::none()
+        };
         let mut updater = Updater {
             structure: Structure::of(&scene),
+            merge,
+            merged_bvh: None,
             scene,
             origin: FloatingOrigin {
                 origin,
@@ -141,7 +166,10 @@ impl Updater {
         let added = self.structure.admit(&edit)?;
         match edit {
             Edit::Time(t) => self.time = t,
-            Edit::Placement { node, placement } => placement.place(&mut self.scene.nodes[node]),
+            Edit::Placement { node, placement } => {
+                placement.place(&mut self.scene.nodes[node]);
+                self.split_out_moved(node);
+            }
             Edit::AddInstance { mesh, placement } => {
                 let mut node = Node::new(format!("instance of mesh {mesh}"));
                 node.mesh = Some(mesh);
@@ -149,6 +177,7 @@ impl Updater {
                 self.scene.nodes.push(node);
             }
             Edit::RemoveInstance(node) => {
+                self.merge.split_out(node);
                 let n = &mut self.scene.nodes[node];
                 n.mesh = None;
                 n.skin = None;
@@ -172,6 +201,21 @@ impl Updater {
         }
         self.edited = true;
         Ok(added)
+    }
+
+    /// `node` moved: it and every node under it leave the merged static geometry.
+    fn split_out_moved(&mut self, node: usize) {
+        let mut moved = vec![false; self.scene.nodes.len()];
+        moved[node] = true;
+        // Parents come before their children.
+        for i in node + 1..self.scene.nodes.len() {
+            if let Some(p) = self.scene.nodes[i].parent {
+                moved[i] = moved[p];
+            }
+        }
+        for (i, _) in moved.iter().enumerate().filter(|(_, &m)| m) {
+            self.merge.split_out(i);
+        }
     }
 
     /// Makes the next generation from the scene as edited so far. When every posed mesh keeps
@@ -199,11 +243,14 @@ impl Updater {
         let begin = Instant::now();
         let start = Instant::now();
         let posed = self.scene.pose_around(self.time, self.origin.origin);
+        let merges = self.merge.rebuilds();
+        let posed = self.merge.apply(&self.scene, posed);
         times.pose = start.elapsed();
 
         let start = Instant::now();
         let meshes = used_meshes(&posed);
-        let levels = self.bottom_levels(&posed, &meshes);
+        let mut levels = self.bottom_levels(&posed, &meshes);
+        levels.rebuilt += self.merge.rebuilds() - merges;
         times.bottom_level = start.elapsed();
 
         let start = Instant::now();
@@ -213,6 +260,7 @@ impl Updater {
             .map(|b| match b {
                 Level::Static(i) => &self.static_bvhs[i],
                 Level::Skinned(node) => &self.deforming[node].flat,
+                Level::Merged => &self.merged_bvh.as_ref().expect("built with the level").1,
                 Level::Empty => &EMPTY,
             })
             .collect();
@@ -293,9 +341,10 @@ impl Updater {
         let node_of: HashMap<usize, usize> = posed
             .instances
             .iter()
-            .filter(|i| i.mesh >= base)
+            .filter(|i| i.mesh >= base && i.node != MERGED_NODE)
             .map(|i| (i.mesh, i.node))
             .collect();
+        let merged = self.merge.mesh();
         let mut levels = Levels::default();
         // Skinned meshes whose pose changed, taken out of the map to refit in parallel.
         let mut changed: Vec<(usize, usize, Option<Skinned>)> = Vec::new();
@@ -303,6 +352,21 @@ impl Updater {
             if mesh.indices.is_empty() {
                 levels.bvhs.push(Level::Empty);
                 levels.capacity.push(0);
+            } else if merged.is_some_and(|m| Arc::ptr_eq(m, mesh)) {
+                // The merged static geometry: its BVH is built once per merge.
+                let fresh = self
+                    .merged_bvh
+                    .as_ref()
+                    .is_some_and(|(m, _)| Arc::ptr_eq(m, mesh));
+                if !fresh {
+                    self.merged_bvh = Some((mesh.clone(), build_mesh_bvh(mesh)));
+                    // Built again (a split, or render space moved): its region is rewritten
+                    // whole when the layout stays.
+                    levels.deformed.push((i, MERGED_NODE, true));
+                }
+                let flat = &self.merged_bvh.as_ref().expect("just built").1;
+                levels.capacity.push(flat.nodes.len());
+                levels.bvhs.push(Level::Merged);
             } else if let Some(&node) = node_of.get(&i) {
                 match self.deforming.get(&node) {
                     // The same pose as last time (time and joints unchanged): nothing to do.
@@ -386,6 +450,8 @@ enum Level {
     Static(usize),
     /// Posed by this node.
     Skinned(usize),
+    /// The merged static geometry (`Updater::merged_bvh`).
+    Merged,
 }
 
 struct Skinned {
@@ -457,12 +523,19 @@ mod tests {
     use crate::flatten::commit::MESH_ARRAYS;
     use crate::scene::Placement;
 
+    /// The Cornell box with an instance per node: these tests follow instances; the merged
+    /// static geometry has tests of its own (and tests/drive/living.rs).
     fn cornell() -> Updater {
-        Updater::new(crate::scene::cornell::scene(), 0.0, DVec3::ZERO).unwrap()
+        Updater::with_merge(crate::scene::cornell::scene(), 0.0, DVec3::ZERO, false).unwrap()
     }
 
     #[test]
     fn the_first_generation_is_a_fresh_build_and_an_unchanged_one_commits_nothing() {
+        let merged = Updater::new(crate::scene::cornell::scene(), 0.0, DVec3::ZERO).unwrap();
+        let scene = merged.scene();
+        let levels = StaticMerge::of_scene(scene).apply(scene, scene.pose(0.0));
+        let fresh = GpuScene::build(scene, &levels, None).unwrap();
+        assert_eq!(fresh.array_bytes(), merged.flattened().array_bytes());
         let mut u = cornell();
         let fresh = GpuScene::build(u.scene(), &u.scene().pose(0.0), None).unwrap();
         assert_eq!(fresh.array_bytes(), u.flattened().array_bytes());
@@ -480,7 +553,7 @@ mod tests {
         for n in scene.nodes.iter_mut().filter(|n| n.parent.is_none()) {
             n.translation += DVec3::new(1e7, 0.0, 0.0);
         }
-        let mut u = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
+        let mut u = Updater::with_merge(scene, 0.0, DVec3::ZERO, false).unwrap();
         let far = u.flattened().instances[0].object_to_world[0][3];
         assert_eq!(far, 1e7);
         u.apply(Edit::FollowCamera(DVec3::new(100.0, 0.0, 0.0)))

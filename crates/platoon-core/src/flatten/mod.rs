@@ -3,8 +3,8 @@
 //! from the core. One file per job: [`bvh`] and `geometry` (bottom and top levels),
 //! `materials` (and textures), `instances` (with their emissive triangles as lights),
 //! `lights` (punctual, environment, selection CDF), [`features`] (what the kernel compiles);
-//! [`refit`] keeps a deforming mesh's BVH from frame to frame; [`commit`] says what changed
-//! between two flattened scenes.
+//! [`refit`] keeps a deforming mesh's BVH from frame to frame; [`static_merge`] makes one mesh of
+//! the objects that never move; [`commit`] says what changed between two flattened scenes.
 
 pub mod arrays;
 pub mod bvh;
@@ -16,6 +16,7 @@ pub mod layout;
 mod lights;
 mod materials;
 pub mod refit;
+pub mod static_merge;
 
 pub use layout::*;
 pub use lights::selection_distribution;

@@ -58,6 +58,13 @@ pub struct FrameParams {
     /// Paths end at their second non-delta vertex: direct light and one diffuse bounce of
     /// indirect (Bikker's games; biased). Compiled in only when set.
     pub single_diffuse_bounce: bool,
+    /// Bikker's NOP, the last path not always completed: once every SIMD lane of a group has
+    /// started its pass's last sample, the group stops when the first lane finishes it, the
+    /// others' last paths ending where they are (biased low; saves the tail of the pass where
+    /// one long path keeps a group busy). The image then depends on which pixels share a SIMD
+    /// group (the device and the band's first line): one device, the trade-off tool. The
+    /// megakernel's; compiled in only when set.
+    pub cut_last_paths: bool,
     /// Next-event estimation by resampled importance sampling over this many candidate lights
     /// (Talbot et al. 2005; unbiased, no MIS with BSDF sampling). Compiled in only when set.
     pub ris_candidates: Option<u32>,
@@ -124,6 +131,7 @@ impl FrameParams {
             generic_kernel: false,
             deterministic_termination: false,
             single_diffuse_bounce: false,
+            cut_last_paths: false,
             ris_candidates: None,
             ris_mis: false,
             method: crate::method::Method::PathTracing,

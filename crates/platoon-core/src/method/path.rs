@@ -18,7 +18,10 @@ impl RenderMethod for PathTracing {
     fn describe(&self) -> String {
         "path tracing".into()
     }
-    fn validate(&self, _params: &FrameParams) -> Result<(), String> {
+    fn validate(&self, params: &FrameParams) -> Result<(), String> {
+        if params.cut_last_paths && params.kernel == PathKernel::Streaming {
+            return Err("cutting the last paths of a pass (NOP) is the megakernel's: the streaming kernels follow every path to its end".into());
+        }
         Ok(())
     }
     fn kernel_options(&self) -> Vec<KernelOption> {

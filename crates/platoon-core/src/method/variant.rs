@@ -79,6 +79,7 @@ impl KernelVariant {
                 "SINGLE_DIFFUSE_BOUNCE",
                 params.single_diffuse_bounce,
             ),
+            ("last-paths-cut", "LAST_PATH_CUT", params.cut_last_paths),
             ("ris-lights", "LIGHT_SELECT_RIS", ris),
             ("ris-mis", "RIS_MIS", ris && params.ris_mis),
         ];

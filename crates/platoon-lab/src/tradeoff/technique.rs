@@ -43,6 +43,10 @@ pub enum Technique {
     DeterministicTermination,
     /// Paths end at their second non-delta vertex (biased).
     SingleDiffuseBounce,
+    /// The streaming path tracer (Bikker's RR/SPT): the same estimator as MIS, other kernels.
+    Streaming,
+    /// Bikker's NOP: the last path of a pass not always completed (biased).
+    CutLastPaths,
     /// MIS with every effect compiled into the kernel, not only the scene's: the cost of not
     /// specialising (same image, other time).
     GenericKernel,
@@ -173,8 +177,8 @@ impl Technique {
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
-    /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `no-textures`, `no-normal-maps`, `opaque`,
-    /// `env-mean`.
+    /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `spt`, `nop`, `no-textures`,
+    /// `no-normal-maps`, `opaque`, `env-mean`.
     pub fn parse(s: &str) -> Result<Technique> {
         if let Some(effect) = Effect::parse(s.trim()) {
             return Ok(Technique::Without(effect));
@@ -204,6 +208,8 @@ impl Technique {
                 m => Technique::MisRis(m),
             },
             "single-bounce" => Technique::SingleDiffuseBounce,
+            "spt" => Technique::Streaming,
+            "nop" => Technique::CutLastPaths,
             "max-depth" => match number("max-depth")? {
                 0 => bail!("technique {s:?}: a path needs at least one segment"),
                 n => Technique::MaxDepth(n),
@@ -224,7 +230,8 @@ impl Technique {
             _ => bail!(
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
-                 generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, no-textures, no-normal-maps, opaque, \
+                 generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
+                 no-normal-maps, opaque, \
                  env-mean, igi=N[+boxes][+downK][+interMxN][+minD]"
             ),
         })
@@ -239,6 +246,7 @@ impl Technique {
                 | Technique::Without(_)
                 | Technique::DeterministicTermination
                 | Technique::SingleDiffuseBounce
+                | Technique::CutLastPaths
                 | Technique::Igi(_)
         )
     }
@@ -278,6 +286,13 @@ impl Technique {
                 params.ris_mis = true;
             }
             Technique::SingleDiffuseBounce => params.single_diffuse_bounce = true,
+            Technique::Streaming => {
+                params.kernel = platoon_core::method::path::PathKernel::Streaming
+            }
+            Technique::CutLastPaths => {
+                params.kernel = platoon_core::method::path::PathKernel::Mega;
+                params.cut_last_paths = true;
+            }
             Technique::Igi(t) => params.method = platoon_core::Method::Igi(t.options()),
             // Its change is to the scene (`effect`).
             Technique::Without(_) => {}
@@ -304,6 +319,8 @@ impl fmt::Display for Technique {
             Technique::Ris(m) => write!(f, "ris={m}"),
             Technique::MisRis(m) => write!(f, "mis-ris={m}"),
             Technique::SingleDiffuseBounce => write!(f, "single-bounce"),
+            Technique::Streaming => write!(f, "spt"),
+            Technique::CutLastPaths => write!(f, "nop"),
             Technique::Without(e) => write!(f, "{}", e.name()),
             Technique::Igi(t) => write!(f, "{t}"),
         }
@@ -330,6 +347,8 @@ mod tests {
             Technique::GenericKernel,
             Technique::DeterministicTermination,
             Technique::SingleDiffuseBounce,
+            Technique::Streaming,
+            Technique::CutLastPaths,
             Technique::Ris(8),
             Technique::MisRis(4),
             Technique::Without(Effect::Textures),
