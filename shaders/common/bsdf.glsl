@@ -6,6 +6,8 @@
 // GGX with height-correlated Smith G2; visible normals sampled by spherical caps (Dupuy & Benyoub 2023).
 // Roughness below MIN_ROUGHNESS makes the specular lobes perfect (delta) mirrors and refractors.
 // All vectors are in the local shading frame, n = +z on the front (outside) side.
+// Without HAS_SPECULAR_LOBES (every material Lambertian: no metal, specular layer or glass) the
+// GGX code is compiled out; the terms it would add are exactly zero, so the image keeps its bits.
 
 const float MIN_ROUGHNESS = 0.01;
 
@@ -93,9 +95,13 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
     float f0 = (s.ior - 1.0) / (s.ior + 1.0);
     b.f0 = min(vec3(f0 * f0) * s.specular_color, vec3(1.0));
     b.w = vec3((1.0 - s.metallic) * (1.0 - s.transmission), (1.0 - s.metallic) * s.transmission, s.metallic);
+#ifdef HAS_SPECULAR_LOBES
     float c = abs(wo.z);
     float fs = s.specular * max3(schlick(b.f0, c));
     vec4 p = vec4(b.w.x * (1.0 - fs) * luminance(s.base_color), b.w.x * fs, b.w.z * luminance(schlick(s.base_color, c)), b.w.y);
+#else
+    vec4 p = vec4(b.w.x * luminance(s.base_color), 0.0, 0.0, 0.0);
+#endif
     float sum = p.x + p.y + p.z + p.w;
     b.p = sum > 0.0 ? p / sum : vec4(0.0);
     return b;
@@ -124,6 +130,7 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
     if (wo.z * wi.z > 0.0) {
         vec3 o = wo.z < 0.0 ? -wo : wo;
         vec3 i = wo.z < 0.0 ? -wi : wi;
+#ifdef HAS_SPECULAR_LOBES
         vec3 h = normalize(o + i);
         float oh = dot(o, h);
         vec3 fr = schlick(b.f0, oh);
@@ -134,6 +141,11 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
             f += (b.w.x * b.specular * fr + b.w.z * schlick(b.base_color, oh)) * spec;
             pdf += (b.p.y + b.p.z) * ggx_vndf_pdf(b.alpha, o, h) / (4.0 * oh);
         }
+#else
+        // diffuse_reflectance with a specular layer of zero: w.x * (1 - 0) * base colour.
+        f += b.w.x * b.base_color * INV_PI * i.z;
+        pdf += b.p.x * i.z * INV_PI;
+#endif
     }
 #ifdef HAS_TRANSMISSION
     if (b.w.y > 0.0 && !b.delta) {
@@ -177,7 +189,9 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
     vec3 o = wo * side;
     if (ul < b.p.x) {
         bs.wi = sample_cosine_hemisphere(u) * vec3(1.0, 1.0, side);
-    } else if (ul < b.p.x + b.p.y + b.p.z) {
+    }
+#ifdef HAS_SPECULAR_LOBES
+    else if (ul < b.p.x + b.p.y + b.p.z) {
         if (b.delta) {
             bool metal = ul >= b.p.x + b.p.y;
             vec3 fr = metal ? b.w.z * schlick(b.base_color, o.z) / b.p.z
@@ -191,7 +205,9 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
         vec3 i = reflect(-o, h);
         if (i.z <= 0.0) return false;
         bs.wi = i * vec3(1.0, 1.0, side);
-    } else {
+    }
+#endif
+    else {
 #ifdef HAS_TRANSMISSION
         if (b.p.w <= 0.0) return false;
         vec3 h = b.delta ? vec3(0.0, 0.0, 1.0) : ggx_sample_vndf(b.alpha, wo, u);

@@ -93,13 +93,20 @@ fn each_scene_gets_the_kernel_its_features_call_for() {
         platoon::core::scene::cornell::scene(),
         platoon::EnvChoice::Scene,
     );
-    assert_eq!(cesium.gpu.features.defines(), ["HAS_TEXTURES"]);
+    assert_eq!(
+        cesium.gpu.features.defines(),
+        ["HAS_SPECULAR_LOBES", "HAS_TEXTURES"]
+    );
     assert_eq!(
         cesium_env.gpu.features.defines(),
-        ["HAS_TEXTURES", "HAS_ENVIRONMENT_MAP"]
+        ["HAS_SPECULAR_LOBES", "HAS_TEXTURES", "HAS_ENVIRONMENT_MAP"]
     );
-    assert!(ufo.gpu.features.defines().is_empty());
-    assert_eq!(teapot_env.gpu.features.defines(), ["HAS_ENVIRONMENT_MAP"]);
+    assert_eq!(ufo.gpu.features.defines(), ["HAS_SPECULAR_LOBES"]);
+    assert_eq!(
+        teapot_env.gpu.features.defines(),
+        ["HAS_SPECULAR_LOBES", "HAS_ENVIRONMENT_MAP"]
+    );
+    // Lambertian walls (KHR_materials_specular factor 0): no GGX code.
     assert_eq!(cornell.gpu.features.defines(), ["HAS_EMISSIVE_TRIANGLES"]);
     let labels: std::collections::HashSet<String> =
         [&cesium, &cesium_env, &ufo, &teapot_env, &cornell]
@@ -117,7 +124,11 @@ fn each_scene_gets_the_kernel_its_features_call_for() {
     assert_eq!(distinct.len(), 5);
     assert!(
         spirv[2].len() < spirv[1].len(),
-        "the featureless kernel is not smaller"
+        "the kernel with fewer features is not smaller"
+    );
+    assert!(
+        spirv[4].len() < spirv[2].len(),
+        "the Lambertian kernel is not smaller"
     );
 }
 

@@ -8,6 +8,9 @@ use crate::scene::{AlphaMode, Scene};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct SceneFeatures {
+    /// Some used material reflects specularly (a metal, a dielectric's specular layer, glass):
+    /// without, every surface is Lambertian and the kernel has no GGX code.
+    pub specular_lobes: bool,
     pub textures: bool,
     pub normal_maps: bool,
     pub transmission: bool,
@@ -45,6 +48,10 @@ impl SceneFeatures {
                 .collect()
         };
         SceneFeatures {
+            // A texture only scales its factor: a zero factor stays zero.
+            specular_lobes: used
+                .iter()
+                .any(|m| m.metallic > 0.0 || m.specular > 0.0 || m.transmission > 0.0),
             textures: used.iter().any(|m| m.textures().next().is_some()),
             normal_maps: used.iter().any(|m| m.normal_texture.is_some()),
             transmission: used.iter().any(|m| m.transmission > 0.0),
@@ -69,6 +76,7 @@ impl SceneFeatures {
     /// extras, which only a scene with colours or a second UV set has.
     pub fn generic(self) -> SceneFeatures {
         SceneFeatures {
+            specular_lobes: true,
             textures: true,
             normal_maps: true,
             transmission: true,
@@ -84,8 +92,9 @@ impl SceneFeatures {
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 11] {
+    pub(crate) fn options(&self) -> [KernelOption; 12] {
         [
+            ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
             ("transmission", "HAS_TRANSMISSION", self.transmission),
@@ -147,4 +156,47 @@ pub fn write_labels(f: &mut fmt::Formatter<'_>, chosen: &[(&str, &str)]) -> fmt:
     }
     let labels: Vec<&str> = chosen.iter().map(|e| e.0).collect();
     write!(f, "{}", labels.join(","))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Material, Mesh, Node};
+    use std::sync::Arc;
+
+    fn with_material(m: Material) -> Scene {
+        let mut node = Node::new("n");
+        node.mesh = Some(0);
+        Scene {
+            nodes: vec![node],
+            meshes: vec![Arc::new(Mesh {
+                triangle_materials: vec![0],
+                indices: vec![[0, 1, 2]],
+                ..Default::default()
+            })],
+            materials: vec![m],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn only_lambertian_scenes_go_without_specular_lobes() {
+        let lambert = crate::scene::cornell::lambertian("white", glam::Vec3::splat(0.7));
+        assert!(!SceneFeatures::of_scene(&with_material(lambert.clone())).specular_lobes);
+        // The glTF default (a dielectric with its specular layer), a metal, glass.
+        assert!(SceneFeatures::of_scene(&with_material(Material::default())).specular_lobes);
+        for m in [
+            Material {
+                metallic: 0.3,
+                ..lambert.clone()
+            },
+            Material {
+                transmission: 1.0,
+                ..lambert.clone()
+            },
+        ] {
+            assert!(SceneFeatures::of_scene(&with_material(m)).specular_lobes);
+        }
+        assert!(SceneFeatures::default().generic().specular_lobes);
+    }
 }
