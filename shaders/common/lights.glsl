@@ -34,6 +34,12 @@ vec3 triangle_emission(Surface s, vec3 dir) {
 // Radiance of the emissive triangle of light l at barycentrics b (front normal nl), seen along
 // dir: the point shaded as a surface, for textured and one-sided emission.
 vec3 triangle_light_radiance(Light l, vec3 b, vec3 nl, vec3 dir) {
+#if !defined(HAS_EMISSIVE_TEXTURES) && !defined(HAS_ALPHA_TEST)
+    // No emitter is textured or partly transparent: each emits its factor all over, kept in
+    // the light itself (b.w: double-sided), with no fetch of its triangle and material.
+    if (l.b.w == 0.0 && dot(nl, dir) >= 0.0) return vec3(0.0);
+    return l.emission.rgb;
+#else
     Surface s;
     Triangle T = triangle_at(l.ids.z);
     Material m = material_at(T.material);
@@ -47,6 +53,7 @@ vec3 triangle_light_radiance(Light l, vec3 b, vec3 nl, vec3 dir) {
     return material_coverage(m, s.attr) * triangle_emission(s, dir);
 #else
     return triangle_emission(s, dir);
+#endif
 #endif
 }
 

@@ -34,7 +34,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Ma
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Textures { Texture v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Lights { Light v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Accum { vec4 v[]; };
-// stats: [0] rejected (NaN/Inf) samples, [1..3] unused, [4 + y] rays traced in row y
+// stats: [0] rejected (NaN/Inf) samples, [1] pixels whose megakernel pass was cut short by the
+// device's loop limit (path/pathtrace.comp), [2..3] unused, [4 + y] rays traced in row y
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer Stats { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Globals {
     Vertices vertices;

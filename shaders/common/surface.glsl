@@ -52,17 +52,29 @@ void apply_material(inout Surface s, Material m) {
     s.unlit = (m.textures1.w & MATERIAL_UNLIT) != 0;
 #endif
 #ifdef HAS_TEXTURES
+    // Only the slots some material of the scene fills are compiled in (features.rs): on
+    // llvmpipe an empty slot's fetch still runs, masked, at every shading point.
     VertexAttributes a = s.attr;
+#ifdef HAS_BASE_COLOR_TEXTURES
     if (m.textures0.x >= 0) s.base_color *= sample_texture(m.textures0.x, slot_uv(m, TEXTURE_SLOT_BASE_COLOR, a), true).rgb;
+#endif
+#ifdef HAS_METALLIC_ROUGHNESS_TEXTURES
     if (m.textures0.y >= 0) {
         vec4 mr = sample_texture(m.textures0.y, slot_uv(m, TEXTURE_SLOT_METALLIC_ROUGHNESS, a), false);
         s.roughness *= mr.g;
         s.metallic *= mr.b;
     }
+#endif
+#ifdef HAS_EMISSIVE_TEXTURES
     if (m.textures0.w >= 0) s.emission *= sample_texture(m.textures0.w, slot_uv(m, TEXTURE_SLOT_EMISSIVE, a), true).rgb;
+#endif
+#ifdef HAS_SPECULAR_TEXTURES
     if (m.textures1.x >= 0) s.specular *= sample_texture(m.textures1.x, slot_uv(m, TEXTURE_SLOT_SPECULAR, a), false).a;
     if (m.textures1.y >= 0) s.specular_color *= sample_texture(m.textures1.y, slot_uv(m, TEXTURE_SLOT_SPECULAR_COLOR, a), true).rgb;
+#endif
+#ifdef HAS_TRANSMISSION_TEXTURES
     if (m.textures1.z >= 0) s.transmission *= sample_texture(m.textures1.z, slot_uv(m, TEXTURE_SLOT_TRANSMISSION, a), false).r;
+#endif
 #endif
 #ifndef HAS_TRANSMISSION
     s.transmission = 0.0;

@@ -90,7 +90,7 @@ vec2 slot_uv(Material m, int slot, VertexAttributes a) {
 // Alpha: the base colour's times its texture's and the vertex colour's.
 float material_alpha(Material m, VertexAttributes a) {
     float alpha = m.base_color.a * a.color.a;
-#ifdef HAS_TEXTURES
+#ifdef HAS_BASE_COLOR_TEXTURES
     if (m.textures0.x >= 0) alpha *= sample_texture(m.textures0.x, slot_uv(m, TEXTURE_SLOT_BASE_COLOR, a), true).a;
 #endif
     return alpha;

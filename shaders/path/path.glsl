@@ -13,6 +13,12 @@
 //   void hook_bsdf_sampled(inout Path p, Bsdf bsdf, vec3 wo, BsdfSample bs);
 //       after the vertex's BSDF sample weighed the throughput, before roulette.
 
+// The megakernel's push words (PathPasses::push_words in crates/platoon-tracer/src/method/path.rs):
+// how many turns the loop-limit canary takes (2).
+uint loop_canary() { return pc.method_words[0]; }
+// stats[STAT_CUT_SHORT]: pixels whose pass the megakernel could not finish (scene.glsl's Stats).
+const uint STAT_CUT_SHORT = 1u;
+
 // Weight of emission found by a BSDF-sampled ray, against the NEE pdf of the same light.
 float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
     if (after_delta) return 1.0;

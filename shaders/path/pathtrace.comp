@@ -25,6 +25,17 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #include "path/bsdf_probe.glsl"
 #endif
 
+// llvmpipe ends every loop of a shader invocation (of a SIMD group) once they have run 65535
+// iterations in all (Mesa's LP_MAX_TGSI_LOOP_ITERATIONS), silently: a megakernel pass of many
+// long paths through a big scene runs past it and its traversals stop short. Past the limit
+// each loop runs its body once and leaves, so a loop that must run twice tells (the bound is a
+// push word, which the compiler cannot fold).
+bool loop_limit_reached() {
+    uint turns = 0u;
+    while (turns < loop_canary()) turns++;
+    return turns != loop_canary();
+}
+
 void main() {
     load_frame_constants();
     uvec2 pixel;
@@ -50,6 +61,13 @@ void main() {
     sum = bsdf_probe(pixel);
 #else
     sum = pixel_samples(pixel, pc.g.accum.v[index].xyz, rays, rejected);
+    if (loop_limit_reached()) {
+        // The pass's samples were cut short: the pixel keeps its sums, flagged (w = 1) for the
+        // streaming kernels to render them (crates/platoon-tracer/src/method/path.rs).
+        pc.g.accum.v[index] = vec4(pc.g.accum.v[index].xyz, 1.0);
+        atomicAdd(pc.g.stats.v[STAT_CUT_SHORT], 1u);
+        return;
+    }
 #endif
     pc.g.accum.v[index] = vec4(sum, 0.0);
     if (rejected > 0u) atomicAdd(pc.g.stats.v[0], rejected);

@@ -225,7 +225,10 @@ fn info_prints_counts_and_features() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success());
     assert!(text.contains("4672"), "{text}");
-    assert!(text.contains("features:     specular-lobes,textures"), "{text}");
+    assert!(
+        text.contains("features:     specular-lobes,textures,base-color-textures"),
+        "{text}"
+    );
     assert!(text.contains("-DHAS_TEXTURES"), "{text}");
     assert!(
         text.contains("memory:       texel buffers for all 16"),

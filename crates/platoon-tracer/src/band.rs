@@ -234,10 +234,17 @@ impl Tracer {
             ris_candidates: params.ris_candidates.unwrap_or(1),
             method: method.push_words(params),
         };
+        let Some((_, _, _, stats_buffer, _)) = self.frame_buffers.as_mut() else {
+            unreachable!("frame buffers were just created")
+        };
         let mut rec = Recorder {
             params,
             gpu: &mut self.gpu,
             kernels,
+            defines,
+            scene,
+            stats: stats_buffer,
+            fallbacks: 0,
         };
         band.gpu_time += method.begin_band(&mut rec, &push)?;
 
@@ -269,6 +276,7 @@ impl Tracer {
             }
         }
         band.samples = begin;
+        band.kernel_fallbacks = rec.fallbacks;
 
         self.gpu.submit(|d, cb| unsafe {
             let barrier = vk::MemoryBarrier::default()

@@ -38,7 +38,7 @@ pub(crate) struct Gpu {
 }
 
 /// Storage-buffer bindings of the method set (set 1).
-pub(crate) const METHOD_BINDINGS: u32 = 5;
+pub(crate) const METHOD_BINDINGS: u32 = 6;
 
 impl Gpu {
     pub fn new(ctx: Context) -> Result<Gpu> {

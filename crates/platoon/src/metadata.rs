@@ -78,6 +78,10 @@ pub fn metadata(
         ("features".into(), features.to_string()),
         ("kernel_defines".into(), rendered.kernel_defines.join(",")),
         ("path_kernel".into(), path_kernel(params.kernel)),
+        (
+            "kernel_fallbacks".into(),
+            rendered.kernel_fallbacks.to_string(),
+        ),
         ("sampling".into(), sampling.into()),
         ("method".into(), method(params)),
         ("environment".into(), prepared.env_label.clone()),

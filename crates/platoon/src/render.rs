@@ -22,6 +22,9 @@ pub struct Rendered {
     pub gpu_time: Duration,
     pub rays: u64,
     pub rejected_samples: u64,
+    /// Megakernel passes the device cut short and the streaming kernels finished
+    /// (`Band::kernel_fallbacks`: llvmpipe's loop limit on big scenes; the image is the same).
+    pub kernel_fallbacks: u32,
     /// The devices, comma-separated.
     pub device: String,
     pub kernel_defines: Vec<&'static str>,
@@ -72,6 +75,7 @@ pub fn render_bands(
         gpu_time: out.iter().map(|b| b.gpu_time).sum(),
         rays: out.iter().map(|b| b.rays).sum(),
         rejected_samples: out.iter().map(|b| b.rejected_samples).sum(),
+        kernel_fallbacks: out.iter().map(|b| b.kernel_fallbacks).sum(),
         device: tracer.device_info().name.clone(),
         kernel_defines: tracer.kernel_defines(params),
         tracers: Vec::new(),
@@ -118,6 +122,7 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         gpu_time: frame.tracers.iter().map(|t| t.gpu_time).sum(),
         rays: frame.tracers.iter().map(|t| t.rays).sum(),
         rejected_samples: frame.rejected_samples,
+        kernel_fallbacks: frame.kernel_fallbacks,
         device: names.join(", "),
         kernel_defines: defines,
         spp: params.spp,

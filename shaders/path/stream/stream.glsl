@@ -11,6 +11,8 @@
 //   shade.comp       each live slot's vertex: emission, BSDF sample, NEE (queues a shadow ray);
 //                    an ended slot joins the ended queue;
 //   connect.comp     each queued shadow ray: adds its light when nothing blocks it.
+// listed.comp lists the pixels whose megakernel pass was cut short by the device's loop limit
+// (path/pathtrace.comp flags them), for a pass of these kernels over them alone.
 // The estimator and random numbers are the megakernel's (path/path.glsl: path_shade): the two
 // render the same image. Buffers: set 1, owned by crates/platoon-tracer/src/method/stream.rs.
 
@@ -51,11 +53,13 @@ layout(std430, set = 1, binding = 4) buffer SptControl {
     uint shadow_count;      // shadow rays for connect
     uint next_cell;         // the band's next unclaimed pixel
     uint iterations;        // iterations that found live slots (what the host reads)
-    uint pad0;
+    uint listed;            // pixels listed by listed.comp
     uint pad1;
     uint pad2;
     uint pad3;
 } ctl;
+// The pixels of a listed pass (listed.comp): those the megakernel could not finish.
+layout(std430, set = 1, binding = 5) buffer SptListed { uint listed_pixels[]; };
 
 // Push words (pc.method_words, method/stream.rs).
 uint slot_count() { return pc.method_words[0]; }
@@ -66,6 +70,8 @@ uint cell_count() { return pc.method_words[1]; }
 uint queue_step() { return pc.method_words[2]; }
 // Regeneration over every slot (a pass's first iteration) instead of the ended queue.
 bool regenerate_all() { return pc.method_words[3] != 0u; }
+// The pass's pixels are the listed ones (cell c: listed_pixels[c]) instead of the band's.
+bool listed_pass() { return pc.method_words[4] != 0u; }
 
 uint live_queue() { return 0u; }
 uint ended_queue() { return slot_count(); }
@@ -73,10 +79,15 @@ uint ended_queue() { return slot_count(); }
 const uint STREAM_GROUP = 64u;
 
 // The pixel index of band cell c.
-uint cell_pixel(uint c) {
+uint band_cell_pixel(uint c) {
     if (pc.stride == 1u) return pc.pixel_begin + c;
     uint width = F.dims.x;
     return (pc.y0 + (c / width) * pc.stride) * width + c % width;
+}
+
+// The pixel of the pass's cell c.
+uint cell_pixel(uint c) {
+    return listed_pass() ? listed_pixels[c] : band_cell_pixel(c);
 }
 
 uint slot_state(SptSlot s) { return s.info.x & 3u; }

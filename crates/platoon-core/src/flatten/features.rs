@@ -11,7 +11,15 @@ pub struct SceneFeatures {
     /// Some used material reflects specularly (a metal, a dielectric's specular layer, glass):
     /// without, every surface is Lambertian and the kernel has no GGX code.
     pub specular_lobes: bool,
+    /// Some used material has a texture; then which of its slots are read (a slot no material
+    /// fills costs a masked texture fetch per shading point on llvmpipe, so it is compiled out).
     pub textures: bool,
+    pub base_color_textures: bool,
+    pub metallic_roughness_textures: bool,
+    pub emissive_textures: bool,
+    /// KHR_materials_specular's specular or specular colour texture.
+    pub specular_textures: bool,
+    pub transmission_textures: bool,
     pub normal_maps: bool,
     pub transmission: bool,
     pub alpha_mask: bool,
@@ -53,6 +61,15 @@ impl SceneFeatures {
                 .iter()
                 .any(|m| m.metallic > 0.0 || m.specular > 0.0 || m.transmission > 0.0),
             textures: used.iter().any(|m| m.textures().next().is_some()),
+            base_color_textures: used.iter().any(|m| m.base_color_texture.is_some()),
+            metallic_roughness_textures: used
+                .iter()
+                .any(|m| m.metallic_roughness_texture.is_some()),
+            emissive_textures: used.iter().any(|m| m.emissive_texture.is_some()),
+            specular_textures: used
+                .iter()
+                .any(|m| m.specular_texture.is_some() || m.specular_color_texture.is_some()),
+            transmission_textures: used.iter().any(|m| m.transmission_texture.is_some()),
             normal_maps: used.iter().any(|m| m.normal_texture.is_some()),
             transmission: used.iter().any(|m| m.transmission > 0.0),
             alpha_mask: used
@@ -78,6 +95,11 @@ impl SceneFeatures {
         SceneFeatures {
             specular_lobes: true,
             textures: true,
+            base_color_textures: true,
+            metallic_roughness_textures: true,
+            emissive_textures: true,
+            specular_textures: true,
+            transmission_textures: true,
             normal_maps: true,
             transmission: true,
             alpha_mask: true,
@@ -92,10 +114,35 @@ impl SceneFeatures {
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 12] {
+    pub(crate) fn options(&self) -> [KernelOption; 17] {
         [
             ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
+            (
+                "base-color-textures",
+                "HAS_BASE_COLOR_TEXTURES",
+                self.base_color_textures,
+            ),
+            (
+                "metallic-roughness-textures",
+                "HAS_METALLIC_ROUGHNESS_TEXTURES",
+                self.metallic_roughness_textures,
+            ),
+            (
+                "emissive-textures",
+                "HAS_EMISSIVE_TEXTURES",
+                self.emissive_textures,
+            ),
+            (
+                "specular-textures",
+                "HAS_SPECULAR_TEXTURES",
+                self.specular_textures,
+            ),
+            (
+                "transmission-textures",
+                "HAS_TRANSMISSION_TEXTURES",
+                self.transmission_textures,
+            ),
             ("normal-maps", "HAS_NORMAL_MAPS", self.normal_maps),
             ("transmission", "HAS_TRANSMISSION", self.transmission),
             ("alpha-mask", "HAS_ALPHA_MASK", self.alpha_mask),

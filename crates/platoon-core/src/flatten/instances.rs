@@ -57,7 +57,10 @@ pub(super) fn add(
             power.push(luminance(mat.emissive) as f64 * area as f64 * PI * sides);
             g.lights.push(GpuLight {
                 a: w[0].extend(facing).to_array(),
-                b: w[1].extend(0.0).to_array(),
+                // b.w: double-sided (the kernel's emission of an untextured emitter).
+                b: w[1]
+                    .extend(if mat.double_sided { 1.0 } else { 0.0 })
+                    .to_array(),
                 c: w[2].extend(0.0).to_array(),
                 emission: mat.emissive.extend(0.0).to_array(),
                 ids: [LIGHT_TRIANGLE, new_index as u32, t as u32, material],

@@ -206,6 +206,10 @@ pub struct Band {
     pub line_rays: Vec<u64>,
     /// Samples whose radiance was NaN or Inf, zeroed by the kernel.
     pub rejected_samples: u64,
+    /// Passes the path tracer's megakernel ran past the device's loop limit on (llvmpipe ends
+    /// an invocation's loops after 65535 iterations in all); their pixels were rendered by the
+    /// streaming kernels, and the tracer's later passes too. The image is the same either way.
+    pub kernel_fallbacks: u32,
     /// What the method leaves per pixel of the span for its pass after assembly
     /// (`RenderMethod::finish`), in a layout of its own (IGI's filters: three vec4s a pixel);
     /// empty for methods without one.

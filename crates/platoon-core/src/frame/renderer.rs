@@ -49,6 +49,8 @@ pub struct FrameResult {
     pub failures: Vec<TracerFailure>,
     pub wall_time: Duration,
     pub rejected_samples: u64,
+    /// Megakernel passes finished by the streaming kernels (`Band::kernel_fallbacks`).
+    pub kernel_fallbacks: u32,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -340,6 +342,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             line_rays,
             idle_fraction: idle_fraction(&times),
             rejected_samples: done.iter().map(|b| b.rejected_samples).sum(),
+            kernel_fallbacks: done.iter().map(|b| b.kernel_fallbacks).sum(),
             tracers: stats,
             failures: new_failures,
             wall_time: start.elapsed(),

@@ -145,7 +145,7 @@ impl MethodPasses for IgiPasses {
 
     /// Shoots the frame's VPLs. (The next dispatch's barrier makes them visible to the gather.)
     fn begin_band(&mut self, rec: &mut Recorder, push: &Push) -> Result<Duration> {
-        let kernel = rec.kernel(EMIT);
+        let kernel = rec.kernel(EMIT)?;
         let groups = options(rec.params).paths.div_ceil(64);
         rec.gpu
             .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, push, (groups, 1)) })
@@ -155,7 +155,7 @@ impl MethodPasses for IgiPasses {
     /// submission.
     fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration> {
         let o = options(rec.params);
-        let (camera, gather) = (rec.kernel(CAMERA), rec.kernel(GATHER));
+        let (camera, gather) = (rec.kernel(CAMERA)?, rec.kernel(GATHER)?);
         let chunk = GATHER_CHUNK * o.subsets();
         let slots = o.slots();
         rec.gpu.timed(|d, cb| unsafe {

@@ -16,27 +16,48 @@ use ash::vk;
 use platoon_core::frame::{FrameParams, Span};
 use platoon_core::method::Method;
 
+use crate::buffer::GpuBuffer;
 use crate::dispatch::Dispatchable;
 use crate::globals::{Push, METHOD_WORDS};
 use crate::gpu::Gpu;
+use crate::memory::SceneDescriptors;
 use crate::Result;
 
 /// What a band's passes record with: the frame, the device, and the method's kernels in the
-/// render's variant, resolved once for the band (by entry file).
+/// render's variant, resolved once for the band (by entry file); a kernel of the variant not
+/// resolved is built when first asked for (a fallback's). The band's counters (`Stats` of
+/// shaders/common/scene.glsl), host-visible between submissions.
 pub(crate) struct Recorder<'a> {
     pub params: &'a FrameParams,
     pub gpu: &'a mut Gpu,
     pub kernels: Vec<(&'static str, Dispatchable)>,
+    pub defines: Vec<&'static str>,
+    pub scene: &'a SceneDescriptors,
+    pub stats: &'a mut GpuBuffer,
+    /// Passes a method could not finish in its own kernel and finished another way (the
+    /// megakernel past the device's loop limit): `Band::kernel_fallbacks`.
+    pub fallbacks: u32,
 }
 
 impl Recorder<'_> {
-    /// The kernel of the entry file `entry` (one of the method's `kernels`).
-    pub fn kernel(&self, entry: &str) -> Dispatchable {
-        self.kernels
-            .iter()
-            .find(|k| k.0 == entry)
-            .map(|k| k.1)
-            .expect("a kernel the method registers")
+    /// The kernel of the entry file `entry` in the render's variant.
+    pub fn kernel(&mut self, entry: &'static str) -> Result<Dispatchable> {
+        if let Some(k) = self.kernels.iter().find(|k| k.0 == entry) {
+            return Ok(k.1);
+        }
+        let k = self.gpu.kernel((entry, self.defines.clone()), self.scene)?;
+        self.kernels.push((entry, k));
+        Ok(k)
+    }
+
+    /// Word `i` of the band's counters (read after the submission that wrote it).
+    pub fn stat(&mut self, i: usize) -> u32 {
+        bytemuck::cast_slice::<u8, u32>(self.stats.mapped())[i]
+    }
+
+    /// Sets word `i` of the band's counters (before the next submission).
+    pub fn set_stat(&mut self, i: usize, value: u32) {
+        bytemuck::cast_slice_mut::<u8, u32>(self.stats.mapped())[i] = value;
     }
 }
 

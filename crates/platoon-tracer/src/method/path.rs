@@ -4,6 +4,7 @@
 
 use std::time::Duration;
 
+use ash::vk;
 use platoon_core::frame::{FrameParams, Output};
 use platoon_core::method::path::PathKernel;
 use platoon_core::{KernelVariant, SceneFeatures};
@@ -11,7 +12,7 @@ use platoon_core::{KernelVariant, SceneFeatures};
 use super::stream::{self, StreamPasses};
 use super::{MethodPasses, Recorder};
 use crate::dispatch::record_dispatch;
-use crate::globals::Push;
+use crate::globals::{Push, METHOD_WORDS};
 use crate::gpu::Gpu;
 use crate::kernel::{spirv, Sampling};
 use crate::Result;
@@ -21,7 +22,16 @@ const PATHTRACE: &str = "path/pathtrace.comp";
 #[derive(Default)]
 pub(crate) struct PathPasses {
     stream: StreamPasses,
+    /// A megakernel pass of this tracer ran past the loop limit: its later passes stream.
+    /// (Passes of a render resemble each other: one cut short predicts the next, and a pass
+    /// that streams from the start costs less than a megakernel pass streamed again.)
+    cut_short: bool,
 }
+
+/// Turns of the megakernel's loop-limit canary (path.glsl's loop_canary, push word 0).
+const CANARY_TURNS: u32 = 2;
+/// stats[STAT_CUT_SHORT] of path.glsl: pixels whose megakernel pass was cut short.
+const STAT_CUT_SHORT: usize = 1;
 
 /// The kernel `params` render with on a CPU device (`cpu`) or a GPU: the tests' outputs (one
 /// sample through each pixel's centre) are the megakernel's.
@@ -40,14 +50,48 @@ impl MethodPasses for PathPasses {
         }
     }
 
+    fn push_words(&self, _params: &FrameParams) -> [u32; METHOD_WORDS] {
+        let mut words = [0; METHOD_WORDS];
+        words[0] = CANARY_TURNS;
+        words
+    }
+
+    /// A megakernel pass, or a streaming one. Where the device cut megakernel invocations
+    /// short (llvmpipe's loop limit, path/pathtrace.comp), their pixels are flagged with their
+    /// sums untouched and streamed again: the image is the streaming kernels' (the same bits),
+    /// and the tracer's later passes stream from the start.
     fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration> {
-        if path_kernel(rec.params, rec.gpu.ctx.info.cpu) == PathKernel::Streaming {
+        let radiance = rec.params.output == Output::Radiance;
+        if path_kernel(rec.params, rec.gpu.ctx.info.cpu) == PathKernel::Streaming
+            || (self.cut_short && radiance)
+        {
             return self.stream.pass(rec, push);
         }
-        let kernel = rec.kernel(PATHTRACE);
+        let kernel = rec.kernel(PATHTRACE)?;
         // Earlier passes wrote the accumulation buffer: record_dispatch's barrier orders them.
-        rec.gpu
-            .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, push, groups) })
+        let time = rec.gpu.timed(|d, cb| unsafe {
+            record_dispatch(d, cb, kernel, push, groups);
+            let host = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ);
+            d.cmd_pipeline_barrier(
+                cb,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[host],
+                &[],
+                &[],
+            );
+        })?;
+        let cut = rec.stat(STAT_CUT_SHORT);
+        if cut == 0 {
+            return Ok(time);
+        }
+        rec.set_stat(STAT_CUT_SHORT, 0);
+        self.cut_short = true;
+        rec.fallbacks += 1;
+        Ok(time + self.stream.pass_listed(rec, push, cut)?)
     }
 
     fn destroy(&mut self, gpu: &mut Gpu) {

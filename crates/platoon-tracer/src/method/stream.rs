@@ -24,6 +24,7 @@ pub(crate) const QUEUE: &str = "path/stream/queue.comp";
 pub(crate) const EXTEND: &str = "path/stream/extend.comp";
 pub(crate) const SHADE: &str = "path/stream/shade.comp";
 pub(crate) const CONNECT: &str = "path/stream/connect.comp";
+pub(crate) const LISTED: &str = "path/stream/listed.comp";
 pub(crate) const KERNELS: [&str; 6] = [REGENERATE, COMPACT, QUEUE, EXTEND, SHADE, CONNECT];
 
 /// SptSlot, SptHit and SptShadow of shaders/path/stream/stream.glsl ("Must match GPU side"):
@@ -52,7 +53,8 @@ struct StreamControl {
     shadow_count: u32,
     next_cell: u32,
     iterations: u32,
-    _pad: [u32; 4],
+    listed: u32,
+    _pad: [u32; 3],
 }
 const _: () = assert!(std::mem::size_of::<StreamSlot>() == 80);
 const _: () = assert!(std::mem::size_of::<StreamHit>() == 32);
@@ -78,11 +80,12 @@ const STAGES: [&str; 7] = [
 const GROUP: u32 = 64;
 
 /// Push words (stream.glsl): slots, cells, the queue step, whether regeneration takes every
-/// slot.
+/// slot, whether the cells are the listed pixels.
 const SLOTS: usize = 0;
 const CELLS: usize = 1;
 const STEP: usize = 2;
 const ALL: usize = 3;
+const LIST: usize = 4;
 
 /// Paths in flight on a device: `TracerOptions::stream_slots`, else `PLATOON_STREAM_SLOTS`
 /// (measurements), else enough full SIMD groups for every core of a CPU, enough threads for a
@@ -105,14 +108,17 @@ fn max_slots(gpu: &Gpu) -> u32 {
 
 struct StreamBuffers {
     capacity: u32,
-    /// Slots, hits, shadow rays, the queues (live, ended), the control block (binding order).
-    buffers: [GpuBuffer; 5],
+    /// Pixels the listed-pixel buffer holds.
+    list_capacity: u32,
+    /// Slots, hits, shadow rays, the queues (live, ended), the control block, the listed
+    /// pixels (binding order).
+    buffers: [GpuBuffer; 6],
     pool: vk::DescriptorPool,
     set: vk::DescriptorSet,
 }
 
 impl StreamBuffers {
-    fn new(gpu: &mut Gpu, capacity: u32) -> Result<StreamBuffers> {
+    fn new(gpu: &mut Gpu, capacity: u32, list_capacity: u32) -> Result<StreamBuffers> {
         let n = capacity as u64;
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
         let sized = |size: usize| n * size as u64;
@@ -148,11 +154,18 @@ impl StreamBuffers {
                 storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
                 MemoryLocation::GpuToCpu,
             )?,
+            gpu.buffer(
+                "stream listed pixels",
+                list_capacity as u64 * 4,
+                storage,
+                MemoryLocation::GpuOnly,
+            )?,
         ];
         let handles = buffers.each_ref().map(|b| b.buffer);
         let (pool, set) = gpu.method_set(&handles)?;
         Ok(StreamBuffers {
             capacity,
+            list_capacity,
             buffers,
             pool,
             set,
@@ -181,22 +194,49 @@ pub(crate) struct StreamPasses {
 impl StreamPasses {
     /// The samples [push.sample_begin, push.sample_end) of every pixel of the band.
     pub fn pass(&mut self, rec: &mut Recorder, push: &Push) -> Result<Duration> {
-        let params: &FrameParams = rec.params;
-        let cells = if push.stride <= 1 {
-            push.pixel_end - push.pixel_begin
-        } else {
-            params.width * (push.y1 - push.y0).div_ceil(push.stride)
-        };
+        let cells = band_cells(rec.params, push);
+        self.run(rec, push, cells, None)
+    }
+
+    /// The same for the band's pixels the megakernel flagged (`flagged` of them): listed by
+    /// listed.comp first, then streamed alone.
+    pub fn pass_listed(
+        &mut self,
+        rec: &mut Recorder,
+        push: &Push,
+        flagged: u32,
+    ) -> Result<Duration> {
+        let cells = band_cells(rec.params, push);
+        self.run(rec, push, flagged, Some(cells))
+    }
+
+    /// Streams `cells` cells: the band's (`band` None), or the pixels listed from the band's
+    /// `band` cells.
+    fn run(
+        &mut self,
+        rec: &mut Recorder,
+        push: &Push,
+        cells: u32,
+        band: Option<u32>,
+    ) -> Result<Duration> {
         if cells == 0 {
             return Ok(Duration::ZERO);
         }
         let slots = cells.min(max_slots(rec.gpu));
-        if self.buffers.as_ref().is_none_or(|b| b.capacity < slots) {
+        let list = band.unwrap_or(0);
+        if self
+            .buffers
+            .as_ref()
+            .is_none_or(|b| b.capacity < slots || b.list_capacity < list)
+        {
             rec.gpu.wait_idle()?;
+            let (mut capacity, mut list_capacity) = (slots, list.max(1));
             if let Some(old) = self.buffers.take() {
+                capacity = capacity.max(old.capacity);
+                list_capacity = list_capacity.max(old.list_capacity);
                 old.destroy(rec.gpu);
             }
-            self.buffers = Some(StreamBuffers::new(rec.gpu, slots)?);
+            self.buffers = Some(StreamBuffers::new(rec.gpu, capacity, list_capacity)?);
         }
         let buffers = self.buffers.as_mut().expect("made above");
         let (slot_buffer, control, set) = (
@@ -204,12 +244,24 @@ impl StreamPasses {
             buffers.buffers[4].buffer,
             buffers.set,
         );
-        let k = |entry| rec.kernel(entry);
-        let (regenerate, compact, queue) = (k(REGENERATE), k(COMPACT), k(QUEUE));
-        let (extend, shade, connect) = (k(EXTEND), k(SHADE), k(CONNECT));
+        let (regenerate, compact, queue) = (
+            rec.kernel(REGENERATE)?,
+            rec.kernel(COMPACT)?,
+            rec.kernel(QUEUE)?,
+        );
+        let (extend, shade, connect) = (
+            rec.kernel(EXTEND)?,
+            rec.kernel(SHADE)?,
+            rec.kernel(CONNECT)?,
+        );
+        let listed = match band {
+            Some(_) => Some(rec.kernel(LISTED)?),
+            None => None,
+        };
         let mut words = *push;
         words.method[SLOTS] = slots;
         words.method[CELLS] = cells;
+        words.method[LIST] = band.is_some() as u32;
         // The push words of iteration j's dispatches: the kernels share them; the queue steps
         // add theirs.
         let iteration = |j: u32| {
@@ -259,8 +311,12 @@ impl StreamPasses {
                 &[],
             );
         };
-        // Every slot fresh, every counter zero.
-        rec.gpu.submit(|d, cb| unsafe {
+        // Every slot fresh, every counter zero; a listed pass lists its pixels first (over the
+        // band's cells, in range mode).
+        let mut list_words = words;
+        list_words.method[CELLS] = list;
+        list_words.method[LIST] = 0;
+        let mut time = rec.gpu.timed(|d, cb| unsafe {
             d.cmd_fill_buffer(cb, slot_buffer, 0, slots as u64 * 80, 0);
             d.cmd_fill_buffer(cb, control, 0, vk::WHOLE_SIZE, 0);
             let barrier = vk::MemoryBarrier::default()
@@ -275,6 +331,10 @@ impl StreamPasses {
                 &[],
                 &[],
             );
+            if let Some(listed) = listed {
+                bind(d, cb);
+                record_dispatch(d, cb, listed, &list_words, (list.div_ceil(GROUP), 1));
+            }
         })?;
 
         if std::env::var_os("PLATOON_STREAM_PROFILE").is_some() {
@@ -302,7 +362,6 @@ impl StreamPasses {
             return Ok(stage.iter().sum());
         }
 
-        let mut time = Duration::ZERO;
         let mut recorded = 0u32;
         let mut batch = 8u32;
         loop {
@@ -328,5 +387,15 @@ impl StreamPasses {
         if let Some(b) = self.buffers.take() {
             b.destroy(gpu);
         }
+    }
+}
+
+/// The band's cells: its pixels in range mode, whole lines of `width` in interleaved mode
+/// (stream.glsl's band_cell_pixel).
+fn band_cells(params: &FrameParams, push: &Push) -> u32 {
+    if push.stride <= 1 {
+        push.pixel_end - push.pixel_begin
+    } else {
+        params.width * (push.y1 - push.y0).div_ceil(push.stride)
     }
 }
