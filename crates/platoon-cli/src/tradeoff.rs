@@ -24,8 +24,9 @@ pub struct TradeoffArgs {
     spp_list: Vec<u32>,
     /// Techniques: mis, bsdf, light, max-depth=N, rr-depth=N, rr-survival=PERCENT,
     /// rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, generic-kernel, ris=M,
-    /// mis-ris=M, dpt,
-    /// single-bounce, no-textures, no-normal-maps, opaque, env-mean,
+    /// mis-ris=M, dpt, spt (the streaming kernels: Bikker's RR/SPT), nop (the last path of a
+    /// pass cut where its SIMD group stopped: biased), single-bounce, no-textures,
+    /// no-normal-maps, opaque, env-mean,
     /// igi=N[+boxes][+downK][+interMxN][+minD]. Default: mis,bsdf,light,max-depth=2,
     /// no-regeneration; with --method igi the IGI sweep.
     #[arg(long, value_delimiter = ',')]
