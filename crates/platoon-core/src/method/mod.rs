@@ -6,8 +6,10 @@
 //!
 //! - [`path`]: unidirectional path tracing, the default and the reference;
 //! - [`igi`]: instant global illumination (VPLs) with Marques and Santos' accelerations.
+//! - [`links`]: vertex links (Schmitz et al.), being built: the CPU parts so far.
 
 pub mod igi;
+pub mod links;
 pub mod path;
 pub mod path_kernel;
 pub mod registry;
