@@ -9,16 +9,18 @@
 //! This module holds the method's deterministic parts, which run on the CPU between the
 //! devices' shooting and the kernels' interpolation:
 //! - [`elements`]: a mesh's vertices welded into elements (seams joined, creases kept), with
-//!   their one-rings;
+//!   their one-rings; [`scene_elements`]: those of a flattened scene's instances, in render
+//!   space, and the element of a hit's corner;
 //! - [`directions`]: the n_C directions every element shoots, in the order rays are numbered;
 //! - [`reduce`]: the raw links of each element (ray order) summed per peer into compressed
 //!   link groups (CSR), in a fixed order whatever split shot them;
 //! - [`gather`]: the Jacobi gather of `n_B` bounces and the feature-preserving smoothing.
 //!
-//! Still to come (issue 22): elements of a prepared scene's instances, shooting on the devices, direct
+//! Still to come (issue 22): shooting on the devices, direct
 //! light at elements, the kernel's hook, `--method links`.
 
 pub mod directions;
 pub mod elements;
 pub mod gather;
 pub mod reduce;
+pub mod scene_elements;
