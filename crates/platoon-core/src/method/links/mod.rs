@@ -14,7 +14,8 @@
 //! - [`directions`]: the n_C directions every element shoots, in the order rays are numbered;
 //! - [`reduce`]: the raw links of each element (ray order) summed per peer into compressed
 //!   link groups (CSR), in a fixed order whatever split shot them;
-//! - [`gather`]: the Jacobi gather of `n_B` bounces and the feature-preserving smoothing.
+//! - [`gather`]: the Jacobi gather of `n_B` bounces and the feature-preserving smoothing;
+//! - [`shoot_cpu`]: link shooting through the CPU ray queries (the devices' oracle).
 //!
 //! Still to come (issue 22): shooting on the devices, direct
 //! light at elements, the kernel's hook, `--method links`.
@@ -24,3 +25,4 @@ pub mod elements;
 pub mod gather;
 pub mod reduce;
 pub mod scene_elements;
+pub mod shoot_cpu;

@@ -1,0 +1,251 @@
+//! Link shooting on the CPU, through the core's ray queries (`drive::queries`): the oracle the
+//! devices' shooting is held to, and a way to solve small scenes without a device. Each element
+//! shoots the fixed directions about its normal from just above its position (so no ray meets
+//! the element's own triangles at a distance of rounding error: a flat or convex one-ring lies
+//! below every direction), and a hit arriving at a surface from behind (its geometric normal
+//! turned to agree with its element normals) counts as a miss, as light from behind a surface
+//! does. A ray
+//! that meets one of the element's own triangles at a real distance (a coarse concave surface,
+//! whose faces rise above the averaged normal's tangent plane) links to its corners, the element
+//! itself included: that face's light is interpolated from them. (The brief's "skip hits on
+//! triangles that contain the origin vertex" would let such rays leave a closed room: inside an
+//! icosahedron 44% of 64 rays did.)
+
+use glam::Vec3;
+
+use super::reduce::RayHit;
+use super::scene_elements::SceneElements;
+use crate::drive::queries::QueryScene;
+use crate::flatten::GpuScene;
+
+/// Every element's rays, element after element, in ray order (`LinkGroups::from_hits`' input).
+pub fn shoot(g: &GpuScene, elements: &SceneElements, directions: &[Vec3]) -> Vec<Option<RayHit>> {
+    let queries = QueryScene::new(g);
+    let mut hits = Vec::with_capacity(elements.len() * directions.len());
+    for x in 0..elements.len() {
+        let (p, n) = (elements.positions[x], elements.normals[x]);
+        let (t, b) = n.any_orthonormal_pair();
+        // Above the surface by a few ULPs of the position's magnitude.
+        let lift = 1e-5 * (1.0 + p.abs().max_element());
+        for d in directions {
+            let dir = (t * d.x + b * d.y + n * d.z).normalize();
+            hits.push(trace(g, &queries, elements, p + n * lift, dir));
+        }
+    }
+    hits
+}
+
+fn trace(
+    g: &GpuScene,
+    queries: &QueryScene,
+    elements: &SceneElements,
+    origin: Vec3,
+    dir: Vec3,
+) -> Option<RayHit> {
+    let hit = queries.closest_hit(origin, dir, f32::INFINITY)?;
+    let triangle = g.triangles[hit.triangle as usize];
+    let corners = triangle.v.map(|v| elements.element(hit.instance, v));
+    let barycentrics = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+    // The face's side from its geometry (a ray that leaves an element below one of its own
+    // faces meets that face from the front at once), turned to the side its shading normals
+    // call the front.
+    let rows = g.instances[hit.instance as usize].object_to_world;
+    let world = |v: u32| {
+        let p = Vec3::from_slice(&g.vertices[v as usize].position_u[..3]).extend(1.0);
+        Vec3::new(
+            glam::Vec4::from(rows[0]).dot(p),
+            glam::Vec4::from(rows[1]).dot(p),
+            glam::Vec4::from(rows[2]).dot(p),
+        )
+    };
+    let [a, b, c] = triangle.v.map(world);
+    let face = (b - a).cross(c - a);
+    let shading: Vec3 = corners
+        .iter()
+        .zip(barycentrics)
+        .map(|(&c, w)| elements.normals[c as usize] * w)
+        .sum();
+    if face.dot(dir) * face.dot(shading).signum() >= 0.0 {
+        return None;
+    }
+    Some(RayHit {
+        corners,
+        barycentrics,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::super::directions::directions;
+    use super::super::gather::gather;
+    use super::super::reduce::LinkGroups;
+    use super::*;
+    use crate::scene::{Material, Mesh, Node, Scene};
+
+    /// An icosphere of radius 2 about (1, 0, 0) seen from inside: normals pointing in.
+    fn inward_sphere(levels: u32) -> Scene {
+        let t = (1.0 + 5f32.sqrt()) / 2.0;
+        let mut p: Vec<Vec3> = [
+            (-1.0, t, 0.0),
+            (1.0, t, 0.0),
+            (-1.0, -t, 0.0),
+            (1.0, -t, 0.0),
+            (0.0, -1.0, t),
+            (0.0, 1.0, t),
+            (0.0, -1.0, -t),
+            (0.0, 1.0, -t),
+            (t, 0.0, -1.0),
+            (t, 0.0, 1.0),
+            (-t, 0.0, -1.0),
+            (-t, 0.0, 1.0),
+        ]
+        .iter()
+        .map(|&(a, b, c)| Vec3::new(a, b, c).normalize())
+        .collect();
+        let mut f: Vec<[u32; 3]> = vec![
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ];
+        for _ in 0..levels {
+            let mut mid = std::collections::HashMap::new();
+            let mut split = |a: u32, b: u32, p: &mut Vec<Vec3>| {
+                *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    p.push(((p[a as usize] + p[b as usize]) * 0.5).normalize());
+                    p.len() as u32 - 1
+                })
+            };
+            f = f
+                .iter()
+                .flat_map(|&[a, b, c]| {
+                    let (ab, bc, ca) = (
+                        split(a, b, &mut p),
+                        split(b, c, &mut p),
+                        split(c, a, &mut p),
+                    );
+                    [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+                })
+                .collect();
+        }
+        let centre = Vec3::X;
+        let sphere = Mesh {
+            normals: p.iter().map(|&v| -v).collect(),
+            positions: p.iter().map(|&v| centre + v * 2.0).collect(),
+            triangle_materials: vec![0; f.len()],
+            // Wound to face inwards.
+            indices: f.iter().map(|&[a, b, c]| [a, c, b]).collect(),
+            ..Default::default()
+        };
+        let mut node = Node::new("sphere");
+        node.mesh = Some(0);
+        Scene {
+            nodes: vec![node],
+            meshes: vec![Arc::new(sphere)],
+            materials: vec![Material::default()],
+            ..Default::default()
+        }
+    }
+
+    /// The brief's closed form: inside a closed sphere every ray hits, so each element's weights
+    /// sum to one, and under uniform direct light (a point light at the centre lights every
+    /// vertex alike) the gather gives E_k = rho^k E_d, whatever n_C.
+    #[test]
+    fn inside_a_closed_sphere_every_element_sees_all_of_it() {
+        // The icosahedron's faces rise above a vertex's tangent plane: low rays meet the
+        // vertex's own faces, and link to them.
+        for (levels, count) in [(0, 12), (2, 162)] {
+            closed_sphere(levels, count);
+        }
+    }
+
+    fn closed_sphere(levels: u32, count: usize) {
+        let scene = inward_sphere(levels);
+        let g = GpuScene::build(&scene, &scene.pose(0.0), None).unwrap();
+        let elements = SceneElements::of(&g, 0.9).unwrap();
+        assert_eq!(elements.len(), count);
+        for n_c in [16, 64, 256] {
+            let hits = shoot(&g, &elements, &directions(n_c).unwrap());
+            let links = LinkGroups::from_hits(n_c, &hits);
+            assert!(links.raw_links > links.peers.len() as u64);
+            for x in 0..elements.len() {
+                let sum: f32 = links.group(x).map(|l| l.1).sum();
+                assert!((sum - 1.0).abs() < 1e-5, "element {x}, n_C {n_c}: {sum}");
+                assert!(links.group(x).all(|l| l.1 > 0.0));
+            }
+            // Rays below 32 degrees of elevation meet the icosahedron's faces around their own
+            // vertex (from 64 directions on), and link to it; the finer sphere's faces rise
+            // less than its lowest rays.
+            let own = (0..count)
+                .filter(|&x| links.group(x).any(|l| l.0 == x as u32))
+                .count();
+            let expected = if levels == 0 && n_c >= 64 { 12 } else { 0 };
+            assert_eq!(own, expected, "elements linked to themselves");
+            let rho = 0.7f32;
+            let e = gather(&links, &vec![[rho; 3]; count], &vec![[1.0; 3]; count], 3);
+            let expected = rho + rho * rho + rho * rho * rho;
+            assert!(e.iter().all(|v| (v[0] - expected).abs() < 1e-5 * expected));
+        }
+    }
+
+    /// Seen from outside, the same sphere's faces turn their backs: no ray from a plane below
+    /// it, pointing up, links to it; turned to face out, they do.
+    #[test]
+    fn back_faces_are_misses() {
+        let mut scene = inward_sphere(1);
+        let floor = Mesh {
+            positions: vec![
+                Vec3::new(-5.0, -3.0, -5.0),
+                Vec3::new(5.0, -3.0, -5.0),
+                Vec3::new(5.0, -3.0, 5.0),
+                Vec3::new(-5.0, -3.0, 5.0),
+            ],
+            normals: vec![Vec3::Y; 4],
+            indices: vec![[0, 2, 1], [0, 3, 2]],
+            triangle_materials: vec![0, 0],
+            ..Default::default()
+        };
+        scene.meshes.push(Arc::new(floor));
+        let mut node = Node::new("floor");
+        node.mesh = Some(1);
+        scene.nodes.push(node);
+        let linked_from_floor = |scene: &Scene| {
+            let g = GpuScene::build(scene, &scene.pose(0.0), None).unwrap();
+            let elements = SceneElements::of(&g, 0.9).unwrap();
+            let hits = shoot(&g, &elements, &directions(64).unwrap());
+            let floor_instance = (0..g.instances.len())
+                .find(|&i| elements.instance_base[i + 1] - elements.instance_base[i] == 4)
+                .unwrap();
+            let first = elements.instance_base[floor_instance] as usize;
+            hits[first * 64..(first + 4) * 64].iter().flatten().count()
+        };
+        assert_eq!(linked_from_floor(&scene), 0);
+        let outward = {
+            let m = &scene.meshes[0];
+            Mesh {
+                normals: m.normals.iter().map(|&n| -n).collect(),
+                ..(**m).clone()
+            }
+        };
+        scene.meshes[0] = Arc::new(outward);
+        assert!(linked_from_floor(&scene) > 0);
+    }
+}
