@@ -103,3 +103,23 @@ pub(crate) unsafe fn timestamp(
         d.cmd_write_timestamp(cb, vk::PipelineStageFlags::BOTTOM_OF_PIPE, q, 1);
     }
 }
+
+/// Records a barrier that makes earlier compute writes visible to the host (counters read
+/// between submissions).
+///
+/// # Safety
+/// `cb` is recording.
+pub(crate) unsafe fn record_to_host(d: &ash::Device, cb: vk::CommandBuffer) {
+    let barrier = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .dst_access_mask(vk::AccessFlags::HOST_READ);
+    d.cmd_pipeline_barrier(
+        cb,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+        vk::PipelineStageFlags::HOST,
+        vk::DependencyFlags::empty(),
+        &[barrier],
+        &[],
+        &[],
+    );
+}

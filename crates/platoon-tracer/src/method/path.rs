@@ -4,14 +4,13 @@
 
 use std::time::Duration;
 
-use ash::vk;
 use platoon_core::frame::{FrameParams, Output};
 use platoon_core::method::path::PathKernel;
 use platoon_core::{KernelVariant, SceneFeatures};
 
 use super::stream::{self, StreamPasses};
 use super::{MethodPasses, Recorder};
-use crate::dispatch::record_dispatch;
+use crate::dispatch::{record_dispatch, record_to_host};
 use crate::globals::{Push, METHOD_WORDS};
 use crate::gpu::Gpu;
 use crate::kernel::{spirv, Sampling};
@@ -71,18 +70,7 @@ impl MethodPasses for PathPasses {
         // Earlier passes wrote the accumulation buffer: record_dispatch's barrier orders them.
         let time = rec.gpu.timed(|d, cb| unsafe {
             record_dispatch(d, cb, kernel, push, groups);
-            let host = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[host],
-                &[],
-                &[],
-            );
+            record_to_host(d, cb);
         })?;
         let cut = rec.stat(STAT_CUT_SHORT);
         if cut == 0 {

@@ -13,7 +13,7 @@ use platoon_core::frame::FrameParams;
 
 use super::Recorder;
 use crate::buffer::GpuBuffer;
-use crate::dispatch::{record_dispatch, record_dispatch_indirect};
+use crate::dispatch::{record_dispatch, record_dispatch_indirect, record_to_host};
 use crate::globals::Push;
 use crate::gpu::Gpu;
 use crate::Result;
@@ -297,20 +297,6 @@ impl StreamPasses {
                 &[],
             );
         };
-        let to_host = |d: &ash::Device, cb: vk::CommandBuffer| unsafe {
-            let host = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[host],
-                &[],
-                &[],
-            );
-        };
         // Every slot fresh, every counter zero; a listed pass lists its pixels first (over the
         // band's cells, in range mode).
         let mut list_words = words;
@@ -346,7 +332,7 @@ impl StreamPasses {
                     *st += rec.gpu.timed(|d, cb| {
                         bind(d, cb);
                         record(d, cb, it, k);
-                        to_host(d, cb);
+                        unsafe { record_to_host(d, cb) };
                     })?;
                 }
                 it += 1;
@@ -372,7 +358,7 @@ impl StreamPasses {
                         record(d, cb, it, stage);
                     }
                 }
-                to_host(d, cb);
+                unsafe { record_to_host(d, cb) };
             })?;
             recorded += batch;
             // An iteration that found no live slot ends the pass: every pixel has its samples.

@@ -86,8 +86,22 @@ fn rings(element_of_vertex: &[u32], elements: usize, triangles: &[[u32; 3]]) -> 
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
+
+    /// Two triangles of a unit quad facing +z, the shared edge's vertices written twice (a
+    /// seam): positions, normals, triangles.
+    pub(in super::super) fn seamed_quad() -> (Vec<Vec3>, Vec<Vec3>, Vec<[u32; 3]>) {
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::X,
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::Y,
+        ];
+        (p, vec![Vec3::Z; 6], vec![[0, 1, 2], [3, 4, 5]])
+    }
 
     /// A unit cube as exporters write it: four vertices a face, each with the face's normal.
     fn cube() -> (Vec<Vec3>, Vec<Vec3>, Vec<[u32; 3]>) {
@@ -127,17 +141,8 @@ mod tests {
 
     #[test]
     fn a_uv_seams_duplicated_vertices_become_one_element() {
-        // Two triangles of a quad, the shared edge's vertices written twice (a seam).
-        let p = [
-            Vec3::ZERO,
-            Vec3::X,
-            Vec3::Y,
-            Vec3::X,
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::Y,
-        ];
-        let n = [Vec3::Z; 6];
-        let w = weld(&p, &n, &[[0, 1, 2], [3, 4, 5]], 0.9);
+        let (p, n, t) = seamed_quad();
+        let w = weld(&p, &n, &t, 0.9);
         assert_eq!(w.element_of_vertex, [0, 1, 2, 1, 3, 2]);
         assert_eq!(w.rings.offsets, [0, 2, 5, 8, 10]);
         assert_eq!(w.rings.neighbours, [1, 2, 0, 2, 3, 0, 1, 3, 1, 2]);

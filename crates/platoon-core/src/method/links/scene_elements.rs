@@ -119,23 +119,18 @@ impl SceneElements {
 mod tests {
     use std::sync::Arc;
 
+    use super::super::elements::tests::seamed_quad;
     use super::*;
     use crate::scene::{Material, Mesh, Node, Scene};
 
     /// A quad written with a seam (its shared edge's vertices twice), in two instances: one
     /// moved up by 2, one mirrored in x.
     fn scene() -> Scene {
+        let (positions, normals, indices) = seamed_quad();
         let quad = Mesh {
-            positions: vec![
-                Vec3::ZERO,
-                Vec3::X,
-                Vec3::Y,
-                Vec3::X,
-                Vec3::new(1.0, 1.0, 0.0),
-                Vec3::Y,
-            ],
-            normals: vec![Vec3::Z; 6],
-            indices: vec![[0, 1, 2], [3, 4, 5]],
+            positions,
+            normals,
+            indices,
             triangle_materials: vec![0, 0],
             ..Default::default()
         };

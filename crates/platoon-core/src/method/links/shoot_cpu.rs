@@ -84,75 +84,21 @@ mod tests {
     use super::*;
     use crate::scene::{Material, Mesh, Node, Scene};
 
-    /// An icosphere of radius 2 about (1, 0, 0) seen from inside: normals pointing in.
+    /// An icosphere (`platoon_scenegen::icosphere`) of radius 2 about (1, 0, 0) seen from
+    /// inside: normals pointing in.
     fn inward_sphere(levels: u32) -> Scene {
-        let t = (1.0 + 5f32.sqrt()) / 2.0;
-        let mut p: Vec<Vec3> = [
-            (-1.0, t, 0.0),
-            (1.0, t, 0.0),
-            (-1.0, -t, 0.0),
-            (1.0, -t, 0.0),
-            (0.0, -1.0, t),
-            (0.0, 1.0, t),
-            (0.0, -1.0, -t),
-            (0.0, 1.0, -t),
-            (t, 0.0, -1.0),
-            (t, 0.0, 1.0),
-            (-t, 0.0, -1.0),
-            (-t, 0.0, 1.0),
-        ]
-        .iter()
-        .map(|&(a, b, c)| Vec3::new(a, b, c).normalize())
-        .collect();
-        let mut f: Vec<[u32; 3]> = vec![
-            [0, 11, 5],
-            [0, 5, 1],
-            [0, 1, 7],
-            [0, 7, 10],
-            [0, 10, 11],
-            [1, 5, 9],
-            [5, 11, 4],
-            [11, 10, 2],
-            [10, 7, 6],
-            [7, 1, 8],
-            [3, 9, 4],
-            [3, 4, 2],
-            [3, 2, 6],
-            [3, 6, 8],
-            [3, 8, 9],
-            [4, 9, 5],
-            [2, 4, 11],
-            [6, 2, 10],
-            [8, 6, 7],
-            [9, 8, 1],
-        ];
-        for _ in 0..levels {
-            let mut mid = std::collections::HashMap::new();
-            let mut split = |a: u32, b: u32, p: &mut Vec<Vec3>| {
-                *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                    p.push(((p[a as usize] + p[b as usize]) * 0.5).normalize());
-                    p.len() as u32 - 1
-                })
-            };
-            f = f
-                .iter()
-                .flat_map(|&[a, b, c]| {
-                    let (ab, bc, ca) = (
-                        split(a, b, &mut p),
-                        split(b, c, &mut p),
-                        split(c, a, &mut p),
-                    );
-                    [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
-                })
-                .collect();
-        }
+        let m = platoon_scenegen::icosphere(levels);
         let centre = Vec3::X;
         let sphere = Mesh {
-            normals: p.iter().map(|&v| -v).collect(),
-            positions: p.iter().map(|&v| centre + v * 2.0).collect(),
-            triangle_materials: vec![0; f.len()],
+            normals: m.normals.iter().map(|&n| -Vec3::from(n)).collect(),
+            positions: m
+                .positions
+                .iter()
+                .map(|&p| centre + Vec3::from(p) * 2.0)
+                .collect(),
+            triangle_materials: vec![0; m.indices.len() / 3],
             // Wound to face inwards.
-            indices: f.iter().map(|&[a, b, c]| [a, c, b]).collect(),
+            indices: m.indices.chunks(3).map(|t| [t[0], t[2], t[1]]).collect(),
             ..Default::default()
         };
         let mut node = Node::new("sphere");
