@@ -177,3 +177,13 @@ const int TEXTURE_SLOT_TRANSMISSION = 6;
 float max3(vec3 v) { return max(v.x, max(v.y, v.z)); }
 float min3(vec3 v) { return min(v.x, min(v.y, v.z)); }
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// The band pixel of this invocation and its row-major index; false outside the band.
+bool band_pixel(out uvec2 pixel, out uint index) {
+    pixel = uvec2(gl_GlobalInvocationID.x, pc.y0 + gl_GlobalInvocationID.y * pc.stride);
+    uint width = F.dims.x;
+    index = pixel.y * width + pixel.x;
+    // Sample indices may wrap past 2^32 (a view converging for days): compare for equality.
+    if (pixel.x >= width || pixel.y >= pc.y1 || pc.sample_begin == pc.sample_end) return false;
+    return index >= pc.pixel_begin && index < pc.pixel_end;
+}

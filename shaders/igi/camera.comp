@@ -70,7 +70,7 @@ bool hook_after_emission(inout Path p) {
     return any(greaterThan(p.throughput, vec3(0.0)));
 }
 
-void hook_vertex(inout Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo) {
+void hook_vertex(inout Path p, Hit hit, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo) {
     // Instant global illumination: the first vertex with a diffuse lobe takes its indirect
     // diffuse light from the VPLs (gathered by later passes); its direct light stays the path
     // tracer's (NEE, and the emission the BSDF ray finds next, both weighed by MIS).

@@ -8,8 +8,8 @@
 //       a new path;
 //   bool hook_after_emission(inout Path p);
 //       after a vertex added its emission, before the path goes on from it; false ends the path;
-//   void hook_vertex(inout Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
-//       at a vertex the path scatters from, before its next-event estimation;
+//   void hook_vertex(inout Path p, Hit hit, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
+//       at a vertex the path scatters from (at `hit`), before its next-event estimation;
 //   void hook_bsdf_sampled(inout Path p, Bsdf bsdf, vec3 wo, BsdfSample bs);
 //       after the vertex's BSDF sample weighed the throughput, before roulette.
 
@@ -94,7 +94,7 @@ struct Path {
 #ifdef PATH_HOOKS
 void hook_path_start(inout PathHook h);
 bool hook_after_emission(inout Path p);
-void hook_vertex(inout Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
+void hook_vertex(inout Path p, Hit hit, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
 void hook_bsdf_sampled(inout Path p, Bsdf bsdf, vec3 wo, BsdfSample bs);
 #endif
 
@@ -174,7 +174,7 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
     last_diffuse = p.diffuse >= 1u;
 #endif
 #ifdef PATH_HOOKS
-    hook_vertex(p, s, bsdf, wo, ng_wo);
+    hook_vertex(p, hit, s, bsdf, wo, ng_wo);
 #endif
 
 #ifndef SAMPLING_BSDF
@@ -253,16 +253,6 @@ bool path_step(inout Path p, inout Rng rng, inout uint rays) {
         if (!trace(shadow.ray, true, blocker)) p.L += shadow.light;
     }
     return going;
-}
-
-// The band pixel of this invocation and its row-major index; false outside the band.
-bool band_pixel(out uvec2 pixel, out uint index) {
-    pixel = uvec2(gl_GlobalInvocationID.x, pc.y0 + gl_GlobalInvocationID.y * pc.stride);
-    uint width = F.dims.x;
-    index = pixel.y * width + pixel.x;
-    // Sample indices may wrap past 2^32 (a view converging for days): compare for equality.
-    if (pixel.x >= width || pixel.y >= pc.y1 || pc.sample_begin == pc.sample_end) return false;
-    return index >= pc.pixel_begin && index < pc.pixel_end;
 }
 
 // The pass's samples of one pixel, added onto `sum`.

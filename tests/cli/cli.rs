@@ -570,6 +570,53 @@ fn tradeoff_prints_its_rows_as_json_and_refuses_what_it_cannot_measure() {
 }
 
 #[test]
+fn renders_by_vertex_links_on_one_and_two_devices_and_says_so_in_the_metadata() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut images = Vec::new();
+    for devices in ["lavapipe:1", "lavapipe:1,1"] {
+        let exr = dir.path().join(format!("links-{}.exr", images.len()));
+        let o = Cli::new("render")
+            .flag("--method", "links")
+            .flag("--links-directions", "16")
+            .flag("--links-bounces", "2")
+            .flag("--links-light-samples", "4")
+            .flag("--devices", devices)
+            .spp(2)
+            .size(24, 16)
+            .arg("--validation")
+            .out(&exr)
+            .run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(!stderr(&o).contains("validation:"), "{}", stderr(&o));
+        let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
+        assert!(film.mean()[0] > 0.01);
+        let get = |k: &str| metadata_value(&meta, k);
+        assert!(
+            get("method").contains("vertex links: 16 directions per element, 2 bounces"),
+            "{meta:?}"
+        );
+        assert!(get("approximations").contains("vertex links"), "{meta:?}");
+        assert!(get("kernel_defines").contains("METHOD_LINKS"));
+        let update = get("links_update");
+        assert!(update.starts_with("64 elements, 1024 rays"), "{update}");
+        images.push(film);
+    }
+    // The update and the frame split between two devices: the same image.
+    assert!(images[0] == images[1]);
+    let out = dir.path().join("refused.png");
+    let o = out.to_str().unwrap();
+    Cli::new("render")
+        .flag("--links-directions", "16")
+        .out(o)
+        .fails_naming("--method links", &out);
+    Cli::new("render")
+        .flag("--method", "links")
+        .flag("--links-directions", "20")
+        .out(o)
+        .fails_naming("not a square", &out);
+}
+
+#[test]
 fn renders_by_instant_global_illumination_and_says_so_in_the_metadata() {
     let dir = tempfile::tempdir().unwrap();
     let exr = dir.path().join("igi.exr");

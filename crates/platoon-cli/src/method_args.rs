@@ -4,6 +4,7 @@
 use anyhow::{bail, Result};
 use clap::ValueEnum;
 use platoon::core::method::igi::IgiOptions;
+use platoon::core::method::links::{Links, LinksOptions};
 use platoon::core::method::path::PathKernel;
 use platoon::core::Method;
 
@@ -14,6 +15,8 @@ pub enum MethodArg {
     Path,
     /// Instant global illumination: indirect diffuse light from virtual point lights.
     Igi,
+    /// Vertex links: indirect diffuse light solved per mesh vertex over fixed-direction links.
+    Links,
 }
 
 #[derive(clap::Args, Debug)]
@@ -40,6 +43,25 @@ pub struct MethodArgs {
     /// buffer.
     #[arg(long, value_parser = parse_tile)]
     pub igi_interleave: Option<[u32; 2]>,
+    /// Links: directions every vertex shoots (a square: 16, 64, 256, 1024).
+    #[arg(long)]
+    pub links_directions: Option<u32>,
+    /// Links: bounces of indirect light the gather carries.
+    #[arg(long)]
+    pub links_bounces: Option<u32>,
+    /// Links: vertices within this angle (degrees) are one element; smoothing stops at it.
+    #[arg(long)]
+    pub links_feature_angle: Option<f32>,
+    /// Links: no smoothing of the gathered light over vertex neighbourhoods.
+    #[arg(long)]
+    pub links_no_smoothing: bool,
+    /// Links: next-event samples of the direct light at each vertex.
+    #[arg(long)]
+    pub links_light_samples: Option<u32>,
+    /// Links: direct light taken at each vertex alone, not averaged over its triangles (the
+    /// paper without its light-link oversampling).
+    #[arg(long)]
+    pub links_vertex_light: bool,
     /// Path tracing: the megakernel (mega), streaming path tracing (spt), or the one measured
     /// faster on each kind of device (auto). The same image either way.
     #[arg(long, default_value = "auto", value_parser = parse_kernel)]
@@ -65,14 +87,57 @@ fn parse_tile(s: &str) -> Result<[u32; 2], String> {
 }
 
 impl MethodArgs {
-    /// The method with its options; refuses IGI flags given to the path tracer.
+    fn any_links_flag(&self) -> bool {
+        self.links_directions.is_some()
+            || self.links_bounces.is_some()
+            || self.links_feature_angle.is_some()
+            || self.links_no_smoothing
+            || self.links_light_samples.is_some()
+            || self.links_vertex_light
+    }
+
+    fn links(&self) -> Result<Method> {
+        let mut o = LinksOptions::default();
+        if let Some(n) = self.links_directions {
+            o.directions = n;
+        }
+        if let Some(b) = self.links_bounces {
+            o.bounces = b;
+        }
+        if let Some(a) = self.links_feature_angle {
+            o.feature_angle = a;
+        }
+        o.smooth = !self.links_no_smoothing;
+        if let Some(k) = self.links_light_samples {
+            o.light_samples = k;
+        }
+        o.fan_light = !self.links_vertex_light;
+        if let Err(e) = o.validate() {
+            bail!("{e}");
+        }
+        Ok(Method::Links(Links {
+            options: o,
+            job: None,
+        }))
+    }
+
+    /// The method with its options; refuses one method's flags given to another.
     pub fn method(&self) -> Result<Method> {
+        if self.method != MethodArg::Links && self.any_links_flag() {
+            bail!("the --links-* flags set vertex links: add --method links");
+        }
         let any_igi_flag = self.vpls.is_some()
             || self.vpl_bounces.is_some()
             || self.vpl_min_distance.is_some()
             || self.igi_imperfect_visibility
             || self.igi_downsample.is_some()
             || self.igi_interleave.is_some();
+        if self.method != MethodArg::Igi && any_igi_flag {
+            bail!("the --vpl* and --igi-* flags set instant global illumination: add --method igi");
+        }
+        if self.method == MethodArg::Links {
+            return self.links();
+        }
         if self.method == MethodArg::Path {
             if any_igi_flag {
                 bail!("the --vpl* and --igi-* flags set instant global illumination: add --method igi");

@@ -63,6 +63,9 @@ pub fn run(args: TradeoffArgs) -> Result<()> {
             .collect::<Result<Vec<_>>>()?,
         (None, MethodArg::Path) => Technique::DEFAULT.to_vec(),
         (None, MethodArg::Igi) => Technique::igi_sweep(),
+        (None, MethodArg::Links) => {
+            anyhow::bail!("the trade-off tool has no vertex-links sweep yet (issue 22)")
+        }
     };
     let options = tradeoff::Options {
         width: args.width,

@@ -9,6 +9,7 @@
 pub mod devices;
 pub mod game;
 pub mod generated;
+pub mod links;
 pub mod metadata;
 pub mod prepare;
 pub mod render;

@@ -18,7 +18,7 @@ pub fn metadata(
         .as_ref()
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| "built-in Cornell box".into());
-    vec![
+    let mut m = vec![
         ("scene".into(), source),
         ("spp".into(), rendered.spp.to_string()),
         (
@@ -97,7 +97,31 @@ pub fn metadata(
             rendered.rejected_samples().to_string(),
         ),
         ("approximations".into(), approximations(params)),
-    ]
+    ];
+    if let Some(u) = &rendered.links {
+        m.push(("links_update".into(), links_update(u)));
+    }
+    m
+}
+
+/// Vertex links' update: what it made and its stages' times.
+fn links_update(u: &platoon_core::method::links::job::UpdateStats) -> String {
+    format!(
+        "{} elements, {} rays, {} raw links -> {} ({} bytes); seconds: weld {:.3}, shoot {:.3}, \
+         reduce {:.3}, direct light {:.3}, gather {:.3}, smooth {:.3}, total {:.3}",
+        u.elements,
+        u.rays,
+        u.raw_links,
+        u.links,
+        u.link_bytes,
+        u.weld_s,
+        u.shoot_s,
+        u.reduce_s,
+        u.light_s,
+        u.gather_s,
+        u.smooth_s,
+        u.total_s()
+    )
 }
 
 /// The rendering method and its options.

@@ -311,7 +311,7 @@ impl FrameDriver {
             params.rr_depth = params.rr_depth.min(1);
         }
         params.samples_per_pass = o.samples_per_pass;
-        params.method = o.method;
+        params.method = o.method.clone();
         let (commit, update) = match generation {
             Some(g) if !g.commit.is_empty() => (Some(g.commit), g.times),
             Some(g) => (None, g.times),

@@ -7,6 +7,10 @@ pub struct FaultInjector<T> {
     pub inner: T,
     /// First frame (FrameParams::frame) on which every call fails; None: never fails.
     pub fail_from_frame: Option<u32>,
+    /// Bands it renders before every later call fails (a device lost within a frame's work,
+    /// e.g. midway through an update of several device frames); None: no such limit.
+    pub fail_after_bands: Option<u32>,
+    bands: u32,
 }
 
 impl<T> FaultInjector<T> {
@@ -14,12 +18,20 @@ impl<T> FaultInjector<T> {
         FaultInjector {
             inner,
             fail_from_frame: None,
+            fail_after_bands: None,
+            bands: 0,
         }
     }
     pub fn failing_from(inner: T, frame: u32) -> Self {
         FaultInjector {
-            inner,
             fail_from_frame: Some(frame),
+            ..Self::healthy(inner)
+        }
+    }
+    pub fn failing_after_bands(inner: T, bands: u32) -> Self {
+        FaultInjector {
+            fail_after_bands: Some(bands),
+            ..Self::healthy(inner)
         }
     }
 }
@@ -34,6 +46,10 @@ impl<T: BandTracer> BandTracer for FaultInjector<T> {
         if self.fail_from_frame.is_some_and(|f| params.frame >= f) {
             return Err(format!("injected fault at frame {}", params.frame).into());
         }
+        if self.fail_after_bands.is_some_and(|n| self.bands >= n) {
+            return Err(format!("injected fault after {} bands", self.bands).into());
+        }
+        self.bands += 1;
         self.inner.render_band(params, span, progress)
     }
 

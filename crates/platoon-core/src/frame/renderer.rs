@@ -51,6 +51,8 @@ pub struct FrameResult {
     pub rejected_samples: u64,
     /// Megakernel passes finished by the streaming kernels (`Band::kernel_fallbacks`).
     pub kernel_fallbacks: u32,
+    /// What the bands left per pixel (`Band::per_pixel`), in pixel order; empty when nothing.
+    pub per_pixel: Vec<[f32; 4]>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -339,6 +341,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         Ok(FrameResult {
             film: assemble(params, &done),
             sums: gather_sums(params, &done),
+            per_pixel: per_pixel_in_order(&mut done),
             line_rays,
             idle_fraction: idle_fraction(&times),
             rejected_samples: done.iter().map(|b| b.rejected_samples).sum(),
@@ -348,6 +351,16 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             wall_time: start.elapsed(),
         })
     }
+}
+
+/// The bands' `per_pixel` data joined in pixel order (taken out of them).
+pub fn per_pixel_in_order(bands: &mut [Band]) -> Vec<[f32; 4]> {
+    let mut order: Vec<usize> = (0..bands.len()).collect();
+    order.sort_by_key(|&i| bands[i].span.begin);
+    order
+        .into_iter()
+        .flat_map(|i| std::mem::take(&mut bands[i].per_pixel))
+        .collect()
 }
 
 /// The bands' sums as one image.

@@ -6,7 +6,7 @@
 //!
 //! - [`path`]: unidirectional path tracing, the default and the reference;
 //! - [`igi`]: instant global illumination (VPLs) with Marques and Santos' accelerations.
-//! - [`links`]: vertex links (Schmitz et al.), being built: the CPU parts so far.
+//! - [`links`]: vertex links (Schmitz et al.): indirect diffuse light from per-vertex links.
 
 pub mod igi;
 pub mod links;
@@ -17,13 +17,15 @@ pub mod render_method;
 pub mod variant;
 
 /// How a frame is rendered: a method and its options.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub enum Method {
     /// Path tracing (`path`): unbiased.
     #[default]
     PathTracing,
     /// Instant global illumination (`igi`; biased, listed as an approximation).
     Igi(igi::IgiOptions),
+    /// Vertex links (`links`; biased, listed as approximations).
+    Links(links::Links),
 }
 
 impl Method {
@@ -31,6 +33,14 @@ impl Method {
     pub fn igi(&self) -> Option<&igi::IgiOptions> {
         match self {
             Method::Igi(o) => Some(o),
+            _ => None,
+        }
+    }
+
+    /// Vertex links' options and job when the method is vertex links.
+    pub fn links(&self) -> Option<&links::Links> {
+        match self {
+            Method::Links(l) => Some(l),
             _ => None,
         }
     }

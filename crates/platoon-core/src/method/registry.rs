@@ -11,6 +11,7 @@ impl Method {
         match self {
             Method::PathTracing => &PathTracing,
             Method::Igi(options) => options,
+            Method::Links(links) => links,
         }
     }
 }

@@ -31,8 +31,44 @@ pub fn push_quad(mesh: &mut Mesh, [a, b, c, d]: [Vec3; 4], material: u32) {
     mesh.triangle_materials.extend([material, material]);
 }
 
+/// Adds quad (a, b, c, d) as `cells` x `cells` smaller quads (one when `cells` is 1), their
+/// vertices shared: a tessellated wall, whose vertices carry light for vertex links.
+pub fn push_grid(mesh: &mut Mesh, [a, b, c, d]: [Vec3; 4], material: u32, cells: u32) {
+    if cells <= 1 {
+        return push_quad(mesh, [a, b, c, d], material);
+    }
+    let base = mesh.positions.len() as u32;
+    let n = (b - a).cross(c - a).normalize();
+    let k = cells as f32;
+    // Bilinear between the corners: u along a -> b, v along a -> d.
+    for j in 0..=cells {
+        for i in 0..=cells {
+            let (u, v) = (i as f32 / k, j as f32 / k);
+            mesh.positions.push(a.lerp(b, u).lerp(d.lerp(c, u), v));
+            mesh.normals.push(n);
+        }
+    }
+    let at = |i: u32, j: u32| base + j * (cells + 1) + i;
+    for j in 0..cells {
+        for i in 0..cells {
+            mesh.indices
+                .push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            mesh.indices
+                .push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            mesh.triangle_materials.extend([material, material]);
+        }
+    }
+}
+
 /// Adds an axis-aligned box of the given size, rotated about Y and placed on the floor.
-fn push_box(mesh: &mut Mesh, center_xz: (f32, f32), size: Vec3, angle_deg: f32, material: u32) {
+fn push_box(
+    mesh: &mut Mesh,
+    center_xz: (f32, f32),
+    size: Vec3,
+    angle_deg: f32,
+    material: u32,
+    cells: u32,
+) {
     let m = Mat4::from_rotation_translation(
         Quat::from_rotation_y(angle_deg.to_radians()),
         Vec3::new(center_xz.0, size.y * 0.5, center_xz.1),
@@ -72,11 +108,18 @@ fn push_box(mesh: &mut Mesh, center_xz: (f32, f32), size: Vec3, angle_deg: f32, 
         ], // -x
     ];
     for f in faces {
-        push_quad(mesh, f, material);
+        push_grid(mesh, f, material, cells);
     }
 }
 
 pub fn scene() -> Scene {
+    tessellated(1)
+}
+
+/// The Cornell box with every wall and box face cut into `cells` x `cells` quads (the light
+/// stays one quad): the same surfaces and image, with vertices for vertex links to carry light
+/// (issue 22's convergence sweep over tessellation).
+pub fn tessellated(cells: u32) -> Scene {
     let s = 5.55; // box size in metres
     let mut mesh = Mesh {
         name: "cornell".into(),
@@ -84,30 +127,35 @@ pub fn scene() -> Scene {
     };
     let (white, red, green, light) = (0, 1, 2, 3);
     let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
-    push_quad(
+    push_grid(
         &mut mesh,
         [v(0., 0., 0.), v(0., 0., s), v(s, 0., s), v(s, 0., 0.)],
         white,
+        cells,
     ); // floor, +y
-    push_quad(
+    push_grid(
         &mut mesh,
         [v(0., s, 0.), v(s, s, 0.), v(s, s, s), v(0., s, s)],
         white,
+        cells,
     ); // ceiling, -y
-    push_quad(
+    push_grid(
         &mut mesh,
         [v(0., 0., s), v(0., s, s), v(s, s, s), v(s, 0., s)],
         white,
+        cells,
     ); // back, -z
-    push_quad(
+    push_grid(
         &mut mesh,
         [v(s, 0., 0.), v(s, 0., s), v(s, s, s), v(s, s, 0.)],
         red,
+        cells,
     ); // x = s, -x
-    push_quad(
+    push_grid(
         &mut mesh,
         [v(0., 0., 0.), v(0., s, 0.), v(0., s, s), v(0., 0., s)],
         green,
+        cells,
     ); // x = 0, +x
     let (l0, l1, ly) = (2.13, 3.43, s - 0.001);
     push_quad(
@@ -126,6 +174,7 @@ pub fn scene() -> Scene {
         Vec3::new(1.65, 1.65, 1.65),
         -18.0,
         white,
+        cells,
     );
     push_box(
         &mut mesh,
@@ -133,6 +182,7 @@ pub fn scene() -> Scene {
         Vec3::new(1.65, 3.3, 1.65),
         15.0,
         white,
+        cells,
     );
 
     let mut light_mat = lambertian("light", Vec3::splat(0.78));

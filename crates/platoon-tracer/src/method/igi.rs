@@ -11,7 +11,7 @@ use gpu_allocator::MemoryLocation;
 use platoon_core::frame::{FrameParams, Span};
 use platoon_core::method::igi::{IgiOptions, IgiTexel, IgiVertex, Vpl};
 
-use super::{MethodPasses, Recorder};
+use super::{ensure, MethodPasses, Recorder};
 use crate::buffer::GpuBuffer;
 use crate::dispatch::record_dispatch;
 use crate::globals::{Push, METHOD_WORDS};
@@ -40,30 +40,6 @@ pub(crate) struct IgiPasses {
     texels: Option<GpuBuffer>,
     /// The gathering vertex of every pixel's current sample.
     vertices: Option<GpuBuffer>,
-}
-
-/// The buffer in `slot` of at least `size` bytes, replaced when too small; its address.
-fn ensure(
-    gpu: &mut Gpu,
-    slot: &mut Option<GpuBuffer>,
-    name: &str,
-    size: u64,
-    location: MemoryLocation,
-) -> Result<u64> {
-    if let Some(b) = slot.as_ref() {
-        if b.size >= size {
-            return Ok(b.address);
-        }
-    }
-    gpu.wait_idle()?;
-    if let Some(mut old) = slot.take() {
-        gpu.destroy_buffer(&mut old);
-    }
-    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
-    let b = gpu.buffer(name, size, usage, location)?;
-    let address = b.address;
-    *slot = Some(b);
-    Ok(address)
 }
 
 fn options(params: &FrameParams) -> IgiOptions {

@@ -5,6 +5,7 @@
 //! a folder of shaders/.
 
 mod igi;
+mod links;
 mod path;
 mod stream;
 
@@ -13,6 +14,7 @@ pub use path::{kernel_label, kernel_spirv, path_kernel};
 use std::time::Duration;
 
 use ash::vk;
+use gpu_allocator::MemoryLocation;
 use platoon_core::frame::{FrameParams, Span};
 use platoon_core::method::Method;
 
@@ -105,5 +107,30 @@ pub(crate) fn passes_of(method: &Method) -> Box<dyn MethodPasses> {
     match method {
         Method::PathTracing => Box::<path::PathPasses>::default(),
         Method::Igi(_) => Box::<igi::IgiPasses>::default(),
+        Method::Links(_) => Box::<links::LinksPasses>::default(),
     }
+}
+
+/// The buffer in `slot` of at least `size` bytes, replaced when too small; its address.
+pub(crate) fn ensure(
+    gpu: &mut Gpu,
+    slot: &mut Option<GpuBuffer>,
+    name: &str,
+    size: u64,
+    location: MemoryLocation,
+) -> Result<u64> {
+    if let Some(b) = slot.as_ref() {
+        if b.size >= size {
+            return Ok(b.address);
+        }
+    }
+    gpu.wait_idle()?;
+    if let Some(mut old) = slot.take() {
+        gpu.destroy_buffer(&mut old);
+    }
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+    let b = gpu.buffer(name, size, usage, location)?;
+    let address = b.address;
+    *slot = Some(b);
+    Ok(address)
 }

@@ -4,10 +4,10 @@
 //! directions from every element. A hit at barycentrics (u, v, w) on a triangle ABC makes the
 //! links x<-A, x<-B, x<-C weighted u, v, w, each over the n_C rays; cosine sampling has absorbed
 //! the geometry and area terms, so the weights of an element sum to the fraction of its rays
-//! that hit anything, and the gather needs no other factor.
+//! that hit anything, and the gather needs no other factor. The camera paths are the path
+//! tracer's; the first vertex with a diffuse lobe adds the diffuse reflection of the indirect
+//! irradiance interpolated from its triangle's elements, in place of its diffuse bounce.
 //!
-//! This module holds the method's deterministic parts, which run on the CPU between the
-//! devices' shooting and the kernels' interpolation:
 //! - [`elements`]: a mesh's vertices welded into elements (seams joined, creases kept), with
 //!   their one-rings; [`scene_elements`]: those of a flattened scene's instances, in render
 //!   space, and the element of a hit's corner;
@@ -15,14 +15,93 @@
 //! - [`reduce`]: the raw links of each element (ray order) summed per peer into compressed
 //!   link groups (CSR), in a fixed order whatever split shot them;
 //! - [`gather`]: the Jacobi gather of `n_B` bounces and the feature-preserving smoothing;
-//! - [`shoot_cpu`]: link shooting through the CPU ray queries (the devices' oracle).
+//! - [`shoot_cpu`]: link shooting through the CPU ray queries (the devices' oracle);
+//! - [`job`]: what a frame asks of the devices (shoot, light, render) and the solution;
+//! - [`solve`]: the update, run over the devices' frames.
 //!
-//! Still to come (issue 22): shooting on the devices, direct
-//! light at elements, the kernel's hook, `--method links`.
+//! Still to come (issue 22): living scenes (revalidation), the game loop's asynchronous
+//! update, the light links' oversampling.
 
 pub mod directions;
 pub mod elements;
 pub mod gather;
+pub mod job;
+mod options;
 pub mod reduce;
 pub mod scene_elements;
 pub mod shoot_cpu;
+pub mod solve;
+
+pub use job::{Job, Links, Solution};
+pub use options::{LinksOptions, MAX_BOUNCES, MAX_DIRECTIONS};
+
+use crate::flatten::features::KernelOption;
+use crate::frame::{FrameParams, Output};
+use crate::method::render_method::RenderMethod;
+
+impl RenderMethod for Links {
+    fn name(&self) -> &'static str {
+        "links"
+    }
+
+    fn describe(&self) -> String {
+        let o = &self.options;
+        format!(
+            "vertex links: {} directions per element, {} bounces, feature angle {} degrees, \
+             smoothing {}, {} light samples per element {}",
+            o.directions,
+            o.bounces,
+            o.feature_angle,
+            if o.smooth { "on" } else { "off" },
+            o.light_samples,
+            if o.fan_light {
+                "over its fan"
+            } else {
+                "at its position"
+            }
+        )
+    }
+
+    fn validate(&self, params: &FrameParams) -> Result<(), String> {
+        self.options.validate()?;
+        if self.job.is_none() {
+            return Err("links: the frame has no solution yet (platoon::render solves it)".into());
+        }
+        if params.output != Output::Radiance {
+            return Err("vertex links render radiance only".into());
+        }
+        if params.cut_last_paths {
+            return Err("cutting the last paths of a pass (NOP) is the path tracer's".into());
+        }
+        Ok(())
+    }
+
+    fn kernel_options(&self) -> Vec<KernelOption> {
+        vec![
+            ("links", "METHOD_LINKS", true),
+            ("links-fan-light", "LINKS_FAN_LIGHT", self.options.fan_light),
+        ]
+    }
+
+    fn approximations(&self) -> Vec<String> {
+        let o = &self.options;
+        let mut a = vec![
+            format!(
+                "vertex links: indirect diffuse light at the first diffuse vertex interpolated \
+                 from the scene's vertices ({} fixed directions each, {} bounces; light \
+                 reflected more often, and glossy indirect light, are lost)",
+                o.directions, o.bounces
+            ),
+            "vertex links: one value per vertex, on its normal's side (back faces get no \
+             indirect light); the albedo at each vertex at normal incidence"
+                .into(),
+        ];
+        if o.smooth {
+            a.push(format!(
+                "vertex links: indirect light smoothed over one-rings within {} degrees",
+                o.feature_angle
+            ));
+        }
+        a
+    }
+}

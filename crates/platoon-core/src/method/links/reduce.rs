@@ -33,19 +33,27 @@ impl LinkGroups {
             offsets: vec![0],
             ..Default::default()
         };
-        // Sums in f64 in ray order, rounded once per link.
+        // Sums in f64 in ray order, rounded once per link; `at` finds a peer's sum (a hash
+        // map rather than a scan: fine meshes give an element over a thousand peers).
         let mut sums: Vec<(u32, f64)> = Vec::new();
+        let mut at: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
         for element in hits.chunks(rays as usize) {
             sums.clear();
+            at.clear();
             for hit in element.iter().flatten() {
                 for (&peer, &b) in hit.corners.iter().zip(&hit.barycentrics) {
                     if b == 0.0 {
                         continue;
                     }
                     groups.raw_links += 1;
-                    match sums.iter_mut().find(|s| s.0 == peer) {
-                        Some(s) => s.1 += b as f64,
-                        None => sums.push((peer, b as f64)),
+                    match at.entry(peer) {
+                        std::collections::hash_map::Entry::Occupied(e) => {
+                            sums[*e.get()].1 += b as f64
+                        }
+                        std::collections::hash_map::Entry::Vacant(e) => {
+                            e.insert(sums.len());
+                            sums.push((peer, b as f64));
+                        }
                     }
                 }
             }
@@ -72,6 +80,16 @@ impl LinkGroups {
     }
 
     /// Bytes of the compressed groups (offsets, peers, weights).
+    /// Appends the groups of the elements that follow these (a later batch's).
+    pub fn append(&mut self, next: LinkGroups) {
+        let base = self.peers.len() as u32;
+        self.offsets
+            .extend(next.offsets[1..].iter().map(|&o| o + base));
+        self.peers.extend(next.peers);
+        self.weights.extend(next.weights);
+        self.raw_links += next.raw_links;
+    }
+
     pub fn bytes(&self) -> usize {
         4 * (self.offsets.len() + self.peers.len() + self.weights.len())
     }

@@ -64,7 +64,8 @@ impl SceneElements {
             let region = g
                 .regions
                 .iter()
-                .position(|r| r.root == instance.blas_root)
+                // An empty region (a mesh the static merge took in) may name the same root.
+                .position(|r| r.root == instance.blas_root && r.triangle_count > 0)
                 .ok_or_else(|| Error::Invalid(format!("links: instance {i} has no mesh region")))?;
             let w = &welded[region];
             let rows = instance.object_to_world;
@@ -112,6 +113,88 @@ impl SceneElements {
         let local = vertex - self.vertex_base[region];
         self.instance_base[instance as usize]
             + self.welded[region].element_of_vertex[local as usize]
+    }
+}
+
+impl SceneElements {
+    /// One triangle corner of each element (instance, scene triangle, corner 0-2, 0): the first
+    /// in the scene arrays' order, where the element's material is read.
+    pub fn corners(&self, g: &GpuScene) -> Vec<[u32; 4]> {
+        let mut corners = vec![[u32::MAX; 4]; self.len()];
+        for (i, &region) in self.region_of_instance.iter().enumerate() {
+            let r = &g.regions[region];
+            for t in r.triangle_base..r.triangle_base + r.triangle_count {
+                for (k, &v) in g.triangles[t as usize].v.iter().enumerate() {
+                    let c = &mut corners[self.element(i as u32, v) as usize];
+                    if c[0] == u32::MAX {
+                        *c = [i as u32, t, k as u32, 0];
+                    }
+                }
+            }
+        }
+        corners
+    }
+
+    /// The triangles around each element (its fan: every triangle with a corner that is the
+    /// element), for direct light averaged over the fan: per element its entries
+    /// `fan[offsets[x]..offsets[x + 1]]`, each (scene triangle, the element's corner 0-2, the
+    /// fan's cumulative render-space area up to and with it over the whole fan's), in the scene
+    /// arrays' order. The instance is the element's.
+    pub fn fans(&self, g: &GpuScene) -> (Vec<u32>, Vec<[u32; 4]>) {
+        let mut per: Vec<Vec<(u32, u32, f32)>> = vec![Vec::new(); self.len()];
+        for (i, &region) in self.region_of_instance.iter().enumerate() {
+            let r = &g.regions[region];
+            let rows = g.instances[i].object_to_world;
+            let world = |v: u32| {
+                let p = Vec3::from_slice(&g.vertices[v as usize].position_u[..3]).extend(1.0);
+                Vec3::new(
+                    glam::Vec4::from(rows[0]).dot(p),
+                    glam::Vec4::from(rows[1]).dot(p),
+                    glam::Vec4::from(rows[2]).dot(p),
+                )
+            };
+            for t in r.triangle_base..r.triangle_base + r.triangle_count {
+                let v = g.triangles[t as usize].v;
+                let [a, b, c] = v.map(world);
+                let area = 0.5 * (b - a).cross(c - a).length();
+                for (k, &corner) in v.iter().enumerate() {
+                    per[self.element(i as u32, corner) as usize].push((t, k as u32, area));
+                }
+            }
+        }
+        let mut offsets = vec![0u32];
+        let mut fan = Vec::new();
+        for tris in per {
+            let total: f64 = tris.iter().map(|t| t.2 as f64).sum();
+            let mut sum = 0.0f64;
+            for (k, &(t, corner, area)) in tris.iter().enumerate() {
+                sum += area as f64;
+                // The last entry closes at exactly one whatever the rounding.
+                let cdf = if k + 1 == tris.len() || total <= 0.0 {
+                    1.0
+                } else {
+                    (sum / total) as f32
+                };
+                fan.push([t, corner, cdf.to_bits(), 0]);
+            }
+            offsets.push(fan.len() as u32);
+        }
+        (offsets, fan)
+    }
+
+    /// The table a kernel maps a hit's corners to elements with: the first element of each
+    /// instance, then each scene vertex's element within its welded mesh (`u32::MAX` for a
+    /// vertex of no region); the instance count is where the vertices start.
+    pub fn table(&self, g: &GpuScene) -> Vec<u32> {
+        let instances = self.region_of_instance.len();
+        let mut table = self.instance_base[..instances].to_vec();
+        let start = table.len();
+        table.resize(start + g.vertices.len(), u32::MAX);
+        for (region, w) in self.welded.iter().enumerate() {
+            let base = start + self.vertex_base[region] as usize;
+            table[base..base + w.element_of_vertex.len()].copy_from_slice(&w.element_of_vertex);
+        }
+        table
     }
 }
 

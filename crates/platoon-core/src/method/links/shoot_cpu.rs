@@ -23,13 +23,10 @@ pub fn shoot(g: &GpuScene, elements: &SceneElements, directions: &[Vec3]) -> Vec
     let queries = QueryScene::new(g);
     let mut hits = Vec::with_capacity(elements.len() * directions.len());
     for x in 0..elements.len() {
-        let (p, n) = (elements.positions[x], elements.normals[x]);
-        let (t, b) = n.any_orthonormal_pair();
-        // Above the surface by a few ULPs of the position's magnitude.
-        let lift = 1e-5 * (1.0 + p.abs().max_element());
-        for d in directions {
-            let dir = (t * d.x + b * d.y + n * d.z).normalize();
-            hits.push(trace(g, &queries, elements, p + n * lift, dir));
+        let frame = ray_frame(elements, x);
+        for &d in directions {
+            let dir = ray_direction(&frame, d);
+            hits.push(trace(g, &queries, elements, frame[0], dir));
         }
     }
     hits
@@ -43,13 +40,34 @@ fn trace(
     dir: Vec3,
 ) -> Option<RayHit> {
     let hit = queries.closest_hit(origin, dir, f32::INFINITY)?;
-    let triangle = g.triangles[hit.triangle as usize];
-    let corners = triangle.v.map(|v| elements.element(hit.instance, v));
-    let barycentrics = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+    link_of_hit(
+        g,
+        elements,
+        dir,
+        hit.instance,
+        hit.triangle,
+        [hit.b1, hit.b2],
+    )
+}
+
+/// The link a ray along `dir` makes by its closest hit (barycentrics `b` of corners 1 and 2 of
+/// `triangle` on `instance`): None where it meets the surface from behind. Shared by the CPU's
+/// shooting and the devices' (whose kernels return the bare hit).
+pub fn link_of_hit(
+    g: &GpuScene,
+    elements: &SceneElements,
+    dir: Vec3,
+    instance: u32,
+    triangle: u32,
+    b: [f32; 2],
+) -> Option<RayHit> {
+    let tri = g.triangles[triangle as usize];
+    let corners = tri.v.map(|v| elements.element(instance, v));
+    let barycentrics = [1.0 - b[0] - b[1], b[0], b[1]];
     // The face's side from its geometry (a ray that leaves an element below one of its own
     // faces meets that face from the front at once), turned to the side its shading normals
     // call the front.
-    let rows = g.instances[hit.instance as usize].object_to_world;
+    let rows = g.instances[instance as usize].object_to_world;
     let world = |v: u32| {
         let p = Vec3::from_slice(&g.vertices[v as usize].position_u[..3]).extend(1.0);
         Vec3::new(
@@ -58,8 +76,8 @@ fn trace(
             glam::Vec4::from(rows[2]).dot(p),
         )
     };
-    let [a, b, c] = triangle.v.map(world);
-    let face = (b - a).cross(c - a);
+    let [a, bb, c] = tri.v.map(world);
+    let face = (bb - a).cross(c - a);
     let shading: Vec3 = corners
         .iter()
         .zip(barycentrics)
@@ -72,6 +90,21 @@ fn trace(
         corners,
         barycentrics,
     })
+}
+
+/// Where element `x`'s rays leave from and the frame its directions turn into: just above
+/// its position, by a few ULPs of the position's magnitude (so no ray meets the element's own
+/// triangles at a distance of rounding error). (origin, tangent, bitangent, normal.)
+pub fn ray_frame(elements: &SceneElements, x: usize) -> [Vec3; 4] {
+    let (p, n) = (elements.positions[x], elements.normals[x]);
+    let (t, b) = n.any_orthonormal_pair();
+    let lift = 1e-5 * (1.0 + p.abs().max_element());
+    [p + n * lift, t, b, n]
+}
+
+/// Direction `d` (element frame) in render space.
+pub fn ray_direction(frame: &[Vec3; 4], d: Vec3) -> Vec3 {
+    (frame[1] * d.x + frame[2] * d.y + frame[3] * d.z).normalize()
 }
 
 #[cfg(test)]

@@ -1,0 +1,107 @@
+//! What a frame of vertex links asks of the devices. The update runs as virtual frames through
+//! the tracers' band machinery (so the balancer splits it and a lost tracer's part is redone
+//! like a lost band's): a shooting frame whose pixels are rays (a line per element, a column
+//! per direction), a lighting frame whose pixels are elements, and then the image's frames,
+//! which read the solution. Each carries its data in an `Arc`, shared by every tracer.
+
+use std::sync::Arc;
+
+use super::options::LinksOptions;
+use super::reduce::LinkGroups;
+
+/// The method as a frame names it: its options and, once the update has run, its work.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Links {
+    pub options: LinksOptions,
+    /// None until the facade's update (`solve`) has run: a tracer refuses such a frame.
+    pub job: Option<Job>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Job {
+    /// Rays from `elements` (a batch): pixel (d, e) is element e's ray in direction d. Each
+    /// pixel leaves the closest hit (`Band::per_pixel`: instance and triangle bits, b1, b2;
+    /// instance `u32::MAX` for a miss).
+    Shoot(Arc<ElementRays>),
+    /// The direct irradiance at `elements` (pixel i of a frame `LIGHT_WIDTH` wide is element
+    /// i): the frame's radiance is E_d, `Band::per_pixel` the element's diffuse albedo.
+    Light(Arc<ElementRays>),
+    /// The image, with the indirect irradiance of `Solution` at each first diffuse vertex.
+    Render(Arc<Solution>),
+}
+
+/// Width of a lighting frame (its pixels are elements, line after line).
+pub const LIGHT_WIDTH: u32 = 64;
+
+/// The elements a shooting or lighting frame reads, with the directions they shoot.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ElementRays {
+    pub elements: Vec<ElementRay>,
+    /// The n_C directions in the element frame (xyz; w unused), in ray order.
+    pub directions: Vec<[f32; 4]>,
+    /// The elements' fans (`SceneElements::fans`): triangle, corner, cumulative area (f32
+    /// bits), 0. What a lighting frame samples its points from with `LinksOptions::fan_light`.
+    pub fans: Vec<[u32; 4]>,
+}
+
+/// One element as the kernels read it (`ElementRay` in shaders/links/links.glsl, std430): its
+/// rays' origin (lifted off the surface) and frame, and one triangle corner it is, where its
+/// material is read.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ElementRay {
+    pub origin: [f32; 4],
+    pub tangent: [f32; 4],
+    pub bitangent: [f32; 4],
+    pub normal: [f32; 4],
+    /// Instance, triangle (scene-global), corner (0-2); w unused.
+    pub corner: [u32; 4],
+    /// Its fan in `ElementRays::fans` (first entry, count); zw unused.
+    pub fan: [u32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<ElementRay>() == 96);
+
+/// The indirect irradiance of every element, and how a hit's corners find their elements.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Solution {
+    /// E_ind per element (rgb; w unused).
+    pub irradiance: Vec<[f32; 4]>,
+    /// The first element of each instance, then each scene vertex's element within its mesh
+    /// (`u32::MAX` for a vertex of no triangle): element = table[instance] +
+    /// table[instances + vertex].
+    pub table: Vec<u32>,
+    pub instances: u32,
+    /// The compressed links it gathered over: what relighting a still scene reuses.
+    pub links: LinkGroups,
+    /// What the update that made it did, for the output's metadata.
+    pub stats: UpdateStats,
+}
+
+/// The update's stages, timed apart from the frame, and what it made.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct UpdateStats {
+    pub elements: u32,
+    pub rays: u64,
+    pub raw_links: u64,
+    pub links: u64,
+    /// Bytes of the compressed link groups.
+    pub link_bytes: u64,
+    /// Seconds: welding, shooting (device frames), reduction, direct light (device frames),
+    /// gather, smoothing.
+    pub weld_s: f64,
+    pub shoot_s: f64,
+    pub reduce_s: f64,
+    pub light_s: f64,
+    pub gather_s: f64,
+    pub smooth_s: f64,
+    /// Of shoot_s and light_s, the devices' dispatch time (summed over tracers).
+    pub shoot_device_s: f64,
+    pub light_device_s: f64,
+}
+
+impl UpdateStats {
+    pub fn total_s(&self) -> f64 {
+        self.weld_s + self.shoot_s + self.reduce_s + self.light_s + self.gather_s + self.smooth_s
+    }
+}

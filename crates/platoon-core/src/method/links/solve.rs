@@ -1,0 +1,218 @@
+//! The update of vertex links over the devices (the facade runs it before a frame that needs
+//! it): elements welded on the CPU, rays shot by the devices in shooting frames of a batch of
+//! elements each, the hits reduced to link groups, the direct light at the elements from a
+//! lighting frame, then the gather and the smoothing on the CPU. Every device frame goes
+//! through `run` (one tracer's bands, or the renderer's split between tracers): each pixel of
+//! those frames is a pure function of its element and direction, so the solution is the same
+//! bits whichever devices rendered which part.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::directions::directions;
+use super::gather::{gather, smooth, Rgb};
+use super::job::{ElementRay, ElementRays, Job, Links, Solution, UpdateStats, LIGHT_WIDTH};
+use super::options::LinksOptions;
+use super::reduce::{LinkGroups, RayHit};
+use super::scene_elements::SceneElements;
+use super::shoot_cpu::{link_of_hit, ray_direction, ray_frame};
+use crate::error::{Error, Result};
+use crate::flatten::GpuScene;
+use crate::frame::FrameParams;
+use crate::method::Method;
+
+/// Rays a shooting frame carries at most: its hits are read back whole (16 bytes each).
+pub const MAX_RAYS_PER_FRAME: u64 = 1 << 22;
+
+/// What a device frame gave back: each pixel's average (the film) and what its bands left per
+/// pixel (`Band::per_pixel`), in pixel order.
+pub struct DeviceFrame {
+    pub film: Vec<[f32; 3]>,
+    pub per_pixel: Vec<[f32; 4]>,
+    /// Device time of its dispatches, summed over tracers.
+    pub gpu_time: std::time::Duration,
+}
+
+/// Solves the links of `g` (the scene the devices hold) for frames like `params`.
+pub fn solve(
+    g: &GpuScene,
+    options: &LinksOptions,
+    params: &FrameParams,
+    run: &mut dyn FnMut(&FrameParams) -> std::result::Result<DeviceFrame, String>,
+) -> Result<Solution> {
+    options.validate().map_err(Error::Invalid)?;
+    let mut stats = UpdateStats::default();
+    let clock = Instant::now();
+    let elements = SceneElements::of(g, options.cos_feature())?;
+    let rays = element_rays(g, &elements, options)?;
+    stats.elements = elements.len() as u32;
+    stats.weld_s = clock.elapsed().as_secs_f64();
+    let n = elements.len();
+    let n_c = options.directions;
+    let mut device = |job: Job, width: u32, height: u32, spp: u32| {
+        let mut p = params.clone();
+        p.method = Method::Links(Links {
+            options: *options,
+            job: Some(job),
+        });
+        (p.width, p.height, p.spp) = (width, height, spp);
+        p.accumulated = None;
+        p.time_limit = None;
+        p.first_sample = 0;
+        run(&p).map_err(|e| Error::Invalid(format!("links update: {e}")))
+    };
+
+    // Shooting, a batch of elements per frame; reduced batch by batch.
+    let batch = (MAX_RAYS_PER_FRAME / n_c as u64).max(1) as usize;
+    let mut links = LinkGroups {
+        offsets: vec![0],
+        ..Default::default()
+    };
+    let mut first = 0;
+    while first < n {
+        let end = (first + batch).min(n);
+        let part = Arc::new(ElementRays {
+            elements: rays.elements[first..end].to_vec(),
+            directions: rays.directions.clone(),
+            fans: Vec::new(),
+        });
+        let clock = Instant::now();
+        let frame = device(Job::Shoot(part), n_c, (end - first) as u32, 1)?;
+        stats.shoot_s += clock.elapsed().as_secs_f64();
+        stats.shoot_device_s += frame.gpu_time.as_secs_f64();
+        let clock = Instant::now();
+        let hits = hits_of(g, &elements, &rays, first, &frame.per_pixel)?;
+        links.append(LinkGroups::from_hits(n_c, &hits));
+        stats.reduce_s += clock.elapsed().as_secs_f64();
+        first = end;
+    }
+    stats.rays = n as u64 * n_c as u64;
+    stats.raw_links = links.raw_links;
+    stats.links = links.peers.len() as u64;
+    stats.link_bytes = links.bytes() as u64;
+
+    // Direct light and albedo at every element.
+    let clock = Instant::now();
+    let height = (n as u32).div_ceil(LIGHT_WIDTH).max(1);
+    let frame = device(
+        Job::Light(Arc::new(rays)),
+        LIGHT_WIDTH,
+        height,
+        options.light_samples,
+    )?;
+    stats.light_s = clock.elapsed().as_secs_f64();
+    stats.light_device_s = frame.gpu_time.as_secs_f64();
+    if frame.film.len() < n || frame.per_pixel.len() < n {
+        return Err(Error::Invalid(format!(
+            "links update: the lighting frame returned {} of {n} elements",
+            frame.per_pixel.len().min(frame.film.len())
+        )));
+    }
+    let direct: Vec<Rgb> = frame.film[..n].to_vec();
+    let albedo: Vec<Rgb> = frame.per_pixel[..n]
+        .iter()
+        .map(|a| [a[0], a[1], a[2]])
+        .collect();
+
+    let clock = Instant::now();
+    let mut indirect = gather(&links, &albedo, &direct, options.bounces);
+    stats.gather_s = clock.elapsed().as_secs_f64();
+    if options.smooth {
+        let clock = Instant::now();
+        indirect = smooth(
+            &indirect,
+            &elements.normals,
+            &elements.rings,
+            options.cos_feature(),
+        );
+        stats.smooth_s = clock.elapsed().as_secs_f64();
+    }
+    Ok(Solution {
+        irradiance: indirect.iter().map(|e| [e[0], e[1], e[2], 0.0]).collect(),
+        table: elements.table(g),
+        instances: g.instances.len() as u32,
+        links,
+        stats,
+    })
+}
+
+/// The elements as the kernels read them, with the directions.
+fn element_rays(
+    g: &GpuScene,
+    elements: &SceneElements,
+    options: &LinksOptions,
+) -> Result<ElementRays> {
+    let corners = elements.corners(g);
+    let (fan_offsets, fans) = elements.fans(g);
+    Ok(ElementRays {
+        elements: (0..elements.len())
+            .map(|x| {
+                let f = ray_frame(elements, x);
+                ElementRay {
+                    origin: f[0].extend(0.0).to_array(),
+                    tangent: f[1].extend(0.0).to_array(),
+                    bitangent: f[2].extend(0.0).to_array(),
+                    normal: f[3].extend(0.0).to_array(),
+                    corner: corners[x],
+                    fan: [fan_offsets[x], fan_offsets[x + 1] - fan_offsets[x], 0, 0],
+                }
+            })
+            .collect(),
+        directions: directions(options.directions)?
+            .iter()
+            .map(|d| d.extend(0.0).to_array())
+            .collect(),
+        fans,
+    })
+}
+
+/// The links of elements [first, first + batch) from a shooting frame's hits.
+fn hits_of(
+    g: &GpuScene,
+    elements: &SceneElements,
+    rays: &ElementRays,
+    first: usize,
+    per_pixel: &[[f32; 4]],
+) -> Result<Vec<Option<RayHit>>> {
+    let n_c = rays.directions.len();
+    if !per_pixel.len().is_multiple_of(n_c) {
+        return Err(Error::Invalid(format!(
+            "links update: a shooting frame returned {} hits for {n_c} directions",
+            per_pixel.len()
+        )));
+    }
+    let dirs: Vec<Vec3> = rays
+        .directions
+        .iter()
+        .map(|d| Vec3::from_slice(&d[..3]))
+        .collect();
+    let mut hits = Vec::with_capacity(per_pixel.len());
+    for (k, rays_of) in per_pixel.chunks(n_c).enumerate() {
+        let frame = ray_frame(elements, first + k);
+        for (&d, h) in dirs.iter().zip(rays_of) {
+            let (instance, triangle) = (h[0].to_bits(), h[1].to_bits());
+            if instance == u32::MAX {
+                hits.push(None);
+                continue;
+            }
+            if instance as usize >= g.instances.len() || triangle as usize >= g.triangles.len() {
+                return Err(Error::Invalid(format!(
+                    "links update: a device returned a hit on instance {instance}, triangle \
+                     {triangle}, not in the scene"
+                )));
+            }
+            let dir = ray_direction(&frame, d);
+            hits.push(link_of_hit(
+                g,
+                elements,
+                dir,
+                instance,
+                triangle,
+                [h[2], h[3]],
+            ));
+        }
+    }
+    Ok(hits)
+}

@@ -1,0 +1,338 @@
+//! Vertex links (issue 22): the update on the devices meets the brief's closed form, shoots what
+//! the CPU oracle shoots, converges towards the path tracer's indirect light with directions and
+//! with tessellation, and gives the same bits for one and three tracers under every balancer.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+use std::sync::Arc;
+
+use common::*;
+use glam::Vec3;
+use platoon::core::balance::{by_name, NAMES};
+use platoon::core::frame::fault::FaultInjector;
+use platoon::core::frame::renderer::Renderer;
+use platoon::core::frame::FrameParams;
+use platoon::core::method::links::reduce::LinkGroups;
+use platoon::core::method::links::scene_elements::SceneElements;
+use platoon::core::method::links::{shoot_cpu, Job, Links, LinksOptions, Solution};
+use platoon::core::output::Film;
+use platoon::core::scene::{cornell, LightKind, Mesh, Node, PunctualLight, Scene};
+use platoon::core::Method;
+use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::tracer::{Sampling, Tracer};
+
+fn links(options: LinksOptions) -> Method {
+    Method::Links(Links { options, job: None })
+}
+
+/// `params` solved on `tracer` (the facade's update), asserting the devices said nothing.
+fn solved(tracer: &mut Tracer, prepared: &platoon::Prepared, params: &FrameParams) -> FrameParams {
+    let p = platoon::links::solve_on_tracer(tracer, &prepared.gpu, params).expect("links update");
+    assert_no_validation_messages(tracer);
+    p
+}
+
+fn solution(params: &FrameParams) -> &Arc<Solution> {
+    match params.method.links().and_then(|l| l.job.as_ref()) {
+        Some(Job::Render(s)) => s,
+        _ => panic!("not a solved links frame"),
+    }
+}
+
+fn mean(film: &Film) -> f64 {
+    film.pixels
+        .iter()
+        .map(|p| (p[0] + p[1] + p[2]) as f64)
+        .sum::<f64>()
+        / (3 * film.pixels.len()) as f64
+}
+
+fn rmse(a: &Film, b: &Film) -> f64 {
+    let n = a.pixels.len() as f64 * 3.0;
+    let sum: f64 = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] as f64 - q[c] as f64).powi(2)))
+        .sum();
+    (sum / n).sqrt()
+}
+
+fn minus(a: &Film, b: &Film) -> Film {
+    let mut d = a.clone();
+    for (p, q) in d.pixels.iter_mut().zip(&b.pixels) {
+        for c in 0..3 {
+            p[c] -= q[c];
+        }
+    }
+    d
+}
+
+/// An icosphere of radius 2 about the origin seen from inside (normals and winding turned
+/// in), albedo 0.5, a point light of 4 W/sr at its centre, the camera inside.
+fn lit_inward_sphere() -> Scene {
+    let m = platoon_scenegen::icosphere(2);
+    let sphere = Mesh {
+        normals: m.normals.iter().map(|&n| -Vec3::from(n)).collect(),
+        positions: m.positions.iter().map(|&p| Vec3::from(p) * 2.0).collect(),
+        triangle_materials: vec![0; m.indices.len() / 3],
+        indices: m.indices.chunks(3).map(|t| [t[0], t[2], t[1]]).collect(),
+        ..Default::default()
+    };
+    let mut scene = scene_of(
+        vec![(sphere, Vec3::ZERO, 1.0)],
+        vec![cornell::lambertian("grey", Vec3::splat(0.5))],
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, -1.0),
+        1.0,
+    );
+    scene.lights.push(PunctualLight {
+        name: "centre".into(),
+        kind: LightKind::Point,
+        color: Vec3::ONE,
+        intensity: 4.0,
+        range: 0.0,
+    });
+    let mut node = Node::new("light");
+    node.light = Some(0);
+    scene.nodes.push(node);
+    scene
+}
+
+/// The brief's closed form, through the devices' shooting and lighting frames: a point light
+/// at the centre of a closed inward sphere gives every vertex E_d = I / r^2 = 1; every
+/// element's weights sum to one, so the gather gives E_ind = (rho + rho^2 + rho^3) E_d.
+#[test]
+fn inside_a_closed_sphere_the_update_gives_the_closed_form() {
+    let prepared = prepare(lit_inward_sphere(), platoon::EnvChoice::Scene);
+    let mut tracer = tracer(&prepared, Sampling::Mis);
+    for directions in [16, 64, 256] {
+        let mut params = FrameParams::new(16, 16, 4, prepared.camera);
+        // At the vertex itself: the fan's points lie inside the sphere, nearer the light.
+        params.method = links(LinksOptions {
+            directions,
+            light_samples: 4,
+            fan_light: false,
+            ..Default::default()
+        });
+        let params = solved(&mut tracer, &prepared, &params);
+        let s = solution(&params);
+        assert_eq!(s.stats.elements, 162);
+        for x in 0..162 {
+            let sum: f32 = s.links.group(x).map(|l| l.1).sum();
+            assert!(
+                (sum - 1.0).abs() < 1e-5,
+                "element {x}, n_C {directions}: {sum}"
+            );
+        }
+        let expected = 0.5 + 0.25 + 0.125;
+        for (x, e) in s.irradiance.iter().enumerate() {
+            for c in 0..3 {
+                assert!(
+                    (e[c] - expected).abs() < 1e-3 * expected,
+                    "element {x}, n_C {directions}: {e:?}"
+                );
+            }
+        }
+        // And the image: the sphere lit directly and by the links, nowhere black.
+        let film = render_with(&mut tracer, &params);
+        assert!(film.pixels.iter().all(|p| p[0] > 0.0));
+    }
+}
+
+/// The devices' shooting is the CPU's but for the traversal: on a tessellated Cornell box the
+/// same total weight for every element within a ray or two (1/64 each), and all but a sliver of
+/// the link weight on the same peers (rays that graze a box's edge may meet the face on either
+/// side of it in the two traversals).
+#[test]
+fn the_devices_shoot_the_links_the_cpu_oracle_shoots() {
+    let prepared = prepare(cornell::tessellated(3), platoon::EnvChoice::Scene);
+    let mut tracer = tracer(&prepared, Sampling::Mis);
+    let options = LinksOptions {
+        directions: 64,
+        light_samples: 1,
+        ..Default::default()
+    };
+    let mut params = FrameParams::new(8, 8, 1, prepared.camera);
+    params.method = links(options);
+    let params = solved(&mut tracer, &prepared, &params);
+    let device = &solution(&params).links;
+    let g = &prepared.gpu;
+    let elements = SceneElements::of(g, options.cos_feature()).unwrap();
+    let dirs = platoon::core::method::links::directions::directions(64).unwrap();
+    let cpu = LinkGroups::from_hits(64, &shoot_cpu::shoot(g, &elements, &dirs));
+    assert_eq!(device.elements(), cpu.elements());
+    let (mut total, mut moved) = (0.0f64, 0.0f64);
+    for x in 0..cpu.elements() {
+        let weights = |g: &LinkGroups| {
+            let mut w = std::collections::BTreeMap::new();
+            for (peer, weight) in g.group(x) {
+                *w.entry(peer).or_insert(0.0f64) += weight as f64;
+            }
+            w
+        };
+        let (a, b) = (weights(device), weights(&cpu));
+        let sum = |w: &std::collections::BTreeMap<u32, f64>| w.values().sum::<f64>();
+        assert!((sum(&a) - sum(&b)).abs() < 2.0 / 64.0 + 1e-5, "element {x}");
+        total += sum(&b);
+        let peers: std::collections::BTreeSet<u32> = a.keys().chain(b.keys()).copied().collect();
+        moved += peers
+            .iter()
+            .map(|p| (a.get(p).unwrap_or(&0.0) - b.get(p).unwrap_or(&0.0)).abs())
+            .sum::<f64>();
+    }
+    println!("link weight that differs: {:.3}%", 100.0 * moved / total);
+    assert!(moved < 0.005 * total, "{moved} of {total}");
+}
+
+/// The Cornell box is Lambertian: vertex links with B bounces estimate what the path tracer
+/// does with paths of B + 2 segments. Links minus the path tracer capped at 2 segments (the
+/// same random numbers: the camera paths are the path tracer's up to the first diffuse vertex)
+/// is the links' indirect light alone. Its error falls with the directions (at a fine
+/// tessellation) and with the tessellation; at the finest setting its mean is within 3% of the
+/// path tracer's. What remains at a tessellation is its floor: light interpolated across
+/// triangles that a shadow edge or a contact (the boxes on the floor) cuts.
+#[test]
+fn links_indirect_light_converges_with_directions_and_tessellation() {
+    let bounces = LinksOptions::default().bounces;
+    let reference = {
+        let prepared = prepare(cornell::scene(), platoon::EnvChoice::Scene);
+        let mut tracer = tracer(&prepared, Sampling::Mis);
+        let mut params = FrameParams::new(32, 32, 4096, prepared.camera);
+        params.max_depth = bounces + 2;
+        let full = render_with(&mut tracer, &params);
+        params.max_depth = 2;
+        minus(&full, &render_with(&mut tracer, &params))
+    };
+    let m = mean(&reference);
+    println!("path-traced indirect: mean {m:.4}");
+    let error = |cells: u32, directions: u32| {
+        let prepared = prepare(cornell::tessellated(cells), platoon::EnvChoice::Scene);
+        let mut tracer = tracer(&prepared, Sampling::Mis);
+        let mut params = FrameParams::new(32, 32, 8, prepared.camera);
+        params.seed = 1;
+        params.max_depth = 2;
+        let direct = render_with(&mut tracer, &params);
+        params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
+        params.method = links(LinksOptions {
+            directions,
+            ..Default::default()
+        });
+        let params = solved(&mut tracer, &prepared, &params);
+        let indirect = minus(&render_with(&mut tracer, &params), &direct);
+        let (e, mi) = (rmse(&indirect, &reference), mean(&indirect));
+        let s = &solution(&params).stats;
+        println!(
+            "{cells}x{cells} cells, n_C {directions}: RMSE {e:.4}, mean {mi:.4} ({:+.1}%); \
+             {} elements, shoot {:.2} s, reduce {:.2} s, light {:.2} s",
+            100.0 * (mi / m - 1.0),
+            s.elements,
+            s.shoot_s,
+            s.reduce_s,
+            s.light_s
+        );
+        (e, mi)
+    };
+    let at_32 = error(32, 256);
+    let by_directions = [error(32, 16).0, error(32, 64).0, at_32.0];
+    let by_cells: Vec<(f64, f64)> = [2, 4, 8, 16]
+        .iter()
+        .map(|&c| error(c, 256))
+        .chain([at_32, error(48, 256)])
+        .collect();
+    // The directions' error falls to the tessellation's floor: a step may stay at it (within
+    // the direct light's noise), never rise past it.
+    assert!(
+        by_directions[1] < 0.6 * by_directions[0],
+        "{by_directions:?}"
+    );
+    assert!(
+        by_directions[2] < 1.03 * by_directions[1],
+        "{by_directions:?}"
+    );
+    assert!(by_cells.windows(2).all(|w| w[1].0 < w[0].0), "{by_cells:?}");
+    let finest = by_cells.last().unwrap().1;
+    assert!((finest / m - 1.0).abs() < 0.03, "mean {finest} against {m}");
+}
+
+/// The update's frames are split between tracers like any frame: the solution and the image
+/// are the same bits for one tracer and for three under every balancer (twice each, so the
+/// balancer's second cut follows what it learnt), and when a tracer is lost midway through the
+/// update (its first shooting frame, or the lighting frame after it) the others finish it.
+#[test]
+fn one_and_three_tracers_give_the_same_bits_under_every_balancer() {
+    init();
+    let prepared = prepare(cornell::tessellated(2), platoon::EnvChoice::Scene);
+    let mut params = FrameParams::new(24, 20, 2, prepared.camera);
+    params.method = links(LinksOptions {
+        directions: 64,
+        light_samples: 4,
+        ..Default::default()
+    });
+    let mut one = tracer(&prepared, Sampling::Mis);
+    let solved_once = solved(&mut one, &prepared, &params);
+    let expected = solution(&solved_once);
+    let image = render_with(&mut one, &solved_once);
+    assert!(mean(&image) > 0.0);
+    let same = |p: &FrameParams, what: &str| {
+        let s = solution(p);
+        assert!(
+            s.irradiance == expected.irradiance,
+            "{what}: irradiance differs"
+        );
+        assert!(s.links == expected.links, "{what}: links differ");
+    };
+    let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
+    let mut tracers = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis).unwrap();
+    for name in NAMES {
+        let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
+        for round in 0..2 {
+            let p =
+                platoon::links::solve_on_renderer(&mut renderer, &prepared.gpu, &params).unwrap();
+            same(&p, &format!("{name}, round {round}"));
+            let f = renderer.render_frame(&p).unwrap();
+            assert!(f.film == image, "{name}, round {round}: image differs");
+        }
+        tracers = renderer.into_tracers();
+    }
+    for t in &tracers {
+        assert_no_validation_messages(t);
+    }
+    for lost_after in [0, 1] {
+        let tracers = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis).unwrap();
+        let tracers: Vec<FaultInjector<Tracer>> = tracers
+            .into_iter()
+            .enumerate()
+            .map(|(i, t)| match i {
+                1 => FaultInjector::failing_after_bands(t, lost_after),
+                _ => FaultInjector::healthy(t),
+            })
+            .collect();
+        let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
+        let p = platoon::links::solve_on_renderer(&mut renderer, &prepared.gpu, &params).unwrap();
+        same(&p, &format!("tracer lost after {lost_after} bands"));
+        assert_eq!(renderer.alive(), [0, 2]);
+        assert!(renderer.render_frame(&p).unwrap().film == image);
+    }
+}
+
+/// Vertex links compile their kernels' options in only when a frame asks for them.
+#[test]
+fn links_options_change_the_kernels_only_when_enabled() {
+    let prepared = prepare(cornell::scene(), platoon::EnvChoice::Scene);
+    let tracer = tracer(&prepared, Sampling::Mis);
+    let mut params = FrameParams::new(8, 8, 1, prepared.camera);
+    let path = tracer.kernel_defines(&params);
+    assert!(!path
+        .iter()
+        .any(|d| d.starts_with("LINKS") || *d == "METHOD_LINKS"));
+    params.method = links(LinksOptions {
+        fan_light: false,
+        ..Default::default()
+    });
+    let plain = tracer.kernel_defines(&params);
+    assert!(plain.contains(&"METHOD_LINKS") && !plain.contains(&"LINKS_FAN_LIGHT"));
+    params.method = links(LinksOptions::default());
+    assert!(tracer.kernel_defines(&params).contains(&"LINKS_FAN_LIGHT"));
+}
