@@ -500,3 +500,26 @@ fn each_effect_the_scene_uses_has_a_time_and_an_error_and_the_others_are_skipped
     let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
     assert!(md.contains("Not run: no-normal-maps"), "{md}");
 }
+
+/// Vertex links sweep like any technique: biased, timed with their update, and on the built-in
+/// box (its walls two triangles each) left with a floor of error the path tracer goes under.
+#[test]
+fn vertex_links_sweep_against_the_path_tracer_with_their_update_timed() {
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let links = Technique::parse("links=16+b2").unwrap();
+    let o = options(dir.path(), &[4, 64], &[Technique::Mis, links]);
+    let report = tradeoff::run(&cornell(), &o, &mut |_| {}).unwrap();
+    let (mis, l) = (
+        rows_of(&report.rows, "mis"),
+        rows_of(&report.rows, "links=16+b2"),
+    );
+    assert_eq!(l.len(), 2);
+    assert!(l.iter().all(|r| r.biased && r.ms > 0.0) && !mis[0].biased);
+    assert!(
+        l[1].relmse > 3.0 * mis[1].relmse,
+        "{:?} vs {:?}",
+        l[1],
+        mis[1]
+    );
+}

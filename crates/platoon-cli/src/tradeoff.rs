@@ -27,13 +27,16 @@ pub struct TradeoffArgs {
     /// mis-ris=M, dpt, spt (the streaming kernels: Bikker's RR/SPT), nop (the last path of a
     /// pass cut where its SIMD group stopped: biased), single-bounce, no-textures,
     /// no-normal-maps, opaque, env-mean,
-    /// igi=N[+boxes][+downK][+interMxN][+minD]. Default: mis,bsdf,light,max-depth=2,
-    /// no-regeneration; with --method igi the IGI sweep.
+    /// igi=N[+boxes][+downK][+interMxN][+minD], links=N[+bB][+nosmooth][+vertex] (vertex
+    /// links: N directions, B bounces; the update's time counts). Default: mis,bsdf,light,
+    /// max-depth=2, no-regeneration; with --method igi or links that method's sweep.
     #[arg(long, value_delimiter = ',')]
     techniques: Option<Vec<String>>,
     /// `igi` sweeps instant global illumination against the path tracer (mis) by default: VPL
     /// counts 30, 90, 180 and 720, then at 180 each acceleration alone (imperfect visibility,
-    /// 4x4 downsampling, 3x3 interleaving) and all three.
+    /// 4x4 downsampling, 3x3 interleaving) and all three. `links` sweeps vertex links against
+    /// mis and igi=180: 16, 64 and 256 directions, then at 256 one bounce, no smoothing, and
+    /// direct light at vertices alone.
     #[arg(long, value_enum, default_value = "path")]
     method: MethodArg,
     #[arg(long, default_value_t = 0)]
@@ -63,9 +66,7 @@ pub fn run(args: TradeoffArgs) -> Result<()> {
             .collect::<Result<Vec<_>>>()?,
         (None, MethodArg::Path) => Technique::DEFAULT.to_vec(),
         (None, MethodArg::Igi) => Technique::igi_sweep(),
-        (None, MethodArg::Links) => {
-            anyhow::bail!("the trade-off tool has no vertex-links sweep yet (issue 22)")
-        }
+        (None, MethodArg::Links) => Technique::links_sweep(),
     };
     let options = tradeoff::Options {
         width: args.width,

@@ -5,6 +5,7 @@
 //! lower, which a reference rendered by the same technique (Bikker's) would hide.
 
 pub mod effects;
+pub mod links_technique;
 pub mod markdown;
 pub mod metrics;
 pub mod plots;
@@ -158,10 +159,21 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
         let mut params = base.clone();
         technique.apply(&mut params);
         params.spp = 1;
+        // Vertex links' update runs on the technique's tracer, once to compile its kernels and
+        // once timed; that time is added to every render of the technique (a still frame pays
+        // for it once).
+        let mut update = 0.0;
+        if params.method.links().is_some() {
+            platoon::links::solve_on_tracer(tracer, &prepared.gpu, &params)
+                .with_context(|| format!("solving {technique}"))?;
+            let clock = std::time::Instant::now();
+            params = platoon::links::solve_on_tracer(tracer, &prepared.gpu, &params)?;
+            update = clock.elapsed().as_secs_f64();
+        }
         tracer
             .render(&params, 0, o.height, &mut |_| {})
             .with_context(|| format!("warming up {technique}"))?;
-        setups.push((*technique, params));
+        setups.push((*technique, params, update));
     }
     let cells: Vec<(usize, u32)> = (0..setups.len())
         .flat_map(|t| o.spp_list.iter().map(move |&spp| (t, spp)))
@@ -178,7 +190,7 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
     let repeat = o.repeat.max(1) as usize;
     for round in 0..repeat {
         for (c, &(t, spp)) in cells.iter().enumerate() {
-            let (technique, params) = &setups[t];
+            let (technique, params, update) = &setups[t];
             let label = technique.to_string();
             progress(Progress::Row {
                 index: round * cells.len() + c,
@@ -204,7 +216,7 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             let mut bands = [band];
             params.method.unit().finish(&params, &mut bands);
             let [band] = bands;
-            times[c].push((device + filters.elapsed()).as_secs_f64());
+            times[c].push((device + filters.elapsed()).as_secs_f64() + update);
             let seconds = platoon_core::measure::median(times[c].clone());
             if round == 0 {
                 // The errors are the same every round (the same random numbers).

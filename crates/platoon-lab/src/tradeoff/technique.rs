@@ -10,6 +10,7 @@ use platoon_core::method::igi::IgiOptions;
 use platoon_tracer::Sampling;
 
 use super::effects::Effect;
+use super::links_technique::LinksTechnique;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Technique {
@@ -55,6 +56,8 @@ pub enum Technique {
     Without(Effect),
     /// Instant global illumination with N VPLs and some of its accelerations (biased).
     Igi(IgiTechnique),
+    /// Vertex links with N directions per element and some of its options (biased).
+    Links(LinksTechnique),
 }
 
 /// IGI's options as a technique: `igi=N` (N VPLs, exact) with `+boxes` (imperfect
@@ -175,6 +178,25 @@ impl Technique {
         .collect()
     }
 
+    /// What `tradeoff --method links` sweeps: the path tracer and IGI at 180 VPLs against vertex
+    /// links at the paper's 256 directions and fewer, with one bounce, without smoothing and
+    /// with the direct light at vertices alone.
+    pub fn links_sweep() -> Vec<Technique> {
+        [
+            "mis",
+            "igi=180",
+            "links=16",
+            "links=64",
+            "links=256",
+            "links=256+b1",
+            "links=256+nosmooth",
+            "links=256+vertex",
+        ]
+        .into_iter()
+        .map(|t| Technique::parse(t).expect("a valid technique"))
+        .collect()
+    }
+
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
     /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `spt`, `nop`, `no-textures`,
@@ -195,6 +217,7 @@ impl Technique {
         };
         Ok(match name {
             "igi" => Technique::Igi(IgiTechnique::parse(s, value.unwrap_or(""))?),
+            "links" => Technique::Links(LinksTechnique::parse(s, value.unwrap_or(""))?),
             "mis" => Technique::Mis,
             "bsdf" => Technique::Bsdf,
             "light" => Technique::Light,
@@ -232,7 +255,8 @@ impl Technique {
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
                  generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
-                 env-mean, igi=N[+boxes][+downK][+interMxN][+minD]"
+                 env-mean, igi=N[+boxes][+downK][+interMxN][+minD], \
+                 links=N[+bB][+nosmooth][+vertex]"
             ),
         })
     }
@@ -248,6 +272,7 @@ impl Technique {
                 | Technique::SingleDiffuseBounce
                 | Technique::CutLastPaths
                 | Technique::Igi(_)
+                | Technique::Links(_)
         )
     }
 
@@ -294,6 +319,7 @@ impl Technique {
                 params.cut_last_paths = true;
             }
             Technique::Igi(t) => params.method = platoon_core::Method::Igi(t.options()),
+            Technique::Links(t) => params.method = t.method(),
             // Its change is to the scene (`effect`).
             Technique::Without(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
@@ -323,6 +349,7 @@ impl fmt::Display for Technique {
             Technique::CutLastPaths => write!(f, "nop"),
             Technique::Without(e) => write!(f, "{}", e.name()),
             Technique::Igi(t) => write!(f, "{t}"),
+            Technique::Links(t) => write!(f, "{t}"),
         }
     }
 }
@@ -353,6 +380,8 @@ mod tests {
             Technique::MisRis(4),
             Technique::Without(Effect::Textures),
             Technique::Without(Effect::EnvironmentMap),
+            Technique::parse("links=64+b2+nosmooth+vertex").unwrap(),
+            Technique::parse("links=256").unwrap(),
         ] {
             assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
         }
@@ -368,5 +397,8 @@ mod tests {
         assert!(Technique::MaxDepth(2).biased() && !Technique::Bsdf.biased());
         assert!(Technique::parse("clamp=10").unwrap().biased());
         assert!(Technique::parse("clamp=-1").is_err() && Technique::parse("rr-fixed=0").is_err());
+        assert!(Technique::parse("links=20").is_err() && Technique::parse("links=16+b0").is_err());
+        assert!(Technique::parse("links=16+sideways").is_err());
+        assert!(Technique::parse("links=16").unwrap().biased());
     }
 }
