@@ -28,7 +28,7 @@ fn links(options: LinksOptions) -> Method {
 
 /// `params` solved on `tracer` (the facade's update), asserting the devices said nothing.
 fn solved(tracer: &mut Tracer, prepared: &platoon::Prepared, params: &FrameParams) -> FrameParams {
-    let p = platoon::links::solve_on_tracer(tracer, &prepared.gpu, params).expect("links update");
+    let p = platoon::method_update::on_tracer(tracer, &prepared.gpu, params).expect("links update");
     assert_no_validation_messages(tracer);
     p
 }
@@ -289,7 +289,7 @@ fn one_and_three_tracers_give_the_same_bits_under_every_balancer() {
         let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
         for round in 0..2 {
             let p =
-                platoon::links::solve_on_renderer(&mut renderer, &prepared.gpu, &params).unwrap();
+                platoon::method_update::on_renderer(&mut renderer, &prepared.gpu, &params).unwrap();
             same(&p, &format!("{name}, round {round}"));
             let f = renderer.render_frame(&p).unwrap();
             assert!(f.film == image, "{name}, round {round}: image differs");
@@ -310,7 +310,7 @@ fn one_and_three_tracers_give_the_same_bits_under_every_balancer() {
             })
             .collect();
         let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
-        let p = platoon::links::solve_on_renderer(&mut renderer, &prepared.gpu, &params).unwrap();
+        let p = platoon::method_update::on_renderer(&mut renderer, &prepared.gpu, &params).unwrap();
         same(&p, &format!("tracer lost after {lost_after} bands"));
         assert_eq!(renderer.alive(), [0, 2]);
         assert!(renderer.render_frame(&p).unwrap().film == image);

@@ -183,7 +183,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let spinner = ProgressBar::new_spinner();
         spinner.set_message(format!("rendering on {} tracers", options.len()));
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
-        let r = platoon::links::solve_on_renderer(&mut renderer, &prepared.gpu, &params)
+        let r = platoon::method_update::on_renderer(&mut renderer, &prepared.gpu, &params)
             .and_then(|solved| platoon::render_frame(&mut renderer, &solved));
         spinner.finish_and_clear();
         let r = r?;

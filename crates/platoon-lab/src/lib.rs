@@ -1,6 +1,6 @@
 //! platoon-lab: what measures platoon rather than embeds it. The balance bench
 //! ([`balance_bench`]), the living-scene bench ([`dynamic_bench`]), the CPU comparison of BVH
-//! layouts ([`layout_bench`]), the bench scenes against Mitsuba 3 ([`scene_bench`], through the
+//! layouts ([`layout_bench`]), vertex links' update ([`links_bench`]), the bench scenes against Mitsuba 3 ([`scene_bench`], through the
 //! exporter [`mitsuba`]), the accuracy-vs-time trade-off tool ([`tradeoff`]) and their plots
 //! ([`plot`]). The `platoon` command line runs them (`platoon bench kernel|scenes|dynamic|game|balance`,
 //! `platoon tradeoff`);
@@ -9,6 +9,7 @@
 pub mod balance_bench;
 pub mod dynamic_bench;
 pub mod layout_bench;
+pub mod links_bench;
 pub mod mitsuba;
 pub mod plot;
 pub mod scene_bench;

@@ -9,8 +9,8 @@
 pub mod devices;
 pub mod game;
 pub mod generated;
-pub mod links;
 pub mod metadata;
+pub mod method_update;
 pub mod prepare;
 pub mod render;
 

@@ -98,30 +98,8 @@ pub fn metadata(
         ),
         ("approximations".into(), approximations(params)),
     ];
-    if let Some(u) = &rendered.links {
-        m.push(("links_update".into(), links_update(u)));
-    }
+    m.extend(rendered.method_metadata.iter().cloned());
     m
-}
-
-/// Vertex links' update: what it made and its stages' times.
-fn links_update(u: &platoon_core::method::links::job::UpdateStats) -> String {
-    format!(
-        "{} elements, {} rays, {} raw links -> {} ({} bytes); seconds: weld {:.3}, shoot {:.3}, \
-         reduce {:.3}, direct light {:.3}, gather {:.3}, smooth {:.3}, total {:.3}",
-        u.elements,
-        u.rays,
-        u.raw_links,
-        u.links,
-        u.link_bytes,
-        u.weld_s,
-        u.shoot_s,
-        u.reduce_s,
-        u.light_s,
-        u.gather_s,
-        u.smooth_s,
-        u.total_s()
-    )
 }
 
 /// The rendering method and its options.

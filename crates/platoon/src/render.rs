@@ -6,8 +6,6 @@ use std::time::Duration;
 use anyhow::{Context as _, Result};
 use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::{assemble, Band, FrameParams, Span};
-use platoon_core::method::links::job::UpdateStats;
-use platoon_core::method::links::Job;
 use platoon_core::output::Film;
 use platoon_tracer::{Tracer, TracerOptions};
 
@@ -35,16 +33,9 @@ pub struct Rendered {
     pub balancer: Option<&'static str>,
     /// What the Khronos validation layer reported (with validation on).
     pub validation_messages: Vec<String>,
-    /// The vertex-links update the frame read (its stages' times, links, bytes).
-    pub links: Option<UpdateStats>,
-}
-
-/// The update behind a vertex-links frame's solution.
-fn links_stats(params: &FrameParams) -> Option<UpdateStats> {
-    match params.method.links()?.job.as_ref()? {
-        Job::Render(s) => Some(s.stats.clone()),
-        _ => None,
-    }
+    /// The method's own metadata entries (`RenderMethod::metadata`: what its preparation
+    /// did, e.g. vertex links' update).
+    pub method_metadata: Vec<(String, String)>,
 }
 
 impl Rendered {
@@ -93,12 +84,12 @@ pub fn render_bands(
         tracers: Vec::new(),
         balancer: None,
         validation_messages: tracer.validation_messages(),
-        links: links_stats(params),
+        method_metadata: params.method.unit().metadata(),
     })
 }
 
-/// Renders a prepared scene on one device (solving vertex links first when the frame asks
-/// for them).
+/// Renders a prepared scene on one device (after the method's preparation, when it has one:
+/// vertex links' update).
 pub fn render(
     prepared: &Prepared,
     options: &TracerOptions,
@@ -106,7 +97,7 @@ pub fn render(
     progress: &mut dyn FnMut(u32),
 ) -> Result<Rendered> {
     let mut tracer = Tracer::new(options, &prepared.gpu)?;
-    let params = crate::links::solve_on_tracer(&mut tracer, &prepared.gpu, params)?;
+    let params = crate::method_update::on_tracer(&mut tracer, &prepared.gpu, params)?;
     render_bands(&mut tracer, &params, &[whole_frame(&params)], progress)
 }
 
@@ -144,7 +135,7 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         tracers: frame.tracers,
         balancer: Some(renderer.balancer_name()),
         validation_messages: renderer.with_tracers(|t| t.validation_messages()).concat(),
-        links: links_stats(params),
+        method_metadata: params.method.unit().metadata(),
         film: frame.film,
     })
 }

@@ -6,6 +6,7 @@ mod dynamic;
 mod game;
 mod game_costs;
 mod kernel;
+mod links;
 mod scenes;
 
 use anyhow::{Context as _, Result};
@@ -26,6 +27,9 @@ pub enum BenchMode {
     Game(game::GameArgs),
     /// The line balancers compared over an orbiting camera (Brigade's Table 16 for platoon).
     Balance(balance::BalanceArgs),
+    /// Vertex links' update stage by stage, links raw and compressed, first frame and frame
+    /// (Schmitz et al.'s table for platoon).
+    Links(links::LinksArgs),
 }
 
 pub fn run(mode: BenchMode) -> Result<()> {
@@ -35,5 +39,6 @@ pub fn run(mode: BenchMode) -> Result<()> {
         BenchMode::Dynamic(a) => dynamic::run(&a).context("bench dynamic failed"),
         BenchMode::Game(a) => game::run(&a).context("bench game failed"),
         BenchMode::Balance(a) => balance::run(a),
+        BenchMode::Links(a) => links::run(&a).context("bench links failed"),
     }
 }

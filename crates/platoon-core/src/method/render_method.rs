@@ -1,7 +1,21 @@
 //! What every rendering method provides to the core.
 
 use crate::flatten::features::KernelOption;
+use crate::flatten::GpuScene;
 use crate::frame::{Band, FrameParams};
+use crate::method::Method;
+
+/// What a device frame of a method's work before its frames gave back: each pixel's average
+/// (the film) and what its bands left per pixel (`Band::per_pixel`), in pixel order.
+pub struct DeviceFrame {
+    pub film: Vec<[f32; 3]>,
+    pub per_pixel: Vec<[f32; 4]>,
+    /// Device time of its dispatches, summed over tracers.
+    pub gpu_time: std::time::Duration,
+}
+
+/// Renders a device frame: on one tracer's bands, or split between the renderer's tracers.
+pub type DeviceRun<'a> = dyn FnMut(&FrameParams) -> Result<DeviceFrame, String> + 'a;
 
 /// A rendering method as the core sees it: plain data and CPU passes; its device side is the
 /// tracer's (`platoon-tracer/src/method/`).
@@ -20,4 +34,19 @@ pub trait RenderMethod {
     /// The pass after every band of the frame is in, on the bands' sums (what needs
     /// neighbouring pixels, from the data each band carries in `Band::per_pixel`).
     fn finish(&self, _params: &FrameParams, _bands: &mut [Band]) {}
+    /// Its work before the frames that need it (vertex links' update), on `g` (the scene the
+    /// tracers hold) through device frames: the method with the results, or None when the
+    /// frame needs nothing more.
+    fn prepare(
+        &self,
+        _g: &GpuScene,
+        _params: &FrameParams,
+        _run: &mut DeviceRun,
+    ) -> crate::error::Result<Option<Method>> {
+        Ok(None)
+    }
+    /// Entries of the output's metadata beyond its description (what its preparation did).
+    fn metadata(&self) -> Vec<(String, String)> {
+        Vec::new()
+    }
 }

@@ -159,15 +159,15 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
         let mut params = base.clone();
         technique.apply(&mut params);
         params.spp = 1;
-        // Vertex links' update runs on the technique's tracer, once to compile its kernels and
-        // once timed; that time is added to every render of the technique (a still frame pays
-        // for it once).
+        // A method's preparation (vertex links' update) runs on the technique's tracer, once to
+        // compile its kernels and once timed; that time is added to every render of the
+        // technique (a still frame pays for it once).
         let mut update = 0.0;
-        if params.method.links().is_some() {
-            platoon::links::solve_on_tracer(tracer, &prepared.gpu, &params)
-                .with_context(|| format!("solving {technique}"))?;
+        let warm = platoon::method_update::on_tracer(tracer, &prepared.gpu, &params)
+            .with_context(|| format!("preparing {technique}"))?;
+        if warm.method != params.method {
             let clock = std::time::Instant::now();
-            params = platoon::links::solve_on_tracer(tracer, &prepared.gpu, &params)?;
+            params = platoon::method_update::on_tracer(tracer, &prepared.gpu, &params)?;
             update = clock.elapsed().as_secs_f64();
         }
         tracer

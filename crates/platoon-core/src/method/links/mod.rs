@@ -35,9 +35,13 @@ pub mod solve;
 pub use job::{Job, Links, Solution};
 pub use options::{LinksOptions, MAX_BOUNCES, MAX_DIRECTIONS};
 
+use std::sync::Arc;
+
 use crate::flatten::features::KernelOption;
+use crate::flatten::GpuScene;
 use crate::frame::{FrameParams, Output};
-use crate::method::render_method::RenderMethod;
+use crate::method::render_method::{DeviceRun, RenderMethod};
+use crate::method::Method;
 
 impl RenderMethod for Links {
     fn name(&self) -> &'static str {
@@ -103,5 +107,50 @@ impl RenderMethod for Links {
             ));
         }
         a
+    }
+
+    /// The update (`solve`), when the frame has no solution yet.
+    fn prepare(
+        &self,
+        g: &GpuScene,
+        params: &FrameParams,
+        run: &mut DeviceRun,
+    ) -> crate::error::Result<Option<Method>> {
+        if self.job.is_some() {
+            return Ok(None);
+        }
+        let solution = solve::solve(g, &self.options, params, run)?;
+        Ok(Some(Method::Links(Links {
+            options: self.options,
+            job: Some(Job::Render(Arc::new(solution))),
+        })))
+    }
+
+    /// `links_update`: what the update made and its stages' times.
+    fn metadata(&self) -> Vec<(String, String)> {
+        let Some(Job::Render(s)) = &self.job else {
+            return Vec::new();
+        };
+        let u = &s.stats;
+        vec![(
+            "links_update".into(),
+            format!(
+                "{} elements, {} rays, {} raw links -> {} ({} bytes); seconds: weld {:.3}, \
+                 shoot {:.3}, reduce {:.3}, direct light {:.3}, gather {:.3}, smooth {:.3}, \
+                 total {:.3}",
+                u.elements,
+                u.rays,
+                u.raw_links,
+                u.links,
+                u.link_bytes,
+                u.weld_s,
+                u.shoot_s,
+                u.reduce_s,
+                u.light_s,
+                u.gather_s,
+                u.smooth_s,
+                u.total_s()
+            ),
+        )]
     }
 }

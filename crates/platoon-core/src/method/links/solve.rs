@@ -21,26 +21,18 @@ use super::shoot_cpu::{link_of_hit, ray_direction, ray_frame};
 use crate::error::{Error, Result};
 use crate::flatten::GpuScene;
 use crate::frame::FrameParams;
+use crate::method::render_method::DeviceRun;
 use crate::method::Method;
 
 /// Rays a shooting frame carries at most: its hits are read back whole (16 bytes each).
 pub const MAX_RAYS_PER_FRAME: u64 = 1 << 22;
-
-/// What a device frame gave back: each pixel's average (the film) and what its bands left per
-/// pixel (`Band::per_pixel`), in pixel order.
-pub struct DeviceFrame {
-    pub film: Vec<[f32; 3]>,
-    pub per_pixel: Vec<[f32; 4]>,
-    /// Device time of its dispatches, summed over tracers.
-    pub gpu_time: std::time::Duration,
-}
 
 /// Solves the links of `g` (the scene the devices hold) for frames like `params`.
 pub fn solve(
     g: &GpuScene,
     options: &LinksOptions,
     params: &FrameParams,
-    run: &mut dyn FnMut(&FrameParams) -> std::result::Result<DeviceFrame, String>,
+    run: &mut DeviceRun,
 ) -> Result<Solution> {
     options.validate().map_err(Error::Invalid)?;
     let mut stats = UpdateStats::default();
