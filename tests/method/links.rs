@@ -23,7 +23,7 @@ use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::tracer::{Sampling, Tracer};
 
 fn links(options: LinksOptions) -> Method {
-    Method::Links(Links { options, job: None })
+    Method::Links(Links::new(options))
 }
 
 /// `params` solved on `tracer` (the facade's update), asserting the devices said nothing.
@@ -315,6 +315,65 @@ fn one_and_three_tracers_give_the_same_bits_under_every_balancer() {
         assert_eq!(renderer.alive(), [0, 2]);
         assert!(renderer.render_frame(&p).unwrap().film == image);
     }
+}
+
+/// The Cornell box with faces of 4 x 4 quads and a point light at `light` besides its area
+/// light.
+fn box_with_point_light(light: Vec3) -> platoon::Prepared {
+    let mut scene = cornell::tessellated(4);
+    scene.lights.push(PunctualLight {
+        name: "bulb".into(),
+        kind: LightKind::Point,
+        color: Vec3::ONE,
+        intensity: 20.0,
+        range: 0.0,
+    });
+    let mut node = Node::new("bulb");
+    node.light = Some(0);
+    node.translation = light.as_dvec3();
+    scene.nodes.push(node);
+    prepare(scene, platoon::EnvChoice::Scene)
+}
+
+/// Relighting a still scene: an update given an earlier solution of the same geometry shoots
+/// nothing, takes its links, and gives the bits a full update of the relit scene gives; after
+/// a change of geometry it shoots again.
+#[test]
+fn relighting_a_still_scene_reuses_the_links_and_equals_a_full_update() {
+    let before = box_with_point_light(Vec3::new(1.0, 4.0, 1.0));
+    let after = box_with_point_light(Vec3::new(4.5, 1.0, 4.0));
+    let options = LinksOptions {
+        directions: 64,
+        light_samples: 8,
+        ..Default::default()
+    };
+    let mut params = FrameParams::new(16, 16, 1, before.camera);
+    params.method = links(options);
+    let first = solved(&mut tracer(&before, Sampling::Mis), &before, &params);
+    let first = solution(&first).clone();
+    let mut t = tracer(&after, Sampling::Mis);
+    let full = solved(&mut t, &after, &params);
+    let full = solution(&full);
+    assert!(!full.stats.relit && full.irradiance != first.irradiance);
+    let mut relight = params.clone();
+    relight.method = Method::Links(Links {
+        previous: Some(first.clone()),
+        ..Links::new(options)
+    });
+    let relit = solved(&mut t, &after, &relight);
+    let relit = solution(&relit);
+    assert!(relit.stats.relit && relit.stats.rays == 0 && relit.stats.shoot_s == 0.0);
+    assert!(Arc::ptr_eq(&relit.links, &first.links));
+    assert!(
+        relit.irradiance == full.irradiance,
+        "relit differs from a full update"
+    );
+    // Moved geometry: the earlier links are not taken.
+    let mut moved = cornell::tessellated(4);
+    moved.nodes[0].translation.y += 0.5;
+    let moved = prepare(moved, platoon::EnvChoice::Scene);
+    let m = solved(&mut tracer(&moved, Sampling::Mis), &moved, &relight);
+    assert!(!solution(&m).stats.relit);
 }
 
 /// Vertex links compile their kernels' options in only when a frame asks for them.

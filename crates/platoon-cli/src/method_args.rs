@@ -115,10 +115,7 @@ impl MethodArgs {
         if let Err(e) = o.validate() {
             bail!("{e}");
         }
-        Ok(Method::Links(Links {
-            options: o,
-            job: None,
-        }))
+        Ok(Method::Links(Links::new(o)))
     }
 
     /// The method with its options; refuses one method's flags given to another.

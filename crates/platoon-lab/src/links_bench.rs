@@ -93,7 +93,7 @@ pub fn measure(s: &LinksScene, options: LinksOptions, size: u32, spp: u32) -> Re
     .with_context(|| format!("preparing {}", s.name))?;
     let mut tracer = Tracer::new(&TracerOptions::default(), &prepared.gpu)?;
     let mut params = FrameParams::new(size, size, spp, prepared.camera);
-    params.method = Method::Links(Links { options, job: None });
+    params.method = Method::Links(Links::new(options));
     // Warm-up: every kernel compiled.
     let solved = platoon::method_update::on_tracer(&mut tracer, &prepared.gpu, &params)?;
     tracer.render(&solved, 0, size, &mut |_| {})?;

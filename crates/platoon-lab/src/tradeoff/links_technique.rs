@@ -28,10 +28,7 @@ impl LinksTechnique {
 
     /// The method of a frame this technique renders (solved before its first render).
     pub fn method(self) -> platoon_core::Method {
-        platoon_core::Method::Links(Links {
-            options: self.options(),
-            job: None,
-        })
+        platoon_core::Method::Links(Links::new(self.options()))
     }
 
     pub fn parse(s: &str, value: &str) -> Result<LinksTechnique> {

@@ -15,6 +15,21 @@ pub struct Links {
     pub options: LinksOptions,
     /// None until the facade's update (`solve`) has run: a tracer refuses such a frame.
     pub job: Option<Job>,
+    /// An earlier solution the update may take its links from: when the scene's geometry and
+    /// the options that shape links are unchanged (only lights or materials moved on), it
+    /// relights (direct light and gather) instead of shooting again.
+    pub previous: Option<Arc<Solution>>,
+}
+
+impl Links {
+    /// Vertex links with `options`, to be solved.
+    pub fn new(options: LinksOptions) -> Links {
+        Links {
+            options,
+            job: None,
+            previous: None,
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -73,7 +88,10 @@ pub struct Solution {
     pub table: Vec<u32>,
     pub instances: u32,
     /// The compressed links it gathered over: what relighting a still scene reuses.
-    pub links: LinkGroups,
+    pub links: Arc<LinkGroups>,
+    /// A digest of what shaped the links (the scene's geometry and instances, the directions
+    /// and the feature angle): a later update with the same may reuse them.
+    pub geometry: u64,
     /// What the update that made it did, for the output's metadata.
     pub stats: UpdateStats,
 }
@@ -98,6 +116,8 @@ pub struct UpdateStats {
     /// Of shoot_s and light_s, the devices' dispatch time (summed over tracers).
     pub shoot_device_s: f64,
     pub light_device_s: f64,
+    /// The links were an earlier solution's (relighting: nothing shot, nothing reduced).
+    pub relit: bool,
 }
 
 impl UpdateStats {

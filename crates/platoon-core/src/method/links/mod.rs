@@ -119,10 +119,11 @@ impl RenderMethod for Links {
         if self.job.is_some() {
             return Ok(None);
         }
-        let solution = solve::solve(g, &self.options, params, run)?;
+        let solution = solve::solve(g, &self.options, params, self.previous.as_deref(), run)?;
         Ok(Some(Method::Links(Links {
             options: self.options,
             job: Some(Job::Render(Arc::new(solution))),
+            previous: None,
         })))
     }
 
@@ -135,11 +136,16 @@ impl RenderMethod for Links {
         vec![(
             "links_update".into(),
             format!(
-                "{} elements, {} rays, {} raw links -> {} ({} bytes); seconds: weld {:.3}, \
+                "{} elements, {} rays{}, {} raw links -> {} ({} bytes); seconds: weld {:.3}, \
                  shoot {:.3}, reduce {:.3}, direct light {:.3}, gather {:.3}, smooth {:.3}, \
                  total {:.3}",
                 u.elements,
                 u.rays,
+                if u.relit {
+                    " (relit: an earlier solution's links)"
+                } else {
+                    ""
+                },
                 u.raw_links,
                 u.links,
                 u.link_bytes,

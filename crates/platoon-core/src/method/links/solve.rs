@@ -21,17 +21,34 @@ use super::shoot_cpu::{link_of_hit, ray_direction, ray_frame};
 use crate::error::{Error, Result};
 use crate::flatten::GpuScene;
 use crate::frame::FrameParams;
-use crate::method::render_method::DeviceRun;
+use crate::method::render_method::{DeviceFrame, DeviceRun};
 use crate::method::Method;
 
 /// Rays a shooting frame carries at most: its hits are read back whole (16 bytes each).
 pub const MAX_RAYS_PER_FRAME: u64 = 1 << 22;
 
-/// Solves the links of `g` (the scene the devices hold) for frames like `params`.
+/// A digest of what shapes the links of `g` with `options`: vertices, triangles, instances,
+/// the directions and the feature angle (not lights, materials or the other options).
+pub fn geometry_digest(g: &GpuScene, options: &LinksOptions) -> u64 {
+    use std::hash::Hasher;
+    // SipHash with fixed keys: the same digest in every process.
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    h.write(bytemuck::cast_slice(&g.vertices));
+    h.write(bytemuck::cast_slice(&g.triangle_positions));
+    h.write(bytemuck::cast_slice(&g.triangles));
+    h.write(bytemuck::cast_slice(&g.instances));
+    h.write_u32(options.directions);
+    h.write_u32(options.feature_angle.to_bits());
+    h.finish()
+}
+
+/// Solves the links of `g` (the scene the devices hold) for frames like `params`, taking the
+/// links of `previous` when it was solved on the same geometry (relighting).
 pub fn solve(
     g: &GpuScene,
     options: &LinksOptions,
     params: &FrameParams,
+    previous: Option<&Solution>,
     run: &mut DeviceRun,
 ) -> Result<Solution> {
     options.validate().map_err(Error::Invalid)?;
@@ -48,6 +65,7 @@ pub fn solve(
         p.method = Method::Links(Links {
             options: *options,
             job: Some(job),
+            previous: None,
         });
         (p.width, p.height, p.spp) = (width, height, spp);
         p.accumulated = None;
@@ -56,31 +74,19 @@ pub fn solve(
         run(&p).map_err(|e| Error::Invalid(format!("links update: {e}")))
     };
 
-    // Shooting, a batch of elements per frame; reduced batch by batch.
-    let batch = (MAX_RAYS_PER_FRAME / n_c as u64).max(1) as usize;
-    let mut links = LinkGroups {
-        offsets: vec![0],
-        ..Default::default()
+    let geometry = geometry_digest(g, options);
+    let links = match previous.filter(|p| p.geometry == geometry) {
+        Some(p) => {
+            stats.relit = true;
+            p.links.clone()
+        }
+        None => Arc::new(shoot(g, &elements, &rays, &mut device, &mut stats)?),
     };
-    let mut first = 0;
-    while first < n {
-        let end = (first + batch).min(n);
-        let part = Arc::new(ElementRays {
-            elements: rays.elements[first..end].to_vec(),
-            directions: rays.directions.clone(),
-            fans: Vec::new(),
-        });
-        let clock = Instant::now();
-        let frame = device(Job::Shoot(part), n_c, (end - first) as u32, 1)?;
-        stats.shoot_s += clock.elapsed().as_secs_f64();
-        stats.shoot_device_s += frame.gpu_time.as_secs_f64();
-        let clock = Instant::now();
-        let hits = hits_of(g, &elements, &rays, first, &frame.per_pixel)?;
-        links.append(LinkGroups::from_hits(n_c, &hits));
-        stats.reduce_s += clock.elapsed().as_secs_f64();
-        first = end;
-    }
-    stats.rays = n as u64 * n_c as u64;
+    stats.rays = if stats.relit {
+        0
+    } else {
+        n as u64 * n_c as u64
+    };
     stats.raw_links = links.raw_links;
     stats.links = links.peers.len() as u64;
     stats.link_bytes = links.bytes() as u64;
@@ -126,8 +132,45 @@ pub fn solve(
         table: elements.table(g),
         instances: g.instances.len() as u32,
         links,
+        geometry,
         stats,
     })
+}
+
+/// Shooting frames of a batch of elements each, reduced batch by batch into link groups.
+fn shoot(
+    g: &GpuScene,
+    elements: &SceneElements,
+    rays: &ElementRays,
+    device: &mut dyn FnMut(Job, u32, u32, u32) -> Result<DeviceFrame>,
+    stats: &mut UpdateStats,
+) -> Result<LinkGroups> {
+    let n = elements.len();
+    let n_c = rays.directions.len() as u32;
+    let batch = (MAX_RAYS_PER_FRAME / n_c as u64).max(1) as usize;
+    let mut links = LinkGroups {
+        offsets: vec![0],
+        ..Default::default()
+    };
+    let mut first = 0;
+    while first < n {
+        let end = (first + batch).min(n);
+        let part = Arc::new(ElementRays {
+            elements: rays.elements[first..end].to_vec(),
+            directions: rays.directions.clone(),
+            fans: Vec::new(),
+        });
+        let clock = Instant::now();
+        let frame = device(Job::Shoot(part), n_c, (end - first) as u32, 1)?;
+        stats.shoot_s += clock.elapsed().as_secs_f64();
+        stats.shoot_device_s += frame.gpu_time.as_secs_f64();
+        let clock = Instant::now();
+        let hits = hits_of(g, elements, rays, first, &frame.per_pixel)?;
+        links.append(LinkGroups::from_hits(n_c, &hits));
+        stats.reduce_s += clock.elapsed().as_secs_f64();
+        first = end;
+    }
+    Ok(links)
 }
 
 /// The elements as the kernels read them, with the directions.
