@@ -29,14 +29,17 @@ struct PathHook {
 
 // The indirect irradiance at a hit, from its triangle's corners' elements.
 vec3 links_irradiance(Hit hit) {
+    uint vertices = links_instances();
+    if (hit.instance >= vertices) return vec3(0.0);
     uvec3 v = triangle_at(hit.triangle).v.xyz;
     uint base = LINKS_TABLE.v[hit.instance];
-    uint vertices = links_instances();
     vec3 b = vec3(1.0 - hit.b1 - hit.b2, hit.b1, hit.b2);
     vec3 e = vec3(0.0);
     for (int k = 0; k < 3; ++k) {
+        if (vertices + v[k] >= links_table_length()) continue;
         uint local = LINKS_TABLE.v[vertices + v[k]];
-        if (local != ~0u) e += b[k] * LINKS_IRRADIANCE.v[base + local].xyz;
+        if (local != ~0u && base + local < links_irradiance_length())
+            e += b[k] * LINKS_IRRADIANCE.v[base + local].xyz;
     }
     return e;
 }

@@ -226,3 +226,22 @@ fn without_the_options_one_sample_a_frame_is_the_floor() {
     // Still frames of one sample sum exactly, as at any spp.
     assert_eq!(last.join, Join::Sum);
 }
+
+/// A method whose frames need an update first (vertex links) is refused by the frame driver,
+/// by name, rather than failing at its first frame: the update does not follow the living
+/// scene's generations yet.
+#[test]
+fn the_frame_driver_refuses_a_method_it_cannot_prepare() {
+    init();
+    let (scene, _) = cornell();
+    let (pipeline, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
+    let tracers =
+        create_tracers(&"lavapipe:1".parse().unwrap(), &first, true, Sampling::Mis).unwrap();
+    let mut options = DriverOptions::new(16, 16);
+    options.method =
+        platoon::core::Method::Links(platoon::core::method::links::Links::new(Default::default()));
+    let e = FrameDriver::new(pipeline, &first, tracers, by_name("none").unwrap(), options)
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("cannot render links"), "{e}");
+}

@@ -186,6 +186,16 @@ impl FrameDriver {
         if tracers.is_empty() {
             return Err(Error::Invalid("a frame driver needs a tracer".into()));
         }
+        let method = options.method.unit();
+        if !method.ready() {
+            // Its work before the frames would have to follow the living scene's generations.
+            return Err(Error::Invalid(format!(
+                "the game loop cannot render {} yet: its update before the frames does not run \
+                 in the frame driver (render a still frame with `platoon render --method {}`)",
+                method.name(),
+                method.name()
+            )));
+        }
         let name = balancer.name();
         let renderer = Renderer::new(tracers, balancer);
         let film = Accumulation::new(options.width, options.height);

@@ -45,6 +45,10 @@ pub trait RenderMethod {
     ) -> crate::error::Result<Option<Method>> {
         Ok(None)
     }
+    /// Whether its frames can render as they are (false: `prepare` must run first).
+    fn ready(&self) -> bool {
+        true
+    }
     /// Entries of the output's metadata beyond its description (what its preparation did).
     fn metadata(&self) -> Vec<(String, String)> {
         Vec::new()

@@ -127,6 +127,10 @@ impl RenderMethod for Links {
         })))
     }
 
+    fn ready(&self) -> bool {
+        self.job.is_some()
+    }
+
     /// `links_update`: what the update made and its stages' times.
     fn metadata(&self) -> Vec<(String, String)> {
         let Some(Job::Render(s)) = &self.job else {
