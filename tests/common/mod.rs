@@ -222,3 +222,35 @@ pub fn sphere_pixels(w: u32, h: u32, shrink: f32) -> Vec<usize> {
 pub fn luminance(p: [f32; 3]) -> f64 {
     (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0
 }
+
+/// Root-mean-square difference of two films over every pixel and channel.
+pub fn rmse(a: &Film, b: &Film) -> f64 {
+    let n = a.pixels.len() as f64 * 3.0;
+    let sum: f64 = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] as f64 - q[c] as f64).powi(2)))
+        .sum();
+    (sum / n).sqrt()
+}
+
+/// Mean of a film over every pixel and channel.
+pub fn mean(film: &Film) -> f64 {
+    film.pixels
+        .iter()
+        .map(|p| (p[0] + p[1] + p[2]) as f64)
+        .sum::<f64>()
+        / (3 * film.pixels.len()) as f64
+}
+
+/// `a - b`, pixel by pixel (e.g. a render minus its direct light).
+pub fn minus(a: &Film, b: &Film) -> Film {
+    let mut d = a.clone();
+    for (p, q) in d.pixels.iter_mut().zip(&b.pixels) {
+        for c in 0..3 {
+            p[c] -= q[c];
+        }
+    }
+    d
+}

@@ -10,7 +10,6 @@ use platoon::core::balance::by_name;
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
 use platoon::core::method::igi::IgiOptions;
-use platoon::core::output::Film;
 use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::tracer::Sampling;
@@ -20,35 +19,6 @@ fn cornell() -> platoon::Prepared {
         platoon::core::scene::cornell::scene(),
         platoon::EnvChoice::Scene,
     )
-}
-
-fn rmse(a: &Film, b: &Film) -> f64 {
-    let n = a.pixels.len() as f64 * 3.0;
-    let sum: f64 = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] as f64 - q[c] as f64).powi(2)))
-        .sum();
-    (sum / n).sqrt()
-}
-
-fn mean(film: &Film) -> f64 {
-    film.pixels
-        .iter()
-        .map(|p| (p[0] + p[1] + p[2]) as f64)
-        .sum::<f64>()
-        / (3 * film.pixels.len()) as f64
-}
-
-fn minus(a: &Film, b: &Film) -> Film {
-    let mut d = a.clone();
-    for (p, q) in d.pixels.iter_mut().zip(&b.pixels) {
-        for c in 0..3 {
-            p[c] -= q[c];
-        }
-    }
-    d
 }
 
 /// The Cornell box is Lambertian: IGI with exact visibility, no bound on the geometry term and

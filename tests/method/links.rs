@@ -16,7 +16,6 @@ use platoon::core::frame::FrameParams;
 use platoon::core::method::links::reduce::LinkGroups;
 use platoon::core::method::links::scene_elements::SceneElements;
 use platoon::core::method::links::{shoot_cpu, Job, Links, LinksOptions, Solution};
-use platoon::core::output::Film;
 use platoon::core::scene::{cornell, LightKind, Mesh, Node, PunctualLight, Scene};
 use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
@@ -38,35 +37,6 @@ fn solution(params: &FrameParams) -> &Arc<Solution> {
         Some(Job::Render(s)) => s,
         _ => panic!("not a solved links frame"),
     }
-}
-
-fn mean(film: &Film) -> f64 {
-    film.pixels
-        .iter()
-        .map(|p| (p[0] + p[1] + p[2]) as f64)
-        .sum::<f64>()
-        / (3 * film.pixels.len()) as f64
-}
-
-fn rmse(a: &Film, b: &Film) -> f64 {
-    let n = a.pixels.len() as f64 * 3.0;
-    let sum: f64 = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] as f64 - q[c] as f64).powi(2)))
-        .sum();
-    (sum / n).sqrt()
-}
-
-fn minus(a: &Film, b: &Film) -> Film {
-    let mut d = a.clone();
-    for (p, q) in d.pixels.iter_mut().zip(&b.pixels) {
-        for c in 0..3 {
-            p[c] -= q[c];
-        }
-    }
-    d
 }
 
 /// An icosphere of radius 2 about the origin seen from inside (normals and winding turned

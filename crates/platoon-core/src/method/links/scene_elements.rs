@@ -144,18 +144,9 @@ impl SceneElements {
         let mut per: Vec<Vec<(u32, u32, f32)>> = vec![Vec::new(); self.len()];
         for (i, &region) in self.region_of_instance.iter().enumerate() {
             let r = &g.regions[region];
-            let rows = g.instances[i].object_to_world;
-            let world = |v: u32| {
-                let p = Vec3::from_slice(&g.vertices[v as usize].position_u[..3]).extend(1.0);
-                Vec3::new(
-                    glam::Vec4::from(rows[0]).dot(p),
-                    glam::Vec4::from(rows[1]).dot(p),
-                    glam::Vec4::from(rows[2]).dot(p),
-                )
-            };
             for t in r.triangle_base..r.triangle_base + r.triangle_count {
                 let v = g.triangles[t as usize].v;
-                let [a, b, c] = v.map(world);
+                let [a, b, c] = v.map(|v| world_vertex(g, i as u32, v));
                 let area = 0.5 * (b - a).cross(c - a).length();
                 for (k, &corner) in v.iter().enumerate() {
                     per[self.element(i as u32, corner) as usize].push((t, k as u32, area));
@@ -196,6 +187,17 @@ impl SceneElements {
         }
         table
     }
+}
+
+/// Scene vertex `v` (a global index) of instance `instance` in render space.
+pub fn world_vertex(g: &GpuScene, instance: u32, v: u32) -> Vec3 {
+    let rows = g.instances[instance as usize].object_to_world;
+    let p = Vec3::from_slice(&g.vertices[v as usize].position_u[..3]).extend(1.0);
+    Vec3::new(
+        glam::Vec4::from(rows[0]).dot(p),
+        glam::Vec4::from(rows[1]).dot(p),
+        glam::Vec4::from(rows[2]).dot(p),
+    )
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@
 use glam::Vec3;
 
 use super::reduce::RayHit;
-use super::scene_elements::SceneElements;
+use super::scene_elements::{world_vertex, SceneElements};
 use crate::drive::queries::QueryScene;
 use crate::flatten::GpuScene;
 
@@ -67,16 +67,7 @@ pub fn link_of_hit(
     // The face's side from its geometry (a ray that leaves an element below one of its own
     // faces meets that face from the front at once), turned to the side its shading normals
     // call the front.
-    let rows = g.instances[instance as usize].object_to_world;
-    let world = |v: u32| {
-        let p = Vec3::from_slice(&g.vertices[v as usize].position_u[..3]).extend(1.0);
-        Vec3::new(
-            glam::Vec4::from(rows[0]).dot(p),
-            glam::Vec4::from(rows[1]).dot(p),
-            glam::Vec4::from(rows[2]).dot(p),
-        )
-    };
-    let [a, bb, c] = tri.v.map(world);
+    let [a, bb, c] = tri.v.map(|v| world_vertex(g, instance, v));
     let face = (bb - a).cross(c - a);
     let shading: Vec3 = corners
         .iter()

@@ -225,7 +225,9 @@ fn hits_of(
         .collect();
     let mut hits = Vec::with_capacity(per_pixel.len());
     for (k, rays_of) in per_pixel.chunks(n_c).enumerate() {
-        let frame = ray_frame(elements, first + k);
+        // The frame the element's rays were shot in (`element_rays`' copy of `ray_frame`).
+        let e = &rays.elements[first + k];
+        let frame = [e.origin, e.tangent, e.bitangent, e.normal].map(|v| Vec3::from_slice(&v[..3]));
         for (&d, h) in dirs.iter().zip(rays_of) {
             let (instance, triangle) = (h[0].to_bits(), h[1].to_bits());
             if instance == u32::MAX {
