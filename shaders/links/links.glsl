@@ -26,10 +26,12 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Fa
 #define LINKS_IRRADIANCE Vec4s(pc.g.method_buffer0)
 #define LINKS_TABLE Uints(pc.g.method_buffer1)
 
-// Push words (LinksPasses::push_words): the frame's element count (shooting, lighting); the
+// Push words (LinksPasses::push_words): the frame's element count (shooting, lighting) and
+// whether its entries are single rays (shooting); the
 // solution's instance count (image frames: where the table's vertices start), its table's and
 // its irradiance's lengths (a solution of another scene reads nothing out of bounds).
 uint links_elements() { return pc.method_words[0]; }
+bool links_single_rays() { return pc.method_words[1] != 0u; }
 uint links_instances() { return pc.method_words[0]; }
 uint links_table_length() { return pc.method_words[1]; }
 uint links_irradiance_length() { return pc.method_words[2]; }

@@ -227,11 +227,10 @@ fn without_the_options_one_sample_a_frame_is_the_floor() {
     assert_eq!(last.join, Join::Sum);
 }
 
-/// A method whose frames need an update first (vertex links) is refused by the frame driver,
-/// by name, rather than failing at its first frame: the update does not follow the living
-/// scene's generations yet.
+/// A method updated asynchronously (vertex links) without tracers of its own is refused by
+/// name at construction, rather than failing at its first frame.
 #[test]
-fn the_frame_driver_refuses_a_method_it_cannot_prepare() {
+fn an_asynchronous_update_without_its_own_tracers_is_refused() {
     init();
     let (scene, _) = cornell();
     let (pipeline, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
@@ -240,8 +239,13 @@ fn the_frame_driver_refuses_a_method_it_cannot_prepare() {
     let mut options = DriverOptions::new(16, 16);
     options.method =
         platoon::core::Method::Links(platoon::core::method::links::Links::new(Default::default()));
+    options.gi_update = platoon::core::drive::GiUpdate::Asynchronous;
     let e = FrameDriver::new(pipeline, &first, tracers, by_name("none").unwrap(), options)
         .err()
         .expect("refused");
-    assert!(e.to_string().contains("cannot render links"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("asynchronous update of links needs tracers"),
+        "{e}"
+    );
 }

@@ -6,16 +6,22 @@
 mod common;
 
 use std::sync::Arc;
+use std::time::Duration;
 
 use common::*;
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use platoon::core::balance::{by_name, NAMES};
+use platoon::core::drive::{
+    DriverOptions, Edit, FrameDriver, FrameStats, GiStats, GiUpdate, Pipeline, Updater,
+};
+use platoon::core::flatten::GpuScene;
 use platoon::core::frame::fault::FaultInjector;
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
 use platoon::core::method::links::reduce::LinkGroups;
 use platoon::core::method::links::scene_elements::SceneElements;
 use platoon::core::method::links::{shoot_cpu, Job, Links, LinksOptions, Solution};
+use platoon::core::scene::camera::Camera;
 use platoon::core::scene::{cornell, LightKind, Mesh, Node, PunctualLight, Scene};
 use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
@@ -344,6 +350,237 @@ fn relighting_a_still_scene_reuses_the_links_and_equals_a_full_update() {
     let moved = prepare(moved, platoon::EnvChoice::Scene);
     let m = solved(&mut tracer(&moved, Sampling::Mis), &moved, &relight);
     assert!(!solution(&m).stats.relit);
+}
+
+/// CesiumMan in the tessellated Cornell box, walking (his skin's animation) and carried across
+/// the floor (his node's placement), as the updater makes its generations.
+fn walk_in_a_room() -> (Updater, usize, Camera) {
+    let man = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
+    let (scene, node) = platoon::generated::walk_in_a_room(&man, 6).unwrap();
+    let camera = Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
+    (Updater::new(scene, 0.0, DVec3::ZERO).unwrap(), node, camera)
+}
+
+/// Living scenes: after each step of a walk the update given the earlier solution shoots
+/// again only the rays that can have changed (those of the man's elements, those that hit
+/// him, those that pass his new bounds) and gives the bits of shooting every ray again: the
+/// hits, the links and the light. A frame of the same geometry relights.
+#[test]
+fn revalidating_a_walk_gives_the_bits_of_regenerating_every_link() {
+    let (mut updater, node, camera) = walk_in_a_room();
+    let mut t = tracer_reading(updater.flattened(), Default::default());
+    let options = LinksOptions {
+        directions: 64,
+        light_samples: 4,
+        ..Default::default()
+    };
+    let mut params = FrameParams::new(16, 16, 1, camera);
+    params.method = links(options);
+    let solve = |t: &mut Tracer, g: &GpuScene, previous: Option<Arc<Solution>>| {
+        let mut p = params.clone();
+        p.method = Method::Links(Links {
+            previous,
+            ..Links::new(options)
+        });
+        let p = platoon::method_update::on_tracer(t, g, &p).expect("links update");
+        assert_no_validation_messages(t);
+        solution(&p).clone()
+    };
+    let mut last = solve(&mut t, updater.flattened(), None);
+    let all_rays = last.stats.rays;
+    for step in 1..=2 {
+        updater.apply(Edit::Time(0.3 * step as f32)).unwrap();
+        updater
+            .apply(Edit::Placement {
+                node,
+                placement: platoon::generated::walk_step(step as f64),
+            })
+            .unwrap();
+        let generation = updater.update().unwrap();
+        t.apply_commit(&generation.commit).unwrap();
+        let g = updater.flattened();
+        let revalidated = solve(&mut t, g, Some(last.clone()));
+        let regenerated = solve(&mut t, g, None);
+        let s = &revalidated.stats;
+        println!(
+            "step {step}: {} of {all_rays} rays shot again, {} of {} elements regrouped, {} \
+             instances and {} elements moved",
+            s.rays, s.regrouped, s.elements, s.moved_instances, s.moved_elements
+        );
+        assert!(s.revalidated && !regenerated.stats.revalidated);
+        assert_eq!(s.moved_instances, 1);
+        // Of the still room's rays, those that may see the man: a few.
+        let moved_rays = s.moved_elements as u64 * 64;
+        assert!(s.moved_elements > 0 && s.rays > moved_rays);
+        assert!(s.rays - moved_rays < (all_rays - moved_rays) / 4);
+        let (a, b) = (revalidated.shot.as_ref(), regenerated.shot.as_ref());
+        let differing = a
+            .unwrap()
+            .hits
+            .iter()
+            .zip(&b.unwrap().hits)
+            .filter(|(x, y)| x != y)
+            .count();
+        assert_eq!(differing, 0, "step {step}: hits differ from shooting all");
+        assert!(revalidated.links == regenerated.links, "step {step}: links");
+        assert!(
+            revalidated.irradiance == regenerated.irradiance,
+            "step {step}: light"
+        );
+        assert!(revalidated.links != last.links, "the walk changed no link");
+        last = revalidated;
+    }
+    // The same geometry again: relit from the last links.
+    let generation = updater.update().unwrap();
+    t.apply_commit(&generation.commit).unwrap();
+    let relit = solve(&mut t, updater.flattened(), Some(last.clone()));
+    assert!(relit.stats.relit && Arc::ptr_eq(&relit.links, &last.links));
+}
+
+/// The walk as a game plays it: `frames` calls of the frame driver over `tracers` (and
+/// `update_tracers` for an asynchronous update), the man stepping before the first `steps`;
+/// every finished frame's statistics, and the scene the walk ends in.
+fn play_the_walk(
+    gi_update: GiUpdate,
+    steps: usize,
+    frames: usize,
+    until_caught_up: bool,
+) -> (Vec<FrameStats>, GpuScene) {
+    let (mut updater, node, camera) = walk_in_a_room();
+    let (pipeline, first) = Pipeline::new(updater.scene().clone(), 0.0, DVec3::ZERO).unwrap();
+    let spec: DeviceSpec = "lavapipe:1,1".parse().unwrap();
+    let tracers = create_tracers(&spec, &first, true, Sampling::Mis).unwrap();
+    let update_tracers = match gi_update {
+        GiUpdate::Asynchronous => create_tracers(&spec, &first, true, Sampling::Mis).unwrap(),
+        GiUpdate::Synchronous => Vec::new(),
+    };
+    let mut options = DriverOptions::new(16, 16);
+    options.method = links(walk_options());
+    options.gi_update = gi_update;
+    let mut d = FrameDriver::with_update_tracers(
+        pipeline,
+        &first,
+        tracers,
+        update_tracers,
+        by_name("cost-aware").unwrap(),
+        options,
+    )
+    .unwrap();
+    let mut stats = Vec::new();
+    let mut frame = 0;
+    loop {
+        if frame < steps {
+            let edits = [
+                Edit::Time(0.3 * (frame + 1) as f32),
+                Edit::Placement {
+                    node,
+                    placement: platoon::generated::walk_step((frame + 1) as f64),
+                },
+            ];
+            // The replica takes each step's edits as one generation, as the driver's updater.
+            for e in edits {
+                updater.apply(e.clone()).unwrap();
+                d.scene().push(e).unwrap();
+            }
+            updater.update().unwrap();
+        }
+        let out = d.frame(camera).unwrap();
+        stats.extend(out.finished.map(|f| f.stats));
+        frame += 1;
+        let caught_up = stats
+            .last()
+            .and_then(|s| s.gi.as_ref())
+            .is_some_and(|g| g.age == 0 && g.generation == steps as u64);
+        if frame >= frames && (!until_caught_up || caught_up) {
+            break;
+        }
+        assert!(frame < 400, "the update never caught up with the walk");
+    }
+    stats.extend(d.finish().unwrap().map(|f| f.stats));
+    for s in &stats {
+        assert!(s.device_messages.is_empty(), "{:?}", s.device_messages);
+        assert!(s.failures.is_empty());
+    }
+    (stats, updater.flattened().clone())
+}
+
+fn walk_options() -> LinksOptions {
+    LinksOptions {
+        directions: 16,
+        light_samples: 2,
+        ..Default::default()
+    }
+}
+
+/// The solution a frame was lit by.
+fn lit_by(s: &FrameStats) -> Arc<Solution> {
+    let gi = s.gi.as_ref().expect("a links frame reports its lighting");
+    match gi.method.links().and_then(|l| l.job.as_ref()) {
+        Some(Job::Render(s)) => s.clone(),
+        _ => panic!("a frame lit by no solution"),
+    }
+}
+
+/// The links of `g` solved afresh on a tracer of its own, as the driver's update params set
+/// them.
+fn solved_afresh(g: &GpuScene, camera: Camera) -> Arc<Solution> {
+    let mut t = tracer_reading(g, Default::default());
+    let mut p = FrameParams::new(16, 16, 1, camera);
+    p.method = links(walk_options());
+    let p = platoon::method_update::on_tracer(&mut t, g, &p).unwrap();
+    solution(&p).clone()
+}
+
+/// In the game loop, synchronously: each frame of a new generation is lit by links of its own
+/// scene (age 0), revalidated from the last and the bits of solving that scene afresh; a frame
+/// of an unchanged scene reuses them.
+#[test]
+fn the_game_loop_updates_the_links_before_each_new_generation() {
+    let (stats, last_scene) = play_the_walk(GiUpdate::Synchronous, 2, 5, false);
+    let gis: Vec<&GiStats> = stats.iter().map(|s| s.gi.as_ref().unwrap()).collect();
+    let generations: Vec<u64> = gis.iter().map(|g| g.generation).collect();
+    assert_eq!(generations, [0, 1, 2, 2, 2]);
+    assert!(gis.iter().all(|g| g.age == 0));
+    let fresh: Vec<bool> = gis.iter().map(|g| g.update > Duration::ZERO).collect();
+    assert_eq!(fresh, [true, true, true, false, false]);
+    for g in &gis[1..3] {
+        assert!(g.metadata[0].1.contains("revalidated"), "{:?}", g.metadata);
+    }
+    let (_, _, camera) = walk_in_a_room();
+    let last = lit_by(stats.last().unwrap());
+    let afresh = solved_afresh(&last_scene, camera);
+    assert_eq!(last.geometry, afresh.geometry, "another scene");
+    assert!(last.links == afresh.links, "links");
+    assert!(last.irradiance == afresh.irradiance, "light");
+}
+
+/// Asynchronously: frames render while the update's own tracers solve the newest generation;
+/// each frame says how many generations its lighting lags, and once the walk stops the
+/// lighting catches up with the bits of solving the last scene afresh.
+#[test]
+fn asynchronous_links_follow_the_walk_and_catch_up() {
+    let (stats, last_scene) = play_the_walk(GiUpdate::Asynchronous, 3, 4, true);
+    let mut last_generation = 0;
+    for s in &stats {
+        let gi = s.gi.as_ref().unwrap();
+        assert!(
+            gi.generation >= last_generation,
+            "lighting went back in time"
+        );
+        last_generation = gi.generation;
+        assert!(gi.generation + gi.age <= 3);
+    }
+    println!(
+        "ages: {:?}",
+        stats
+            .iter()
+            .map(|s| s.gi.as_ref().unwrap().age)
+            .collect::<Vec<_>>()
+    );
+    let (_, _, camera) = walk_in_a_room();
+    let last = lit_by(stats.last().unwrap());
+    let afresh = solved_afresh(&last_scene, camera);
+    assert!(last.links == afresh.links && last.irradiance == afresh.irradiance);
 }
 
 /// Vertex links compile their kernels' options in only when a frame asks for them.

@@ -13,7 +13,7 @@ use anyhow::{anyhow, Context, Result};
 use glam::{Vec2, Vec3};
 use platoon::core::balance;
 use platoon::core::drive::Edit;
-use platoon::core::drive::{DriverOptions, FrameDriver};
+use platoon::core::drive::{DriverOptions, FrameDriver, GiUpdate};
 use platoon::core::output::{write_image, Film};
 use platoon::core::scene::camera::Camera;
 use platoon::game::{start, GameOptions};
@@ -25,6 +25,12 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 use crate::scene_args::SceneArgs;
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum GiUpdateArg {
+    Sync,
+    Async,
+}
 
 #[derive(clap::Args)]
 pub struct ViewArgs {
@@ -41,6 +47,10 @@ pub struct ViewArgs {
     /// Devices to render on (see `platoon devices`).
     #[arg(long, default_value = "all")]
     devices: String,
+    /// Vertex links: update the lighting on tracers of their own while frames render (async,
+    /// the paper's way), or before each frame of a changed scene (sync).
+    #[arg(long, value_enum, default_value = "async")]
+    gi_update: GiUpdateArg,
     /// Below one sample a frame, scale Russian-roulette survival down (unbiased, noisier).
     #[arg(long)]
     roulette_scaling: bool,
@@ -69,6 +79,10 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let (w, h) = args.size;
     let mut options = GameOptions::new(DriverOptions::new(w, h));
     options.driver.method = method;
+    options.driver.gi_update = match args.gi_update {
+        GiUpdateArg::Sync => GiUpdate::Synchronous,
+        GiUpdateArg::Async => GiUpdate::Asynchronous,
+    };
     options.driver.target = Some(Duration::from_secs_f64(args.target_ms.max(1.0) * 1e-3));
     options.driver.below_one = platoon::core::drive::scaling::BelowOneSample {
         roulette: args.roulette_scaling,
@@ -255,6 +269,9 @@ impl Viewer {
             }
             if let Some(igi) = self.driver.options().method.igi() {
                 below += &format!(", IGI {} VPLs", igi.slots());
+            }
+            if let Some(gi) = &s.gi {
+                below += &format!(", lighting {} generations old", gi.age);
             }
             window.set_title(&format!(
                 "platoon: {:.1} fps, {} spp a frame{below}, {film}, idle {:.1}%, {}, target {:.0} ms{}",

@@ -28,7 +28,7 @@ use glam::DVec3;
 
 use crate::devices::{create_tracers, DeviceSpec};
 use platoon_core::balance;
-use platoon_core::drive::{DriverOptions, FrameDriver, Pipeline, UpdaterThreads};
+use platoon_core::drive::{DriverOptions, FrameDriver, GiUpdate, Pipeline, UpdaterThreads};
 use platoon_core::Scene;
 use platoon_tracer::Sampling;
 
@@ -73,10 +73,20 @@ pub fn start(scene: Scene, options: &GameOptions) -> Result<FrameDriver> {
     let (pipeline, first) =
         Pipeline::with_updater_threads(scene, options.time, DVec3::ZERO, &options.updater)?;
     let tracers = create_tracers(&options.devices, &first, options.validation, Sampling::Mis)?;
-    Ok(FrameDriver::new(
+    // A method updated asynchronously (vertex links) gets tracers of its own on the same
+    // devices, which hold the update's snapshot while the others render the newest scene.
+    let update_tracers = if options.driver.gi_update == GiUpdate::Asynchronous
+        && !options.driver.method.unit().ready()
+    {
+        create_tracers(&options.devices, &first, options.validation, Sampling::Mis)?
+    } else {
+        Vec::new()
+    };
+    Ok(FrameDriver::with_update_tracers(
         pipeline,
         &first,
         tracers,
+        update_tracers,
         balancer,
         options.driver.clone(),
     )?)

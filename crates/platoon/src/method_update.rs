@@ -35,25 +35,15 @@ pub fn on_renderer<T: BandTracer + Send + 'static>(
     g: &GpuScene,
     params: &FrameParams,
 ) -> Result<FrameParams> {
-    let method = params.method.unit();
-    let prepared = method
-        .prepare(g, params, &mut |p| {
-            let frame = renderer.render_frame(p).map_err(|e| e.to_string())?;
-            for f in &frame.failures {
-                eprintln!(
-                    "warning: tracer {} failed while preparing the frame and was dropped; the \
-                     others did its part: {}",
-                    f.tracer, f.message
-                );
-            }
-            Ok(DeviceFrame {
-                gpu_time: frame.tracers.iter().map(|t| t.gpu_time).sum(),
-                film: frame.film.pixels,
-                per_pixel: frame.per_pixel,
-            })
-        })
-        .with_context(|| format!("preparing {} failed", method.name()))?;
-    Ok(with_method(params, prepared))
+    let (prepared, failures) = platoon_core::drive::gi::prepare_on(renderer, g, params)?;
+    for f in &failures {
+        eprintln!(
+            "warning: tracer {} failed while preparing the frame and was dropped; the others \
+             did its part: {}",
+            f.tracer, f.message
+        );
+    }
+    Ok(prepared)
 }
 
 fn with_method(params: &FrameParams, method: Option<platoon_core::Method>) -> FrameParams {

@@ -4,8 +4,9 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Result};
+use platoon::core::drive::GiUpdate;
 use platoon::core::method::links::LinksOptions;
-use platoon_lab::links_bench;
+use platoon_lab::{links_bench, links_walk};
 
 /// `platoon bench links`'s settings.
 #[derive(clap::Args)]
@@ -32,6 +33,18 @@ pub struct LinksArgs {
     /// The folder of the shared test data (scenes/).
     #[arg(long, default_value = "../shared")]
     shared: PathBuf,
+    /// Instead of the scenes: CesiumMan walking this many steps across the Cornell box, each
+    /// step's links regenerated (the paper) and revalidated (platoon), and the error of the
+    /// previous step's.
+    #[arg(long)]
+    walk: Option<usize>,
+    /// The walk's box: every face N x N quads.
+    #[arg(long, default_value_t = 16)]
+    walk_cells: u32,
+    /// Then the walk played in the game loop for this many frames (each a tenth of a step),
+    /// the links updated synchronously and asynchronously; frames of --size at 1 spp.
+    #[arg(long, default_value_t = 0)]
+    walk_frames: usize,
 }
 
 pub fn run(a: &LinksArgs) -> Result<()> {
@@ -45,6 +58,9 @@ pub fn run(a: &LinksArgs) -> Result<()> {
     }
     if a.size == 0 || a.spp == 0 {
         bail!("--size and --spp must be positive");
+    }
+    if let Some(steps) = a.walk {
+        return walk(a, options, steps);
     }
     let scenes = links_bench::scenes(&a.scenes, &a.shared)?;
     println!(
@@ -92,6 +108,85 @@ pub fn run(a: &LinksArgs) -> Result<()> {
             (u.gather_s + u.smooth_s) * 1e3,
             r.first_frame.as_secs_f64(),
             r.frame.as_secs_f64() * 1e3
+        );
+    }
+    Ok(())
+}
+
+fn walk(a: &LinksArgs, options: LinksOptions, steps: usize) -> Result<()> {
+    let path = a.shared.join("scenes/CesiumMan.glb");
+    if !path.is_file() {
+        bail!("{}: not found (--shared names the folder)", path.display());
+    }
+    let man = platoon::load_scene(Some(&path))?;
+    println!(
+        "platoon bench links --walk: CesiumMan walking {steps} steps across the Cornell box \
+         (faces {0}x{0} quads), {1} directions, {2} bounces, device 0",
+        a.walk_cells, a.directions, a.bounces
+    );
+    println!(
+        "{:>4} {:>8} {:>6} {:>16} {:>10} {:>12} {:>12} {:>22} {:>7} {:>9} {:>11}",
+        "step",
+        "elements",
+        "moved",
+        "rays shot",
+        "regrouped",
+        "regenerate s",
+        "revalidate s",
+        "(find/shoot/reduce s)",
+        "speedup",
+        "same bits",
+        "stale error"
+    );
+    for (k, r) in links_walk::walk(&man, a.walk_cells, options, steps)?
+        .iter()
+        .enumerate()
+    {
+        let v = &r.revalidated;
+        println!(
+            "{:>4} {:>8} {:>6} {:>16} {:>10} {:>12.2} {:>12.2} {:>22} {:>7.2} {:>9} {:>10.1}%",
+            k + 1,
+            v.elements,
+            v.moved_instances,
+            format!(
+                "{} ({:.1}%)",
+                v.rays,
+                100.0 * v.rays as f64 / r.all_rays.max(1) as f64
+            ),
+            v.regrouped,
+            r.regenerate_s,
+            r.revalidate_s,
+            format!("{:.2}/{:.2}/{:.2}", v.revalidate_s, v.shoot_s, v.reduce_s),
+            r.regenerate_s / r.revalidate_s.max(1e-9),
+            if r.same_bits { "yes" } else { "NO" },
+            100.0 * r.stale_error
+        );
+    }
+    if a.walk_frames < 2 {
+        return Ok(());
+    }
+    println!(
+        "in the game loop: {} frames of {1}x{1} at 1 spp, every device",
+        a.walk_frames, a.size
+    );
+    println!(
+        "{:<6} {:>6} {:>14} {:>8} {:>10} {:>11} {:>9}",
+        "update", "fps", "render ms/frm", "updates", "update ms", "mean age", "max age"
+    );
+    for (name, mode) in [
+        ("sync", GiUpdate::Synchronous),
+        ("async", GiUpdate::Asynchronous),
+    ] {
+        let p = links_walk::play(&man, a.walk_cells, options, mode, a.walk_frames, a.size)?;
+        println!(
+            "{:<6} {:>6.2} {:>14.1} {:>8} {:>10.1} {:>11.2} {:>9}",
+            name,
+            p.fps,
+            p.busy_ms,
+            p.updates,
+            p.update_ms,
+            p.ages.iter().sum::<u64>() as f64 / p.ages.len().max(1) as f64,
+            p.ages.iter().max().unwrap_or(&0)
         );
     }
     Ok(())

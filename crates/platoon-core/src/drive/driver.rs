@@ -19,12 +19,14 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use super::accumulation::Accumulation;
+use super::gi::{self, GiStats, GiUpdate, PreparedMethod, Worker, WorkerJob};
 use super::plan::{FramePlan, Join, Motion, Planner};
 use super::scaling::{BelowOneSample, Workload, WorkloadScaler};
 use super::{Pipeline, QueryScene, UpdateTimes};
 use crate::balance::Balancer;
 use crate::error::{Error, Result};
 use crate::flatten::commit::Commit;
+use crate::flatten::GpuScene;
 use crate::frame::renderer::{Renderer, TracerFailure, TracerStats};
 use crate::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
 use crate::output::Film;
@@ -53,6 +55,10 @@ pub struct DriverOptions {
     pub method: crate::method::Method,
     /// Keep a [`QueryScene`] of the generation being rendered, for the game's ray queries.
     pub queries: bool,
+    /// Where a method whose frames need a preparation (vertex links' update) prepares them as
+    /// the scene changes: asynchronously it needs tracers of its own
+    /// ([`FrameDriver::with_update_tracers`]).
+    pub gi_update: GiUpdate,
 }
 
 impl DriverOptions {
@@ -70,6 +76,7 @@ impl DriverOptions {
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             method: crate::method::Method::PathTracing,
             queries: false,
+            gi_update: GiUpdate::default(),
         }
     }
 }
@@ -84,7 +91,8 @@ pub struct FrameStats {
     pub weight: f32,
     /// Samples per pixel behind the film when it holds exact sums (None after a blend).
     pub film_samples: Option<u32>,
-    /// The render thread's whole time for the frame: commit, render, film.
+    /// The render thread's whole time for the frame: commit, a synchronous preparation
+    /// (`gi`), render, film.
     pub busy: Duration,
     pub render: Duration,
     /// Applying the scene's commit on the tracers.
@@ -101,6 +109,9 @@ pub struct FrameStats {
     pub rejected_samples: u64,
     /// Every warning and error the devices have reported so far (validation layer).
     pub device_messages: Vec<String>,
+    /// What the frame's lighting was prepared on, for a method with a preparation (vertex
+    /// links).
+    pub gi: Option<GiStats>,
 }
 
 impl FrameStats {
@@ -140,6 +151,12 @@ pub struct FrameOutput {
 struct FrameJob {
     frame: u32,
     commit: Option<Arc<Commit>>,
+    /// The scene's generation (counting the ones that changed it) and, when it is new and a
+    /// synchronous preparation reads it, its flattened scene.
+    generation: u64,
+    scene: Option<Arc<GpuScene>>,
+    /// The lighting the game thread chose for the frame (asynchronous preparation).
+    gi: Option<GiStats>,
     update: UpdateTimes,
     params: FrameParams,
     plan: FramePlan,
@@ -165,6 +182,13 @@ pub struct FrameDriver {
     epoch: u32,
     last_camera: Option<Camera>,
     balancer: &'static str,
+    /// Generations taken that changed the scene.
+    generation: u64,
+    /// Asynchronous preparation: its worker, the newest result, and the first scene (handed
+    /// to the worker with the first frame's params).
+    worker: Option<Worker>,
+    prepared: Option<PreparedMethod>,
+    first_scene: Option<Arc<GpuScene>>,
 }
 
 impl FrameDriver {
@@ -172,8 +196,21 @@ impl FrameDriver {
     /// (`first`, as [`Pipeline::new`] returned it).
     pub fn new<T: BandTracer + Send + 'static>(
         pipeline: Pipeline,
-        first: &crate::flatten::GpuScene,
+        first: &GpuScene,
         tracers: Vec<T>,
+        balancer: Box<dyn Balancer>,
+        options: DriverOptions,
+    ) -> Result<FrameDriver> {
+        FrameDriver::with_update_tracers(pipeline, first, tracers, Vec::new(), balancer, options)
+    }
+
+    /// The same, with `update_tracers` (holding `first` too) for a method's asynchronous
+    /// preparation ([`GiUpdate::Asynchronous`]), split by a balancer of the same name.
+    pub fn with_update_tracers<T: BandTracer + Send + 'static>(
+        mut pipeline: Pipeline,
+        first: &GpuScene,
+        tracers: Vec<T>,
+        update_tracers: Vec<T>,
         balancer: Box<dyn Balancer>,
         options: DriverOptions,
     ) -> Result<FrameDriver> {
@@ -186,25 +223,36 @@ impl FrameDriver {
         if tracers.is_empty() {
             return Err(Error::Invalid("a frame driver needs a tracer".into()));
         }
-        let method = options.method.unit();
-        if !method.ready() {
-            // Its work before the frames would have to follow the living scene's generations.
-            return Err(Error::Invalid(format!(
-                "the game loop cannot render {} yet: its update before the frames does not run \
-                 in the frame driver (render a still frame with `platoon render --method {}`)",
-                method.name(),
-                method.name()
-            )));
-        }
         let name = balancer.name();
+        let first_scene = Arc::new(first.clone());
+        let prepares = !options.method.unit().ready();
+        let worker = match (prepares, options.gi_update) {
+            (true, GiUpdate::Asynchronous) => {
+                if update_tracers.is_empty() {
+                    return Err(Error::Invalid(format!(
+                        "the asynchronous update of {} needs tracers of its own \
+                         (FrameDriver::with_update_tracers)",
+                        options.method.unit().name()
+                    )));
+                }
+                let balancer = crate::balance::by_name(name)
+                    .ok_or_else(|| Error::Invalid(format!("no balancer named {name}")))?;
+                Some(Worker::start(update_tracers, balancer)?)
+            }
+            _ => None,
+        };
+        if prepares {
+            pipeline.keep_scenes();
+        }
         let renderer = Renderer::new(tracers, balancer);
         let film = Accumulation::new(options.width, options.height);
         // One frame queued at most: the game is never more than a frame ahead.
         let (jobs, inbox) = mpsc::sync_channel::<Job>(1);
         let (outbox, done) = mpsc::sync_channel(1);
+        let scene = first_scene.clone();
         let render = std::thread::Builder::new()
             .name("platoon render".into())
-            .spawn(move || render_loop(renderer, film, inbox, outbox))
+            .spawn(move || render_loop(renderer, film, scene, inbox, outbox))
             .map_err(|e| Error::Invalid(format!("starting the render thread: {e}")))?;
         Ok(FrameDriver {
             pipeline,
@@ -222,6 +270,10 @@ impl FrameDriver {
             epoch: 0,
             last_camera: None,
             balancer: name,
+            generation: 0,
+            first_scene: worker.is_some().then_some(first_scene),
+            worker,
+            prepared: None,
         })
     }
 
@@ -297,9 +349,15 @@ impl FrameDriver {
             q.apply_commit(&g.commit);
         }
 
+        let changed = generation.as_ref().is_some_and(|g| !g.commit.is_empty());
+        if changed {
+            self.generation += 1;
+        }
+        let gi_arrived = self.follow_asynchronously(generation.as_ref(), camera)?;
         let motion = Motion {
             camera: self.last_camera != Some(camera),
-            scene: generation.as_ref().is_some_and(|g| !g.commit.is_empty()),
+            // A new result of the asynchronous update joins the film as moving objects do.
+            scene: changed || gi_arrived,
         };
         self.last_camera = Some(camera);
         let last_idle = finished.as_ref().map(|f| f.stats.idle_fraction);
@@ -322,14 +380,21 @@ impl FrameDriver {
         }
         params.samples_per_pass = o.samples_per_pass;
         params.method = o.method.clone();
-        let (commit, update) = match generation {
-            Some(g) if !g.commit.is_empty() => (Some(g.commit), g.times),
-            Some(g) => (None, g.times),
-            None => (None, UpdateTimes::default()),
+        let gi = self.prepared.as_ref().map(|p| {
+            params.method = p.method.clone();
+            GiStats::of(p, self.generation, gi_arrived)
+        });
+        let (commit, update, scene) = match generation {
+            Some(g) if !g.commit.is_empty() => (Some(g.commit), g.times, g.scene),
+            Some(g) => (None, g.times, None),
+            None => (None, UpdateTimes::default(), None),
         };
         self.send(Job::Frame(Box::new(FrameJob {
             frame: self.frame,
             commit,
+            generation: self.generation,
+            scene: if self.worker.is_none() { scene } else { None },
+            gi,
             update,
             params,
             plan,
@@ -341,6 +406,52 @@ impl FrameDriver {
             waited_render,
             waited_update,
         })
+    }
+
+    /// Asynchronous preparation: hands the worker the new generation (and the first scene with
+    /// the first frame), and takes its newest result, waiting for the first; whether one came.
+    fn follow_asynchronously(
+        &mut self,
+        generation: Option<&super::Generation>,
+        camera: Camera,
+    ) -> Result<bool> {
+        let Some(worker) = self.worker.as_mut() else {
+            return Ok(false);
+        };
+        let params = |scene| WorkerJob {
+            commit: None,
+            scene,
+            generation: self.generation,
+            params: {
+                let o = &self.options;
+                let mut p = FrameParams::new(o.width, o.height, 1, camera);
+                p.seed = o.seed;
+                p.max_depth = o.max_depth;
+                p.rr_depth = o.rr_depth;
+                p.samples_per_pass = o.samples_per_pass;
+                p.method = o.method.clone();
+                p
+            },
+        };
+        if let Some(first) = self.first_scene.take() {
+            worker.submit(params(first))?;
+        }
+        if let Some(g) = generation.filter(|g| !g.commit.is_empty()) {
+            let scene = g.scene.clone().ok_or_else(|| {
+                Error::Invalid("a generation came without the scene the update reads".into())
+            })?;
+            worker.submit(WorkerJob {
+                commit: Some(g.commit.clone()),
+                ..params(scene)
+            })?;
+        }
+        match worker.newest(self.prepared.is_none())? {
+            Some(p) => {
+                self.prepared = Some(p);
+                Ok(true)
+            }
+            None => Ok(false),
+        }
     }
 
     /// Waits for the frame in flight, if any (at the end of a game, for its last frame).
@@ -374,19 +485,31 @@ impl Drop for FrameDriver {
     }
 }
 
+/// What the render thread keeps for a method's synchronous preparation: the newest scene
+/// and the last result.
+struct Synchronous {
+    scene: Arc<GpuScene>,
+    prepared: Option<PreparedMethod>,
+}
+
 fn render_loop<T: BandTracer + Send + 'static>(
     mut renderer: Renderer<T>,
     mut film: Accumulation,
+    scene: Arc<GpuScene>,
     inbox: Receiver<Job>,
     outbox: SyncSender<Result<FinishedFrame>>,
 ) {
+    let mut sync = Synchronous {
+        scene,
+        prepared: None,
+    };
     for job in inbox {
         let result = match job {
             Job::Balancer(b) => {
                 renderer.set_balancer(b);
                 continue;
             }
-            Job::Frame(job) => render_one(&mut renderer, &mut film, *job),
+            Job::Frame(job) => render_one(&mut renderer, &mut film, &mut sync, *job),
         };
         if outbox.send(result).is_err() {
             return;
@@ -397,11 +520,15 @@ fn render_loop<T: BandTracer + Send + 'static>(
 fn render_one<T: BandTracer + Send + 'static>(
     renderer: &mut Renderer<T>,
     film: &mut Accumulation,
+    sync: &mut Synchronous,
     job: FrameJob,
 ) -> Result<FinishedFrame> {
     let FrameJob {
         frame,
         commit,
+        generation,
+        scene,
+        mut gi,
         update,
         mut params,
         plan,
@@ -419,11 +546,25 @@ fn render_one<T: BandTracer + Send + 'static>(
         None => 0,
     };
     let commit_time = start.elapsed();
+    if let Some(scene) = scene {
+        sync.scene = scene;
+    }
+    if !params.method.unit().ready() {
+        gi = Some(gi::prepare_synchronously(
+            renderer,
+            &mut sync.prepared,
+            &sync.scene,
+            generation,
+            &mut params,
+            &mut failures,
+        )?);
+    }
+    let render_start = Instant::now();
     params.accumulated = film.continued(plan.join);
     let rendered = renderer
         .render_frame_planned(&params, plan.rebalance)
         .map_err(failed)?;
-    let render = start.elapsed() - commit_time;
+    let render = render_start.elapsed();
     if plan.resolution < 1.0 {
         film.join_upscaled(
             plan.join,
@@ -454,6 +595,7 @@ fn render_one<T: BandTracer + Send + 'static>(
             failures,
             rejected_samples: rendered.rejected_samples,
             device_messages: renderer.with_tracers(|t| t.messages()).concat(),
+            gi,
         },
     })
 }

@@ -10,6 +10,7 @@
 pub mod accumulation;
 pub mod driver;
 pub mod edit;
+pub mod gi;
 pub mod pipeline;
 pub mod plan;
 pub mod queries;
@@ -19,6 +20,7 @@ pub mod updater;
 
 pub use driver::{DriverOptions, FinishedFrame, FrameDriver, FrameOutput, FrameStats};
 pub use edit::Edit;
+pub use gi::{GiStats, GiUpdate};
 pub use pipeline::{Pipeline, UpdaterThreads};
 pub use queries::{QueryHit, QueryScene};
 pub use updater::{Generation, UpdateTimes, Updater};

@@ -40,7 +40,9 @@ pub struct Pipeline {
     /// What edits are checked against on the game thread.
     structure: Structure,
     pending: Vec<Edit>,
-    to_updater: Option<SyncSender<Vec<Edit>>>,
+    to_updater: Option<SyncSender<(Vec<Edit>, bool)>>,
+    /// Whether each generation carries a snapshot of its flattened scene (`keep_scenes`).
+    snapshots: bool,
     from_updater: Receiver<Result<Generation>>,
     in_flight: bool,
     ready: VecDeque<Generation>,
@@ -94,7 +96,7 @@ impl Pipeline {
         let structure = Structure::of(&scene);
         let mut updater = pool.install(|| Updater::new(scene, time, origin))?;
         let first = Arc::new(updater.flattened().clone());
-        let (to_updater, edits) = mpsc::sync_channel::<Vec<Edit>>(1);
+        let (to_updater, edits) = mpsc::sync_channel::<(Vec<Edit>, bool)>(1);
         let (done, from_updater) = mpsc::sync_channel::<Result<Generation>>(1);
         let worker = std::thread::Builder::new()
             .name("platoon updater".into())
@@ -103,8 +105,15 @@ impl Pipeline {
                 // that built it, with no hand-back to this one (a wake-up fewer between the
                 // update's end and the game thread's take).
                 pool.install(move || {
-                    while let Ok(batch) = edits.recv() {
-                        let g = apply(&mut updater, batch).and_then(|()| updater.update());
+                    while let Ok((batch, snapshot)) = edits.recv() {
+                        let g = apply(&mut updater, batch)
+                            .and_then(|()| updater.update())
+                            .map(|mut g| {
+                                if snapshot && !g.commit.is_empty() {
+                                    g.scene = Some(Arc::new(updater.flattened().clone()));
+                                }
+                                g
+                            });
                         if done.send(g).is_err() {
                             break;
                         }
@@ -116,6 +125,7 @@ impl Pipeline {
             structure,
             pending: Vec::new(),
             to_updater: Some(to_updater),
+            snapshots: false,
             from_updater,
             in_flight: false,
             ready: VecDeque::new(),
@@ -135,6 +145,13 @@ impl Pipeline {
         Ok(added)
     }
 
+    /// From the next submit on, each generation that changes the scene carries a snapshot of
+    /// its flattened scene (`Generation::scene`): what a method's preparation on the CPU reads
+    /// (vertex links' elements). A copy of the scene per generation.
+    pub fn keep_scenes(&mut self) {
+        self.snapshots = true;
+    }
+
     /// Hands the edits made since the last submit to the updater, which starts building the
     /// next generation at once. Waits only if the previous submission is still being built.
     pub fn submit(&mut self) -> Result<()> {
@@ -147,7 +164,7 @@ impl Pipeline {
         self.to_updater
             .as_ref()
             .expect("open until drop")
-            .send(batch)
+            .send((batch, self.snapshots))
             .map_err(|_| Error::Invalid("the updater thread has stopped".into()))?;
         self.in_flight = true;
         self.blocked.push(start.elapsed());

@@ -59,6 +59,9 @@ pub struct Generation {
     /// geometry too, built again after an edit split an object out of it).
     pub refitted: usize,
     pub rebuilt: usize,
+    /// The generation's flattened scene, when the pipeline keeps them (`Pipeline::keep_scenes`)
+    /// and the scene changed.
+    pub scene: Option<Arc<GpuScene>>,
 }
 
 pub struct Updater {
@@ -237,6 +240,7 @@ impl Updater {
                 times: UpdateTimes::default(),
                 refitted: 0,
                 rebuilt: 0,
+                scene: None,
             });
         }
         let mut times = UpdateTimes::default();
@@ -330,6 +334,7 @@ impl Updater {
             times,
             refitted: levels.refitted,
             rebuilt: levels.rebuilt,
+            scene: None,
         })
     }
 

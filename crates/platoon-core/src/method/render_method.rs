@@ -49,6 +49,12 @@ pub trait RenderMethod {
     fn ready(&self) -> bool {
         true
     }
+    /// The method a preparation of a changed scene starts from, given this prepared one: its
+    /// options with what this preparation made as the earlier result (what vertex links
+    /// revalidate or relight from). None for a method with no preparation.
+    fn renewal(&self) -> Option<Method> {
+        None
+    }
     /// Entries of the output's metadata beyond its description (what its preparation did).
     fn metadata(&self) -> Vec<(String, String)> {
         Vec::new()

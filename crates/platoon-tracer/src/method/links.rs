@@ -144,12 +144,16 @@ impl MethodPasses for LinksPasses {
         Ok([first, second, output])
     }
 
-    /// The frame's element count (shooting, lighting); or the solution's instance count, table
+    /// The frame's element count (shooting, lighting) and whether they are single rays; or the
+    /// solution's instance count, table
     /// length and element count (image).
     fn push_words(&self, params: &FrameParams) -> [u32; METHOD_WORDS] {
         let mut words = [0; METHOD_WORDS];
         match job(params) {
-            Job::Shoot(rays) | Job::Light(rays) => words[0] = rays.elements.len() as u32,
+            Job::Shoot(rays) | Job::Light(rays) => {
+                words[0] = rays.elements.len() as u32;
+                words[1] = rays.single_rays as u32;
+            }
             Job::Render(s) => {
                 words[0] = s.instances;
                 words[1] = s.table.len() as u32;

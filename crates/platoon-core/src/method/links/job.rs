@@ -34,7 +34,8 @@ impl Links {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Job {
-    /// Rays from `elements` (a batch): pixel (d, e) is element e's ray in direction d. Each
+    /// Rays from `elements` (a batch): pixel (d, e) is element e's ray in direction d; or, with
+    /// `ElementRays::single_rays`, pixel i (lines of `RAY_WIDTH`) is entry i's one ray. Each
     /// pixel leaves the closest hit (`Band::per_pixel`: instance and triangle bits, b1, b2;
     /// instance `u32::MAX` for a miss).
     Shoot(Arc<ElementRays>),
@@ -47,6 +48,8 @@ pub enum Job {
 
 /// Width of a lighting frame (its pixels are elements, line after line).
 pub const LIGHT_WIDTH: u32 = 64;
+/// Width of a shooting frame of single rays (revalidation's).
+pub const RAY_WIDTH: u32 = 256;
 
 /// The elements a shooting or lighting frame reads, with the directions they shoot.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -57,6 +60,9 @@ pub struct ElementRays {
     /// The elements' fans (`SceneElements::fans`): triangle, corner, cumulative area (f32
     /// bits), 0. What a lighting frame samples its points from with `LinksOptions::fan_light`.
     pub fans: Vec<[u32; 4]>,
+    /// Each entry is one ray, in direction `directions[fan[2]]` of its frame (the rays a
+    /// revalidation shoots again), rather than an element shooting every direction.
+    pub single_rays: bool,
 }
 
 /// One element as the kernels read it (`ElementRay` in shaders/links/links.glsl, std430): its
@@ -71,7 +77,8 @@ pub struct ElementRay {
     pub normal: [f32; 4],
     /// Instance, triangle (scene-global), corner (0-2); w unused.
     pub corner: [u32; 4],
-    /// Its fan in `ElementRays::fans` (first entry, count); zw unused.
+    /// Its fan in `ElementRays::fans` (first entry, count); z: the direction of a single ray
+    /// (`ElementRays::single_rays`); w unused.
     pub fan: [u32; 4],
 }
 
@@ -92,8 +99,25 @@ pub struct Solution {
     /// A digest of what shaped the links (the scene's geometry and instances, the directions
     /// and the feature angle): a later update with the same may reuse them.
     pub geometry: u64,
+    /// What the shooting found, when the options keep it (`LinksOptions::revalidate`).
+    pub shot: Option<Arc<Shot>>,
     /// What the update that made it did, for the output's metadata.
     pub stats: UpdateStats,
+}
+
+/// What a shooting found, for a later update of moved geometry to revalidate
+/// (`revalidate::stale_rays`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Shot {
+    /// The elements as they shot (their rays' origins and frames), with the directions.
+    pub rays: Arc<ElementRays>,
+    /// Every ray's closest hit as a shooting frame leaves it (as bits: instance, triangle, b1,
+    /// b2), element after element, each element's rays in direction order.
+    pub hits: Vec<[u32; 4]>,
+    /// A digest of each instance's shape (`revalidate::shapes`).
+    pub shapes: Vec<u64>,
+    /// A digest of the arrays' layout (`revalidate::layout`): hits index into it.
+    pub layout: u64,
 }
 
 /// The update's stages, timed apart from the frame, and what it made.
@@ -105,9 +129,11 @@ pub struct UpdateStats {
     pub links: u64,
     /// Bytes of the compressed link groups.
     pub link_bytes: u64,
-    /// Seconds: welding, shooting (device frames), reduction, direct light (device frames),
-    /// gather, smoothing.
+    /// Seconds: welding, revalidation, shooting (device frames), reduction, direct light
+    /// (device frames), gather, smoothing.
     pub weld_s: f64,
+    /// Finding the rays that can have changed (revalidation), and copying the earlier hits.
+    pub revalidate_s: f64,
     pub shoot_s: f64,
     pub reduce_s: f64,
     pub light_s: f64,
@@ -118,10 +144,24 @@ pub struct UpdateStats {
     pub light_device_s: f64,
     /// The links were an earlier solution's (relighting: nothing shot, nothing reduced).
     pub relit: bool,
+    /// An earlier solution's links revalidated: only `rays` of them shot again (those that can
+    /// have changed), the groups of `regrouped` elements reduced again.
+    pub revalidated: bool,
+    pub regrouped: u32,
+    /// Instances whose shape or place changed since the earlier solution, and elements that
+    /// moved (of `rays`, theirs are all stale).
+    pub moved_instances: u32,
+    pub moved_elements: u32,
 }
 
 impl UpdateStats {
     pub fn total_s(&self) -> f64 {
-        self.weld_s + self.shoot_s + self.reduce_s + self.light_s + self.gather_s + self.smooth_s
+        self.weld_s
+            + self.revalidate_s
+            + self.shoot_s
+            + self.reduce_s
+            + self.light_s
+            + self.gather_s
+            + self.smooth_s
     }
 }

@@ -17,10 +17,11 @@
 //! - [`gather`]: the Jacobi gather of `n_B` bounces and the feature-preserving smoothing;
 //! - [`shoot_cpu`]: link shooting through the CPU ray queries (the devices' oracle);
 //! - [`job`]: what a frame asks of the devices (shoot, light, render) and the solution;
-//! - [`solve`]: the update, run over the devices' frames.
+//! - [`solve`]: the update, run over the devices' frames (relighting an unchanged geometry,
+//!   revalidating a moved one, or shooting every ray);
+//! - [`revalidate`]: which rays of an earlier shooting can have changed after geometry moved.
 //!
-//! Still to come (issue 22): living scenes (revalidation), the game loop's asynchronous
-//! update, the light links' oversampling.
+//! The game loop follows a living scene's generations with the update (`drive::gi`).
 
 pub mod directions;
 pub mod elements;
@@ -28,6 +29,7 @@ pub mod gather;
 pub mod job;
 mod options;
 pub mod reduce;
+pub mod revalidate;
 pub mod scene_elements;
 pub mod shoot_cpu;
 pub mod solve;
@@ -131,6 +133,19 @@ impl RenderMethod for Links {
         self.job.is_some()
     }
 
+    /// Unsolved, with this solution as the earlier one (`Links::previous`).
+    fn renewal(&self) -> Option<Method> {
+        let previous = match &self.job {
+            Some(Job::Render(s)) => Some(s.clone()),
+            _ => self.previous.clone(),
+        };
+        Some(Method::Links(Links {
+            options: self.options,
+            job: None,
+            previous,
+        }))
+    }
+
     /// `links_update`: what the update made and its stages' times.
     fn metadata(&self) -> Vec<(String, String)> {
         let Some(Job::Render(s)) = &self.job else {
@@ -141,19 +156,26 @@ impl RenderMethod for Links {
             "links_update".into(),
             format!(
                 "{} elements, {} rays{}, {} raw links -> {} ({} bytes); seconds: weld {:.3}, \
-                 shoot {:.3}, reduce {:.3}, direct light {:.3}, gather {:.3}, smooth {:.3}, \
-                 total {:.3}",
+                 revalidate {:.3}, shoot {:.3}, reduce {:.3}, direct light {:.3}, gather {:.3}, \
+                 smooth {:.3}, total {:.3}",
                 u.elements,
                 u.rays,
                 if u.relit {
-                    " (relit: an earlier solution's links)"
+                    " (relit: an earlier solution's links)".to_string()
+                } else if u.revalidated {
+                    format!(
+                        " (revalidated: {} instances moved, only the rays that can have changed \
+                         shot again, {} elements regrouped)",
+                        u.moved_instances, u.regrouped
+                    )
                 } else {
-                    ""
+                    String::new()
                 },
                 u.raw_links,
                 u.links,
                 u.link_bytes,
                 u.weld_s,
+                u.revalidate_s,
                 u.shoot_s,
                 u.reduce_s,
                 u.light_s,

@@ -20,6 +20,10 @@ pub struct LinksOptions {
     /// the continuous form of the paper's light links' oversampling (a 1:4 subdivision of the
     /// one-ring), against the aliasing of light that varies within a triangle.
     pub fan_light: bool,
+    /// Keep every ray's hit (16 bytes a ray) so that an update after geometry moved shoots
+    /// again only the rays that can have changed (platoon's revalidation, the same bits as
+    /// shooting them all); off: the paper's regeneration of every link.
+    pub revalidate: bool,
 }
 
 impl Default for LinksOptions {
@@ -31,6 +35,7 @@ impl Default for LinksOptions {
             smooth: true,
             light_samples: 64,
             fan_light: true,
+            revalidate: true,
         }
     }
 }

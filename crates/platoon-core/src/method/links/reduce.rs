@@ -22,6 +22,8 @@ pub struct LinkGroups {
     pub weights: Vec<f32>,
     /// Links before compression (one per corner of each hit with a nonzero barycentric).
     pub raw_links: u64,
+    /// Of those, each element's (what splicing a group in its place subtracts).
+    pub raw_of: Vec<u32>,
 }
 
 impl LinkGroups {
@@ -40,12 +42,13 @@ impl LinkGroups {
         for element in hits.chunks(rays as usize) {
             sums.clear();
             at.clear();
+            let mut raw = 0;
             for hit in element.iter().flatten() {
                 for (&peer, &b) in hit.corners.iter().zip(&hit.barycentrics) {
                     if b == 0.0 {
                         continue;
                     }
-                    groups.raw_links += 1;
+                    raw += 1;
                     match at.entry(peer) {
                         std::collections::hash_map::Entry::Occupied(e) => {
                             sums[*e.get()].1 += b as f64
@@ -62,6 +65,8 @@ impl LinkGroups {
                 groups.weights.push((sum / rays as f64) as f32);
             }
             groups.offsets.push(groups.peers.len() as u32);
+            groups.raw_links += raw as u64;
+            groups.raw_of.push(raw);
         }
         groups
     }
@@ -79,7 +84,6 @@ impl LinkGroups {
             .zip(self.weights[range].iter().copied())
     }
 
-    /// Bytes of the compressed groups (offsets, peers, weights).
     /// Appends the groups of the elements that follow these (a later batch's).
     pub fn append(&mut self, next: LinkGroups) {
         let base = self.peers.len() as u32;
@@ -88,8 +92,50 @@ impl LinkGroups {
         self.peers.extend(next.peers);
         self.weights.extend(next.weights);
         self.raw_links += next.raw_links;
+        self.raw_of.extend(next.raw_of);
     }
 
+    /// These groups with those of the `changed` elements (ascending, each with its one new
+    /// group) in their place: the groups a reduction of every element's hits would give, when
+    /// the others' hits are the same.
+    pub fn spliced(&self, changed: &[(usize, LinkGroups)]) -> LinkGroups {
+        let mut out = LinkGroups {
+            offsets: vec![0],
+            ..Default::default()
+        };
+        out.peers.reserve(self.peers.len());
+        out.weights.reserve(self.weights.len());
+        let mut next = changed.iter().peekable();
+        for x in 0..self.elements() {
+            let (group, raw) = match next.next_if(|(c, _)| *c == x) {
+                Some((_, g)) => {
+                    assert_eq!(g.elements(), 1, "a spliced group is one element's");
+                    (g.peers.iter().zip(&g.weights), g.raw_of[0])
+                }
+                None => {
+                    let range = self.offsets[x] as usize..self.offsets[x + 1] as usize;
+                    (
+                        self.peers[range.clone()].iter().zip(&self.weights[range]),
+                        self.raw_of[x],
+                    )
+                }
+            };
+            for (&p, &w) in group {
+                out.peers.push(p);
+                out.weights.push(w);
+            }
+            out.offsets.push(out.peers.len() as u32);
+            out.raw_of.push(raw);
+            out.raw_links += raw as u64;
+        }
+        assert!(
+            next.next().is_none(),
+            "changed groups past the last element"
+        );
+        out
+    }
+
+    /// Bytes of the compressed groups (offsets, peers, weights).
     pub fn bytes(&self) -> usize {
         4 * (self.offsets.len() + self.peers.len() + self.weights.len())
     }
@@ -127,10 +173,30 @@ mod tests {
             [0.125, 0.3125, 0.1875, 0.125, 0.125, 0.125, 0.25]
         );
         assert_eq!(g.raw_links, 6 + 6);
+        assert_eq!(g.raw_of, [6, 6]);
         // An element's weights sum to the fraction of its rays that hit.
         let sum = |x| g.group(x).map(|l| l.1).sum::<f32>();
         assert_eq!((sum(0), sum(1)), (0.75, 0.5));
         assert_eq!(g.bytes(), 4 * (3 + 7 + 7));
+    }
+
+    #[test]
+    fn splicing_a_group_gives_what_reducing_every_element_gives() {
+        let before = [
+            hit([3, 4, 5], [0.5, 0.25, 0.25]),
+            None,
+            hit([1, 2, 0], [1.0, 0.0, 0.0]),
+            None,
+            None,
+            hit([0, 1, 2], [0.5, 0.5, 0.0]),
+        ];
+        let mut after = before;
+        after[2] = hit([6, 7, 8], [0.25, 0.25, 0.5]);
+        after[3] = hit([6, 1, 0], [0.5, 0.25, 0.25]);
+        let old = LinkGroups::from_hits(2, &before);
+        let spliced = old.spliced(&[(1, LinkGroups::from_hits(2, &after[2..4]))]);
+        assert_eq!(spliced, LinkGroups::from_hits(2, &after));
+        assert_eq!(old.spliced(&[]), old);
     }
 
     #[test]

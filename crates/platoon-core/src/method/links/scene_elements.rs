@@ -106,6 +106,11 @@ impl SceneElements {
         self.positions.is_empty()
     }
 
+    /// The mesh region (`GpuScene::regions`) instance `instance` places.
+    pub fn region_of(&self, instance: usize) -> usize {
+        self.region_of_instance[instance]
+    }
+
     /// The element of a hit triangle's corner: `vertex` (a global vertex index, `GpuTriangle::v`)
     /// on instance `instance`.
     pub fn element(&self, instance: u32, vertex: u32) -> u32 {

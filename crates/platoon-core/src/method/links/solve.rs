@@ -13,9 +13,14 @@ use glam::Vec3;
 
 use super::directions::directions;
 use super::gather::{gather, smooth, Rgb};
-use super::job::{ElementRay, ElementRays, Job, Links, Solution, UpdateStats, LIGHT_WIDTH};
+use rayon::prelude::*;
+
+use super::job::{
+    ElementRay, ElementRays, Job, Links, Shot, Solution, UpdateStats, LIGHT_WIDTH, RAY_WIDTH,
+};
 use super::options::LinksOptions;
 use super::reduce::{LinkGroups, RayHit};
+use super::revalidate;
 use super::scene_elements::SceneElements;
 use super::shoot_cpu::{link_of_hit, ray_direction, ray_frame};
 use crate::error::{Error, Result};
@@ -39,6 +44,7 @@ pub fn geometry_digest(g: &GpuScene, options: &LinksOptions) -> u64 {
     h.write(bytemuck::cast_slice(&g.instances));
     h.write_u32(options.directions);
     h.write_u32(options.feature_angle.to_bits());
+    h.write_u64(revalidate::surface_digest(g));
     h.finish()
 }
 
@@ -59,7 +65,6 @@ pub fn solve(
     stats.elements = elements.len() as u32;
     stats.weld_s = clock.elapsed().as_secs_f64();
     let n = elements.len();
-    let n_c = options.directions;
     let mut device = |job: Job, width: u32, height: u32, spp: u32| {
         let mut p = params.clone();
         p.method = Method::Links(Links {
@@ -75,17 +80,63 @@ pub fn solve(
     };
 
     let geometry = geometry_digest(g, options);
-    let links = match previous.filter(|p| p.geometry == geometry) {
-        Some(p) => {
+    let table = elements.table(g);
+    let rays = Arc::new(rays);
+    let (links, shot) = match previous {
+        Some(p) if p.geometry == geometry => {
             stats.relit = true;
-            p.links.clone()
+            (p.links.clone(), p.shot.clone())
         }
-        None => Arc::new(shoot(g, &elements, &rays, &mut device, &mut stats)?),
-    };
-    stats.rays = if stats.relit {
-        0
-    } else {
-        n as u64 * n_c as u64
+        _ => {
+            let layout = revalidate::layout(g, &rays.directions);
+            let shapes = revalidate::shapes(g, &elements);
+            let earlier = previous
+                .filter(|p| options.revalidate && p.table == table)
+                .and_then(|p| Some((p, p.shot.as_ref()?)));
+            let clock = Instant::now();
+            let stale = earlier.and_then(|(_, shot)| {
+                revalidate::stale_rays(g, &elements, &rays, &shapes, layout, shot)
+            });
+            stats.revalidate_s = clock.elapsed().as_secs_f64();
+            let (links, hits) = match (earlier, stale) {
+                (Some((p, shot)), Some(stale)) => {
+                    stats.revalidated = true;
+                    stats.moved_instances = stale.moved_instances;
+                    stats.moved_elements = stale.moved_elements;
+                    stats.rays = stale.rays.len() as u64;
+                    let clock = Instant::now();
+                    let mut hits = shot.hits.clone();
+                    stats.revalidate_s += clock.elapsed().as_secs_f64();
+                    reshoot(&rays, &stale.rays, &mut hits, &mut device, &mut stats)?;
+                    let clock = Instant::now();
+                    let (links, regrouped) =
+                        regroup(g, &elements, &rays, &p.links, &stale.rays, &hits)?;
+                    stats.regrouped = regrouped as u32;
+                    stats.reduce_s += clock.elapsed().as_secs_f64();
+                    (links, hits)
+                }
+                _ => {
+                    stats.rays = n as u64 * rays.directions.len() as u64;
+                    shoot(
+                        g,
+                        &elements,
+                        &rays,
+                        options.revalidate,
+                        &mut device,
+                        &mut stats,
+                    )?
+                }
+            };
+            let shot = options.revalidate.then(|| {
+                Arc::new(Shot {
+                    rays: rays.clone(),
+                    hits,
+                    shapes,
+                    layout,
+                })
+            });
+            (Arc::new(links), shot)
+        }
     };
     stats.raw_links = links.raw_links;
     stats.links = links.peers.len() as u64;
@@ -94,12 +145,7 @@ pub fn solve(
     // Direct light and albedo at every element.
     let clock = Instant::now();
     let height = (n as u32).div_ceil(LIGHT_WIDTH).max(1);
-    let frame = device(
-        Job::Light(Arc::new(rays)),
-        LIGHT_WIDTH,
-        height,
-        options.light_samples,
-    )?;
+    let frame = device(Job::Light(rays), LIGHT_WIDTH, height, options.light_samples)?;
     stats.light_s = clock.elapsed().as_secs_f64();
     stats.light_device_s = frame.gpu_time.as_secs_f64();
     if frame.film.len() < n || frame.per_pixel.len() < n {
@@ -129,22 +175,28 @@ pub fn solve(
     }
     Ok(Solution {
         irradiance: indirect.iter().map(|e| [e[0], e[1], e[2], 0.0]).collect(),
-        table: elements.table(g),
+        table,
         instances: g.instances.len() as u32,
         links,
         geometry,
+        shot,
         stats,
     })
 }
 
-/// Shooting frames of a batch of elements each, reduced batch by batch into link groups.
+/// A shooting or lighting frame on the devices: (job, width, height, samples).
+type Device<'a> = dyn FnMut(Job, u32, u32, u32) -> Result<DeviceFrame> + 'a;
+
+/// Shooting frames of a batch of elements each, reduced batch by batch into link groups; with
+/// every ray's hit when `keep` (for a later revalidation), else none.
 fn shoot(
     g: &GpuScene,
     elements: &SceneElements,
     rays: &ElementRays,
-    device: &mut dyn FnMut(Job, u32, u32, u32) -> Result<DeviceFrame>,
+    keep: bool,
+    device: &mut Device,
     stats: &mut UpdateStats,
-) -> Result<LinkGroups> {
+) -> Result<(LinkGroups, Vec<[u32; 4]>)> {
     let n = elements.len();
     let n_c = rays.directions.len() as u32;
     let batch = (MAX_RAYS_PER_FRAME / n_c as u64).max(1) as usize;
@@ -152,6 +204,7 @@ fn shoot(
         offsets: vec![0],
         ..Default::default()
     };
+    let mut kept = Vec::new();
     let mut first = 0;
     while first < n {
         let end = (first + batch).min(n);
@@ -159,18 +212,90 @@ fn shoot(
             elements: rays.elements[first..end].to_vec(),
             directions: rays.directions.clone(),
             fans: Vec::new(),
+            single_rays: false,
         });
         let clock = Instant::now();
         let frame = device(Job::Shoot(part), n_c, (end - first) as u32, 1)?;
         stats.shoot_s += clock.elapsed().as_secs_f64();
         stats.shoot_device_s += frame.gpu_time.as_secs_f64();
         let clock = Instant::now();
-        let hits = hits_of(g, elements, rays, first, &frame.per_pixel)?;
+        let bits: &[[u32; 4]] = bytemuck::cast_slice(&frame.per_pixel);
+        let hits = hits_of(g, elements, rays, first, bits)?;
         links.append(LinkGroups::from_hits(n_c, &hits));
+        if keep {
+            kept.extend_from_slice(bits);
+        }
         stats.reduce_s += clock.elapsed().as_secs_f64();
         first = end;
     }
-    Ok(links)
+    Ok((links, kept))
+}
+
+/// Shoots the `stale` rays (element * n_C + direction, ascending) again in frames of single
+/// rays, writing their hits into `hits`.
+fn reshoot(
+    rays: &ElementRays,
+    stale: &[u32],
+    hits: &mut [[u32; 4]],
+    device: &mut Device,
+    stats: &mut UpdateStats,
+) -> Result<()> {
+    let n_c = rays.directions.len() as u32;
+    for part in stale.chunks(MAX_RAYS_PER_FRAME as usize) {
+        let single = Arc::new(ElementRays {
+            elements: part
+                .iter()
+                .map(|&r| {
+                    let mut e = rays.elements[(r / n_c) as usize];
+                    e.fan[2] = r % n_c;
+                    e
+                })
+                .collect(),
+            directions: rays.directions.clone(),
+            fans: Vec::new(),
+            single_rays: true,
+        });
+        let height = (part.len() as u32).div_ceil(RAY_WIDTH);
+        let clock = Instant::now();
+        let frame = device(Job::Shoot(single), RAY_WIDTH, height, 1)?;
+        stats.shoot_s += clock.elapsed().as_secs_f64();
+        stats.shoot_device_s += frame.gpu_time.as_secs_f64();
+        if frame.per_pixel.len() < part.len() {
+            return Err(Error::Invalid(format!(
+                "links update: a shooting frame returned {} of {} rays",
+                frame.per_pixel.len(),
+                part.len()
+            )));
+        }
+        let bits: &[[u32; 4]] = bytemuck::cast_slice(&frame.per_pixel);
+        for (&r, &h) in part.iter().zip(bits) {
+            hits[r as usize] = h;
+        }
+    }
+    Ok(())
+}
+
+/// `earlier` with the groups of the elements that shot a `stale` ray reduced again from
+/// `hits`; and how many those were.
+fn regroup(
+    g: &GpuScene,
+    elements: &SceneElements,
+    rays: &ElementRays,
+    earlier: &LinkGroups,
+    stale: &[u32],
+    hits: &[[u32; 4]],
+) -> Result<(LinkGroups, usize)> {
+    let n_c = rays.directions.len();
+    let mut changed: Vec<usize> = stale.iter().map(|&r| r as usize / n_c).collect();
+    changed.dedup();
+    let groups: Vec<(usize, LinkGroups)> = changed
+        .par_iter()
+        .map(|&x| {
+            let of = hits_of(g, elements, rays, x, &hits[x * n_c..(x + 1) * n_c])?;
+            Ok((x, LinkGroups::from_hits(n_c as u32, &of)))
+        })
+        .collect::<Result<_>>()?;
+    Ok((earlier.spliced(&groups), changed.len()))
 }
 
 /// The elements as the kernels read them, with the directions.
@@ -200,6 +325,7 @@ fn element_rays(
             .map(|d| d.extend(0.0).to_array())
             .collect(),
         fans,
+        single_rays: false,
     })
 }
 
@@ -209,7 +335,7 @@ fn hits_of(
     elements: &SceneElements,
     rays: &ElementRays,
     first: usize,
-    per_pixel: &[[f32; 4]],
+    per_pixel: &[[u32; 4]],
 ) -> Result<Vec<Option<RayHit>>> {
     let n_c = rays.directions.len();
     if !per_pixel.len().is_multiple_of(n_c) {
@@ -229,7 +355,7 @@ fn hits_of(
         let e = &rays.elements[first + k];
         let frame = [e.origin, e.tangent, e.bitangent, e.normal].map(|v| Vec3::from_slice(&v[..3]));
         for (&d, h) in dirs.iter().zip(rays_of) {
-            let (instance, triangle) = (h[0].to_bits(), h[1].to_bits());
+            let (instance, triangle) = (h[0], h[1]);
             if instance == u32::MAX {
                 hits.push(None);
                 continue;
@@ -247,7 +373,7 @@ fn hits_of(
                 dir,
                 instance,
                 triangle,
-                [h[2], h[3]],
+                [f32::from_bits(h[2]), f32::from_bits(h[3])],
             ));
         }
     }
