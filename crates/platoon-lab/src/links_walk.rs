@@ -152,7 +152,11 @@ pub fn play(
             / stats.len().max(1) as f64,
         ages: gi.iter().map(|g| g.age).collect(),
         updates: fresh.len(),
-        update_ms: fresh.iter().sum::<f64>() / fresh.len().max(1) as f64,
+        update_ms: if fresh.is_empty() {
+            0.0
+        } else {
+            fresh.iter().sum::<f64>() / fresh.len() as f64
+        },
     })
 }
 
