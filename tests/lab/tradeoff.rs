@@ -502,24 +502,37 @@ fn each_effect_the_scene_uses_has_a_time_and_an_error_and_the_others_are_skipped
 }
 
 /// Vertex links sweep like any technique: biased, timed with their update, and on the built-in
-/// box (its walls two triangles each) left with a floor of error the path tracer goes under.
+/// box (its walls two triangles each) left with a floor of error the path tracer goes under;
+/// the same box subdivided (`+sub3`: the same surfaces, 64 times the triangles) lowers it.
 #[test]
 fn vertex_links_sweep_against_the_path_tracer_with_their_update_timed() {
     init();
     let dir = tempfile::tempdir().unwrap();
     let links = Technique::parse("links=16+b2").unwrap();
-    let o = options(dir.path(), &[4, 64], &[Technique::Mis, links]);
+    let subdivided = Technique::parse("links=16+b2+sub3").unwrap();
+    let o = options(dir.path(), &[4, 64], &[Technique::Mis, links, subdivided]);
     let report = tradeoff::run(&cornell(), &o, &mut |_| {}).unwrap();
-    let (mis, l) = (
+    let (mis, l, sub) = (
         rows_of(&report.rows, "mis"),
         rows_of(&report.rows, "links=16+b2"),
+        rows_of(&report.rows, "links=16+b2+sub3"),
     );
-    assert_eq!(l.len(), 2);
+    assert_eq!((l.len(), sub.len()), (2, 2));
     assert!(l.iter().all(|r| r.biased && r.ms > 0.0) && !mis[0].biased);
     assert!(
         l[1].relmse > 3.0 * mis[1].relmse,
         "{:?} vs {:?}",
         l[1],
         mis[1]
+    );
+    println!(
+        "relative MSE at 64 spp: mis {:.5}, links {:.5}, subdivided {:.5}",
+        mis[1].relmse, l[1].relmse, sub[1].relmse
+    );
+    assert!(
+        sub[1].relmse - mis[1].relmse < 0.5 * (l[1].relmse - mis[1].relmse),
+        "subdividing did not lower the floor: {:?} vs {:?}",
+        sub[1],
+        l[1]
     );
 }

@@ -27,16 +27,17 @@ pub struct TradeoffArgs {
     /// mis-ris=M, dpt, spt (the streaming kernels: Bikker's RR/SPT), nop (the last path of a
     /// pass cut where its SIMD group stopped: biased), single-bounce, no-textures,
     /// no-normal-maps, opaque, env-mean,
-    /// igi=N[+boxes][+downK][+interMxN][+minD], links=N[+bB][+nosmooth][+vertex] (vertex
-    /// links: N directions, B bounces; the update's time counts). Default: mis,bsdf,light,
+    /// igi=N[+boxes][+downK][+interMxN][+minD], links=N[+bB][+nosmooth][+vertex][+subK] (vertex
+    /// links: N directions, B bounces, every mesh subdivided K times; the update's time
+    /// counts). Default: mis,bsdf,light,
     /// max-depth=2, no-regeneration; with --method igi or links that method's sweep.
     #[arg(long, value_delimiter = ',')]
     techniques: Option<Vec<String>>,
     /// `igi` sweeps instant global illumination against the path tracer (mis) by default: VPL
     /// counts 30, 90, 180 and 720, then at 180 each acceleration alone (imperfect visibility,
     /// 4x4 downsampling, 3x3 interleaving) and all three. `links` sweeps vertex links against
-    /// mis and igi=180: 16, 64 and 256 directions, then at 256 one bounce, no smoothing, and
-    /// direct light at vertices alone.
+    /// mis and igi=180: 16, 64 and 256 directions, then at 256 one bounce, no smoothing,
+    /// direct light at vertices alone, and the scene subdivided twice and three times.
     #[arg(long, value_enum, default_value = "path")]
     method: MethodArg,
     #[arg(long, default_value_t = 0)]

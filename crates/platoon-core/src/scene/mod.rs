@@ -11,6 +11,7 @@ pub mod gltf_load;
 mod graph;
 mod merge;
 pub mod placement;
+mod subdivide;
 pub mod tangents;
 
 pub use graph::*;

@@ -1,6 +1,8 @@
 //! Vertex links' options as a technique: `links=N` (N directions per element, the other
-//! options default) with `+bB` (B bounces), `+nosmooth` (no smoothing) and `+vertex` (direct
-//! light at each vertex alone, not over its fan). The update's time is the technique's too.
+//! options default) with `+bB` (B bounces), `+nosmooth` (no smoothing), `+vertex` (direct
+//! light at each vertex alone, not over its fan) and `+subK` (every mesh subdivided 1:4 K
+//! times: the same surfaces with more vertices, the tessellation sweep). The update's time is
+//! the technique's too.
 
 use std::fmt;
 
@@ -13,7 +15,12 @@ pub struct LinksTechnique {
     pub bounces: u32,
     pub smooth: bool,
     pub vertex_light: bool,
+    /// Times every mesh is subdivided before (`variant::Variant::Subdivided`).
+    pub subdivisions: u32,
 }
+
+/// The most subdivisions a technique asks for (each multiplies the triangles by four).
+pub const MAX_SUBDIVISIONS: u32 = 5;
 
 impl LinksTechnique {
     pub fn options(self) -> LinksOptions {
@@ -42,6 +49,7 @@ impl LinksTechnique {
             bounces: LinksOptions::default().bounces,
             smooth: true,
             vertex_light: false,
+            subdivisions: 0,
         };
         for part in parts {
             let part = part.trim();
@@ -51,8 +59,15 @@ impl LinksTechnique {
                 t.vertex_light = true;
             } else if let Some(b) = part.strip_prefix('b').and_then(|b| b.parse().ok()) {
                 t.bounces = b;
+            } else if let Some(k) = part.strip_prefix("sub").and_then(|k| k.parse().ok()) {
+                if k > MAX_SUBDIVISIONS {
+                    bail!("technique {s:?}: at most {MAX_SUBDIVISIONS} subdivisions, not {k}");
+                }
+                t.subdivisions = k;
             } else {
-                bail!("technique {s:?}: unknown links option {part:?} (bB, nosmooth, vertex)");
+                bail!(
+                    "technique {s:?}: unknown links option {part:?} (bB, nosmooth, vertex, subK)"
+                );
             }
         }
         t.options()
@@ -73,6 +88,9 @@ impl fmt::Display for LinksTechnique {
         }
         if self.vertex_light {
             write!(f, "+vertex")?;
+        }
+        if self.subdivisions > 0 {
+            write!(f, "+sub{}", self.subdivisions)?;
         }
         Ok(())
     }

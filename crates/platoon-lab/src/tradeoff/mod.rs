@@ -12,6 +12,7 @@ pub mod plots;
 pub mod reference;
 pub mod report;
 pub mod technique;
+pub mod variant;
 
 use std::collections::hash_map::Entry;
 use std::collections::HashMap;
@@ -120,9 +121,11 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             })?
         }
     };
-    // One tracer per estimator and scene variant; each technique's parameters; every kernel
-    // variant warmed up (its first dispatch pays for compiling it: not a cost of the technique).
-    let mut tracers: HashMap<(Sampling, Option<effects::Effect>), Tracer> = HashMap::new();
+    // One tracer per estimator and scene variant (with the variant, which a method's
+    // preparation reads); each technique's parameters; every kernel variant warmed up (its
+    // first dispatch pays for compiling it: not a cost of the technique).
+    type Key = (Sampling, Option<variant::Variant>);
+    let mut tracers: HashMap<Key, (Tracer, Option<Prepared>)> = HashMap::new();
     let mut setups = Vec::with_capacity(o.techniques.len());
     let mut skipped = Vec::new();
     for technique in &o.techniques {
@@ -135,27 +138,28 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             ));
             continue;
         }
-        let key = (technique.sampling(), technique.effect());
-        let tracer = match tracers.entry(key) {
+        let key = (technique.sampling(), technique.variant());
+        let (tracer, scene) = match tracers.entry(key) {
             Entry::Occupied(e) => e.into_mut(),
             Entry::Vacant(e) => {
                 let options = TracerOptions {
                     sampling: technique.sampling(),
                     ..Default::default()
                 };
-                let tracer = match technique.effect() {
-                    None => Tracer::new(&options, &prepared.gpu)?,
-                    Some(effect) => match without(prepared, effect)? {
-                        Some(variant) => Tracer::new(&options, &variant.gpu)?,
+                let entry = match technique.variant() {
+                    None => (Tracer::new(&options, &prepared.gpu)?, None),
+                    Some(v) => match variant::prepare(prepared, v)? {
+                        Some(p) => (Tracer::new(&options, &p.gpu)?, Some(p)),
                         None => {
                             skipped.push(format!("{technique}: the scene has no such effect"));
                             continue;
                         }
                     },
                 };
-                e.insert(tracer)
+                e.insert(entry)
             }
         };
+        let gpu = &scene.as_ref().unwrap_or(prepared).gpu;
         let mut params = base.clone();
         technique.apply(&mut params);
         params.spp = 1;
@@ -163,11 +167,11 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
         // compile its kernels and once timed; that time is added to every render of the
         // technique (a still frame pays for it once).
         let mut update = 0.0;
-        let warm = platoon::method_update::on_tracer(tracer, &prepared.gpu, &params)
+        let warm = platoon::method_update::on_tracer(tracer, gpu, &params)
             .with_context(|| format!("preparing {technique}"))?;
         if warm.method != params.method {
             let clock = std::time::Instant::now();
-            params = platoon::method_update::on_tracer(tracer, &prepared.gpu, &params)?;
+            params = platoon::method_update::on_tracer(tracer, gpu, &params)?;
             update = clock.elapsed().as_secs_f64();
         }
         tracer
@@ -199,8 +203,8 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             });
             let mut params = params.clone();
             params.spp = spp;
-            let tracer = tracers
-                .get_mut(&(technique.sampling(), technique.effect()))
+            let (tracer, _) = tracers
+                .get_mut(&(technique.sampling(), technique.variant()))
                 .expect("a tracer per estimator and scene variant");
             let band = tracer
                 .render(&params, 0, o.height, &mut |_| {})
@@ -262,23 +266,4 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
     )?;
     markdown::write(&o.out, &report, &reference.film, &finals, &o.scene_label)?;
     Ok(report)
-}
-
-/// `prepared` without `effect` (its stand-in instead), seen by the same camera; None when the
-/// scene does not use the effect.
-fn without(prepared: &Prepared, effect: effects::Effect) -> Result<Option<Prepared>> {
-    let mut scene = prepared.scene.clone();
-    if !effect.remove(&mut scene) {
-        return Ok(None);
-    }
-    let mut variant = platoon::prepare(
-        scene,
-        &platoon::PrepareOptions {
-            time: prepared.time,
-            ..Default::default()
-        },
-    )
-    .with_context(|| format!("preparing the scene without {}", effect.name()))?;
-    variant.camera = prepared.camera;
-    Ok(Some(variant))
 }

@@ -11,6 +11,7 @@ use platoon_tracer::Sampling;
 
 use super::effects::Effect;
 use super::links_technique::LinksTechnique;
+use super::variant::Variant;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Technique {
@@ -191,6 +192,8 @@ impl Technique {
             "links=256+b1",
             "links=256+nosmooth",
             "links=256+vertex",
+            "links=256+sub2",
+            "links=256+sub3",
         ]
         .into_iter()
         .map(|t| Technique::parse(t).expect("a valid technique"))
@@ -256,7 +259,7 @@ impl Technique {
                  generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
                  env-mean, igi=N[+boxes][+downK][+interMxN][+minD], \
-                 links=N[+bB][+nosmooth][+vertex]"
+                 links=N[+bB][+nosmooth][+vertex][+subK]"
             ),
         })
     }
@@ -285,10 +288,11 @@ impl Technique {
         }
     }
 
-    /// The effect it removes from the scene, if it is such a technique.
-    pub fn effect(self) -> Option<Effect> {
+    /// The scene it renders when not the sweep's own: without an effect, or subdivided.
+    pub fn variant(self) -> Option<Variant> {
         match self {
-            Technique::Without(e) => Some(e),
+            Technique::Without(e) => Some(Variant::Without(e)),
+            Technique::Links(t) if t.subdivisions > 0 => Some(Variant::Subdivided(t.subdivisions)),
             _ => None,
         }
     }
@@ -320,7 +324,7 @@ impl Technique {
             }
             Technique::Igi(t) => params.method = platoon_core::Method::Igi(t.options()),
             Technique::Links(t) => params.method = t.method(),
-            // Its change is to the scene (`effect`).
+            // Its change is to the scene (`variant`).
             Technique::Without(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
         }
