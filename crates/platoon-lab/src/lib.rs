@@ -14,4 +14,5 @@ pub mod links_walk;
 pub mod mitsuba;
 pub mod plot;
 pub mod scene_bench;
+pub mod tearoom;
 pub mod tradeoff;

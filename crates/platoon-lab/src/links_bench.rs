@@ -23,7 +23,8 @@ pub struct LinksScene {
 }
 
 /// The named scenes: `boxN` (the Cornell box, every face N x N quads), `conference` (the
-/// generated conference room), `cesium` (CesiumMan from the shared data, under a grey sky).
+/// generated conference room), `cesium` (CesiumMan from the shared data, under a grey sky),
+/// `tearoomN` (a furnished room, walls N x N quads, teapots from the shared data).
 pub fn scenes(names: &[String], shared: &std::path::Path) -> Result<Vec<LinksScene>> {
     names
         .iter()
@@ -33,6 +34,21 @@ pub fn scenes(names: &[String], shared: &std::path::Path) -> Result<Vec<LinksSce
                     name: name.clone(),
                     what: format!("Cornell box, every face {cells}x{cells} quads"),
                     scene: platoon::core::scene::cornell::tessellated(cells),
+                    env: EnvChoice::Scene,
+                });
+            }
+            if let Some(cells) = name.strip_prefix("tearoom").and_then(|n| n.parse().ok()) {
+                let path = shared.join("scenes/teapot.gltf");
+                if !path.is_file() {
+                    bail!("{}: not found (--shared names the folder)", path.display());
+                }
+                let teapot = platoon::load_scene(Some(&path))?;
+                return Ok(LinksScene {
+                    name: name.clone(),
+                    what: format!(
+                        "a tea room: walls {cells}x{cells} quads, six tables, chairs, teapots"
+                    ),
+                    scene: crate::tearoom::tearoom(&teapot, cells)?,
                     env: EnvChoice::Scene,
                 });
             }
@@ -57,7 +73,9 @@ pub fn scenes(names: &[String], shared: &std::path::Path) -> Result<Vec<LinksSce
                     shared.join("scenes/CesiumMan.glb"),
                     EnvChoice::Color(Vec3::splat(0.8)),
                 ),
-                _ => bail!("unknown links bench scene {name:?}: boxN, conference, cesium"),
+                _ => {
+                    bail!("unknown links bench scene {name:?}: boxN, conference, cesium, tearoomN")
+                }
             };
             if !path.is_file() {
                 bail!("{}: not found (--shared names the folder)", path.display());

@@ -12,10 +12,10 @@ use platoon_lab::{links_bench, links_walk};
 #[derive(clap::Args)]
 pub struct LinksArgs {
     /// Scenes, comma-separated: boxN (the Cornell box, each face N x N quads), conference,
-    /// cesium.
+    /// cesium, tearoomN (a furnished room, walls N x N quads, teapots).
     #[arg(
         long,
-        default_value = "box16,box32,cesium,conference",
+        default_value = "box16,box32,cesium,tearoom16,conference",
         value_delimiter = ','
     )]
     scenes: Vec<String>,

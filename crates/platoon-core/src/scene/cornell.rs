@@ -60,8 +60,9 @@ pub fn push_grid(mesh: &mut Mesh, [a, b, c, d]: [Vec3; 4], material: u32, cells:
     }
 }
 
-/// Adds an axis-aligned box of the given size, rotated about Y and placed on the floor.
-fn push_box(
+/// Adds a box of `size` standing on the floor (y = 0) at `center_xz`, turned `angle_deg` about
+/// y, its faces `cells` x `cells` quads, without a bottom face.
+pub fn push_box(
     mesh: &mut Mesh,
     center_xz: (f32, f32),
     size: Vec3,
