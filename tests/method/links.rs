@@ -437,6 +437,80 @@ fn revalidating_a_walk_gives_the_bits_of_regenerating_every_link() {
     assert!(relit.stats.relit && Arc::ptr_eq(&relit.links, &last.links));
 }
 
+/// A revalidation's frames of single rays split like any frame: on three tracers under every
+/// balancer, and with a tracer lost after a band, it gives the bits of one tracer's.
+#[test]
+fn revalidating_on_three_tracers_gives_one_tracers_bits_under_every_balancer() {
+    let (mut updater, node, camera) = walk_in_a_room();
+    let options = LinksOptions {
+        directions: 16,
+        light_samples: 2,
+        ..Default::default()
+    };
+    let mut params = FrameParams::new(16, 16, 1, camera);
+    params.method = links(options);
+    let first = {
+        let g = updater.flattened();
+        let p = platoon::method_update::on_tracer(
+            &mut tracer_reading(g, Default::default()),
+            g,
+            &params,
+        )
+        .unwrap();
+        solution(&p).clone()
+    };
+    updater.apply(Edit::Time(0.4)).unwrap();
+    updater
+        .apply(Edit::Placement {
+            node,
+            placement: platoon::generated::walk_step(1.0),
+        })
+        .unwrap();
+    updater.update().unwrap();
+    let g = updater.flattened();
+    params.method = Method::Links(Links {
+        previous: Some(first),
+        ..Links::new(options)
+    });
+    let mut one = tracer_reading(g, Default::default());
+    let expected =
+        solution(&platoon::method_update::on_tracer(&mut one, g, &params).unwrap()).clone();
+    assert!(expected.stats.revalidated && expected.stats.rays > 0);
+    let same = |p: &FrameParams, what: &str| {
+        let s = solution(p);
+        assert!(s.stats.revalidated, "{what}: not revalidated");
+        assert!(s.links == expected.links, "{what}: links differ");
+        assert!(
+            s.irradiance == expected.irradiance,
+            "{what}: irradiance differs"
+        );
+    };
+    let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
+    let mut tracers = create_tracers(&spec, g, true, Sampling::Mis).unwrap();
+    for name in NAMES {
+        let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
+        let p = platoon::method_update::on_renderer(&mut renderer, g, &params).unwrap();
+        same(&p, name);
+        tracers = renderer.into_tracers();
+    }
+    for t in &tracers {
+        assert_no_validation_messages(t);
+    }
+    let tracers: Vec<FaultInjector<Tracer>> = create_tracers(&spec, g, true, Sampling::Mis)
+        .unwrap()
+        .into_iter()
+        .enumerate()
+        .map(|(i, t)| match i {
+            1 => FaultInjector::failing_after_bands(t, 1),
+            _ => FaultInjector::healthy(t),
+        })
+        .collect();
+    let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
+    let p = platoon::method_update::on_renderer(&mut renderer, g, &params).unwrap();
+    same(&p, "a tracer lost after a band");
+    assert_eq!(renderer.alive(), [0, 2]);
+}
+
 /// The walk as a game plays it: `frames` calls of the frame driver over `tracers` (and
 /// `update_tracers` for an asynchronous update), the man stepping before the first `steps`;
 /// every finished frame's statistics, and the scene the walk ends in.
