@@ -9,6 +9,7 @@
 //! - [`links`]: vertex links (Schmitz et al.): indirect diffuse light from per-vertex links.
 
 pub mod igi;
+pub mod lhb;
 pub mod links;
 pub mod path;
 pub mod path_kernel;
