@@ -15,6 +15,7 @@ mod instances;
 pub mod layout;
 mod lights;
 mod materials;
+mod placed;
 pub mod refit;
 pub mod static_merge;
 

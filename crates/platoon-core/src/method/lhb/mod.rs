@@ -3,9 +3,15 @@
 //! lists the surfaces along it; indirect rays are answered by a lookup in the buffer of the
 //! nearest direction instead of a traversal.
 //!
-//! Built so far: [`directions`] (the icosahedral, octahedral and Halton sets) and
-//! [`directional_map`] (any direction to its nearest buffer direction, exact). To come: the
-//! buffers' frame, the compute rasterizer and its ray oracle, the lookups, `--method lhb`.
+//! Built so far: [`directions`] (the icosahedral, octahedral and Halton sets),
+//! [`directional_map`] (any direction to its nearest buffer direction, exact), [`frame`] (the
+//! scene's bounding sphere and each direction's view), [`oracle`] (buffers built by rays, what
+//! the rasterizer will be tested against) and [`lookup`] (a ray answered by the buffers, on the
+//! CPU: the reference of the kernels' lookups). To come: the compute rasterizer, the lookups in
+//! the kernels, `--method lhb`.
 
 pub mod directional_map;
 pub mod directions;
+pub mod frame;
+pub mod lookup;
+pub mod oracle;

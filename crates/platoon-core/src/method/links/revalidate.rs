@@ -13,7 +13,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::job::{ElementRays, Shot};
-use super::scene_elements::{world_vertex, SceneElements};
+use super::scene_elements::SceneElements;
 use super::shoot_cpu::ray_direction;
 use crate::flatten::GpuScene;
 
@@ -118,7 +118,7 @@ impl Bounds {
         let r = &g.regions[elements.region_of(i)];
         let (mut min, mut max) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
         for v in r.vertex_base..r.vertex_base + r.vertex_count {
-            let p = world_vertex(g, i as u32, v);
+            let p = g.world_vertex(i as u32, v);
             (min, max) = (min.min(p), max.max(p));
         }
         let margin = 1e-4 * (1.0 + min.abs().max(max.abs()).max_element());
@@ -203,7 +203,7 @@ pub fn stale_rays(
                 } else {
                     let [a, b, c] = g.triangles[triangle as usize]
                         .v
-                        .map(|v| world_vertex(g, instance, v));
+                        .map(|v| g.world_vertex(instance, v));
                     let (b1, b2) = (f32::from_bits(b1), f32::from_bits(b2));
                     let hit = a * (1.0 - b1 - b2) + b * b1 + c * b2;
                     let t = (hit - frame[0]).length();

@@ -62,10 +62,7 @@ impl SceneElements {
         };
         for (i, instance) in g.instances.iter().enumerate() {
             let region = g
-                .regions
-                .iter()
-                // An empty region (a mesh the static merge took in) may name the same root.
-                .position(|r| r.root == instance.blas_root && r.triangle_count > 0)
+                .region_of_instance(i)
                 .ok_or_else(|| Error::Invalid(format!("links: instance {i} has no mesh region")))?;
             let w = &welded[region];
             let rows = instance.object_to_world;
@@ -151,7 +148,7 @@ impl SceneElements {
             let r = &g.regions[region];
             for t in r.triangle_base..r.triangle_base + r.triangle_count {
                 let v = g.triangles[t as usize].v;
-                let [a, b, c] = v.map(|v| world_vertex(g, i as u32, v));
+                let [a, b, c] = v.map(|v| g.world_vertex(i as u32, v));
                 let area = 0.5 * (b - a).cross(c - a).length();
                 for (k, &corner) in v.iter().enumerate() {
                     per[self.element(i as u32, corner) as usize].push((t, k as u32, area));
@@ -192,17 +189,6 @@ impl SceneElements {
         }
         table
     }
-}
-
-/// Scene vertex `v` (a global index) of instance `instance` in render space.
-pub fn world_vertex(g: &GpuScene, instance: u32, v: u32) -> Vec3 {
-    let rows = g.instances[instance as usize].object_to_world;
-    let p = Vec3::from_slice(&g.vertices[v as usize].position_u[..3]).extend(1.0);
-    Vec3::new(
-        glam::Vec4::from(rows[0]).dot(p),
-        glam::Vec4::from(rows[1]).dot(p),
-        glam::Vec4::from(rows[2]).dot(p),
-    )
 }
 
 #[cfg(test)]

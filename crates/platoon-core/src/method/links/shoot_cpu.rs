@@ -14,7 +14,7 @@
 use glam::Vec3;
 
 use super::reduce::RayHit;
-use super::scene_elements::{world_vertex, SceneElements};
+use super::scene_elements::SceneElements;
 use crate::drive::queries::QueryScene;
 use crate::flatten::GpuScene;
 
@@ -67,7 +67,7 @@ pub fn link_of_hit(
     // The face's side from its geometry (a ray that leaves an element below one of its own
     // faces meets that face from the front at once), turned to the side its shading normals
     // call the front.
-    let [a, bb, c] = tri.v.map(|v| world_vertex(g, instance, v));
+    let [a, bb, c] = tri.v.map(|v| g.world_vertex(instance, v));
     let face = (bb - a).cross(c - a);
     let shading: Vec3 = corners
         .iter()
