@@ -6,12 +6,14 @@
 //! Built so far: [`directions`] (the icosahedral, octahedral and Halton sets),
 //! [`directional_map`] (any direction to its nearest buffer direction, exact), [`frame`] (the
 //! scene's bounding sphere and each direction's view), [`oracle`] (buffers built by rays, what
-//! the rasterizer will be tested against) and [`lookup`] (a ray answered by the buffers, on the
-//! CPU: the reference of the kernels' lookups). To come: the compute rasterizer, the lookups in
-//! the kernels, `--method lhb`.
+//! the rasterizer is tested against), [`raster`] (the rasterizer's algorithm on the CPU: edge
+//! functions, the top-left rule, plane depth, a capacity with overflow counted) and [`lookup`] (a
+//! ray answered by the buffers, on the CPU: the reference of the kernels' lookups). To come: the
+//! rasterizer as a compute kernel, the lookups in the kernels, `--method lhb`.
 
 pub mod directional_map;
 pub mod directions;
 pub mod frame;
 pub mod lookup;
 pub mod oracle;
+pub mod raster;
