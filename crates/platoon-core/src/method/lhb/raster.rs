@@ -4,7 +4,8 @@
 //! triangle to its right or below, the top-left rule, so triangles sharing an edge list a centre
 //! on it once), and its depth is the triangle's plane through the projected corners. Each covered
 //! texel appends a layer; past `capacity` layers a texel counts the rest as overflow (lost, as
-//! the thesis' fixed-capacity lists).
+//! the thesis' fixed-capacity lists), or, in the variant without a limit, a counting pass and a
+//! prefix sum place every layer.
 
 use super::frame::{BufferFrame, View};
 use super::oracle::Layer;
@@ -36,6 +37,59 @@ pub fn rasterize(
         texels: vec![Vec::new(); (r * r) as usize],
         overflow: 0,
     };
+    cover(g, frame, view, r, |texel, layer| {
+        let list = &mut out.texels[texel];
+        if list.len() < capacity {
+            list.push(layer);
+        } else {
+            out.overflow += 1;
+        }
+    });
+    out
+}
+
+/// A buffer without a capacity (the thesis' count, prefix-sum, fill variant): texel k's layers
+/// are `layers[offsets[k]..offsets[k + 1]]`, in the order they were covered.
+pub struct Exact {
+    pub offsets: Vec<u32>,
+    pub layers: Vec<Layer>,
+}
+
+/// The buffer with every layer: a pass counting each texel's layers, their prefix sum, and a
+/// pass filling them in.
+pub fn rasterize_exact(g: &GpuScene, frame: &BufferFrame, view: &View, r: u32) -> Exact {
+    let mut counts = vec![0u32; (r * r) as usize];
+    cover(g, frame, view, r, |texel, _| counts[texel] += 1);
+    let mut offsets = Vec::with_capacity(counts.len() + 1);
+    offsets.push(0u32);
+    for c in &counts {
+        offsets.push(offsets.last().expect("starts with 0") + c);
+    }
+    let mut next: Vec<u32> = offsets[..counts.len()].to_vec();
+    let mut layers = vec![
+        Layer {
+            depth: 0.0,
+            instance: 0,
+            triangle: 0,
+        };
+        *offsets.last().expect("starts with 0") as usize
+    ];
+    cover(g, frame, view, r, |texel, layer| {
+        layers[next[texel] as usize] = layer;
+        next[texel] += 1;
+    });
+    Exact { offsets, layers }
+}
+
+/// Calls `visit(texel, layer)` for every texel centre a front-facing triangle of `g` covers in
+/// the buffer of `view` at resolution `r`.
+fn cover(
+    g: &GpuScene,
+    frame: &BufferFrame,
+    view: &View,
+    r: u32,
+    mut visit: impl FnMut(usize, Layer),
+) {
     for instance in 0..g.instances.len() {
         let Some(region) = g.region_of_instance(instance) else {
             continue;
@@ -73,21 +127,18 @@ pub fn rasterize(
                     // w[2] b's, w[0] c's.
                     let sum = w[0] + w[1] + w[2];
                     let depth = (w[1] * a.2 + w[2] * b.2 + w[0] * c.2) / sum;
-                    let list = &mut out.texels[(j * r + i) as usize];
-                    if list.len() < capacity {
-                        list.push(Layer {
+                    visit(
+                        (j * r + i) as usize,
+                        Layer {
                             depth,
                             instance: instance as u32,
                             triangle: t,
-                        });
-                    } else {
-                        out.overflow += 1;
-                    }
+                        },
+                    );
                 }
             }
         }
     }
-    out
 }
 
 #[cfg(test)]
@@ -176,5 +227,12 @@ mod tests {
         let capped_kept: usize = capped.texels.iter().map(|l| l.len()).sum();
         assert!(capped.overflow > 0);
         assert_eq!(capped_kept as u64 + capped.overflow, kept as u64);
+        // Without a capacity: every layer, each texel's in the same order as a large capacity.
+        let exact = rasterize_exact(&g, &frame, &view, 32);
+        assert_eq!(exact.layers.len(), kept);
+        for (k, list) in full.texels.iter().enumerate() {
+            let range = exact.offsets[k] as usize..exact.offsets[k + 1] as usize;
+            assert_eq!(&exact.layers[range], list.as_slice(), "texel {k}");
+        }
     }
 }
