@@ -33,9 +33,22 @@ fn links(options: LinksOptions) -> Method {
 
 /// `params` solved on `tracer` (the facade's update), asserting the devices said nothing.
 fn solved(tracer: &mut Tracer, prepared: &platoon::Prepared, params: &FrameParams) -> FrameParams {
-    let p = platoon::method_update::on_tracer(tracer, &prepared.gpu, params).expect("links update");
+    solved_in(tracer, &prepared.gpu, params)
+}
+
+/// `params` solved on `tracer` holding `g`, asserting the devices said nothing.
+fn solved_in(tracer: &mut Tracer, g: &GpuScene, params: &FrameParams) -> FrameParams {
+    let p = platoon::method_update::on_tracer(tracer, g, params).expect("links update");
     assert_no_validation_messages(tracer);
     p
+}
+
+/// Vertex links with `options` to be solved from `previous` (relit or revalidated).
+fn links_after(options: LinksOptions, previous: Option<Arc<Solution>>) -> Method {
+    Method::Links(Links {
+        previous,
+        ..Links::new(options)
+    })
 }
 
 fn solution(params: &FrameParams) -> &Arc<Solution> {
@@ -332,10 +345,7 @@ fn relighting_a_still_scene_reuses_the_links_and_equals_a_full_update() {
     let full = solution(&full);
     assert!(!full.stats.relit && full.irradiance != first.irradiance);
     let mut relight = params.clone();
-    relight.method = Method::Links(Links {
-        previous: Some(first.clone()),
-        ..Links::new(options)
-    });
+    relight.method = links_after(options, Some(first.clone()));
     let relit = solved(&mut t, &after, &relight);
     let relit = solution(&relit);
     assert!(relit.stats.relit && relit.stats.rays == 0 && relit.stats.shoot_s == 0.0);
@@ -378,13 +388,8 @@ fn revalidating_a_walk_gives_the_bits_of_regenerating_every_link() {
     params.method = links(options);
     let solve = |t: &mut Tracer, g: &GpuScene, previous: Option<Arc<Solution>>| {
         let mut p = params.clone();
-        p.method = Method::Links(Links {
-            previous,
-            ..Links::new(options)
-        });
-        let p = platoon::method_update::on_tracer(t, g, &p).expect("links update");
-        assert_no_validation_messages(t);
-        solution(&p).clone()
+        p.method = links_after(options, previous);
+        solution(&solved_in(t, g, &p)).clone()
     };
     let mut last = solve(&mut t, updater.flattened(), None);
     let all_rays = last.stats.rays;
@@ -451,13 +456,12 @@ fn revalidating_on_three_tracers_gives_one_tracers_bits_under_every_balancer() {
     params.method = links(options);
     let first = {
         let g = updater.flattened();
-        let p = platoon::method_update::on_tracer(
+        solution(&solved_in(
             &mut tracer_reading(g, Default::default()),
             g,
             &params,
-        )
-        .unwrap();
-        solution(&p).clone()
+        ))
+        .clone()
     };
     updater.apply(Edit::Time(0.4)).unwrap();
     updater
@@ -468,13 +472,9 @@ fn revalidating_on_three_tracers_gives_one_tracers_bits_under_every_balancer() {
         .unwrap();
     updater.update().unwrap();
     let g = updater.flattened();
-    params.method = Method::Links(Links {
-        previous: Some(first),
-        ..Links::new(options)
-    });
+    params.method = links_after(options, Some(first));
     let mut one = tracer_reading(g, Default::default());
-    let expected =
-        solution(&platoon::method_update::on_tracer(&mut one, g, &params).unwrap()).clone();
+    let expected = solution(&solved_in(&mut one, g, &params)).clone();
     assert!(expected.stats.revalidated && expected.stats.rays > 0);
     let same = |p: &FrameParams, what: &str| {
         let s = solution(p);
@@ -601,8 +601,7 @@ fn solved_afresh(g: &GpuScene, camera: Camera) -> Arc<Solution> {
     let mut t = tracer_reading(g, Default::default());
     let mut p = FrameParams::new(16, 16, 1, camera);
     p.method = links(walk_options());
-    let p = platoon::method_update::on_tracer(&mut t, g, &p).unwrap();
-    solution(&p).clone()
+    solution(&solved_in(&mut t, g, &p)).clone()
 }
 
 /// In the game loop, synchronously: each frame of a new generation is lit by links of its own

@@ -62,6 +62,18 @@ pub struct DriverOptions {
 }
 
 impl DriverOptions {
+    /// A frame's params of `width` x `height` at `spp` from `camera` with these options' seed,
+    /// depths, samples per pass and method (what every frame and a method's preparation share).
+    fn frame_params(&self, width: u32, height: u32, spp: u32, camera: Camera) -> FrameParams {
+        let mut p = FrameParams::new(width, height, spp, camera);
+        p.seed = self.seed;
+        p.max_depth = self.max_depth;
+        p.rr_depth = self.rr_depth;
+        p.samples_per_pass = self.samples_per_pass;
+        p.method = self.method.clone();
+        p
+    }
+
     pub fn new(width: u32, height: u32) -> DriverOptions {
         DriverOptions {
             width,
@@ -367,19 +379,14 @@ impl FrameDriver {
         }
         let o = &self.options;
         let (width, height) = render_size(o.width, o.height, plan.resolution);
-        let mut params = FrameParams::new(width, height, plan.spp, camera);
-        params.seed = o.seed;
+        let mut params = o.frame_params(width, height, plan.spp, camera);
         params.frame = self.epoch;
         params.first_sample = plan.first_sample;
-        params.max_depth = o.max_depth;
-        params.rr_depth = o.rr_depth;
         params.rr_survival = plan.rr_survival;
         if plan.rr_survival < 1.0 {
             // Scaled roulette saves time only where it plays: from the first bounce on.
             params.rr_depth = params.rr_depth.min(1);
         }
-        params.samples_per_pass = o.samples_per_pass;
-        params.method = o.method.clone();
         let gi = self.prepared.as_ref().map(|p| {
             params.method = p.method.clone();
             GiStats::of(p, self.generation, gi_arrived)
@@ -418,20 +425,12 @@ impl FrameDriver {
         let Some(worker) = self.worker.as_mut() else {
             return Ok(false);
         };
+        let o = &self.options;
         let params = |scene| WorkerJob {
             commit: None,
             scene,
             generation: self.generation,
-            params: {
-                let o = &self.options;
-                let mut p = FrameParams::new(o.width, o.height, 1, camera);
-                p.seed = o.seed;
-                p.max_depth = o.max_depth;
-                p.rr_depth = o.rr_depth;
-                p.samples_per_pass = o.samples_per_pass;
-                p.method = o.method.clone();
-                p
-            },
+            params: o.frame_params(o.width, o.height, 1, camera),
         };
         if let Some(first) = self.first_scene.take() {
             worker.submit(params(first))?;

@@ -98,10 +98,33 @@ pub fn prepare_on<T: BandTracer + Send + 'static>(
     Ok((p, failures))
 }
 
-/// The method to prepare next: the last result's renewal, or the frames' method at first.
-fn to_prepare(last: Option<&PreparedMethod>, method: &Method) -> Method {
-    last.and_then(|p| p.method.unit().renewal())
-        .unwrap_or_else(|| method.clone())
+/// The frames' method (`params`) prepared on `scene` of `generation`, starting from the last
+/// result's renewal (or the method itself at first), with random numbers of frame 0 and sample
+/// 0 so that a generation's preparation is the same whenever it runs; with the tracers lost.
+fn prepare_after<T: BandTracer + Send + 'static>(
+    renderer: &mut Renderer<T>,
+    last: Option<&PreparedMethod>,
+    scene: &GpuScene,
+    generation: u64,
+    params: &FrameParams,
+) -> Result<(PreparedMethod, Vec<TracerFailure>)> {
+    let mut p = params.clone();
+    p.frame = 0;
+    p.first_sample = 0;
+    p.accumulated = None;
+    p.method = last
+        .and_then(|l| l.method.unit().renewal())
+        .unwrap_or_else(|| params.method.clone());
+    let start = Instant::now();
+    let (prepared, lost) = prepare_on(renderer, scene, &p)?;
+    Ok((
+        PreparedMethod {
+            method: prepared.method,
+            generation,
+            took: start.elapsed(),
+        },
+        lost,
+    ))
 }
 
 /// Prepares the method on the render thread when `generation` is newer than the last
@@ -116,30 +139,13 @@ pub(super) fn prepare_synchronously<T: BandTracer + Send + 'static>(
 ) -> Result<GiStats> {
     let fresh = last.as_ref().is_none_or(|p| p.generation < generation);
     if fresh {
-        let mut p = preparation_params(params);
-        p.method = to_prepare(last.as_ref(), &params.method);
-        let start = Instant::now();
-        let (prepared, lost) = prepare_on(renderer, scene, &p)?;
+        let (prepared, lost) = prepare_after(renderer, last.as_ref(), scene, generation, params)?;
         failures.extend(lost);
-        *last = Some(PreparedMethod {
-            method: prepared.method,
-            generation,
-            took: start.elapsed(),
-        });
+        *last = Some(prepared);
     }
     let p = last.as_ref().expect("prepared above");
     params.method = p.method.clone();
     Ok(GiStats::of(p, generation, fresh))
-}
-
-/// A frame's params as a preparation reads them: random numbers of frame 0 and sample 0, so
-/// that a generation's preparation is the same whenever it runs.
-fn preparation_params(params: &FrameParams) -> FrameParams {
-    let mut p = params.clone();
-    p.frame = 0;
-    p.first_sample = 0;
-    p.accumulated = None;
-    p
 }
 
 /// One generation for the worker: its commit (what the worker's tracers apply), its scene,
@@ -233,15 +239,14 @@ fn worker_loop<T: BandTracer + Send + 'static>(
             result = result.and_then(|()| apply(&mut renderer, &job));
         }
         let result = result.and_then(|()| {
-            let mut p = preparation_params(&job.params);
-            p.method = to_prepare(last.as_ref(), &job.params.method);
-            let start = Instant::now();
-            let (prepared, _lost) = prepare_on(&mut renderer, &job.scene, &p)?;
-            Ok(PreparedMethod {
-                method: prepared.method,
-                generation: job.generation,
-                took: start.elapsed(),
-            })
+            prepare_after(
+                &mut renderer,
+                last.as_ref(),
+                &job.scene,
+                job.generation,
+                &job.params,
+            )
+            .map(|(prepared, _lost)| prepared)
         });
         if let Ok(p) = &result {
             last = Some(p.clone());

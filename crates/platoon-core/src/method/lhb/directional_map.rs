@@ -33,11 +33,17 @@ pub fn texel(d: Vec3, width: u32, height: u32) -> (u32, u32) {
 
 /// The direction of index `i` nearest `d` by a search over all (largest dot, lowest index).
 pub fn nearest_brute_force(directions: &[Vec3], d: Vec3) -> u32 {
-    let mut best = (f32::NEG_INFINITY, 0u32);
-    for (i, v) in directions.iter().enumerate() {
-        let dot = v.dot(d);
+    nearest_among(directions, 0..directions.len() as u32, d)
+}
+
+/// Of the `candidates` (ascending indices into `directions`), the one nearest `d`: largest
+/// dot product, a tie to the lowest index.
+fn nearest_among(directions: &[Vec3], candidates: impl IntoIterator<Item = u32>, d: Vec3) -> u32 {
+    let mut best = (f32::NEG_INFINITY, u32::MAX);
+    for i in candidates {
+        let dot = directions[i as usize].dot(d);
         if dot > best.0 {
-            best = (dot, i as u32);
+            best = (dot, i);
         }
     }
     best.1
@@ -110,15 +116,8 @@ impl DirectionalMap {
     pub fn nearest(&self, d: Vec3) -> u32 {
         let (column, row) = texel(d, self.width, self.height);
         let [first, count] = self.ranges[(row * self.width + column) as usize];
-        let mut best = (f32::NEG_INFINITY, u32::MAX);
-        for &i in &self.candidates[first as usize..(first + count) as usize] {
-            let dot = self.directions[i as usize].dot(d);
-            // Candidates ascend, so a tie keeps the lowest index, as the search over all.
-            if dot > best.0 {
-                best = (dot, i);
-            }
-        }
-        best.1
+        let candidates = &self.candidates[first as usize..(first + count) as usize];
+        nearest_among(&self.directions, candidates.iter().copied(), d)
     }
 
     /// The longest candidate list (the lookup's worst case).

@@ -84,12 +84,10 @@ impl Buffers {
 
 #[cfg(test)]
 mod tests {
-    use std::sync::Arc;
-
     use super::*;
     use crate::drive::QueryScene;
     use crate::scene::cornell::push_grid;
-    use crate::scene::{Material, Mesh, Node, Scene};
+    use crate::scene::Mesh;
 
     /// A closed cube of side 2 about the origin, its faces 2 x 2 quads turned inwards: every
     /// point inside is free space and every ray from it meets a face from the front.
@@ -137,15 +135,7 @@ mod tests {
         for f in faces {
             push_grid(&mut mesh, f, 0, 2);
         }
-        let mut node = Node::new("cube");
-        node.mesh = Some(0);
-        let scene = Scene {
-            nodes: vec![node],
-            meshes: vec![Arc::new(mesh)],
-            materials: vec![Material::default()],
-            ..Default::default()
-        };
-        GpuScene::build(&scene, &scene.pose(0.0), None).unwrap()
+        super::super::one_mesh(mesh)
     }
 
     /// A fixed stream of numbers in [0, 1).

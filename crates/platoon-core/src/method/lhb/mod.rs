@@ -17,3 +17,17 @@ pub mod frame;
 pub mod lookup;
 pub mod oracle;
 pub mod raster;
+
+/// A flattened scene of `mesh` alone, at the origin (the tests' scenes).
+#[cfg(test)]
+fn one_mesh(mesh: crate::scene::Mesh) -> crate::flatten::GpuScene {
+    let mut node = crate::scene::Node::new("mesh");
+    node.mesh = Some(0);
+    let scene = crate::scene::Scene {
+        nodes: vec![node],
+        meshes: vec![std::sync::Arc::new(mesh)],
+        materials: vec![crate::scene::Material::default()],
+        ..Default::default()
+    };
+    crate::flatten::GpuScene::build(&scene, &scene.pose(0.0), None).unwrap()
+}

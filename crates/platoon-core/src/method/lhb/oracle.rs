@@ -100,13 +100,11 @@ fn intersect(origin: DVec3, dir: DVec3, a: DVec3, b: DVec3, c: DVec3) -> Option<
 
 #[cfg(test)]
 mod tests {
-    use std::sync::Arc;
-
     use glam::Vec3;
 
     use super::*;
     use crate::scene::cornell::push_quad;
-    use crate::scene::{Material, Mesh, Node, Scene};
+    use crate::scene::Mesh;
 
     /// Two squares of side 2 across z (at z = 0 facing -z and at z = 1 facing -z, the second
     /// half the size) and one at z = 2 facing +z; seen along +z.
@@ -118,15 +116,7 @@ mod tests {
         push_quad(&mut mesh, facing_minus_z(0.5, 1.0), 0);
         let [a, b, c, d] = facing_minus_z(1.0, 2.0);
         push_quad(&mut mesh, [a, d, c, b], 0);
-        let mut node = Node::new("squares");
-        node.mesh = Some(0);
-        let scene = Scene {
-            nodes: vec![node],
-            meshes: vec![Arc::new(mesh)],
-            materials: vec![Material::default()],
-            ..Default::default()
-        };
-        GpuScene::build(&scene, &scene.pose(0.0), None).unwrap()
+        super::super::one_mesh(mesh)
     }
 
     #[test]

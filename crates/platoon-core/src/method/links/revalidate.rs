@@ -18,7 +18,7 @@ use super::shoot_cpu::ray_direction;
 use crate::flatten::GpuScene;
 
 /// SipHash with fixed keys: the same digest in every process.
-fn hasher() -> std::collections::hash_map::DefaultHasher {
+pub(super) fn hasher() -> std::collections::hash_map::DefaultHasher {
     std::collections::hash_map::DefaultHasher::new()
 }
 
@@ -182,14 +182,15 @@ pub fn stale_rays(
         .iter()
         .map(|d| Vec3::from_slice(&d[..3]))
         .collect();
-    let per_element: Vec<Vec<u32>> = (0..rays.elements.len())
+    // Per element: whether it moved, and its stale rays.
+    let per_element: Vec<(bool, Vec<u32>)> = (0..rays.elements.len())
         .into_par_iter()
         .map(|x| {
             let (new, old) = (&rays.elements[x], &shot.rays.elements[x]);
             let first = (x * n_c) as u32;
             let frame = [new.origin, new.tangent, new.bitangent, new.normal];
             if frame != [old.origin, old.tangent, old.bitangent, old.normal] {
-                return (first..first + n_c as u32).collect();
+                return (true, (first..first + n_c as u32).collect());
             }
             let frame = frame.map(|v| Vec3::from_slice(&v[..3]));
             let mut stale = Vec::new();
@@ -214,21 +215,12 @@ pub fn stale_rays(
                     stale.push(first + k as u32);
                 }
             }
-            stale
+            (false, stale)
         })
         .collect();
-    let moved_elements = (0..rays.elements.len())
-        .filter(|&x| {
-            per_element[x].len() == n_c && {
-                let (a, b) = (&rays.elements[x], &shot.rays.elements[x]);
-                [a.origin, a.tangent, a.bitangent, a.normal]
-                    != [b.origin, b.tangent, b.bitangent, b.normal]
-            }
-        })
-        .count() as u32;
     Some(Stale {
-        moved_elements,
-        rays: per_element.concat(),
+        moved_elements: per_element.iter().filter(|e| e.0).count() as u32,
+        rays: per_element.into_iter().flat_map(|e| e.1).collect(),
         moved_instances: moved.iter().filter(|&&m| m).count() as u32,
     })
 }

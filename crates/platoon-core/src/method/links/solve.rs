@@ -36,8 +36,7 @@ pub const MAX_RAYS_PER_FRAME: u64 = 1 << 22;
 /// the directions and the feature angle (not lights, materials or the other options).
 pub fn geometry_digest(g: &GpuScene, options: &LinksOptions) -> u64 {
     use std::hash::Hasher;
-    // SipHash with fixed keys: the same digest in every process.
-    let mut h = std::collections::hash_map::DefaultHasher::new();
+    let mut h = revalidate::hasher();
     h.write(bytemuck::cast_slice(&g.vertices));
     h.write(bytemuck::cast_slice(&g.triangle_positions));
     h.write(bytemuck::cast_slice(&g.triangles));
@@ -88,18 +87,23 @@ pub fn solve(
             (p.links.clone(), p.shot.clone())
         }
         _ => {
-            let layout = revalidate::layout(g, &rays.directions);
-            let shapes = revalidate::shapes(g, &elements);
+            // What a later revalidation compares with, when the options keep the hits.
+            let digests = options.revalidate.then(|| {
+                (
+                    revalidate::layout(g, &rays.directions),
+                    revalidate::shapes(g, &elements),
+                )
+            });
             let earlier = previous
-                .filter(|p| options.revalidate && p.table == table)
-                .and_then(|p| Some((p, p.shot.as_ref()?)));
+                .filter(|p| p.table == table)
+                .and_then(|p| Some((p, p.shot.as_ref()?, digests.as_ref()?)));
             let clock = Instant::now();
-            let stale = earlier.and_then(|(_, shot)| {
-                revalidate::stale_rays(g, &elements, &rays, &shapes, layout, shot)
+            let stale = earlier.and_then(|(_, shot, (layout, shapes))| {
+                revalidate::stale_rays(g, &elements, &rays, shapes, *layout, shot)
             });
             stats.revalidate_s = clock.elapsed().as_secs_f64();
             let (links, hits) = match (earlier, stale) {
-                (Some((p, shot)), Some(stale)) => {
+                (Some((p, shot, _)), Some(stale)) => {
                     stats.revalidated = true;
                     stats.moved_instances = stale.moved_instances;
                     stats.moved_elements = stale.moved_elements;
@@ -127,7 +131,7 @@ pub fn solve(
                     )?
                 }
             };
-            let shot = options.revalidate.then(|| {
+            let shot = digests.map(|(layout, shapes)| {
                 Arc::new(Shot {
                     rays: rays.clone(),
                     hits,
