@@ -12,6 +12,16 @@
 //       at a vertex the path scatters from (at `hit`), before its next-event estimation;
 //   void hook_bsdf_sampled(inout Path p, Bsdf bsdf, vec3 wo, BsdfSample bs);
 //       after the vertex's BSDF sample weighed the throughput, before roulette.
+// With PATH_TRACE_HOOK also (layered hit buffers' lookups):
+//   bool hook_trace(inout Path p, inout Rng rng, out Hit hit);
+//       the closest hit of the path's ray (without it: a traversal).
+// And a macro a kernel may define before including this file:
+//   PATH_NEE_ALONE(p): next-event estimation takes the whole of the direct light at the path's
+//       vertices (its NEE weighs 1, light its BSDF rays find 0 where NEE could have sampled it).
+
+#ifndef PATH_NEE_ALONE
+#define PATH_NEE_ALONE(p) false
+#endif
 
 // The megakernel's push words (PathPasses::push_words in crates/platoon-tracer/src/method/path.rs):
 // how many turns the loop-limit canary takes (2).
@@ -91,11 +101,22 @@ struct Path {
 #endif
 };
 
+// Weight of emission the path's ray found (light_pdf: NEE's pdf of the same light).
+float path_emission_weight(Path p, float light_pdf) {
+#ifndef SAMPLING_BSDF
+    if (PATH_NEE_ALONE(p) && !p.after_delta) return light_pdf > 0.0 ? 0.0 : 1.0;
+#endif
+    return emission_weight(p.after_delta, p.bsdf_pdf, light_pdf);
+}
+
 #ifdef PATH_HOOKS
 void hook_path_start(inout PathHook h);
 bool hook_after_emission(inout Path p);
 void hook_vertex(inout Path p, Hit hit, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo);
 void hook_bsdf_sampled(inout Path p, Bsdf bsdf, vec3 wo, BsdfSample bs);
+#endif
+#ifdef PATH_TRACE_HOOK
+bool hook_trace(inout Path p, inout Rng rng, out Hit hit);
 #endif
 
 Path path_start(Ray ray, uint sample_index) {
@@ -132,7 +153,7 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
     shadow.valid = false;
     if (!found) {
         if (env_kind() != ENV_NONE)
-            add_light(p.L, p.throughput * env_radiance(p.ray.dir) * emission_weight(p.after_delta, p.bsdf_pdf, environment_light_pdf(p.ray.dir)), p.depth);
+            add_light(p.L, p.throughput * env_radiance(p.ray.dir) * path_emission_weight(p, environment_light_pdf(p.ray.dir)), p.depth);
         return false;
     }
     Surface s = surface_at(hit);
@@ -148,7 +169,7 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 #ifdef HAS_EMISSIVE_TRIANGLES
     vec3 le = triangle_emission(s, p.ray.dir);
     if (any(greaterThan(le, vec3(0.0))))
-        add_light(p.L, p.throughput * le * emission_weight(p.after_delta, p.bsdf_pdf, triangle_light_pdf(hit, s.ng, p.ray.dir)), p.depth);
+        add_light(p.L, p.throughput * le * path_emission_weight(p, triangle_light_pdf(hit, s.ng, p.ray.dir)), p.depth);
 #endif
 #ifdef PATH_HOOKS
     if (!hook_after_emission(p)) return false;
@@ -190,7 +211,7 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 #if defined(SAMPLING_LIGHT) || (defined(LIGHT_SELECT_RIS) && !defined(RIS_MIS))
                 float w = 1.0;
 #else
-                float w = (ls.delta || last_diffuse) ? 1.0 : power_heuristic(ls.mis_pdf, pdf);
+                float w = (ls.delta || last_diffuse || PATH_NEE_ALONE(p)) ? 1.0 : power_heuristic(ls.mis_pdf, pdf);
 #endif
                 shadow.light = clamped_light(p.throughput * f * ls.radiance * (w / ls.pdf), p.depth);
                 shadow.valid = true;
@@ -244,7 +265,11 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 bool path_step(inout Path p, inout Rng rng, inout uint rays) {
     Hit hit;
     rays++;
+#ifdef PATH_TRACE_HOOK
+    bool found = hook_trace(p, rng, hit);
+#else
     bool found = trace(p.ray, false, hit);
+#endif
     ShadowRay shadow;
     bool going = path_shade(p, found, hit, rng, shadow);
     if (shadow.valid) {

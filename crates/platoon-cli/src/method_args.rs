@@ -4,6 +4,8 @@
 use anyhow::{bail, Result};
 use clap::ValueEnum;
 use platoon::core::method::igi::IgiOptions;
+use platoon::core::method::lhb::directions::DirectionSet;
+use platoon::core::method::lhb::{Lhb, LhbOptions, RasterVariant};
 use platoon::core::method::links::{Links, LinksOptions};
 use platoon::core::method::path::PathKernel;
 use platoon::core::Method;
@@ -17,6 +19,8 @@ pub enum MethodArg {
     Igi,
     /// Vertex links: indirect diffuse light solved per mesh vertex over fixed-direction links.
     Links,
+    /// Layered hit buffers: indirect rays answered by lookups in buffers of fixed directions.
+    Lhb,
 }
 
 #[derive(clap::Args, Debug)]
@@ -62,6 +66,28 @@ pub struct MethodArgs {
     /// paper without its light-link oversampling).
     #[arg(long)]
     pub links_vertex_light: bool,
+    /// LHB: the buffers' directions (ico20|80|320|1280, oct8|32|128, haltonN).
+    #[arg(long)]
+    pub lhb_directions: Option<String>,
+    /// LHB: texels on a side of every buffer.
+    #[arg(long)]
+    pub lhb_resolution: Option<u32>,
+    /// LHB: layers a texel keeps (the capacity rasterizer).
+    #[arg(long)]
+    pub lhb_layers: Option<u32>,
+    /// LHB: radius of the cone jitter in texels.
+    #[arg(long)]
+    pub lhb_cone: Option<f32>,
+    /// LHB: indirect bounces answered by lookups.
+    #[arg(long)]
+    pub lhb_bounces: Option<u32>,
+    /// LHB: rasterizer, capacity (fixed lists, overflow lost) or exact (count, prefix sum,
+    /// fill).
+    #[arg(long)]
+    pub lhb_variant: Option<String>,
+    /// LHB: rebuild every buffer every frame, instead of keeping the layers of what did not move.
+    #[arg(long)]
+    pub lhb_rebuild: bool,
     /// Path tracing: the megakernel (mega), streaming path tracing (spt), or the one measured
     /// faster on each kind of device (auto). The same image either way.
     #[arg(long, default_value = "auto", value_parser = parse_kernel)]
@@ -118,10 +144,50 @@ impl MethodArgs {
         Ok(Method::Links(Links::new(o)))
     }
 
+    fn any_lhb_flag(&self) -> bool {
+        self.lhb_directions.is_some()
+            || self.lhb_resolution.is_some()
+            || self.lhb_layers.is_some()
+            || self.lhb_cone.is_some()
+            || self.lhb_bounces.is_some()
+            || self.lhb_variant.is_some()
+            || self.lhb_rebuild
+    }
+
+    fn lhb(&self) -> Result<Method> {
+        let mut o = LhbOptions::default();
+        if let Some(d) = &self.lhb_directions {
+            o.directions = DirectionSet::parse(d).map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        if let Some(r) = self.lhb_resolution {
+            o.resolution = r;
+        }
+        if let Some(l) = self.lhb_layers {
+            o.layers = l;
+        }
+        if let Some(c) = self.lhb_cone {
+            o.cone = c;
+        }
+        if let Some(b) = self.lhb_bounces {
+            o.bounces = b;
+        }
+        if let Some(v) = &self.lhb_variant {
+            o.variant = RasterVariant::parse(v).map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
+        o.rebuild = self.lhb_rebuild;
+        if let Err(e) = o.validate() {
+            bail!("{e}");
+        }
+        Ok(Method::Lhb(Lhb::new(o)))
+    }
+
     /// The method with its options; refuses one method's flags given to another.
     pub fn method(&self) -> Result<Method> {
         if self.method != MethodArg::Links && self.any_links_flag() {
             bail!("the --links-* flags set vertex links: add --method links");
+        }
+        if self.method != MethodArg::Lhb && self.any_lhb_flag() {
+            bail!("the --lhb-* flags set layered hit buffers: add --method lhb");
         }
         let any_igi_flag = self.vpls.is_some()
             || self.vpl_bounces.is_some()
@@ -134,6 +200,9 @@ impl MethodArgs {
         }
         if self.method == MethodArg::Links {
             return self.links();
+        }
+        if self.method == MethodArg::Lhb {
+            return self.lhb();
         }
         if self.method == MethodArg::Path {
             if any_igi_flag {

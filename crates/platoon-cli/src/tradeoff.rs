@@ -68,6 +68,7 @@ pub fn run(args: TradeoffArgs) -> Result<()> {
         (None, MethodArg::Path) => Technique::DEFAULT.to_vec(),
         (None, MethodArg::Igi) => Technique::igi_sweep(),
         (None, MethodArg::Links) => Technique::links_sweep(),
+        (None, MethodArg::Lhb) => Technique::lhb_sweep(),
     };
     let options = tradeoff::Options {
         width: args.width,

@@ -245,6 +245,8 @@ impl Tracer {
             scene,
             stats: stats_buffer,
             fallbacks: 0,
+            globals: &mut self.globals_buffer,
+            globals_block: g,
         };
         band.gpu_time += method.begin_band(&mut rec, &push)?;
 
@@ -323,6 +325,7 @@ impl Tracer {
             .collect();
         band.rays = band.line_rays.iter().sum();
         band.per_pixel = method.per_pixel(params, span);
+        band.method_report = method.report(counters);
         band.wall_time = wall.elapsed();
         Ok(band)
     }

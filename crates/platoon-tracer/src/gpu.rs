@@ -227,6 +227,55 @@ impl Gpu {
         result
     }
 
+    /// `size` bytes of `buffer` from `offset`, through a staging buffer (what tests compare
+    /// with the CPU's; `buffer` was made with TRANSFER_SRC).
+    pub fn read_buffer(&mut self, buffer: vk::Buffer, offset: u64, size: u64) -> Result<Vec<u8>> {
+        if size == 0 {
+            return Ok(Vec::new());
+        }
+        let mut staging = self.buffer(
+            "readback",
+            size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let dst = staging.buffer;
+        let result = self.submit(|d, cb| unsafe {
+            let barrier = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_READ);
+            d.cmd_pipeline_barrier(
+                cb,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::DependencyFlags::empty(),
+                &[barrier],
+                &[],
+                &[],
+            );
+            let region = vk::BufferCopy::default()
+                .src_offset(offset)
+                .dst_offset(0)
+                .size(size);
+            d.cmd_copy_buffer(cb, buffer, dst, &[region]);
+            let host = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ);
+            d.cmd_pipeline_barrier(
+                cb,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[host],
+                &[],
+                &[],
+            );
+        });
+        let bytes = staging.mapped().to_vec();
+        self.destroy_buffer(&mut staging);
+        result.map(|_| bytes)
+    }
+
     /// The kernel `key`, reading the scene arrays through `scene`'s set, built on first use.
     pub fn kernel(&mut self, key: KernelKey, scene: &SceneDescriptors) -> Result<Dispatchable> {
         use std::collections::hash_map::Entry;

@@ -120,6 +120,15 @@ impl Tracer {
         Ok(())
     }
 
+    /// The buffers method `name` (its `RenderMethod::name`) left after its last band, for tests
+    /// to compare with the CPU's (`MethodPasses::read_back`); empty when it has not rendered.
+    pub fn method_buffers(&mut self, name: &str) -> Result<Vec<Vec<u8>>> {
+        match self.methods.get_mut(name) {
+            Some(passes) => passes.read_back(&mut self.gpu),
+            None => Ok(Vec::new()),
+        }
+    }
+
     /// Compute pipelines built so far (a kernel variant compiled by the driver, or compiled
     /// again after its bindings changed).
     pub fn pipelines_built(&self) -> u32 {

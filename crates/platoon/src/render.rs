@@ -84,7 +84,11 @@ pub fn render_bands(
         tracers: Vec::new(),
         balancer: None,
         validation_messages: tracer.validation_messages(),
-        method_metadata: params.method.unit().metadata(),
+        method_metadata: [
+            params.method.unit().metadata(),
+            platoon_core::frame::renderer::first_report(&out),
+        ]
+        .concat(),
     })
 }
 
@@ -135,7 +139,7 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         tracers: frame.tracers,
         balancer: Some(renderer.balancer_name()),
         validation_messages: renderer.with_tracers(|t| t.validation_messages()).concat(),
-        method_metadata: params.method.unit().metadata(),
+        method_metadata: [params.method.unit().metadata(), frame.method_report].concat(),
         film: frame.film,
     })
 }

@@ -6,6 +6,7 @@ mod dynamic;
 mod game;
 mod game_costs;
 mod kernel;
+mod lhb;
 mod links;
 mod scenes;
 
@@ -30,6 +31,9 @@ pub enum BenchMode {
     /// Vertex links' update stage by stage, links raw and compressed, first frame and frame
     /// (Schmitz et al.'s table for platoon).
     Links(links::LinksArgs),
+    /// Layered hit buffers: the build per direction, bytes, lookups against the path tracer's
+    /// rays and the break-even queries per build, over triangles, directions and resolution.
+    Lhb(lhb::LhbArgs),
 }
 
 pub fn run(mode: BenchMode) -> Result<()> {
@@ -40,5 +44,6 @@ pub fn run(mode: BenchMode) -> Result<()> {
         BenchMode::Game(a) => game::run(&a).context("bench game failed"),
         BenchMode::Balance(a) => balance::run(a),
         BenchMode::Links(a) => links::run(&a).context("bench links failed"),
+        BenchMode::Lhb(a) => lhb::run(&a).context("bench lhb failed"),
     }
 }

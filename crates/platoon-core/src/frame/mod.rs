@@ -214,6 +214,9 @@ pub struct Band {
     /// (`RenderMethod::finish`), in a layout of its own (IGI's filters: three vec4s a pixel);
     /// empty for methods without one.
     pub per_pixel: Vec<[f32; 4]>,
+    /// What the method's passes on this device report for the output's metadata (layered hit
+    /// buffers' build: bytes, overflow, time).
+    pub method_report: Vec<(String, String)>,
     pub gpu_time: Duration,
     pub wall_time: Duration,
 }

@@ -53,6 +53,8 @@ pub struct FrameResult {
     pub kernel_fallbacks: u32,
     /// What the bands left per pixel (`Band::per_pixel`), in pixel order; empty when nothing.
     pub per_pixel: Vec<[f32; 4]>,
+    /// What the method reported on the band of the frame's first pixels (`Band::method_report`).
+    pub method_report: Vec<(String, String)>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -342,6 +344,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             film: assemble(params, &done),
             sums: gather_sums(params, &done),
             per_pixel: per_pixel_in_order(&mut done),
+            method_report: first_report(&done),
             line_rays,
             idle_fraction: idle_fraction(&times),
             rejected_samples: done.iter().map(|b| b.rejected_samples).sum(),
@@ -351,6 +354,17 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             wall_time: start.elapsed(),
         })
     }
+}
+
+/// The method's report of the band that starts first (every tracer builds what a method's
+/// report describes the same; its counts are that band's).
+pub fn first_report(bands: &[Band]) -> Vec<(String, String)> {
+    bands
+        .iter()
+        .filter(|b| !b.method_report.is_empty())
+        .min_by_key(|b| b.span.begin)
+        .map(|b| b.method_report.clone())
+        .unwrap_or_default()
 }
 
 /// The bands' `per_pixel` data joined in pixel order (taken out of them).

@@ -7,6 +7,8 @@
 //! - [`path`]: unidirectional path tracing, the default and the reference;
 //! - [`igi`]: instant global illumination (VPLs) with Marques and Santos' accelerations.
 //! - [`links`]: vertex links (Schmitz et al.): indirect diffuse light from per-vertex links.
+//! - [`lhb`]: layered hit buffers (Yu): indirect rays answered by lookups in buffers of fixed
+//!   directions.
 
 pub mod igi;
 pub mod lhb;
@@ -27,6 +29,8 @@ pub enum Method {
     Igi(igi::IgiOptions),
     /// Vertex links (`links`; biased, listed as approximations).
     Links(links::Links),
+    /// Layered hit buffers (`lhb`; biased, listed as approximations).
+    Lhb(lhb::Lhb),
 }
 
 impl Method {
@@ -42,6 +46,14 @@ impl Method {
     pub fn links(&self) -> Option<&links::Links> {
         match self {
             Method::Links(l) => Some(l),
+            _ => None,
+        }
+    }
+
+    /// Layered hit buffers' options and tables when the method is layered hit buffers.
+    pub fn lhb(&self) -> Option<&lhb::Lhb> {
+        match self {
+            Method::Lhb(l) => Some(l),
             _ => None,
         }
     }

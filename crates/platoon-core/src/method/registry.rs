@@ -12,6 +12,7 @@ impl Method {
             Method::PathTracing => &PathTracing,
             Method::Igi(options) => options,
             Method::Links(links) => links,
+            Method::Lhb(lhb) => lhb,
         }
     }
 }

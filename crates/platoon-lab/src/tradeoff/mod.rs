@@ -5,6 +5,7 @@
 //! lower, which a reference rendered by the same technique (Bikker's) would hide.
 
 pub mod effects;
+pub mod lhb_technique;
 pub mod links_technique;
 pub mod markdown;
 pub mod metrics;

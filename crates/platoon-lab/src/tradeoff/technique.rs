@@ -10,6 +10,7 @@ use platoon_core::method::igi::IgiOptions;
 use platoon_tracer::Sampling;
 
 use super::effects::Effect;
+use super::lhb_technique::LhbTechnique;
 use super::links_technique::LinksTechnique;
 use super::variant::Variant;
 
@@ -59,6 +60,8 @@ pub enum Technique {
     Igi(IgiTechnique),
     /// Vertex links with N directions per element and some of its options (biased).
     Links(LinksTechnique),
+    /// Layered hit buffers with a direction set and some of its options (biased).
+    Lhb(LhbTechnique),
 }
 
 /// IGI's options as a technique: `igi=N` (N VPLs, exact) with `+boxes` (imperfect
@@ -200,6 +203,30 @@ impl Technique {
         .collect()
     }
 
+    /// What `tradeoff --method lhb` sweeps: the path tracer, IGI at 180 VPLs and vertex links
+    /// at 256 directions against layered hit buffers along the thesis' directions and
+    /// resolutions, cone radii and bounces.
+    pub fn lhb_sweep() -> Vec<Technique> {
+        [
+            "mis",
+            "igi=180",
+            "links=256",
+            "lhb=ico20+r32",
+            "lhb=ico80+r64",
+            "lhb=ico320+r64",
+            "lhb=ico320",
+            "lhb=ico320+c0",
+            "lhb=ico320+c3",
+            "lhb=ico320+b1",
+            "lhb=ico320+b3",
+            "lhb=oct128",
+            "lhb=halton320",
+        ]
+        .into_iter()
+        .map(|t| Technique::parse(t).expect("a valid technique"))
+        .collect()
+    }
+
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
     /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `spt`, `nop`, `no-textures`,
@@ -221,6 +248,7 @@ impl Technique {
         Ok(match name {
             "igi" => Technique::Igi(IgiTechnique::parse(s, value.unwrap_or(""))?),
             "links" => Technique::Links(LinksTechnique::parse(s, value.unwrap_or(""))?),
+            "lhb" => Technique::Lhb(LhbTechnique::parse(s, value.unwrap_or(""))?),
             "mis" => Technique::Mis,
             "bsdf" => Technique::Bsdf,
             "light" => Technique::Light,
@@ -259,7 +287,7 @@ impl Technique {
                  generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
                  env-mean, igi=N[+boxes][+downK][+interMxN][+minD], \
-                 links=N[+bB][+nosmooth][+vertex][+subK]"
+                 links=N[+bB][+nosmooth][+vertex][+subK], lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild]"
             ),
         })
     }
@@ -276,6 +304,7 @@ impl Technique {
                 | Technique::CutLastPaths
                 | Technique::Igi(_)
                 | Technique::Links(_)
+                | Technique::Lhb(_)
         )
     }
 
@@ -324,6 +353,7 @@ impl Technique {
             }
             Technique::Igi(t) => params.method = platoon_core::Method::Igi(t.options()),
             Technique::Links(t) => params.method = t.method(),
+            Technique::Lhb(t) => params.method = t.method(),
             // Its change is to the scene (`variant`).
             Technique::Without(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
@@ -354,6 +384,7 @@ impl fmt::Display for Technique {
             Technique::Without(e) => write!(f, "{}", e.name()),
             Technique::Igi(t) => write!(f, "{t}"),
             Technique::Links(t) => write!(f, "{t}"),
+            Technique::Lhb(t) => write!(f, "{t}"),
         }
     }
 }
@@ -386,6 +417,9 @@ mod tests {
             Technique::Without(Effect::EnvironmentMap),
             Technique::parse("links=64+b2+nosmooth+vertex").unwrap(),
             Technique::parse("links=256").unwrap(),
+            Technique::parse("lhb=ico80+r64+c2.5+b3+l8+exact").unwrap(),
+            Technique::parse("lhb=ico20+rebuild").unwrap(),
+            Technique::parse("lhb=halton144").unwrap(),
         ] {
             assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
         }
@@ -403,6 +437,11 @@ mod tests {
         assert!(Technique::parse("clamp=-1").is_err() && Technique::parse("rr-fixed=0").is_err());
         assert!(Technique::parse("links=20").is_err() && Technique::parse("links=16+b0").is_err());
         assert!(Technique::parse("links=16+sideways").is_err());
+        assert!(
+            Technique::parse("lhb=ico21").is_err() && Technique::parse("lhb=ico20+b9").is_err()
+        );
+        assert!(Technique::parse("lhb=ico20+sideways").is_err());
+        assert!(Technique::parse("lhb=ico20").unwrap().biased());
         assert!(Technique::parse("links=16").unwrap().biased());
     }
 }

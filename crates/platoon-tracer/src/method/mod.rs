@@ -5,6 +5,7 @@
 //! a folder of shaders/.
 
 mod igi;
+mod lhb;
 mod links;
 mod path;
 mod stream;
@@ -20,7 +21,7 @@ use platoon_core::method::Method;
 
 use crate::buffer::GpuBuffer;
 use crate::dispatch::Dispatchable;
-use crate::globals::{Push, METHOD_WORDS};
+use crate::globals::{Globals, Push, METHOD_WORDS};
 use crate::gpu::Gpu;
 use crate::memory::SceneDescriptors;
 use crate::Result;
@@ -39,6 +40,9 @@ pub(crate) struct Recorder<'a> {
     /// Passes a method could not finish in its own kernel and finished another way (the
     /// megakernel past the device's loop limit): `Band::kernel_fallbacks`.
     pub fallbacks: u32,
+    /// The frame's root block (`Globals`), mapped, and what it holds.
+    pub globals: &'a mut GpuBuffer,
+    pub globals_block: Globals,
 }
 
 impl Recorder<'_> {
@@ -60,6 +64,14 @@ impl Recorder<'_> {
     /// Sets word `i` of the band's counters (before the next submission).
     pub fn set_stat(&mut self, i: usize, value: u32) {
         bytemuck::cast_slice_mut::<u8, u32>(self.stats.mapped())[i] = value;
+    }
+
+    /// Points the next submissions' method buffers at `buffers` (a method that grew one while
+    /// recording: layered hit buffers' queue and lists).
+    pub fn set_method_buffers(&mut self, buffers: [u64; 3]) {
+        self.globals_block.method_buffers = buffers;
+        self.globals.mapped()[..std::mem::size_of::<Globals>()]
+            .copy_from_slice(bytemuck::bytes_of(&self.globals_block));
     }
 }
 
@@ -94,9 +106,19 @@ pub(crate) trait MethodPasses {
     /// One pass: the samples [push.sample_begin, push.sample_end) of the band's pixels, over
     /// `groups` workgroups of 8 x 8; returns its device time.
     fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration>;
+    /// What its passes report for the output's metadata (`Band::method_report`), given the
+    /// band's counters after its last pass.
+    fn report(&mut self, _counters: &[u32]) -> Vec<(String, String)> {
+        Vec::new()
+    }
     /// What the span leaves for the method's pass after assembly (`Band::per_pixel`).
     fn per_pixel(&mut self, _params: &FrameParams, _span: Span) -> Vec<[f32; 4]> {
         Vec::new()
+    }
+    /// Its buffers as the last band left them, for tests to compare with the CPU's (layered
+    /// hit buffers: the work words of every texel, the layers); empty for most methods.
+    fn read_back(&mut self, _gpu: &mut Gpu) -> Result<Vec<Vec<u8>>> {
+        Ok(Vec::new())
     }
     /// Frees its buffers.
     fn destroy(&mut self, _gpu: &mut Gpu) {}
@@ -108,6 +130,7 @@ pub(crate) fn passes_of(method: &Method) -> Box<dyn MethodPasses> {
         Method::PathTracing => Box::<path::PathPasses>::default(),
         Method::Igi(_) => Box::<igi::IgiPasses>::default(),
         Method::Links(_) => Box::<links::LinksPasses>::default(),
+        Method::Lhb(_) => Box::<lhb::LhbPasses>::default(),
     }
 }
 
@@ -128,7 +151,9 @@ pub(crate) fn ensure(
     if let Some(mut old) = slot.take() {
         gpu.destroy_buffer(&mut old);
     }
-    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+        | vk::BufferUsageFlags::TRANSFER_DST
+        | vk::BufferUsageFlags::TRANSFER_SRC;
     let b = gpu.buffer(name, size, usage, location)?;
     let address = b.address;
     *slot = Some(b);

@@ -15,8 +15,14 @@ pub mod directional_map;
 pub mod directions;
 pub mod frame;
 pub mod lookup;
+mod method;
+mod options;
 pub mod oracle;
 pub mod raster;
+pub mod tables;
+
+pub use method::Lhb;
+pub use options::{LhbOptions, RasterVariant, MAX_BOUNCES, MAX_BYTES, MAX_RESOLUTION};
 
 /// A flattened scene of `mesh` alone, at the origin (the tests' scenes).
 #[cfg(test)]

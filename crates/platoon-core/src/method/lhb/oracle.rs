@@ -98,6 +98,30 @@ fn intersect(origin: DVec3, dir: DVec3, a: DVec3, b: DVec3, c: DVec3) -> Option<
     (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some(t)
 }
 
+/// Whether texel (i, j)'s centre lies within 1e-3 texels of an edge of one of `layers`'
+/// triangles (where the oracle and the rasterizer may rightly differ: the oracle counts an edge
+/// point in both triangles, the top-left rule in one).
+pub fn on_an_edge(
+    g: &GpuScene,
+    frame: &BufferFrame,
+    view: &View,
+    r: u32,
+    layers: &[Layer],
+    (i, j): (u32, u32),
+) -> bool {
+    let p = (i as f32 + 0.5, j as f32 + 0.5);
+    layers.iter().any(|l| {
+        let [a, b, c] = g.triangles[l.triangle as usize]
+            .v
+            .map(|v| frame.project(view, g.world_vertex(l.instance, v), r));
+        [(a, b), (b, c), (c, a)].iter().any(|&(e0, e1)| {
+            let (dx, dy) = (e1.0 - e0.0, e1.1 - e0.1);
+            let e = (p.0 - e0.0) * dy - (p.1 - e0.1) * dx;
+            e.abs() / (dx * dx + dy * dy).sqrt().max(1e-12) < 1e-3
+        })
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use glam::Vec3;

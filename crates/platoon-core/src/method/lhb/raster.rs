@@ -146,32 +146,9 @@ mod tests {
     use glam::DVec3;
 
     use super::super::directions::DirectionSet;
-    use super::super::oracle::buffer_by_rays;
+    use super::super::oracle::{buffer_by_rays, on_an_edge};
     use super::*;
     use crate::scene::cornell;
-
-    /// Whether texel (i, j)'s centre lies within `tolerance` texels of an edge of a front
-    /// triangle the oracle lists there (where the two may rightly differ).
-    fn on_an_edge(
-        g: &GpuScene,
-        frame: &BufferFrame,
-        view: &View,
-        r: u32,
-        layers: &[Layer],
-        (i, j): (u32, u32),
-    ) -> bool {
-        let p = (i as f32 + 0.5, j as f32 + 0.5);
-        layers.iter().any(|l| {
-            let [a, b, c] = g.triangles[l.triangle as usize]
-                .v
-                .map(|v| frame.project(view, g.world_vertex(l.instance, v), r));
-            [(a, b), (b, c), (c, a)].iter().any(|&(e0, e1)| {
-                let (dx, dy) = (e1.0 - e0.0, e1.1 - e0.1);
-                let e = (p.0 - e0.0) * dy - (p.1 - e0.1) * dx;
-                e.abs() / (dx * dx + dy * dy).sqrt().max(1e-12) < 1e-3
-            })
-        })
-    }
 
     #[test]
     fn the_rasterizer_lists_what_the_rays_find() {

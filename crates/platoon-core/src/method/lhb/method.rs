@@ -1,0 +1,168 @@
+//! Layered hit buffers as a rendering method: its options, the tables its preparation makes
+//! from the scene, and its place among the methods (`RenderMethod`).
+
+use std::sync::Arc;
+
+use super::options::{LhbOptions, RasterVariant};
+use super::tables::Tables;
+use crate::flatten::features::KernelOption;
+use crate::flatten::GpuScene;
+use crate::frame::{FrameParams, Output};
+use crate::method::render_method::{DeviceRun, RenderMethod};
+use crate::method::Method;
+
+/// The method with its options and, once prepared, the tables of the scene it renders.
+#[derive(Clone, Debug)]
+pub struct Lhb {
+    pub options: LhbOptions,
+    /// None until the preparation (`RenderMethod::prepare`) has made them from the scene.
+    pub tables: Option<Arc<Tables>>,
+    /// The tables of the scene's earlier generation, whose frame a living scene keeps.
+    pub previous: Option<Arc<Tables>>,
+}
+
+fn same(a: &Option<Arc<Tables>>, b: &Option<Arc<Tables>>) -> bool {
+    match (a, b) {
+        (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+        (None, None) => true,
+        _ => false,
+    }
+}
+
+impl PartialEq for Lhb {
+    fn eq(&self, other: &Lhb) -> bool {
+        self.options == other.options
+            && same(&self.tables, &other.tables)
+            && same(&self.previous, &other.previous)
+    }
+}
+
+impl Lhb {
+    /// Layered hit buffers with `options`, to be prepared.
+    pub fn new(options: LhbOptions) -> Lhb {
+        Lhb {
+            options,
+            tables: None,
+            previous: None,
+        }
+    }
+
+    /// Prepared for `g` now (what `prepare` does, without the device frames it does not need).
+    pub fn prepared(options: LhbOptions, g: &GpuScene) -> Lhb {
+        Lhb::prepared_after(options, g, None)
+    }
+
+    /// Prepared for `g`, a later generation of the scene `previous` was made for (its frame is
+    /// kept while `g` fits in it).
+    pub fn prepared_after(options: LhbOptions, g: &GpuScene, previous: Option<&Tables>) -> Lhb {
+        Lhb {
+            options,
+            tables: Some(Arc::new(Tables::after(g, &options, previous))),
+            previous: None,
+        }
+    }
+}
+
+impl RenderMethod for Lhb {
+    fn name(&self) -> &'static str {
+        "lhb"
+    }
+
+    fn describe(&self) -> String {
+        let o = &self.options;
+        format!(
+            "layered hit buffers: {} directions ({}), {}^2 texels, {} layers, {} rasterizer, \
+             cone {} texels, {} bounces, {}",
+            o.directions.count(),
+            o.directions,
+            o.resolution,
+            o.layers,
+            o.variant.name(),
+            o.cone,
+            o.bounces,
+            if o.rebuild || o.variant == RasterVariant::Exact {
+                "every buffer rebuilt each frame"
+            } else {
+                "what did not move kept between frames"
+            }
+        )
+    }
+
+    fn validate(&self, params: &FrameParams) -> Result<(), String> {
+        self.options.validate()?;
+        if self.tables.is_none() {
+            return Err("lhb: the frame has no tables yet (platoon::render prepares them)".into());
+        }
+        if params.output != Output::Radiance {
+            return Err("layered hit buffers render radiance only".into());
+        }
+        if params.cut_last_paths {
+            return Err("cutting the last paths of a pass (NOP) is the path tracer's".into());
+        }
+        Ok(())
+    }
+
+    fn kernel_options(&self) -> Vec<KernelOption> {
+        vec![
+            ("lhb", "METHOD_LHB", true),
+            (
+                "lhb-exact",
+                "LHB_EXACT",
+                self.options.variant == RasterVariant::Exact,
+            ),
+        ]
+    }
+
+    fn approximations(&self) -> Vec<String> {
+        self.options.approximations()
+    }
+
+    /// The tables, when the frame has none yet (CPU work only).
+    fn prepare(
+        &self,
+        g: &GpuScene,
+        _params: &FrameParams,
+        _run: &mut DeviceRun,
+    ) -> crate::error::Result<Option<Method>> {
+        if self.tables.is_some() {
+            return Ok(None);
+        }
+        Ok(Some(Method::Lhb(Lhb::prepared_after(
+            self.options,
+            g,
+            self.previous.as_deref(),
+        ))))
+    }
+
+    fn ready(&self) -> bool {
+        self.tables.is_some()
+    }
+
+    /// A changed scene needs its own tables (its triangles), in this one's frame if it fits.
+    fn renewal(&self) -> Option<Method> {
+        Some(Method::Lhb(Lhb {
+            options: self.options,
+            tables: None,
+            previous: self.tables.clone().or_else(|| self.previous.clone()),
+        }))
+    }
+
+    fn metadata(&self) -> Vec<(String, String)> {
+        let Some(t) = &self.tables else {
+            return Vec::new();
+        };
+        vec![(
+            "lhb_tables".into(),
+            format!(
+                "{} placed triangles, frame centre {:?} radius {}, directional map {}x{} \
+                 (at most {} candidates a texel)",
+                t.placed.len(),
+                t.frame.centre.to_array(),
+                t.frame.radius,
+                t.map.width,
+                t.map.height,
+                t.map.longest()
+            ),
+        )]
+    }
+}

@@ -1,0 +1,199 @@
+//! The layered-hit-buffers bench (`platoon bench lhb`): the thesis' scaling measured on platoon's
+//! scenes. Per scene the path tracer's frame (its rays/s), then per setting (directions x
+//! resolution) a frame of layered hit buffers: the build (device time, per direction, bytes,
+//! layers lost), the image pass (device time, its queries: traced rays and lookups), and the
+//! break-even number of queries per build, T_build / (t_ray - t_query), where t_ray is the path
+//! tracer's device time per ray and t_query the image pass's per query (each a whole pass's
+//! time over its queries, shading included). Each render runs once to compile, then timed.
+
+use std::time::Duration;
+
+use anyhow::{Context as _, Result};
+use platoon::core::frame::FrameParams;
+use platoon::core::method::lhb::{Lhb, LhbOptions};
+use platoon::core::Method;
+use platoon::tracer::{Tracer, TracerOptions};
+use platoon::PrepareOptions;
+
+use crate::links_bench::LinksScene;
+
+/// One setting on one scene.
+pub struct LhbRow {
+    pub scene: String,
+    pub triangles: usize,
+    pub setting: String,
+    pub build_s: f64,
+    pub bytes: u64,
+    pub lost: u64,
+    pub image_s: f64,
+    pub queries: u64,
+    pub lookups: u64,
+    /// The path tracer's frame on the same scene.
+    pub path_s: f64,
+    pub path_rays: u64,
+}
+
+impl LhbRow {
+    pub fn ms_per_direction(&self, directions: usize) -> f64 {
+        self.build_s * 1e3 / directions.max(1) as f64
+    }
+    /// Queries per build at which the buffers pay for themselves; None when a query costs
+    /// more than a traced ray.
+    pub fn break_even(&self) -> Option<f64> {
+        let t_ray = self.path_s / self.path_rays.max(1) as f64;
+        let t_query = self.image_s / self.queries.max(1) as f64;
+        (t_ray > t_query).then(|| self.build_s / (t_ray - t_query))
+    }
+}
+
+fn device_time(band: &platoon::core::frame::Band) -> Duration {
+    if band.gpu_time.is_zero() {
+        band.wall_time
+    } else {
+        band.gpu_time
+    }
+}
+
+fn entry(report: &[(String, String)], key: &str) -> Result<f64> {
+    report
+        .iter()
+        .find(|(k, _)| k == key)
+        .and_then(|(_, v)| v.parse().ok())
+        .with_context(|| format!("the band reported no {key}"))
+}
+
+/// Measures `scene` with every one of `settings` on device 0, frames of `size` x `size` at `spp`.
+pub fn measure(
+    s: &LinksScene,
+    settings: &[LhbOptions],
+    size: u32,
+    spp: u32,
+) -> Result<Vec<LhbRow>> {
+    let prepared = platoon::prepare(
+        s.scene.clone(),
+        &PrepareOptions {
+            env: s.env.clone(),
+            ..Default::default()
+        },
+    )
+    .with_context(|| format!("preparing {}", s.name))?;
+    let mut tracer = Tracer::new(&TracerOptions::default(), &prepared.gpu)?;
+    let mut params = FrameParams::new(size, size, spp, prepared.camera);
+    tracer.render(&params, 0, size, &mut |_| {})?;
+    let path = tracer.render(&params, 0, size, &mut |_| {})?;
+    let mut rows = Vec::new();
+    for o in settings {
+        params.method = Method::Lhb(Lhb::prepared(*o, &prepared.gpu));
+        tracer.render(&params, 0, size, &mut |_| {})?;
+        let band = tracer.render(&params, 0, size, &mut |_| {})?;
+        let r = &band.method_report;
+        let build_s = entry(r, "lhb_build_s")?;
+        rows.push(LhbRow {
+            scene: s.name.clone(),
+            triangles: prepared.gpu.triangles.len(),
+            setting: format!("{}@{}", o.directions, o.resolution),
+            build_s,
+            bytes: entry(r, "lhb_bytes")? as u64,
+            lost: entry(r, "lhb_lost_layers")? as u64,
+            image_s: (device_time(&band).as_secs_f64() - build_s).max(0.0),
+            queries: band.rays,
+            lookups: entry(r, "lhb_lookups")? as u64,
+            path_s: device_time(&path).as_secs_f64(),
+            path_rays: path.rays,
+        });
+    }
+    Ok(rows)
+}
+
+/// One step of a walk: the build keeping what did not move against the full rebuild, and the
+/// path tracer's frame after the updater's BVH refit.
+pub struct WalkRow {
+    pub step: usize,
+    /// Device time of the build keeping what did not move, and what it did (`lhb_build`).
+    pub kept_build_s: f64,
+    pub kept_what: String,
+    pub rebuild_s: f64,
+    /// The frame with the kept build (device time, build included).
+    pub lhb_frame_s: f64,
+    /// The updater's bottom levels (refit) and the path tracer's frame.
+    pub refit_s: f64,
+    pub path_frame_s: f64,
+    /// The two builds' images are the same bits.
+    pub same: bool,
+}
+
+/// CesiumMan walking `steps` steps across the Cornell box (every face `cells` x `cells` quads),
+/// a generation a step: per step the three tracers follow the commit and render a frame.
+pub fn walk(
+    character: &platoon::core::Scene,
+    cells: u32,
+    steps: usize,
+    options: LhbOptions,
+    size: u32,
+    spp: u32,
+) -> Result<Vec<WalkRow>> {
+    use platoon::core::drive::{Edit, Updater};
+    let (scene, node) = platoon::generated::walk_in_a_room(character, cells)?;
+    let camera = platoon::core::scene::camera::Camera::from_scene(&scene, &scene.pose(0.0), None)
+        .map_err(anyhow::Error::msg)?;
+    let mut updater = Updater::new(scene, 0.0, glam::DVec3::ZERO)?;
+    let new_tracer =
+        |g: &platoon::core::flatten::GpuScene| Tracer::new(&TracerOptions::default(), g);
+    let (mut kept, mut rebuilt, mut path) = (
+        new_tracer(updater.flattened())?,
+        new_tracer(updater.flattened())?,
+        new_tracer(updater.flattened())?,
+    );
+    let mut params = FrameParams::new(size, size, spp, camera);
+    let mut previous = None;
+    let mut rows = Vec::new();
+    for step in 0..=steps {
+        let mut refit_s = 0.0;
+        if step > 0 {
+            updater.apply(Edit::Time(0.3 * step as f32))?;
+            updater.apply(Edit::Placement {
+                node,
+                placement: platoon::generated::walk_step(step as f64),
+            })?;
+            let generation = updater.update()?;
+            refit_s = generation.times.bottom_level.as_secs_f64();
+            for t in [&mut kept, &mut rebuilt, &mut path] {
+                t.apply_commit(&generation.commit)?;
+            }
+        }
+        let g = updater.flattened();
+        let lhb = Lhb::prepared_after(options, g, previous.as_deref());
+        previous = lhb.tables.clone();
+        params.method = Method::Lhb(lhb.clone());
+        let a = kept.render(&params, 0, size, &mut |_| {})?;
+        params.method = Method::Lhb(Lhb {
+            options: LhbOptions {
+                rebuild: true,
+                ..options
+            },
+            ..lhb
+        });
+        let b = rebuilt.render(&params, 0, size, &mut |_| {})?;
+        params.method = Method::PathTracing;
+        if step == 0 {
+            path.render(&params, 0, size, &mut |_| {})?;
+        }
+        let p = path.render(&params, 0, size, &mut |_| {})?;
+        rows.push(WalkRow {
+            step,
+            kept_build_s: entry(&a.method_report, "lhb_build_s")?,
+            kept_what: a
+                .method_report
+                .iter()
+                .find(|(k, _)| k == "lhb_build")
+                .map(|(_, v)| v.split(':').next().unwrap_or("").to_string())
+                .unwrap_or_default(),
+            rebuild_s: entry(&b.method_report, "lhb_build_s")?,
+            lhb_frame_s: device_time(&a).as_secs_f64(),
+            refit_s,
+            path_frame_s: device_time(&p).as_secs_f64(),
+            same: a.sums == b.sums,
+        });
+    }
+    Ok(rows)
+}

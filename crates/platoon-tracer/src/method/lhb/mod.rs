@@ -1,0 +1,256 @@
+//! Layered hit buffers on one device (platoon_core::method::lhb): the tables (uploaded once per
+//! scene), the work words (per texel a count or an offset, the prefix sum's partial sums, the
+//! queue of large triangles' blocks), the layers; the build at the start of every band (each
+//! tracer builds the same buffers: they are a pure function of the scene and the options;
+//! `build`) with, in a living scene, the layers of what did not move kept between frames
+//! (`kept`), and the image passes that look rays up in them (shaders/lhb/).
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use gpu_allocator::MemoryLocation;
+use platoon_core::frame::FrameParams;
+use platoon_core::method::lhb::tables::Tables;
+use platoon_core::method::lhb::{Lhb, RasterVariant};
+
+mod build;
+mod kept;
+
+use kept::Statics;
+
+use super::{ensure, MethodPasses, Recorder};
+use crate::buffer::GpuBuffer;
+use crate::dispatch::record_dispatch;
+use crate::globals::{Push, METHOD_WORDS};
+use crate::gpu::Gpu;
+use crate::Result;
+
+const RASTER: &str = "lhb/raster.comp";
+const BLOCKS: &str = "lhb/blocks.comp";
+const PREFIX: &str = "lhb/prefix.comp";
+const CAMERA: &str = "lhb/camera.comp";
+
+/// Build passes (shaders/lhb/raster.glsl).
+const APPEND: u32 = 0;
+const COUNT: u32 = 1;
+const FILL: u32 = 2;
+/// Counters of the band's stats while building (shaders/lhb/lhb.glsl): blocks queued, layers
+/// lost (capacity) or in all (exact); during image passes the first counts lookups.
+const STAT_QUEUED: usize = 2;
+const STAT_LAYERS: usize = 3;
+/// Directions one rasterizer dispatch takes (its workgroups' rows).
+const DIRECTIONS_PER_DISPATCH: u32 = 64;
+/// Workgroups a dispatch's row takes at most (Vulkan's guaranteed minimum limit).
+const MAX_GROUPS_X: u32 = 65535;
+/// Samples an image pass adds per pixel at most (llvmpipe's loop limit, as vertex links').
+const CAMERA_SAMPLES_PER_PASS: u32 = 4;
+
+/// What the last build did.
+#[derive(Clone, Copy, Debug, Default)]
+struct Build {
+    layers: u64,
+    lost: u64,
+    blocks: u64,
+    bytes: u64,
+    time: Duration,
+    attempts: u32,
+    /// With the kept part: whether it was kept as it was (else built again), and the instances
+    /// rasterized on top of it.
+    kept: Option<(bool, u32)>,
+}
+
+pub(crate) struct LhbPasses {
+    tables: Option<GpuBuffer>,
+    work: Option<GpuBuffer>,
+    layers: Option<GpuBuffer>,
+    /// The tables the buffer holds.
+    uploaded: Option<Arc<Tables>>,
+    /// Entries the queue has room for (grown when a build needs more; kept between frames).
+    queue_capacity: u32,
+    build: Build,
+    statics: Option<Statics>,
+}
+
+impl Default for LhbPasses {
+    fn default() -> Self {
+        LhbPasses {
+            tables: None,
+            work: None,
+            layers: None,
+            uploaded: None,
+            queue_capacity: 1 << 16,
+            build: Build::default(),
+            statics: None,
+        }
+    }
+}
+
+fn lhb(params: &FrameParams) -> &Lhb {
+    params
+        .method
+        .lhb()
+        .expect("layered hit buffers' passes render their frames")
+}
+
+fn tables(params: &FrameParams) -> &Arc<Tables> {
+    lhb(params)
+        .tables
+        .as_ref()
+        .expect("validated: an lhb frame has its tables")
+}
+
+/// Words before the queue (shaders/lhb/lhb.glsl: lhb_queue_at).
+fn queue_at(directions: u64, resolution: u64) -> u64 {
+    let texels = directions * resolution * resolution;
+    (texels + directions * resolution + directions + 3) & !3
+}
+
+impl LhbPasses {
+    fn addresses(&self) -> [u64; 3] {
+        let a = |b: &Option<GpuBuffer>| b.as_ref().map_or(0, |b| b.address);
+        [a(&self.tables), a(&self.work), a(&self.layers)]
+    }
+
+    /// The work words with room for the queue.
+    fn ensure_work(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<()> {
+        let o = &lhb(params).options;
+        let words = queue_at(o.directions.count() as u64, o.resolution as u64)
+            + 4 * self.queue_capacity as u64;
+        ensure(
+            gpu,
+            &mut self.work,
+            "lhb work",
+            words * 4,
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(())
+    }
+
+    fn ensure_layers(&mut self, gpu: &mut Gpu, layers: u64) -> Result<()> {
+        ensure(
+            gpu,
+            &mut self.layers,
+            "lhb layers",
+            (layers * 8).max(16),
+            MemoryLocation::GpuOnly,
+        )?;
+        Ok(())
+    }
+}
+
+impl MethodPasses for LhbPasses {
+    fn kernels(&self, params: &FrameParams, _cpu: bool) -> &'static [&'static str] {
+        match lhb(params).options.variant {
+            RasterVariant::Capacity => &[RASTER, BLOCKS, CAMERA],
+            RasterVariant::Exact => &[RASTER, BLOCKS, PREFIX, CAMERA],
+        }
+    }
+
+    /// The tables (uploaded when the frame names others); work and layers are the build's.
+    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 3]> {
+        let t = tables(params);
+        if !self.uploaded.as_ref().is_some_and(|u| Arc::ptr_eq(u, t)) {
+            let bytes: &[u8] = bytemuck::cast_slice(&t.words);
+            ensure(
+                gpu,
+                &mut self.tables,
+                "lhb tables",
+                bytes.len() as u64,
+                MemoryLocation::GpuOnly,
+            )?;
+            let buffer = self.tables.as_ref().expect("just ensured").buffer;
+            gpu.write_buffers(&[(buffer, 0, bytes)])?;
+            self.uploaded = Some(t.clone());
+        }
+        Ok(self.addresses())
+    }
+
+    /// Image passes: the lookup bounces.
+    fn push_words(&self, params: &FrameParams) -> [u32; METHOD_WORDS] {
+        let mut words = [0; METHOD_WORDS];
+        words[0] = lhb(params).options.bounces;
+        words
+    }
+
+    fn samples_per_pass(&self, params: &FrameParams) -> u32 {
+        params.samples_per_pass.clamp(1, CAMERA_SAMPLES_PER_PASS)
+    }
+
+    /// The frame's buffers.
+    fn begin_band(&mut self, rec: &mut Recorder, push: &Push) -> Result<Duration> {
+        self.build(rec, push)?;
+        Ok(self.build.time)
+    }
+
+    fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration> {
+        let kernel = rec.kernel(CAMERA)?;
+        rec.gpu
+            .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, push, groups) })
+    }
+
+    /// `lhb_build`: what the build made and cost on this device; lookups of the image passes.
+    fn report(&mut self, counters: &[u32]) -> Vec<(String, String)> {
+        let b = &self.build;
+        vec![
+            (
+                "lhb_build".into(),
+                format!(
+                    "{}{} layers{}, {} blocks of large triangles, {} bytes, {:.6} s device time \
+                     ({} attempts)",
+                    match b.kept {
+                        Some((true, n)) =>
+                            format!("kept part reused, {n} moving instances added: "),
+                        Some((false, n)) =>
+                            format!("kept part built, {n} moving instances added: "),
+                        None => String::new(),
+                    },
+                    b.layers,
+                    if b.lost > 0 {
+                        format!(", {} lost past the capacity", b.lost)
+                    } else {
+                        ", none lost".to_string()
+                    },
+                    b.blocks,
+                    b.bytes,
+                    b.time.as_secs_f64(),
+                    b.attempts
+                ),
+            ),
+            ("lhb_build_s".into(), format!("{:.6}", b.time.as_secs_f64())),
+            ("lhb_layers".into(), b.layers.to_string()),
+            ("lhb_lost_layers".into(), b.lost.to_string()),
+            ("lhb_bytes".into(), b.bytes.to_string()),
+            ("lhb_lookups".into(), counters[STAT_QUEUED].to_string()),
+        ]
+    }
+
+    /// Every texel's word (count, or with the exact variant the end of its layers) and the
+    /// layers.
+    fn read_back(&mut self, gpu: &mut Gpu) -> Result<Vec<Vec<u8>>> {
+        let (Some(t), Some(work), Some(layers)) = (&self.uploaded, &self.work, &self.layers) else {
+            return Ok(Vec::new());
+        };
+        let texels = t.words[0] as u64 * t.words[1] as u64 * t.words[1] as u64;
+        let (work, layers, size) = (work.buffer, layers.buffer, layers.size);
+        Ok(vec![
+            gpu.read_buffer(work, 0, texels * 4)?,
+            gpu.read_buffer(layers, 0, size)?,
+        ])
+    }
+
+    fn destroy(&mut self, gpu: &mut Gpu) {
+        let kept = self.statics.take().and_then(|s| s.counts);
+        for mut b in [
+            self.tables.take(),
+            self.work.take(),
+            self.layers.take(),
+            kept,
+        ]
+        .into_iter()
+        .flatten()
+        {
+            gpu.destroy_buffer(&mut b);
+        }
+        self.uploaded = None;
+    }
+}
