@@ -1,8 +1,10 @@
 //! A ray answered by the buffers instead of a traversal (the thesis' indirect rays): snap the
 //! ray's direction to the nearest buffer direction (the directional map), project the ray's
 //! origin into that buffer, move by the cone jitter within the texel grid, and take the first
-//! surface the texel lists beyond the origin's depth. Direct light stays exact; only indirect
-//! rays go here.
+//! surface the texel lists beyond the origin's depth whose front faces the ray; the hit lies on
+//! the texel's centre line at that depth. What shaders/lhb/lookup.glsl computes (it orders
+//! ties by placed triangle and gives up after 8 backs). Direct light stays exact; only
+//! indirect rays go here.
 
 use glam::Vec3;
 
@@ -20,6 +22,9 @@ pub struct Buffers {
     pub map: DirectionalMap,
     /// Per direction, per texel (row-major), the layers in depth order.
     pub texels: Vec<Vec<Vec<Layer>>>,
+    /// Each placed triangle's geometric normal in render space (not normalised), by
+    /// (instance, triangle): which side of it a ray meets.
+    pub normals: std::collections::HashMap<(u32, u32), Vec3>,
 }
 
 /// What a lookup found.
@@ -40,11 +45,25 @@ impl Buffers {
         let directions = set.directions();
         let frame = BufferFrame::of_scene(g, margin);
         let views: Vec<View> = directions.iter().map(|&d| View::along(d)).collect();
+        let mut normals = std::collections::HashMap::new();
+        for instance in 0..g.instances.len() {
+            let Some(region) = g.region_of_instance(instance) else {
+                continue;
+            };
+            let r = &g.regions[region];
+            for t in r.triangle_base..r.triangle_base + r.triangle_count {
+                let [a, b, c] = g.triangles[t as usize]
+                    .v
+                    .map(|v| g.world_vertex(instance as u32, v));
+                normals.insert((instance as u32, t), (b - a).cross(c - a));
+            }
+        }
         Buffers {
             texels: views
                 .iter()
                 .map(|v| buffer_by_rays(g, &frame, v, resolution))
                 .collect(),
+            normals,
             map: DirectionalMap::for_directions(&directions),
             views,
             frame,
@@ -52,9 +71,9 @@ impl Buffers {
         }
     }
 
-    /// The first surface beyond `x` (by more than `eps`) that the buffer of the direction
-    /// nearest unit `dir` lists at `x`'s texel moved by `jitter` texels; None where it lists
-    /// none (the ray leaves the scene) or the texel is off the buffer.
+    /// The first surface beyond `x` (by more than `eps`) facing `dir` that the buffer of the
+    /// direction nearest unit `dir` lists at `x`'s texel moved by `jitter` texels; None where
+    /// it lists none (the ray leaves the scene) or the texel is off the buffer.
     pub fn lookup(&self, x: Vec3, dir: Vec3, jitter: (f32, f32), eps: f32) -> Option<LookupHit> {
         let i = self.map.nearest(dir);
         let view = &self.views[i as usize];
@@ -65,13 +84,14 @@ impl Buffers {
             return None;
         }
         let texel = (v as u32 * r + u as u32) as usize;
-        let layer = self.texels[i as usize][texel]
-            .iter()
-            .find(|l| l.depth > z + eps)?;
+        let layer = self.texels[i as usize][texel].iter().find(|l| {
+            l.depth > z + eps && self.normals[&(l.instance, l.triangle)].dot(dir) < 0.0
+        })?;
         let texel_size = 2.0 * self.frame.radius / r as f32;
+        let (cu, cv) = (u.floor() + 0.5, v.floor() + 0.5);
         let point = self.frame.centre
-            + view.right * (u * texel_size - self.frame.radius)
-            + view.up * (v * texel_size - self.frame.radius)
+            + view.right * (cu * texel_size - self.frame.radius)
+            + view.up * (cv * texel_size - self.frame.radius)
             + view.forward * (layer.depth - self.frame.radius);
         Some(LookupHit {
             instance: layer.instance,
