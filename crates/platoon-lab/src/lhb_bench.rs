@@ -1,7 +1,9 @@
 //! The layered-hit-buffers bench (`platoon bench lhb`): the thesis' scaling measured on platoon's
 //! scenes. Per scene the path tracer's frame (its rays/s), then per setting (directions x
 //! resolution) a frame of layered hit buffers: the build (device time, per direction, bytes,
-//! layers lost), the image pass (device time, its queries: traced rays and lookups), and the
+//! layers lost), the image pass (device time, its queries: traced rays and lookups; and the
+//! same pass with the paths cut after their first diffuse vertex's direct light, so the
+//! lookups' share is the difference), and the
 //! break-even number of queries per build, T_build / (t_ray - t_query), where t_ray is the path
 //! tracer's device time per ray and t_query the image pass's per query (each a whole pass's
 //! time over its queries, shading included). Each render runs once to compile, then timed.
@@ -26,6 +28,9 @@ pub struct LhbRow {
     pub bytes: u64,
     pub lost: u64,
     pub image_s: f64,
+    /// The image pass without lookups: camera paths to the first diffuse vertex and its
+    /// direct light.
+    pub direct_s: f64,
     pub queries: u64,
     pub lookups: u64,
     /// The path tracer's frame on the same scene.
@@ -88,6 +93,11 @@ pub fn measure(
         let band = tracer.render(&params, 0, size, &mut |_| {})?;
         let r = &band.method_report;
         let build_s = entry(r, "lhb_build_s")?;
+        let mut direct = params.clone();
+        direct.max_depth = 2;
+        let cut = tracer.render(&direct, 0, size, &mut |_| {})?;
+        let direct_s =
+            (device_time(&cut).as_secs_f64() - entry(&cut.method_report, "lhb_build_s")?).max(0.0);
         rows.push(LhbRow {
             scene: s.name.clone(),
             triangles: prepared.gpu.triangles.len(),
@@ -96,6 +106,7 @@ pub fn measure(
             bytes: entry(r, "lhb_bytes")? as u64,
             lost: entry(r, "lhb_lost_layers")? as u64,
             image_s: (device_time(&band).as_secs_f64() - build_s).max(0.0),
+            direct_s,
             queries: band.rays,
             lookups: entry(r, "lhb_lookups")? as u64,
             path_s: device_time(&path).as_secs_f64(),

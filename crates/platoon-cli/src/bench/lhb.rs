@@ -79,14 +79,16 @@ pub fn run(a: &LhbArgs) -> Result<()> {
     let scenes = links_bench::scenes(&a.scenes, &a.shared)?;
     println!(
         "platoon bench lhb: {} rasterizer, {} bounces; frames {2}x{2} at {3} spp on device 0 \
-         (device times; a query is a traced ray or a lookup)",
+         (device times; direct: the image pass cut after the first diffuse vertex's direct \
+         light, the rest of the image pass is the lookups' and their vertices' light; a query \
+         is a traced ray or a lookup)",
         variant.name(),
         a.bounces,
         a.size,
         a.spp
     );
     println!(
-        "{:<11} {:>9} {:<13} {:>9} {:>8} {:>9} {:>6} {:>9} {:>10} {:>10} {:>10} {:>11}",
+        "{:<11} {:>9} {:<13} {:>9} {:>8} {:>9} {:>6} {:>9} {:>9} {:>10} {:>10} {:>10} {:>11}",
         "scene",
         "triangles",
         "setting",
@@ -95,6 +97,7 @@ pub fn run(a: &LhbArgs) -> Result<()> {
         "MB",
         "lost",
         "image ms",
+        "direct ms",
         "Mq/s lhb",
         "Mrays/s pt",
         "lookups %",
@@ -107,7 +110,7 @@ pub fn run(a: &LhbArgs) -> Result<()> {
         {
             let rate = |n: u64, t: f64| n as f64 / t.max(1e-9) / 1e6;
             println!(
-                "{:<11} {:>9} {:<13} {:>9.1} {:>8.3} {:>9.1} {:>6} {:>9.1} {:>10.2} {:>10.2} {:>10.1} {:>11}",
+                "{:<11} {:>9} {:<13} {:>9.1} {:>8.3} {:>9.1} {:>6} {:>9.1} {:>9.1} {:>10.2} {:>10.2} {:>10.1} {:>11}",
                 row.scene,
                 row.triangles,
                 row.setting,
@@ -116,6 +119,7 @@ pub fn run(a: &LhbArgs) -> Result<()> {
                 row.bytes as f64 / 1e6,
                 row.lost,
                 row.image_s * 1e3,
+                row.direct_s * 1e3,
                 rate(row.queries, row.image_s),
                 rate(row.path_rays, row.path_s),
                 100.0 * row.lookups as f64 / row.queries.max(1) as f64,
