@@ -7,13 +7,15 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 use platoon::core::method::lhb::directions::DirectionSet;
 use platoon::core::method::lhb::{LhbOptions, RasterVariant};
-use platoon_lab::{lhb_bench, links_bench};
+use platoon_lab::{lhb_bench, lhb_scenes};
 
 /// `platoon bench lhb`'s settings.
 #[derive(clap::Args)]
 pub struct LhbArgs {
-    /// Scenes, comma-separated: boxN (the Cornell box, each face N x N quads: about 30 N^2
-    /// triangles, box183 over a million), conference, cesium, tearoomN.
+    /// Scenes, comma-separated: cubesN (the Cornell box with N rotated cubes floating in its
+    /// middle, 12 N triangles), icosphereL (with a bumpy icosphere, 20 * 4^L triangles), boxN
+    /// (the Cornell box, each face N x N quads: about 30 N^2 triangles, box183 over a million),
+    /// conference, cesium, tearoomN.
     #[arg(
         long,
         default_value = "box1,box16,box64,tearoom16",
@@ -76,7 +78,7 @@ pub fn run(a: &LhbArgs) -> Result<()> {
     if let Some(steps) = a.walk {
         return walk(a, settings[0], steps);
     }
-    let scenes = links_bench::scenes(&a.scenes, &a.shared)?;
+    let scenes = lhb_scenes::scenes(&a.scenes, &a.shared)?;
     println!(
         "platoon bench lhb: {} rasterizer, {} bounces; frames {2}x{2} at {3} spp on device 0 \
          (device times; direct: the image pass cut after the first diffuse vertex's direct \
