@@ -117,25 +117,6 @@ pub fn icosphere(level: u32) -> Scene {
     })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_objects_have_the_triangles_their_names_say() {
-        let room = cornell::scene().meshes[0].indices.len();
-        assert_eq!(cubes(10).meshes[0].indices.len(), room + 120);
-        assert_eq!(icosphere(2).meshes[0].indices.len(), room + 320);
-        // Closed and facing out: every cube's and the sphere's normals point away from their
-        // centres.
-        let m = &icosphere(1).meshes[0];
-        for t in &m.indices[room..] {
-            let [a, b, c] = t.map(|i| m.positions[i as usize]);
-            assert!((b - a).cross(c - a).dot((a + b + c) / 3.0 - CENTRE) > 0.0);
-        }
-    }
-}
-
 /// The bench's scenes by name: `cubesN`, `icosphereL`, or one of `links_bench::scenes`'.
 pub fn scenes(
     names: &[String],
@@ -175,4 +156,23 @@ pub fn scenes(
             Ok(one.remove(0))
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_objects_have_the_triangles_their_names_say() {
+        let room = cornell::scene().meshes[0].indices.len();
+        assert_eq!(cubes(10).meshes[0].indices.len(), room + 120);
+        assert_eq!(icosphere(2).meshes[0].indices.len(), room + 320);
+        // Closed and facing out: every cube's and the sphere's normals point away from their
+        // centres.
+        let m = &icosphere(1).meshes[0];
+        for t in &m.indices[room..] {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            assert!((b - a).cross(c - a).dot((a + b + c) / 3.0 - CENTRE) > 0.0);
+        }
+    }
 }
