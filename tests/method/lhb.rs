@@ -352,3 +352,72 @@ fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
     }
     assert_no_validation_messages(&kept);
 }
+
+/// The game loop: with the synchronous update each new generation of the walk gets its tables
+/// (in the first generation's frame) before its first frame, and the frames render on two
+/// tracers without NaN or a device message.
+#[test]
+fn the_game_loop_prepares_each_generation_of_a_walk() {
+    use platoon::core::drive::{DriverOptions, Edit, FrameDriver, GiUpdate, Pipeline};
+    init();
+    let man = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
+    let (scene, node) = platoon::generated::walk_in_a_room(&man, 6).unwrap();
+    let camera =
+        platoon::core::scene::camera::Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
+    let (pipeline, first) = Pipeline::new(scene, 0.0, glam::DVec3::ZERO).unwrap();
+    let spec: DeviceSpec = "lavapipe:1,1".parse().unwrap();
+    let tracers = create_tracers(&spec, &first, true, Sampling::Mis).unwrap();
+    let mut options = DriverOptions::new(16, 16);
+    options.method = Method::Lhb(Lhb::new(options_for_the_loop()));
+    options.gi_update = GiUpdate::Synchronous;
+    let mut d = FrameDriver::with_update_tracers(
+        pipeline,
+        &first,
+        tracers,
+        Vec::new(),
+        by_name("cost-aware").unwrap(),
+        options,
+    )
+    .unwrap();
+    let mut stats = Vec::new();
+    for frame in 0..6 {
+        if frame < 3 {
+            for e in [
+                Edit::Time(0.3 * (frame + 1) as f32),
+                Edit::Placement {
+                    node,
+                    placement: platoon::generated::walk_step((frame + 1) as f64),
+                },
+            ] {
+                d.scene().push(e).unwrap();
+            }
+        }
+        let out = d.frame(camera).unwrap();
+        stats.extend(out.finished.map(|f| f.stats));
+    }
+    while let Some(f) = d.finish().unwrap() {
+        stats.push(f.stats);
+    }
+    let gis: Vec<_> = stats.iter().map(|s| s.gi.clone().unwrap()).collect();
+    let generations: Vec<u64> = gis.iter().map(|g| g.generation).collect();
+    println!("generations {generations:?}");
+    assert!(generations.windows(2).all(|w| w[0] <= w[1]));
+    assert_eq!(*generations.last().unwrap(), 3);
+    assert!(gis.iter().all(|g| g.age == 0));
+    let frames: Vec<_> = gis
+        .iter()
+        .map(|g| g.method.lhb().unwrap().tables.clone().unwrap().frame)
+        .collect();
+    assert!(frames.iter().all(|f| *f == frames[0]), "the frame moved");
+    for s in &stats {
+        assert_eq!(s.rejected_samples, 0);
+        assert!(s.device_messages.is_empty(), "{:?}", s.device_messages);
+    }
+}
+
+fn options_for_the_loop() -> LhbOptions {
+    LhbOptions {
+        layers: 8,
+        ..options("ico20", 32)
+    }
+}
