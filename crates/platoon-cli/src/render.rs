@@ -219,5 +219,21 @@ pub fn run(a: RenderArgs) -> Result<()> {
         rendered.rays() as f64 / secs / 1e6,
         rendered.rejected_samples()
     );
+    let entry = |key: &str| {
+        rendered
+            .method_metadata
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    };
+    if let Some(build) = entry("lhb_build") {
+        eprintln!("  layered hit buffers: {build}");
+    }
+    if let Some(lost) = entry("lhb_lost_layers").filter(|l| *l != "0") {
+        eprintln!(
+            "warning: {lost} layers did not fit the buffers' lists and are missing from the \
+             lookups: raise --lhb-layers or use --lhb-variant exact"
+        );
+    }
     Ok(())
 }

@@ -72,7 +72,10 @@ impl LhbPasses {
         let o = lhb(rec.params).options;
         let t = tables(rec.params).clone();
         let texels = o.texels();
-        self.build = Build::default();
+        self.build = Build {
+            exact: o.variant == RasterVariant::Exact,
+            ..Build::default()
+        };
         let all = [[0, t.placed.len() as u32]];
         loop {
             self.build.attempts += 1;

@@ -57,6 +57,8 @@ struct Build {
     /// With the kept part: whether it was kept as it was (else built again), and the instances
     /// rasterized on top of it.
     kept: Option<(bool, u32)>,
+    /// Lists without a capacity: `layers` counts the layers, else the slots.
+    exact: bool,
 }
 
 pub(crate) struct LhbPasses {
@@ -195,7 +197,7 @@ impl MethodPasses for LhbPasses {
             (
                 "lhb_build".into(),
                 format!(
-                    "{}{} layers{}, {} blocks of large triangles, {} bytes, {:.6} s device time \
+                    "{}{} {}{}, {} blocks of large triangles, {} bytes, {:.6} s device time \
                      ({} attempts)",
                     match b.kept {
                         Some((true, n)) =>
@@ -205,6 +207,7 @@ impl MethodPasses for LhbPasses {
                         None => String::new(),
                     },
                     b.layers,
+                    if b.exact { "layers" } else { "layer slots" },
                     if b.lost > 0 {
                         format!(", {} lost past the capacity", b.lost)
                     } else {
