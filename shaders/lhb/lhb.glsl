@@ -24,6 +24,8 @@ uint lhb_placed_at() { return LHB_TABLES.v[9]; }
 vec3 lhb_centre() { return vec3(uintBitsToFloat(LHB_TABLES.v[10]), uintBitsToFloat(LHB_TABLES.v[11]), uintBitsToFloat(LHB_TABLES.v[12])); }
 float lhb_radius() { return uintBitsToFloat(LHB_TABLES.v[13]); }
 float lhb_cone() { return uintBitsToFloat(LHB_TABLES.v[14]); }
+// A probe's queries (tables.rs: with_queries): their count, then 8 words each; 0 in a render.
+uint lhb_queries_at() { return LHB_TABLES.v[15]; }
 
 // Texels of every direction: the work words' first region.
 uint lhb_texels() { uint r = lhb_resolution(); return lhb_directions() * r * r; }

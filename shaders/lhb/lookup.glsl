@@ -42,6 +42,9 @@ uvec2 lhb_list(uint t) {
 // Attempts at a layer facing the ray before the lookup gives up (a miss).
 const uint LHB_ATTEMPTS = 8u;
 
+// The point of the last lookup's hit (on the texel's centre line; a probe reports it).
+vec3 lhb_point;
+
 // The lookup of ray (origin, unit dir) with cone jitter `u` (two uniform numbers): the hit as
 // trace() reports one; false where the texel lists nothing beyond the origin (the ray leaves).
 bool lhb_lookup(vec3 origin, vec3 dir, vec2 u, out Hit hit) {
@@ -94,6 +97,7 @@ bool lhb_lookup(vec3 origin, vec3 dir, vec2 u, out Hit hit) {
                 b2 /= s;
             }
             hit = Hit(distance(origin, p), b1, b2, placed.x, placed.y);
+            lhb_point = p;
             return true;
         }
         after_depth = best;

@@ -421,3 +421,74 @@ fn options_for_the_loop() -> LhbOptions {
         ..options("ico20", 32)
     }
 }
+
+/// The kernels' lookup answers rays as the CPU's (`lookup.rs`, over the ray oracle's buffers):
+/// 4096 rays from random points inside the tessellated Cornell box in random directions,
+/// without jitter, through a probe frame (a pixel a ray). They may differ only where the
+/// device's lists differ from the oracle's (texel centres on edges) or where the two round a
+/// projection into neighbouring texels.
+#[test]
+fn the_devices_lookups_answer_as_the_cpus() {
+    use platoon::core::method::lhb::lookup::Buffers;
+    use platoon::core::method::lhb::FRAME_MARGIN;
+    let prepared = prepare(
+        platoon::core::scene::cornell::tessellated(2),
+        platoon::EnvChoice::Scene,
+    );
+    let g = &prepared.gpu;
+    let mut tracer = tracer(&prepared, Sampling::Mis);
+    for variant in [RasterVariant::Capacity, RasterVariant::Exact] {
+        let o = LhbOptions {
+            cone: 0.0,
+            variant,
+            ..options("ico80", 32)
+        };
+        let cpu = Buffers::by_rays(g, o.directions, o.resolution, FRAME_MARGIN);
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let queries: Vec<[f32; 8]> = (0..4096)
+            .map(|_| {
+                let x = glam::Vec3::new(next(), next(), next()) * 4.95 + 0.3;
+                let z = 1.0 - 2.0 * next();
+                let phi = std::f32::consts::TAU * next();
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                [x.x, x.y, x.z, r * phi.cos(), r * phi.sin(), z, 0.0, 0.0]
+            })
+            .collect();
+        let tables = Lhb::prepared(o, g).tables.unwrap().with_queries(&queries);
+        let eps = 1e-5 * tables.frame.radius;
+        let mut params = FrameParams::new(64, 64, 1, prepared.camera);
+        params.method = Method::Lhb(Lhb {
+            options: o,
+            tables: Some(std::sync::Arc::new(tables)),
+            previous: None,
+        });
+        let band = tracer
+            .render_span(&params, Span::lines(64, 0, 64), &mut |_| {})
+            .expect("probe");
+        assert_no_validation_messages(&tracer);
+        let (mut agree, mut found) = (0, 0);
+        for (q, got) in queries.iter().zip(&band.sums) {
+            let (x, d) = (
+                glam::Vec3::new(q[0], q[1], q[2]),
+                glam::Vec3::new(q[3], q[4], q[5]),
+            );
+            let want = cpu.lookup(x, d, (0.0, 0.0), eps).map(|h| h.point);
+            let got = (got[0] < 1e29).then(|| glam::Vec3::from(*got));
+            found += got.is_some() as u32;
+            agree += match (want, got) {
+                (None, None) => 1,
+                (Some(w), Some(g)) if (w - g).length() < 1e-3 => 1,
+                _ => 0,
+            };
+        }
+        println!("{variant:?}: {agree} of 4096 lookups as the CPU's, {found} found a surface");
+        assert!(found > 3000, "{found}");
+        assert!(agree >= 4086, "{agree} of 4096");
+    }
+}

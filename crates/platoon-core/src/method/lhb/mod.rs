@@ -22,7 +22,9 @@ pub mod raster;
 pub mod tables;
 
 pub use method::Lhb;
-pub use options::{LhbOptions, RasterVariant, MAX_BOUNCES, MAX_BYTES, MAX_RESOLUTION};
+pub use options::{
+    LhbOptions, RasterVariant, FRAME_MARGIN, MAX_BOUNCES, MAX_BYTES, MAX_RESOLUTION,
+};
 
 /// A flattened scene of `mesh` alone, at the origin (the tests' scenes).
 #[cfg(test)]

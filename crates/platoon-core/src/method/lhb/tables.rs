@@ -140,7 +140,28 @@ fn pack(
     w
 }
 
+/// Words of a probe's query: origin xyz, unit direction xyz, the jitter's two uniform numbers.
+pub const QUERY_WORDS: usize = 8;
+
 impl Tables {
+    /// These tables carrying `queries` (origin, direction, jitter numbers): a frame rendered
+    /// with them is a probe, whose pixel i answers query i by a lookup and leaves the hit's
+    /// point as its radiance (1e30 where nothing was found) for tests to hold against the
+    /// CPU's `lookup::Buffers::lookup`. Header word 15 says where they start.
+    pub fn with_queries(&self, queries: &[[f32; QUERY_WORDS]]) -> Tables {
+        let mut t = self.clone();
+        t.words[15] = t.words.len() as u32;
+        t.words.push(queries.len() as u32);
+        t.words
+            .extend(queries.iter().flatten().map(|x| x.to_bits()));
+        t
+    }
+
+    /// Whether frames with these tables are probes (`with_queries`).
+    pub fn probes(&self) -> bool {
+        self.words[15] != 0
+    }
+
     /// Per direction, per texel, the layers a device built (`work`: each texel's word; `layers`:
     /// the layer words), sorted as the oracle's (depth, then instance and triangle).
     pub fn device_lists(

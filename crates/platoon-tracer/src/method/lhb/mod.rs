@@ -29,6 +29,7 @@ const RASTER: &str = "lhb/raster.comp";
 const BLOCKS: &str = "lhb/blocks.comp";
 const PREFIX: &str = "lhb/prefix.comp";
 const CAMERA: &str = "lhb/camera.comp";
+const PROBE: &str = "lhb/probe.comp";
 
 /// Build passes (shaders/lhb/raster.glsl).
 const APPEND: u32 = 0;
@@ -142,9 +143,11 @@ impl LhbPasses {
 
 impl MethodPasses for LhbPasses {
     fn kernels(&self, params: &FrameParams, _cpu: bool) -> &'static [&'static str] {
-        match lhb(params).options.variant {
-            RasterVariant::Capacity => &[RASTER, BLOCKS, CAMERA],
-            RasterVariant::Exact => &[RASTER, BLOCKS, PREFIX, CAMERA],
+        match (lhb(params).options.variant, tables(params).probes()) {
+            (RasterVariant::Capacity, false) => &[RASTER, BLOCKS, CAMERA],
+            (RasterVariant::Exact, false) => &[RASTER, BLOCKS, PREFIX, CAMERA],
+            (RasterVariant::Capacity, true) => &[RASTER, BLOCKS, PROBE],
+            (RasterVariant::Exact, true) => &[RASTER, BLOCKS, PREFIX, PROBE],
         }
     }
 
@@ -185,7 +188,13 @@ impl MethodPasses for LhbPasses {
     }
 
     fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration> {
-        let kernel = rec.kernel(CAMERA)?;
+        // A probe's tables carry queries (tests): its pass answers them instead.
+        let entry = if tables(rec.params).probes() {
+            PROBE
+        } else {
+            CAMERA
+        };
+        let kernel = rec.kernel(entry)?;
         rec.gpu
             .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, push, groups) })
     }
