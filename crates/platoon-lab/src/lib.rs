@@ -10,6 +10,7 @@ pub mod balance_bench;
 pub mod dynamic_bench;
 pub mod layout_bench;
 pub mod lhb_bench;
+pub mod lhb_plot;
 pub mod lhb_scenes;
 pub mod links_bench;
 pub mod links_walk;

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Result};
 use platoon::core::method::lhb::directions::DirectionSet;
 use platoon::core::method::lhb::{LhbOptions, RasterVariant};
-use platoon_lab::{lhb_bench, lhb_scenes};
+use platoon_lab::{lhb_bench, lhb_plot, lhb_scenes};
 
 /// `platoon bench lhb`'s settings.
 #[derive(clap::Args)]
@@ -51,6 +51,10 @@ pub struct LhbArgs {
     /// The walk's box: every face N x N quads.
     #[arg(long, default_value_t = 16)]
     walk_cells: u32,
+    /// Also draw build and image-pass time against triangles, a line per setting, into this
+    /// PNG (the thesis' scaling curves).
+    #[arg(long)]
+    plot: Option<PathBuf>,
 }
 
 pub fn run(a: &LhbArgs) -> Result<()> {
@@ -105,11 +109,10 @@ pub fn run(a: &LhbArgs) -> Result<()> {
         "lookups %",
         "break-even"
     );
+    let mut all = Vec::new();
     for s in &scenes {
-        for (row, o) in lhb_bench::measure(s, &settings, a.size, a.spp)?
-            .iter()
-            .zip(&settings)
-        {
+        let rows = lhb_bench::measure(s, &settings, a.size, a.spp)?;
+        for (row, o) in rows.iter().zip(&settings) {
             let rate = |n: u64, t: f64| n as f64 / t.max(1e-9) / 1e6;
             println!(
                 "{:<11} {:>9} {:<13} {:>9.1} {:>8.3} {:>9.1} {:>6} {:>9.1} {:>9.1} {:>10.2} {:>10.2} {:>10.1} {:>11}",
@@ -129,6 +132,15 @@ pub fn run(a: &LhbArgs) -> Result<()> {
                     .map_or("never".to_string(), |q| format!("{:.2e}", q))
             );
         }
+        all.extend(rows);
+    }
+    if let Some(path) = &a.plot {
+        lhb_plot::write_png(
+            path,
+            &all,
+            "platoon bench lhb: build (thick) and image pass (thin) against triangles",
+        )?;
+        println!("wrote {}", path.display());
     }
     Ok(())
 }
