@@ -3,13 +3,15 @@
 //! lists the surfaces along it; indirect rays are answered by a lookup in the buffer of the
 //! nearest direction instead of a traversal.
 //!
-//! Built so far: [`directions`] (the icosahedral, octahedral and Halton sets),
-//! [`directional_map`] (any direction to its nearest buffer direction, exact), [`frame`] (the
-//! scene's bounding sphere and each direction's view), [`oracle`] (buffers built by rays, what
-//! the rasterizer is tested against), [`raster`] (the rasterizer's algorithm on the CPU: edge
-//! functions, the top-left rule, plane depth, a capacity with overflow counted) and [`lookup`] (a
-//! ray answered by the buffers, on the CPU: the reference of the kernels' lookups). To come: the
-//! rasterizer as a compute kernel, the lookups in the kernels, `--method lhb`.
+//! The method (`Lhb`, its options `LhbOptions`) and its CPU parts: [`directions`] (the
+//! icosahedral, octahedral and Halton sets), [`directional_map`] (any direction to its nearest
+//! buffer direction, exact), [`frame`] (the scene's bounding sphere and each direction's view),
+//! [`tables`] (what every tracer uploads: frame, views, map, placed triangles, their digests),
+//! [`oracle`] (buffers built by rays, what the devices' rasterizer is tested against), [`raster`]
+//! (the rasterizer's algorithm on the CPU: edge functions, the top-left rule, plane depth, a
+//! capacity with overflow counted) and [`lookup`] (a ray answered by the buffers, the reference
+//! of the kernels' lookups). The device side is the tracer's `method/lhb/` and shaders/lhb/;
+//! measured in docs/LHB.md.
 
 pub mod directional_map;
 pub mod directions;
