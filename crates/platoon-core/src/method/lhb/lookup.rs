@@ -45,19 +45,13 @@ impl Buffers {
         let directions = set.directions();
         let frame = BufferFrame::of_scene(g, margin);
         let views: Vec<View> = directions.iter().map(|&d| View::along(d)).collect();
-        let mut normals = std::collections::HashMap::new();
-        for instance in 0..g.instances.len() {
-            let Some(region) = g.region_of_instance(instance) else {
-                continue;
-            };
-            let r = &g.regions[region];
-            for t in r.triangle_base..r.triangle_base + r.triangle_count {
-                let [a, b, c] = g.triangles[t as usize]
-                    .v
-                    .map(|v| g.world_vertex(instance as u32, v));
-                normals.insert((instance as u32, t), (b - a).cross(c - a));
-            }
-        }
+        let normals = g
+            .placed_triangles()
+            .map(|(instance, t)| {
+                let [a, b, c] = g.placed_corners(instance, t);
+                ((instance, t), (b - a).cross(c - a))
+            })
+            .collect();
         Buffers {
             texels: views
                 .iter()

@@ -25,47 +25,39 @@ pub struct Layer {
 pub fn buffer_by_rays(g: &GpuScene, frame: &BufferFrame, view: &View, r: u32) -> Vec<Vec<Layer>> {
     let mut texels = vec![Vec::new(); (r * r) as usize];
     let forward = view.forward.as_dvec3();
-    for instance in 0..g.instances.len() {
-        let Some(region) = g.region_of_instance(instance) else {
-            continue;
+    for (instance, t) in g.placed_triangles() {
+        let corners = g.placed_corners(instance, t);
+        let [a, b, c] = corners.map(|p| p.as_dvec3());
+        if (b - a).cross(c - a).dot(forward) >= 0.0 {
+            continue; // seen from behind or edge-on
+        }
+        let projected = corners.map(|p| frame.project(view, p, r));
+        let lo = |k: fn(&(f32, f32, f32)) -> f32| {
+            projected
+                .iter()
+                .map(k)
+                .fold(f32::INFINITY, f32::min)
+                .floor()
+                .max(0.0) as u32
         };
-        let region = &g.regions[region];
-        for t in region.triangle_base..region.triangle_base + region.triangle_count {
-            let corners = g.triangles[t as usize]
-                .v
-                .map(|v| g.world_vertex(instance as u32, v));
-            let [a, b, c] = corners.map(|p| p.as_dvec3());
-            if (b - a).cross(c - a).dot(forward) >= 0.0 {
-                continue; // seen from behind or edge-on
-            }
-            let projected = corners.map(|p| frame.project(view, p, r));
-            let lo = |k: fn(&(f32, f32, f32)) -> f32| {
-                projected
-                    .iter()
-                    .map(k)
-                    .fold(f32::INFINITY, f32::min)
-                    .floor()
-                    .max(0.0) as u32
-            };
-            let hi = |k: fn(&(f32, f32, f32)) -> f32| {
-                (projected
-                    .iter()
-                    .map(k)
-                    .fold(f32::NEG_INFINITY, f32::max)
-                    .ceil() as i64)
-                    .clamp(0, r as i64) as u32
-            };
-            let (x0, x1, y0, y1) = (lo(|p| p.0), hi(|p| p.0), lo(|p| p.1), hi(|p| p.1));
-            for j in y0..y1 {
-                for i in x0..x1 {
-                    let (origin, dir) = frame.texel_ray(view, i, j, r);
-                    if let Some(depth) = intersect(origin.as_dvec3(), dir.as_dvec3(), a, b, c) {
-                        texels[(j * r + i) as usize].push(Layer {
-                            depth: depth as f32,
-                            instance: instance as u32,
-                            triangle: t,
-                        });
-                    }
+        let hi = |k: fn(&(f32, f32, f32)) -> f32| {
+            (projected
+                .iter()
+                .map(k)
+                .fold(f32::NEG_INFINITY, f32::max)
+                .ceil() as i64)
+                .clamp(0, r as i64) as u32
+        };
+        let (x0, x1, y0, y1) = (lo(|p| p.0), hi(|p| p.0), lo(|p| p.1), hi(|p| p.1));
+        for j in y0..y1 {
+            for i in x0..x1 {
+                let (origin, dir) = frame.texel_ray(view, i, j, r);
+                if let Some(depth) = intersect(origin.as_dvec3(), dir.as_dvec3(), a, b, c) {
+                    texels[(j * r + i) as usize].push(Layer {
+                        depth: depth as f32,
+                        instance,
+                        triangle: t,
+                    });
                 }
             }
         }
@@ -111,9 +103,9 @@ pub fn on_an_edge(
 ) -> bool {
     let p = (i as f32 + 0.5, j as f32 + 0.5);
     layers.iter().any(|l| {
-        let [a, b, c] = g.triangles[l.triangle as usize]
-            .v
-            .map(|v| frame.project(view, g.world_vertex(l.instance, v), r));
+        let [a, b, c] = g
+            .placed_corners(l.instance, l.triangle)
+            .map(|p| frame.project(view, p, r));
         [(a, b), (b, c), (c, a)].iter().any(|&(e0, e1)| {
             let (dx, dy) = (e1.0 - e0.0, e1.1 - e0.1);
             let e = (p.0 - e0.0) * dy - (p.1 - e0.1) * dx;

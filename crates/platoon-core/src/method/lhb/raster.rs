@@ -90,52 +90,46 @@ fn cover(
     r: u32,
     mut visit: impl FnMut(usize, Layer),
 ) {
-    for instance in 0..g.instances.len() {
-        let Some(region) = g.region_of_instance(instance) else {
+    for (instance, t) in g.placed_triangles() {
+        let [a, b, c] = g
+            .placed_corners(instance, t)
+            .map(|p| frame.project(view, p, r));
+        // Twice the signed area in (u, v): negative for a front face (clockwise).
+        let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+        if area >= 0.0 {
             continue;
-        };
-        let region = &g.regions[region];
-        for t in region.triangle_base..region.triangle_base + region.triangle_count {
-            let [a, b, c] = g.triangles[t as usize]
-                .v
-                .map(|v| frame.project(view, g.world_vertex(instance as u32, v), r));
-            // Twice the signed area in (u, v): negative for a front face (clockwise).
-            let area = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
-            if area >= 0.0 {
-                continue;
-            }
-            let x0 = a.0.min(b.0).min(c.0).floor().max(0.0) as u32;
-            let y0 = a.1.min(b.1).min(c.1).floor().max(0.0) as u32;
-            let x1 = (a.0.max(b.0).max(c.0).ceil() as i64).clamp(0, r as i64) as u32;
-            let y1 = (a.1.max(b.1).max(c.1).ceil() as i64).clamp(0, r as i64) as u32;
-            let edges = [(a, b), (b, c), (c, a)];
-            for j in y0..y1 {
-                for i in x0..x1 {
-                    let p = (i as f32 + 0.5, j as f32 + 0.5);
-                    let mut w = [0.0f32; 3];
-                    let mut inside = true;
-                    for (k, &(e0, e1)) in edges.iter().enumerate() {
-                        // Positive inside a clockwise triangle.
-                        let e = (p.0 - e0.0) * (e1.1 - e0.1) - (p.1 - e0.1) * (e1.0 - e0.0);
-                        inside &= e > 0.0 || (e == 0.0 && top_left((e0.0, e0.1), (e1.0, e1.1)));
-                        w[k] = e;
-                    }
-                    if !inside {
-                        continue;
-                    }
-                    // Barycentrics from the edge functions: w[1] is a's weight (the edge bc),
-                    // w[2] b's, w[0] c's.
-                    let sum = w[0] + w[1] + w[2];
-                    let depth = (w[1] * a.2 + w[2] * b.2 + w[0] * c.2) / sum;
-                    visit(
-                        (j * r + i) as usize,
-                        Layer {
-                            depth,
-                            instance: instance as u32,
-                            triangle: t,
-                        },
-                    );
+        }
+        let x0 = a.0.min(b.0).min(c.0).floor().max(0.0) as u32;
+        let y0 = a.1.min(b.1).min(c.1).floor().max(0.0) as u32;
+        let x1 = (a.0.max(b.0).max(c.0).ceil() as i64).clamp(0, r as i64) as u32;
+        let y1 = (a.1.max(b.1).max(c.1).ceil() as i64).clamp(0, r as i64) as u32;
+        let edges = [(a, b), (b, c), (c, a)];
+        for j in y0..y1 {
+            for i in x0..x1 {
+                let p = (i as f32 + 0.5, j as f32 + 0.5);
+                let mut w = [0.0f32; 3];
+                let mut inside = true;
+                for (k, &(e0, e1)) in edges.iter().enumerate() {
+                    // Positive inside a clockwise triangle.
+                    let e = (p.0 - e0.0) * (e1.1 - e0.1) - (p.1 - e0.1) * (e1.0 - e0.0);
+                    inside &= e > 0.0 || (e == 0.0 && top_left((e0.0, e0.1), (e1.0, e1.1)));
+                    w[k] = e;
                 }
+                if !inside {
+                    continue;
+                }
+                // Barycentrics from the edge functions: w[1] is a's weight (the edge bc),
+                // w[2] b's, w[0] c's.
+                let sum = w[0] + w[1] + w[2];
+                let depth = (w[1] * a.2 + w[2] * b.2 + w[0] * c.2) / sum;
+                visit(
+                    (j * r + i) as usize,
+                    Layer {
+                        depth,
+                        instance,
+                        triangle: t,
+                    },
+                );
             }
         }
     }

@@ -65,17 +65,13 @@ impl Tables {
             let first = placed.len() as u32;
             let mut h = std::collections::hash_map::DefaultHasher::new();
             h.write(bytemuck::bytes_of(&gi.object_to_world));
-            if let Some(region) = g.region_of_instance(instance) {
-                let r = &g.regions[region];
-                let (t, n) = (r.triangle_base as usize, r.triangle_count as usize);
-                h.write_u32(r.triangle_base);
-                h.write(bytemuck::cast_slice(
-                    &g.triangle_positions[3 * t..3 * (t + n)],
-                ));
-                for t in r.triangle_base..r.triangle_base + r.triangle_count {
-                    placed.push([instance as u32, t]);
-                }
-            }
+            let triangles = g.instance_triangles(instance);
+            let (t, n) = (triangles.start as usize, triangles.len());
+            h.write_u32(triangles.start);
+            h.write(bytemuck::cast_slice(
+                &g.triangle_positions[3 * t..3 * (t + n)],
+            ));
+            placed.extend(triangles.map(|t| [instance as u32, t]));
             instance_placed.push([first, placed.len() as u32]);
             instance_digests.push(h.finish());
         }
@@ -89,11 +85,6 @@ impl Tables {
             instance_digests,
             words,
         }
-    }
-
-    /// Texel size in render units.
-    pub fn texel_size(&self, resolution: u32) -> f32 {
-        2.0 * self.frame.radius / resolution as f32
     }
 }
 
