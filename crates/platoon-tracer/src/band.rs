@@ -9,6 +9,7 @@ use ash::vk;
 use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
 use crate::globals::{Globals, Push};
+use crate::gpu::record_copy_to_host;
 use crate::method::{passes_of, MethodPasses, Recorder};
 use crate::tracer::Tracer;
 use crate::Result;
@@ -280,36 +281,9 @@ impl Tracer {
         band.samples = begin;
         band.kernel_fallbacks = rec.fallbacks;
 
+        // The sums into the readback buffer; the counters (host-visible) made visible too.
         self.gpu.submit(|d, cb| unsafe {
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::TRANSFER_READ);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
-            let region = vk::BufferCopy::default()
-                .src_offset(band_offset)
-                .dst_offset(0)
-                .size(band_size);
-            d.cmd_copy_buffer(cb, accum.0, readback, &[region]);
-            let host = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[host],
-                &[],
-                &[],
-            );
+            record_copy_to_host(d, cb, accum.0, band_offset, readback, band_size)
         })?;
 
         let Some((_, _, _, stats_buf, readback_buf)) = self.frame_buffers.as_mut() else {

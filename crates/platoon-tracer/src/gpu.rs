@@ -240,37 +240,8 @@ impl Gpu {
             MemoryLocation::GpuToCpu,
         )?;
         let dst = staging.buffer;
-        let result = self.submit(|d, cb| unsafe {
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::TRANSFER_READ);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
-            let region = vk::BufferCopy::default()
-                .src_offset(offset)
-                .dst_offset(0)
-                .size(size);
-            d.cmd_copy_buffer(cb, buffer, dst, &[region]);
-            let host = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[host],
-                &[],
-                &[],
-            );
-        });
+        let result =
+            self.submit(|d, cb| unsafe { record_copy_to_host(d, cb, buffer, offset, dst, size) });
         let bytes = staging.mapped().to_vec();
         self.destroy_buffer(&mut staging);
         result.map(|_| bytes)
@@ -383,4 +354,49 @@ impl Drop for Gpu {
             ManuallyDrop::drop(&mut self.ctx);
         }
     }
+}
+
+/// Records, after the compute writes before it, the copy of `size` bytes of `src` from `offset`
+/// into host-visible `dst`, and makes the copy and those compute writes (to host-visible
+/// buffers too) visible to the host.
+///
+/// # Safety
+/// `cb` is recording and both buffers are alive.
+pub(crate) unsafe fn record_copy_to_host(
+    d: &ash::Device,
+    cb: vk::CommandBuffer,
+    src: vk::Buffer,
+    offset: u64,
+    dst: vk::Buffer,
+    size: u64,
+) {
+    let barrier = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .dst_access_mask(vk::AccessFlags::TRANSFER_READ);
+    d.cmd_pipeline_barrier(
+        cb,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+        vk::PipelineStageFlags::TRANSFER,
+        vk::DependencyFlags::empty(),
+        &[barrier],
+        &[],
+        &[],
+    );
+    let region = vk::BufferCopy::default()
+        .src_offset(offset)
+        .dst_offset(0)
+        .size(size);
+    d.cmd_copy_buffer(cb, src, dst, &[region]);
+    let host = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE)
+        .dst_access_mask(vk::AccessFlags::HOST_READ);
+    d.cmd_pipeline_barrier(
+        cb,
+        vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+        vk::PipelineStageFlags::HOST,
+        vk::DependencyFlags::empty(),
+        &[host],
+        &[],
+        &[],
+    );
 }
