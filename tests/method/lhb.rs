@@ -299,7 +299,7 @@ fn lhb_frames_are_bit_identical_for_one_and_three_tracers() {
 /// it reuses the kept part, adding one instance.
 #[test]
 fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
-    use platoon::core::drive::{Edit, Updater};
+    use platoon::core::drive::Updater;
     let man = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
     let (scene, node) = platoon::generated::walk_in_a_room(&man, 6).unwrap();
     let camera =
@@ -311,13 +311,9 @@ fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
     let mut previous: Option<std::sync::Arc<platoon::core::method::lhb::tables::Tables>> = None;
     for step in 0..4 {
         if step > 0 {
-            updater.apply(Edit::Time(0.3 * step as f32)).unwrap();
-            updater
-                .apply(Edit::Placement {
-                    node,
-                    placement: platoon::generated::walk_step(step as f64),
-                })
-                .unwrap();
+            for e in platoon::generated::walk_edits(node, step) {
+                updater.apply(e).unwrap();
+            }
             let generation = updater.update().unwrap();
             kept.apply_commit(&generation.commit).unwrap();
             rebuilt.apply_commit(&generation.commit).unwrap();
@@ -358,7 +354,7 @@ fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
 /// tracers without NaN or a device message.
 #[test]
 fn the_game_loop_prepares_each_generation_of_a_walk() {
-    use platoon::core::drive::{DriverOptions, Edit, FrameDriver, GiUpdate, Pipeline};
+    use platoon::core::drive::{DriverOptions, FrameDriver, GiUpdate, Pipeline};
     init();
     let man = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
     let (scene, node) = platoon::generated::walk_in_a_room(&man, 6).unwrap();
@@ -382,13 +378,7 @@ fn the_game_loop_prepares_each_generation_of_a_walk() {
     let mut stats = Vec::new();
     for frame in 0..6 {
         if frame < 3 {
-            for e in [
-                Edit::Time(0.3 * (frame + 1) as f32),
-                Edit::Placement {
-                    node,
-                    placement: platoon::generated::walk_step((frame + 1) as f64),
-                },
-            ] {
+            for e in platoon::generated::walk_edits(node, frame + 1) {
                 d.scene().push(e).unwrap();
             }
         }

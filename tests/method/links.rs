@@ -394,13 +394,9 @@ fn revalidating_a_walk_gives_the_bits_of_regenerating_every_link() {
     let mut last = solve(&mut t, updater.flattened(), None);
     let all_rays = last.stats.rays;
     for step in 1..=2 {
-        updater.apply(Edit::Time(0.3 * step as f32)).unwrap();
-        updater
-            .apply(Edit::Placement {
-                node,
-                placement: platoon::generated::walk_step(step as f64),
-            })
-            .unwrap();
+        for e in platoon::generated::walk_edits(node, step) {
+            updater.apply(e).unwrap();
+        }
         let generation = updater.update().unwrap();
         t.apply_commit(&generation.commit).unwrap();
         let g = updater.flattened();
@@ -544,15 +540,8 @@ fn play_the_walk(
     let mut frame = 0;
     loop {
         if frame < steps {
-            let edits = [
-                Edit::Time(0.3 * (frame + 1) as f32),
-                Edit::Placement {
-                    node,
-                    placement: platoon::generated::walk_step((frame + 1) as f64),
-                },
-            ];
             // The replica takes each step's edits as one generation, as the driver's updater.
-            for e in edits {
+            for e in platoon::generated::walk_edits(node, frame + 1) {
                 updater.apply(e.clone()).unwrap();
                 d.scene().push(e).unwrap();
             }

@@ -15,7 +15,6 @@ use platoon::core::frame::FrameParams;
 use platoon::core::method::lhb::{Lhb, LhbOptions};
 use platoon::core::Method;
 use platoon::tracer::{Tracer, TracerOptions};
-use platoon::PrepareOptions;
 
 use crate::links_bench::LinksScene;
 
@@ -74,14 +73,7 @@ pub fn measure(
     size: u32,
     spp: u32,
 ) -> Result<Vec<LhbRow>> {
-    let prepared = platoon::prepare(
-        s.scene.clone(),
-        &PrepareOptions {
-            env: s.env.clone(),
-            ..Default::default()
-        },
-    )
-    .with_context(|| format!("preparing {}", s.name))?;
+    let prepared = s.prepare()?;
     let mut tracer = Tracer::new(&TracerOptions::default(), &prepared.gpu)?;
     let mut params = FrameParams::new(size, size, spp, prepared.camera);
     tracer.render(&params, 0, size, &mut |_| {})?;
@@ -143,7 +135,7 @@ pub fn walk(
     size: u32,
     spp: u32,
 ) -> Result<Vec<WalkRow>> {
-    use platoon::core::drive::{Edit, Updater};
+    use platoon::core::drive::Updater;
     let (scene, node) = platoon::generated::walk_in_a_room(character, cells)?;
     let camera = platoon::core::scene::camera::Camera::from_scene(&scene, &scene.pose(0.0), None)
         .map_err(anyhow::Error::msg)?;
@@ -161,11 +153,9 @@ pub fn walk(
     for step in 0..=steps {
         let mut refit_s = 0.0;
         if step > 0 {
-            updater.apply(Edit::Time(0.3 * step as f32))?;
-            updater.apply(Edit::Placement {
-                node,
-                placement: platoon::generated::walk_step(step as f64),
-            })?;
+            for e in platoon::generated::walk_edits(node, step) {
+                updater.apply(e)?;
+            }
             let generation = updater.update()?;
             refit_s = generation.times.bottom_level.as_secs_f64();
             for t in [&mut kept, &mut rebuilt, &mut path] {

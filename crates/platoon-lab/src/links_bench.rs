@@ -99,16 +99,23 @@ pub struct LinksRow {
     pub frame: Duration,
 }
 
+impl LinksScene {
+    /// The scene prepared for rendering (flattened, its BVHs built).
+    pub fn prepare(&self) -> Result<platoon::Prepared> {
+        platoon::prepare(
+            self.scene.clone(),
+            &PrepareOptions {
+                env: self.env.clone(),
+                ..Default::default()
+            },
+        )
+        .with_context(|| format!("preparing {}", self.name))
+    }
+}
+
 /// Measures `scene` with `options` on device 0, frames of `size` x `size` at `spp`.
 pub fn measure(s: &LinksScene, options: LinksOptions, size: u32, spp: u32) -> Result<LinksRow> {
-    let prepared = platoon::prepare(
-        s.scene.clone(),
-        &PrepareOptions {
-            env: s.env.clone(),
-            ..Default::default()
-        },
-    )
-    .with_context(|| format!("preparing {}", s.name))?;
+    let prepared = s.prepare()?;
     let mut tracer = Tracer::new(&TracerOptions::default(), &prepared.gpu)?;
     let mut params = FrameParams::new(size, size, spp, prepared.camera);
     params.method = Method::Links(Links::new(options));

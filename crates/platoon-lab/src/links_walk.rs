@@ -17,7 +17,7 @@ use platoon::core::method::links::{Job, Links, LinksOptions, Solution};
 use platoon::core::scene::camera::Camera;
 use platoon::core::{Method, Scene};
 use platoon::game::{start, GameOptions};
-use platoon::generated::{walk_in_a_room, walk_step};
+use platoon::generated::{walk_edits, walk_in_a_room, walk_step};
 use platoon::tracer::{Tracer, TracerOptions};
 
 /// One step of the walk.
@@ -67,11 +67,9 @@ pub fn walk(
     let (mut last, _) = solve(&mut tracer, updater.flattened(), None)?;
     let mut rows = Vec::new();
     for step in 1..=steps {
-        updater.apply(Edit::Time(0.3 * step as f32))?;
-        updater.apply(Edit::Placement {
-            node,
-            placement: walk_step(step as f64),
-        })?;
+        for e in walk_edits(node, step) {
+            updater.apply(e)?;
+        }
         let generation = updater.update()?;
         tracer.apply_commit(&generation.commit)?;
         let g = updater.flattened();

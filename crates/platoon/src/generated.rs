@@ -40,6 +40,18 @@ pub fn walk_in_a_room(
     Ok((scene, node))
 }
 
+/// The edits that take the walk's character `node` to whole step `step`: its animation at
+/// 0.3 s a step and its placement ([`walk_step`]); one generation a step.
+pub fn walk_edits(node: usize, step: usize) -> [platoon_core::drive::Edit; 2] {
+    [
+        platoon_core::drive::Edit::Time(0.3 * step as f32),
+        platoon_core::drive::Edit::Placement {
+            node,
+            placement: walk_step(step as f64),
+        },
+    ]
+}
+
 /// Where step `k` of the walk (a fraction between steps too) puts the character: 0.4 m further
 /// along the floor each step, between the Cornell box's blocks, one and a half times its size.
 pub fn walk_step(k: f64) -> platoon_core::scene::Placement {
