@@ -71,7 +71,7 @@ fn device_lists(
 }
 
 fn report<'a>(r: &'a [(String, String)], key: &str) -> &'a str {
-    &r.iter().find(|(k, _)| k == key).expect(key).1
+    platoon::core::frame::renderer::report_entry(r, key).expect(key)
 }
 
 /// Compares every `step`-th direction's device lists with the oracle's: (texels the same,

@@ -219,13 +219,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         rendered.rays() as f64 / secs / 1e6,
         rendered.rejected_samples()
     );
-    let entry = |key: &str| {
-        rendered
-            .method_metadata
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
-    };
+    let entry = |key| platoon::core::frame::renderer::report_entry(&rendered.method_metadata, key);
     if let Some(build) = entry("lhb_build") {
         eprintln!("  layered hit buffers: {build}");
     }

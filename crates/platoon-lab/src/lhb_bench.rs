@@ -11,6 +11,7 @@
 use std::time::Duration;
 
 use anyhow::{Context as _, Result};
+use platoon::core::frame::renderer::report_entry;
 use platoon::core::frame::FrameParams;
 use platoon::core::method::lhb::{Lhb, LhbOptions};
 use platoon::core::Method;
@@ -59,10 +60,8 @@ fn device_time(band: &platoon::core::frame::Band) -> Duration {
 }
 
 fn entry(report: &[(String, String)], key: &str) -> Result<f64> {
-    report
-        .iter()
-        .find(|(k, _)| k == key)
-        .and_then(|(_, v)| v.parse().ok())
+    report_entry(report, key)
+        .and_then(|v| v.parse().ok())
         .with_context(|| format!("the band reported no {key}"))
 }
 
@@ -183,12 +182,10 @@ pub fn walk(
         rows.push(WalkRow {
             step,
             kept_build_s: entry(&a.method_report, "lhb_build_s")?,
-            kept_what: a
-                .method_report
-                .iter()
-                .find(|(k, _)| k == "lhb_build")
-                .map(|(_, v)| v.split(':').next().unwrap_or("").to_string())
-                .unwrap_or_default(),
+            kept_what: report_entry(&a.method_report, "lhb_build")
+                .and_then(|v| v.split(':').next())
+                .unwrap_or("")
+                .to_string(),
             rebuild_s: entry(&b.method_report, "lhb_build_s")?,
             lhb_frame_s: device_time(&a).as_secs_f64(),
             refit_s,

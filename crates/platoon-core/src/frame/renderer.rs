@@ -367,6 +367,14 @@ pub fn first_report(bands: &[Band]) -> Vec<(String, String)> {
         .unwrap_or_default()
 }
 
+/// The value of `key` in a method's report (`Band::method_report`), if it has one.
+pub fn report_entry<'a>(report: &'a [(String, String)], key: &str) -> Option<&'a str> {
+    report
+        .iter()
+        .find(|(k, _)| k == key)
+        .map(|(_, v)| v.as_str())
+}
+
 /// The bands' `per_pixel` data joined in pixel order (taken out of them).
 pub fn per_pixel_in_order(bands: &mut [Band]) -> Vec<[f32; 4]> {
     let mut order: Vec<usize> = (0..bands.len()).collect();
