@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Installs what platoon needs on Debian 12 that a machine with Rust may lack: the Vulkan loader,
 # Mesa's lavapipe (software Vulkan), the Khronos validation layer (tests), and the tools that
-# build shaderc from source (cmake, ninja, python3), the font of bench balance plots, the X11
+# build nv-flip (g++), python3, the font of bench balance plots, the X11
 # libraries `platoon view` opens its window with, and Xvfb and xdotool for the viewer test.
+# shaderc comes from Debian (libshaderc-dev with glslang-dev and spirv-tools, linked in seconds);
+# `--features shaderc-from-source` builds it instead, which needs cmake and ninja-build.
 # Uses sudo only when not root.
 set -euo pipefail
-packages=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers cmake ninja-build python3 g++ git fonts-dejavu-core
+packages=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers libshaderc-dev glslang-dev spirv-tools python3 g++ git
+    fonts-dejavu-core
     libx11-6 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 xvfb xdotool)
 missing=()
 for p in "${packages[@]}"; do
