@@ -3,73 +3,12 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+mod support;
+
+use support::*;
 
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn platoon(args: &[&str]) -> Output {
-    platoon_in(Path::new("."), args)
-}
-
-/// A `platoon` command line, built flag by flag: `Cli::new("render").spp(4).size(32, 32)
-/// .out(&png).run()`. Every invocation of this file goes through it.
-struct Cli {
-    args: Vec<std::ffi::OsString>,
-}
-
-impl Cli {
-    fn new(command: &str) -> Cli {
-        Cli {
-            args: vec![command.into()],
-        }
-    }
-    /// A positional argument or a switch.
-    fn arg(mut self, a: impl AsRef<std::ffi::OsStr>) -> Cli {
-        self.args.push(a.as_ref().to_owned());
-        self
-    }
-    fn flag(self, name: &str, value: impl AsRef<std::ffi::OsStr>) -> Cli {
-        self.arg(name).arg(value)
-    }
-    fn spp(self, spp: u32) -> Cli {
-        self.flag("--spp", spp.to_string())
-    }
-    fn size(self, width: u32, height: u32) -> Cli {
-        self.flag("--width", width.to_string())
-            .flag("--height", height.to_string())
-    }
-    fn out(self, path: impl AsRef<std::ffi::OsStr>) -> Cli {
-        self.flag("--out", path)
-    }
-    fn strs(&self) -> Vec<&str> {
-        self.args
-            .iter()
-            .map(|a| a.to_str().expect("a UTF-8 argument"))
-            .collect()
-    }
-    fn run(&self) -> Output {
-        platoon(&self.strs())
-    }
-    fn run_in(&self, dir: &Path) -> Output {
-        platoon_in(dir, &self.strs())
-    }
-    /// Runs it and checks it fails naming `names`, writing nothing at `out`.
-    fn fails_naming(&self, names: &str, out: &Path) {
-        assert_fails_naming(&self.strs(), names, out)
-    }
-}
-
-/// The value of EXR metadata entry `platoon:<key>` ("" when absent).
-fn metadata_value(meta: &[(String, String)], key: &str) -> String {
-    meta.iter()
-        .find(|(k, _)| k == &format!("platoon:{key}"))
-        .map(|(_, v)| v.clone())
-        .unwrap_or_default()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use std::process::Command;
 
 /// A one-triangle glTF with an external buffer, optionally with extra top-level JSON.
 fn write_gltf(dir: &Path, name: &str, extra: &str, material: &str) -> std::path::PathBuf {
@@ -87,23 +26,6 @@ fn write_gltf(dir: &Path, name: &str, extra: &str, material: &str) -> std::path:
     let path = dir.join(name);
     std::fs::write(&path, json).unwrap();
     path
-}
-
-fn assert_fails_naming(args: &[&str], names: &str, out: &Path) {
-    let o = platoon(args);
-    let err = stderr(&o);
-    assert!(!o.status.success(), "succeeded: {args:?}");
-    assert!(err.contains(names), "message does not name {names}: {err}");
-    assert!(!err.contains("panicked"), "panic: {err}");
-    assert!(!out.exists(), "an output file was written");
-    let Ok(entries) = std::fs::read_dir(out.parent().unwrap()) else {
-        return;
-    };
-    let leftovers: Vec<_> = entries
-        .flatten()
-        .filter(|e| e.file_name().to_string_lossy().ends_with(".part"))
-        .collect();
-    assert!(leftovers.is_empty(), "temporary files left behind");
 }
 
 #[test]
@@ -676,16 +598,6 @@ fn renders_by_instant_global_illumination_and_says_so_in_the_metadata() {
         "{}",
         stderr(&p)
     );
-}
-
-/// `platoon ARGS` run from `dir`.
-fn platoon_in(dir: &Path, args: &[&str]) -> Output {
-    common::init();
-    Command::new(env!("CARGO_BIN_EXE_platoon"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run platoon")
 }
 
 #[test]

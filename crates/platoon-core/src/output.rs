@@ -76,11 +76,11 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
 }
 
 /// Writes `film` as EXR or PNG according to the extension, with `metadata` (key, value) pairs
-/// stored as EXR string attributes (PNG: tEXt chunks are not written; use EXR for metadata).
+/// stored as EXR string attributes or PNG iTXt chunks, each key prefixed `platoon:`.
 pub fn write_image(path: &Path, film: &Film, metadata: &[(String, String)]) -> Result<()> {
     match check_image_path(path)? {
         ImageFormat::Exr => write_atomically(path, |w| write_exr(path, w, film, metadata)),
-        ImageFormat::Png => write_atomically(path, |w| write_png(path, w, film)),
+        ImageFormat::Png => write_atomically(path, |w| write_png(path, w, film, metadata)),
     }
 }
 
@@ -153,12 +153,52 @@ pub fn tonemap(c: f32) -> u8 {
     (s * 255.0 + 0.5) as u8
 }
 
-fn write_png(path: &Path, w: &mut (impl Write + std::io::Seek), film: &Film) -> Result<()> {
-    let bytes = film.srgb8();
-    let img = image::RgbImage::from_raw(film.width, film.height, bytes)
-        .ok_or_else(|| Error::file(path, "film size mismatch"))?;
-    img.write_to(w, image::ImageFormat::Png)
-        .map_err(|e| Error::file(path, format!("cannot write PNG: {e}")))
+fn write_png(
+    path: &Path,
+    w: &mut (impl Write + std::io::Seek),
+    film: &Film,
+    metadata: &[(String, String)],
+) -> Result<()> {
+    let failed = |e: png::EncodingError| Error::file(path, format!("cannot write PNG: {e}"));
+    let mut encoder = png::Encoder::new(w, film.width, film.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    for (k, v) in metadata {
+        encoder
+            .add_itxt_chunk(format!("platoon:{k}"), v.clone())
+            .map_err(failed)?;
+    }
+    let mut writer = encoder.write_header().map_err(failed)?;
+    writer.write_image_data(&film.srgb8()).map_err(failed)?;
+    writer.finish().map_err(failed)
+}
+
+/// The `platoon:` metadata of an image written by [`write_image`], read through to its last
+/// pixel, so that a truncated or damaged file is an error (a render farm's resume redoes it).
+pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>> {
+    match check_image_path(path)? {
+        ImageFormat::Exr => Ok(read_exr(path)?.1),
+        ImageFormat::Png => {
+            let failed = |e: png::DecodingError| Error::file(path, format!("cannot read PNG: {e}"));
+            let file = std::fs::File::open(path)
+                .map_err(|e| Error::file(path, format!("cannot open: {e}")))?;
+            let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+                .read_info()
+                .map_err(failed)?;
+            let mut meta = Vec::new();
+            for chunk in &reader.info().utf8_text {
+                meta.push((chunk.keyword.clone(), chunk.get_text().map_err(failed)?));
+            }
+            let size = reader
+                .output_buffer_size()
+                .ok_or_else(|| Error::file(path, "PNG too large"))?;
+            let mut pixels = vec![0; size];
+            reader.next_frame(&mut pixels).map_err(failed)?;
+            reader.finish().map_err(failed)?;
+            meta.sort();
+            Ok(meta)
+        }
+    }
 }
 
 /// Reads an EXR written by [`write_image`] back (tests and tools).

@@ -6,6 +6,7 @@
 //! is the lab's crate, platoon-lab.
 //! [`core`] and [`tracer`] are the two crates underneath.
 
+pub mod animation;
 pub mod devices;
 pub mod game;
 pub mod generated;
@@ -14,10 +15,10 @@ pub mod method_update;
 pub mod prepare;
 pub mod render;
 
-pub use metadata::{approximations, metadata};
+pub use metadata::{approximations, metadata, metadata_of, SceneFacts};
 pub use platoon_core as core;
 pub use platoon_tracer as tracer;
 pub use prepare::{
     load_scene, load_scene_with, prepare, EnvChoice, PrepareOptions, Prepared, DEFAULT_SKY,
 };
-pub use render::{render, render_bands, render_frame, whole_frame, Rendered};
+pub use render::{render, render_bands, render_frame, whole_frame, Rendered, Tracers};

@@ -4,6 +4,26 @@ use platoon_core::frame::FrameParams;
 
 use crate::{Prepared, Rendered};
 
+/// What the metadata says of the scene a frame was rendered from.
+pub struct SceneFacts<'a> {
+    pub source: Option<&'a std::path::Path>,
+    pub features: platoon_core::SceneFeatures,
+    pub env_label: &'a str,
+    /// Where render space is centred (the floating origin).
+    pub origin: glam::DVec3,
+}
+
+impl Prepared {
+    pub fn facts(&self) -> SceneFacts<'_> {
+        SceneFacts {
+            source: self.scene.source.as_deref(),
+            features: self.gpu.features,
+            env_label: &self.env_label,
+            origin: self.posed.origin,
+        }
+    }
+}
+
 /// The metadata written into EXR outputs.
 pub fn metadata(
     prepared: &Prepared,
@@ -11,11 +31,19 @@ pub fn metadata(
     rendered: &Rendered,
     sampling: &str,
 ) -> Vec<(String, String)> {
-    let features = platoon_core::KernelVariant::new(prepared.gpu.features, params);
-    let source = prepared
-        .scene
+    metadata_of(&prepared.facts(), params, rendered, sampling)
+}
+
+/// The same for a frame of a scene described by `facts` (an animation's frames).
+pub fn metadata_of(
+    facts: &SceneFacts,
+    params: &FrameParams,
+    rendered: &Rendered,
+    sampling: &str,
+) -> Vec<(String, String)> {
+    let features = platoon_core::KernelVariant::new(facts.features, params);
+    let source = facts
         .source
-        .as_ref()
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| "built-in Cornell box".into());
     let mut m = vec![
@@ -84,13 +112,10 @@ pub fn metadata(
         ),
         ("sampling".into(), sampling.into()),
         ("method".into(), method(params)),
-        ("environment".into(), prepared.env_label.clone()),
+        ("environment".into(), facts.env_label.to_string()),
         (
             "render_origin".into(),
-            format!(
-                "{},{},{}",
-                prepared.posed.origin.x, prepared.posed.origin.y, prepared.posed.origin.z
-            ),
+            format!("{},{},{}", facts.origin.x, facts.origin.y, facts.origin.z),
         ),
         (
             "rejected_samples".into(),

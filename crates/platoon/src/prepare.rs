@@ -55,6 +55,7 @@ pub struct Prepared {
     pub time: f32,
 }
 
+#[derive(Clone, Debug)]
 pub struct PrepareOptions {
     pub env: EnvChoice,
     /// Animation time in seconds.
@@ -82,39 +83,7 @@ impl Default for PrepareOptions {
 
 pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
     let start = Instant::now();
-    let mut note = None;
-    let env_label;
-    match &options.env {
-        EnvChoice::File(path) => {
-            scene.environment = Some(Environment::Map(EnvMap::load(path)?));
-            env_label = path.display().to_string();
-        }
-        EnvChoice::Color(c) => {
-            if c.min_element() < 0.0 || !c.is_finite() {
-                bail!("--env-color must be three finite non-negative numbers");
-            }
-            scene.environment = Some(Environment::Constant(*c));
-            env_label = format!("constant {},{},{}", c.x, c.y, c.z);
-        }
-        EnvChoice::Scene => env_label = "none".into(),
-    }
-    let lit = platoon_core::SceneFeatures::of_scene(&scene);
-    let env_label = if scene.environment.is_none()
-        && !lit.emissive_triangles
-        && !lit.punctual_lights
-    {
-        scene.environment = Some(Environment::Constant(Vec3::splat(DEFAULT_SKY)));
-        note = Some(format!(
-            "the scene has no lights: lighting it with a uniform white sky of radiance {DEFAULT_SKY} (use --env or --env-color to choose)"
-        ));
-        format!("default uniform sky {DEFAULT_SKY}")
-    } else {
-        env_label
-    };
-    let in_scene = |e: platoon_core::Error| match &scene.source {
-        Some(path) => anyhow::anyhow!("{}: {e}", path.display()),
-        None => anyhow::anyhow!("{e}"),
-    };
+    let (env_label, note) = light(&mut scene, &options.env)?;
     // Render space is centred near the camera (a floating origin), so a scene far from the
     // world origin keeps its precision; the first pose only finds where the camera is.
     if !options.time.is_finite() {
@@ -129,29 +98,15 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
     if origin.follow(camera.position().as_dvec3()) {
         posed = scene.pose_around(options.time, origin.origin);
     }
-    let mut camera =
-        Camera::from_scene(&scene, &posed, options.camera).map_err(anyhow::Error::msg)?;
-    let view_ok = camera.orthographic.is_some() || (f32::EPSILON..PI).contains(&camera.yfov);
-    if !camera.camera_to_world.is_finite() || !view_ok {
-        return Err(in_scene(platoon_core::Error::Invalid(
-            "the camera has a non-finite transform or a field of view outside (0, 180) degrees"
-                .into(),
-        )));
-    }
+    let camera = camera_at(&scene, &posed, options)?;
     let mut merge = if options.merge_static {
         StaticMerge::of_scene(&scene)
     } else {
         StaticMerge::none()
     };
     let levels = merge.apply(&scene, posed.clone());
-    let gpu = GpuScene::build(&scene, &levels, scene.environment.as_ref()).map_err(in_scene)?;
-    camera.aperture_radius = options.aperture_radius.max(0.0);
-    if let Some(f) = options.focus_distance {
-        if f.is_nan() || f <= 0.0 {
-            bail!("--focus-distance must be positive");
-        }
-        camera.focus_distance = f;
-    }
+    let gpu = GpuScene::build(&scene, &levels, scene.environment.as_ref())
+        .map_err(|e| in_scene(&scene, e))?;
     Ok(Prepared {
         scene,
         posed,
@@ -162,4 +117,64 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
         prepare_time: start.elapsed(),
         time: options.time,
     })
+}
+
+/// Gives `scene` the distant light `env` chooses (a uniform sky when it has no light at all):
+/// the label the metadata gives it, and a note when platoon chose it.
+pub fn light(scene: &mut Scene, env: &EnvChoice) -> Result<(String, Option<String>)> {
+    let env_label = match env {
+        EnvChoice::File(path) => {
+            scene.environment = Some(Environment::Map(EnvMap::load(path)?));
+            path.display().to_string()
+        }
+        EnvChoice::Color(c) => {
+            if c.min_element() < 0.0 || !c.is_finite() {
+                bail!("--env-color must be three finite non-negative numbers");
+            }
+            scene.environment = Some(Environment::Constant(*c));
+            format!("constant {},{},{}", c.x, c.y, c.z)
+        }
+        EnvChoice::Scene => "none".into(),
+    };
+    let lit = platoon_core::SceneFeatures::of_scene(scene);
+    if scene.environment.is_none() && !lit.emissive_triangles && !lit.punctual_lights {
+        scene.environment = Some(Environment::Constant(Vec3::splat(DEFAULT_SKY)));
+        let note = format!(
+            "the scene has no lights: lighting it with a uniform white sky of radiance {DEFAULT_SKY} (use --env or --env-color to choose)"
+        );
+        return Ok((format!("default uniform sky {DEFAULT_SKY}"), Some(note)));
+    }
+    Ok((env_label, None))
+}
+
+/// The camera `options` choose in the scene posed as `posed`, with their lens, checked.
+pub fn camera_at(scene: &Scene, posed: &Posed, options: &PrepareOptions) -> Result<Camera> {
+    let mut camera =
+        Camera::from_scene(scene, posed, options.camera).map_err(anyhow::Error::msg)?;
+    let view_ok = camera.orthographic.is_some() || (f32::EPSILON..PI).contains(&camera.yfov);
+    if !camera.camera_to_world.is_finite() || !view_ok {
+        return Err(in_scene(
+            scene,
+            platoon_core::Error::Invalid(
+                "the camera has a non-finite transform or a field of view outside (0, 180) degrees"
+                    .into(),
+            ),
+        ));
+    }
+    camera.aperture_radius = options.aperture_radius.max(0.0);
+    if let Some(f) = options.focus_distance {
+        if f.is_nan() || f <= 0.0 {
+            bail!("--focus-distance must be positive");
+        }
+        camera.focus_distance = f;
+    }
+    Ok(camera)
+}
+
+/// An error of the scene, naming its file.
+fn in_scene(scene: &Scene, e: platoon_core::Error) -> anyhow::Error {
+    match &scene.source {
+        Some(path) => anyhow::anyhow!("{}: {e}", path.display()),
+        None => anyhow::anyhow!("{e}"),
+    }
 }

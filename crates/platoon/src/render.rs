@@ -1,9 +1,12 @@
 //! Rendering a prepared frame: on one tracer band by band, or on many through the core's
 //! renderer, and what it cost.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use anyhow::{Context as _, Result};
+use platoon_core::flatten::commit::Commit;
+use platoon_core::flatten::GpuScene;
 use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::{assemble, Band, FrameParams, Span};
 use platoon_core::output::Film;
@@ -142,4 +145,72 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         method_metadata: [params.method.unit().metadata(), frame.method_report].concat(),
         film: frame.film,
     })
+}
+
+/// The devices a render runs on: one tracer rendering the frame as one band, or several under
+/// the renderer's balancer. Created once; an animation brings them from frame to frame with
+/// the updater's commits.
+pub enum Tracers {
+    One(Box<Tracer>),
+    Many(Renderer<Tracer>),
+}
+
+impl Tracers {
+    /// Tracers for `options` (one per entry) holding `scene`; `balancer` splits the lines
+    /// when there are several (a name of `platoon_core::balance::NAMES`).
+    pub fn new(options: &[TracerOptions], balancer: &str, scene: &GpuScene) -> Result<Tracers> {
+        let mut tracers = crate::devices::tracers_from_options(options, scene)?;
+        if tracers.len() == 1 {
+            return Ok(Tracers::One(Box::new(tracers.remove(0))));
+        }
+        let policy = platoon_core::balance::by_name(balancer).with_context(|| {
+            format!(
+                "unknown balancer {balancer:?} (known: {})",
+                platoon_core::balance::NAMES.join(", ")
+            )
+        })?;
+        Ok(Tracers::Many(Renderer::new(tracers, policy)))
+    }
+
+    pub fn count(&self) -> usize {
+        match self {
+            Tracers::One(_) => 1,
+            Tracers::Many(r) => r.alive().len(),
+        }
+    }
+
+    /// Brings every tracer to the generation `commit` was made for.
+    pub fn apply_commit(&mut self, commit: &Arc<Commit>, frame: u32) -> Result<()> {
+        match self {
+            Tracers::One(t) => {
+                t.apply_commit(commit)
+                    .context("uploading the frame's changes")?;
+            }
+            Tracers::Many(r) => {
+                r.apply_commit(commit, frame)
+                    .context("uploading the frame's changes")?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Renders a frame of `scene` (the scene the tracers hold) after the method's preparation;
+    /// `progress` hears the samples done (one tracer only: several render on their own threads).
+    pub fn render(
+        &mut self,
+        scene: &GpuScene,
+        params: &FrameParams,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<Rendered> {
+        match self {
+            Tracers::One(t) => {
+                let params = crate::method_update::on_tracer(t, scene, params)?;
+                render_bands(t, &params, &[whole_frame(&params)], progress)
+            }
+            Tracers::Many(r) => {
+                let params = crate::method_update::on_renderer(r, scene, params)?;
+                render_frame(r, &params)
+            }
+        }
+    }
 }

@@ -1,15 +1,19 @@
-//! `platoon render`: one frame of a scene to an EXR or PNG, with a progress bar.
+//! `platoon render`: one frame of a scene to an EXR or PNG, with a progress bar; with
+//! `--frames`, an animation to numbered files ([`frames`]).
+
+mod frames;
 
 use std::path::PathBuf;
 
 use anyhow::{bail, Result};
 use clap::ValueEnum;
+use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use platoon::core::balance;
 use platoon::core::frame::FrameParams;
 use platoon::devices::DeviceSpec;
 use platoon::tracer::Sampling;
-use platoon::PrepareOptions;
+use platoon::{PrepareOptions, Tracers};
 
 use crate::method_args::MethodArgs;
 use crate::scene_args::SceneArgs;
@@ -80,6 +84,8 @@ pub struct RenderArgs {
     memory: MemoryArg,
     #[arg(long, short, default_value = "render.png")]
     out: PathBuf,
+    #[command(flatten)]
+    frames: frames::FrameArgs,
 }
 
 fn parse_balancer(s: &str) -> Result<String, String> {
@@ -92,7 +98,18 @@ fn parse_balancer(s: &str) -> Result<String, String> {
     }
 }
 
-pub fn run(a: RenderArgs) -> Result<()> {
+/// What a render needs besides the camera: the scene loaded, how to prepare it, the frame's
+/// parameters and the tracers' options.
+struct Setup {
+    scene: platoon::core::Scene,
+    options: PrepareOptions,
+    params: FrameParams,
+    tracers: Vec<platoon::tracer::TracerOptions>,
+    balancer: String,
+    sampling: &'static str,
+}
+
+fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
     let RenderArgs {
         scene,
         method,
@@ -111,8 +128,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
         validation,
         memory,
         out,
+        frames,
     } = a;
-    platoon::core::output::check_image_path(&out)?;
     let kernel = method.kernel;
     let method = method.method()?;
     if width == 0 || height == 0 || spp == 0 {
@@ -127,14 +144,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         focus_distance,
         ..Default::default()
     };
-    let prepared = platoon::prepare(loaded, &options)?;
-    for w in &prepared.scene.warnings {
-        eprintln!("warning: {w}");
-    }
-    if let Some(note) = &prepared.note {
-        eprintln!("note: {note}");
-    }
-    let mut params = FrameParams::new(width, height, spp, prepared.camera);
+    // The camera is the prepared scene's, or each frame's: set before rendering.
+    let placeholder = platoon::core::scene::camera::Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0);
+    let mut params = FrameParams::new(width, height, spp, placeholder);
     params.seed = seed;
     params.method = method;
     params.kernel = kernel;
@@ -152,8 +164,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
         SamplingArg::Bsdf => (Sampling::Bsdf, "bsdf"),
         SamplingArg::Light => (Sampling::Light, "light"),
     };
-    let mut options = platoon::devices::tracer_options(&devices, validation, sampling)?;
-    for o in &mut options {
+    let mut tracers = platoon::devices::tracer_options(&devices, validation, sampling)?;
+    for o in &mut tracers {
         o.memory = match memory {
             MemoryArg::Auto => platoon::tracer::MemoryPath::Auto,
             MemoryArg::TexelBuffers => platoon::tracer::MemoryPath::TexelBuffers,
@@ -161,64 +173,106 @@ pub fn run(a: RenderArgs) -> Result<()> {
             MemoryArg::DeviceAddress => platoon::tracer::MemoryPath::DeviceAddress,
         };
     }
-    if options.len() > 1 && time_limit.is_some() {
+    if tracers.len() > 1 && time_limit.is_some() {
         bail!("--time-limit renders on one device: bands cut at different times would break the image's independence from the device split");
     }
-    let rendered = if options.len() == 1 {
-        let bar = ProgressBar::new(spp as u64);
-        bar.set_style(
-            ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp {msg}")
-                .unwrap(),
-        );
-        let r = platoon::render(&prepared, &options[0], &params, &mut |done| {
-            bar.set_position(done as u64)
-        })?;
-        bar.finish_and_clear();
-        r
-    } else {
-        let policy = balance::by_name(&balancer).expect("validated by clap");
-        let tracers = platoon::devices::tracers_from_options(&options, &prepared.gpu)?;
-        let mut renderer = platoon::core::frame::renderer::Renderer::new(tracers, policy);
-        // Bands render on their own threads without per-sample progress: show that it runs.
-        let spinner = ProgressBar::new_spinner();
-        spinner.set_message(format!("rendering on {} tracers", options.len()));
-        spinner.enable_steady_tick(std::time::Duration::from_millis(200));
-        let r = platoon::method_update::on_renderer(&mut renderer, &prepared.gpu, &params)
-            .and_then(|solved| platoon::render_frame(&mut renderer, &solved));
-        spinner.finish_and_clear();
-        let r = r?;
-        for t in &r.tracers {
-            eprintln!(
-                "  tracer {}: lines {:.2}..{:.2} ({} pixels rendered), {:.3} s, idle {:.3} s",
-                t.tracer,
-                t.span.begin as f64 / params.width as f64,
-                t.span.end as f64 / params.width as f64,
-                t.pixels,
-                t.wall_time.as_secs_f64(),
-                t.idle.as_secs_f64()
-            );
-        }
-        r
+    let setup = Setup {
+        scene: loaded,
+        options,
+        params,
+        tracers,
+        balancer,
+        sampling: sampling_name,
     };
-    for m in &rendered.validation_messages {
-        eprintln!("validation: {m}");
+    Ok((setup, out, frames))
+}
+
+pub fn run(a: RenderArgs) -> Result<()> {
+    if a.frames.frames.is_some() {
+        return frames::run(a);
     }
-    let meta = platoon::metadata(&prepared, &params, &rendered, sampling_name);
-    let spp = rendered.spp;
+    platoon::core::output::check_image_path(&a.out)?;
+    let (setup, out, _) = setup(a)?;
+    let Setup {
+        scene,
+        options,
+        mut params,
+        tracers: options_of_tracers,
+        balancer,
+        sampling,
+    } = setup;
+    let prepared = platoon::prepare(scene, &options)?;
+    for w in &prepared.scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    if let Some(note) = &prepared.note {
+        eprintln!("note: {note}");
+    }
+    params.camera = prepared.camera;
+    let mut tracers = Tracers::new(&options_of_tracers, &balancer, &prepared.gpu)?;
+    let rendered = render_frame(&mut tracers, &prepared.gpu, &params)?;
+    let meta = platoon::metadata(&prepared, &params, &rendered, sampling);
     platoon::core::output::write_image(&out, &rendered.film, &meta)?;
     let secs = rendered.wall_time.as_secs_f64();
     eprintln!(
         "{}: {}x{} at {} spp in {:.2} s on {} ({:.2} M samples/s, {:.2} M rays/s, {} rejected samples)",
         out.display(),
-        width,
-        height,
-        spp,
+        params.width,
+        params.height,
+        rendered.spp,
         secs,
         rendered.device,
-        (width as f64 * height as f64 * spp as f64) / secs / 1e6,
+        (params.width as f64 * params.height as f64 * rendered.spp as f64) / secs / 1e6,
         rendered.rays() as f64 / secs / 1e6,
         rendered.rejected_samples()
     );
+    report_method(&rendered);
+    Ok(())
+}
+
+/// Renders a frame with a progress bar over its samples (one tracer) or a spinner (several,
+/// which render on their own threads), then prints the tracers' shares.
+fn render_frame(
+    tracers: &mut Tracers,
+    scene: &platoon::core::flatten::GpuScene,
+    params: &FrameParams,
+) -> Result<platoon::Rendered> {
+    let rendered = if tracers.count() == 1 {
+        let bar = ProgressBar::new(params.spp as u64);
+        bar.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp {msg}")
+                .unwrap(),
+        );
+        let r = tracers.render(scene, params, &mut |done| bar.set_position(done as u64));
+        bar.finish_and_clear();
+        r?
+    } else {
+        let spinner = ProgressBar::new_spinner();
+        spinner.set_message(format!("rendering on {} tracers", tracers.count()));
+        spinner.enable_steady_tick(std::time::Duration::from_millis(200));
+        let r = tracers.render(scene, params, &mut |_| {});
+        spinner.finish_and_clear();
+        r?
+    };
+    for t in &rendered.tracers {
+        eprintln!(
+            "  tracer {}: lines {:.2}..{:.2} ({} pixels rendered), {:.3} s, idle {:.3} s",
+            t.tracer,
+            t.span.begin as f64 / params.width as f64,
+            t.span.end as f64 / params.width as f64,
+            t.pixels,
+            t.wall_time.as_secs_f64(),
+            t.idle.as_secs_f64()
+        );
+    }
+    for m in &rendered.validation_messages {
+        eprintln!("validation: {m}");
+    }
+    Ok(rendered)
+}
+
+/// What the method's report says a user should see (layered hit buffers' build and losses).
+fn report_method(rendered: &platoon::Rendered) {
     let entry = |key| platoon::core::frame::renderer::report_entry(&rendered.method_metadata, key);
     if let Some(build) = entry("lhb_build") {
         eprintln!("  layered hit buffers: {build}");
@@ -229,5 +283,4 @@ pub fn run(a: RenderArgs) -> Result<()> {
              lookups: raise --lhb-layers or use --lhb-variant exact"
         );
     }
-    Ok(())
 }

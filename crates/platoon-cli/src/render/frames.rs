@@ -1,0 +1,270 @@
+//! `platoon render --frames A..B[:STEP]`: an animation to numbered files, with what a render
+//! farm needs: a task's share of the range from a job-array index in the environment, each
+//! frame written atomically, frames already done skipped (resume), and a line per frame on
+//! standard output saying what became of it (`frame N: ok|skipped|failed ...`); the exit
+//! status is non-zero when any frame failed.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{bail, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use platoon::animation::{frame_path, task_index, Animation, FrameRange};
+use platoon::core::frame::FrameParams;
+use platoon::Tracers;
+
+use super::{RenderArgs, Setup};
+
+#[derive(clap::Args)]
+pub struct FrameArgs {
+    /// Render an animation: frames A..B[:STEP] (B included), frame F at animation time
+    /// F / --fps seconds, to numbered files (`--out dir/shot_####.exr`: the last run of #
+    /// takes the frame number; a name without # gets `_####`).
+    #[arg(long)]
+    pub frames: Option<FrameRange>,
+    /// Frames per second of the animation.
+    #[arg(long, default_value_t = 24.0)]
+    pub fps: f64,
+    /// Render farms: the environment variable holding this task's index, counted from 0
+    /// (Slurm: SLURM_ARRAY_TASK_ID with --array=0-N; a Kubernetes indexed job:
+    /// JOB_COMPLETION_INDEX). The task renders chunk INDEX of the range cut into --chunk frames.
+    #[arg(long, value_name = "VARIABLE")]
+    pub task_index: Option<String>,
+    /// Frames per farm task (with --task-index).
+    #[arg(long, default_value_t = 1)]
+    pub chunk: usize,
+    /// Render again frames whose file is already there with these settings (default: skip).
+    #[arg(long)]
+    pub overwrite: bool,
+    /// A different noise pattern every frame (seed plus frame number), as Cycles' animated
+    /// seed; by default every frame uses --seed, as a still render at its time would.
+    #[arg(long)]
+    pub animated_seed: bool,
+    /// Prepare each frame from scratch (BVHs rebuilt, tracers created anew) instead of
+    /// carrying the scene from frame to frame with refits: what a loop of still renders costs.
+    #[arg(long)]
+    pub fresh_prepare: bool,
+}
+
+pub fn run(a: RenderArgs) -> Result<()> {
+    platoon::core::output::check_image_path(&a.out)?;
+    if a.scene.time != 0.0 {
+        bail!("--time and --frames: each frame's time is its number / --fps");
+    }
+    let (setup, out, args) = super::setup(a)?;
+    let range = args.frames.expect("run only with --frames");
+    if !(args.fps.is_finite() && args.fps > 0.0) {
+        bail!("--fps must be a positive number, not {}", args.fps);
+    }
+    let frames = match &args.task_index {
+        Some(var) => range.chunk(args.chunk, task_index(var)?)?,
+        None => range.frames(),
+    };
+    let job = Job::new(&setup, &args);
+    let mut todo = Vec::new();
+    for f in frames {
+        let path = frame_path(&out, f);
+        if !args.overwrite && job.done(&path, f) {
+            println!("frame {f}: skipped, {} is done", path.display());
+        } else {
+            todo.push(f);
+        }
+    }
+    if todo.is_empty() {
+        eprintln!("every frame is done (--overwrite renders them again)");
+        return Ok(());
+    }
+    let spp = setup.params.spp as u64;
+    let bar = ProgressBar::new(todo.len() as u64 * spp);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg} (eta {eta})").unwrap(),
+    );
+    let mut frames = Frames::new(setup, args.fresh_prepare)?;
+    let mut failed = 0;
+    let start = Instant::now();
+    for (i, &f) in todo.iter().enumerate() {
+        bar.set_message(format!("frame {f} ({} of {})", i + 1, todo.len()));
+        bar.set_position(i as u64 * spp);
+        let path = frame_path(&out, f);
+        let began = Instant::now();
+        let done = i as u64 * spp;
+        let result = frames.render(&job, f, &path, &mut |s| bar.set_position(done + s as u64));
+        bar.suspend(|| match result {
+            Ok(()) => println!(
+                "frame {f}: ok, {} in {:.2} s",
+                path.display(),
+                began.elapsed().as_secs_f64()
+            ),
+            Err(e) => {
+                failed += 1;
+                println!("frame {f}: failed: {e:#}");
+            }
+        });
+    }
+    bar.finish_and_clear();
+    let secs = start.elapsed().as_secs_f64();
+    eprintln!(
+        "{} frame(s) in {secs:.1} s ({:.2} s a frame), {failed} failed",
+        todo.len(),
+        secs / todo.len() as f64
+    );
+    if failed > 0 {
+        bail!("{failed} of {} frame(s) failed", todo.len());
+    }
+    Ok(())
+}
+
+/// What makes a frame's image what it is (the settings, the scene file as it is now, the
+/// frame): written into each frame's metadata as `job`; a file whose `job` matches is done.
+struct Job {
+    settings: String,
+    fps: f64,
+    animated_seed: bool,
+}
+
+impl Job {
+    fn new(setup: &Setup, args: &FrameArgs) -> Job {
+        let scene = match &setup.scene.source {
+            Some(p) => {
+                let stamp = std::fs::metadata(p).ok().map(|m| {
+                    let mtime = m.modified().ok().and_then(|t| {
+                        t.duration_since(std::time::UNIX_EPOCH)
+                            .ok()
+                            .map(|d| d.as_nanos())
+                    });
+                    format!("{} bytes, modified {mtime:?}", m.len())
+                });
+                let path = p.canonicalize().unwrap_or_else(|_| p.clone());
+                format!("{} ({})", path.display(), stamp.unwrap_or_default())
+            }
+            None => "built-in Cornell box".into(),
+        };
+        let p = &setup.params;
+        let o = &setup.options;
+        let settings = format!(
+            "scene {scene}; env {:?}; camera {:?}, aperture {}, focus {:?}; {}x{}, {} spp, \
+             time limit {:?}, max depth {}, seed {}{}; {}; kernel {:?}; {} sampling; {} fps",
+            o.env,
+            o.camera,
+            o.aperture_radius,
+            o.focus_distance,
+            p.width,
+            p.height,
+            p.spp,
+            p.time_limit,
+            p.max_depth,
+            p.seed,
+            if args.animated_seed { " + frame" } else { "" },
+            p.method.unit().describe(),
+            p.kernel,
+            setup.sampling,
+            args.fps
+        );
+        Job {
+            settings,
+            fps: args.fps,
+            animated_seed: args.animated_seed,
+        }
+    }
+
+    fn of_frame(&self, frame: i64) -> String {
+        format!("{}; frame {frame}", self.settings)
+    }
+
+    fn time(&self, frame: i64) -> f32 {
+        (frame as f64 / self.fps) as f32
+    }
+
+    /// Whether `path` holds frame `frame` of this job, whole.
+    fn done(&self, path: &Path, frame: i64) -> bool {
+        let want = self.of_frame(frame);
+        platoon::core::output::read_metadata(path)
+            .is_ok_and(|meta| meta.iter().any(|(k, v)| k == "platoon:job" && *v == want))
+    }
+
+    /// The frame's parameters: its camera, and its seed (plus the frame with an animated seed).
+    fn params(
+        &self,
+        setup: &Setup,
+        frame: i64,
+        camera: platoon::core::scene::camera::Camera,
+    ) -> FrameParams {
+        let mut params = setup.params.clone();
+        params.camera = camera;
+        if self.animated_seed {
+            params.seed = params.seed.wrapping_add(frame as u32);
+        }
+        params
+    }
+}
+
+/// The scene and tracers carried from frame to frame (or, with `--fresh-prepare`, made anew
+/// for each).
+struct Frames {
+    setup: Setup,
+    carried: Option<(Animation, Tracers)>,
+    fresh: bool,
+}
+
+impl Frames {
+    fn new(setup: Setup, fresh: bool) -> Result<Frames> {
+        for w in &setup.scene.warnings {
+            eprintln!("warning: {w}");
+        }
+        Ok(Frames {
+            setup,
+            carried: None,
+            fresh,
+        })
+    }
+
+    /// Renders frame `frame` of `job` to `path` (atomically: a temporary file renamed).
+    fn render(
+        &mut self,
+        job: &Job,
+        frame: i64,
+        path: &Path,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<()> {
+        let time = job.time(frame);
+        let (rendered, meta) = if self.fresh {
+            let mut options = self.setup.options.clone();
+            options.time = time;
+            let prepared = platoon::prepare(self.setup.scene.clone(), &options)?;
+            let mut tracers =
+                Tracers::new(&self.setup.tracers, &self.setup.balancer, &prepared.gpu)?;
+            let params = job.params(&self.setup, frame, prepared.camera);
+            let rendered = tracers.render(&prepared.gpu, &params, progress)?;
+            let meta = platoon::metadata(&prepared, &params, &rendered, self.setup.sampling);
+            (rendered, meta)
+        } else {
+            if self.carried.is_none() {
+                let mut options = self.setup.options.clone();
+                options.time = time;
+                let animation = Animation::new(self.setup.scene.clone(), &options)?;
+                if let Some(note) = &animation.note {
+                    eprintln!("note: {note}");
+                }
+                let tracers =
+                    Tracers::new(&self.setup.tracers, &self.setup.balancer, animation.scene())?;
+                self.carried = Some((animation, tracers));
+            }
+            let (animation, tracers) = self.carried.as_mut().expect("made above");
+            if animation.time() != time {
+                let generation = animation.advance(time)?;
+                tracers.apply_commit(&generation.commit, generation.id as u32)?;
+            }
+            let params = job.params(&self.setup, frame, animation.camera());
+            let rendered = tracers.render(animation.scene(), &params, progress)?;
+            let meta =
+                platoon::metadata_of(&animation.facts(), &params, &rendered, self.setup.sampling);
+            (rendered, meta)
+        };
+        let mut meta = meta;
+        meta.push(("animation_frame".into(), frame.to_string()));
+        meta.push(("animation_time".into(), time.to_string()));
+        meta.push(("job".into(), job.of_frame(frame)));
+        platoon::core::output::write_image(path, &rendered.film, &meta)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,178 @@
+//! `platoon render --frames` (issue 24): animations to numbered files as a render farm runs
+//! them. Frames equal still renders at their times, bit for bit; a rerun skips the frames done
+//! and redoes a damaged one; a task renders the share its job-array index names; every frame's
+//! fate is a line on standard output and a failed frame fails the command.
+
+#[path = "../common/mod.rs"]
+mod common;
+mod support;
+
+use std::path::Path;
+
+use common::shared;
+use platoon::core::output::read_exr;
+use support::*;
+
+fn stdout(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn pixels(path: &Path) -> Vec<[f32; 3]> {
+    read_exr(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .0
+        .pixels
+}
+
+fn frames(range: &str) -> Cli {
+    Cli::new("render")
+        .flag("--frames", range)
+        .spp(2)
+        .size(24, 24)
+}
+
+#[test]
+fn frames_at_their_times_equal_still_renders_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let man = shared("scenes/CesiumMan.glb");
+    let o = frames("0..8:4")
+        .arg(&man)
+        .out(dir.path().join("man_####.exr"))
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let lines = stdout(&o);
+    for f in ["0000", "0004", "0008"] {
+        assert!(lines.contains(&format!("man_{f}.exr")), "{lines}");
+    }
+    let animated = frames("8")
+        .arg(&man)
+        .arg("--animated-seed")
+        .out(dir.path().join("seeded_#.exr"))
+        .run();
+    assert!(animated.status.success(), "{}", stderr(&animated));
+    // Frame F is at F / 24 s: the time a still render is given, printed as the f32 it is.
+    for (frame, seed) in [(4, 0), (8, 0), (8, 8)] {
+        let time = (frame as f64 / 24.0) as f32;
+        let still = dir.path().join(format!("still_{frame}_{seed}.exr"));
+        let o = Cli::new("render")
+            .arg(&man)
+            .spp(2)
+            .size(24, 24)
+            .flag("--time", time.to_string())
+            .flag("--seed", seed.to_string())
+            .out(&still)
+            .run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        let frame_file = if seed == 0 {
+            dir.path().join(format!("man_{frame:04}.exr"))
+        } else {
+            dir.path().join(format!("seeded_{frame}.exr"))
+        };
+        assert!(
+            pixels(&frame_file) == pixels(&still),
+            "frame {frame} (seed {seed}) differs from the still render at {time} s"
+        );
+    }
+    assert!(
+        pixels(&dir.path().join("man_0000.exr")) != pixels(&dir.path().join("man_0008.exr")),
+        "the animation moved nothing"
+    );
+    let (_, meta) = read_exr(&dir.path().join("man_0004.exr")).unwrap();
+    assert_eq!(metadata_value(&meta, "animation_frame"), "4");
+    assert!(metadata_value(&meta, "job").ends_with("frame 4"));
+}
+
+#[test]
+fn a_rerun_skips_done_frames_and_redoes_a_damaged_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("box_###.png");
+    let run = |extra: &[&str]| {
+        let mut cli = frames("1..3").out(&out);
+        for a in extra {
+            cli = cli.arg(a);
+        }
+        let o = cli.run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o)
+    };
+    run(&[]);
+    let second = dir.path().join("box_002.png");
+    let original = std::fs::read(&second).unwrap();
+    let decoded = |bytes: &[u8]| image::load_from_memory(bytes).unwrap().to_rgb8().into_raw();
+    let lines = run(&[]);
+    for f in 1..=3 {
+        assert!(lines.contains(&format!("frame {f}: skipped")), "{lines}");
+    }
+    // Cut inside the pixels (past every metadata chunk): only reading to the end tells.
+    std::fs::write(&second, &original[..original.len() - 16]).unwrap();
+    let lines = run(&[]);
+    assert!(lines.contains("frame 1: skipped"), "{lines}");
+    assert!(lines.contains("frame 2: ok"), "{lines}");
+    assert!(lines.contains("frame 3: skipped"), "{lines}");
+    let redone = std::fs::read(&second).unwrap();
+    assert!(decoded(&redone) == decoded(&original), "redone differently");
+    // Other settings make other images: nothing is done.
+    let lines = run(&["--seed", "3"]);
+    assert_eq!(lines.matches(": ok").count(), 3, "{lines}");
+    let lines = run(&["--seed", "3", "--overwrite"]);
+    assert_eq!(lines.matches(": ok").count(), 3, "{lines}");
+}
+
+#[test]
+fn a_farm_task_renders_the_chunk_its_index_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("f_##.exr");
+    let task = |index: Option<&str>| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_platoon"));
+        common::init();
+        command.args(
+            frames("1..5")
+                .flag("--chunk", "2")
+                .flag("--task-index", "TEST_ARRAY_INDEX")
+                .out(&out)
+                .strs(),
+        );
+        match index {
+            Some(i) => command.env("TEST_ARRAY_INDEX", i),
+            None => command.env_remove("TEST_ARRAY_INDEX"),
+        };
+        command.output().unwrap()
+    };
+    let o = task(Some("1"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let made: Vec<bool> = (1..=5)
+        .map(|f| dir.path().join(format!("f_{f:02}.exr")).exists())
+        .collect();
+    assert_eq!(made, [false, false, true, true, false]);
+    let o = task(Some("3"));
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("task index 3"), "{}", stderr(&o));
+    let o = task(None);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("TEST_ARRAY_INDEX"), "{}", stderr(&o));
+    let o = task(Some("two"));
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("\"two\""), "{}", stderr(&o));
+}
+
+#[test]
+fn a_failed_frame_is_reported_and_fails_the_command_while_the_others_are_written() {
+    let dir = tempfile::tempdir().unwrap();
+    // Frame 2's file cannot be written: a folder stands in its place.
+    std::fs::create_dir(dir.path().join("g_2.exr")).unwrap();
+    let o = frames("1..3").out(dir.path().join("g_#.exr")).run();
+    assert!(!o.status.success());
+    let lines = stdout(&o);
+    assert!(lines.contains("frame 1: ok"), "{lines}");
+    assert!(lines.contains("frame 2: failed"), "{lines}");
+    assert!(lines.contains("frame 3: ok"), "{lines}");
+    assert!(
+        stderr(&o).contains("1 of 3 frame(s) failed"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(dir.path().join("g_3.exr").is_file());
+    let o = frames("3..1").out(dir.path().join("h.exr")).run();
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("3..1"), "{}", stderr(&o));
+}
