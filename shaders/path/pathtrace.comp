@@ -24,6 +24,9 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #if defined(OUTPUT_BSDF_SAMPLE) || defined(OUTPUT_BSDF_VALUE)
 #include "path/bsdf_probe.glsl"
 #endif
+#ifdef OUTPUT_AOV
+#include "path/aov.glsl"
+#endif
 
 // llvmpipe ends every loop of a shader invocation (of a SIMD group) once they have run 65535
 // iterations in all (Mesa's LP_MAX_TGSI_LOOP_ITERATIONS), silently: a megakernel pass of many
@@ -59,6 +62,8 @@ void main() {
 #elif defined(OUTPUT_BSDF_SAMPLE) || defined(OUTPUT_BSDF_VALUE)
     rays = 1u;
     sum = bsdf_probe(pixel);
+#elif defined(OUTPUT_AOV)
+    sum = aov_pixel(pixel, pc.g.accum.v[index].xyz, rays);
 #else
     sum = pixel_samples(pixel, pc.g.accum.v[index].xyz, rays, rejected);
     if (loop_limit_reached()) {

@@ -686,3 +686,47 @@ fn paths_that_are_not_files_and_non_finite_times_are_refused_at_once() {
     }
     assert!(started.elapsed().as_secs() < 60, "a refusal waited");
 }
+
+#[test]
+fn aovs_are_layers_of_the_exr_and_a_png_is_refused_for_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("layers.exr");
+    let o = Cli::new("render")
+        .spp(2)
+        .size(16, 12)
+        .flag("--aov", "albedo,normal,depth,primitive-id")
+        .out(&exr)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let channels = platoon::core::output::read_exr_channels(&exr).unwrap();
+    let names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
+    for want in [
+        "R",
+        "G",
+        "B",
+        "albedo.R",
+        "normal.Z",
+        "depth.Z",
+        "primitive-id.id",
+    ] {
+        assert!(names.contains(&want), "{want} missing from {names:?}");
+    }
+    let (beauty, meta) = platoon::core::output::read_exr(&exr).unwrap();
+    assert_eq!(beauty.pixels.len(), 16 * 12);
+    assert_eq!(
+        metadata_value(&meta, "aovs"),
+        "albedo,normal,depth,primitive-id"
+    );
+    let png = dir.path().join("layers.png");
+    Cli::new("render")
+        .spp(1)
+        .size(8, 8)
+        .flag("--aov", "albedo")
+        .out(&png)
+        .fails_naming(".exr", &png);
+    let other = exr.with_file_name("other.exr");
+    Cli::new("render")
+        .flag("--aov", "albedo,beauty")
+        .out(&other)
+        .fails_naming("unknown AOV \"beauty\"", &other);
+}

@@ -4,6 +4,8 @@
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
+use crate::frame::aov::Layer;
+
 use crate::error::{Error, Result};
 
 /// A rendered frame: linear RGB radiance, row-major from the top row.
@@ -78,9 +80,31 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
 /// Writes `film` as EXR or PNG according to the extension, with `metadata` (key, value) pairs
 /// stored as EXR string attributes or PNG iTXt chunks, each key prefixed `platoon:`.
 pub fn write_image(path: &Path, film: &Film, metadata: &[(String, String)]) -> Result<()> {
+    write_image_with_layers(path, film, &[], metadata)
+}
+
+/// The same with `layers` beside the beauty (EXR only: channels `layer.channel`, as Cycles'
+/// multilayer files name them).
+pub fn write_image_with_layers(
+    path: &Path,
+    film: &Film,
+    layers: &[Layer],
+    metadata: &[(String, String)],
+) -> Result<()> {
     match check_image_path(path)? {
-        ImageFormat::Exr => write_atomically(path, |w| write_exr(path, w, film, metadata)),
-        ImageFormat::Png => write_atomically(path, |w| write_png(path, w, film, metadata)),
+        ImageFormat::Exr if layers.is_empty() => {
+            write_atomically(path, |w| write_exr(path, w, film, metadata))
+        }
+        ImageFormat::Exr => {
+            write_atomically(path, |w| write_layered_exr(path, w, film, layers, metadata))
+        }
+        ImageFormat::Png if layers.is_empty() => {
+            write_atomically(path, |w| write_png(path, w, film, metadata))
+        }
+        ImageFormat::Png => Err(Error::file(
+            path,
+            "AOVs are written as layers of an EXR: the output must end in .exr",
+        )),
     }
 }
 
@@ -138,6 +162,71 @@ fn write_exr(
         .write()
         .to_buffered(w)
         .map_err(|e| crate::Error::file(path, format!("cannot write EXR: {e}")))
+}
+
+fn write_layered_exr(
+    path: &Path,
+    w: &mut (impl Write + std::io::Seek),
+    film: &Film,
+    layers: &[Layer],
+    metadata: &[(String, String)],
+) -> Result<()> {
+    use exr::prelude::*;
+    let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
+    for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
+        let plane = film.pixels.iter().map(|p| p[c]).collect();
+        channels.push(AnyChannel::new(name, FlatSamples::F32(plane)));
+    }
+    for layer in layers {
+        for (name, plane) in &layer.channels {
+            if plane.len() != film.pixels.len() {
+                return Err(crate::Error::file(
+                    path,
+                    format!("layer {} has the wrong size", layer.name),
+                ));
+            }
+            let full = format!("{}.{name}", layer.name);
+            channels.push(AnyChannel::new(
+                full.as_str(),
+                FlatSamples::F32(plane.clone()),
+            ));
+        }
+    }
+    let size = (film.width as usize, film.height as usize);
+    let layer = exr::image::Layer::new(
+        size,
+        LayerAttributes::default(),
+        Encoding::default(),
+        AnyChannels::sort(channels),
+    );
+    let mut image = Image::from_layer(layer);
+    for (k, v) in metadata {
+        image.attributes.other.insert(
+            Text::from(format!("platoon:{k}").as_str()),
+            AttributeValue::Text(Text::from(v.as_str())),
+        );
+    }
+    image
+        .write()
+        .to_buffered(w)
+        .map_err(|e| crate::Error::file(path, format!("cannot write EXR: {e}")))
+}
+
+/// Every channel of an EXR's first layer by name (`R`, `albedo.R`, ...): tests and tools.
+pub fn read_exr_channels(path: &Path) -> Result<Vec<(String, Vec<f32>)>> {
+    use exr::prelude::*;
+    let image = read_all_flat_layers_from_file(path)
+        .map_err(|e| crate::Error::file(path, format!("cannot read EXR: {e}")))?;
+    let layer = image
+        .layer_data
+        .first()
+        .ok_or_else(|| crate::Error::file(path, "the EXR has no layer"))?;
+    Ok(layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect()))
+        .collect())
 }
 
 /// ACES-fitted tone curve (Narkowicz 2015) followed by the sRGB transfer function.

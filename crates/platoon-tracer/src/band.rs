@@ -60,7 +60,7 @@ impl Tracer {
         stride: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
-        if params.output != platoon_core::frame::Output::Radiance && params.spp != 1 {
+        if params.output.one_sample() && params.spp != 1 {
             return Err(crate::Error::Invalid(format!(
                 "the {:?} output is one sample per pixel: set spp to 1",
                 params.output

@@ -7,6 +7,7 @@
 //! [`core`] and [`tracer`] are the two crates underneath.
 
 pub mod animation;
+pub mod aov;
 pub mod devices;
 pub mod game;
 pub mod generated;

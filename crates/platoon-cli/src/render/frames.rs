@@ -47,7 +47,7 @@ pub struct FrameArgs {
 }
 
 pub fn run(a: RenderArgs) -> Result<()> {
-    platoon::core::output::check_image_path(&a.out)?;
+    super::check_output(&a)?;
     if a.scene.time != 0.0 {
         bail!("--time and --frames: each frame's time is its number / --fps");
     }
@@ -143,7 +143,7 @@ impl Job {
         let o = &setup.options;
         let settings = format!(
             "scene {scene}; env {:?}; camera {:?}, aperture {}, focus {:?}; {}x{}, {} spp, \
-             time limit {:?}, max depth {}, seed {}{}; {}; kernel {:?}; {} sampling; {} fps",
+             time limit {:?}, max depth {}, seed {}{}; {}; kernel {:?}; {} sampling; {} fps; AOVs {:?}",
             o.env,
             o.camera,
             o.aperture_radius,
@@ -158,7 +158,8 @@ impl Job {
             p.method.unit().describe(),
             p.kernel,
             setup.sampling,
-            args.fps
+            args.fps,
+            setup.aovs
         );
         Job {
             settings,
@@ -227,7 +228,8 @@ impl Frames {
         progress: &mut dyn FnMut(u32),
     ) -> Result<()> {
         let time = job.time(frame);
-        let (rendered, meta) = if self.fresh {
+        let aovs = &self.setup.aovs;
+        let (rendered, layers, meta) = if self.fresh {
             let mut options = self.setup.options.clone();
             options.time = time;
             let prepared = platoon::prepare(self.setup.scene.clone(), &options)?;
@@ -235,8 +237,15 @@ impl Frames {
                 Tracers::new(&self.setup.tracers, &self.setup.balancer, &prepared.gpu)?;
             let params = job.params(&self.setup, frame, prepared.camera);
             let rendered = tracers.render(&prepared.gpu, &params, progress)?;
+            let layers = super::aov_layers(
+                &mut tracers,
+                &prepared.gpu,
+                &params,
+                aovs,
+                prepared.posed.origin,
+            )?;
             let meta = platoon::metadata(&prepared, &params, &rendered, self.setup.sampling);
-            (rendered, meta)
+            (rendered, layers, meta)
         } else {
             if self.carried.is_none() {
                 let mut options = self.setup.options.clone();
@@ -256,15 +265,18 @@ impl Frames {
             }
             let params = job.params(&self.setup, frame, animation.camera());
             let rendered = tracers.render(animation.scene(), &params, progress)?;
+            let origin = animation.facts().origin;
+            let layers = super::aov_layers(tracers, animation.scene(), &params, aovs, origin)?;
             let meta =
                 platoon::metadata_of(&animation.facts(), &params, &rendered, self.setup.sampling);
-            (rendered, meta)
+            (rendered, layers, meta)
         };
         let mut meta = meta;
         meta.push(("animation_frame".into(), frame.to_string()));
         meta.push(("animation_time".into(), time.to_string()));
         meta.push(("job".into(), job.of_frame(frame)));
-        platoon::core::output::write_image(path, &rendered.film, &meta)?;
+        meta.extend(super::aov_metadata(aovs));
+        platoon::core::output::write_image_with_layers(path, &rendered.film, &layers, &meta)?;
         Ok(())
     }
 }

@@ -10,6 +10,7 @@ use clap::ValueEnum;
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use platoon::core::balance;
+use platoon::core::frame::aov::Aov;
 use platoon::core::frame::FrameParams;
 use platoon::devices::DeviceSpec;
 use platoon::tracer::Sampling;
@@ -84,8 +85,19 @@ pub struct RenderArgs {
     memory: MemoryArg,
     #[arg(long, short, default_value = "render.png")]
     out: PathBuf,
+    /// AOVs written as layers of the EXR beside the beauty, comma-separated: albedo, normal
+    /// (Cycles' denoising conventions), depth, position, instance-id, material-id, primitive-id.
+    #[arg(long, value_parser = parse_aovs)]
+    aov: Option<AovList>,
     #[command(flatten)]
     frames: frames::FrameArgs,
+}
+
+#[derive(Clone, Debug)]
+pub struct AovList(pub Vec<Aov>);
+
+fn parse_aovs(s: &str) -> Result<AovList, String> {
+    Aov::parse_list(s).map(AovList)
 }
 
 fn parse_balancer(s: &str) -> Result<String, String> {
@@ -107,6 +119,7 @@ struct Setup {
     tracers: Vec<platoon::tracer::TracerOptions>,
     balancer: String,
     sampling: &'static str,
+    aovs: Vec<Aov>,
 }
 
 fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
@@ -128,8 +141,10 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         validation,
         memory,
         out,
+        aov,
         frames,
     } = a;
+    let aovs = aov.map(|l| l.0).unwrap_or_default();
     let kernel = method.kernel;
     let method = method.method()?;
     if width == 0 || height == 0 || spp == 0 {
@@ -183,6 +198,7 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         tracers,
         balancer,
         sampling: sampling_name,
+        aovs,
     };
     Ok((setup, out, frames))
 }
@@ -191,7 +207,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if a.frames.frames.is_some() {
         return frames::run(a);
     }
-    platoon::core::output::check_image_path(&a.out)?;
+    check_output(&a)?;
     let (setup, out, _) = setup(a)?;
     let Setup {
         scene,
@@ -200,6 +216,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         tracers: options_of_tracers,
         balancer,
         sampling,
+        aovs,
     } = setup;
     let prepared = platoon::prepare(scene, &options)?;
     for w in &prepared.scene.warnings {
@@ -211,8 +228,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
     params.camera = prepared.camera;
     let mut tracers = Tracers::new(&options_of_tracers, &balancer, &prepared.gpu)?;
     let rendered = render_frame(&mut tracers, &prepared.gpu, &params)?;
-    let meta = platoon::metadata(&prepared, &params, &rendered, sampling);
-    platoon::core::output::write_image(&out, &rendered.film, &meta)?;
+    let origin = prepared.posed.origin;
+    let layers = aov_layers(&mut tracers, &prepared.gpu, &params, &aovs, origin)?;
+    let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
+    meta.extend(aov_metadata(&aovs));
+    platoon::core::output::write_image_with_layers(&out, &rendered.film, &layers, &meta)?;
     let secs = rendered.wall_time.as_secs_f64();
     eprintln!(
         "{}: {}x{} at {} spp in {:.2} s on {} ({:.2} M samples/s, {:.2} M rays/s, {} rejected samples)",
@@ -228,6 +248,38 @@ pub fn run(a: RenderArgs) -> Result<()> {
     );
     report_method(&rendered);
     Ok(())
+}
+
+/// Refuses an output the render could not write, before it starts.
+fn check_output(a: &RenderArgs) -> Result<()> {
+    let format = platoon::core::output::check_image_path(&a.out)?;
+    if a.aov.is_some() && !matches!(format, platoon::core::output::ImageFormat::Exr) {
+        bail!(
+            "{}: AOVs are written as layers of an EXR: the output must end in .exr",
+            a.out.display()
+        );
+    }
+    Ok(())
+}
+
+/// The frame's AOV layers (none asked: none rendered).
+fn aov_layers(
+    tracers: &mut Tracers,
+    scene: &platoon::core::flatten::GpuScene,
+    params: &FrameParams,
+    aovs: &[Aov],
+    origin: glam::DVec3,
+) -> Result<Vec<platoon::core::frame::aov::Layer>> {
+    if aovs.is_empty() {
+        return Ok(Vec::new());
+    }
+    platoon::aov::render_layers(tracers, scene, params, aovs, origin)
+}
+
+/// The metadata entry naming the AOV layers (none without AOVs).
+fn aov_metadata(aovs: &[Aov]) -> Option<(String, String)> {
+    let names: Vec<&str> = aovs.iter().map(|a| a.name()).collect();
+    (!aovs.is_empty()).then(|| ("aovs".into(), names.join(",")))
 }
 
 /// Renders a frame with a progress bar over its samples (one tracer) or a spinner (several,

@@ -2,6 +2,7 @@
 //! balancer wants it). A tracer (one device) renders bands; the core assembles them. Keeping this interface free of Vulkan lets the core drive any number of
 //! tracers and lets the balancer live here.
 
+pub mod aov;
 pub mod fault;
 pub mod renderer;
 mod workers;
@@ -114,6 +115,20 @@ pub enum Output {
     /// W x H image is cos θ = 1 - 2 (y + 0.5) / H, φ = 2π (x + 0.5) / W in the shading frame;
     /// written are (pdf, luminance of f(wo, wi), luminance of f(wi, wo)), f without the cosine.
     BsdfValue,
+    /// A pass of the AOVs (`aov::AovPass`): albedo and normal averaged over the samples as the
+    /// radiance is, position and ids one sample through the pixel centre.
+    Aov(aov::AovPass),
+}
+
+impl Output {
+    /// Whether the output is one sample per pixel (the tests' probes, the unfiltered AOVs).
+    pub fn one_sample(self) -> bool {
+        match self {
+            Output::Radiance => false,
+            Output::Aov(pass) => pass.spp(u32::MAX) == 1,
+            _ => true,
+        }
+    }
 }
 
 impl FrameParams {

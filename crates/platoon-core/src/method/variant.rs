@@ -5,6 +5,7 @@
 use std::fmt;
 
 use crate::flatten::features::{chosen, write_labels, SceneFeatures};
+use crate::frame::aov::AovPass;
 use crate::frame::{FrameParams, Output};
 
 /// The defines of one kernel variant, in a stable order, each with the label `platoon info` and
@@ -57,6 +58,31 @@ impl KernelVariant {
                 "bsdf-value-output",
                 "OUTPUT_BSDF_VALUE",
                 params.output == Output::BsdfValue,
+            ),
+            (
+                "aov-output",
+                "OUTPUT_AOV",
+                matches!(params.output, Output::Aov(_)),
+            ),
+            (
+                "aov-albedo",
+                "OUTPUT_AOV_ALBEDO",
+                params.output == Output::Aov(AovPass::Albedo),
+            ),
+            (
+                "aov-normal",
+                "OUTPUT_AOV_NORMAL",
+                params.output == Output::Aov(AovPass::Normal),
+            ),
+            (
+                "aov-position",
+                "OUTPUT_AOV_POSITION",
+                params.output == Output::Aov(AovPass::Position),
+            ),
+            (
+                "aov-ids",
+                "OUTPUT_AOV_IDS",
+                params.output == Output::Aov(AovPass::Ids),
             ),
             (
                 "clamp-indirect",

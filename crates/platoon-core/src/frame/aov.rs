@@ -1,0 +1,235 @@
+//! Arbitrary output variables: what compositing and denoisers read beside the beauty. Albedo
+//! and normal follow Cycles' denoising passes: taken at the first vertex that is not perfectly
+//! specular (the camera ray followed through mirrors and clear glass, tinted by them), averaged
+//! over the pixel's samples as the beauty is. Position, depth and the ids are of the first hit of
+//! the ray through the pixel's centre (not anti-aliased, as Blender's Z and index passes).
+//! Each comes from a kernel pass of its own ([`AovPass`], `frame::Output::Aov`) rendered like
+//! the beauty, line by line, so it has the same bits whatever the split between devices.
+
+use crate::output::Film;
+use crate::scene::camera::Camera;
+
+/// What one kernel pass writes per pixel (three floats).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AovPass {
+    /// The albedo at the first non-specular vertex times the specular chain's weight (RGB).
+    Albedo,
+    /// The world-space shading normal there, turned toward the arriving ray.
+    Normal,
+    /// The first hit's position through the pixel centre, in render space (0 for a miss).
+    Position,
+    /// (instance + 1, material + 1, triangle + 1) of that hit, 0 for a miss.
+    Ids,
+}
+
+/// Samples per pixel of the anti-aliased passes (albedo, normal): enough for a denoiser's
+/// guide at any beauty spp, and at most the beauty's.
+pub const GUIDE_SAMPLES: u32 = 64;
+
+impl AovPass {
+    /// Samples per pixel the pass takes when the beauty takes `spp`.
+    pub fn spp(self, spp: u32) -> u32 {
+        match self {
+            AovPass::Albedo | AovPass::Normal => spp.clamp(1, GUIDE_SAMPLES),
+            AovPass::Position | AovPass::Ids => 1,
+        }
+    }
+}
+
+/// An AOV as `--aov` names it; each becomes a layer of the EXR output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Aov {
+    Albedo,
+    Normal,
+    Depth,
+    Position,
+    InstanceId,
+    MaterialId,
+    PrimitiveId,
+}
+
+impl Aov {
+    pub const ALL: [Aov; 7] = [
+        Aov::Albedo,
+        Aov::Normal,
+        Aov::Depth,
+        Aov::Position,
+        Aov::InstanceId,
+        Aov::MaterialId,
+        Aov::PrimitiveId,
+    ];
+
+    /// Its name on the command line and as the EXR layer.
+    pub fn name(self) -> &'static str {
+        match self {
+            Aov::Albedo => "albedo",
+            Aov::Normal => "normal",
+            Aov::Depth => "depth",
+            Aov::Position => "position",
+            Aov::InstanceId => "instance-id",
+            Aov::MaterialId => "material-id",
+            Aov::PrimitiveId => "primitive-id",
+        }
+    }
+
+    /// Its channels in the layer (`albedo.R`, ...).
+    pub fn channels(self) -> &'static [&'static str] {
+        match self {
+            Aov::Albedo => &["R", "G", "B"],
+            Aov::Normal | Aov::Position => &["X", "Y", "Z"],
+            Aov::Depth => &["Z"],
+            Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &["id"],
+        }
+    }
+
+    /// The kernel passes it is made from.
+    pub fn passes(self) -> &'static [AovPass] {
+        match self {
+            Aov::Albedo => &[AovPass::Albedo],
+            Aov::Normal => &[AovPass::Normal],
+            // A miss is told by the ids (position 0 could be a hit).
+            Aov::Depth => &[AovPass::Position, AovPass::Ids],
+            Aov::Position => &[AovPass::Position],
+            Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &[AovPass::Ids],
+        }
+    }
+
+    /// A comma-separated list (`albedo,normal,depth`), each named once.
+    pub fn parse_list(s: &str) -> Result<Vec<Aov>, String> {
+        let mut list = Vec::new();
+        for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+            let aov = Aov::ALL
+                .into_iter()
+                .find(|a| a.name() == name)
+                .ok_or_else(|| {
+                    let known: Vec<&str> = Aov::ALL.iter().map(|a| a.name()).collect();
+                    format!("unknown AOV {name:?}: one of {}", known.join(", "))
+                })?;
+            if list.contains(&aov) {
+                return Err(format!("AOV {name:?} is named twice"));
+            }
+            list.push(aov);
+        }
+        if list.is_empty() {
+            return Err("no AOV named".into());
+        }
+        Ok(list)
+    }
+}
+
+/// The passes `aovs` need, each once, in a fixed order.
+pub fn passes(aovs: &[Aov]) -> Vec<AovPass> {
+    let mut out: Vec<AovPass> = Vec::new();
+    for p in aovs.iter().flat_map(|a| a.passes()) {
+        if !out.contains(p) {
+            out.push(*p);
+        }
+    }
+    out
+}
+
+/// A layer of an output image: named channels, each a plane of `width * height` values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layer {
+    pub name: String,
+    pub channels: Vec<(String, Vec<f32>)>,
+}
+
+impl Layer {
+    /// The channel `name` of the layer.
+    pub fn channel(&self, name: &str) -> Option<&[f32]> {
+        self.channels
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+}
+
+/// Depth of a pixel that sees no surface: nothing there, infinitely far.
+pub const MISS_DEPTH: f32 = f32::INFINITY;
+
+/// The layers of `aovs` from the films of their passes (`film(pass)`), for `camera` (depth:
+/// the distance along its view axis) and the render origin in world space (`origin`: position
+/// is written in world coordinates).
+pub fn layers(
+    aovs: &[Aov],
+    film: &dyn Fn(AovPass) -> Film,
+    camera: &Camera,
+    origin: glam::DVec3,
+) -> Vec<Layer> {
+    let films: Vec<(AovPass, Film)> = passes(aovs).into_iter().map(|p| (p, film(p))).collect();
+    let of = |pass| &films.iter().find(|(p, _)| *p == pass).expect("rendered").1;
+    let plane = |film: &Film, f: &dyn Fn(usize, [f32; 3]) -> f32| -> Vec<f32> {
+        film.pixels
+            .iter()
+            .enumerate()
+            .map(|(i, p)| f(i, *p))
+            .collect()
+    };
+    let hit = |i: usize| of(AovPass::Ids).pixels[i][0] > 0.0;
+    aovs.iter()
+        .map(|&aov| {
+            let planes: Vec<Vec<f32>> = match aov {
+                Aov::Albedo | Aov::Normal => {
+                    let f = of(aov.passes()[0]);
+                    (0..3).map(|c| plane(f, &|_, p| p[c])).collect()
+                }
+                Aov::Position => {
+                    let f = of(AovPass::Position);
+                    (0..3)
+                        .map(|c| plane(f, &|_, p| (p[c] as f64 + origin[c]) as f32))
+                        .collect()
+                }
+                Aov::Depth => {
+                    let eye = camera.position();
+                    let forward = camera.basis(1, 1).forward;
+                    let f = of(AovPass::Position);
+                    vec![plane(f, &|i, p| {
+                        if hit(i) {
+                            (glam::Vec3::from(p) - eye).dot(forward)
+                        } else {
+                            MISS_DEPTH
+                        }
+                    })]
+                }
+                Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => {
+                    let c = match aov {
+                        Aov::InstanceId => 0,
+                        Aov::MaterialId => 1,
+                        _ => 2,
+                    };
+                    vec![plane(of(AovPass::Ids), &|_, p| p[c])]
+                }
+            };
+            Layer {
+                name: aov.name().into(),
+                channels: aov
+                    .channels()
+                    .iter()
+                    .map(|c| c.to_string())
+                    .zip(planes)
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists_parse_and_name_their_passes_once() {
+        let l = Aov::parse_list("albedo, depth,instance-id").unwrap();
+        assert_eq!(l, vec![Aov::Albedo, Aov::Depth, Aov::InstanceId]);
+        assert_eq!(
+            passes(&l),
+            vec![AovPass::Albedo, AovPass::Position, AovPass::Ids]
+        );
+        assert!(Aov::parse_list("albedo,albedo").is_err());
+        assert!(Aov::parse_list("beauty")
+            .unwrap_err()
+            .contains("primitive-id"));
+        assert!(Aov::parse_list("").is_err());
+    }
+}

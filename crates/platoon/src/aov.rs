@@ -1,0 +1,43 @@
+//! A frame's AOVs beside its beauty (`platoon_core::frame::aov`): each kernel pass they need
+//! rendered on the same tracers as the beauty, with its random numbers, so the layers have the
+//! same bits whatever the split between devices.
+
+use anyhow::Result;
+use glam::DVec3;
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::aov::{self, Aov, Layer};
+use platoon_core::frame::{FrameParams, Output};
+use platoon_core::output::Film;
+use platoon_core::Method;
+
+use crate::Tracers;
+
+/// The layers of `aovs` for the frame `params` renders (its camera, samples and seed) of
+/// `scene`, whose render space is centred on the world point `origin`.
+pub fn render_layers(
+    tracers: &mut Tracers,
+    scene: &GpuScene,
+    params: &FrameParams,
+    aovs: &[Aov],
+    origin: DVec3,
+) -> Result<Vec<Layer>> {
+    let mut films: Vec<(aov::AovPass, Film)> = Vec::new();
+    for pass in aov::passes(aovs) {
+        let mut p = params.clone();
+        p.output = Output::Aov(pass);
+        // The passes are the path tracer's kernel, whatever method renders the beauty.
+        p.method = Method::PathTracing;
+        p.spp = pass.spp(params.spp);
+        p.time_limit = None;
+        p.accumulated = None;
+        films.push((pass, tracers.render(scene, &p, &mut |_| {})?.film));
+    }
+    let film = |pass| {
+        films
+            .iter()
+            .find(|(p, _)| *p == pass)
+            .map(|(_, f)| f.clone())
+            .expect("every pass rendered")
+    };
+    Ok(aov::layers(aovs, &film, &params.camera, origin))
+}

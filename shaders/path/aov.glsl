@@ -1,0 +1,70 @@
+// The AOV passes (frame::Output::Aov, crates/platoon-core/src/frame/aov.rs): one of albedo,
+// normal, position or ids per pixel, chosen by OUTPUT_AOV_*. Albedo and normal follow Cycles'
+// denoising passes: the camera ray is followed through perfect specular vertices (mirrors, clear
+// glass; their sampled lobe's weight tints the albedo) to the first vertex that is not, and the
+// samples use the beauty's camera rays (the same random numbers), summed onto the buffer like
+// the beauty's. Position and ids: the first hit of the ray through the pixel centre.
+
+// Perfect specular vertices followed before a pixel's albedo or normal is given up (black).
+const uint AOV_SPECULAR_CHAIN = 8u;
+
+#if defined(OUTPUT_AOV_ALBEDO) || defined(OUTPUT_AOV_NORMAL)
+vec3 aov_sample(uvec2 pixel, uint si, inout uint rays) {
+    Rng rng = rng_init(pixel, si, frame_index(), render_seed());
+    Ray ray = camera_ray(pixel, rng);
+    vec3 weight = vec3(1.0);
+    for (uint vertex = 0u; vertex <= AOV_SPECULAR_CHAIN; vertex++) {
+        Hit hit;
+        rays++;
+        if (!trace(ray, false, hit)) return vec3(0.0);
+        Surface s = surface_at(hit);
+        vec3 t, b;
+        make_frame(s.ns, t, b);
+        vec3 wo = to_local(-ray.dir, t, b, s.ns);
+        Bsdf bsdf = make_bsdf(s, wo);
+        bool stop = !bsdf_all_delta(bsdf);
+#ifdef HAS_UNLIT
+        stop = stop || s.unlit;
+#endif
+        if (stop) {
+#ifdef OUTPUT_AOV_ALBEDO
+            return weight * s.base_color;
+#else
+            return dot(s.ns, ray.dir) > 0.0 ? -s.ns : s.ns;
+#endif
+        }
+        BsdfSample bs;
+        if (!bsdf_sample(bsdf, wo, rng, bs)) return vec3(0.0);
+        weight *= bs.weight;
+        vec3 wi = to_world(bs.wi, t, b, s.ns);
+        vec3 ng_wo = dot(s.ng, ray.dir) < 0.0 ? s.ng : -s.ng;
+        ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude), wi, INF);
+    }
+    return vec3(0.0);
+}
+#endif
+
+// The pass's samples of one pixel, added onto `sum` (position and ids: one sample, written).
+vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
+#if defined(OUTPUT_AOV_ALBEDO) || defined(OUTPUT_AOV_NORMAL)
+    for (uint si = pc.sample_begin; si != pc.sample_end; si++) sum += aov_sample(pixel, si, rays);
+    return sum;
+#else
+    vec2 size = vec2(F.dims.xy);
+    vec2 ndc = vec2(2.0 * (float(pixel.x) + 0.5) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + 0.5) / size.y);
+    vec3 dir = F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
+    vec3 origin = F.cam_origin.xyz;
+#ifdef HAS_ORTHOGRAPHIC
+    origin += ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
+    dir = F.cam_forward.xyz;
+#endif
+    Hit hit;
+    rays++;
+    if (!trace(Ray(origin, normalize(dir), INF), false, hit)) return vec3(0.0);
+#ifdef OUTPUT_AOV_POSITION
+    return surface_at(hit).position;
+#else
+    return vec3(float(hit.instance) + 1.0, float(surface_at(hit).material) + 1.0, float(hit.triangle) + 1.0);
+#endif
+#endif
+}

@@ -1,0 +1,166 @@
+//! AOVs (issue 24) against what cannot be faked: the albedo of a Lambertian plane is its
+//! colour, seen directly or in a mirror (the specular chain is followed); the normal of a sphere
+//! is its position's direction; the depth of a plane facing the camera is its distance, not the
+//! rays' lengths; ids tell hits from misses; and every layer has the same bits on one tracer and
+//! on three.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+use common::*;
+use glam::{DVec3, Vec3, Vec4};
+use platoon::core::frame::aov::{Aov, Layer, MISS_DEPTH};
+use platoon::core::frame::FrameParams;
+use platoon::core::scene::cornell::lambertian;
+use platoon::core::scene::{Material, Scene};
+use platoon::devices::{tracer_options, DeviceSpec};
+use platoon::tracer::Sampling;
+use platoon::{Prepared, Tracers};
+
+const COLOUR: Vec3 = Vec3::new(0.2, 0.5, 0.8);
+
+fn layers_on(devices: &str, prepared: &Prepared, params: &FrameParams, aovs: &[Aov]) -> Vec<Layer> {
+    let spec: DeviceSpec = devices.parse().unwrap();
+    let options = tracer_options(&spec, false, Sampling::Mis).unwrap();
+    let mut tracers = Tracers::new(&options, "cost-aware", &prepared.gpu).unwrap();
+    platoon::aov::render_layers(&mut tracers, &prepared.gpu, params, aovs, DVec3::ZERO).unwrap()
+}
+
+fn layer<'a>(layers: &'a [Layer], name: &str) -> &'a Layer {
+    layers.iter().find(|l| l.name == name).expect("the layer")
+}
+
+/// A quad of half-size `h` in the plane z = `z`, facing `facing` (+1: +z), of material `m`.
+fn wall(z: f32, h: f32, facing: f32, m: u32) -> platoon::core::scene::Mesh {
+    let c = |x: f32, y: f32| [x, y, z];
+    let corners = if facing > 0.0 {
+        [c(-h, -h), c(h, -h), c(h, h), c(-h, h)]
+    } else {
+        [c(-h, -h), c(-h, h), c(h, h), c(h, -h)]
+    };
+    mesh_from(&platoon_scenegen::quad_from(corners), m)
+}
+
+/// A Lambertian wall at z = 0 seen from (0, 0, 4); with `mirror`, a mirror wall there instead
+/// and the Lambertian one behind the camera at z = 8, seen in it.
+fn walls(mirror: bool) -> Scene {
+    let diffuse = lambertian("colour", COLOUR);
+    let mirror_material = Material {
+        base_color: Vec4::ONE,
+        metallic: 1.0,
+        roughness: 0.0,
+        ..Default::default()
+    };
+    let meshes = if mirror {
+        vec![
+            (wall(0.0, 50.0, 1.0, 1), Vec3::ZERO, 1.0),
+            (wall(8.0, 50.0, -1.0, 0), Vec3::ZERO, 1.0),
+        ]
+    } else {
+        vec![(wall(0.0, 50.0, 1.0, 0), Vec3::ZERO, 1.0)]
+    };
+    scene_of(
+        meshes,
+        vec![diffuse, mirror_material],
+        Vec3::new(0.0, 0.0, 4.0),
+        Vec3::ZERO,
+        0.8,
+    )
+}
+
+#[test]
+fn the_albedo_of_a_lambertian_wall_is_its_colour_directly_and_in_a_mirror() {
+    for mirror in [false, true] {
+        let prepared = prepare(walls(mirror), constant_env(1.0));
+        let params = FrameParams::new(16, 12, 8, prepared.camera);
+        let layers = layers_on("0", &prepared, &params, &[Aov::Albedo]);
+        let albedo = layer(&layers, "albedo");
+        for (c, want) in ["R", "G", "B"].iter().zip(COLOUR.to_array()) {
+            for v in albedo.channel(c).unwrap() {
+                assert!(
+                    (v - want).abs() < 1e-6,
+                    "mirror {mirror}: {c} = {v}, not {want}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_depth_of_a_wall_facing_the_camera_is_its_distance() {
+    let prepared = prepare(walls(false), constant_env(1.0));
+    let params = FrameParams::new(16, 12, 4, prepared.camera);
+    let layers = layers_on(
+        "0",
+        &prepared,
+        &params,
+        &[Aov::Depth, Aov::Position, Aov::InstanceId, Aov::MaterialId],
+    );
+    for d in layer(&layers, "depth").channel("Z").unwrap() {
+        assert!(
+            (d - 4.0).abs() < 1e-4,
+            "depth {d}, not 4 (the rays' lengths?)"
+        );
+    }
+    for z in layer(&layers, "position").channel("Z").unwrap() {
+        assert!(z.abs() < 1e-4, "position z {z}");
+    }
+    for id in layer(&layers, "instance-id").channel("id").unwrap() {
+        assert!(*id >= 1.0, "a hit's instance id is at least 1");
+    }
+    for id in layer(&layers, "material-id").channel("id").unwrap() {
+        assert_eq!(*id, 1.0, "material 0");
+    }
+}
+
+#[test]
+fn the_normal_of_a_sphere_is_its_positions_direction_and_misses_are_empty() {
+    let prepared = prepare(
+        sphere_scene(lambertian("grey", Vec3::splat(0.5))),
+        constant_env(1.0),
+    );
+    let (w, h) = (24, 24);
+    let params = FrameParams::new(w, h, 16, prepared.camera);
+    let layers = layers_on(
+        "0",
+        &prepared,
+        &params,
+        &[Aov::Normal, Aov::Position, Aov::Depth, Aov::InstanceId],
+    );
+    let normal = layer(&layers, "normal");
+    let position = layer(&layers, "position");
+    let inside = sphere_pixels(w, h, 0.85);
+    assert!(inside.len() > 100);
+    for &i in &inside {
+        let at = |l: &Layer, c: [&str; 3]| Vec3::from(c.map(|c| l.channel(c).unwrap()[i]));
+        let n = at(normal, ["X", "Y", "Z"]);
+        let p = at(position, ["X", "Y", "Z"]);
+        assert!(
+            (p.length() - 1.0).abs() < 0.01,
+            "position {p} off the sphere"
+        );
+        assert!(
+            (n - p.normalize()).length() < 0.05,
+            "pixel {i}: normal {n}, position {p}"
+        );
+    }
+    // The corners see the sky.
+    for i in [0, (w - 1) as usize, (w * h - 1) as usize] {
+        assert_eq!(layer(&layers, "instance-id").channel("id").unwrap()[i], 0.0);
+        assert_eq!(layer(&layers, "depth").channel("Z").unwrap()[i], MISS_DEPTH);
+        assert_eq!(normal.channel("X").unwrap()[i], 0.0);
+    }
+}
+
+#[test]
+fn every_layer_has_the_same_bits_on_one_tracer_and_on_three() {
+    let prepared = prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Scene,
+    );
+    let params = FrameParams::new(20, 18, 4, prepared.camera);
+    let one = layers_on("0", &prepared, &params, &Aov::ALL);
+    let three = layers_on("lavapipe:1,1,1", &prepared, &params, &Aov::ALL);
+    assert_eq!(one.len(), Aov::ALL.len());
+    assert!(one == three, "the split changed a layer");
+}
