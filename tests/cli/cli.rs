@@ -730,3 +730,42 @@ fn aovs_are_layers_of_the_exr_and_a_png_is_refused_for_them() {
         .out(&other)
         .fails_naming("unknown AOV \"beauty\"", &other);
 }
+
+#[test]
+fn a_denoised_render_is_closer_to_the_converged_one_and_keeps_the_raw_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name);
+    let render = |spp: u32, extra: &[&str], path: &Path| {
+        let mut cli = Cli::new("render").spp(spp).size(48, 48).out(path);
+        for a in extra {
+            cli = cli.arg(a);
+        }
+        let o = cli.run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        platoon::core::output::read_exr(path).unwrap()
+    };
+    let (denoised, meta) = render(8, &["--denoise", "atrous"], &out("d.exr"));
+    let (raw, _) = render(8, &[], &out("raw.exr"));
+    let (noisy, _) = platoon::core::output::read_exr(&out("d.noisy.exr")).unwrap();
+    assert!(
+        noisy == raw,
+        "the raw image beside the denoised one is not the raw render"
+    );
+    assert!(metadata_value(&meta, "approximations").contains("a-trous"));
+    assert_eq!(metadata_value(&meta, "denoiser"), "atrous");
+    let (reference, _) = render(512, &[], &out("reference.exr"));
+    // On the displayed range (radiance clamped at 1): the emitter's own pixels, 20 times
+    // brighter, would otherwise outweigh the whole noisy room.
+    let ldr = |f: &platoon::core::output::Film| {
+        let mut f = f.clone();
+        f.pixels.iter_mut().for_each(|p| *p = p.map(|c| c.min(1.0)));
+        f
+    };
+    let error = |f: &platoon::core::output::Film| common::rmse(&ldr(f), &ldr(&reference));
+    assert!(
+        error(&denoised) < 0.85 * error(&raw),
+        "denoised RMSE {} against raw {}",
+        error(&denoised),
+        error(&raw)
+    );
+}

@@ -16,6 +16,7 @@
 //! The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
 pub mod balance;
+pub mod denoise;
 pub mod drive;
 pub mod error;
 pub mod flatten;

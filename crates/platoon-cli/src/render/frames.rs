@@ -13,6 +13,7 @@ use platoon::animation::{frame_path, task_index, Animation, FrameRange};
 use platoon::core::frame::FrameParams;
 use platoon::Tracers;
 
+use super::outputs::Outputs;
 use super::{RenderArgs, Setup};
 
 #[derive(clap::Args)]
@@ -143,7 +144,7 @@ impl Job {
         let o = &setup.options;
         let settings = format!(
             "scene {scene}; env {:?}; camera {:?}, aperture {}, focus {:?}; {}x{}, {} spp, \
-             time limit {:?}, max depth {}, seed {}{}; {}; kernel {:?}; {} sampling; {} fps; AOVs {:?}",
+             time limit {:?}, max depth {}, seed {}{}; {}; kernel {:?}; {} sampling; {} fps; AOVs {:?}; denoiser {:?}",
             o.env,
             o.camera,
             o.aperture_radius,
@@ -159,7 +160,8 @@ impl Job {
             p.kernel,
             setup.sampling,
             args.fps,
-            setup.aovs
+            setup.aovs,
+            setup.denoiser
         );
         Job {
             settings,
@@ -228,8 +230,8 @@ impl Frames {
         progress: &mut dyn FnMut(u32),
     ) -> Result<()> {
         let time = job.time(frame);
-        let aovs = &self.setup.aovs;
-        let (rendered, layers, meta) = if self.fresh {
+        let (aovs, denoiser) = (&self.setup.aovs, self.setup.denoiser);
+        let (outputs, meta) = if self.fresh {
             let mut options = self.setup.options.clone();
             options.time = time;
             let prepared = platoon::prepare(self.setup.scene.clone(), &options)?;
@@ -237,15 +239,17 @@ impl Frames {
                 Tracers::new(&self.setup.tracers, &self.setup.balancer, &prepared.gpu)?;
             let params = job.params(&self.setup, frame, prepared.camera);
             let rendered = tracers.render(&prepared.gpu, &params, progress)?;
-            let layers = super::aov_layers(
+            let outputs = Outputs::of(
                 &mut tracers,
                 &prepared.gpu,
                 &params,
+                &rendered,
                 aovs,
+                denoiser,
                 prepared.posed.origin,
             )?;
             let meta = platoon::metadata(&prepared, &params, &rendered, self.setup.sampling);
-            (rendered, layers, meta)
+            (outputs, meta)
         } else {
             if self.carried.is_none() {
                 let mut options = self.setup.options.clone();
@@ -266,17 +270,25 @@ impl Frames {
             let params = job.params(&self.setup, frame, animation.camera());
             let rendered = tracers.render(animation.scene(), &params, progress)?;
             let origin = animation.facts().origin;
-            let layers = super::aov_layers(tracers, animation.scene(), &params, aovs, origin)?;
+            let outputs = Outputs::of(
+                tracers,
+                animation.scene(),
+                &params,
+                &rendered,
+                aovs,
+                denoiser,
+                origin,
+            )?;
             let meta =
                 platoon::metadata_of(&animation.facts(), &params, &rendered, self.setup.sampling);
-            (rendered, layers, meta)
+            (outputs, meta)
         };
         let mut meta = meta;
         meta.push(("animation_frame".into(), frame.to_string()));
         meta.push(("animation_time".into(), time.to_string()));
         meta.push(("job".into(), job.of_frame(frame)));
         meta.extend(super::aov_metadata(aovs));
-        platoon::core::output::write_image_with_layers(path, &rendered.film, &layers, &meta)?;
+        outputs.write(path, &meta)?;
         Ok(())
     }
 }

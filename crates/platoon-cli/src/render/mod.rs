@@ -2,6 +2,7 @@
 //! `--frames`, an animation to numbered files ([`frames`]).
 
 mod frames;
+mod outputs;
 
 use std::path::PathBuf;
 
@@ -10,6 +11,7 @@ use clap::ValueEnum;
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use platoon::core::balance;
+use platoon::core::denoise::Denoiser;
 use platoon::core::frame::aov::Aov;
 use platoon::core::frame::FrameParams;
 use platoon::devices::DeviceSpec;
@@ -18,6 +20,7 @@ use platoon::{PrepareOptions, Tracers};
 
 use crate::method_args::MethodArgs;
 use crate::scene_args::SceneArgs;
+use outputs::Outputs;
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum MemoryArg {
@@ -89,6 +92,11 @@ pub struct RenderArgs {
     /// (Cycles' denoising conventions), depth, position, instance-id, material-id, primitive-id.
     #[arg(long, value_parser = parse_aovs)]
     aov: Option<AovList>,
+    /// Denoise the image after assembly, guided by its albedo, normal and depth: none, or
+    /// atrous (the edge-avoiding a-trous filter; biased). The raw image is written beside it
+    /// as NAME.noisy.EXT.
+    #[arg(long, default_value = "none")]
+    denoise: Denoiser,
     #[command(flatten)]
     frames: frames::FrameArgs,
 }
@@ -120,6 +128,7 @@ struct Setup {
     balancer: String,
     sampling: &'static str,
     aovs: Vec<Aov>,
+    denoiser: Denoiser,
 }
 
 fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
@@ -142,6 +151,7 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         memory,
         out,
         aov,
+        denoise,
         frames,
     } = a;
     let aovs = aov.map(|l| l.0).unwrap_or_default();
@@ -199,6 +209,7 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         balancer,
         sampling: sampling_name,
         aovs,
+        denoiser: denoise,
     };
     Ok((setup, out, frames))
 }
@@ -217,6 +228,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         balancer,
         sampling,
         aovs,
+        denoiser,
     } = setup;
     let prepared = platoon::prepare(scene, &options)?;
     for w in &prepared.scene.warnings {
@@ -229,10 +241,18 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let mut tracers = Tracers::new(&options_of_tracers, &balancer, &prepared.gpu)?;
     let rendered = render_frame(&mut tracers, &prepared.gpu, &params)?;
     let origin = prepared.posed.origin;
-    let layers = aov_layers(&mut tracers, &prepared.gpu, &params, &aovs, origin)?;
+    let outputs = Outputs::of(
+        &mut tracers,
+        &prepared.gpu,
+        &params,
+        &rendered,
+        &aovs,
+        denoiser,
+        origin,
+    )?;
     let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
     meta.extend(aov_metadata(&aovs));
-    platoon::core::output::write_image_with_layers(&out, &rendered.film, &layers, &meta)?;
+    outputs.write(&out, &meta)?;
     let secs = rendered.wall_time.as_secs_f64();
     eprintln!(
         "{}: {}x{} at {} spp in {:.2} s on {} ({:.2} M samples/s, {:.2} M rays/s, {} rejected samples)",
@@ -260,20 +280,6 @@ fn check_output(a: &RenderArgs) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// The frame's AOV layers (none asked: none rendered).
-fn aov_layers(
-    tracers: &mut Tracers,
-    scene: &platoon::core::flatten::GpuScene,
-    params: &FrameParams,
-    aovs: &[Aov],
-    origin: glam::DVec3,
-) -> Result<Vec<platoon::core::frame::aov::Layer>> {
-    if aovs.is_empty() {
-        return Ok(Vec::new());
-    }
-    platoon::aov::render_layers(tracers, scene, params, aovs, origin)
 }
 
 /// The metadata entry naming the AOV layers (none without AOVs).
