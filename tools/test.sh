@@ -12,6 +12,8 @@ log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 status=0
 cargo test --workspace --all-targets "$@" 2>&1 | tee "$log" || status=$?
+# The examples in the API documentation (--all-targets leaves doc tests out).
+cargo test --workspace --doc "$@" 2>&1 | tee -a "$log" || status=$?
 awk '/^test result:/ { p += $4; f += $6; s += $8 }
      END { printf "platoon: %d passed, %d failed, %d skipped\n", p, f, s }' "$log"
 exit "$status"

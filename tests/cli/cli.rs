@@ -366,16 +366,18 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
 #[test]
 fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
     let dir = tempfile::tempdir().unwrap();
-    let character = common::shared("scenes/CesiumMan.glb");
+    // Run from a folder outside the repository, with no ../shared beside it: the default
+    // character is still found (issue 24).
+    let away = dir.path().join("away/from/it");
+    std::fs::create_dir_all(&away).unwrap();
     let o = Cli::new("bench")
         .arg("dynamic")
         .flag("--frames", "4")
         .flag("--characters", "2")
         .flag("--movers", "3")
-        .flag("--character", &character)
         .arg("--json")
         .out(dir.path())
-        .run();
+        .run_in(&away);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
     let json = out.lines().last().unwrap();

@@ -4,8 +4,6 @@
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use crate::frame::aov::Layer;
-
 use crate::error::{Error, Result};
 
 /// A rendered frame: linear RGB radiance, row-major from the top row.
@@ -75,6 +73,23 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
         w.write_all(text.as_bytes())
             .map_err(|e| Error::file(path, format!("cannot write: {e}")))
     })
+}
+
+/// A layer of an output image: named channels, each a plane of `width * height` values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layer {
+    pub name: String,
+    pub channels: Vec<(String, Vec<f32>)>,
+}
+
+impl Layer {
+    /// The channel `name` of the layer.
+    pub fn channel(&self, name: &str) -> Option<&[f32]> {
+        self.channels
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
 }
 
 /// Writes `film` as EXR or PNG according to the extension, with `metadata` (key, value) pairs

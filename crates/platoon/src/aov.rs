@@ -21,6 +21,21 @@ pub fn render_layers(
     aovs: &[Aov],
     origin: DVec3,
 ) -> Result<Vec<Layer>> {
+    render_layers_with(
+        &mut |p| Ok(tracers.render(scene, p, &mut |_| {})?.film),
+        params,
+        aovs,
+        origin,
+    )
+}
+
+/// The same with each pass's frame rendered by `render` (a bare tracer's, for the lab).
+pub fn render_layers_with(
+    render: &mut dyn FnMut(&FrameParams) -> Result<Film>,
+    params: &FrameParams,
+    aovs: &[Aov],
+    origin: DVec3,
+) -> Result<Vec<Layer>> {
     let mut films: Vec<(aov::AovPass, Film)> = Vec::new();
     for pass in aov::passes(aovs) {
         let mut p = params.clone();
@@ -30,7 +45,7 @@ pub fn render_layers(
         p.spp = pass.spp(params.spp);
         p.time_limit = None;
         p.accumulated = None;
-        films.push((pass, tracers.render(scene, &p, &mut |_| {})?.film));
+        films.push((pass, render(&p)?));
     }
     let film = |pass| {
         films

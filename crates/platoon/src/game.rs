@@ -8,7 +8,7 @@
 //! use platoon::game::{start, GameOptions};
 //!
 //! let scene = platoon::load_scene(None)?; // the built-in Cornell box
-//! let camera = Camera::from_scene(&scene, &scene.pose(0.0), None)?;
+//! let camera = Camera::from_scene(&scene, &scene.pose(0.0), None).map_err(anyhow::Error::msg)?;
 //! let mut options = GameOptions::new(DriverOptions::new(320, 240));
 //! options.driver.target = Some(std::time::Duration::from_millis(33)); // hold 30 fps
 //! let mut driver = start(scene, &options)?;

@@ -1,10 +1,30 @@
 //! platoon: the embedding API. Load a scene (glTF or the built-in Cornell box), choose its
 //! environment and camera and flatten it for the devices ([`mod@prepare`]); create tracers from
-//! device specs ([`devices`]); render a frame on one tracer or many ([`mod@render`]); describe the
+//! device specs ([`devices`], [`Tracers`]); render a frame on one tracer or many
+//! ([`mod@render`]); its AOVs ([`aov`]) and an animation's frames ([`animation`]); describe the
 //! result ([`mod@metadata`]); drive a game loop ([`game`]). The `platoon` command line and the
 //! examples are thin layers over it; what measures platoon (benches, the trade-off tool, plots)
-//! is the lab's crate, platoon-lab.
-//! [`core`] and [`tracer`] are the two crates underneath.
+//! is the lab's crate, platoon-lab. [`core`] and [`tracer`] are the two crates underneath.
+//!
+//! A still render of the built-in Cornell box on the first Vulkan device, written as an EXR
+//! with its metadata:
+//!
+//! ```no_run
+//! # fn main() -> anyhow::Result<()> {
+//! use platoon::core::frame::FrameParams;
+//! use platoon::devices::{tracer_options, DeviceSpec};
+//! use platoon::tracer::Sampling;
+//!
+//! let scene = platoon::load_scene(None)?; // None: the built-in Cornell box
+//! let prepared = platoon::prepare(scene, &platoon::PrepareOptions::default())?;
+//! let options = tracer_options(&DeviceSpec::Indices(vec![0]), false, Sampling::Mis)?;
+//! let params = FrameParams::new(512, 512, 64, prepared.camera);
+//! let rendered = platoon::render(&prepared, &options[0], &params, &mut |_spp_done| {})?;
+//! let meta = platoon::metadata(&prepared, &params, &rendered, "mis");
+//! platoon::core::output::write_image("box.exr".as_ref(), &rendered.film, &meta)?;
+//! # Ok(())
+//! # }
+//! ```
 
 pub mod animation;
 pub mod aov;
@@ -15,6 +35,7 @@ pub mod metadata;
 pub mod method_update;
 pub mod prepare;
 pub mod render;
+pub mod shared;
 
 pub use metadata::{approximations, metadata, metadata_of, SceneFacts};
 pub use platoon_core as core;

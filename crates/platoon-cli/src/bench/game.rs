@@ -31,7 +31,7 @@ pub struct GameArgs {
     #[arg(long, default_value = "all")]
     pub devices: String,
     /// The skinned, animated glTF the game's characters are.
-    #[arg(long, default_value = "../shared/scenes/CesiumMan.glb")]
+    #[arg(long, default_value_os_t = platoon::shared::path("scenes/CesiumMan.glb"))]
     pub character: std::path::PathBuf,
     /// Print one JSON object after the text.
     #[arg(long)]

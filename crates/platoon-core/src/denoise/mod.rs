@@ -8,7 +8,7 @@ use crate::frame::aov::{Aov, Layer};
 use crate::output::Film;
 
 /// Which denoiser `--denoise` names.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Denoiser {
     #[default]
     None,

@@ -7,6 +7,7 @@
 //! the beauty, line by line, so it has the same bits whatever the split between devices.
 
 use crate::output::Film;
+pub use crate::output::Layer;
 use crate::scene::camera::Camera;
 
 /// What one kernel pass writes per pixel (three floats).
@@ -126,23 +127,6 @@ pub fn passes(aovs: &[Aov]) -> Vec<AovPass> {
         }
     }
     out
-}
-
-/// A layer of an output image: named channels, each a plane of `width * height` values.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Layer {
-    pub name: String,
-    pub channels: Vec<(String, Vec<f32>)>,
-}
-
-impl Layer {
-    /// The channel `name` of the layer.
-    pub fn channel(&self, name: &str) -> Option<&[f32]> {
-        self.channels
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_slice())
-    }
 }
 
 /// Depth of a pixel that sees no surface: nothing there, infinitely far.

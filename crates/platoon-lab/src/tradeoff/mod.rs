@@ -4,6 +4,7 @@
 //! Against an unbiased reference bias shows up as an error floor that more samples do not
 //! lower, which a reference rendered by the same technique (Bikker's) would hide.
 
+pub mod denoise;
 pub mod effects;
 pub mod lhb_technique;
 pub mod links_technique;
@@ -221,12 +222,18 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             let mut bands = [band];
             params.method.unit().finish(&params, &mut bands);
             let [band] = bands;
-            times[c].push((device + filters.elapsed()).as_secs_f64() + update);
+            let mut seconds_spent = (device + filters.elapsed()).as_secs_f64() + update;
+            let mut film = assemble(&params, std::slice::from_ref(&band));
+            if let Technique::Denoise(d) = technique {
+                let (denoised, spent) = denoise::apply(*d, tracer, &params, &film)?;
+                film = denoised;
+                seconds_spent += spent;
+            }
+            times[c].push(seconds_spent);
             let seconds = platoon_core::measure::median(times[c].clone());
             if round == 0 {
                 // The errors are the same every round (the same random numbers).
                 rays[c] = band.rays;
-                let film = assemble(&params, &[band]);
                 let e = metrics::errors(&film, &reference.film);
                 if spp == top_spp {
                     finals.push((label.clone(), film));

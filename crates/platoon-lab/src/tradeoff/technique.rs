@@ -5,6 +5,7 @@
 use std::fmt;
 
 use anyhow::{bail, Result};
+use platoon_core::denoise::Denoiser;
 use platoon_core::frame::FrameParams;
 use platoon_core::method::igi::IgiOptions;
 use platoon_tracer::Sampling;
@@ -62,6 +63,9 @@ pub enum Technique {
     Links(LinksTechnique),
     /// Layered hit buffers with a direction set and some of its options (biased).
     Lhb(LhbTechnique),
+    /// MIS, then a denoiser over the assembled image, guided by the frame's albedo, normal and
+    /// depth (biased); its time includes the guides' passes and the filter.
+    Denoise(Denoiser),
 }
 
 /// IGI's options as a technique: `igi=N` (N VPLs, exact) with `+boxes` (imperfect
@@ -230,7 +234,7 @@ impl Technique {
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
     /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `spt`, `nop`, `no-textures`,
-    /// `no-normal-maps`, `opaque`, `env-mean`.
+    /// `no-normal-maps`, `opaque`, `env-mean`, `denoise=atrous`.
     pub fn parse(s: &str) -> Result<Technique> {
         if let Some(effect) = Effect::parse(s.trim()) {
             return Ok(Technique::Without(effect));
@@ -249,6 +253,12 @@ impl Technique {
             "igi" => Technique::Igi(IgiTechnique::parse(s, value.unwrap_or(""))?),
             "links" => Technique::Links(LinksTechnique::parse(s, value.unwrap_or(""))?),
             "lhb" => Technique::Lhb(LhbTechnique::parse(s, value.unwrap_or(""))?),
+            "denoise" => match value.unwrap_or("").parse::<Denoiser>() {
+                Ok(Denoiser::None) | Err(_) => {
+                    bail!("technique {s:?}: denoise needs a denoiser, e.g. denoise=atrous")
+                }
+                Ok(d) => Technique::Denoise(d),
+            },
             "mis" => Technique::Mis,
             "bsdf" => Technique::Bsdf,
             "light" => Technique::Light,
@@ -287,7 +297,8 @@ impl Technique {
                  generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
                  env-mean, igi=N[+boxes][+downK][+interMxN][+minD], \
-                 links=N[+bB][+nosmooth][+vertex][+subK], lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild]"
+                 links=N[+bB][+nosmooth][+vertex][+subK], lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild], \
+                 denoise=atrous"
             ),
         })
     }
@@ -305,6 +316,7 @@ impl Technique {
                 | Technique::Igi(_)
                 | Technique::Links(_)
                 | Technique::Lhb(_)
+                | Technique::Denoise(_)
         )
     }
 
@@ -356,6 +368,8 @@ impl Technique {
             Technique::Lhb(t) => params.method = t.method(),
             // Its change is to the scene (`variant`).
             Technique::Without(_) => {}
+            // Its change is after assembly (`mod.rs`).
+            Technique::Denoise(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
         }
     }
@@ -382,6 +396,7 @@ impl fmt::Display for Technique {
             Technique::Streaming => write!(f, "spt"),
             Technique::CutLastPaths => write!(f, "nop"),
             Technique::Without(e) => write!(f, "{}", e.name()),
+            Technique::Denoise(d) => write!(f, "denoise={}", format!("{d:?}").to_lowercase()),
             Technique::Igi(t) => write!(f, "{t}"),
             Technique::Links(t) => write!(f, "{t}"),
             Technique::Lhb(t) => write!(f, "{t}"),
@@ -420,6 +435,7 @@ mod tests {
             Technique::parse("lhb=ico80+r64+c2.5+b3+l8+exact").unwrap(),
             Technique::parse("lhb=ico20+rebuild").unwrap(),
             Technique::parse("lhb=halton144").unwrap(),
+            Technique::Denoise(Denoiser::Atrous),
         ] {
             assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
         }
@@ -429,6 +445,8 @@ mod tests {
             "{e}"
         );
         assert!(Technique::parse("ris").is_err() && Technique::parse("ris=0").is_err());
+        assert!(Technique::parse("denoise=none").is_err() && Technique::parse("denoise").is_err());
+        assert!(Technique::parse("denoise=atrous").unwrap().biased());
         assert!(Technique::parse("max-depth").is_err());
         assert!(Technique::parse("max-depth=0").is_err());
         assert!(Technique::parse("rr-survival=0").is_err());

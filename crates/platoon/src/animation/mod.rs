@@ -55,7 +55,7 @@ pub struct Animation {
 }
 
 impl Animation {
-    /// The scene lit and posed at `options.time`, as [`crate::prepare`] would pose it, and
+    /// The scene lit and posed at `options.time`, as [`crate::prepare()`] would pose it, and
     /// flattened for the tracers ([`Animation::scene`]).
     pub fn new(mut scene: Scene, options: &PrepareOptions) -> Result<Animation> {
         let (env_label, note) = light(&mut scene, &options.env)?;
