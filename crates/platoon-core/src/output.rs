@@ -167,16 +167,25 @@ fn write_exr(
         (p[0], p[1], p[2])
     });
     let mut image = Image::from_channels((width, film.height as usize), channels);
-    for (k, v) in metadata {
-        image.attributes.other.insert(
-            Text::from(format!("platoon:{k}").as_str()),
-            AttributeValue::Text(Text::from(v.as_str())),
-        );
-    }
+    insert_metadata(&mut image.attributes.other, metadata);
     image
         .write()
         .to_buffered(w)
         .map_err(|e| crate::Error::file(path, format!("cannot write EXR: {e}")))
+}
+
+/// `metadata` as EXR string attributes, each key prefixed `platoon:`.
+fn insert_metadata(
+    attributes: &mut std::collections::HashMap<exr::prelude::Text, exr::prelude::AttributeValue>,
+    metadata: &[(String, String)],
+) {
+    use exr::prelude::*;
+    for (k, v) in metadata {
+        attributes.insert(
+            Text::from(format!("platoon:{k}").as_str()),
+            AttributeValue::Text(Text::from(v.as_str())),
+        );
+    }
 }
 
 fn write_layered_exr(
@@ -215,12 +224,7 @@ fn write_layered_exr(
         AnyChannels::sort(channels),
     );
     let mut image = Image::from_layer(layer);
-    for (k, v) in metadata {
-        image.attributes.other.insert(
-            Text::from(format!("platoon:{k}").as_str()),
-            AttributeValue::Text(Text::from(v.as_str())),
-        );
-    }
+    insert_metadata(&mut image.attributes.other, metadata);
     image
         .write()
         .to_buffered(w)

@@ -23,11 +23,10 @@
 //! # }
 //! ```
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use glam::DVec3;
 
 use crate::devices::{create_tracers, DeviceSpec};
-use platoon_core::balance;
 use platoon_core::drive::{DriverOptions, FrameDriver, GiUpdate, Pipeline, UpdaterThreads};
 use platoon_core::Scene;
 use platoon_tracer::Sampling;
@@ -63,13 +62,7 @@ impl GameOptions {
 /// Starts the updater on `scene`, a tracer on every device of the spec with the scene's first
 /// generation, and the frame driver over them.
 pub fn start(scene: Scene, options: &GameOptions) -> Result<FrameDriver> {
-    let balancer = balance::by_name(&options.balancer).with_context(|| {
-        format!(
-            "unknown balancer {:?} (known: {})",
-            options.balancer,
-            balance::NAMES.join(", ")
-        )
-    })?;
+    let balancer = crate::devices::balancer(&options.balancer)?;
     let (pipeline, first) =
         Pipeline::with_updater_threads(scene, options.time, DVec3::ZERO, &options.updater)?;
     let tracers = create_tracers(&options.devices, &first, options.validation, Sampling::Mis)?;

@@ -163,12 +163,7 @@ impl Tracers {
         if tracers.len() == 1 {
             return Ok(Tracers::One(Box::new(tracers.remove(0))));
         }
-        let policy = platoon_core::balance::by_name(balancer).with_context(|| {
-            format!(
-                "unknown balancer {balancer:?} (known: {})",
-                platoon_core::balance::NAMES.join(", ")
-            )
-        })?;
+        let policy = crate::devices::balancer(balancer)?;
         Ok(Tracers::Many(Renderer::new(tracers, policy)))
     }
 
