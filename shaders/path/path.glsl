@@ -28,6 +28,11 @@
 uint loop_canary() { return pc.method_words[0]; }
 // stats[STAT_CUT_SHORT]: pixels whose pass the megakernel could not finish (scene.glsl's Stats).
 const uint STAT_CUT_SHORT = 1u;
+// A pixel's accumulation w: 0 rendering; PIXEL_CUT_SHORT its megakernel pass ran past the
+// device's loop limit (the streaming kernels finish it); PIXEL_CONVERGED adaptive sampling's
+// converged pixel (set by the tracer from FrameParams::converged), which takes no samples.
+const float PIXEL_CUT_SHORT = 1.0;
+const float PIXEL_CONVERGED = 2.0;
 
 // Weight of emission found by a BSDF-sampled ray, against the NEE pdf of the same light.
 float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {

@@ -65,11 +65,12 @@ void main() {
 #elif defined(OUTPUT_AOV)
     sum = aov_pixel(pixel, pc.g.accum.v[index].xyz, rays);
 #else
+    if (pc.g.accum.v[index].w == PIXEL_CONVERGED) return;
     sum = pixel_samples(pixel, pc.g.accum.v[index].xyz, rays, rejected);
     if (loop_limit_reached()) {
         // The pass's samples were cut short: the pixel keeps its sums, flagged (w = 1) for the
         // streaming kernels to render them (crates/platoon-tracer/src/method/path.rs).
-        pc.g.accum.v[index] = vec4(pc.g.accum.v[index].xyz, 1.0);
+        pc.g.accum.v[index] = vec4(pc.g.accum.v[index].xyz, PIXEL_CUT_SHORT);
         atomicAdd(pc.g.stats.v[STAT_CUT_SHORT], 1u);
         return;
     }

@@ -771,3 +771,55 @@ fn a_denoised_render_is_closer_to_the_converged_one_and_keeps_the_raw_beside_it(
         error(&raw)
     );
 }
+
+#[test]
+fn adaptive_sampling_writes_its_sample_counts_and_says_so_in_the_metadata() {
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("adaptive.exr");
+    let o = Cli::new("render")
+        .spp(64)
+        .size(24, 20)
+        .flag("--adaptive-threshold", "0.05")
+        .flag("--adaptive-min-spp", "16")
+        .flag("--aov", "variance")
+        .out(&exr)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("adaptive"), "{}", stderr(&o));
+    let channels = platoon::core::output::read_exr_channels(&exr).unwrap();
+    let count = |name: &str| {
+        channels
+            .iter()
+            .find(|(n, _)| n == name)
+            .unwrap_or_else(|| panic!("{name} missing"))
+            .1
+            .clone()
+    };
+    let samples = count("sample-count.N");
+    assert!(samples.iter().all(|&n| (16.0..=64.0).contains(&n)));
+    assert!(samples.iter().any(|&n| n < 64.0), "nothing converged");
+    assert!(count("variance.R")
+        .iter()
+        .all(|v| v.is_finite() && *v >= 0.0));
+    let (_, meta) = platoon::core::output::read_exr(&exr).unwrap();
+    assert_eq!(metadata_value(&meta, "adaptive_threshold"), "0.05");
+    assert_eq!(metadata_value(&meta, "adaptive_min_spp"), "16");
+    let mean: f64 = samples.iter().map(|&n| n as f64).sum::<f64>() / samples.len() as f64;
+    assert_eq!(metadata_value(&meta, "mean_spp"), format!("{mean:.2}"));
+    assert!(metadata_value(&meta, "approximations").contains("adaptive sampling"));
+    let other = dir.path().join("other.exr");
+    Cli::new("render")
+        .flag("--adaptive-threshold", "0")
+        .out(&other)
+        .fails_naming("--adaptive-threshold", &other);
+    Cli::new("render")
+        .flag("--adaptive-threshold", "0.1")
+        .flag("--time-limit", "1")
+        .out(&other)
+        .fails_naming("--time-limit", &other);
+    Cli::new("render")
+        .flag("--adaptive-threshold", "0.1")
+        .flag("--method", "igi")
+        .out(&other)
+        .fails_naming("path tracer", &other);
+}

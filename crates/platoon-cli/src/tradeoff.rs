@@ -29,8 +29,11 @@ pub struct TradeoffArgs {
     /// no-normal-maps, opaque, env-mean,
     /// igi=N[+boxes][+downK][+interMxN][+minD], links=N[+bB][+nosmooth][+vertex][+subK] (vertex
     /// links: N directions, B bounces, every mesh subdivided K times; the update's time
-    /// counts). Default: mis,bsdf,light,
-    /// max-depth=2, no-regeneration; with --method igi or links that method's sweep.
+    /// counts), lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild] (layered hit buffers),
+    /// denoise=atrous (the filter after assembly, guides and filter timed), adaptive=T
+    /// (adaptive sampling at noise threshold T; the spp is each pixel's most). Default:
+    /// mis,bsdf,light, max-depth=2, no-regeneration; with --method igi or links that method's
+    /// sweep.
     #[arg(long, value_delimiter = ',')]
     techniques: Option<Vec<String>>,
     /// `igi` sweeps instant global illumination against the path tracer (mis) by default: VPL

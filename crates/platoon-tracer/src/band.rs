@@ -97,6 +97,19 @@ impl Tracer {
                 "the indirect clamp must be a positive radiance".into(),
             ));
         }
+        if let Some(c) = &params.converged {
+            let pixels = params.width as usize * params.height as usize;
+            if params.accumulated.is_none() || c.len() != pixels {
+                return Err(crate::Error::Invalid(
+                    "converged pixels need the accumulated sums, one flag per pixel".into(),
+                ));
+            }
+            if params.method != platoon_core::Method::PathTracing {
+                return Err(crate::Error::Invalid(
+                    "adaptive sampling (converged pixels) is the path tracer's".into(),
+                ));
+            }
+        }
         let method = params.method.unit();
         method.validate(params).map_err(crate::Error::Invalid)?;
         // The method's device side is taken out while it records, and kept for the next band.
@@ -189,10 +202,16 @@ impl Tracer {
                         sums.len()
                     )));
                 }
-                let rows = &sums[span.begin as usize..span.end as usize];
+                let range = span.begin as usize..span.end as usize;
+                // The kernels leave pixels flagged converged (w = 2, PIXEL_CONVERGED in
+                // shaders/path/path.glsl) as they are.
+                let flag = |i: usize| match &params.converged {
+                    Some(c) if c[i] => 2.0,
+                    _ => 0.0,
+                };
                 Some(
-                    rows.iter()
-                        .map(|p| [p[0], p[1], p[2], 0.0])
+                    range
+                        .map(|i| [sums[i][0], sums[i][1], sums[i][2], flag(i)])
                         .collect::<Vec<_>>(),
                 )
             }

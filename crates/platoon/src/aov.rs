@@ -1,6 +1,7 @@
 //! A frame's AOVs beside its beauty (`platoon_core::frame::aov`): each kernel pass they need
 //! rendered on the same tracers as the beauty, with its random numbers, so the layers have the
-//! same bits whatever the split between devices.
+//! same bits whatever the split between devices; the sample count and variance from the
+//! beauty's batches (`crate::batched`).
 
 use anyhow::Result;
 use glam::DVec3;
@@ -10,7 +11,7 @@ use platoon_core::frame::{FrameParams, Output};
 use platoon_core::output::Film;
 use platoon_core::Method;
 
-use crate::Tracers;
+use crate::{Rendered, Tracers};
 
 /// The layers of `aovs` for the frame `params` renders (its camera, samples and seed) of
 /// `scene`, whose render space is centred on the world point `origin`.
@@ -55,4 +56,22 @@ pub fn render_layers_with(
             .expect("every pass rendered")
     };
     Ok(aov::layers(aovs, &film, &params.camera, origin))
+}
+
+/// The layers of `aovs` that come from the beauty's batches (sample count, variance) of the
+/// frame `rendered`: a frame not rendered in batches took its `spp` in every pixel.
+pub fn batch_layers(rendered: &Rendered, aovs: &[Aov]) -> Result<Vec<Layer>> {
+    let pixels = rendered.film.pixels.len();
+    let uniform;
+    let (samples, variance) = match &rendered.batched {
+        Some(b) => (&b.samples[..], b.variance.as_deref()),
+        None => {
+            uniform = vec![rendered.spp; pixels];
+            (&uniform[..], None)
+        }
+    };
+    if aovs.contains(&Aov::Variance) && variance.is_none() {
+        anyhow::bail!("the variance AOV needs the frame rendered in batches that keep it");
+    }
+    Ok(aov::batch_layers(aovs, samples, variance))
 }

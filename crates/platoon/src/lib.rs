@@ -28,6 +28,7 @@
 
 pub mod animation;
 pub mod aov;
+pub mod batched;
 pub mod devices;
 pub mod game;
 pub mod generated;
@@ -43,4 +44,6 @@ pub use platoon_tracer as tracer;
 pub use prepare::{
     load_scene, load_scene_with, prepare, EnvChoice, PrepareOptions, Prepared, DEFAULT_SKY,
 };
-pub use render::{render, render_bands, render_frame, whole_frame, Rendered, Tracers};
+pub use render::{
+    render, render_bands, render_frame, whole_frame, BatchedStats, Rendered, Tracers,
+};

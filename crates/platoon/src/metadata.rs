@@ -123,6 +123,22 @@ pub fn metadata_of(
         ),
         ("approximations".into(), approximations(params)),
     ];
+    if let Some(a) = rendered.batched.as_ref().and_then(|b| b.adaptive) {
+        m.extend([
+            ("adaptive_threshold".into(), a.threshold.to_string()),
+            ("adaptive_min_spp".into(), a.min_spp(params.spp).to_string()),
+            ("mean_spp".into(), format!("{:.2}", rendered.mean_spp())),
+        ]);
+        for (k, v) in &mut m {
+            if k == "approximations" {
+                v.push_str(&format!(
+                    "; adaptive sampling (threshold {}): a pixel stops on its own samples' error \
+                     estimate",
+                    a.threshold
+                ));
+            }
+        }
+    }
     m.extend(rendered.method_metadata.iter().cloned());
     m
 }

@@ -8,7 +8,7 @@ use anyhow::{Context as _, Result};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::renderer::Renderer;
-use platoon_core::frame::{assemble, Band, FrameParams, Span};
+use platoon_core::frame::{assemble, gather_sums, Band, FrameParams, Span};
 use platoon_core::output::Film;
 use platoon_tracer::{Tracer, TracerOptions};
 
@@ -39,6 +39,21 @@ pub struct Rendered {
     /// The method's own metadata entries (`RenderMethod::metadata`: what its preparation
     /// did, e.g. vertex links' update).
     pub method_metadata: Vec<(String, String)>,
+    /// The radiance sums behind `film` (row-major; they include `FrameParams::accumulated`).
+    pub sums: Vec<[f32; 3]>,
+    /// What a frame rendered in batches (`crate::batched`) knows of each pixel.
+    pub batched: Option<BatchedStats>,
+}
+
+/// Per-pixel statistics of a frame rendered in batches.
+#[derive(Clone, Debug)]
+pub struct BatchedStats {
+    /// The adaptive sampling it was rendered with, if any.
+    pub adaptive: Option<platoon_core::frame::adaptive::Adaptive>,
+    /// Samples each pixel took (row-major).
+    pub samples: Vec<u32>,
+    /// The variance of each pixel's mean (per channel), when asked for.
+    pub variance: Option<Vec<[f32; 3]>>,
 }
 
 impl Rendered {
@@ -50,6 +65,15 @@ impl Rendered {
     }
     pub fn gpu_time(&self) -> Duration {
         self.gpu_time
+    }
+    /// Samples per pixel on average (below `spp` where adaptive sampling stopped pixels).
+    pub fn mean_spp(&self) -> f64 {
+        match &self.batched {
+            Some(b) if !b.samples.is_empty() => {
+                b.samples.iter().map(|&n| n as f64).sum::<f64>() / b.samples.len() as f64
+            }
+            _ => self.spp as f64,
+        }
     }
 }
 
@@ -72,6 +96,8 @@ pub fn render_bands(
     params.method.unit().finish(params, &mut out);
     Ok(Rendered {
         film: assemble(params, &out),
+        sums: gather_sums(params, &out),
+        batched: None,
         spp: out
             .iter()
             .map(|b| b.spp(params))
@@ -144,6 +170,8 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         validation_messages: renderer.with_tracers(|t| t.validation_messages()).concat(),
         method_metadata: [params.method.unit().metadata(), frame.method_report].concat(),
         film: frame.film,
+        sums: frame.sums,
+        batched: None,
     })
 }
 

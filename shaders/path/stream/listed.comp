@@ -1,6 +1,6 @@
 #version 460
 // Streaming path tracer (path/stream/stream.glsl): lists the band's pixels that the megakernel
-// flagged (accumulation w = 1: its pass ran past the device's loop limit, path/pathtrace.comp),
+// flagged (accumulation w = PIXEL_CUT_SHORT: its pass ran past the device's loop limit, path/pathtrace.comp),
 // clearing the flags, so that a listed pass renders their samples.
 
 layout(local_size_x = 64) in;
@@ -24,7 +24,7 @@ void main() {
     if (c >= cell_count()) return;
     uint p = band_cell_pixel(c);
     vec4 a = pc.g.accum.v[p];
-    if (a.w == 0.0) return;
+    if (a.w != PIXEL_CUT_SHORT) return;
     pc.g.accum.v[p] = vec4(a.xyz, 0.0);
     listed_pixels[atomicAdd(ctl.listed, 1u)] = p;
 }

@@ -2,7 +2,7 @@
 // Streaming path tracer, regeneration (path/stream/stream.glsl), over the ended slots (every
 // slot, fresh, at a pass's start): an ended path's light is added to its pixel (NaN/Inf samples
 // are counted and dropped, as the megakernel does), then the pixel's next sample starts, or
-// the slot claims the band's next pixel, or retires.
+// the slot claims the band's next pixel (not a converged one), or retires.
 
 layout(local_size_x = 64) in;
 
@@ -47,7 +47,12 @@ void main() {
         }
     }
     if (!next_sample) {
+        // Adaptive sampling's converged pixels are passed over. (A while loop: the same claim
+        // as a do-while lost other lanes' claims on llvmpipe, Mesa 22.3.)
         uint c = atomicAdd(ctl.next_cell, 1u);
+        while (c < cell_count() && pc.g.accum.v[cell_pixel(c)].w == PIXEL_CONVERGED) {
+            c = atomicAdd(ctl.next_cell, 1u);
+        }
         if (c >= cell_count()) {
             slots[i].info = uvec4(SLOT_RETIRED, 0u, 0u, 0u);
             return;

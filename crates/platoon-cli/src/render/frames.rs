@@ -144,7 +144,7 @@ impl Job {
         let o = &setup.options;
         let settings = format!(
             "scene {scene}; env {:?}; camera {:?}, aperture {}, focus {:?}; {}x{}, {} spp, \
-             time limit {:?}, max depth {}, seed {}{}; {}; kernel {:?}; {} sampling; {} fps; AOVs {:?}; denoiser {:?}",
+             time limit {:?}, max depth {}, seed {}{}; {}; kernel {:?}; {} sampling; {} fps; AOVs {:?}; denoiser {:?}; adaptive {:?}",
             o.env,
             o.camera,
             o.aperture_radius,
@@ -161,7 +161,8 @@ impl Job {
             setup.sampling,
             args.fps,
             setup.aovs,
-            setup.denoiser
+            setup.denoiser,
+            setup.batching.adaptive
         );
         Job {
             settings,
@@ -238,7 +239,8 @@ impl Frames {
             let mut tracers =
                 Tracers::new(&self.setup.tracers, &self.setup.balancer, &prepared.gpu)?;
             let params = job.params(&self.setup, frame, prepared.camera);
-            let rendered = tracers.render(&prepared.gpu, &params, progress)?;
+            let rendered =
+                tracers.render_batched(&prepared.gpu, &params, &self.setup.batching, progress)?;
             let outputs = Outputs::of(
                 &mut tracers,
                 &prepared.gpu,
@@ -268,7 +270,12 @@ impl Frames {
                 tracers.apply_commit(&generation.commit, generation.id as u32)?;
             }
             let params = job.params(&self.setup, frame, animation.camera());
-            let rendered = tracers.render(animation.scene(), &params, progress)?;
+            let rendered = tracers.render_batched(
+                animation.scene(),
+                &params,
+                &self.setup.batching,
+                progress,
+            )?;
             let origin = animation.facts().origin;
             let outputs = Outputs::of(
                 tracers,

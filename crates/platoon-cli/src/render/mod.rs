@@ -12,8 +12,10 @@ use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use platoon::core::balance;
 use platoon::core::denoise::Denoiser;
+use platoon::core::frame::adaptive::{Adaptive, Batching};
 use platoon::core::frame::aov::Aov;
 use platoon::core::frame::FrameParams;
+use platoon::core::output::ImageFormat;
 use platoon::devices::DeviceSpec;
 use platoon::tracer::Sampling;
 use platoon::{PrepareOptions, Tracers};
@@ -89,7 +91,9 @@ pub struct RenderArgs {
     #[arg(long, short, default_value = "render.png")]
     out: PathBuf,
     /// AOVs written as layers of the EXR beside the beauty, comma-separated: albedo, normal
-    /// (Cycles' denoising conventions), depth, position, instance-id, material-id, primitive-id.
+    /// (Cycles' denoising conventions), depth, position, instance-id, material-id,
+    /// primitive-id, variance (of each pixel's mean, from batches of its samples),
+    /// sample-count.
     #[arg(long, value_parser = parse_aovs)]
     aov: Option<AovList>,
     /// Denoise the image after assembly, guided by its albedo, normal and depth: none, or
@@ -97,6 +101,15 @@ pub struct RenderArgs {
     /// as NAME.noisy.EXT.
     #[arg(long, default_value = "none")]
     denoise: Denoiser,
+    /// Adaptive sampling (Cycles' scheme): a pixel stops taking samples once its noise
+    /// estimate is below this threshold (0.01 clean, 0.1 a preview); --spp is then the most a
+    /// pixel takes. An EXR output gets the sample-count layer. Path tracing only.
+    #[arg(long)]
+    adaptive_threshold: Option<f32>,
+    /// Samples every pixel takes before adaptive sampling may stop it (default: spp / 16, at
+    /// least 16).
+    #[arg(long, requires = "adaptive_threshold")]
+    adaptive_min_spp: Option<u32>,
     #[command(flatten)]
     frames: frames::FrameArgs,
 }
@@ -129,6 +142,8 @@ struct Setup {
     sampling: &'static str,
     aovs: Vec<Aov>,
     denoiser: Denoiser,
+    /// Adaptive sampling and the variance AOV's batches.
+    batching: Batching,
 }
 
 fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
@@ -152,9 +167,11 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         out,
         aov,
         denoise,
+        adaptive_threshold,
+        adaptive_min_spp,
         frames,
     } = a;
-    let aovs = aov.map(|l| l.0).unwrap_or_default();
+    let mut aovs = aov.map(|l| l.0).unwrap_or_default();
     let kernel = method.kernel;
     let method = method.method()?;
     if width == 0 || height == 0 || spp == 0 {
@@ -201,6 +218,34 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
     if tracers.len() > 1 && time_limit.is_some() {
         bail!("--time-limit renders on one device: bands cut at different times would break the image's independence from the device split");
     }
+    let adaptive = adaptive_threshold.map(|threshold| Adaptive {
+        threshold,
+        min_spp: adaptive_min_spp,
+    });
+    if let Some(a) = &adaptive {
+        a.validate(spp)
+            .map_err(|e| anyhow::anyhow!("--adaptive-threshold: {e}"))?;
+        if matches!(
+            platoon::core::output::check_image_path(&out)?,
+            ImageFormat::Exr
+        ) && !aovs.contains(&Aov::SampleCount)
+        {
+            aovs.push(Aov::SampleCount);
+        }
+    }
+    let batching = Batching {
+        adaptive,
+        variance: aovs.contains(&Aov::Variance),
+    };
+    if batching.is_some() && time_limit.is_some() {
+        bail!("--time-limit cannot end adaptive sampling or the variance AOV's batches early");
+    }
+    if batching.adaptive.is_some() && params.method != platoon::core::Method::PathTracing {
+        bail!("--adaptive-threshold: adaptive sampling is the path tracer's (no --method)");
+    }
+    if batching.variance && spp < 2 {
+        bail!("the variance AOV needs at least 2 samples per pixel");
+    }
     let setup = Setup {
         scene: loaded,
         options,
@@ -210,6 +255,7 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         sampling: sampling_name,
         aovs,
         denoiser: denoise,
+        batching,
     };
     Ok((setup, out, frames))
 }
@@ -229,6 +275,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         sampling,
         aovs,
         denoiser,
+        batching,
     } = setup;
     let prepared = platoon::prepare(scene, &options)?;
     for w in &prepared.scene.warnings {
@@ -239,7 +286,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     params.camera = prepared.camera;
     let mut tracers = Tracers::new(&options_of_tracers, &balancer, &prepared.gpu)?;
-    let rendered = render_frame(&mut tracers, &prepared.gpu, &params)?;
+    let rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
     let origin = prepared.posed.origin;
     let outputs = Outputs::of(
         &mut tracers,
@@ -254,15 +301,22 @@ pub fn run(a: RenderArgs) -> Result<()> {
     meta.extend(aov_metadata(&aovs));
     outputs.write(&out, &meta)?;
     let secs = rendered.wall_time.as_secs_f64();
+    let spp = match rendered.batched.as_ref().and_then(|b| b.adaptive) {
+        Some(_) => format!(
+            "{:.1} spp on average (adaptive, at most {})",
+            rendered.mean_spp(),
+            rendered.spp
+        ),
+        None => format!("{} spp", rendered.spp),
+    };
     eprintln!(
-        "{}: {}x{} at {} spp in {:.2} s on {} ({:.2} M samples/s, {:.2} M rays/s, {} rejected samples)",
+        "{}: {}x{} at {spp} in {:.2} s on {} ({:.2} M samples/s, {:.2} M rays/s, {} rejected samples)",
         out.display(),
         params.width,
         params.height,
-        rendered.spp,
         secs,
         rendered.device,
-        (params.width as f64 * params.height as f64 * rendered.spp as f64) / secs / 1e6,
+        (params.width as f64 * params.height as f64 * rendered.mean_spp()) / secs / 1e6,
         rendered.rays() as f64 / secs / 1e6,
         rendered.rejected_samples()
     );
@@ -294,6 +348,7 @@ fn render_frame(
     tracers: &mut Tracers,
     scene: &platoon::core::flatten::GpuScene,
     params: &FrameParams,
+    batching: &Batching,
 ) -> Result<platoon::Rendered> {
     let rendered = if tracers.count() == 1 {
         let bar = ProgressBar::new(params.spp as u64);
@@ -301,14 +356,16 @@ fn render_frame(
             ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp {msg}")
                 .unwrap(),
         );
-        let r = tracers.render(scene, params, &mut |done| bar.set_position(done as u64));
+        let r = tracers.render_batched(scene, params, batching, &mut |done| {
+            bar.set_position(done as u64)
+        });
         bar.finish_and_clear();
         r?
     } else {
         let spinner = ProgressBar::new_spinner();
         spinner.set_message(format!("rendering on {} tracers", tracers.count()));
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
-        let r = tracers.render(scene, params, &mut |_| {});
+        let r = tracers.render_batched(scene, params, batching, &mut |_| {});
         spinner.finish_and_clear();
         r?
     };

@@ -55,7 +55,9 @@ impl Outputs {
                 )
             }
         };
+        layers.extend(platoon::aov::batch_layers(rendered, aovs)?);
         layers.retain(|l| aovs.iter().any(|a| a.name() == l.name));
+        layers.sort_by_key(|l| aovs.iter().position(|a| a.name() == l.name));
         Ok(Outputs {
             image,
             layers,

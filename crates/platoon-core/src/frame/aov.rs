@@ -5,6 +5,7 @@
 //! the ray through the pixel's centre (not anti-aliased, as Blender's Z and index passes).
 //! Each comes from a kernel pass of its own ([`AovPass`], `frame::Output::Aov`) rendered like
 //! the beauty, line by line, so it has the same bits whatever the split between devices.
+//! The sample count and variance come from the beauty's own batches (`frame::adaptive`).
 
 use crate::output::Film;
 pub use crate::output::Layer;
@@ -47,10 +48,14 @@ pub enum Aov {
     InstanceId,
     MaterialId,
     PrimitiveId,
+    /// The variance of the pixel's mean (per channel), from its batch means (`adaptive`).
+    Variance,
+    /// The samples the pixel took (adaptive sampling's; the frame's spp without it).
+    SampleCount,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 7] = [
+    pub const ALL: [Aov; 9] = [
         Aov::Albedo,
         Aov::Normal,
         Aov::Depth,
@@ -58,6 +63,8 @@ impl Aov {
         Aov::InstanceId,
         Aov::MaterialId,
         Aov::PrimitiveId,
+        Aov::Variance,
+        Aov::SampleCount,
     ];
 
     /// Its name on the command line and as the EXR layer.
@@ -70,20 +77,23 @@ impl Aov {
             Aov::InstanceId => "instance-id",
             Aov::MaterialId => "material-id",
             Aov::PrimitiveId => "primitive-id",
+            Aov::Variance => "variance",
+            Aov::SampleCount => "sample-count",
         }
     }
 
     /// Its channels in the layer (`albedo.R`, ...).
     pub fn channels(self) -> &'static [&'static str] {
         match self {
-            Aov::Albedo => &["R", "G", "B"],
+            Aov::Albedo | Aov::Variance => &["R", "G", "B"],
             Aov::Normal | Aov::Position => &["X", "Y", "Z"],
             Aov::Depth => &["Z"],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &["id"],
+            Aov::SampleCount => &["N"],
         }
     }
 
-    /// The kernel passes it is made from.
+    /// The kernel passes it is made from (none: it comes from the beauty's batches).
     pub fn passes(self) -> &'static [AovPass] {
         match self {
             Aov::Albedo => &[AovPass::Albedo],
@@ -92,6 +102,7 @@ impl Aov {
             Aov::Depth => &[AovPass::Position, AovPass::Ids],
             Aov::Position => &[AovPass::Position],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &[AovPass::Ids],
+            Aov::Variance | Aov::SampleCount => &[],
         }
     }
 
@@ -152,6 +163,7 @@ pub fn layers(
     };
     let hit = |i: usize| of(AovPass::Ids).pixels[i][0] > 0.0;
     aovs.iter()
+        .filter(|a| !a.passes().is_empty())
         .map(|&aov| {
             let planes: Vec<Vec<f32>> = match aov {
                 Aov::Albedo | Aov::Normal => {
@@ -184,18 +196,46 @@ pub fn layers(
                     };
                     vec![plane(of(AovPass::Ids), &|_, p| p[c])]
                 }
+                Aov::Variance | Aov::SampleCount => unreachable!("filtered out above"),
             };
-            Layer {
-                name: aov.name().into(),
-                channels: aov
-                    .channels()
-                    .iter()
-                    .map(|c| c.to_string())
-                    .zip(planes)
-                    .collect(),
-            }
+            layer(aov, planes)
         })
         .collect()
+}
+
+fn layer(aov: Aov, planes: Vec<Vec<f32>>) -> Layer {
+    Layer {
+        name: aov.name().into(),
+        channels: aov
+            .channels()
+            .iter()
+            .map(|c| c.to_string())
+            .zip(planes)
+            .collect(),
+    }
+}
+
+/// The layers of `aovs` that come from the beauty's batches: each pixel's `samples`, and the
+/// variance of its mean when it was kept.
+pub fn batch_layers(aovs: &[Aov], samples: &[u32], variance: Option<&[[f32; 3]]>) -> Vec<Layer> {
+    let mut out = Vec::new();
+    for &aov in aovs {
+        match aov {
+            Aov::SampleCount => out.push(layer(
+                aov,
+                vec![samples.iter().map(|&n| n as f32).collect()],
+            )),
+            Aov::Variance => {
+                let v = variance.expect("the variance was kept: the frame was batched for it");
+                out.push(layer(
+                    aov,
+                    (0..3).map(|c| v.iter().map(|p| p[c]).collect()).collect(),
+                ));
+            }
+            _ => {}
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! balancer wants it). A tracer (one device) renders bands; the core assembles them. Keeping this interface free of Vulkan lets the core drive any number of
 //! tracers and lets the balancer live here.
 
+pub mod adaptive;
 pub mod aov;
 pub mod fault;
 pub mod renderer;
@@ -87,6 +88,10 @@ pub struct FrameParams {
     /// frame's samples are added onto, one by one in sample order, so that frames continuing a
     /// sum are bit for bit one longer render. The bands' sums then include them.
     pub accumulated: Option<Arc<[[f32; 3]]>>,
+    /// Pixels (row-major) that take no samples in this frame, their sums passed through from
+    /// `accumulated` (which they need): adaptive sampling's converged pixels (`adaptive`).
+    /// Path tracing only.
+    pub converged: Option<Arc<[bool]>>,
     pub samples_per_pass: u32,
     /// Stop adding passes once this much wall time has gone (at least one pass is rendered):
     /// `spp` is then an upper bound and each band reports the samples it holds. For one
@@ -155,6 +160,7 @@ impl FrameParams {
             frame: 0,
             first_sample: 0,
             accumulated: None,
+            converged: None,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             time_limit: None,
             camera,
@@ -272,6 +278,16 @@ pub trait BandTracer {
     fn messages(&self) -> Vec<String> {
         Vec::new()
     }
+}
+
+/// The bands' sums as one image (row-major, width x height).
+pub fn gather_sums(params: &FrameParams, bands: &[Band]) -> Vec<[f32; 3]> {
+    let mut sums = vec![[0.0f32; 3]; params.width as usize * params.height as usize];
+    for b in bands {
+        let start = b.span.begin as usize;
+        sums[start..start + b.sums.len()].copy_from_slice(&b.sums);
+    }
+    sums
 }
 
 /// Assembles bands covering the frame into its average radiance.

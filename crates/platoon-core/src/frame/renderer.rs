@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use super::workers::Worker;
 use crate::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
 use crate::flatten::commit::Commit;
-use crate::frame::{assemble, Band, BandTracer, FrameParams, Span, TracerError};
+use crate::frame::{assemble, gather_sums, Band, BandTracer, FrameParams, Span, TracerError};
 use crate::output::Film;
 
 /// One tracer's part in a frame.
@@ -383,17 +383,6 @@ pub fn per_pixel_in_order(bands: &mut [Band]) -> Vec<[f32; 4]> {
         .into_iter()
         .flat_map(|i| std::mem::take(&mut bands[i].per_pixel))
         .collect()
-}
-
-/// The bands' sums as one image.
-fn gather_sums(params: &FrameParams, bands: &[Band]) -> Vec<[f32; 3]> {
-    let w = params.width as usize;
-    let mut sums = vec![[0.0f32; 3]; w * params.height as usize];
-    for b in bands {
-        let start = b.span.begin as usize;
-        sums[start..start + b.sums.len()].copy_from_slice(&b.sums);
-    }
-    sums
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 //! Against an unbiased reference bias shows up as an error floor that more samples do not
 //! lower, which a reference rendered by the same technique (Bikker's) would hide.
 
+pub mod adaptive;
 pub mod denoise;
 pub mod effects;
 pub mod lhb_technique;
@@ -208,22 +209,31 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             let (tracer, _) = tracers
                 .get_mut(&(technique.sampling(), technique.variant()))
                 .expect("a tracer per estimator and scene variant");
-            let band = tracer
-                .render(&params, 0, o.height, &mut |_| {})
-                .with_context(|| format!("rendering {label} at {spp} spp"))?;
-            let device = if band.gpu_time.is_zero() {
-                band.wall_time
-            } else {
-                band.gpu_time
+            let (mut film, frame_rays, mut seconds_spent) = match technique {
+                Technique::Adaptive(bits) => {
+                    adaptive::render(tracer, &params, f32::from_bits(*bits))
+                        .with_context(|| format!("rendering {label} at {spp} spp"))?
+                }
+                _ => {
+                    let band = tracer
+                        .render(&params, 0, o.height, &mut |_| {})
+                        .with_context(|| format!("rendering {label} at {spp} spp"))?;
+                    let device = if band.gpu_time.is_zero() {
+                        band.wall_time
+                    } else {
+                        band.gpu_time
+                    };
+                    // A method's pass after assembly runs on the CPU (IGI's filters): its time
+                    // is the technique's too.
+                    let filters = std::time::Instant::now();
+                    let mut bands = [band];
+                    params.method.unit().finish(&params, &mut bands);
+                    let [band] = bands;
+                    let film = assemble(&params, std::slice::from_ref(&band));
+                    (film, band.rays, (device + filters.elapsed()).as_secs_f64())
+                }
             };
-            // A method's pass after assembly runs on the CPU (IGI's filters): its time is the
-            // technique's too.
-            let filters = std::time::Instant::now();
-            let mut bands = [band];
-            params.method.unit().finish(&params, &mut bands);
-            let [band] = bands;
-            let mut seconds_spent = (device + filters.elapsed()).as_secs_f64() + update;
-            let mut film = assemble(&params, std::slice::from_ref(&band));
+            seconds_spent += update;
             if let Technique::Denoise(d) = technique {
                 let (denoised, spent) = denoise::apply(*d, tracer, &params, &film)?;
                 film = denoised;
@@ -233,7 +243,7 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             let seconds = platoon_core::measure::median(times[c].clone());
             if round == 0 {
                 // The errors are the same every round (the same random numbers).
-                rays[c] = band.rays;
+                rays[c] = frame_rays;
                 let e = metrics::errors(&film, &reference.film);
                 if spp == top_spp {
                     finals.push((label.clone(), film));

@@ -66,6 +66,9 @@ pub enum Technique {
     /// MIS, then a denoiser over the assembled image, guided by the frame's albedo, normal and
     /// depth (biased); its time includes the guides' passes and the filter.
     Denoise(Denoiser),
+    /// MIS with adaptive sampling at this noise threshold (f32 bits; the spp is each pixel's
+    /// most): Cycles' scheme, `platoon_core::frame::adaptive`.
+    Adaptive(u32),
 }
 
 /// IGI's options as a technique: `igi=N` (N VPLs, exact) with `+boxes` (imperfect
@@ -234,7 +237,7 @@ impl Technique {
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
     /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `spt`, `nop`, `no-textures`,
-    /// `no-normal-maps`, `opaque`, `env-mean`, `denoise=atrous`.
+    /// `no-normal-maps`, `opaque`, `env-mean`, `denoise=atrous`, `adaptive=T`.
     pub fn parse(s: &str) -> Result<Technique> {
         if let Some(effect) = Effect::parse(s.trim()) {
             return Ok(Technique::Without(effect));
@@ -258,6 +261,10 @@ impl Technique {
                     bail!("technique {s:?}: denoise needs a denoiser, e.g. denoise=atrous")
                 }
                 Ok(d) => Technique::Denoise(d),
+            },
+            "adaptive" => match value.map(str::parse::<f32>) {
+                Some(Ok(t)) if t > 0.0 && t.is_finite() => Technique::Adaptive(t.to_bits()),
+                _ => bail!("technique {s:?}: adaptive needs a noise threshold, e.g. adaptive=0.01"),
             },
             "mis" => Technique::Mis,
             "bsdf" => Technique::Bsdf,
@@ -298,7 +305,7 @@ impl Technique {
                  no-normal-maps, opaque, \
                  env-mean, igi=N[+boxes][+downK][+interMxN][+minD], \
                  links=N[+bB][+nosmooth][+vertex][+subK], lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild], \
-                 denoise=atrous"
+                 denoise=atrous, adaptive=T"
             ),
         })
     }
@@ -317,6 +324,8 @@ impl Technique {
                 | Technique::Links(_)
                 | Technique::Lhb(_)
                 | Technique::Denoise(_)
+                // Stopping on a pixel's own error estimate leans its mean (slightly).
+                | Technique::Adaptive(_)
         )
     }
 
@@ -368,8 +377,8 @@ impl Technique {
             Technique::Lhb(t) => params.method = t.method(),
             // Its change is to the scene (`variant`).
             Technique::Without(_) => {}
-            // Its change is after assembly (`mod.rs`).
-            Technique::Denoise(_) => {}
+            // Its change is after assembly, or how the frame is rendered (`mod.rs`).
+            Technique::Denoise(_) | Technique::Adaptive(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
         }
     }
@@ -397,6 +406,7 @@ impl fmt::Display for Technique {
             Technique::CutLastPaths => write!(f, "nop"),
             Technique::Without(e) => write!(f, "{}", e.name()),
             Technique::Denoise(d) => write!(f, "denoise={}", format!("{d:?}").to_lowercase()),
+            Technique::Adaptive(bits) => write!(f, "adaptive={}", f32::from_bits(*bits)),
             Technique::Igi(t) => write!(f, "{t}"),
             Technique::Links(t) => write!(f, "{t}"),
             Technique::Lhb(t) => write!(f, "{t}"),
@@ -436,6 +446,7 @@ mod tests {
             Technique::parse("lhb=ico20+rebuild").unwrap(),
             Technique::parse("lhb=halton144").unwrap(),
             Technique::Denoise(Denoiser::Atrous),
+            Technique::Adaptive(0.01f32.to_bits()),
         ] {
             assert_eq!(Technique::parse(&t.to_string()).unwrap(), t);
         }
@@ -447,6 +458,7 @@ mod tests {
         assert!(Technique::parse("ris").is_err() && Technique::parse("ris=0").is_err());
         assert!(Technique::parse("denoise=none").is_err() && Technique::parse("denoise").is_err());
         assert!(Technique::parse("denoise=atrous").unwrap().biased());
+        assert!(Technique::parse("adaptive=0").is_err() && Technique::parse("adaptive").is_err());
         assert!(Technique::parse("max-depth").is_err());
         assert!(Technique::parse("max-depth=0").is_err());
         assert!(Technique::parse("rr-survival=0").is_err());
