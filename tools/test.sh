@@ -9,11 +9,21 @@ export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 export VK_ICD_FILENAMES=$VK_DRIVER_FILES
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$HOME/.cache/platoon-target}
 log=$(mktemp)
-trap 'rm -f "$log"' EXIT
+trap 'rm -f "$log" "$log.oidn"' EXIT
 status=0
 cargo test --workspace --all-targets "$@" 2>&1 | tee "$log" || status=$?
 # The examples in the API documentation (--all-targets leaves doc tests out).
 cargo test --workspace --doc "$@" 2>&1 | tee -a "$log" || status=$?
+# Open Image Denoise's own tests need the library, which Debian does not package:
+# tools/oidn.sh finds it ($OIDN_DIR) or fetches the pyoidn wheel's copy into the cache.
+# Without it they are skipped, and this says why.
+if oidn_dir=$(tools/oidn.sh 2>"$log.oidn"); then
+    OIDN_DIR=$oidn_dir LD_LIBRARY_PATH=$oidn_dir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} \
+        cargo test -p platoon-core --features oidn --lib denoise::oidn "$@" 2>&1 | tee -a "$log" || status=$?
+else
+    echo "Open Image Denoise's tests skipped: $(cat "$log.oidn")"
+fi
+rm -f "$log.oidn"
 awk '/^test result:/ { p += $4; f += $6; s += $8 }
      END { printf "platoon: %d passed, %d failed, %d skipped\n", p, f, s }' "$log"
 exit "$status"

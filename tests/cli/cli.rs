@@ -823,3 +823,24 @@ fn adaptive_sampling_writes_its_sample_counts_and_says_so_in_the_metadata() {
         .out(&other)
         .fails_naming("path tracer", &other);
 }
+
+/// `--denoise oidn` works in a build with the feature `oidn` and is refused, before rendering
+/// and saying how to get it, in one without (OIDN's own tests: core's denoise::oidn, run by
+/// tools/test.sh when it finds the library).
+#[test]
+fn oidn_denoises_with_the_feature_and_is_refused_saying_how_without() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("oidn.png");
+    let cli = Cli::new("render")
+        .spp(2)
+        .size(16, 12)
+        .flag("--denoise", "oidn")
+        .out(&out);
+    if cfg!(feature = "oidn") {
+        let o = cli.run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(out.exists() && dir.path().join("oidn.noisy.png").exists());
+    } else {
+        cli.fails_naming("--features oidn", &out);
+    }
+}

@@ -96,9 +96,9 @@ pub struct RenderArgs {
     /// sample-count.
     #[arg(long, value_parser = parse_aovs)]
     aov: Option<AovList>,
-    /// Denoise the image after assembly, guided by its albedo, normal and depth: none, or
-    /// atrous (the edge-avoiding a-trous filter; biased). The raw image is written beside it
-    /// as NAME.noisy.EXT.
+    /// Denoise the image after assembly, guided by its albedo, normal and depth: none, atrous
+    /// (the edge-avoiding a-trous filter) or oidn (Intel Open Image Denoise, in a build with
+    /// `--features oidn`); biased. The raw image is written beside it as NAME.noisy.EXT.
     #[arg(long, default_value = "none")]
     denoise: Denoiser,
     /// Adaptive sampling (Cycles' scheme): a pixel stops taking samples once its noise
@@ -172,6 +172,9 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         frames,
     } = a;
     let mut aovs = aov.map(|l| l.0).unwrap_or_default();
+    denoise
+        .available()
+        .map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
     let kernel = method.kernel;
     let method = method.method()?;
     if width == 0 || height == 0 || spp == 0 {

@@ -50,7 +50,9 @@ impl Outputs {
             _ => {
                 let guides = Guides::from_layers(&layers).expect("the guides were rendered");
                 (
-                    denoiser.apply(&rendered.film, &guides),
+                    denoiser
+                        .apply(&rendered.film, &guides)
+                        .map_err(anyhow::Error::msg)?,
                     Some(rendered.film.clone()),
                 )
             }

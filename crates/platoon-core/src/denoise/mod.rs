@@ -3,6 +3,10 @@
 //! approximation (biased): the raw image is always kept beside the denoised one.
 
 pub mod atrous;
+#[cfg(feature = "oidn")]
+pub mod oidn;
+#[cfg(test)]
+mod test_frames;
 
 use crate::frame::aov::{Aov, Layer};
 use crate::output::Film;
@@ -14,6 +18,8 @@ pub enum Denoiser {
     None,
     /// The edge-avoiding à-trous wavelet filter ([`atrous`]).
     Atrous,
+    /// Intel Open Image Denoise's ray-tracing filter (`oidn`, with the cargo feature `oidn`).
+    Oidn,
 }
 
 impl std::str::FromStr for Denoiser {
@@ -22,7 +28,8 @@ impl std::str::FromStr for Denoiser {
         match s {
             "none" => Ok(Denoiser::None),
             "atrous" => Ok(Denoiser::Atrous),
-            _ => Err(format!("unknown denoiser {s:?}: none or atrous")),
+            "oidn" => Ok(Denoiser::Oidn),
+            _ => Err(format!("unknown denoiser {s:?}: none, atrous or oidn")),
         }
     }
 }
@@ -36,17 +43,40 @@ impl Denoiser {
                 "denoised by the edge-avoiding a-trous filter (Dammertz et al. 2010; 5 \
                  iterations, guided by albedo, normal and depth)",
             ),
+            Denoiser::Oidn => Some(
+                "denoised by Intel Open Image Denoise (the RT filter, HDR, guided by albedo and \
+                 normal)",
+            ),
+        }
+    }
+
+    /// Whether this build can run it: OIDN needs the cargo feature `oidn`.
+    pub fn available(self) -> Result<(), String> {
+        match self {
+            Denoiser::Oidn if !cfg!(feature = "oidn") => Err(
+                "this platoon was built without Open Image Denoise: build it with \
+                 `--features oidn` and OIDN_DIR naming the library's root (tools/oidn.sh \
+                 finds or fetches one)"
+                    .into(),
+            ),
+            _ => Ok(()),
         }
     }
 
     /// The AOVs it is guided by.
     pub const GUIDES: [Aov; 3] = [Aov::Albedo, Aov::Normal, Aov::Depth];
 
-    /// `film` denoised with `guides` (`film` itself when off).
-    pub fn apply(self, film: &Film, guides: &Guides) -> Film {
+    /// `film` denoised with `guides` (`film` itself when off); an error when the denoiser is
+    /// not in this build (`available`) or fails.
+    pub fn apply(self, film: &Film, guides: &Guides) -> Result<Film, String> {
+        self.available()?;
         match self {
-            Denoiser::None => film.clone(),
-            Denoiser::Atrous => atrous::filter(film, guides),
+            Denoiser::None => Ok(film.clone()),
+            Denoiser::Atrous => Ok(atrous::filter(film, guides)),
+            #[cfg(feature = "oidn")]
+            Denoiser::Oidn => oidn::filter(film, guides),
+            #[cfg(not(feature = "oidn"))]
+            Denoiser::Oidn => unreachable!("refused by available()"),
         }
     }
 }
@@ -78,5 +108,23 @@ impl Guides {
                 .channel("Z")?
                 .to_vec(),
         })
+    }
+}
+
+#[cfg(all(test, not(feature = "oidn")))]
+mod tests {
+    use super::*;
+
+    /// Without the feature OIDN's own tests (denoise/oidn.rs) are not built: this says so,
+    /// and that the refusal tells how to get it (tools/test.sh runs them when it finds OIDN).
+    #[test]
+    fn without_the_feature_oidn_is_refused_saying_how_to_get_it() {
+        eprintln!("Open Image Denoise's tests skipped: built without the feature `oidn`");
+        let e = Denoiser::Oidn.available().unwrap_err();
+        assert!(
+            e.contains("--features oidn") && e.contains("OIDN_DIR"),
+            "{e}"
+        );
+        assert_eq!("oidn".parse::<Denoiser>(), Ok(Denoiser::Oidn));
     }
 }

@@ -35,6 +35,6 @@ pub fn apply(
     )?;
     let guides = Guides::from_layers(&layers).expect("the guides were rendered");
     let clock = Instant::now();
-    let denoised = denoiser.apply(film, &guides);
+    let denoised = denoiser.apply(film, &guides).map_err(anyhow::Error::msg)?;
     Ok((denoised, device + clock.elapsed().as_secs_f64()))
 }

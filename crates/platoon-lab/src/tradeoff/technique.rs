@@ -260,7 +260,10 @@ impl Technique {
                 Ok(Denoiser::None) | Err(_) => {
                     bail!("technique {s:?}: denoise needs a denoiser, e.g. denoise=atrous")
                 }
-                Ok(d) => Technique::Denoise(d),
+                Ok(d) => match d.available() {
+                    Ok(()) => Technique::Denoise(d),
+                    Err(e) => bail!("technique {s:?}: {e}"),
+                },
             },
             "adaptive" => match value.map(str::parse::<f32>) {
                 Some(Ok(t)) if t > 0.0 && t.is_finite() => Technique::Adaptive(t.to_bits()),
@@ -305,7 +308,7 @@ impl Technique {
                  no-normal-maps, opaque, \
                  env-mean, igi=N[+boxes][+downK][+interMxN][+minD], \
                  links=N[+bB][+nosmooth][+vertex][+subK], lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild], \
-                 denoise=atrous, adaptive=T"
+                 denoise=atrous, denoise=oidn, adaptive=T"
             ),
         })
     }
