@@ -1,19 +1,25 @@
 //! `platoon`: render, inspect and benchmark scenes from the command line. Each command is one
 //! file; the work is done by the `platoon` library.
 
+#[cfg(feature = "lab")]
 mod bench;
 mod devices;
 mod info;
 mod method_args;
 mod render;
 mod scene_args;
+#[cfg(any(feature = "lab", feature = "view"))]
 mod size_arg;
+#[cfg(feature = "lab")]
 mod tradeoff;
+#[cfg(feature = "view")]
 mod view;
 
 use std::process::ExitCode;
 
-use anyhow::{Context as _, Result};
+#[cfg(feature = "lab")]
+use anyhow::Context as _;
+use anyhow::Result;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
@@ -27,6 +33,8 @@ struct Cli {
     command: Command,
 }
 
+// Parsed once per run: the render's arguments being the largest variant costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to an EXR (linear, with metadata) or PNG (tone-mapped sRGB).
@@ -39,10 +47,13 @@ enum Command {
     /// List the Vulkan devices.
     Devices,
     /// Open a window on a scene: the image converges live; fly with the mouse and WASD.
+    #[cfg(feature = "view")]
     View(view::ViewArgs),
     /// What accuracy costs in time: techniques x sample counts against a converged reference.
+    #[cfg(feature = "lab")]
     Tradeoff(tradeoff::TradeoffArgs),
     /// Measure platoon: the kernel, a living scene, the game loop, the line balancers.
+    #[cfg(feature = "lab")]
     Bench {
         #[command(subcommand)]
         mode: bench::BenchMode,
@@ -54,8 +65,11 @@ fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::run(args),
         Command::Info { scene } => info::run(scene),
         Command::Devices => devices::run(),
+        #[cfg(feature = "view")]
         Command::View(args) => view::run(args),
+        #[cfg(feature = "lab")]
         Command::Tradeoff(args) => tradeoff::run(args).context("tradeoff failed"),
+        #[cfg(feature = "lab")]
         Command::Bench { mode } => bench::run(mode),
     }
 }
