@@ -176,3 +176,71 @@ fn a_failed_frame_is_reported_and_fails_the_command_while_the_others_are_written
     assert!(!o.status.success());
     assert!(stderr(&o).contains("3..1"), "{}", stderr(&o));
 }
+
+/// `--video`: every frame of the range (done ones too, read back from their files) encoded by
+/// ffmpeg in order; without ffmpeg the run still succeeds and says there is no video. Skipped,
+/// saying so, where ffmpeg is not installed.
+#[test]
+fn a_video_holds_every_frame_of_the_range_and_needs_ffmpeg() {
+    let has = |tool: &str| {
+        std::process::Command::new(tool)
+            .arg("-version")
+            .output()
+            .is_ok()
+    };
+    if !has("ffmpeg") || !has("ffprobe") {
+        eprintln!("skipped: ffmpeg is not installed (apt-get install ffmpeg)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("box_#.exr");
+    let video = dir.path().join("box.mp4");
+    // Odd sizes (H.264 wants even ones: padded) and a step: frames 0, 2, 4.
+    let run = |extra: &[&str], path: Option<&str>| {
+        let mut cli = Cli::new("render")
+            .flag("--frames", "0..4:2")
+            .spp(1)
+            .size(15, 11)
+            .out(&out);
+        for a in extra {
+            cli = cli.arg(a);
+        }
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_platoon"));
+        common::init();
+        command.args(cli.strs());
+        if let Some(p) = path {
+            command.env("PATH", p);
+        }
+        command.output().unwrap()
+    };
+    let o = run(&[], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // All three are done: the video is made from their files.
+    let o = run(&["--video", video.to_str().unwrap()], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let probe = std::process::Command::new("ffprobe")
+        .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
+        .args([
+            "-show_entries",
+            "stream=nb_read_frames,width,height",
+            "-of",
+            "csv=p=0",
+        ])
+        .arg(&video)
+        .output()
+        .unwrap();
+    assert_eq!(String::from_utf8_lossy(&probe.stdout).trim(), "16,12,3");
+    std::fs::remove_file(&video).unwrap();
+    let empty = tempfile::tempdir().unwrap();
+    let o = run(
+        &["--video", video.to_str().unwrap()],
+        Some(empty.path().to_str().unwrap()),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("ffmpeg is not installed") && !video.exists());
+    let o = run(
+        &["--video", video.to_str().unwrap(), "--task-index", "X"],
+        None,
+    );
+    assert!(!o.status.success() && stderr(&o).contains("--task-index"));
+}

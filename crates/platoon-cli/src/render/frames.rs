@@ -45,12 +45,19 @@ pub struct FrameArgs {
     /// carrying the scene from frame to frame with refits: what a loop of still renders costs.
     #[arg(long)]
     pub fresh_prepare: bool,
+    /// Also encode the frames as a video (e.g. shot.mp4) with ffmpeg, when it is installed
+    /// (H.264 at --fps; EXR frames tone-mapped as PNGs are). Not with --task-index.
+    #[arg(long, value_name = "FILE", requires = "frames")]
+    pub video: Option<std::path::PathBuf>,
 }
 
 pub fn run(a: RenderArgs) -> Result<()> {
     super::check_output(&a)?;
     if a.scene.time != 0.0 {
         bail!("--time and --frames: each frame's time is its number / --fps");
+    }
+    if let Some(v) = &a.frames.video {
+        super::video::check(v, a.frames.task_index.is_some())?;
     }
     let (setup, out, args) = super::setup(a)?;
     let range = args.frames.expect("run only with --frames");
@@ -61,6 +68,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         Some(var) => range.chunk(args.chunk, task_index(var)?)?,
         None => range.frames(),
     };
+    let paths: Vec<std::path::PathBuf> = frames.iter().map(|&f| frame_path(&out, f)).collect();
     let job = Job::new(&setup, &args);
     let mut todo = Vec::new();
     for f in frames {
@@ -73,6 +81,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     if todo.is_empty() {
         eprintln!("every frame is done (--overwrite renders them again)");
+        if let Some(v) = &args.video {
+            super::video::encode(v, &paths, args.fps)?;
+        }
         return Ok(());
     }
     let spp = setup.params.spp as u64;
@@ -111,6 +122,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     );
     if failed > 0 {
         bail!("{failed} of {} frame(s) failed", todo.len());
+    }
+    if let Some(v) = &args.video {
+        super::video::encode(v, &paths, args.fps)?;
     }
     Ok(())
 }

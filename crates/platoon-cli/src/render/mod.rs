@@ -1,8 +1,9 @@
 //! `platoon render`: one frame of a scene to an EXR or PNG, with a progress bar; with
-//! `--frames`, an animation to numbered files ([`frames`]).
+//! `--frames`, an animation to numbered files ([`frames`]), optionally a video ([`video`]).
 
 mod frames;
 mod outputs;
+mod video;
 
 use std::path::PathBuf;
 

@@ -1,0 +1,84 @@
+//! `--video FILE` with `--frames`: the animation as a video, encoded by ffmpeg when it is
+//! installed (H.264 in the container FILE's extension names, 8-bit sRGB as the PNG outputs are
+//! tone-mapped). Every frame of the range is read back from its file, so frames skipped as done
+//! count too; the video is written to a temporary folder and renamed into place. Without ffmpeg
+//! the frames stay and a warning says there is no video.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{bail, Context as _, Result};
+use platoon::core::output::{read_exr, write_image};
+
+/// Refuses a video the run could not make, before rendering.
+pub fn check(video: &Path, farm_task: bool) -> Result<()> {
+    if farm_task {
+        bail!(
+            "{}: --video with --task-index: a task renders only its chunk; encode the video \
+             once every task is done",
+            video.display()
+        );
+    }
+    if video.extension().is_none() {
+        bail!(
+            "{}: --video needs a container extension (.mp4, .mkv, .mov)",
+            video.display()
+        );
+    }
+    let parent = video.parent().filter(|p| !p.as_os_str().is_empty());
+    if parent.is_some_and(|p| !p.is_dir()) {
+        bail!("{}: its folder does not exist", video.display());
+    }
+    Ok(())
+}
+
+/// The frames' files (in order) encoded at `fps` to `video`; a warning and no video when
+/// ffmpeg is not installed.
+pub fn encode(video: &Path, frames: &[PathBuf], fps: f64) -> Result<()> {
+    if Command::new("ffmpeg").arg("-version").output().is_err() {
+        eprintln!(
+            "warning: ffmpeg is not installed (apt-get install ffmpeg): no video, the frames \
+             are written"
+        );
+        return Ok(());
+    }
+    let folder = video.parent().filter(|p| !p.as_os_str().is_empty());
+    let work = tempfile::tempdir_in(folder.unwrap_or(Path::new(".")))?;
+    // Numbered 0, 1, 2 ... whatever the range's step: ffmpeg's image sequence wants no gaps.
+    for (i, frame) in frames.iter().enumerate() {
+        let png = work.path().join(format!("{i:06}.png"));
+        let is_exr = frame
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+        if is_exr {
+            let (film, _) = read_exr(frame)?;
+            write_image(&png, &film, &[])?;
+        } else {
+            std::fs::copy(frame, &png).with_context(|| format!("{}", frame.display()))?;
+        }
+    }
+    let ext = video.extension().expect("checked").to_string_lossy();
+    let encoded = work.path().join(format!("video.{ext}"));
+    let status = Command::new("ffmpeg")
+        .args([
+            "-loglevel",
+            "error",
+            "-y",
+            "-framerate",
+            &fps.to_string(),
+            "-i",
+        ])
+        .arg(work.path().join("%06d.png"))
+        // H.264's 4:2:0 needs even sizes.
+        .args(["-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2"])
+        .args(["-c:v", "libx264", "-pix_fmt", "yuv420p"])
+        .arg(&encoded)
+        .status()
+        .context("running ffmpeg")?;
+    if !status.success() {
+        bail!("{}: ffmpeg failed ({status})", video.display());
+    }
+    std::fs::rename(&encoded, video).with_context(|| format!("{}", video.display()))?;
+    eprintln!("{}: {} frames at {fps} fps", video.display(), frames.len());
+    Ok(())
+}
