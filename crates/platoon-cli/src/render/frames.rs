@@ -246,26 +246,16 @@ impl Frames {
     ) -> Result<()> {
         let time = job.time(frame);
         let (aovs, denoiser) = (&self.setup.aovs, self.setup.denoiser);
-        let (outputs, meta) = if self.fresh {
+        // The scene at the frame's time and the tracers holding it: prepared anew, or carried
+        // from the last frame by the updater.
+        let mut fresh = None;
+        let (scene, camera, facts, tracers) = if self.fresh {
             let mut options = self.setup.options.clone();
             options.time = time;
             let prepared = platoon::prepare(self.setup.scene.clone(), &options)?;
-            let mut tracers =
-                Tracers::new(&self.setup.tracers, &self.setup.balancer, &prepared.gpu)?;
-            let params = job.params(&self.setup, frame, prepared.camera);
-            let rendered =
-                tracers.render_batched(&prepared.gpu, &params, &self.setup.batching, progress)?;
-            let outputs = Outputs::of(
-                &mut tracers,
-                &prepared.gpu,
-                &params,
-                &rendered,
-                aovs,
-                denoiser,
-                prepared.posed.origin,
-            )?;
-            let meta = platoon::metadata(&prepared, &params, &rendered, self.setup.sampling);
-            (outputs, meta)
+            let tracers = Tracers::new(&self.setup.tracers, &self.setup.balancer, &prepared.gpu)?;
+            let (prepared, tracers) = fresh.insert((prepared, tracers));
+            (&prepared.gpu, prepared.camera, prepared.facts(), tracers)
         } else {
             if self.carried.is_none() {
                 let mut options = self.setup.options.clone();
@@ -283,27 +273,26 @@ impl Frames {
                 let generation = animation.advance(time)?;
                 tracers.apply_commit(&generation.commit, generation.id as u32)?;
             }
-            let params = job.params(&self.setup, frame, animation.camera());
-            let rendered = tracers.render_batched(
+            let animation = &*animation;
+            (
                 animation.scene(),
-                &params,
-                &self.setup.batching,
-                progress,
-            )?;
-            let origin = animation.facts().origin;
-            let outputs = Outputs::of(
+                animation.camera(),
+                animation.facts(),
                 tracers,
-                animation.scene(),
-                &params,
-                &rendered,
-                aovs,
-                denoiser,
-                origin,
-            )?;
-            let meta =
-                platoon::metadata_of(&animation.facts(), &params, &rendered, self.setup.sampling);
-            (outputs, meta)
+            )
         };
+        let params = job.params(&self.setup, frame, camera);
+        let rendered = tracers.render_batched(scene, &params, &self.setup.batching, progress)?;
+        let outputs = Outputs::of(
+            tracers,
+            scene,
+            &params,
+            &rendered,
+            aovs,
+            denoiser,
+            facts.origin,
+        )?;
+        let meta = platoon::metadata_of(&facts, &params, &rendered, self.setup.sampling);
         let mut meta = meta;
         meta.push(("animation_frame".into(), frame.to_string()));
         meta.push(("animation_time".into(), time.to_string()));
