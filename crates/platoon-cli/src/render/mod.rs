@@ -1,6 +1,7 @@
 //! `platoon render`: one frame of a scene to an EXR or PNG, with a progress bar; with
 //! `--frames`, an animation to numbered files ([`frames`]), optionally a video ([`video`]).
 
+mod batching;
 mod frames;
 mod outputs;
 mod video;
@@ -16,7 +17,6 @@ use platoon::core::denoise::Denoiser;
 use platoon::core::frame::adaptive::{Adaptive, Batching};
 use platoon::core::frame::aov::Aov;
 use platoon::core::frame::FrameParams;
-use platoon::core::output::ImageFormat;
 use platoon::devices::DeviceSpec;
 use platoon::tracer::Sampling;
 use platoon::{PrepareOptions, Tracers};
@@ -222,34 +222,15 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
     if tracers.len() > 1 && time_limit.is_some() {
         bail!("--time-limit renders on one device: bands cut at different times would break the image's independence from the device split");
     }
-    let adaptive = adaptive_threshold.map(|threshold| Adaptive {
-        threshold,
-        min_spp: adaptive_min_spp,
-    });
-    if let Some(a) = &adaptive {
-        a.validate(spp)
-            .map_err(|e| anyhow::anyhow!("--adaptive-threshold: {e}"))?;
-        if matches!(
-            platoon::core::output::check_image_path(&out)?,
-            ImageFormat::Exr
-        ) && !aovs.contains(&Aov::SampleCount)
-        {
-            aovs.push(Aov::SampleCount);
-        }
-    }
-    let batching = Batching {
-        adaptive,
-        variance: aovs.contains(&Aov::Variance),
-    };
-    if batching.is_some() && time_limit.is_some() {
-        bail!("--time-limit cannot end adaptive sampling or the variance AOV's batches early");
-    }
-    if batching.adaptive.is_some() && params.method != platoon::core::Method::PathTracing {
-        bail!("--adaptive-threshold: adaptive sampling is the path tracer's (no --method)");
-    }
-    if batching.variance && spp < 2 {
-        bail!("the variance AOV needs at least 2 samples per pixel");
-    }
+    let batching = batching::of(
+        adaptive_threshold.map(|threshold| Adaptive {
+            threshold,
+            min_spp: adaptive_min_spp,
+        }),
+        &params,
+        &out,
+        &mut aovs,
+    )?;
     let setup = Setup {
         scene: loaded,
         options,
