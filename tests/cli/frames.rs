@@ -123,20 +123,11 @@ fn a_farm_task_renders_the_chunk_its_index_names() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("f_##.exr");
     let task = |index: Option<&str>| {
-        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_platoon"));
-        common::init();
-        command.args(
-            frames("1..5")
-                .flag("--chunk", "2")
-                .flag("--task-index", "TEST_ARRAY_INDEX")
-                .out(&out)
-                .strs(),
-        );
-        match index {
-            Some(i) => command.env("TEST_ARRAY_INDEX", i),
-            None => command.env_remove("TEST_ARRAY_INDEX"),
-        };
-        command.output().unwrap()
+        frames("1..5")
+            .flag("--chunk", "2")
+            .flag("--task-index", "TEST_ARRAY_INDEX")
+            .out(&out)
+            .run_with_env(&[("TEST_ARRAY_INDEX", index)])
     };
     let o = task(Some("1"));
     assert!(o.status.success(), "{}", stderr(&o));
@@ -205,13 +196,10 @@ fn a_video_holds_every_frame_of_the_range_and_needs_ffmpeg() {
         for a in extra {
             cli = cli.arg(a);
         }
-        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_platoon"));
-        common::init();
-        command.args(cli.strs());
-        if let Some(p) = path {
-            command.env("PATH", p);
+        match path {
+            Some(p) => cli.run_with_env(&[("PATH", Some(p))]),
+            None => cli.run(),
         }
-        command.output().unwrap()
     };
     let o = run(&[], None);
     assert!(o.status.success(), "{}", stderr(&o));

@@ -51,6 +51,19 @@ impl Cli {
     pub fn run_in(&self, dir: &Path) -> Output {
         platoon_in(dir, &self.strs())
     }
+    /// Runs it with environment variables set (`Some`) or removed (`None`).
+    pub fn run_with_env(&self, vars: &[(&str, Option<&str>)]) -> Output {
+        crate::common::init();
+        let mut command = Command::new(env!("CARGO_BIN_EXE_platoon"));
+        command.args(self.strs());
+        for &(name, value) in vars {
+            match value {
+                Some(v) => command.env(name, v),
+                None => command.env_remove(name),
+            };
+        }
+        command.output().expect("run platoon")
+    }
     /// Runs it and checks it fails naming `names`, writing nothing at `out`.
     pub fn fails_naming(&self, names: &str, out: &Path) {
         assert_fails_naming(&self.strs(), names, out)

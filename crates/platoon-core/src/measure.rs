@@ -1,5 +1,17 @@
 //! Summaries of measurements, shared by the benchmarks.
 
+use std::time::Duration;
+
+/// A render's device time: the GPU's timestamps where the device has them, else the wall
+/// time (lavapipe reports none).
+pub fn device_time(gpu: Duration, wall: Duration) -> Duration {
+    if gpu.is_zero() {
+        wall
+    } else {
+        gpu
+    }
+}
+
 /// Median of timings (total order, so a NaN cannot panic a bench). Empty input gives NaN.
 pub fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {

@@ -52,11 +52,7 @@ impl LhbRow {
 }
 
 fn device_time(band: &platoon::core::frame::Band) -> Duration {
-    if band.gpu_time.is_zero() {
-        band.wall_time
-    } else {
-        band.gpu_time
-    }
+    platoon::core::measure::device_time(band.gpu_time, band.wall_time)
 }
 
 fn entry(report: &[(String, String)], key: &str) -> Result<f64> {

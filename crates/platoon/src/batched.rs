@@ -48,8 +48,9 @@ pub fn render(
     let mut total: Option<Rendered> = None;
     for batch in batching.batches(params.spp, params.samples_per_pass) {
         let p = state.params(params, &batch);
-        let r = render(&p, &mut |done| progress(batch.begin + done))?;
-        state.join(&batch, r.sums.clone());
+        let mut r = render(&p, &mut |done| progress(batch.begin + done))?;
+        // The frame's sums are the state's from here on (the result's are set at the end).
+        state.join(&batch, std::mem::take(&mut r.sums));
         if batch.check {
             if let Some(a) = &batching.adaptive {
                 state.check(a.threshold);

@@ -41,3 +41,34 @@ pub fn spread(film: &Film, pixels: impl Iterator<Item = usize>) -> (f32, f32) {
     let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f32>() / v.len() as f32;
     (mean, var)
 }
+
+/// `denoise` run on two faces (0.2 and 0.8, noise 0.1) of a `w` x `h` frame smooths the noise
+/// (the left face's variance down 4x) without carrying light across their normal edge, each
+/// face's mean staying within `tolerance` of its radiance.
+pub fn assert_smoothed_not_across_the_edge(
+    w: usize,
+    h: usize,
+    tolerance: f32,
+    denoise: impl Fn(&Film, &Guides) -> Film,
+) {
+    let (film, guides) = two_faces(w, h, 0.2, 0.8, 0.1);
+    let out = denoise(&film, &guides);
+    let left = || (0..w * h).filter(move |i| i % w < w / 2);
+    let right = || (0..w * h).filter(move |i| i % w >= w / 2);
+    for (side, want) in [(spread(&out, left()), 0.2), (spread(&out, right()), 0.8)] {
+        assert!(
+            (side.0 - want).abs() < tolerance,
+            "mean {} not {want}",
+            side.0
+        );
+    }
+    for p in left() {
+        assert!(out.pixels[p][0] < 0.4, "light leaked across the edge");
+    }
+    let (_, before) = spread(&film, left());
+    let (_, after) = spread(&out, left());
+    assert!(
+        after < before / 4.0,
+        "variance {before} -> {after}: not smoothed"
+    );
+}

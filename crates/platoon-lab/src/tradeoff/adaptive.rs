@@ -7,6 +7,7 @@ use std::time::Instant;
 use anyhow::Result;
 use platoon_core::frame::adaptive::{Adaptive, Batching};
 use platoon_core::frame::FrameParams;
+use platoon_core::measure::device_time;
 use platoon_core::output::Film;
 use platoon_tracer::Tracer;
 
@@ -30,12 +31,7 @@ pub fn render(
     let rendered = platoon::batched::render(
         &mut |p, progress| {
             let r = platoon::render_bands(tracer, p, &[platoon::whole_frame(p)], progress)?;
-            device += if r.gpu_time.is_zero() {
-                r.wall_time
-            } else {
-                r.gpu_time
-            }
-            .as_secs_f64();
+            device += device_time(r.gpu_time, r.wall_time).as_secs_f64();
             wall += r.wall_time.as_secs_f64();
             Ok(r)
         },

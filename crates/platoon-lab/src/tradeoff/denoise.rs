@@ -7,6 +7,7 @@ use std::time::Instant;
 use anyhow::Result;
 use platoon_core::denoise::{Denoiser, Guides};
 use platoon_core::frame::{assemble, FrameParams};
+use platoon_core::measure::device_time;
 use platoon_core::output::Film;
 use platoon_tracer::Tracer;
 
@@ -21,12 +22,7 @@ pub fn apply(
     let layers = platoon::aov::render_layers_with(
         &mut |p| {
             let band = tracer.render(p, 0, p.height, &mut |_| {})?;
-            let time = if band.gpu_time.is_zero() {
-                band.wall_time
-            } else {
-                band.gpu_time
-            };
-            device += time.as_secs_f64();
+            device += device_time(band.gpu_time, band.wall_time).as_secs_f64();
             Ok(assemble(p, &[band]))
         },
         params,

@@ -218,11 +218,7 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
                     let band = tracer
                         .render(&params, 0, o.height, &mut |_| {})
                         .with_context(|| format!("rendering {label} at {spp} spp"))?;
-                    let device = if band.gpu_time.is_zero() {
-                        band.wall_time
-                    } else {
-                        band.gpu_time
-                    };
+                    let device = platoon_core::measure::device_time(band.gpu_time, band.wall_time);
                     // A method's pass after assembly runs on the CPU (IGI's filters): its time
                     // is the technique's too.
                     let filters = std::time::Instant::now();
