@@ -110,9 +110,13 @@ fn main() {
             .to_str()
             .expect("a UTF-8 shader path")
             .replace('\\', "/");
+        // Through CARGO_MANIFEST_DIR, not this checkout's absolute path: a target folder
+        // shared by two checkouts (a clean clone's CI beside the work tree) may keep this list
+        // from the other one while the shader folder looks unchanged, and must still read this
+        // checkout's files.
         code += &format!(
-            "    ({name:?}, include_str!({:?})),\n",
-            p.display().to_string()
+            "    ({name:?}, include_str!(concat!(env!(\"CARGO_MANIFEST_DIR\"), {:?}))),\n",
+            format!("/../../shaders/{name}")
         );
     }
     code += "]\n";

@@ -90,8 +90,8 @@ pub struct Solution {
     /// E_ind per element (rgb; w unused).
     pub irradiance: Vec<[f32; 4]>,
     /// The first element of each instance, then each scene vertex's element within its mesh
-    /// (`u32::MAX` for a vertex of no triangle): element = table[instance] +
-    /// table[instances + vertex].
+    /// (`u32::MAX` for a vertex of no triangle): element = table\[instance\] +
+    /// table\[instances + vertex\].
     pub table: Vec<u32>,
     pub instances: u32,
     /// The compressed links it gathered over: what relighting a still scene reuses.
