@@ -184,6 +184,26 @@ fn without_a_display_the_viewer_says_so_and_fails() {
     assert!(err.contains("no display"), "{err}");
 }
 
+/// A denoiser the build lacks is refused before any window or loading, saying how to get it.
+#[test]
+fn the_viewer_refuses_a_denoiser_the_build_lacks() {
+    if cfg!(feature = "oidn") {
+        return;
+    }
+    let o = platoon()
+        .args(["view", "--denoise", "oidn"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--denoise") && err.contains("--features oidn"),
+        "{err}"
+    );
+}
+
 #[test]
 fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
     let x = Xvfb::start();
@@ -238,8 +258,37 @@ fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
     let _ = view.kill();
     let _ = view.wait();
 
-    // A scene with separate buffer and texture files, named bare from its own folder.
+    // Denoised with the history reprojected: the title says so, and the frame shown (written
+    // on closing) is finite and lit.
+    let mut view = x.open(
+        platoon()
+            .args(["view", "--size", "24x16", "--devices", "lavapipe:1"])
+            .args(["--denoise", "atrous", "--frames", "3000"]),
+    );
+    x.window_titled(
+        &mut view,
+        "denoised (atrous, history",
+        "the denoising viewer",
+    );
+    let _ = view.kill();
+    let _ = view.wait();
     let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("denoised.exr");
+    let mut view = x.open(
+        platoon()
+            .args(["view", "--size", "24x16", "--devices", "lavapipe:1"])
+            .args(["--denoise", "atrous", "--frames", "6", "--screenshot"])
+            .arg(&shot),
+    );
+    let status = wait_for(Duration::from_secs(120), || view.try_wait().unwrap());
+    let err = std::io::read_to_string(view.stderr.take().unwrap()).unwrap();
+    assert!(status.success(), "{err}");
+    let (film, _) = platoon::core::output::read_exr(&shot).unwrap();
+    assert_eq!((film.width, film.height), (24, 16));
+    assert_eq!(film.count_non_finite(), 0);
+    assert!(film.mean()[0] > 0.0);
+
+    // A scene with separate buffer and texture files, named bare from its own folder.
     let scene_dir = platoon_scenegen::twins::write_scene_folders(dir.path()).unwrap();
     let mut view = x.open(
         platoon()

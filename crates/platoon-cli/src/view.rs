@@ -1,8 +1,9 @@
 //! `platoon view [SCENE]`: a window showing the converging image live, through the frame
 //! driver. Drag with the left mouse button to look, WASD to fly (Q/E down/up), space to play
 //! the animation, B to switch balancer, +/- to change the frame-time target; the title shows
-//! fps, spp, the film's samples and idle%. On a machine without a display it says so and exits
-//! non-zero.
+//! fps, spp, the film's samples and idle%. `--denoise` shows each frame denoised with its
+//! history reprojected (`platoon::core::denoise::temporal`). On a machine without a display it
+//! says so and exits non-zero.
 
 use std::num::NonZeroU32;
 use std::path::PathBuf;
@@ -12,6 +13,7 @@ use std::time::{Duration, Instant};
 use anyhow::{anyhow, Context, Result};
 use glam::{Vec2, Vec3};
 use platoon::core::balance;
+use platoon::core::denoise::Denoiser;
 use platoon::core::drive::Edit;
 use platoon::core::drive::{DriverOptions, FrameDriver, GiUpdate};
 use platoon::core::output::{write_image, Film};
@@ -58,6 +60,11 @@ pub struct ViewArgs {
     /// so).
     #[arg(long)]
     resolution_scaling: bool,
+    /// Show each frame denoised: none, atrous (the edge-avoiding a-trous filter) or oidn (Intel
+    /// Open Image Denoise, in a build with `--features oidn`). The frame's samples join the
+    /// earlier frames' reprojected into the view before the filter; biased, the title says so.
+    #[arg(long, default_value = "none")]
+    denoise: Denoiser,
     /// Close after this many frames (for scripts and tests).
     #[arg(long)]
     frames: Option<u32>,
@@ -67,6 +74,9 @@ pub struct ViewArgs {
 }
 
 pub fn run(args: ViewArgs) -> Result<()> {
+    args.denoise
+        .available()
+        .map_err(|e| anyhow!("--denoise: {e}"))?;
     // Before any loading: on a machine without a display, say so at once.
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
@@ -79,6 +89,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let (w, h) = args.size;
     let mut options = GameOptions::new(DriverOptions::new(w, h));
     options.driver.method = method;
+    options.driver.denoise = args.denoise;
     options.driver.gi_update = match args.gi_update {
         GiUpdateArg::Sync => GiUpdate::Synchronous,
         GiUpdateArg::Async => GiUpdate::Asynchronous,
@@ -273,6 +284,13 @@ impl Viewer {
             if let Some(gi) = &s.gi {
                 below += &format!(", lighting {} generations old", gi.age);
             }
+            if let Some(d) = &s.denoise {
+                below += &format!(
+                    ", denoised ({}, history {:.0} spp)",
+                    d.denoiser.name(),
+                    d.history_samples
+                );
+            }
             window.set_title(&format!(
                 "platoon: {:.1} fps, {} spp a frame{below}, {film}, idle {:.1}%, {}, target {:.0} ms{}",
                 self.fps.value,
@@ -286,8 +304,9 @@ impl Viewer {
                 if self.playing { ", playing" } else { "" },
             ));
         }
-        self.show(&done.film)?;
-        self.last = Some(done.film);
+        let shown = done.denoised.unwrap_or(done.film);
+        self.show(&shown)?;
+        self.last = Some(shown);
         Ok(())
     }
 

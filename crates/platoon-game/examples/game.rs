@@ -4,8 +4,12 @@
 //!
 //! ```sh
 //! cargo run --release -p platoon-game --example game -- [--frames 240] [--target-ms 50] \
-//!     [--size 160x120] [--devices lavapipe:1,1] [--out game-out] [--character CesiumMan.glb]
+//!     [--size 160x120] [--devices lavapipe:1,1] [--out game-out] [--character CesiumMan.glb] \
+//!     [--denoise atrous]
 //! ```
+//!
+//! With `--denoise` the frames written are denoised with their history (the CSV's denoise_ms
+//! says what it cost).
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -21,6 +25,7 @@ fn main() -> Result<()> {
     let mut devices = "all".to_string();
     let mut out = PathBuf::from("game-out");
     let mut validation = false;
+    let mut denoise = platoon::core::denoise::Denoiser::None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = || args.next().with_context(|| format!("{a} needs a value"));
@@ -37,6 +42,7 @@ fn main() -> Result<()> {
             "--devices" => devices = value()?,
             "--out" => out = value()?.into(),
             "--validation" => validation = true,
+            "--denoise" => denoise = value()?.parse().map_err(anyhow::Error::msg)?,
             other => anyhow::bail!("unknown argument {other:?}"),
         }
     }
@@ -46,6 +52,7 @@ fn main() -> Result<()> {
     game.driver.target = target_ms.map(|t| Duration::from_secs_f64(t * 1e-3));
     game.devices = devices.parse().map_err(anyhow::Error::msg)?;
     game.validation = validation;
+    game.driver.denoise = denoise;
     let played = play(
         &PlayOptions {
             game,

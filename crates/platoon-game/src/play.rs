@@ -43,6 +43,8 @@ pub struct FrameRecord {
     pub highlighted: Option<usize>,
     /// Seconds each line took (one tracer only; empty with several): a cost map's frame.
     pub line_seconds: Vec<f64>,
+    /// Denoising the frame (its guides and the filter; part of busy), 0 when off.
+    pub denoise_ms: f64,
 }
 
 pub struct PlayOptions {
@@ -75,11 +77,13 @@ pub fn play(o: &PlayOptions, progress: bool) -> Result<Played> {
     let mut keep = |done: FinishedFrame, records: &mut Vec<FrameRecord>| -> Result<()> {
         records.push(record(&done));
         messages = done.stats.device_messages.clone();
+        // What a player sees: the denoised frame when the driver denoises.
+        let shown = done.denoised.unwrap_or(done.film);
         if let Some(d) = &frames_dir {
             let path = d.join(format!("frame_{:04}.png", done.stats.frame));
-            write_image(&path, &done.film, &[])?;
+            write_image(&path, &shown, &[])?;
         }
-        films.push(done.film);
+        films.push(shown);
         Ok(())
     };
     let clock = Instant::now();
@@ -151,6 +155,10 @@ fn record(done: &FinishedFrame) -> FrameRecord {
         commit_bytes: s.commit_bytes,
         idle_percent: 100.0 * s.idle_fraction,
         line_seconds: s.line_seconds().unwrap_or_default(),
+        denoise_ms: s
+            .denoise
+            .as_ref()
+            .map_or(0.0, |d| ms(d.guides.unwrap_or_default() + d.filter)),
         ..Default::default()
     }
 }
@@ -176,6 +184,7 @@ pub fn write_csv(path: &Path, records: &[FrameRecord]) -> Result<()> {
         "waited_render_ms",
         "waited_update_ms",
         "highlighted",
+        "denoise_ms",
     ])?;
     for r in records {
         w.write_record([
@@ -197,6 +206,7 @@ pub fn write_csv(path: &Path, records: &[FrameRecord]) -> Result<()> {
             format!("{:.3}", r.waited_render_ms),
             format!("{:.3}", r.waited_update_ms),
             r.highlighted.map_or(String::new(), |c| c.to_string()),
+            format!("{:.3}", r.denoise_ms),
         ])?;
     }
     let text = String::from_utf8(w.into_inner()?)?;

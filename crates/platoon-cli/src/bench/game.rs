@@ -5,6 +5,7 @@
 use std::time::Duration;
 
 use anyhow::{bail, Result};
+use platoon::core::denoise::Denoiser;
 use platoon::core::measure::{median, percentile};
 use platoon_game::{play, FrameRecord, GameOptions, PlayOptions};
 
@@ -33,6 +34,10 @@ pub struct GameArgs {
     /// The skinned, animated glTF the game's characters are.
     #[arg(long, default_value_os_t = platoon::shared::path("scenes/CesiumMan.glb"))]
     pub character: std::path::PathBuf,
+    /// Denoise every frame with its reprojected history (none, atrous, or oidn in a build with
+    /// `--features oidn`): its cost joins the frame time the loop holds.
+    #[arg(long, default_value = "none")]
+    pub denoise: Denoiser,
     /// Print one JSON object after the text.
     #[arg(long)]
     pub json: bool,
@@ -61,6 +66,7 @@ pub struct Summary {
     pub update_ms_median: f64,
     pub update_hidden_fraction: f64,
     pub idle_percent_median: f64,
+    pub denoise_ms_median: f64,
 }
 
 pub fn run(o: &GameArgs) -> Result<()> {
@@ -89,6 +95,10 @@ pub fn run(o: &GameArgs) -> Result<()> {
         resolution: o.resolution_scaling,
     };
     game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
+    game.driver.denoise = o.denoise;
+    o.denoise
+        .available()
+        .map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
     eprintln!(
         "playing {} frames of the game at {}x{} on {}, holding {} ms a frame",
         o.frames, width, height, o.devices, o.target_ms
@@ -149,6 +159,7 @@ pub fn summarize(records: &[FrameRecord], target_ms: f64) -> Summary {
             1.0
         },
         idle_percent_median: median(of(|r| r.idle_percent)),
+        denoise_ms_median: median(of(|r| r.denoise_ms)),
     }
 }
 
@@ -158,7 +169,7 @@ fn text(o: &GameArgs, s: &Summary) -> String {
          settled after {} frames; then frame time median {:.2} ms, p99 {:.2} ms \
          (render thread {:.2} ms), {:.1}% of frames within +-10% of the target\n\
          samples per frame (median) {}, update {:.2} ms a frame of which {:.1}% hidden behind \
-         rendering, tracers idle {:.2}% (median)",
+         rendering, tracers idle {:.2}% (median){}",
         s.frames,
         o.size.0,
         o.size.1,
@@ -173,6 +184,15 @@ fn text(o: &GameArgs, s: &Summary) -> String {
         s.update_ms_median,
         100.0 * s.update_hidden_fraction,
         s.idle_percent_median,
+        match o.denoise {
+            Denoiser::None => String::new(),
+            d => format!(
+                "\ndenoised ({}) with reprojected history: {:.2} ms a frame (median, in the \
+                 render thread's time)",
+                d.name(),
+                s.denoise_ms_median
+            ),
+        },
     )
 }
 
@@ -192,6 +212,8 @@ fn json(o: &GameArgs, s: &Summary) -> String {
         "update_ms_median": s.update_ms_median,
         "update_hidden_fraction": s.update_hidden_fraction,
         "idle_percent_median": s.idle_percent_median,
+        "denoise": o.denoise.name(),
+        "denoise_ms_median": s.denoise_ms_median,
     })
     .to_string()
 }

@@ -5,6 +5,7 @@
 pub mod atrous;
 #[cfg(feature = "oidn")]
 pub mod oidn;
+pub mod temporal;
 #[cfg(test)]
 mod test_frames;
 
@@ -25,16 +26,23 @@ pub enum Denoiser {
 impl std::str::FromStr for Denoiser {
     type Err = String;
     fn from_str(s: &str) -> Result<Denoiser, String> {
-        match s {
-            "none" => Ok(Denoiser::None),
-            "atrous" => Ok(Denoiser::Atrous),
-            "oidn" => Ok(Denoiser::Oidn),
-            _ => Err(format!("unknown denoiser {s:?}: none, atrous or oidn")),
-        }
+        [Denoiser::None, Denoiser::Atrous, Denoiser::Oidn]
+            .into_iter()
+            .find(|d| d.name() == s)
+            .ok_or_else(|| format!("unknown denoiser {s:?}: none, atrous or oidn"))
     }
 }
 
 impl Denoiser {
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Denoiser::None => "none",
+            Denoiser::Atrous => "atrous",
+            Denoiser::Oidn => "oidn",
+        }
+    }
+
     /// What the metadata's approximations say of it (None when it is off).
     pub fn describe(self) -> Option<&'static str> {
         match self {

@@ -93,6 +93,10 @@ impl Accumulation {
         self.sums = Some(sums.into());
     }
 
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
     /// Samples per pixel behind the film while it holds exact sums, else None (a blend).
     pub fn samples(&self) -> Option<u32> {
         self.sums.as_ref().map(|_| self.samples)
@@ -108,7 +112,7 @@ impl Accumulation {
 }
 
 /// Bilinear resampling of a `from`-sized image to `to`, pixel centres aligned.
-fn upscale(pixels: &[[f32; 3]], from: (u32, u32), to: (u32, u32)) -> Vec<[f32; 3]> {
+pub(super) fn upscale(pixels: &[[f32; 3]], from: (u32, u32), to: (u32, u32)) -> Vec<[f32; 3]> {
     let (fw, fh) = (from.0.max(1) as usize, from.1.max(1) as usize);
     let at = |x: usize, y: usize| pixels.get(y * fw + x).copied().unwrap_or([0.0; 3]);
     // Position of a target pixel's centre in source pixels, and its two neighbours' weights.

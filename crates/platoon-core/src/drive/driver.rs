@@ -19,11 +19,13 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use super::accumulation::Accumulation;
+use super::denoising::{DenoiseStats, FrameDenoiser, RenderedFrame};
 use super::gi::{self, GiStats, GiUpdate, PreparedMethod, Worker, WorkerJob};
 use super::plan::{FramePlan, Join, Motion, Planner};
 use super::scaling::{BelowOneSample, Workload, WorkloadScaler};
 use super::{Pipeline, QueryScene, UpdateTimes};
 use crate::balance::Balancer;
+use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
 use crate::flatten::commit::Commit;
 use crate::flatten::GpuScene;
@@ -59,6 +61,9 @@ pub struct DriverOptions {
     /// the scene changes: asynchronously it needs tracers of its own
     /// ([`FrameDriver::with_update_tracers`]).
     pub gi_update: GiUpdate,
+    /// Denoise each frame with its history reprojected (`denoise::temporal`), beside the raw
+    /// film ([`FinishedFrame::denoised`]); none by default.
+    pub denoise: Denoiser,
 }
 
 impl DriverOptions {
@@ -89,6 +94,7 @@ impl DriverOptions {
             method: crate::method::Method::PathTracing,
             queries: false,
             gi_update: GiUpdate::default(),
+            denoise: Denoiser::None,
         }
     }
 }
@@ -124,6 +130,8 @@ pub struct FrameStats {
     /// What the frame's lighting was prepared on, for a method with a preparation (vertex
     /// links).
     pub gi: Option<GiStats>,
+    /// What denoising the frame did and cost ([`DriverOptions::denoise`]).
+    pub denoise: Option<DenoiseStats>,
 }
 
 impl FrameStats {
@@ -148,6 +156,8 @@ impl FrameStats {
 pub struct FinishedFrame {
     /// The film after this frame joined it (linear radiance).
     pub film: Film,
+    /// The frame denoised with its history, when [`DriverOptions::denoise`] asks.
+    pub denoised: Option<Film>,
     pub stats: FrameStats,
 }
 
@@ -172,6 +182,8 @@ struct FrameJob {
     update: UpdateTimes,
     params: FrameParams,
     plan: FramePlan,
+    /// The camera or the scene changed since the previous frame.
+    moved: bool,
 }
 
 enum Job {
@@ -235,6 +247,7 @@ impl FrameDriver {
         if tracers.is_empty() {
             return Err(Error::Invalid("a frame driver needs a tracer".into()));
         }
+        options.denoise.available().map_err(Error::Invalid)?;
         let name = balancer.name();
         let first_scene = Arc::new(first.clone());
         let prepares = !options.method.unit().ready();
@@ -258,13 +271,15 @@ impl FrameDriver {
         }
         let renderer = Renderer::new(tracers, balancer);
         let film = Accumulation::new(options.width, options.height);
+        let denoiser =
+            (options.denoise != Denoiser::None).then(|| FrameDenoiser::new(options.denoise));
         // One frame queued at most: the game is never more than a frame ahead.
         let (jobs, inbox) = mpsc::sync_channel::<Job>(1);
         let (outbox, done) = mpsc::sync_channel(1);
         let scene = first_scene.clone();
         let render = std::thread::Builder::new()
             .name("platoon render".into())
-            .spawn(move || render_loop(renderer, film, scene, inbox, outbox))
+            .spawn(move || render_loop(renderer, film, denoiser, scene, inbox, outbox))
             .map_err(|e| Error::Invalid(format!("starting the render thread: {e}")))?;
         Ok(FrameDriver {
             pipeline,
@@ -405,6 +420,7 @@ impl FrameDriver {
             update,
             params,
             plan,
+            moved: motion.camera || motion.scene,
         })))?;
         self.in_flight = true;
         self.frame += 1;
@@ -494,6 +510,7 @@ struct Synchronous {
 fn render_loop<T: BandTracer + Send + 'static>(
     mut renderer: Renderer<T>,
     mut film: Accumulation,
+    mut denoiser: Option<FrameDenoiser>,
     scene: Arc<GpuScene>,
     inbox: Receiver<Job>,
     outbox: SyncSender<Result<FinishedFrame>>,
@@ -508,7 +525,9 @@ fn render_loop<T: BandTracer + Send + 'static>(
                 renderer.set_balancer(b);
                 continue;
             }
-            Job::Frame(job) => render_one(&mut renderer, &mut film, &mut sync, *job),
+            Job::Frame(job) => {
+                render_one(&mut renderer, &mut film, denoiser.as_mut(), &mut sync, *job)
+            }
         };
         if outbox.send(result).is_err() {
             return;
@@ -519,6 +538,7 @@ fn render_loop<T: BandTracer + Send + 'static>(
 fn render_one<T: BandTracer + Send + 'static>(
     renderer: &mut Renderer<T>,
     film: &mut Accumulation,
+    denoiser: Option<&mut FrameDenoiser>,
     sync: &mut Synchronous,
     job: FrameJob,
 ) -> Result<FinishedFrame> {
@@ -531,6 +551,7 @@ fn render_one<T: BandTracer + Send + 'static>(
         update,
         mut params,
         plan,
+        moved,
     } = job;
     let start = Instant::now();
     let failed = |e: crate::frame::renderer::RenderError| Error::Invalid(e.to_string());
@@ -564,6 +585,22 @@ fn render_one<T: BandTracer + Send + 'static>(
         .render_frame_planned(&params, plan.rebalance)
         .map_err(failed)?;
     let render = render_start.elapsed();
+    failures.extend(rendered.failures);
+    let (denoised, denoise) = match denoiser {
+        Some(d) => {
+            let frame = RenderedFrame {
+                params: &params,
+                plan: &plan,
+                sums: &rendered.sums,
+                before: params.accumulated.as_deref(),
+                film_size: film.size(),
+                moved,
+            };
+            let (image, stats) = d.denoise(renderer, frame, &mut failures)?;
+            (Some(image), Some(stats))
+        }
+        None => (None, None),
+    };
     if plan.resolution < 1.0 {
         film.join_upscaled(
             plan.join,
@@ -574,10 +611,10 @@ fn render_one<T: BandTracer + Send + 'static>(
     } else {
         film.join(plan.join, rendered.sums, plan.spp);
     }
-    failures.extend(rendered.failures);
     let film_now = film.film();
     Ok(FinishedFrame {
         film: film_now,
+        denoised,
         stats: FrameStats {
             frame,
             weight: plan.join.weight(plan.frames_joined),
@@ -595,6 +632,7 @@ fn render_one<T: BandTracer + Send + 'static>(
             rejected_samples: rendered.rejected_samples,
             device_messages: renderer.with_tracers(|t| t.messages()).concat(),
             gi,
+            denoise,
         },
     })
 }

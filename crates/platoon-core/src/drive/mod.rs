@@ -5,9 +5,11 @@
 //! degraded), rebuilds the top level, flattens, and says what changed since the previous
 //! generation as a [`crate::flatten::commit::Commit`] for the tracers to apply. [`plan`] decides
 //! each game frame's samples and how they join the film; [`driver::FrameDriver`] carries the
-//! plan out, one call per game frame, with the tracers on their threads and the [`film`].
+//! plan out, one call per game frame, with the tracers on their threads and the
+//! [`accumulation`] film, and [`denoising`] denoises its frames over time when asked.
 
 pub mod accumulation;
+pub mod denoising;
 pub mod driver;
 pub mod edit;
 pub mod gi;
@@ -18,6 +20,7 @@ pub mod scaling;
 pub mod threads;
 pub mod updater;
 
+pub use denoising::DenoiseStats;
 pub use driver::{DriverOptions, FinishedFrame, FrameDriver, FrameOutput, FrameStats};
 pub use edit::Edit;
 pub use gi::{GiStats, GiUpdate};

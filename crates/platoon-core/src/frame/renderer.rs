@@ -207,21 +207,53 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         params: &FrameParams,
         rebalance: bool,
     ) -> Result<FrameResult, RenderError> {
-        let start = Instant::now();
-        let params = &Arc::new(params.clone());
         if self.tracers.is_empty() {
             return Err(RenderError::NoTracers("every tracer has failed".into()));
         }
         let pixels = params.width * params.height;
-        let fits = self.last_bands.len() == self.tracers.len()
-            && self.last_bands.last().is_some_and(|b| b.end == pixels);
-        let planned = if rebalance || !fits {
+        let planned = if rebalance || !self.last_bands_fit(pixels) {
             self.balancer
                 .plan(params.width, params.height, self.tracers.len())
         } else {
             self.last_bands.clone()
         };
         self.last_bands = planned.clone();
+        self.render_bands(params, planned, true)
+    }
+
+    /// Renders a side pass of a frame (a denoiser's guides): in the last frame's bands when
+    /// they fit, else in equal ones, and the balancer neither cuts it nor learns from it, so
+    /// the beauty's cut stays the beauty's.
+    pub fn render_side_pass(&mut self, params: &FrameParams) -> Result<FrameResult, RenderError> {
+        if self.tracers.is_empty() {
+            return Err(RenderError::NoTracers("every tracer has failed".into()));
+        }
+        let pixels = params.width * params.height;
+        let bands = if self.last_bands_fit(pixels) {
+            self.last_bands.clone()
+        } else {
+            let n = self.tracers.len() as u64;
+            let at = |k: u64| (pixels as u64 * k / n) as u32;
+            (0..n).map(|k| Span::new(at(k), at(k + 1))).collect()
+        };
+        self.render_bands(params, bands, false)
+    }
+
+    fn last_bands_fit(&self, pixels: u32) -> bool {
+        self.last_bands.len() == self.tracers.len()
+            && self.last_bands.last().is_some_and(|b| b.end == pixels)
+    }
+
+    /// Renders `planned` (a band per tracer), the lost bands of failed tracers by the
+    /// survivors; the balancer observes the frame when `learn`.
+    fn render_bands(
+        &mut self,
+        params: &FrameParams,
+        planned: Vec<Span>,
+        learn: bool,
+    ) -> Result<FrameResult, RenderError> {
+        let start = Instant::now();
+        let params = &Arc::new(params.clone());
         let mut stats: Vec<TracerStats> = self
             .tracers
             .iter()
@@ -329,7 +361,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             })
             .collect();
         // A frame with a failure measured a split that no longer exists: learn nothing from it.
-        if new_failures.is_empty() {
+        if learn && new_failures.is_empty() {
             self.balancer.observe(&FrameMeasure {
                 width: params.width,
                 height: params.height,

@@ -43,6 +43,28 @@ impl CameraBasis {
 }
 
 impl Camera {
+    /// Where the point `p` falls on a `width` x `height` image, in pixels (pixel (x, y) covers
+    /// [x, x + 1) x [y, y + 1), its centre at + 0.5): the inverse of the rays through pixel
+    /// centres (`CameraBasis::pixel_centre_direction`), for reprojecting a frame into the
+    /// previous one's image. None behind the camera.
+    pub fn project(&self, p: Vec3, width: u32, height: u32) -> Option<glam::Vec2> {
+        let b = self.basis(width, height);
+        let d = p - b.origin;
+        let z = d.dot(b.forward);
+        // An orthographic camera's rays are parallel: the offset in the image plane is the
+        // point's, not divided by its distance.
+        let scale = if self.orthographic.is_some() { 1.0 } else { z };
+        if z <= 0.0 && self.orthographic.is_none() {
+            return None;
+        }
+        let ndc_x = d.dot(b.right) / (scale * b.tan_half_x);
+        let ndc_y = d.dot(b.up) / (scale * b.tan_half_y);
+        Some(glam::Vec2::new(
+            (ndc_x + 1.0) * 0.5 * width as f32,
+            (1.0 - ndc_y) * 0.5 * height as f32,
+        ))
+    }
+
     /// Its frame for an image of `width` x `height` pixels.
     pub fn basis(&self, width: u32, height: u32) -> CameraBasis {
         let m = self.camera_to_world;
@@ -128,5 +150,41 @@ impl Camera {
                 })
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_point_on_a_pixel_centre_ray_projects_back_onto_that_centre() {
+        let mut camera = Camera::look_at(Vec3::new(1.0, 2.0, 3.0), Vec3::ZERO, 0.7);
+        for ortho in [None, Some([1.5, 1.0])] {
+            camera.orthographic = ortho;
+            let (w, h) = (40, 30);
+            let b = camera.basis(w, h);
+            for (x, y) in [(0, 0), (39, 0), (17, 11), (39, 29)] {
+                let d = b.pixel_centre_direction(x, y, w, h);
+                // An orthographic ray starts on the image plane, offset from the eye.
+                let start = match ortho {
+                    None => b.origin,
+                    Some([hx, hy]) => {
+                        let ndc_x = 2.0 * (x as f32 + 0.5) / w as f32 - 1.0;
+                        let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / h as f32;
+                        b.origin + ndc_x * hx * b.right + ndc_y * hy * b.up
+                    }
+                };
+                let direction = if ortho.is_some() { b.forward } else { d };
+                let at = camera.project(start + 3.7 * direction, w, h).unwrap();
+                let want = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                assert!((at - want).length() < 1e-3, "{ortho:?} ({x}, {y}): {at}");
+            }
+        }
+        camera.orthographic = None;
+        assert_eq!(
+            camera.project(camera.position() - camera.basis(4, 4).forward, 4, 4),
+            None
+        );
     }
 }

@@ -1,0 +1,403 @@
+//! The denoisers over a stream of frames (a game loop, `view`): each frame's own samples join a
+//! history reprojected from the previous frame (SVGF's temporal accumulation, Schied et al.
+//! 2017, section 4.1), and the spatial denoiser filters that history, so a moving view is
+//! denoised from many frames' samples instead of one frame's.
+//!
+//! Reprojection: a pixel's first hit (its world position through the pixel centre; a miss: its
+//! direction, the environment being infinitely far) is projected into the previous camera's
+//! image, and the four previous pixels around that point are read bilinearly, each only when it
+//! saw the same surface (same instance, normals within 25 degrees, the previous hit within 2%
+//! of the depth from the current one's tangent plane). Without any such tap the pixel starts
+//! over (a disocclusion). The history is a running mean weighted by samples: while nothing
+//! moves every sample weighs the same (the film's exact average), and while anything moves the
+//! history counts at most `MOVING_HISTORY_FRAMES` frames, so the new samples weigh at least 1/5
+//! (SVGF's alpha = 0.2) and a moving light or object drags at most a few frames behind.
+//! Object motion has no motion vectors: a moved object's pixels are rejected by the position
+//! test, or (sliding along its own surface) kept and updated at that rate.
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+use super::{Denoiser, Guides};
+use crate::frame::aov::{self, Aov, AovPass};
+use crate::output::Film;
+use crate::scene::camera::Camera;
+
+/// While anything moves, the history counts at most this many frames of the current rate.
+pub const MOVING_HISTORY_FRAMES: f32 = 4.0;
+/// Smallest cosine between a pixel's normal and a previous one it may take history from.
+const NORMAL_COS: f32 = 0.9;
+/// Largest distance of a previous hit from the current hit's tangent plane, over the depth.
+const PLANE_DISTANCE: f32 = 0.02;
+
+/// A frame's geometry, from the AOV kernel passes ([`GBuffer::PASSES`]): the denoiser's guides
+/// and what reprojection compares.
+#[derive(Clone, Debug)]
+pub struct GBuffer {
+    pub guides: Guides,
+    /// The first hit through the pixel centre, in render space (0 for a miss).
+    pub position: Vec<[f32; 3]>,
+    /// Its instance + 1; 0 for a miss.
+    pub instance: Vec<f32>,
+}
+
+impl GBuffer {
+    /// The kernel passes it is made from.
+    pub const PASSES: [AovPass; 4] = [
+        AovPass::Albedo,
+        AovPass::Normal,
+        AovPass::Position,
+        AovPass::Ids,
+    ];
+
+    /// From the films of [`GBuffer::PASSES`] (`film(pass)`) rendered from `camera`.
+    pub fn from_passes(film: &dyn Fn(AovPass) -> Film, camera: &Camera) -> GBuffer {
+        let layers = aov::layers(
+            &[Aov::Albedo, Aov::Normal, Aov::Depth],
+            film,
+            camera,
+            DVec3::ZERO,
+        );
+        GBuffer {
+            guides: Guides::from_layers(&layers).expect("albedo, normal and depth were asked"),
+            position: film(AovPass::Position).pixels,
+            instance: film(AovPass::Ids).pixels.iter().map(|p| p[0]).collect(),
+        }
+    }
+}
+
+/// A frame as the history holds it.
+struct History {
+    camera: Camera,
+    width: u32,
+    height: u32,
+    /// The temporally accumulated radiance, before the spatial filter.
+    colour: Vec<[f32; 3]>,
+    /// Samples behind each pixel of it.
+    samples: Vec<f32>,
+    geometry: GBuffer,
+}
+
+/// A denoised frame of the stream.
+#[derive(Clone, Debug)]
+pub struct TemporalFrame {
+    pub film: Film,
+    /// Pixels that found their history in the previous frame, over all pixels.
+    pub reused: f32,
+    /// Samples behind the mean pixel of the history the filter read.
+    pub mean_samples: f32,
+}
+
+/// A denoiser with its history.
+pub struct Temporal {
+    denoiser: Denoiser,
+    history: Option<History>,
+}
+
+impl Temporal {
+    /// With `denoiser` as the spatial filter (None: the accumulated history unfiltered).
+    pub fn new(denoiser: Denoiser) -> Temporal {
+        Temporal {
+            denoiser,
+            history: None,
+        }
+    }
+
+    pub fn denoiser(&self) -> Denoiser {
+        self.denoiser
+    }
+
+    /// Joins the frame's own estimate `frame` (the mean of its `spp` new samples a pixel) of
+    /// the view from `camera`, whose geometry is `geometry`, to the history and returns the
+    /// history denoised. `moved`: whether the camera or the scene changed since the previous
+    /// frame.
+    pub fn filter(
+        &mut self,
+        frame: &Film,
+        spp: u32,
+        geometry: GBuffer,
+        camera: Camera,
+        moved: bool,
+    ) -> Result<TemporalFrame, String> {
+        let (w, h) = (frame.width, frame.height);
+        let n = frame.pixels.len();
+        let s = spp.max(1) as f32;
+        let cap = if moved {
+            MOVING_HISTORY_FRAMES * s
+        } else {
+            f32::INFINITY
+        };
+        let prior: Vec<Option<([f32; 3], f32)>> = match &self.history {
+            Some(old) if (old.width, old.height) == (w, h) => (0..n)
+                .into_par_iter()
+                .map(|i| {
+                    if moved {
+                        reproject(old, &geometry, &camera, i, w, h)
+                    } else {
+                        Some((old.colour[i], old.samples[i]))
+                    }
+                })
+                .collect(),
+            _ => vec![None; n],
+        };
+        let reused = prior.iter().filter(|p| p.is_some()).count() as f32 / n.max(1) as f32;
+        let (colour, samples): (Vec<[f32; 3]>, Vec<f32>) = frame
+            .pixels
+            .iter()
+            .zip(&prior)
+            .map(|(x, prior)| match *prior {
+                Some((c, before)) => {
+                    let total = before.min(cap) + s;
+                    let a = s / total;
+                    (std::array::from_fn(|k| c[k] + (x[k] - c[k]) * a), total)
+                }
+                None => (*x, s),
+            })
+            .unzip();
+        let accumulated = Film {
+            width: w,
+            height: h,
+            pixels: colour,
+        };
+        let film = self.denoiser.apply(&accumulated, &geometry.guides)?;
+        let mean_samples = samples.iter().sum::<f32>() / n.max(1) as f32;
+        self.history = Some(History {
+            camera,
+            width: w,
+            height: h,
+            colour: accumulated.pixels,
+            samples,
+            geometry,
+        });
+        Ok(TemporalFrame {
+            film,
+            reused,
+            mean_samples,
+        })
+    }
+}
+
+/// The history of pixel `i` of the new frame, read from where its first hit was in the old
+/// one: the mean radiance and the samples behind it, or None when the old frame did not see it.
+fn reproject(
+    old: &History,
+    new: &GBuffer,
+    camera: &Camera,
+    i: usize,
+    w: u32,
+    h: u32,
+) -> Option<([f32; 3], f32)> {
+    let (x, y) = ((i % w as usize) as u32, (i / w as usize) as u32);
+    let hit = new.instance[i] > 0.0;
+    let at = if hit {
+        old.camera.project(Vec3::from(new.position[i]), w, h)?
+    } else if camera.orthographic.is_some() || old.camera.orthographic.is_some() {
+        // Parallel rays see the environment in one direction from every pixel.
+        glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5)
+    } else {
+        // A direction is where a point at unit distance from the old eye along it falls.
+        let d = camera.basis(w, h).pixel_centre_direction(x, y, w, h);
+        old.camera.project(old.camera.position() + d, w, h)?
+    };
+    // Pixel centres are at + 0.5: the four around `at`, weighted bilinearly.
+    let (fx, fy) = (at.x - 0.5, at.y - 0.5);
+    let (x0, y0) = (fx.floor(), fy.floor());
+    let (mut sum, mut samples, mut weights) = ([0.0f32; 3], 0.0f32, 0.0f32);
+    for (tx, ty) in [
+        (x0, y0),
+        (x0 + 1.0, y0),
+        (x0, y0 + 1.0),
+        (x0 + 1.0, y0 + 1.0),
+    ] {
+        if tx < 0.0 || ty < 0.0 || tx >= w as f32 || ty >= h as f32 {
+            continue;
+        }
+        let weight = (1.0 - (fx - tx).abs()) * (1.0 - (fy - ty).abs());
+        let j = ty as usize * w as usize + tx as usize;
+        if weight <= 0.0 || !same_surface(new, i, &old.geometry, j) {
+            continue;
+        }
+        for (s, c) in sum.iter_mut().zip(old.colour[j]) {
+            *s += c * weight;
+        }
+        samples += old.samples[j] * weight;
+        weights += weight;
+    }
+    // A sliver of a tap is not history enough to keep.
+    (weights > 1e-3).then(|| (sum.map(|v| v / weights), samples / weights))
+}
+
+/// Whether pixel `j` of the old frame saw the surface pixel `i` of the new one sees.
+fn same_surface(new: &GBuffer, i: usize, old: &GBuffer, j: usize) -> bool {
+    if new.instance[i] != old.instance[j] {
+        return false;
+    }
+    if new.instance[i] == 0.0 {
+        return true;
+    }
+    let (ni, nj) = (
+        Vec3::from(new.guides.normal[i]).normalize_or_zero(),
+        Vec3::from(old.guides.normal[j]).normalize_or_zero(),
+    );
+    if ni != Vec3::ZERO && nj != Vec3::ZERO && ni.dot(nj) < NORMAL_COS {
+        return false;
+    }
+    let off = Vec3::from(old.position[j]) - Vec3::from(new.position[i]);
+    let plane = if ni == Vec3::ZERO {
+        off.length()
+    } else {
+        off.dot(ni).abs()
+    };
+    plane <= PLANE_DISTANCE * new.guides.depth[i].abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const W: u32 = 48;
+    const H: u32 = 32;
+
+    /// The view from `eye` (looking down -Z) of the plane z = 0 (instance 1, normal +Z) where
+    /// `inside(x, y)` of its world point, else of a plane z = -4 (instance 2), radiance
+    /// `radiance` of the world point: the frame and its geometry.
+    fn view(
+        eye: Vec3,
+        radiance: &dyn Fn(Vec3) -> f32,
+        inside: &dyn Fn(Vec3) -> bool,
+    ) -> (Film, GBuffer, Camera) {
+        let camera = Camera::look_at(eye, eye - Vec3::Z, 0.8);
+        let b = camera.basis(W, H);
+        let mut film = Film {
+            width: W,
+            height: H,
+            pixels: Vec::new(),
+        };
+        let mut g = GBuffer {
+            guides: Guides {
+                albedo: Vec::new(),
+                normal: Vec::new(),
+                depth: Vec::new(),
+            },
+            position: Vec::new(),
+            instance: Vec::new(),
+        };
+        for y in 0..H {
+            for x in 0..W {
+                let d = b.pixel_centre_direction(x, y, W, H);
+                let front = eye + d * (eye.z / -d.z);
+                let (p, id) = if inside(front) {
+                    (front, 1.0)
+                } else {
+                    (eye + d * ((eye.z + 4.0) / -d.z), 2.0)
+                };
+                film.pixels.push([radiance(p); 3]);
+                g.guides.albedo.push([0.5; 3]);
+                g.guides.normal.push([0.0, 0.0, 1.0]);
+                g.guides.depth.push((p - eye).dot(b.forward));
+                g.position.push(p.into());
+                g.instance.push(id);
+            }
+        }
+        (film, g, camera)
+    }
+
+    fn stripes(p: Vec3) -> f32 {
+        1.0 + 0.5 * (1.3 * p.x).sin() * (0.7 * p.y).cos()
+    }
+
+    #[test]
+    fn a_still_view_weighs_every_sample_alike() {
+        let mut t = Temporal::new(Denoiser::None);
+        let eye = Vec3::new(0.0, 0.0, 5.0);
+        let mut last = None;
+        // Frames of 1, 3, 4 and 1 samples with means 2, 6, 1 and 12: the mean of all 9 is 4
+        // (the last frame past what a moving view's history would count).
+        for (spp, value) in [(1, 2.0), (3, 6.0), (4, 1.0), (1, 12.0)] {
+            let (mut frame, g, camera) = view(eye, &|_| value, &|_| true);
+            frame.pixels.iter_mut().for_each(|p| *p = [value; 3]);
+            last = Some(t.filter(&frame, spp, g, camera, false).unwrap());
+        }
+        let last = last.unwrap();
+        assert_eq!(last.reused, 1.0);
+        assert_eq!(last.mean_samples, 9.0);
+        for p in &last.film.pixels {
+            assert!((p[0] - 4.0).abs() < 1e-5, "{p:?}");
+        }
+    }
+
+    #[test]
+    fn a_moving_camera_finds_each_surface_point_in_the_previous_frame() {
+        let mut t = Temporal::new(Denoiser::None);
+        let all = |_: Vec3| true;
+        let (a, g, camera) = view(Vec3::new(0.0, 0.0, 5.0), &stripes, &all);
+        t.filter(&a, 1, g, camera, true).unwrap();
+        // The second view, moved sideways and closer, is the truth plus 1: a pixel that found
+        // its history right is the mean of the truth and truth + 1 (equal samples).
+        let eye = Vec3::new(0.6, -0.3, 4.2);
+        let (mut b, g, camera) = view(eye, &stripes, &all);
+        let truth = b.clone();
+        b.pixels.iter_mut().for_each(|p| *p = p.map(|v| v + 1.0));
+        let out = t.filter(&b, 1, g, camera, true).unwrap();
+        assert!(out.reused > 0.7, "{}", out.reused);
+        let mut kept = 0;
+        for (o, want) in out.film.pixels.iter().zip(&truth.pixels) {
+            if (o[0] - (want[0] + 1.0)).abs() < 1e-6 {
+                continue; // new at the image's edge: this frame alone
+            }
+            kept += 1;
+            // Bilinear reading of the smooth stripes: a small error.
+            assert!((o[0] - (want[0] + 0.5)).abs() < 0.02, "{o:?} vs {want:?}");
+        }
+        assert!(kept as f32 >= 0.7 * (W * H) as f32, "{kept}");
+    }
+
+    #[test]
+    fn a_disoccluded_pixel_starts_over() {
+        let mut t = Temporal::new(Denoiser::None);
+        let eye = Vec3::new(0.0, 0.0, 5.0);
+        // The front plane covers x < 0, then x < -1: the strip between shows the back plane,
+        // which the front plane hid in the first frame.
+        let (a, g, camera) = view(eye, &|_| 4.0, &|p| p.x < 0.0);
+        t.filter(&a, 1, g, camera, true).unwrap();
+        let (b, mut g, camera) = view(eye, &|_| 2.0, &|p| p.x < -1.0);
+        // Another object in the back plane's place where x > 2 (coplanar: only its instance
+        // tells it apart).
+        for i in 0..g.instance.len() {
+            if g.instance[i] == 2.0 && g.position[i][0] > 2.0 {
+                g.instance[i] = 3.0;
+            }
+        }
+        let out = t.filter(&b, 1, g.clone(), camera, true).unwrap();
+        let mut revealed = 0;
+        for (i, o) in out.film.pixels.iter().enumerate() {
+            let p = Vec3::from(g.position[i]);
+            // A world point on the back plane the front plane hid before, or the new object.
+            let hidden = g.instance[i] == 3.0
+                || g.instance[i] == 2.0 && {
+                    let front = p + (eye - p) * (4.0 / (4.0 + 5.0));
+                    front.x < 0.0
+                };
+            if hidden {
+                revealed += 1;
+                assert_eq!(o[0], 2.0, "pixel {i} kept a history it never had");
+            } else {
+                assert_eq!(o[0], 3.0, "pixel {i} lost its history");
+            }
+        }
+        assert!(revealed > 20, "{revealed}");
+    }
+
+    #[test]
+    fn a_constant_view_stays_constant_through_motion_and_the_filter() {
+        let mut t = Temporal::new(Denoiser::Atrous);
+        for k in 0..4 {
+            let eye = Vec3::new(0.2 * k as f32, 0.0, 5.0 - 0.3 * k as f32);
+            let (frame, g, camera) = view(eye, &|_| 0.7, &|p| p.x < 0.5);
+            let out = t.filter(&frame, 2, g, camera, true).unwrap();
+            for p in &out.film.pixels {
+                assert!((p[0] - 0.7).abs() < 1e-5, "frame {k}: {p:?}");
+            }
+        }
+    }
+}
