@@ -3,11 +3,17 @@
 //   metal      = Schlick(base_color) * specular_brdf
 //   glass      = rough dielectric BTDF/BRDF (Walter et al. 2007) with exact Fresnel, tinted by base colour
 //   bsdf       = mix(mix(dielectric, glass, transmission), metal, metallic)
+//   coated     = mix(bsdf, coat, clearcoat * Schlick(0.04, |wo.nc|))   KHR_materials_clearcoat:
+//                coat = D G / (4 |wo.nc| |wi.nc|), GGX about the coat's own normal nc
 // GGX with height-correlated Smith G2; visible normals sampled by spherical caps (Dupuy & Benyoub 2023).
 // Roughness below MIN_ROUGHNESS makes the specular lobes perfect (delta) mirrors and refractors.
 // All vectors are in the local shading frame, n = +z on the front (outside) side.
 // Without HAS_SPECULAR_LOBES (every material Lambertian: no metal, specular layer or glass) the
 // GGX code is compiled out; the terms it would add are exactly zero, so the image keeps its bits.
+// The same holds for HAS_CLEARCOAT: a material without a coat has weight 0 and its lobes'
+// probabilities, weights and sampling decisions are those of the kernel without the code.
+// The coat's mix weight depends on wo alone (the spec's fresnel_coat), so a coated BSDF is not
+// reciprocal.
 
 const float MIN_ROUGHNESS = 0.01;
 
@@ -20,8 +26,15 @@ struct Bsdf {
     bool delta;         // specular lobes are perfect
     // lobe selection probabilities: dielectric diffuse, dielectric specular, metal, glass
     vec4 p;
-    // lobe weights of the mix: dielectric, glass, metal
+    // lobe weights of the mix: dielectric, glass, metal (each times 1 - coat)
     vec3 w;
+#ifdef HAS_CLEARCOAT
+    float coat;         // the coat's weight in the mix: clearcoat * Schlick(0.04, |wo.nc|)
+    float p_coat;       // its selection probability (the base lobes' p share the rest)
+    float coat_alpha;
+    bool coat_delta;
+    vec3 coat_t, coat_b, coat_n;   // the coat's frame in the shading frame
+#endif
 };
 
 float ggx_d(float a, float nh) {
@@ -95,6 +108,28 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
     float f0 = (s.ior - 1.0) / (s.ior + 1.0);
     b.f0 = min(vec3(f0 * f0) * s.specular_color, vec3(1.0));
     b.w = vec3((1.0 - s.metallic) * (1.0 - s.transmission), (1.0 - s.metallic) * s.transmission, s.metallic);
+#ifdef HAS_CLEARCOAT
+    b.coat = 0.0;
+    b.p_coat = 0.0;
+    b.coat_alpha = 0.0;
+    b.coat_delta = true;
+    b.coat_t = vec3(1.0, 0.0, 0.0);
+    b.coat_b = vec3(0.0, 1.0, 0.0);
+    b.coat_n = vec3(0.0, 0.0, 1.0);
+    if (s.clearcoat > 0.0) {
+        // The coat's normal in the shading frame the callers build (make_frame of s.ns).
+        vec3 t, bt;
+        make_frame(s.ns, t, bt);
+        b.coat_n = normalize(to_local(s.clearcoat_normal, t, bt, s.ns));
+        make_frame(b.coat_n, b.coat_t, b.coat_b);
+        float cr = max(s.clearcoat_roughness, 0.0);
+        b.coat_delta = cr < MIN_ROUGHNESS;
+        b.coat_alpha = cr * cr;
+        b.coat = s.clearcoat * schlick(vec3(0.04), abs(dot(wo, b.coat_n))).x;
+        // What the coat reflects the base does not: every base lobe weighs 1 - coat.
+        b.w *= 1.0 - b.coat;
+    }
+#endif
 #ifdef HAS_SPECULAR_LOBES
     float c = abs(wo.z);
     float fs = s.specular * max3(schlick(b.f0, c));
@@ -103,11 +138,26 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
     vec4 p = vec4(b.w.x * luminance(s.base_color), 0.0, 0.0, 0.0);
 #endif
     float sum = p.x + p.y + p.z + p.w;
+#ifdef HAS_CLEARCOAT
+    // A coat reflects about its weight (a mirror's albedo times the Fresnel), so it is chosen
+    // in proportion to it.
+    sum += b.coat;
+    b.p_coat = sum > 0.0 ? b.coat / sum : 0.0;
+#endif
     b.p = sum > 0.0 ? p / sum : vec4(0.0);
     return b;
 }
 
-bool bsdf_all_delta(Bsdf b) { return b.delta && b.p.x == 0.0; }
+#ifdef HAS_CLEARCOAT
+vec3 coat_local(Bsdf b, vec3 v) { return to_local(v, b.coat_t, b.coat_b, b.coat_n); }
+#endif
+
+bool bsdf_all_delta(Bsdf b) {
+#ifdef HAS_CLEARCOAT
+    if (b.p_coat > 0.0 && !b.coat_delta) return false;
+#endif
+    return b.delta && b.p.x == 0.0;
+}
 
 // Albedo of the dielectric's diffuse term, under specular-layer reflectance fr.
 vec3 diffuse_reflectance(Bsdf b, vec3 fr) { return b.w.x * (1.0 - b.specular * max3(fr)) * b.base_color; }
@@ -175,6 +225,19 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         }
     }
 #endif
+#ifdef HAS_CLEARCOAT
+    if (b.p_coat > 0.0 && !b.coat_delta && wo.z * wi.z > 0.0) {
+        // Both sides alike, as the opaque lobes.
+        vec3 oc = coat_local(b, wo.z < 0.0 ? -wo : wo);
+        vec3 ic = coat_local(b, wo.z < 0.0 ? -wi : wi);
+        if (oc.z > 0.0 && ic.z > 0.0) {
+            vec3 h = normalize(oc + ic);
+            float spec = ggx_d(b.coat_alpha, h.z) * ggx_g2(b.coat_alpha, oc, ic) / (4.0 * oc.z * ic.z);
+            f += vec3(b.coat * spec * abs(wi.z));
+            pdf += b.p_coat * ggx_vndf_pdf(b.coat_alpha, oc, h) / (4.0 * dot(oc, h));
+        }
+    }
+#endif
     return f;
 }
 
@@ -187,6 +250,32 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
     if (wo.z == 0.0) return false;
     float side = wo.z < 0.0 ? -1.0 : 1.0;
     vec3 o = wo * side;
+#ifdef HAS_CLEARCOAT
+    if (b.p_coat > 0.0 && ul >= 1.0 - b.p_coat) {
+        // The coat, in its own frame; back in the shading frame a reflection must stay on wo's
+        // side. Both sides alike: wo's side is mirrored through the origin, as bsdf_eval does.
+        vec3 i;
+        if (b.coat_delta) {
+            i = reflect(-o, b.coat_n);
+            if (i.z <= 0.0) return false;
+            bs.wi = i * side;
+            bs.weight = vec3(b.coat / b.p_coat);
+            bs.delta = true;
+            return true;
+        }
+        vec3 oc = coat_local(b, o);
+        if (oc.z <= 0.0) return false;
+        vec3 ic = reflect(-oc, ggx_sample_vndf(b.coat_alpha, oc, u));
+        if (ic.z <= 0.0) return false;
+        i = to_world(ic, b.coat_t, b.coat_b, b.coat_n);
+        if (i.z <= 0.0) return false;
+        bs.wi = i * side;
+        vec3 f = bsdf_eval(b, wo, bs.wi, bs.pdf);
+        if (!(bs.pdf > 0.0)) return false;
+        bs.weight = f / bs.pdf;
+        return true;
+    }
+#endif
     if (ul < b.p.x) {
         bs.wi = sample_cosine_hemisphere(u) * vec3(1.0, 1.0, side);
     }
@@ -204,7 +293,9 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
         vec3 h = ggx_sample_vndf(b.alpha, o, u);
         vec3 i = reflect(-o, h);
         if (i.z <= 0.0) return false;
-        bs.wi = i * vec3(1.0, 1.0, side);
+        // Mirrored through the origin, as bsdf_eval mirrors wo's side (a mirror in z alone
+        // turned a back-side reflection into a retro-reflection).
+        bs.wi = i * side;
     }
 #endif
     else {

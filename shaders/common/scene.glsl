@@ -17,7 +17,9 @@ struct Instance { vec4 w2o[3]; vec4 o2w[3]; uint blas_root; uint light_base; uin
 struct Material {
     vec4 base_color; vec4 emissive; vec4 params; vec4 specular;
     ivec4 textures0; ivec4 textures1; vec4 misc;
-    vec4 uv_rows[14];
+    vec4 clearcoat;     // KHR_materials_clearcoat: factor, roughness, normal scale
+    ivec4 textures2;    // clearcoat, clearcoat roughness, clearcoat normal textures
+    vec4 uv_rows[20];
 };
 struct Texture { uint offset; uint width; uint height; uint wrap; };
 struct Light { vec4 a; vec4 b; vec4 c; vec4 emission; uvec4 ids; };
@@ -173,6 +175,9 @@ const int TEXTURE_SLOT_EMISSIVE = 3;
 const int TEXTURE_SLOT_SPECULAR = 4;
 const int TEXTURE_SLOT_SPECULAR_COLOR = 5;
 const int TEXTURE_SLOT_TRANSMISSION = 6;
+const int TEXTURE_SLOT_CLEARCOAT = 7;
+const int TEXTURE_SLOT_CLEARCOAT_ROUGHNESS = 8;
+const int TEXTURE_SLOT_CLEARCOAT_NORMAL = 9;
 
 float max3(vec3 v) { return max(v.x, max(v.y, v.z)); }
 float min3(vec3 v) { return min(v.x, min(v.y, v.z)); }

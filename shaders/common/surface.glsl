@@ -18,6 +18,11 @@ struct Surface {
     vec3 emission;
     bool double_sided;
     bool unlit;      // KHR_materials_unlit: base_color is emitted, nothing reflected
+#ifdef HAS_CLEARCOAT
+    float clearcoat;            // KHR_materials_clearcoat's weight and roughness
+    float clearcoat_roughness;
+    vec3 clearcoat_normal;      // world; the interpolated normal unless the coat's own map
+#endif
 };
 
 vec3 instance_point(Instance inst, vec3 p) {
@@ -48,6 +53,10 @@ void apply_material(inout Surface s, Material m) {
     s.emission = m.emissive.rgb;
     s.double_sided = (m.textures1.w & MATERIAL_DOUBLE_SIDED) != 0;
     s.unlit = false;
+#ifdef HAS_CLEARCOAT
+    s.clearcoat = m.clearcoat.x;
+    s.clearcoat_roughness = m.clearcoat.y;
+#endif
 #ifdef HAS_UNLIT
     s.unlit = (m.textures1.w & MATERIAL_UNLIT) != 0;
 #endif
@@ -75,11 +84,35 @@ void apply_material(inout Surface s, Material m) {
 #ifdef HAS_TRANSMISSION_TEXTURES
     if (m.textures1.z >= 0) s.transmission *= sample_texture(m.textures1.z, slot_uv(m, TEXTURE_SLOT_TRANSMISSION, a), false).r;
 #endif
+#ifdef HAS_CLEARCOAT_TEXTURES
+    if (m.textures2.x >= 0) s.clearcoat *= sample_texture(m.textures2.x, slot_uv(m, TEXTURE_SLOT_CLEARCOAT, a), false).r;
+    if (m.textures2.y >= 0) s.clearcoat_roughness *= sample_texture(m.textures2.y, slot_uv(m, TEXTURE_SLOT_CLEARCOAT_ROUGHNESS, a), false).g;
+#endif
 #endif
 #ifndef HAS_TRANSMISSION
     s.transmission = 0.0;
 #endif
 }
+
+#if defined(HAS_NORMAL_MAPS) || defined(HAS_CLEARCOAT_TEXTURES)
+// `n` turned by the tangent-space normal map `texture` read at `uv` (its xy scaled by `scale`),
+// in the frame of the interpolated tangent (object space `tangent`, made orthogonal to n) and
+// the bitangent of handedness `sign`; n itself where the frame degenerates or the map would turn
+// it below the geometric normal ng.
+vec3 normal_mapped(vec3 n, vec3 ng, Instance inst, vec3 tangent, float sign, int texture, vec2 uv, float scale) {
+    vec3 tw = instance_vector(inst, tangent);
+    tw = tw - n * dot(n, tw);
+    if (dot(tw, tw) <= 1e-12) return n;
+    tw = normalize(tw);
+    vec3 bw = cross(n, tw) * sign;
+    vec3 tn = sample_texture(texture, uv, false).xyz * 2.0 - 1.0;
+    tn.xy *= scale;
+    vec3 mapped = tn.x * tw + tn.y * bw + tn.z * n;
+    if (dot(mapped, mapped) <= 1e-12) return n;
+    mapped = normalize(mapped);
+    return dot(mapped, ng) > 0.0 ? mapped : n;
+}
+#endif
 
 Surface surface_at(Hit hit) {
     Surface s;
@@ -101,23 +134,21 @@ Surface surface_at(Hit hit) {
     if (dot(s.ns, s.ng) < 0.0) s.ns = -s.ns;
     s.material = T.material;
     apply_material(s, m);
+#if defined(HAS_NORMAL_MAPS) || defined(HAS_CLEARCOAT_TEXTURES)
+    vec3 tangent = (b0 * v0.tangent + hit.b1 * v1.tangent + hit.b2 * v2.tangent).xyz;
+    float sign = v0.tangent.w < 0.0 ? -1.0 : 1.0;
+#endif
+#ifdef HAS_CLEARCOAT
+    // The coat has a normal map of its own, or none: not the base's.
+    s.clearcoat_normal = s.ns;
+#ifdef HAS_CLEARCOAT_TEXTURES
+    if (m.textures2.z >= 0)
+        s.clearcoat_normal = normal_mapped(s.ns, s.ng, inst, tangent, sign, m.textures2.z, slot_uv(m, TEXTURE_SLOT_CLEARCOAT_NORMAL, s.attr), m.clearcoat.z);
+#endif
+#endif
 #ifdef HAS_NORMAL_MAPS
-    if (m.textures0.z >= 0) {
-        vec4 t = b0 * v0.tangent + hit.b1 * v1.tangent + hit.b2 * v2.tangent;
-        vec3 tw = instance_vector(inst, t.xyz);
-        tw = tw - s.ns * dot(s.ns, tw);
-        if (dot(tw, tw) > 1e-12) {
-            tw = normalize(tw);
-            vec3 bw = cross(s.ns, tw) * (v0.tangent.w < 0.0 ? -1.0 : 1.0);
-            vec3 tn = sample_texture(m.textures0.z, slot_uv(m, TEXTURE_SLOT_NORMAL, s.attr), false).xyz * 2.0 - 1.0;
-            tn.xy *= m.emissive.w;
-            vec3 mapped = tn.x * tw + tn.y * bw + tn.z * s.ns;
-            if (dot(mapped, mapped) > 1e-12) {
-                mapped = normalize(mapped);
-                if (dot(mapped, s.ng) > 0.0) s.ns = mapped;
-            }
-        }
-    }
+    if (m.textures0.z >= 0)
+        s.ns = normal_mapped(s.ns, s.ng, inst, tangent, sign, m.textures0.z, slot_uv(m, TEXTURE_SLOT_NORMAL, s.attr), m.emissive.w);
 #endif
     return s;
 }

@@ -3,7 +3,9 @@
 //! sky, seen by an orthographic camera from one direction, shows its directional albedo
 //! ∫ f(wo, wi) |cos θi| dωi times the sky (every reflected and refracted ray meets the sky).
 //! Rendered with MIS, BSDF sampling alone and light sampling alone, so that an error in the BSDF
-//! (its D, G or Fresnel) and one between its sampling and its pdf both show.
+//! (its D, G or Fresnel) and one between its sampling and its pdf both show. A double-sided
+//! plane is also seen from below (both sides shade alike), and KHR_materials_clearcoat's coat
+//! is mixed over every base (its weight from the view alone, so not reciprocal).
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -26,6 +28,9 @@ struct Lobe {
     roughness: f64,
     transmission: f64,
     ior: f64,
+    /// KHR_materials_clearcoat's factor and roughness (0: a perfect mirror).
+    clearcoat: f64,
+    coat_roughness: f64,
 }
 
 /// Trowbridge-Reitz (GGX) with alpha = roughness^2.
@@ -95,7 +100,20 @@ impl Lobe {
                 f = (1.0 - self.metallic) * self.transmission * self.base * t;
             }
         }
+        // The coat: mix(base, D G / (4 |v.n| |l.n|), clearcoat * Schlick(0.04, v.n)); a perfect
+        // mirror's share is added by `albedo`.
+        let coat = self.clearcoat * schlick(0.04, v.z);
+        f *= 1.0 - coat;
+        if l.z > 0.0 && !self.coat_delta() {
+            let alpha = self.coat_roughness * self.coat_roughness;
+            let h = (v + l).normalize();
+            f += coat * d_ggx(alpha, h.z) * v_smith(alpha, l.z, v.z);
+        }
         f * l.z.abs()
+    }
+
+    fn coat_delta(&self) -> bool {
+        self.coat_roughness < 0.01
     }
 
     /// ∫ f |cos| over the sphere of l, by the midpoint rule in (cos θ, φ) on each hemisphere,
@@ -117,6 +135,10 @@ impl Lobe {
                 }
             }
         }
+        // A mirror coat reflects all of its weight.
+        if self.coat_delta() {
+            sum += self.clearcoat * schlick(0.04, v.z);
+        }
         sum
     }
 
@@ -131,15 +153,19 @@ impl Lobe {
             specular: 1.0,
             specular_color: Vec3::ONE,
             double_sided: false,
+            clearcoat: self.clearcoat as f32,
+            clearcoat_roughness: self.coat_roughness as f32,
             ..Material::default()
         }
     }
 }
 
 /// The plane of the lobe's material seen from cos θ = `cos_view` by an orthographic camera,
-/// under a sky of 1.
+/// under a sky of 1; from below (double-sided) when `cos_view` is negative.
 fn plane(lobe: &Lobe, cos_view: f64) -> platoon::Prepared {
     let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
+    let mut material = lobe.material();
+    material.double_sided = cos_view < 0.0;
     // The plane is y = 0 facing +y; the camera looks down at it from (s, c) in the x-y plane.
     let eye = Vec3::new(s, c, 0.0) * 10.0;
     let mut scene = scene_of(
@@ -148,7 +174,7 @@ fn plane(lobe: &Lobe, cos_view: f64) -> platoon::Prepared {
             Vec3::ZERO,
             1000.0,
         )],
-        vec![lobe.material()],
+        vec![material],
         eye,
         Vec3::ZERO,
         0.5,
@@ -167,9 +193,15 @@ fn rendered(lobe: &Lobe, cos_view: f64, sampling: Sampling, spp: u32) -> (f64, f
 }
 
 fn check(name: &str, lobe: Lobe) {
-    for cos_view in [0.9f64, 0.5, 0.15] {
-        let theta = cos_view.acos();
-        let v = DVec3::new(theta.sin(), 0.0, cos_view);
+    check_from(name, lobe, &[0.9, 0.5, 0.15]);
+}
+
+/// `check` from the views of cos θ in `views` (negative: from below, where the formula is the
+/// one of the mirrored view).
+fn check_from(name: &str, lobe: Lobe, views: &[f64]) {
+    for &cos_view in views {
+        let theta = cos_view.abs().acos();
+        let v = DVec3::new(theta.sin(), 0.0, cos_view.abs());
         let expected = lobe.albedo(v);
         for sampling in [Sampling::Mis, Sampling::Bsdf, Sampling::Light] {
             let (m, se) = rendered(&lobe, cos_view, sampling, 512);
@@ -194,6 +226,8 @@ fn the_quadrature_gives_a_lambertian_plane_its_albedo() {
         roughness: 1.0,
         transmission: 0.0,
         ior: 1.5,
+        clearcoat: 0.0,
+        coat_roughness: 0.0,
     };
     let v = DVec3::new(0.6, 0.0, 0.8);
     let quadrature = {
@@ -234,6 +268,8 @@ fn rough_and_glossy_metals_reflect_as_the_spec_integrates() {
                 roughness,
                 transmission: 0.0,
                 ior: 1.5,
+                clearcoat: 0.0,
+                coat_roughness: 0.0,
             },
         );
     }
@@ -250,6 +286,8 @@ fn the_dielectric_diffuse_and_specular_layer_reflect_as_the_spec_integrates() {
                 roughness,
                 transmission: 0.0,
                 ior: 1.5,
+                clearcoat: 0.0,
+                coat_roughness: 0.0,
             },
         );
     }
@@ -266,6 +304,8 @@ fn rough_glass_reflects_and_refracts_as_the_spec_integrates() {
                 roughness,
                 transmission: 1.0,
                 ior: 1.5,
+                clearcoat: 0.0,
+                coat_roughness: 0.0,
             },
         );
     }
@@ -323,7 +363,9 @@ fn sampling_fits_pdf(name: &str, lobe: Lobe, cos_view: f64) {
         mass[(y / SUB) * CP + x / SUB] += v[0] as f64 * cell;
         // Reciprocity of the reflection: f(wo, wi) = f(wi, wo).
         let c = 1.0 - 2.0 * (y as f64 + 0.5) / (CT * SUB) as f64;
-        if c > 0.05 && v[1] > 1e-3 {
+        // A coat's weight follows the view alone: the spec's coated BSDF is not reciprocal.
+        let side = cos_view.signum();
+        if lobe.clearcoat == 0.0 && c * side > 0.05 && v[1] > 1e-3 {
             let rel = ((v[1] - v[2]) / v[1]).abs();
             assert!(
                 rel < 2e-3,
@@ -392,6 +434,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 roughness: 0.3,
                 transmission: 0.0,
                 ior: 1.5,
+                clearcoat: 0.0,
+                coat_roughness: 0.0,
             },
         ),
         (
@@ -402,6 +446,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 roughness: 0.7,
                 transmission: 0.0,
                 ior: 1.5,
+                clearcoat: 0.0,
+                coat_roughness: 0.0,
             },
         ),
         (
@@ -412,6 +458,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 roughness: 0.4,
                 transmission: 0.0,
                 ior: 1.5,
+                clearcoat: 0.0,
+                coat_roughness: 0.0,
             },
         ),
         (
@@ -422,6 +470,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 roughness: 0.3,
                 transmission: 1.0,
                 ior: 1.5,
+                clearcoat: 0.0,
+                coat_roughness: 0.0,
             },
         ),
         (
@@ -432,6 +482,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 roughness: 0.6,
                 transmission: 1.0,
                 ior: 1.5,
+                clearcoat: 0.0,
+                coat_roughness: 0.0,
             },
         ),
         (
@@ -442,6 +494,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 roughness: 0.5,
                 transmission: 0.0,
                 ior: 1.5,
+                clearcoat: 0.0,
+                coat_roughness: 0.0,
             },
         ),
     ];
@@ -450,4 +504,205 @@ fn every_lobe_samples_as_its_pdf_says() {
             sampling_fits_pdf(name, lobe, cos_view);
         }
     }
+}
+
+/// The base lobes the coat and the back-side tests lay over: a rough dielectric and a metal.
+const DIELECTRIC: Lobe = Lobe {
+    base: 0.5,
+    metallic: 0.0,
+    roughness: 0.5,
+    transmission: 0.0,
+    ior: 1.5,
+    clearcoat: 0.0,
+    coat_roughness: 0.0,
+};
+const METAL: Lobe = Lobe {
+    base: 0.6,
+    metallic: 1.0,
+    roughness: 0.4,
+    ..DIELECTRIC
+};
+
+#[test]
+fn clearcoats_reflect_as_the_spec_integrates() {
+    // A glossy and a rough coat, a partial one over a metal, and a mirror coat (roughness 0,
+    // the spec's default) over a diffuse base.
+    let lobes = [
+        (
+            "coat r 0.3 over dielectric",
+            Lobe {
+                clearcoat: 1.0,
+                coat_roughness: 0.3,
+                ..DIELECTRIC
+            },
+        ),
+        (
+            "coat 0.7 r 0.6 over metal",
+            Lobe {
+                clearcoat: 0.7,
+                coat_roughness: 0.6,
+                ..METAL
+            },
+        ),
+        (
+            "mirror coat over diffuse",
+            Lobe {
+                roughness: 1.0,
+                clearcoat: 1.0,
+                coat_roughness: 0.0,
+                ..DIELECTRIC
+            },
+        ),
+    ];
+    for (name, lobe) in lobes {
+        check(name, lobe);
+    }
+}
+
+#[test]
+fn a_double_sided_plane_reflects_alike_from_below() {
+    // The back side mirrors the view through the origin: a glossy reflection sampled from
+    // below must stay a reflection, not turn back toward the viewer.
+    for (name, lobe) in [
+        ("metal from below", METAL),
+        ("dielectric from below", DIELECTRIC),
+    ] {
+        check_from(name, lobe, &[-0.8, -0.35]);
+    }
+    let coated = Lobe {
+        clearcoat: 1.0,
+        coat_roughness: 0.3,
+        ..METAL
+    };
+    check_from("coat from below", coated, &[-0.6]);
+}
+
+#[test]
+fn coats_and_back_sides_sample_as_their_pdf_says() {
+    let coats = [
+        (
+            "coat r 0.3 over dielectric",
+            Lobe {
+                clearcoat: 1.0,
+                coat_roughness: 0.3,
+                ..DIELECTRIC
+            },
+        ),
+        (
+            "coat 0.5 r 0.6 over metal",
+            Lobe {
+                clearcoat: 0.5,
+                coat_roughness: 0.6,
+                ..METAL
+            },
+        ),
+    ];
+    for (name, lobe) in coats {
+        for cos_view in [0.9, 0.4] {
+            sampling_fits_pdf(name, lobe, cos_view);
+        }
+    }
+    sampling_fits_pdf("metal from below", METAL, -0.6);
+    sampling_fits_pdf(
+        "coat from below",
+        Lobe {
+            clearcoat: 1.0,
+            coat_roughness: 0.4,
+            ..DIELECTRIC
+        },
+        -0.5,
+    );
+}
+
+/// A mirror coat over a black base (no diffuse, no specular layer) under a sky of 1 shows
+/// exactly its weight, Schlick(0.04, cos) about the normal the coat follows: the mesh's, whatever
+/// the base's normal map says (glTF: the coat is not normal-mapped without a map of its own),
+/// or its own map's.
+#[test]
+fn a_coat_follows_its_own_normal_map_not_the_bases() {
+    use platoon::core::scene::{Texture, TextureRef, Wrap};
+    // A map turning the normal 40 degrees toward the bitangent, as 8-bit texels.
+    let tilt = 40f32.to_radians();
+    let texel = |c: f32| ((c * 0.5 + 0.5) * 255.0).round() as u8;
+    let rgba8 = vec![texel(0.0), texel(tilt.sin()), texel(tilt.cos()), 255];
+    // As the kernel decodes it (0 is stored as 128, 0.0039).
+    let decoded = (Vec3::new(rgba8[0] as f32, rgba8[1] as f32, rgba8[2] as f32) / 255.0 * 2.0
+        - Vec3::ONE)
+        .normalize();
+    // The quad faces +y with tangent +x; the bitangent is n x t = -z.
+    let (t, b, n) = (Vec3::X, Vec3::NEG_Z, Vec3::Y);
+    let tilted = (decoded.x * t + decoded.y * b + decoded.z * n).normalize();
+    let cos_view = 0.5f32;
+    let v = Vec3::new((1.0 - cos_view * cos_view).sqrt(), cos_view, 0.0);
+    let schlick = |c: f32| 0.04 + 0.96 * (1.0 - c).powi(5);
+
+    let black = Material {
+        name: "coated black".into(),
+        base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
+        metallic: 0.0,
+        roughness: 1.0,
+        specular: 0.0,
+        clearcoat: 1.0,
+        clearcoat_roughness: 0.0,
+        ..Material::default()
+    };
+    let map = Some(TextureRef::new(0));
+    let cases = [
+        (
+            "the base's map",
+            Material {
+                normal_texture: map,
+                ..black.clone()
+            },
+            schlick(cos_view),
+        ),
+        (
+            "the coat's map",
+            Material {
+                clearcoat_normal_texture: map,
+                ..black.clone()
+            },
+            schlick(v.dot(tilted)),
+        ),
+    ];
+    for (name, material, expected) in cases {
+        let eye = v * 10.0;
+        let mut mesh = mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0);
+        mesh.uvs = vec![glam::Vec2::ZERO; mesh.positions.len()];
+        mesh.tangents = vec![Vec4::new(1.0, 0.0, 0.0, 1.0); mesh.positions.len()];
+        let mut scene = scene_of(
+            vec![(mesh, Vec3::ZERO, 1000.0)],
+            vec![material],
+            eye,
+            Vec3::ZERO,
+            0.5,
+        );
+        scene.textures.push(Texture {
+            name: "tilt".into(),
+            width: 1,
+            height: 1,
+            rgba8: rgba8.clone(),
+            wrap_s: Wrap::Repeat,
+            wrap_t: Wrap::Repeat,
+            nearest: true,
+        });
+        scene.cameras[0].orthographic = Some([0.05, 0.05]);
+        let prepared = prepare(scene, constant_env(1.0));
+        for sampling in [Sampling::Mis, Sampling::Bsdf] {
+            let film = render(
+                &prepared,
+                &FrameParams::new(8, 8, 4, prepared.camera),
+                sampling,
+            );
+            for p in &film.pixels {
+                assert!(
+                    (p[0] - expected).abs() < 2e-4,
+                    "{name}, {sampling:?}: {} where the coat's Fresnel is {expected}",
+                    p[0]
+                );
+            }
+        }
+    }
+    // The two normals give visibly different Fresnel weights: the test tells them apart.
+    assert!((schlick(cos_view) - schlick(v.dot(tilted))).abs() > 0.03);
 }

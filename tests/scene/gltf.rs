@@ -335,3 +335,50 @@ fn a_nearest_magnification_filter_keeps_texels_sharp() {
     );
     assert!(blended > 400, "only {blended} pixels blend under LINEAR");
 }
+
+/// KHR_materials_clearcoat (issue 25): the generated clearcoat spheres load without a warning,
+/// each coat as the file writes it, and render finite under an environment map, the coats
+/// brightening what they cover; a coat naming a texture the file lacks is refused, naming it.
+#[test]
+fn clearcoat_spheres_load_as_written_and_render_under_a_map() {
+    let data = platoon_scenegen::materials::clearcoat();
+    let scene = load_generated(&data);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let coats: Vec<(f32, f32)> = scene
+        .materials
+        .iter()
+        .map(|m| (m.clearcoat, m.clearcoat_roughness))
+        .collect();
+    assert_eq!(&coats[..3], &[(0.0, 0.0), (0.5, 0.0), (1.0, 0.0)]);
+    assert_eq!(coats[5], (1.0, 0.6));
+    assert_eq!(
+        scene.materials[7].clearcoat_texture.map(|t| t.texture),
+        Some(0)
+    );
+    assert_eq!(
+        scene.materials[8]
+            .clearcoat_roughness_texture
+            .map(|t| t.texture),
+        Some(0)
+    );
+    let prepared = prepare(
+        scene,
+        platoon::EnvChoice::File(shared("envmaps/courtyard.exr")),
+    );
+    assert!(prepared.gpu.features.clearcoat && prepared.gpu.features.clearcoat_textures);
+    let film = render(
+        &prepared,
+        &FrameParams::new(48, 48, 8, prepared.camera),
+        Sampling::Mis,
+    );
+    assert_eq!(film.count_non_finite(), 0);
+
+    let (mut json, bin) = platoon_scenegen::twins::split_glb(&platoon_scenegen::to_glb(&data));
+    json["materials"][7]["extensions"]["KHR_materials_clearcoat"]["clearcoatTexture"]["index"] =
+        5.into();
+    let e = load_error(&platoon_scenegen::glb(&json, &bin));
+    assert!(
+        e.contains("KHR_materials_clearcoat clearcoatTexture") && e.contains("texture 5"),
+        "{e}"
+    );
+}

@@ -111,7 +111,7 @@ pub fn cornell_nodes() -> SceneData {
 }
 
 /// A checker of `cells` x `cells` squares of `size` pixels in two greys (RGBA8 as a PNG).
-fn checker_png(cells: u32, size: u32) -> Vec<u8> {
+pub(crate) fn checker_png(cells: u32, size: u32) -> Vec<u8> {
     let n = cells * size;
     let mut px = Vec::with_capacity((n * n * 4) as usize);
     for y in 0..n {

@@ -7,6 +7,7 @@ use serde_json::{json, Value};
 
 pub mod adversarial;
 pub mod bench;
+pub mod materials;
 pub mod twins;
 
 /// One mesh as flat arrays.

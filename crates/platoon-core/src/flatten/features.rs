@@ -31,6 +31,9 @@ pub struct SceneFeatures {
     pub uv_transforms: bool,
     /// KHR_materials_unlit.
     pub unlit: bool,
+    /// KHR_materials_clearcoat; and some coat texture (factor, roughness or normal map).
+    pub clearcoat: bool,
+    pub clearcoat_textures: bool,
     pub emissive_triangles: bool,
     pub punctual_lights: bool,
     pub environment_map: bool,
@@ -79,6 +82,13 @@ impl SceneFeatures {
             vertex_colors: drawn().any(|m| !scene.meshes[m].colors.is_empty()),
             uv_transforms: used.iter().any(|m| m.textures().any(|t| !t.is_plain())),
             unlit: used.iter().any(|m| m.unlit),
+            clearcoat: used.iter().any(|m| m.has_clearcoat()),
+            clearcoat_textures: used.iter().any(|m| {
+                m.has_clearcoat()
+                    && (m.clearcoat_texture.is_some()
+                        || m.clearcoat_roughness_texture.is_some()
+                        || m.clearcoat_normal_texture.is_some())
+            }),
             emissive_triangles: used.iter().any(|m| m.is_emissive()),
             punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
             environment_map: matches!(
@@ -106,6 +116,8 @@ impl SceneFeatures {
             alpha_blend: true,
             uv_transforms: true,
             unlit: true,
+            clearcoat: true,
+            clearcoat_textures: true,
             emissive_triangles: true,
             punctual_lights: true,
             environment_map: true,
@@ -114,7 +126,7 @@ impl SceneFeatures {
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 17] {
+    pub(crate) fn options(&self) -> [KernelOption; 19] {
         [
             ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
@@ -150,6 +162,12 @@ impl SceneFeatures {
             ("vertex-colors", "HAS_VERTEX_COLORS", self.vertex_colors),
             ("uv-transforms", "HAS_UV_TRANSFORMS", self.uv_transforms),
             ("unlit", "HAS_UNLIT", self.unlit),
+            ("clearcoat", "HAS_CLEARCOAT", self.clearcoat),
+            (
+                "clearcoat-textures",
+                "HAS_CLEARCOAT_TEXTURES",
+                self.clearcoat_textures,
+            ),
             (
                 "emissive-triangles",
                 "HAS_EMISSIVE_TRIANGLES",

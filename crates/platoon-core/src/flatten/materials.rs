@@ -90,6 +90,18 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             flags,
         ],
         misc: [cutoff, 0.0, 0.0, 0.0],
+        clearcoat: [
+            m.clearcoat.clamp(0.0, 1.0),
+            m.clearcoat_roughness.clamp(0.0, 1.0),
+            m.clearcoat_normal_scale,
+            0.0,
+        ],
+        textures2: [
+            tex(m.clearcoat_texture),
+            tex(m.clearcoat_roughness_texture),
+            tex(m.clearcoat_normal_texture),
+            NO_TEXTURE,
+        ],
         uv_rows,
     }
 }

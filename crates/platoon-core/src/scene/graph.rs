@@ -115,6 +115,15 @@ pub struct Material {
     pub transmission_texture: Option<TextureRef>,
     /// KHR_materials_ior.
     pub ior: f32,
+    /// KHR_materials_clearcoat: the coat's weight and roughness, each times its texture's red
+    /// and green channel, and the coat's own normal map (without one the coat follows the
+    /// mesh's normal, not the base's normal map).
+    pub clearcoat: f32,
+    pub clearcoat_texture: Option<TextureRef>,
+    pub clearcoat_roughness: f32,
+    pub clearcoat_roughness_texture: Option<TextureRef>,
+    pub clearcoat_normal_texture: Option<TextureRef>,
+    pub clearcoat_normal_scale: f32,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
     /// KHR_materials_unlit: the base colour is emitted radiance and nothing is reflected.
@@ -142,6 +151,12 @@ impl Default for Material {
             transmission: 0.0,
             transmission_texture: None,
             ior: 1.5,
+            clearcoat: 0.0,
+            clearcoat_texture: None,
+            clearcoat_roughness: 0.0,
+            clearcoat_roughness_texture: None,
+            clearcoat_normal_texture: None,
+            clearcoat_normal_scale: 1.0,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             unlit: false,
@@ -155,7 +170,7 @@ impl Material {
     }
     /// Every texture slot, in the kernel's order (`flatten::TEXTURE_SLOTS`, TEXTURE_SLOT_* in
     /// shaders/scene.glsl): base colour, metallic-roughness, normal, emissive, specular,
-    /// specular colour, transmission.
+    /// specular colour, transmission, clearcoat, clearcoat roughness, clearcoat normal.
     pub fn texture_slots(&self) -> [Option<TextureRef>; crate::flatten::TEXTURE_SLOTS] {
         [
             self.base_color_texture,
@@ -165,7 +180,15 @@ impl Material {
             self.specular_texture,
             self.specular_color_texture,
             self.transmission_texture,
+            self.clearcoat_texture,
+            self.clearcoat_roughness_texture,
+            self.clearcoat_normal_texture,
         ]
+    }
+
+    /// Whether it has a clear coat (a texture only scales the factor).
+    pub fn has_clearcoat(&self) -> bool {
+        self.clearcoat > 0.0
     }
 
     /// The textures it uses.

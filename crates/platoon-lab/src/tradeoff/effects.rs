@@ -1,6 +1,6 @@
 //! What each effect a scene calls for is worth: the scene rendered without it, replaced by its
 //! cheapest stand-in (textures by their mean colour, normal maps off, transmission opaque, the
-//! environment map by its mean radiance). The row's time says what the effect costs (its code
+//! environment map by its mean radiance, clear coats off). The row's time says what the effect costs (its code
 //! leaves the kernel too), its error what removing it would do to the image.
 
 use glam::{Vec3, Vec4};
@@ -13,16 +13,20 @@ pub enum Effect {
     NormalMaps,
     Transmission,
     EnvironmentMap,
+    /// KHR_materials_clearcoat.
+    Clearcoat,
 }
 
 impl Effect {
-    /// The technique's name: `no-textures`, `no-normal-maps`, `opaque`, `env-mean`.
+    /// The technique's name: `no-textures`, `no-normal-maps`, `opaque`, `env-mean`,
+    /// `no-clearcoat`.
     pub fn name(self) -> &'static str {
         match self {
             Effect::Textures => "no-textures",
             Effect::NormalMaps => "no-normal-maps",
             Effect::Transmission => "opaque",
             Effect::EnvironmentMap => "env-mean",
+            Effect::Clearcoat => "no-clearcoat",
         }
     }
 
@@ -32,6 +36,7 @@ impl Effect {
             Effect::NormalMaps,
             Effect::Transmission,
             Effect::EnvironmentMap,
+            Effect::Clearcoat,
         ]
         .into_iter()
         .find(|e| e.name() == name)
@@ -45,6 +50,7 @@ impl Effect {
                 let mut any = false;
                 for m in &mut scene.materials {
                     any |= m.normal_texture.take().is_some();
+                    any |= m.clearcoat_normal_texture.take().is_some();
                 }
                 any
             }
@@ -54,6 +60,17 @@ impl Effect {
                     any |= m.transmission > 0.0;
                     m.transmission = 0.0;
                     m.transmission_texture = None;
+                }
+                any
+            }
+            Effect::Clearcoat => {
+                let mut any = false;
+                for m in &mut scene.materials {
+                    any |= m.has_clearcoat();
+                    m.clearcoat = 0.0;
+                    m.clearcoat_texture = None;
+                    m.clearcoat_roughness_texture = None;
+                    m.clearcoat_normal_texture = None;
                 }
                 any
             }
@@ -127,6 +144,17 @@ fn remove_textures(scene: &mut Scene) -> bool {
             m.transmission *= t.x;
             any = true;
         }
+        if let Some(c) = mean_of(m.clearcoat_texture.take(), false) {
+            m.clearcoat *= c.x;
+            any = true;
+        }
+        if let Some(c) = mean_of(m.clearcoat_roughness_texture.take(), false) {
+            m.clearcoat_roughness *= c.y;
+            any = true;
+        }
+        // A normal map has no factor to fold into: the coat follows the mesh's normal, as
+        // `no-normal-maps` leaves the base.
+        any |= m.clearcoat_normal_texture.take().is_some();
     }
     any
 }
@@ -161,6 +189,7 @@ mod tests {
             Effect::NormalMaps,
             Effect::Transmission,
             Effect::EnvironmentMap,
+            Effect::Clearcoat,
         ] {
             assert!(!e.remove(&mut scene), "{} found something", e.name());
             assert_eq!(Effect::parse(e.name()), Some(e));

@@ -123,9 +123,78 @@ fn texture_ref(
     Ok(r)
 }
 
+/// A texture reference the `gltf` crate does not model (an extension's `textureInfo` or
+/// `normalTextureInfo` JSON object), checked against the file's `textures`; with a normal
+/// texture's scale.
+fn json_tex_ref(
+    info: Option<&serde_json::Value>,
+    what: &str,
+    textures: usize,
+) -> Check<Option<(TextureRef, f32)>> {
+    let Some(info) = info else {
+        return Ok(None);
+    };
+    let index = info
+        .get("index")
+        .and_then(|i| i.as_u64())
+        .ok_or(format!("{what} has no texture index"))? as usize;
+    if index >= textures {
+        return Err(format!(
+            "{what} names texture {index}; the file has {textures}"
+        ));
+    }
+    let tex_coord = match info.get("texCoord") {
+        None => 0,
+        Some(t) => t
+            .as_u64()
+            .ok_or(format!("{what}: texCoord is not an index"))? as u32,
+    };
+    let transform = info
+        .get("extensions")
+        .and_then(|e| e.get("KHR_texture_transform"));
+    let scale = match info.get("scale") {
+        None => 1.0,
+        Some(s) => s.as_f64().ok_or(format!("{what}: scale is not a number"))? as f32,
+    };
+    Ok(Some((
+        texture_ref(index, tex_coord, transform, what)?,
+        scale,
+    )))
+}
+
+/// A number of an extension's JSON object, `default` when absent.
+fn json_number(ext: &serde_json::Value, key: &str, default: f32, what: &str) -> Check<f32> {
+    match ext.get(key) {
+        None => Ok(default),
+        Some(v) => v
+            .as_f64()
+            .map(|x| x as f32)
+            .ok_or(format!("{what}: {key} is not a number")),
+    }
+}
+
+/// KHR_materials_clearcoat (the `gltf` crate does not model it) onto `mat`.
+fn clearcoat(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
+    let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
+        return Ok(());
+    };
+    let what = "KHR_materials_clearcoat";
+    mat.clearcoat = json_number(ext, "clearcoatFactor", 0.0, what)?;
+    mat.clearcoat_roughness = json_number(ext, "clearcoatRoughnessFactor", 0.0, what)?;
+    let tex = |key: &str| json_tex_ref(ext.get(key), &format!("{what} {key}"), textures);
+    mat.clearcoat_texture = tex("clearcoatTexture")?.map(|t| t.0);
+    mat.clearcoat_roughness_texture = tex("clearcoatRoughnessTexture")?.map(|t| t.0);
+    if let Some((t, scale)) = tex("clearcoatNormalTexture")? {
+        mat.clearcoat_normal_texture = Some(t);
+        mat.clearcoat_normal_scale = scale;
+    }
+    Ok(())
+}
+
 /// The material, or why it cannot be rendered (a factor that is not finite: JSON numbers past
-/// f32's range read as infinity).
-pub fn material(m: &gltf::Material) -> Check<Material> {
+/// f32's range read as infinity). `textures`: how many the file has (for the references the
+/// `gltf` crate does not check, an extension's).
+pub fn material(m: &gltf::Material, textures: usize) -> Check<Material> {
     let pbr = m.pbr_metallic_roughness();
     let name = m.name().unwrap_or("").to_string();
     let mut mat = Material {
@@ -171,6 +240,7 @@ pub fn material(m: &gltf::Material) -> Check<Material> {
         mat.transmission = t.transmission_factor();
         mat.transmission_texture = tex_ref(t.transmission_texture(), "transmissionTexture")?;
     }
+    clearcoat(m, &mut mat, textures)?;
     let factors = [
         mat.base_color.to_array().as_slice(),
         &mat.emissive.to_array(),
@@ -182,6 +252,9 @@ pub fn material(m: &gltf::Material) -> Check<Material> {
             mat.specular,
             mat.transmission,
             mat.ior,
+            mat.clearcoat,
+            mat.clearcoat_roughness,
+            mat.clearcoat_normal_scale,
         ],
     ]
     .concat();

@@ -28,6 +28,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    "KHR_materials_clearcoat",
     "KHR_mesh_quantization",
     "EXT_texture_webp",
     "KHR_texture_transform",
@@ -120,7 +121,7 @@ pub fn load_from_slice(
         scene.textures.push(material::texture(&t, &images[image]));
     }
     for m in doc.materials() {
-        let m = validate::in_file(path, material::material(&m))?;
+        let m = validate::in_file(path, material::material(&m, scene.textures.len()))?;
         scene.materials.push(m);
     }
     // Primitives without a material use the glTF default material, appended last when needed.

@@ -1,0 +1,82 @@
+//! The Khronos sample models that show each material extension (issue 25), as small scenes of
+//! our own: rows of spheres over the extension's parameters, lit by whatever environment the
+//! render gives them (`platoon render --env`), after the spirit of Khronos' ClearCoatTest.
+
+use serde_json::{json, Value};
+
+use crate::bench::{checker_png, facing};
+use crate::{uv_sphere, NodeData, SceneData};
+
+/// Spheres of `materials` in rows of `per_row`, before a camera that sees them all.
+fn rows_of_spheres(materials: Vec<Value>, per_row: usize, extensions: &[&str]) -> SceneData {
+    let rows = materials.len().div_ceil(per_row);
+    let mut meshes = Vec::new();
+    let mut nodes = Vec::new();
+    for k in 0..materials.len() {
+        let (col, row) = ((k % per_row) as f64, (k / per_row) as f64);
+        let x = (col - (per_row as f64 - 1.0) / 2.0) * 2.4;
+        let y = ((rows as f64 - 1.0) / 2.0 - row) * 2.4;
+        meshes.push((uv_sphere(24, 48), k));
+        nodes.push(NodeData::mesh(k, [x, y, 0.0], 1.0));
+    }
+    let mut camera = NodeData::new();
+    camera.translation = [0.0, 0.0, 4.0 + 2.4 * per_row.max(rows) as f64];
+    camera.rotation = facing([0.0, 0.0, -1.0]);
+    camera.camera_yfov = Some(0.6);
+    nodes.push(camera);
+    SceneData {
+        meshes,
+        materials,
+        nodes,
+        extensions_used: extensions.iter().map(|e| e.to_string()).collect(),
+        ..Default::default()
+    }
+}
+
+/// KHR_materials_clearcoat: a rough red dielectric under coats of factor 0, 0.5 and 1 (a
+/// mirror coat, the extension's default roughness); full coats of roughness 0.15, 0.3 and 0.6;
+/// a coated gold, a coat whose weight a checker texture sets (red channel) and one whose
+/// roughness it sets (green channel).
+pub fn clearcoat() -> SceneData {
+    let red = |coat: Value| {
+        json!({"name": "coated red", "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.08, 0.06, 1], "metallicFactor": 0, "roughnessFactor": 0.6},
+               "extensions": {"KHR_materials_clearcoat": coat}})
+    };
+    let mut materials: Vec<Value> = [0.0, 0.5, 1.0]
+        .into_iter()
+        .map(|f| red(json!({"clearcoatFactor": f})))
+        .collect();
+    for r in [0.15, 0.3, 0.6] {
+        materials.push(red(
+            json!({"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": r}),
+        ));
+    }
+    materials.push(json!({"name": "coated gold", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.78, 0.34, 1], "metallicFactor": 1, "roughnessFactor": 0.45},
+        "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.05}}}));
+    materials.push(red(
+        json!({"clearcoatFactor": 1.0, "clearcoatTexture": {"index": 0}}),
+    ));
+    materials.push(red(
+        json!({"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.8,
+        "clearcoatRoughnessTexture": {"index": 0}}),
+    ));
+    let mut scene = rows_of_spheres(materials, 3, &["KHR_materials_clearcoat"]);
+    scene.images = vec![checker_png(4, 16)];
+    scene
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_clearcoat_scene_names_its_extension_and_texture() {
+        let s = clearcoat();
+        assert_eq!(s.materials.len(), 9);
+        assert_eq!(s.meshes.len(), 9);
+        assert_eq!(s.extensions_used, vec!["KHR_materials_clearcoat"]);
+        assert_eq!(s.images.len(), 1);
+        let json = crate::to_json(&s, &mut Vec::new());
+        assert_eq!(json["textures"].as_array().map(|t| t.len()), Some(1));
+    }
+}
