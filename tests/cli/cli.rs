@@ -844,3 +844,33 @@ fn oidn_denoises_with_the_feature_and_is_refused_saying_how_without() {
         cli.fails_naming("--features oidn", &out);
     }
 }
+
+/// KHR_materials_variants from the command line: `info` lists a file's variants, `render
+/// --variant` renders one (the unlit quad's centre is the mapped colour), and an unknown
+/// variant fails naming the file's, writing nothing.
+#[test]
+fn variants_are_listed_and_rendered_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("variants.glb");
+    std::fs::write(&scene, platoon_scenegen::twins::variants()).unwrap();
+    let o = Cli::new("info").arg(&scene).run();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(text.contains("variants:     red, blue, plain"), "{text}");
+    let out = dir.path().join("blue.exr");
+    let o = Cli::new("render")
+        .arg(&scene)
+        .flag("--variant", "blue")
+        .spp(1)
+        .size(8, 8)
+        .out(&out)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (film, _) = platoon::core::output::read_exr(&out).unwrap();
+    assert_eq!(film.pixels[4 * 8 + 4], [0.0, 0.0, 1.0]);
+    Cli::new("render")
+        .arg(&scene)
+        .flag("--variant", "green")
+        .out(dir.path().join("green.png"))
+        .fails_naming("red, blue, plain", &dir.path().join("green.png"));
+}

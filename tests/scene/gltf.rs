@@ -382,3 +382,55 @@ fn clearcoat_spheres_load_as_written_and_render_under_a_map() {
         "{e}"
     );
 }
+
+/// KHR_materials_variants (issue 25): the file's variants are listed; loaded without one the
+/// quad keeps its own material, with one it takes the mapped material (a variant that maps
+/// nothing keeps the own one); an unknown variant is refused naming the file's; a mapping that
+/// names a variant the file lacks is refused whichever variant is chosen.
+#[test]
+fn a_material_variant_renders_the_material_it_maps() {
+    let bytes = platoon_scenegen::twins::variants();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("variants.glb");
+    std::fs::write(&path, &bytes).unwrap();
+    let load = |variant: Option<&str>| {
+        platoon::load_scene_with(
+            Some(&path),
+            &platoon::core::scene::gltf_load::LoadOptions {
+                variant: variant.map(str::to_string),
+                ..Default::default()
+            },
+        )
+    };
+    for (variant, colour) in [
+        (None, [0.5f32, 0.5, 0.5]),
+        (Some("red"), [1.0, 0.0, 0.0]),
+        (Some("blue"), [0.0, 0.0, 1.0]),
+        (Some("plain"), [0.5, 0.5, 0.5]),
+    ] {
+        let scene = load(variant).unwrap();
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        assert_eq!(scene.variants, vec!["red", "blue", "plain"]);
+        let prepared = prepare(scene, constant_env(1.0));
+        let film = render(
+            &prepared,
+            &FrameParams::new(16, 16, 2, prepared.camera),
+            Sampling::Mis,
+        );
+        let p = film.pixels[8 * 16 + 8];
+        for c in 0..3 {
+            assert!((p[c] - colour[c]).abs() < 1e-5, "{variant:?}: {p:?}");
+        }
+    }
+    let e = load(Some("green")).unwrap_err().to_string();
+    assert!(
+        e.contains("variants.glb") && e.contains("\"green\"") && e.contains("red, blue, plain"),
+        "{e}"
+    );
+    let (mut json, bin) = platoon_scenegen::twins::split_glb(&bytes);
+    json["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]["mappings"][1]
+        ["variants"][0] = 7.into();
+    std::fs::write(&path, platoon_scenegen::glb(&json, &bin)).unwrap();
+    let e = load(None).unwrap_err().to_string();
+    assert!(e.contains("names variant 7") && e.contains("has 3"), "{e}");
+}

@@ -43,6 +43,13 @@ pub fn describe(p: &Prepared) -> String {
     let _ = writeln!(out, "instances:    {}", g.instances.len());
     let _ = writeln!(out, "materials:    {}", s.materials.len());
     let _ = writeln!(out, "textures:     {}", s.textures.len());
+    if !s.variants.is_empty() {
+        let _ = writeln!(
+            out,
+            "variants:     {} (KHR_materials_variants; render one with --variant NAME)",
+            s.variants.join(", ")
+        );
+    }
     let _ = writeln!(
         out,
         "lights:       {} emissive triangles, {} point, {} spot, {} directional, {} environment",

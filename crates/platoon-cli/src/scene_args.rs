@@ -23,12 +23,16 @@ pub struct SceneArgs {
     /// (refused by default, as glTF viewers do).
     #[arg(long)]
     pub allow_external_files: bool,
+    /// The material variant to render (KHR_materials_variants; `platoon info` lists a file's).
+    #[arg(long)]
+    pub variant: Option<String>,
 }
 
 impl SceneArgs {
     pub fn load(&self) -> Result<platoon::core::Scene> {
         let options = platoon::core::scene::gltf_load::LoadOptions {
             allow_external_files: self.allow_external_files,
+            variant: self.variant.clone(),
         };
         platoon::load_scene_with(self.scene.as_deref(), &options)
     }

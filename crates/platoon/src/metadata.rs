@@ -7,6 +7,8 @@ use crate::{Prepared, Rendered};
 /// What the metadata says of the scene a frame was rendered from.
 pub struct SceneFacts<'a> {
     pub source: Option<&'a std::path::Path>,
+    /// The material variant loaded (KHR_materials_variants), if one was chosen.
+    pub variant: Option<&'a str>,
     pub features: platoon_core::SceneFeatures,
     pub env_label: &'a str,
     /// Where render space is centred (the floating origin).
@@ -17,6 +19,7 @@ impl Prepared {
     pub fn facts(&self) -> SceneFacts<'_> {
         SceneFacts {
             source: self.scene.source.as_deref(),
+            variant: self.scene.variant.as_deref(),
             features: self.gpu.features,
             env_label: &self.env_label,
             origin: self.posed.origin,
@@ -48,6 +51,10 @@ pub fn metadata_of(
         .unwrap_or_else(|| "built-in Cornell box".into());
     let mut m = vec![
         ("scene".into(), source),
+        (
+            "material_variant".into(),
+            facts.variant.unwrap_or("(default)").to_string(),
+        ),
         ("spp".into(), rendered.spp.to_string()),
         (
             "time_limit_s".into(),

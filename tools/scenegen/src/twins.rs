@@ -758,6 +758,37 @@ pub fn unlit(colour: [f32; 3]) -> Vec<u8> {
     )
 }
 
+/// KHR_materials_variants: an unlit quad (it shows its base colour exactly) whose own material is
+/// grey (0.5), mapped to red (1, 0, 0) by the variant "red" and to blue (0, 0, 1) by "blue"; the
+/// variant "plain" maps nothing, so the quad keeps its own material.
+pub fn variants() -> Vec<u8> {
+    let mut doc = Doc::default();
+    let (p, n, _, i) = quad();
+    let prims = vec![json!({
+        "attributes": {"POSITION": doc.floats(&p), "NORMAL": doc.floats(&n)},
+        "indices": doc.indices(&i), "material": 0,
+        "extensions": {"KHR_materials_variants": {"mappings": [
+            {"material": 1, "variants": [0]},
+            {"material": 2, "variants": [1]},
+        ]}},
+    })];
+    let unlit = |c: [f32; 3]| {
+        json!({"pbrMetallicRoughness": {"baseColorFactor": [c[0], c[1], c[2], 1.0]},
+            "extensions": {"KHR_materials_unlit": {}}})
+    };
+    doc.glb(
+        vec![json!(prims)],
+        vec![json!({"scale": [0.5, 0.5, 1.0]})],
+        json!({
+            "materials": [unlit([0.5; 3]), unlit([1.0, 0.0, 0.0]), unlit([0.0, 0.0, 1.0])],
+            "extensions": {"KHR_materials_variants": {"variants": [
+                {"name": "red"}, {"name": "blue"}, {"name": "plain"},
+            ]}},
+            "extensionsUsed": ["KHR_materials_unlit", "KHR_materials_variants"],
+        }),
+    )
+}
+
 /// Morph targets: a bumpy grid with two position-and-normal targets, posed at weights
 /// (0.6, 0.3) by the node's weights over the mesh's (1, 1) (`animated`: by a LINEAR weights
 /// animation from (0, 0) at 0 s to (1.2, 0.6) at 1 s, to be posed at 0.5 s); against the grid

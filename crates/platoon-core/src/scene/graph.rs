@@ -311,6 +311,10 @@ pub struct Scene {
     pub environment: Option<Environment>,
     /// Warnings gathered while loading (unsupported but optional features).
     pub warnings: Vec<String>,
+    /// KHR_materials_variants' names, and the one whose materials were loaded (None: the
+    /// file's default look).
+    pub variants: Vec<String>,
+    pub variant: Option<String>,
 }
 
 /// One use of a mesh in world space.

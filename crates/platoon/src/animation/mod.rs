@@ -123,6 +123,7 @@ impl Animation {
     pub fn facts(&self) -> SceneFacts<'_> {
         SceneFacts {
             source: self.updater.scene().source.as_deref(),
+            variant: self.updater.scene().variant.as_deref(),
             features: self.updater.flattened().features,
             env_label: &self.env_label,
             origin: self.updater.origin(),

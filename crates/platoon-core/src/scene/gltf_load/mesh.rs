@@ -89,11 +89,52 @@ fn read_targets(
         .collect()
 }
 
+/// KHR_materials_variants: the chosen variant's index (None: the default look) and how many
+/// the file names.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Variant {
+    pub chosen: Option<u32>,
+    pub count: u32,
+}
+
+/// The material a primitive takes: the one its KHR_materials_variants mapping gives the chosen
+/// variant, else its own, else the default material. Every mapping is checked, whichever variant
+/// is chosen.
+fn primitive_material(
+    name: &str,
+    prim: &gltf::Primitive,
+    default_material: u32,
+    variant: Variant,
+) -> Check<u32> {
+    let mut mapped = None;
+    for m in prim.mappings() {
+        let material = m.material().index().ok_or(format!(
+            "mesh '{name}': a KHR_materials_variants mapping names a material the file lacks"
+        ))? as u32;
+        for &v in m.variants() {
+            if v >= variant.count {
+                return Err(format!(
+                    "mesh '{name}': a KHR_materials_variants mapping names variant {v}; the \
+                     file has {}",
+                    variant.count
+                ));
+            }
+            if Some(v) == variant.chosen {
+                mapped.get_or_insert(material);
+            }
+        }
+    }
+    Ok(mapped
+        .or(prim.material().index().map(|i| i as u32))
+        .unwrap_or(default_material))
+}
+
 fn read_primitive(
     name: &str,
     prim: &gltf::Primitive,
     buffers: &[Vec<u8>],
     default_material: u32,
+    variant: Variant,
 ) -> Check<Primitive> {
     for (semantic, accessor) in prim.attributes() {
         if let Some(expect) = expectation(&semantic, accessor.dimensions()) {
@@ -153,11 +194,7 @@ fn read_primitive(
                 ))
             }
         },
-        material: prim
-            .material()
-            .index()
-            .map(|i| i as u32)
-            .unwrap_or(default_material),
+        material: primitive_material(name, prim, default_material, variant)?,
         positions,
     };
     let lengths = [
@@ -231,6 +268,7 @@ pub fn load_mesh(
     mesh: &gltf::Mesh,
     buffers: &[Vec<u8>],
     default_material: u32,
+    variant: Variant,
     materials: &[Material],
     warnings: &mut Vec<String>,
 ) -> Check<Mesh> {
@@ -268,7 +306,7 @@ pub fn load_mesh(
                 }
             }
         }
-        let mut p = read_primitive(&name, &prim, buffers, default_material)?;
+        let mut p = read_primitive(&name, &prim, buffers, default_material, variant)?;
         p.indices = triangle_list(prim.mode(), &p.indices);
         parts.push(p);
     }

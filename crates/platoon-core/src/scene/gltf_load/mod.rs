@@ -29,6 +29,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_clearcoat",
+    "KHR_materials_variants",
     "KHR_mesh_quantization",
     "EXT_texture_webp",
     "KHR_texture_transform",
@@ -37,12 +38,15 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
 ];
 
 /// Extensions that change nothing a path tracer renders (metadata), ignored without a warning.
-pub const INERT_EXTENSIONS: &[&str] = &["KHR_xmp_json_ld", "KHR_materials_variants"];
+pub const INERT_EXTENSIONS: &[&str] = &["KHR_xmp_json_ld"];
 
 #[derive(Clone, Debug, Default)]
 pub struct LoadOptions {
     /// Read buffers and images whose URI is absolute or leaves the scene's folder.
     pub allow_external_files: bool,
+    /// KHR_materials_variants: the variant whose materials the primitives take (None: each
+    /// primitive's own material, the file's default look).
+    pub variant: Option<String>,
 }
 
 /// Loads a scene with the default options (URIs confined to the scene's folder).
@@ -55,6 +59,20 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene> {
         .map_err(|e| Error::file(path, format!("cannot read scene: {e}")))?;
     let base = folder_of(path);
     guard::catching_panics(path, || load_from_slice(path, &bytes, base, options))
+}
+
+/// The index of the material variant `name` among the file's, or why there is none.
+fn chosen_variant(name: &str, variants: &[String]) -> validate::Check<u32> {
+    match variants.iter().position(|v| v == name) {
+        Some(i) => Ok(i as u32),
+        None if variants.is_empty() => Err(format!(
+            "has no material variants (KHR_materials_variants); --variant {name:?} names none"
+        )),
+        None => Err(format!(
+            "has no material variant {name:?}; its variants: {}",
+            variants.join(", ")
+        )),
+    }
 }
 
 /// The folder a scene's relative URIs resolve against: a bare file name lives in the current
@@ -133,11 +151,27 @@ pub fn load_from_slice(
     {
         scene.materials.push(Material::default());
     }
+    scene.variants = doc
+        .variants()
+        .map(|v| v.map(|v| v.name().to_string()).collect())
+        .unwrap_or_default();
+    let variant = mesh::Variant {
+        chosen: match &options.variant {
+            None => None,
+            Some(name) => Some(validate::in_file(
+                path,
+                chosen_variant(name, &scene.variants),
+            )?),
+        },
+        count: scene.variants.len() as u32,
+    };
+    scene.variant = options.variant.clone();
     for m in doc.meshes() {
         let m = mesh::load_mesh(
             &m,
             &buffers,
             default_material,
+            variant,
             &scene.materials,
             &mut scene.warnings,
         );
