@@ -434,3 +434,25 @@ fn a_material_variant_renders_the_material_it_maps() {
     let e = load(None).unwrap_err().to_string();
     assert!(e.contains("names variant 7") && e.contains("has 3"), "{e}");
 }
+
+/// KHR_materials_pbrSpecularGlossiness (archived, in many older assets) is converted on load to
+/// the metallic-roughness material it describes: a dielectric of specular colour 0.04 and
+/// glossiness 0.3, from factors or from a texture's RGB and alpha, renders as the core
+/// dielectric of roughness 0.7 at ior 1.5 (whose f0 is 0.04), not as the file's fallback
+/// (green) metallic-roughness.
+#[test]
+fn a_specular_glossiness_material_renders_as_the_dielectric_it_describes() {
+    for textured in [false, true] {
+        let (with, without) = platoon_scenegen::twins::spec_gloss(textured);
+        let scene = load_glb(&with);
+        let m = &scene.materials[0];
+        assert_eq!((m.metallic, m.specular, m.ior), (0.0, 1.0, 1000.0));
+        assert_eq!(m.metallic_roughness_texture.is_some(), textured);
+        assert_alike(
+            &with,
+            &without,
+            0.02,
+            &format!("spec-gloss, textured {textured}"),
+        );
+    }
+}

@@ -562,6 +562,46 @@ pub fn texture_transform() -> (Vec<u8>, Vec<u8>) {
     (with, without)
 }
 
+/// KHR_materials_pbrSpecularGlossiness against the core material it describes: a red quad of
+/// specular colour 0.04 (the core dielectric's f0 at ior 1.5) and glossiness 0.3 (roughness
+/// 0.7). `textured`: the specular colour and glossiness come from a 2 x 2 texture with factors
+/// of 1 (sRGB 56 is linear 0.0395; alpha 230 a glossiness of 0.902, roughness 0.098).
+pub fn spec_gloss(textured: bool) -> (Vec<u8>, Vec<u8>) {
+    let diffuse = [0.8, 0.2, 0.2, 1.0];
+    let with = {
+        let mut doc = Doc::default();
+        let (_, _, uv, _) = quad();
+        let prims = uv_quad(&mut doc, &uv, None, 0);
+        let mut sg = json!({"diffuseFactor": diffuse, "specularFactor": [0.04, 0.04, 0.04],
+            "glossinessFactor": 0.3});
+        let mut root = json!({});
+        if textured {
+            let img = doc.image(&png(2, 2, [56, 56, 56, 230].repeat(4)), "image/png");
+            sg = json!({"diffuseFactor": diffuse, "specularGlossinessTexture": {"index": 0}});
+            root = texture_root(img, json!([]), &[]);
+        }
+        root["materials"] = json!([{
+            "pbrMetallicRoughness": {"baseColorFactor": [0.0, 1.0, 0.0, 1.0]},
+            "extensions": {"KHR_materials_pbrSpecularGlossiness": sg},
+        }]);
+        root["extensionsUsed"] = json!(["KHR_materials_pbrSpecularGlossiness"]);
+        doc.glb(vec![prims], vec![json!({})], root)
+    };
+    let without = {
+        let mut doc = Doc::default();
+        let (_, _, uv, _) = quad();
+        let prims = uv_quad(&mut doc, &uv, None, 0);
+        let roughness = if textured { 1.0 - 230.0 / 255.0 } else { 0.7 };
+        doc.glb(
+            vec![prims],
+            vec![json!({})],
+            json!({"materials": [{"pbrMetallicRoughness": {"baseColorFactor": diffuse,
+                "metallicFactor": 0.0, "roughnessFactor": roughness}}]}),
+        )
+    };
+    (with, without)
+}
+
 /// A base colour texture read at TEXCOORD_1 (TEXCOORD_0 holding other UVs) against the same
 /// UVs in TEXCOORD_0.
 pub fn second_uv_set() -> (Vec<u8>, Vec<u8>) {

@@ -191,10 +191,87 @@ fn clearcoat(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<(
     Ok(())
 }
 
+/// Roughness textures made from specular-glossiness textures (`spec_gloss`), each once per
+/// texture and glossiness factor: (texture, factor bits) -> the made texture.
+#[derive(Default)]
+pub struct GlossinessTextures {
+    made: Vec<((u32, u32), u32)>,
+}
+
+impl GlossinessTextures {
+    /// The texture whose green channel is the roughness 1 - factor * glossiness of `texture`'s
+    /// alpha, appended to `textures` the first time it is asked for.
+    fn roughness_of(&mut self, textures: &mut Vec<Texture>, texture: u32, factor: f32) -> u32 {
+        let key = (texture, factor.to_bits());
+        if let Some(&(_, made)) = self.made.iter().find(|(k, _)| *k == key) {
+            return made;
+        }
+        let source = &textures[texture as usize];
+        let rgba8 = source
+            .rgba8
+            .chunks_exact(4)
+            .flat_map(|p| {
+                let roughness = 1.0 - factor * p[3] as f32 / 255.0;
+                [0, (roughness.clamp(0.0, 1.0) * 255.0).round() as u8, 0, 255]
+            })
+            .collect();
+        textures.push(Texture {
+            name: format!("{} (roughness from glossiness)", source.name),
+            rgba8,
+            ..source.clone()
+        });
+        let made = textures.len() as u32 - 1;
+        self.made.push((key, made));
+        made
+    }
+}
+
+/// KHR_materials_pbrSpecularGlossiness (archived; superseded by KHR_materials_specular) turned
+/// into the metallic-roughness material it describes, as glTF-Transform's `metalRough` converts
+/// files: a dielectric of the diffuse colour and texture, specular layer of the specular colour
+/// (KHR_materials_specular's colour and its texture, the same sRGB RGB channels) at an index
+/// of refraction of 1000 (so its f0 is that colour: ((1000 - 1) / 1001)^2 = 0.996), roughness
+/// 1 - glossiness (a texture's alpha made into a roughness texture).
+fn spec_gloss(
+    m: &gltf::Material,
+    mat: &mut Material,
+    textures: &mut Vec<Texture>,
+    glossiness: &mut GlossinessTextures,
+) -> Check<()> {
+    let Some(sg) = m.pbr_specular_glossiness() else {
+        return Ok(());
+    };
+    mat.base_color = Vec4::from_array(sg.diffuse_factor());
+    mat.base_color_texture = tex_ref(sg.diffuse_texture(), "diffuseTexture")?;
+    mat.metallic = 0.0;
+    mat.metallic_roughness_texture = None;
+    mat.specular = 1.0;
+    mat.specular_texture = None;
+    mat.specular_color = Vec3::from_array(sg.specular_factor());
+    mat.ior = 1000.0;
+    let gloss = sg.glossiness_factor();
+    mat.roughness = 1.0 - gloss;
+    mat.specular_color_texture = None;
+    if let Some(info) = sg.specular_glossiness_texture() {
+        let r = tex_ref(Some(info), "specularGlossinessTexture")?.expect("a texture");
+        mat.specular_color_texture = Some(r);
+        mat.roughness = 1.0;
+        mat.metallic_roughness_texture = Some(TextureRef {
+            texture: glossiness.roughness_of(textures, r.texture, gloss),
+            ..r
+        });
+    }
+    Ok(())
+}
+
 /// The material, or why it cannot be rendered (a factor that is not finite: JSON numbers past
-/// f32's range read as infinity). `textures`: how many the file has (for the references the
-/// `gltf` crate does not check, an extension's).
-pub fn material(m: &gltf::Material, textures: usize) -> Check<Material> {
+/// f32's range read as infinity). `textures`: the file's (for the references the `gltf` crate
+/// does not check, an extension's; a specular-glossiness material adds one).
+pub fn material(
+    m: &gltf::Material,
+    textures: &mut Vec<Texture>,
+    glossiness: &mut GlossinessTextures,
+) -> Check<Material> {
     let pbr = m.pbr_metallic_roughness();
     let name = m.name().unwrap_or("").to_string();
     let mut mat = Material {
@@ -240,7 +317,8 @@ pub fn material(m: &gltf::Material, textures: usize) -> Check<Material> {
         mat.transmission = t.transmission_factor();
         mat.transmission_texture = tex_ref(t.transmission_texture(), "transmissionTexture")?;
     }
-    clearcoat(m, &mut mat, textures)?;
+    clearcoat(m, &mut mat, textures.len())?;
+    spec_gloss(m, &mut mat, textures, glossiness)?;
     let factors = [
         mat.base_color.to_array().as_slice(),
         &mat.emissive.to_array(),

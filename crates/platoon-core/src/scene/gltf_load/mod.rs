@@ -30,6 +30,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_ior",
     "KHR_materials_clearcoat",
     "KHR_materials_variants",
+    "KHR_materials_pbrSpecularGlossiness",
     "KHR_mesh_quantization",
     "EXT_texture_webp",
     "KHR_texture_transform",
@@ -138,8 +139,12 @@ pub fn load_from_slice(
         let image = validate::in_file(path, material::texture_image(&t, images.len()))?;
         scene.textures.push(material::texture(&t, &images[image]));
     }
+    let mut glossiness = material::GlossinessTextures::default();
     for m in doc.materials() {
-        let m = validate::in_file(path, material::material(&m, scene.textures.len()))?;
+        let m = validate::in_file(
+            path,
+            material::material(&m, &mut scene.textures, &mut glossiness),
+        )?;
         scene.materials.push(m);
     }
     // Primitives without a material use the glTF default material, appended last when needed.
