@@ -3,6 +3,9 @@
 //   metal      = Schlick(base_color) * specular_brdf
 //   glass      = rough dielectric BTDF/BRDF (Walter et al. 2007) with exact Fresnel, tinted by base colour
 //   bsdf       = mix(mix(dielectric, glass, transmission), metal, metallic)
+//   diffuse    = mix(Lambert(base_color), Lambert transmitted(dt_color), dt)     KHR_materials_
+//                diffuse_transmission: thin, the light leaving from the other side, weighed by
+//                the specular layer's (1 - s max(F)) at wi mirrored to wo's side
 //   coated     = mix(bsdf, coat, clearcoat * Schlick(0.04, |wo.nc|))   KHR_materials_clearcoat:
 //                coat = D G / (4 |wo.nc| |wi.nc|), GGX about the coat's own normal nc
 // GGX with height-correlated Smith G2; visible normals sampled by spherical caps (Dupuy & Benyoub 2023).
@@ -28,6 +31,11 @@ struct Bsdf {
     vec4 p;
     // lobe weights of the mix: dielectric, glass, metal (each times 1 - coat)
     vec3 w;
+#ifdef HAS_DIFFUSE_TRANSMISSION
+    float dt;           // the diffuse light's transmitted share, its colour, and the chance
+    vec3 dt_color;      // that the diffuse lobe samples the other side
+    float q_transmit;
+#endif
 #ifdef HAS_CLEARCOAT
     float coat;         // the coat's weight in the mix: clearcoat * Schlick(0.04, |wo.nc|)
     float p_coat;       // its selection probability (the base lobes' p share the rest)
@@ -130,12 +138,24 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
         b.w *= 1.0 - b.coat;
     }
 #endif
+    // The diffuse lobe's albedo (estimated by luminance), reflected and transmitted.
+    float diffuse = luminance(s.base_color);
+#ifdef HAS_DIFFUSE_TRANSMISSION
+    b.dt = s.diffuse_transmission;
+    b.dt_color = s.diffuse_transmission_color;
+    b.q_transmit = 0.0;
+    if (b.dt > 0.0) {
+        float reflected = diffuse * (1.0 - b.dt), transmitted = luminance(b.dt_color) * b.dt;
+        diffuse = reflected + transmitted;
+        b.q_transmit = diffuse > 0.0 ? transmitted / diffuse : 0.0;
+    }
+#endif
 #ifdef HAS_SPECULAR_LOBES
     float c = abs(wo.z);
     float fs = s.specular * max3(schlick(b.f0, c));
-    vec4 p = vec4(b.w.x * (1.0 - fs) * luminance(s.base_color), b.w.x * fs, b.w.z * luminance(schlick(s.base_color, c)), b.w.y);
+    vec4 p = vec4(b.w.x * (1.0 - fs) * diffuse, b.w.x * fs, b.w.z * luminance(schlick(s.base_color, c)), b.w.y);
 #else
-    vec4 p = vec4(b.w.x * luminance(s.base_color), 0.0, 0.0, 0.0);
+    vec4 p = vec4(b.w.x * diffuse, 0.0, 0.0, 0.0);
 #endif
     float sum = p.x + p.y + p.z + p.w;
 #ifdef HAS_CLEARCOAT
@@ -159,8 +179,25 @@ bool bsdf_all_delta(Bsdf b) {
     return b.delta && b.p.x == 0.0;
 }
 
-// Albedo of the dielectric's diffuse term, under specular-layer reflectance fr.
-vec3 diffuse_reflectance(Bsdf b, vec3 fr) { return b.w.x * (1.0 - b.specular * max3(fr)) * b.base_color; }
+// The share of the diffuse lobe reflected (the rest is transmitted) and the chance that it
+// samples the reflected side.
+float diffuse_reflected(Bsdf b) {
+#ifdef HAS_DIFFUSE_TRANSMISSION
+    return 1.0 - b.dt;
+#else
+    return 1.0;
+#endif
+}
+float diffuse_reflect_chance(Bsdf b) {
+#ifdef HAS_DIFFUSE_TRANSMISSION
+    return 1.0 - b.q_transmit;
+#else
+    return 1.0;
+#endif
+}
+
+// Albedo of the dielectric's diffuse reflection, under specular-layer reflectance fr.
+vec3 diffuse_reflectance(Bsdf b, vec3 fr) { return b.w.x * (1.0 - b.specular * max3(fr)) * b.base_color * diffuse_reflected(b); }
 
 // The diffuse term of bsdf_eval alone, times |cos(wi)|: what IGI's VPLs stand in for.
 vec3 bsdf_diffuse(Bsdf b, vec3 wo, vec3 wi) {
@@ -185,7 +222,7 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         float oh = dot(o, h);
         vec3 fr = schlick(b.f0, oh);
         f += diffuse_reflectance(b, fr) * INV_PI * i.z;
-        pdf += b.p.x * i.z * INV_PI;
+        pdf += b.p.x * diffuse_reflect_chance(b) * i.z * INV_PI;
         if (!b.delta) {
             float spec = ggx_d(b.alpha, h.z) * ggx_g2(b.alpha, o, i) / (4.0 * o.z);
             f += (b.w.x * b.specular * fr + b.w.z * schlick(b.base_color, oh)) * spec;
@@ -193,10 +230,24 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         }
 #else
         // diffuse_reflectance with a specular layer of zero: w.x * (1 - 0) * base colour.
-        f += b.w.x * b.base_color * INV_PI * i.z;
-        pdf += b.p.x * i.z * INV_PI;
+        f += b.w.x * b.base_color * diffuse_reflected(b) * INV_PI * i.z;
+        pdf += b.p.x * diffuse_reflect_chance(b) * i.z * INV_PI;
 #endif
     }
+#ifdef HAS_DIFFUSE_TRANSMISSION
+    if (b.dt > 0.0 && wo.z * wi.z < 0.0) {
+        vec3 o = wo.z < 0.0 ? -wo : wo;
+        vec3 i = wo.z < 0.0 ? -wi : wi;
+        float layer = 1.0;
+#ifdef HAS_SPECULAR_LOBES
+        // The specular layer's Fresnel at wi mirrored to wo's side (thin: no refraction).
+        vec3 h = normalize(o + vec3(i.x, i.y, -i.z));
+        layer = 1.0 - b.specular * max3(schlick(b.f0, dot(o, h)));
+#endif
+        f += b.w.x * layer * b.dt * b.dt_color * INV_PI * abs(i.z);
+        pdf += b.p.x * b.q_transmit * abs(i.z) * INV_PI;
+    }
+#endif
 #ifdef HAS_TRANSMISSION
     if (b.w.y > 0.0 && !b.delta) {
         bool reflect = wo.z * wi.z > 0.0;
@@ -277,7 +328,12 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
     }
 #endif
     if (ul < b.p.x) {
-        bs.wi = sample_cosine_hemisphere(u) * vec3(1.0, 1.0, side);
+        // The first p.x * q_transmit of the diffuse interval goes through to the other side.
+        float through = 1.0;
+#ifdef HAS_DIFFUSE_TRANSMISSION
+        if (ul < b.p.x * b.q_transmit) through = -1.0;
+#endif
+        bs.wi = sample_cosine_hemisphere(u) * vec3(1.0, 1.0, side * through);
     }
 #ifdef HAS_SPECULAR_LOBES
     else if (ul < b.p.x + b.p.y + b.p.z) {

@@ -18,8 +18,10 @@ struct Material {
     vec4 base_color; vec4 emissive; vec4 params; vec4 specular;
     ivec4 textures0; ivec4 textures1; vec4 misc;
     vec4 clearcoat;     // KHR_materials_clearcoat: factor, roughness, normal scale
-    ivec4 textures2;    // clearcoat, clearcoat roughness, clearcoat normal textures
-    vec4 uv_rows[20];
+    ivec4 textures2;    // clearcoat, clearcoat roughness, clearcoat normal, diffuse transmission textures
+    vec4 diffuse_transmission;  // KHR_materials_diffuse_transmission: colour rgb, w = factor
+    ivec4 textures3;    // diffuse transmission colour texture
+    vec4 uv_rows[24];
 };
 struct Texture { uint offset; uint width; uint height; uint wrap; };
 struct Light { vec4 a; vec4 b; vec4 c; vec4 emission; uvec4 ids; };
@@ -178,6 +180,8 @@ const int TEXTURE_SLOT_TRANSMISSION = 6;
 const int TEXTURE_SLOT_CLEARCOAT = 7;
 const int TEXTURE_SLOT_CLEARCOAT_ROUGHNESS = 8;
 const int TEXTURE_SLOT_CLEARCOAT_NORMAL = 9;
+const int TEXTURE_SLOT_DIFFUSE_TRANSMISSION = 10;
+const int TEXTURE_SLOT_DIFFUSE_TRANSMISSION_COLOR = 11;
 
 float max3(vec3 v) { return max(v.x, max(v.y, v.z)); }
 float min3(vec3 v) { return min(v.x, min(v.y, v.z)); }

@@ -23,6 +23,10 @@ struct Surface {
     float clearcoat_roughness;
     vec3 clearcoat_normal;      // world; the interpolated normal unless the coat's own map
 #endif
+#ifdef HAS_DIFFUSE_TRANSMISSION
+    float diffuse_transmission;         // KHR_materials_diffuse_transmission's share
+    vec3 diffuse_transmission_color;
+#endif
 };
 
 vec3 instance_point(Instance inst, vec3 p) {
@@ -57,6 +61,10 @@ void apply_material(inout Surface s, Material m) {
     s.clearcoat = m.clearcoat.x;
     s.clearcoat_roughness = m.clearcoat.y;
 #endif
+#ifdef HAS_DIFFUSE_TRANSMISSION
+    s.diffuse_transmission = m.diffuse_transmission.w;
+    s.diffuse_transmission_color = m.diffuse_transmission.rgb;
+#endif
 #ifdef HAS_UNLIT
     s.unlit = (m.textures1.w & MATERIAL_UNLIT) != 0;
 #endif
@@ -83,6 +91,10 @@ void apply_material(inout Surface s, Material m) {
 #endif
 #ifdef HAS_TRANSMISSION_TEXTURES
     if (m.textures1.z >= 0) s.transmission *= sample_texture(m.textures1.z, slot_uv(m, TEXTURE_SLOT_TRANSMISSION, a), false).r;
+#endif
+#ifdef HAS_DIFFUSE_TRANSMISSION_TEXTURES
+    if (m.textures2.w >= 0) s.diffuse_transmission *= sample_texture(m.textures2.w, slot_uv(m, TEXTURE_SLOT_DIFFUSE_TRANSMISSION, a), false).a;
+    if (m.textures3.x >= 0) s.diffuse_transmission_color *= sample_texture(m.textures3.x, slot_uv(m, TEXTURE_SLOT_DIFFUSE_TRANSMISSION_COLOR, a), true).rgb;
 #endif
 #ifdef HAS_CLEARCOAT_TEXTURES
     if (m.textures2.x >= 0) s.clearcoat *= sample_texture(m.textures2.x, slot_uv(m, TEXTURE_SLOT_CLEARCOAT, a), false).r;

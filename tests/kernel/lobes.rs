@@ -31,6 +31,9 @@ struct Lobe {
     /// KHR_materials_clearcoat's factor and roughness (0: a perfect mirror).
     clearcoat: f64,
     coat_roughness: f64,
+    /// KHR_materials_diffuse_transmission's factor and (grey) colour.
+    diffuse_transmission: f64,
+    dt_color: f64,
 }
 
 /// Trowbridge-Reitz (GGX) with alpha = roughness^2.
@@ -80,11 +83,21 @@ impl Lobe {
             let spec = d_ggx(alpha, h.z) * v_smith(alpha, l.z, v.z);
             let metal = schlick(self.base, v.dot(h)) * spec;
             let fr = schlick(f0, v.dot(h));
-            let dielectric = (1.0 - fr) * self.base / PI + fr * spec;
+            let diffuse = self.base * (1.0 - self.diffuse_transmission);
+            let dielectric = (1.0 - fr) * diffuse / PI + fr * spec;
             let glass_reflect = fresnel(v.dot(h), self.ior) * spec;
             let opaque = (1.0 - self.transmission) * dielectric + self.transmission * glass_reflect;
             f = self.metallic * metal + (1.0 - self.metallic) * opaque;
-        } else if self.transmission > 0.0 {
+        } else if self.transmission > 0.0 || self.diffuse_transmission > 0.0 {
+            // Diffuse transmission: thin, weighed by the layer's Fresnel at l mirrored up.
+            let h = (v + DVec3::new(l.x, l.y, -l.z)).normalize();
+            let layer = 1.0 - schlick(f0, v.dot(h));
+            f = (1.0 - self.metallic)
+                * (1.0 - self.transmission)
+                * layer
+                * self.diffuse_transmission
+                * self.dt_color
+                / PI;
             // Refraction into the index `ior` below: h from the generalised half vector.
             let eta = self.ior;
             let mut h = -(v + eta * l).normalize();
@@ -97,7 +110,7 @@ impl Lobe {
                 let g = 4.0 * v_smith(alpha, l.z, v.z) * l.z.abs() * v.z;
                 let t = (1.0 - fresnel(vh, eta)) * d_ggx(alpha, h.z) * g * (vh * lh).abs()
                     / (l.z.abs() * v.z * denom * denom);
-                f = (1.0 - self.metallic) * self.transmission * self.base * t;
+                f += (1.0 - self.metallic) * self.transmission * self.base * t;
             }
         }
         // The coat: mix(base, D G / (4 |v.n| |l.n|), clearcoat * Schlick(0.04, v.n)); a perfect
@@ -155,6 +168,8 @@ impl Lobe {
             double_sided: false,
             clearcoat: self.clearcoat as f32,
             clearcoat_roughness: self.coat_roughness as f32,
+            diffuse_transmission: self.diffuse_transmission as f32,
+            diffuse_transmission_color: Vec3::splat(self.dt_color as f32),
             ..Material::default()
         }
     }
@@ -228,6 +243,8 @@ fn the_quadrature_gives_a_lambertian_plane_its_albedo() {
         ior: 1.5,
         clearcoat: 0.0,
         coat_roughness: 0.0,
+        diffuse_transmission: 0.0,
+        dt_color: 1.0,
     };
     let v = DVec3::new(0.6, 0.0, 0.8);
     let quadrature = {
@@ -270,6 +287,8 @@ fn rough_and_glossy_metals_reflect_as_the_spec_integrates() {
                 ior: 1.5,
                 clearcoat: 0.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
             },
         );
     }
@@ -288,6 +307,8 @@ fn the_dielectric_diffuse_and_specular_layer_reflect_as_the_spec_integrates() {
                 ior: 1.5,
                 clearcoat: 0.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
             },
         );
     }
@@ -306,6 +327,8 @@ fn rough_glass_reflects_and_refracts_as_the_spec_integrates() {
                 ior: 1.5,
                 clearcoat: 0.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
             },
         );
     }
@@ -436,6 +459,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 ior: 1.5,
                 clearcoat: 0.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
             },
         ),
         (
@@ -448,6 +473,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 ior: 1.5,
                 clearcoat: 0.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
             },
         ),
         (
@@ -460,6 +487,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 ior: 1.5,
                 clearcoat: 0.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
             },
         ),
         (
@@ -472,6 +501,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 ior: 1.5,
                 clearcoat: 0.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
             },
         ),
         (
@@ -484,6 +515,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 ior: 1.5,
                 clearcoat: 0.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
             },
         ),
         (
@@ -496,6 +529,8 @@ fn every_lobe_samples_as_its_pdf_says() {
                 ior: 1.5,
                 clearcoat: 0.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
             },
         ),
     ];
@@ -515,6 +550,8 @@ const DIELECTRIC: Lobe = Lobe {
     ior: 1.5,
     clearcoat: 0.0,
     coat_roughness: 0.0,
+    diffuse_transmission: 0.0,
+    dt_color: 1.0,
 };
 const METAL: Lobe = Lobe {
     base: 0.6,
@@ -550,6 +587,8 @@ fn clearcoats_reflect_as_the_spec_integrates() {
                 roughness: 1.0,
                 clearcoat: 1.0,
                 coat_roughness: 0.0,
+                diffuse_transmission: 0.0,
+                dt_color: 1.0,
                 ..DIELECTRIC
             },
         ),
@@ -705,4 +744,29 @@ fn a_coat_follows_its_own_normal_map_not_the_bases() {
     }
     // The two normals give visibly different Fresnel weights: the test tells them apart.
     assert!((schlick(cos_view) - schlick(v.dot(tilted))).abs() > 0.03);
+}
+
+/// A leaf-like dielectric that passes on part of its diffuse light: as much as the spec's
+/// formula integrates to over both sides, seen from above and below, and sampled as its pdf says.
+#[test]
+fn diffuse_transmission_passes_light_as_the_spec_integrates() {
+    let leaf = Lobe {
+        base: 0.5,
+        roughness: 0.5,
+        diffuse_transmission: 0.6,
+        dt_color: 0.7,
+        ..DIELECTRIC
+    };
+    check("diffuse transmission", leaf);
+    check_from("diffuse transmission from below", leaf, &[-0.5]);
+    let coated = Lobe {
+        clearcoat: 1.0,
+        coat_roughness: 0.3,
+        ..leaf
+    };
+    check_from("coated diffuse transmission", coated, &[0.6]);
+    for cos_view in [0.8, 0.3] {
+        sampling_fits_pdf("diffuse transmission", leaf, cos_view);
+    }
+    sampling_fits_pdf("diffuse transmission from below", leaf, -0.6);
 }

@@ -65,6 +65,29 @@ pub fn clearcoat() -> SceneData {
     scene
 }
 
+/// KHR_materials_diffuse_transmission: a white rough dielectric passing on 0, 0.5 and 1 of its
+/// diffuse light; a green-transmitting leaf, a red one, and one whose share a checker texture
+/// sets (alpha channel).
+pub fn diffuse_transmission() -> SceneData {
+    let leaf = |dt: Value| {
+        json!({"name": "leaf", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0, "roughnessFactor": 0.7},
+               "extensions": {"KHR_materials_diffuse_transmission": dt}})
+    };
+    let mut materials: Vec<Value> = [0.0, 0.5, 1.0]
+        .into_iter()
+        .map(|f| leaf(json!({"diffuseTransmissionFactor": f})))
+        .collect();
+    materials.push(leaf(json!({"diffuseTransmissionFactor": 0.8,
+        "diffuseTransmissionColorFactor": [0.2, 0.9, 0.2]})));
+    materials.push(leaf(json!({"diffuseTransmissionFactor": 0.8,
+        "diffuseTransmissionColorFactor": [0.9, 0.15, 0.1]})));
+    materials.push(leaf(json!({"diffuseTransmissionFactor": 1.0,
+        "diffuseTransmissionTexture": {"index": 0}})));
+    let mut scene = rows_of_spheres(materials, 3, &["KHR_materials_diffuse_transmission"]);
+    scene.images = vec![checker_png(4, 16)];
+    scene
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -34,6 +34,9 @@ pub struct SceneFeatures {
     /// KHR_materials_clearcoat; and some coat texture (factor, roughness or normal map).
     pub clearcoat: bool,
     pub clearcoat_textures: bool,
+    /// KHR_materials_diffuse_transmission; and some texture of it.
+    pub diffuse_transmission: bool,
+    pub diffuse_transmission_textures: bool,
     pub emissive_triangles: bool,
     pub punctual_lights: bool,
     pub environment_map: bool,
@@ -89,6 +92,12 @@ impl SceneFeatures {
                         || m.clearcoat_roughness_texture.is_some()
                         || m.clearcoat_normal_texture.is_some())
             }),
+            diffuse_transmission: used.iter().any(|m| m.has_diffuse_transmission()),
+            diffuse_transmission_textures: used.iter().any(|m| {
+                m.has_diffuse_transmission()
+                    && (m.diffuse_transmission_texture.is_some()
+                        || m.diffuse_transmission_color_texture.is_some())
+            }),
             emissive_triangles: used.iter().any(|m| m.is_emissive()),
             punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
             environment_map: matches!(
@@ -118,6 +127,8 @@ impl SceneFeatures {
             unlit: true,
             clearcoat: true,
             clearcoat_textures: true,
+            diffuse_transmission: true,
+            diffuse_transmission_textures: true,
             emissive_triangles: true,
             punctual_lights: true,
             environment_map: true,
@@ -126,7 +137,7 @@ impl SceneFeatures {
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 19] {
+    pub(crate) fn options(&self) -> [KernelOption; 21] {
         [
             ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
@@ -167,6 +178,16 @@ impl SceneFeatures {
                 "clearcoat-textures",
                 "HAS_CLEARCOAT_TEXTURES",
                 self.clearcoat_textures,
+            ),
+            (
+                "diffuse-transmission",
+                "HAS_DIFFUSE_TRANSMISSION",
+                self.diffuse_transmission,
+            ),
+            (
+                "diffuse-transmission-textures",
+                "HAS_DIFFUSE_TRANSMISSION_TEXTURES",
+                self.diffuse_transmission_textures,
             ),
             (
                 "emissive-triangles",

@@ -52,7 +52,7 @@ pub const MATERIAL_UNLIT: i32 = 8;
 /// Some texture slot reads TEXCOORD_1 (the kernel then reads the vertex extras).
 pub const MATERIAL_USES_UV1: i32 = 16;
 /// Texture slots in `GpuMaterial` order (`Material::texture_slots`).
-pub const TEXTURE_SLOTS: usize = 10;
+pub const TEXTURE_SLOTS: usize = 12;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -72,8 +72,12 @@ pub struct GpuMaterial {
     pub misc: [f32; 4],
     /// KHR_materials_clearcoat: factor, roughness, normal scale
     pub clearcoat: [f32; 4],
-    /// clearcoat, clearcoat roughness, clearcoat normal textures
+    /// clearcoat, clearcoat roughness, clearcoat normal, diffuse transmission textures
     pub textures2: [i32; 4],
+    /// KHR_materials_diffuse_transmission: colour rgb, w = factor
+    pub diffuse_transmission: [f32; 4],
+    /// diffuse transmission colour texture
+    pub textures3: [i32; 4],
     /// Per texture slot, the UV transform's two rows (xyz: the 2 x 3 matrix applied to
     /// (u, v, 1)); the first row's w is the UV set (0 or 1).
     pub uv_rows: [[f32; 4]; 2 * TEXTURE_SLOTS],
@@ -138,7 +142,7 @@ const _: () = {
     assert!(std::mem::size_of::<GpuVertex>() == 48);
     assert!(std::mem::size_of::<GpuTriangle>() == 16);
     assert!(std::mem::size_of::<GpuInstance>() == 112);
-    assert!(std::mem::size_of::<GpuMaterial>() == 464);
+    assert!(std::mem::size_of::<GpuMaterial>() == 560);
     assert!(std::mem::size_of::<GpuVertexExtra>() == 16);
     assert!(std::mem::size_of::<GpuTexture>() == 16);
     assert!(std::mem::size_of::<GpuLight>() == 80);

@@ -100,6 +100,17 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             tex(m.clearcoat_texture),
             tex(m.clearcoat_roughness_texture),
             tex(m.clearcoat_normal_texture),
+            tex(m.diffuse_transmission_texture),
+        ],
+        diffuse_transmission: m
+            .diffuse_transmission_color
+            .max(glam::Vec3::ZERO)
+            .extend(m.diffuse_transmission.clamp(0.0, 1.0))
+            .to_array(),
+        textures3: [
+            tex(m.diffuse_transmission_color_texture),
+            NO_TEXTURE,
+            NO_TEXTURE,
             NO_TEXTURE,
         ],
         uv_rows,

@@ -124,6 +124,12 @@ pub struct Material {
     pub clearcoat_roughness_texture: Option<TextureRef>,
     pub clearcoat_normal_texture: Option<TextureRef>,
     pub clearcoat_normal_scale: f32,
+    /// KHR_materials_diffuse_transmission: the share of the dielectric's diffuse light that is
+    /// transmitted (times its texture's alpha) and its colour (times its texture's RGB, sRGB).
+    pub diffuse_transmission: f32,
+    pub diffuse_transmission_texture: Option<TextureRef>,
+    pub diffuse_transmission_color: Vec3,
+    pub diffuse_transmission_color_texture: Option<TextureRef>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
     /// KHR_materials_unlit: the base colour is emitted radiance and nothing is reflected.
@@ -157,6 +163,10 @@ impl Default for Material {
             clearcoat_roughness_texture: None,
             clearcoat_normal_texture: None,
             clearcoat_normal_scale: 1.0,
+            diffuse_transmission: 0.0,
+            diffuse_transmission_texture: None,
+            diffuse_transmission_color: Vec3::ONE,
+            diffuse_transmission_color_texture: None,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             unlit: false,
@@ -170,7 +180,8 @@ impl Material {
     }
     /// Every texture slot, in the kernel's order (`flatten::TEXTURE_SLOTS`, TEXTURE_SLOT_* in
     /// shaders/scene.glsl): base colour, metallic-roughness, normal, emissive, specular,
-    /// specular colour, transmission, clearcoat, clearcoat roughness, clearcoat normal.
+    /// specular colour, transmission, clearcoat, clearcoat roughness, clearcoat normal, diffuse
+    /// transmission, diffuse transmission colour.
     pub fn texture_slots(&self) -> [Option<TextureRef>; crate::flatten::TEXTURE_SLOTS] {
         [
             self.base_color_texture,
@@ -183,7 +194,14 @@ impl Material {
             self.clearcoat_texture,
             self.clearcoat_roughness_texture,
             self.clearcoat_normal_texture,
+            self.diffuse_transmission_texture,
+            self.diffuse_transmission_color_texture,
         ]
+    }
+
+    /// Whether some of its diffuse light goes through (a texture only scales the factor).
+    pub fn has_diffuse_transmission(&self) -> bool {
+        self.diffuse_transmission > 0.0
     }
 
     /// Whether it has a clear coat (a texture only scales the factor).

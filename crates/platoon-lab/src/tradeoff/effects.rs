@@ -15,11 +15,13 @@ pub enum Effect {
     EnvironmentMap,
     /// KHR_materials_clearcoat.
     Clearcoat,
+    /// KHR_materials_diffuse_transmission.
+    DiffuseTransmission,
 }
 
 impl Effect {
     /// The technique's name: `no-textures`, `no-normal-maps`, `opaque`, `env-mean`,
-    /// `no-clearcoat`.
+    /// `no-clearcoat`, `no-diffuse-transmission`.
     pub fn name(self) -> &'static str {
         match self {
             Effect::Textures => "no-textures",
@@ -27,6 +29,7 @@ impl Effect {
             Effect::Transmission => "opaque",
             Effect::EnvironmentMap => "env-mean",
             Effect::Clearcoat => "no-clearcoat",
+            Effect::DiffuseTransmission => "no-diffuse-transmission",
         }
     }
 
@@ -37,6 +40,7 @@ impl Effect {
             Effect::Transmission,
             Effect::EnvironmentMap,
             Effect::Clearcoat,
+            Effect::DiffuseTransmission,
         ]
         .into_iter()
         .find(|e| e.name() == name)
@@ -71,6 +75,16 @@ impl Effect {
                     m.clearcoat_texture = None;
                     m.clearcoat_roughness_texture = None;
                     m.clearcoat_normal_texture = None;
+                }
+                any
+            }
+            Effect::DiffuseTransmission => {
+                let mut any = false;
+                for m in &mut scene.materials {
+                    any |= m.has_diffuse_transmission();
+                    m.diffuse_transmission = 0.0;
+                    m.diffuse_transmission_texture = None;
+                    m.diffuse_transmission_color_texture = None;
                 }
                 any
             }
@@ -152,6 +166,14 @@ fn remove_textures(scene: &mut Scene) -> bool {
             m.clearcoat_roughness *= c.y;
             any = true;
         }
+        if let Some(t) = mean_of(m.diffuse_transmission_texture.take(), false) {
+            m.diffuse_transmission *= t.w;
+            any = true;
+        }
+        if let Some(c) = mean_of(m.diffuse_transmission_color_texture.take(), true) {
+            m.diffuse_transmission_color *= c.truncate();
+            any = true;
+        }
         // A normal map has no factor to fold into: the coat follows the mesh's normal, as
         // `no-normal-maps` leaves the base.
         any |= m.clearcoat_normal_texture.take().is_some();
@@ -190,6 +212,7 @@ mod tests {
             Effect::Transmission,
             Effect::EnvironmentMap,
             Effect::Clearcoat,
+            Effect::DiffuseTransmission,
         ] {
             assert!(!e.remove(&mut scene), "{} found something", e.name());
             assert_eq!(Effect::parse(e.name()), Some(e));

@@ -237,7 +237,8 @@ impl Technique {
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
     /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `spt`, `nop`, `no-textures`,
-    /// `no-normal-maps`, `opaque`, `env-mean`, `no-clearcoat`, `denoise=atrous`, `adaptive=T`.
+    /// `no-normal-maps`, `opaque`, `env-mean`, `no-clearcoat`, `no-diffuse-transmission`,
+    /// `denoise=atrous`, `adaptive=T`.
     pub fn parse(s: &str) -> Result<Technique> {
         if let Some(effect) = Effect::parse(s.trim()) {
             return Ok(Technique::Without(effect));
@@ -306,7 +307,7 @@ impl Technique {
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
                  generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
-                 env-mean, no-clearcoat, igi=N[+boxes][+downK][+interMxN][+minD], \
+                 env-mean, no-clearcoat, no-diffuse-transmission, igi=N[+boxes][+downK][+interMxN][+minD], \
                  links=N[+bB][+nosmooth][+vertex][+subK], lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild], \
                  denoise=atrous, denoise=oidn, adaptive=T"
             ),
@@ -444,6 +445,7 @@ mod tests {
             Technique::Without(Effect::Textures),
             Technique::Without(Effect::EnvironmentMap),
             Technique::Without(Effect::Clearcoat),
+            Technique::Without(Effect::DiffuseTransmission),
             Technique::parse("links=64+b2+nosmooth+vertex").unwrap(),
             Technique::parse("links=256").unwrap(),
             Technique::parse("lhb=ico80+r64+c2.5+b3+l8+exact").unwrap(),

@@ -191,6 +191,33 @@ fn clearcoat(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<(
     Ok(())
 }
 
+/// KHR_materials_diffuse_transmission (the `gltf` crate does not model it) onto `mat`.
+fn diffuse_transmission(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
+    let Some(ext) = m.extension_value("KHR_materials_diffuse_transmission") else {
+        return Ok(());
+    };
+    let what = "KHR_materials_diffuse_transmission";
+    mat.diffuse_transmission = json_number(ext, "diffuseTransmissionFactor", 0.0, what)?;
+    if let Some(c) = ext.get("diffuseTransmissionColorFactor") {
+        let c: Option<Vec<f32>> = c
+            .as_array()
+            .map(|a| a.iter().map(|x| x.as_f64().map(|x| x as f32)).collect())
+            .unwrap_or(None);
+        match c.as_deref() {
+            Some(&[r, g, b]) => mat.diffuse_transmission_color = Vec3::new(r, g, b),
+            _ => {
+                return Err(format!(
+                    "{what}: diffuseTransmissionColorFactor is not three numbers"
+                ))
+            }
+        }
+    }
+    let tex = |key: &str| json_tex_ref(ext.get(key), &format!("{what} {key}"), textures);
+    mat.diffuse_transmission_texture = tex("diffuseTransmissionTexture")?.map(|t| t.0);
+    mat.diffuse_transmission_color_texture = tex("diffuseTransmissionColorTexture")?.map(|t| t.0);
+    Ok(())
+}
+
 /// Roughness textures made from specular-glossiness textures (`spec_gloss`), each once per
 /// texture and glossiness factor: (texture, factor bits) -> the made texture.
 #[derive(Default)]
@@ -318,6 +345,7 @@ pub fn material(
         mat.transmission_texture = tex_ref(t.transmission_texture(), "transmissionTexture")?;
     }
     clearcoat(m, &mut mat, textures.len())?;
+    diffuse_transmission(m, &mut mat, textures.len())?;
     spec_gloss(m, &mut mat, textures, glossiness)?;
     let factors = [
         mat.base_color.to_array().as_slice(),
@@ -333,7 +361,9 @@ pub fn material(
             mat.clearcoat,
             mat.clearcoat_roughness,
             mat.clearcoat_normal_scale,
+            mat.diffuse_transmission,
         ],
+        &mat.diffuse_transmission_color.to_array(),
     ]
     .concat();
     if factors.iter().any(|f| !f.is_finite()) {
