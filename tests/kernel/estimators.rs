@@ -144,3 +144,50 @@ fn estimators_agree_under_an_importance_sampled_environment_map() {
     assert!(prepared.gpu.features.environment_map);
     assert_estimators_agree(&prepared);
 }
+
+/// The Cornell box with issue 25's extensions: a floor that passes on half its diffuse light
+/// (green, to the sky below), a tall box under a glossy clear coat and the rest of the room under
+/// a mirror coat (roughness 0, the extension's default), lit by its area light.
+fn coated_cornell() -> platoon::Prepared {
+    let mut scene = platoon::core::scene::cornell::scene();
+    let leaf = scene.materials.len() as u32;
+    scene.materials.push(Material {
+        name: "leaf".into(),
+        base_color: Vec3::new(0.6, 0.6, 0.5).extend(1.0),
+        metallic: 0.0,
+        roughness: 0.6,
+        diffuse_transmission: 0.5,
+        diffuse_transmission_color: Vec3::new(0.3, 0.9, 0.3),
+        ..Material::default()
+    });
+    scene.materials.push(Material {
+        name: "coated red".into(),
+        base_color: Vec3::new(0.7, 0.1, 0.1).extend(1.0),
+        metallic: 0.0,
+        roughness: 0.7,
+        clearcoat: 1.0,
+        clearcoat_roughness: 0.2,
+        ..Material::default()
+    });
+    for m in &mut scene.materials[..leaf as usize] {
+        if !m.is_emissive() {
+            m.clearcoat = 0.8;
+        }
+    }
+    let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
+    let n = mesh.triangle_materials.len();
+    mesh.triangle_materials[0] = leaf;
+    mesh.triangle_materials[1] = leaf;
+    for m in &mut mesh.triangle_materials[n - 10..] {
+        *m = leaf + 1;
+    }
+    prepare(scene, constant_env(0.3))
+}
+
+#[test]
+fn estimators_agree_with_clear_coats_and_diffuse_transmission() {
+    let prepared = coated_cornell();
+    let f = prepared.gpu.features;
+    assert!(f.clearcoat && f.diffuse_transmission && f.emissive_triangles);
+    assert_estimators_agree(&prepared);
+}
