@@ -6,7 +6,10 @@
 //   diffuse    = mix(Lambert(base_color), Lambert transmitted(dt_color), dt)     KHR_materials_
 //                diffuse_transmission: thin, the light leaving from the other side, weighed by
 //                the specular layer's (1 - s max(F)) at wi mirrored to wo's side
-//   coated     = mix(bsdf, coat, clearcoat * Schlick(0.04, |wo.nc|))   KHR_materials_clearcoat:
+//   sheened    = sheen_color * Charlie(wo, wi) + bsdf * min(1 - max3(sheen_color) E(wo),
+//                1 - max3(sheen_color) E(wi))      KHR_materials_sheen: the Charlie lobe (Estevez
+//                & Kulla 2017) over the base, scaled by E, its albedo (sheen_albedo.glsl's table)
+//   coated     = mix(sheened, coat, clearcoat * Schlick(0.04, |wo.nc|))   KHR_materials_clearcoat:
 //                coat = D G / (4 |wo.nc| |wi.nc|), GGX about the coat's own normal nc
 // GGX with height-correlated Smith G2; visible normals sampled by spherical caps (Dupuy & Benyoub 2023).
 // Roughness below MIN_ROUGHNESS makes the specular lobes perfect (delta) mirrors and refractors.
@@ -15,10 +18,22 @@
 // GGX code is compiled out; the terms it would add are exactly zero, so the image keeps its bits.
 // The same holds for HAS_CLEARCOAT: a material without a coat has weight 0 and its lobes'
 // probabilities, weights and sampling decisions are those of the kernel without the code.
+// HAS_SHEEN likewise. The sheen lobe is sampled uniformly over wo's hemisphere (it is broad and
+// peaks at grazing angles, where a cosine-weighted choice would starve it).
 // The coat's mix weight depends on wo alone (the spec's fresnel_coat), so a coated BSDF is not
 // reciprocal.
 
 const float MIN_ROUGHNESS = 0.01;
+
+#ifdef HAS_SHEEN
+// KHR_materials_sheen's albedo table (crates/platoon-core/src/flatten/sheen_albedo.rs): f32 bits
+// at the start of the texel array of a scene with a sheen, rows of roughness
+// SHEEN_MIN_ROUGHNESS..1, columns of cos θ 0..1, both uniform.
+const float SHEEN_MIN_ROUGHNESS = 0.07;
+const int SHEEN_COS_POINTS = 32;
+const int SHEEN_ROUGHNESS_POINTS = 32;
+float sheen_table(int k) { return uintBitsToFloat(texel_at(uint(k))); }
+#endif
 
 struct Bsdf {
     vec3 base_color;
@@ -42,6 +57,13 @@ struct Bsdf {
     float coat_alpha;
     bool coat_delta;
     vec3 coat_t, coat_b, coat_n;   // the coat's frame in the shading frame
+#endif
+#ifdef HAS_SHEEN
+    vec3 sheen_color;   // KHR_materials_sheen's colour, times what the coat leaves (1 - coat)
+    float sheen_roughness;
+    float sheen_max;    // max3 of the colour alone: the albedo scaling's factor
+    float sheen_e_o;    // the lobe's albedo E at wo
+    float p_sheen;      // its selection probability (below the coat's in the interval)
 #endif
 };
 
@@ -105,6 +127,65 @@ bool refract_dir(vec3 wo, vec3 n, float eta, out float etap, out vec3 wi) {
     return true;
 }
 
+#ifdef HAS_SHEEN
+// The Charlie distribution of half vectors, alpha = sheen roughness squared.
+float charlie_d(float a, float nh) {
+    float s2 = max(0.0, 1.0 - nh * nh);
+    return (2.0 + 1.0 / a) * pow(s2, 0.5 / a) * (0.5 * INV_PI);
+}
+
+// Estevez and Kulla's fit of the Charlie lobe's Smith lambda (the spec's lambdaSheen).
+float charlie_fit(float x, float a) {
+    float t = (1.0 - a) * (1.0 - a);
+    return mix(21.5473, 25.3245, t) / (1.0 + mix(3.82987, 3.32435, t) * pow(x, mix(0.19823, 0.16801, t)))
+         + mix(-1.97760, -1.27393, t) * x + mix(-4.32054, -4.85967, t);
+}
+float charlie_lambda(float a, float c) {
+    c = abs(c);
+    return c < 0.5 ? exp(charlie_fit(c, a)) : exp(2.0 * charlie_fit(0.5, a) - charlie_fit(1.0 - c, a));
+}
+
+// The sheen lobe of colour 1 times cos(wi), o and i above the surface: D V |cos wi| with
+// V = 1 / ((1 + lambda(o) + lambda(i)) 4 cos(o) cos(i)).
+float sheen_cos(float roughness, vec3 o, vec3 i) {
+    float a = roughness * roughness;
+    vec3 h = normalize(o + i);
+    return charlie_d(a, h.z) / ((1.0 + charlie_lambda(a, o.z) + charlie_lambda(a, i.z)) * 4.0 * o.z);
+}
+
+// E(|cos|, roughness), bilinear in the table.
+float sheen_albedo(float c, float roughness) {
+    float x = clamp(abs(c), 0.0, 1.0) * float(SHEEN_COS_POINTS - 1);
+    float y = clamp((roughness - SHEEN_MIN_ROUGHNESS) / (1.0 - SHEEN_MIN_ROUGHNESS), 0.0, 1.0) * float(SHEEN_ROUGHNESS_POINTS - 1);
+    int x0 = min(int(x), SHEEN_COS_POINTS - 2), y0 = min(int(y), SHEEN_ROUGHNESS_POINTS - 2);
+    float fx = x - float(x0), fy = y - float(y0);
+    int k = y0 * SHEEN_COS_POINTS + x0;
+    float lo = mix(sheen_table(k), sheen_table(k + 1), fx);
+    float hi = mix(sheen_table(k + SHEEN_COS_POINTS), sheen_table(k + SHEEN_COS_POINTS + 1), fx);
+    return mix(lo, hi, fy);
+}
+#endif
+
+// The sheen's albedo scaling of everything below it between wo and wi; 1 without a sheen.
+float sheen_scale(Bsdf b, vec3 wi) {
+#ifdef HAS_SHEEN
+    // Clamped: the spec's lobe reflects more than it receives at grazing views of sheens
+    // smoother than about 0.2 (E up to 2.7), where the base would turn negative.
+    if (b.sheen_max > 0.0) return max(0.0, 1.0 - b.sheen_max * max(b.sheen_e_o, sheen_albedo(wi.z, b.sheen_roughness)));
+#endif
+    return 1.0;
+}
+
+// The scaling at the view alone (the spec's cheaper form): what the approximate methods' diffuse
+// records take (IGI's and the vertex links' reflectance).
+float sheen_view_scale(Bsdf b) {
+#ifdef HAS_SHEEN
+    return max(0.0, 1.0 - b.sheen_max * b.sheen_e_o);
+#else
+    return 1.0;
+#endif
+}
+
 Bsdf make_bsdf(Surface s, vec3 wo) {
     Bsdf b;
     b.base_color = s.base_color;
@@ -138,6 +219,23 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
         b.w *= 1.0 - b.coat;
     }
 #endif
+#ifdef HAS_SHEEN
+    b.sheen_color = vec3(0.0);
+    b.sheen_roughness = 1.0;
+    b.sheen_max = 0.0;
+    b.sheen_e_o = 0.0;
+    b.p_sheen = 0.0;
+    if (max3(s.sheen_color) > 0.0) {
+        b.sheen_max = max3(s.sheen_color);
+        b.sheen_roughness = clamp(s.sheen_roughness, SHEEN_MIN_ROUGHNESS, 1.0);
+        b.sheen_e_o = sheen_albedo(wo.z, b.sheen_roughness);
+#ifdef HAS_CLEARCOAT
+        b.sheen_color = s.sheen_color * (1.0 - b.coat);
+#else
+        b.sheen_color = s.sheen_color;
+#endif
+    }
+#endif
     // The diffuse lobe's albedo (estimated by luminance), reflected and transmitted.
     float diffuse = luminance(s.base_color);
 #ifdef HAS_DIFFUSE_TRANSMISSION
@@ -158,6 +256,16 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
     vec4 p = vec4(b.w.x * diffuse, 0.0, 0.0, 0.0);
 #endif
     float sum = p.x + p.y + p.z + p.w;
+#ifdef HAS_SHEEN
+    // The base loses at most what the sheen reflects at the view; the sheen reflects about
+    // its colour times E.
+    if (b.sheen_max > 0.0) {
+        float sheen = luminance(b.sheen_color) * b.sheen_e_o;
+        p *= sheen_view_scale(b);
+        sum = p.x + p.y + p.z + p.w + sheen;
+        b.p_sheen = sheen;
+    }
+#endif
 #ifdef HAS_CLEARCOAT
     // A coat reflects about its weight (a mirror's albedo times the Fresnel), so it is chosen
     // in proportion to it.
@@ -165,6 +273,9 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
     b.p_coat = sum > 0.0 ? b.coat / sum : 0.0;
 #endif
     b.p = sum > 0.0 ? p / sum : vec4(0.0);
+#ifdef HAS_SHEEN
+    b.p_sheen = sum > 0.0 ? b.p_sheen / sum : 0.0;
+#endif
     return b;
 }
 
@@ -175,6 +286,9 @@ vec3 coat_local(Bsdf b, vec3 v) { return to_local(v, b.coat_t, b.coat_b, b.coat_
 bool bsdf_all_delta(Bsdf b) {
 #ifdef HAS_CLEARCOAT
     if (b.p_coat > 0.0 && !b.coat_delta) return false;
+#endif
+#ifdef HAS_SHEEN
+    if (b.p_sheen > 0.0) return false;
 #endif
     return b.delta && b.p.x == 0.0;
 }
@@ -205,7 +319,7 @@ vec3 bsdf_diffuse(Bsdf b, vec3 wo, vec3 wi) {
     vec3 o = wo.z < 0.0 ? -wo : wo;
     vec3 i = wo.z < 0.0 ? -wi : wi;
     vec3 h = normalize(o + i);
-    return diffuse_reflectance(b, schlick(b.f0, dot(o, h))) * INV_PI * i.z;
+    return diffuse_reflectance(b, schlick(b.f0, dot(o, h))) * INV_PI * i.z * sheen_scale(b, wi);
 }
 
 // Non-delta part of the BSDF times |cos(wi)|, and the matching sampling pdf (solid angle).
@@ -276,6 +390,18 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         }
     }
 #endif
+#ifdef HAS_SHEEN
+    if (b.sheen_max > 0.0) {
+        // Everything above is the base the sheen lies over.
+        f *= sheen_scale(b, wi);
+        if (wo.z * wi.z > 0.0) {
+            vec3 o = wo.z < 0.0 ? -wo : wo;
+            vec3 i = wo.z < 0.0 ? -wi : wi;
+            f += b.sheen_color * sheen_cos(b.sheen_roughness, o, i);
+            pdf += b.p_sheen * 0.5 * INV_PI;
+        }
+    }
+#endif
 #ifdef HAS_CLEARCOAT
     if (b.p_coat > 0.0 && !b.coat_delta && wo.z * wi.z > 0.0) {
         // Both sides alike, as the opaque lobes.
@@ -327,6 +453,21 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
         return true;
     }
 #endif
+#ifdef HAS_SHEEN
+    float below_coat = 1.0;
+#ifdef HAS_CLEARCOAT
+    below_coat -= b.p_coat;
+#endif
+    if (b.p_sheen > 0.0 && ul >= below_coat - b.p_sheen) {
+        // Uniform over the hemisphere: cos θ uniform in (0, 1].
+        float c = 1.0 - u.y, sn = sqrt(max(0.0, 1.0 - c * c)), phi = 2.0 * PI * u.x;
+        bs.wi = vec3(sn * cos(phi), sn * sin(phi), c * side);
+        vec3 f = bsdf_eval(b, wo, bs.wi, bs.pdf);
+        if (!(bs.pdf > 0.0)) return false;
+        bs.weight = f / bs.pdf;
+        return true;
+    }
+#endif
     if (ul < b.p.x) {
         // The first p.x * q_transmit of the diffuse interval goes through to the other side.
         float through = 1.0;
@@ -342,7 +483,7 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
             vec3 fr = metal ? b.w.z * schlick(b.base_color, o.z) / b.p.z
                             : b.w.x * b.specular * schlick(b.f0, o.z) / b.p.y;
             bs.wi = vec3(-wo.x, -wo.y, wo.z);
-            bs.weight = fr;
+            bs.weight = fr * sheen_scale(b, bs.wi);
             bs.delta = true;
             return true;
         }
@@ -363,12 +504,12 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
         if (rng_next(rng) < F) {
             bs.wi = reflect(-wo, h);
             if (bs.wi.z * wo.z <= 0.0) return false;
-            if (b.delta) { bs.weight = vec3(b.w.y / b.p.w); bs.delta = true; return true; }
+            if (b.delta) { bs.weight = vec3(b.w.y / b.p.w) * sheen_scale(b, bs.wi); bs.delta = true; return true; }
         } else {
             float etap;
             if (!refract_dir(wo, h, b.ior, etap, bs.wi)) return false;
             if (bs.wi.z * wo.z >= 0.0 || bs.wi.z == 0.0) return false;
-            if (b.delta) { bs.weight = b.w.y * b.base_color / (b.p.w * etap * etap); bs.delta = true; return true; }
+            if (b.delta) { bs.weight = b.w.y * b.base_color * sheen_scale(b, bs.wi) / (b.p.w * etap * etap); bs.delta = true; return true; }
         }
 #else
         return false;

@@ -27,6 +27,10 @@ struct Surface {
     float diffuse_transmission;         // KHR_materials_diffuse_transmission's share
     vec3 diffuse_transmission_color;
 #endif
+#ifdef HAS_SHEEN
+    vec3 sheen_color;           // KHR_materials_sheen's colour and roughness
+    float sheen_roughness;
+#endif
 };
 
 vec3 instance_point(Instance inst, vec3 p) {
@@ -65,6 +69,10 @@ void apply_material(inout Surface s, Material m) {
     s.diffuse_transmission = m.diffuse_transmission.w;
     s.diffuse_transmission_color = m.diffuse_transmission.rgb;
 #endif
+#ifdef HAS_SHEEN
+    s.sheen_color = m.sheen.rgb;
+    s.sheen_roughness = m.sheen.w;
+#endif
 #ifdef HAS_UNLIT
     s.unlit = (m.textures1.w & MATERIAL_UNLIT) != 0;
 #endif
@@ -95,6 +103,10 @@ void apply_material(inout Surface s, Material m) {
 #ifdef HAS_DIFFUSE_TRANSMISSION_TEXTURES
     if (m.textures2.w >= 0) s.diffuse_transmission *= sample_texture(m.textures2.w, slot_uv(m, TEXTURE_SLOT_DIFFUSE_TRANSMISSION, a), false).a;
     if (m.textures3.x >= 0) s.diffuse_transmission_color *= sample_texture(m.textures3.x, slot_uv(m, TEXTURE_SLOT_DIFFUSE_TRANSMISSION_COLOR, a), true).rgb;
+#endif
+#ifdef HAS_SHEEN_TEXTURES
+    if (m.textures3.y >= 0) s.sheen_color *= sample_texture(m.textures3.y, slot_uv(m, TEXTURE_SLOT_SHEEN_COLOR, a), true).rgb;
+    if (m.textures3.z >= 0) s.sheen_roughness *= sample_texture(m.textures3.z, slot_uv(m, TEXTURE_SLOT_SHEEN_ROUGHNESS, a), false).a;
 #endif
 #ifdef HAS_CLEARCOAT_TEXTURES
     if (m.textures2.x >= 0) s.clearcoat *= sample_texture(m.textures2.x, slot_uv(m, TEXTURE_SLOT_CLEARCOAT, a), false).r;

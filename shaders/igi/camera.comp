@@ -42,13 +42,15 @@ IgiVertex igi_vertex;
 void igi_record(Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo) {
     vec3 n = wo.z >= 0.0 ? s.ns : -s.ns;
     vec3 w = -p.ray.dir;
-    vec3 albedo = p.throughput * bsdf.w.x * bsdf.base_color;
+    // The diffuse lobe's reflected share (not what diffuse transmission passes) under the
+    // sheen's scaling at the view; the gather applies the specular layer's Fresnel.
+    vec3 albedo = p.throughput * bsdf.w.x * bsdf.base_color * (diffuse_reflected(bsdf) * sheen_view_scale(bsdf));
 #ifdef IGI_FILTERED
     // The G-buffer of the filters: IgiTexel in crates/platoon-core/src/igi/mod.rs. The albedo
     // with the specular layer's Fresnel at the viewing direction (the filters gather irradiance
     // and apply it after).
     uint a = 3u * (igi_pixel.y * F.dims.x + igi_pixel.x);
-    vec3 reflectance = p.throughput * diffuse_reflectance(bsdf, schlick(bsdf.f0, abs(wo.z))) * INV_PI;
+    vec3 reflectance = p.throughput * diffuse_reflectance(bsdf, schlick(bsdf.f0, abs(wo.z))) * (sheen_view_scale(bsdf) * INV_PI);
     IGI_TEXELS.v[a] += vec4(0.0, 0.0, 0.0, 1.0);
     IGI_TEXELS.v[a + 1u] += vec4(reflectance, distance(F.cam_origin.xyz, s.position));
     IGI_TEXELS.v[a + 2u] += vec4(n, 0.0);

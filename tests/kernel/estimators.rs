@@ -146,8 +146,9 @@ fn estimators_agree_under_an_importance_sampled_environment_map() {
 }
 
 /// The Cornell box with issue 25's extensions: a floor that passes on half its diffuse light
-/// (green, to the sky below), a tall box under a glossy clear coat and the rest of the room under
-/// a mirror coat (roughness 0, the extension's default), lit by its area light.
+/// (green, to the sky below), a tall box of velvet (a white sheen) under a glossy clear coat and
+/// the rest of the room under a mirror coat (roughness 0, the extension's default) with a
+/// bluish sheen beneath, lit by its area light.
 fn coated_cornell() -> platoon::Prepared {
     let mut scene = platoon::core::scene::cornell::scene();
     let leaf = scene.materials.len() as u32;
@@ -167,11 +168,15 @@ fn coated_cornell() -> platoon::Prepared {
         roughness: 0.7,
         clearcoat: 1.0,
         clearcoat_roughness: 0.2,
+        sheen_color: Vec3::ONE,
+        sheen_roughness: 0.4,
         ..Material::default()
     });
     for m in &mut scene.materials[..leaf as usize] {
         if !m.is_emissive() {
             m.clearcoat = 0.8;
+            m.sheen_color = Vec3::new(0.3, 0.4, 0.6);
+            m.sheen_roughness = 0.7;
         }
     }
     let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
@@ -185,9 +190,9 @@ fn coated_cornell() -> platoon::Prepared {
 }
 
 #[test]
-fn estimators_agree_with_clear_coats_and_diffuse_transmission() {
+fn estimators_agree_with_the_material_extensions() {
     let prepared = coated_cornell();
     let f = prepared.gpu.features;
-    assert!(f.clearcoat && f.diffuse_transmission && f.emissive_triangles);
+    assert!(f.clearcoat && f.diffuse_transmission && f.sheen && f.emissive_triangles);
     assert_estimators_agree(&prepared);
 }

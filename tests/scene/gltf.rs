@@ -361,24 +361,42 @@ fn clearcoat_spheres_load_as_written_and_render_under_a_map() {
             .map(|t| t.texture),
         Some(0)
     );
+    renders_finite_under_a_map(scene, |f| f.clearcoat && f.clearcoat_textures);
+    refuses_a_texture_past_the_files(&data, 7, "KHR_materials_clearcoat", "clearcoatTexture");
+}
+
+/// An extension's generated spheres under the courtyard map: the kernel has the extension's
+/// features (`has`) and the image is finite.
+fn renders_finite_under_a_map(
+    scene: platoon::core::Scene,
+    has: impl Fn(&platoon::core::SceneFeatures) -> bool,
+) {
     let prepared = prepare(
         scene,
         platoon::EnvChoice::File(shared("envmaps/courtyard.exr")),
     );
-    assert!(prepared.gpu.features.clearcoat && prepared.gpu.features.clearcoat_textures);
+    assert!(has(&prepared.gpu.features), "{}", prepared.gpu.features);
     let film = render(
         &prepared,
         &FrameParams::new(48, 48, 8, prepared.camera),
         Sampling::Mis,
     );
     assert_eq!(film.count_non_finite(), 0);
+}
 
-    let (mut json, bin) = platoon_scenegen::twins::split_glb(&platoon_scenegen::to_glb(&data));
-    json["materials"][7]["extensions"]["KHR_materials_clearcoat"]["clearcoatTexture"]["index"] =
-        5.into();
+/// `data` with material `m`'s `extension` texture `key` pointing past the file's textures is
+/// refused, naming the key and the texture.
+fn refuses_a_texture_past_the_files(
+    data: &platoon_scenegen::SceneData,
+    m: usize,
+    extension: &str,
+    key: &str,
+) {
+    let (mut json, bin) = platoon_scenegen::twins::split_glb(&platoon_scenegen::to_glb(data));
+    json["materials"][m]["extensions"][extension][key]["index"] = 9.into();
     let e = load_error(&platoon_scenegen::glb(&json, &bin));
     assert!(
-        e.contains("KHR_materials_clearcoat clearcoatTexture") && e.contains("texture 5"),
+        e.contains(&format!("{extension} {key}")) && e.contains("texture 9"),
         "{e}"
     );
 }
@@ -476,23 +494,39 @@ fn diffuse_transmission_spheres_load_as_written_and_render_under_a_map() {
         glam::Vec3::new(0.2, 0.9, 0.2)
     );
     assert!(scene.materials[5].diffuse_transmission_texture.is_some());
-    let prepared = prepare(
-        scene,
-        platoon::EnvChoice::File(shared("envmaps/courtyard.exr")),
+    renders_finite_under_a_map(scene, |f| {
+        f.diffuse_transmission && f.diffuse_transmission_textures
+    });
+    refuses_a_texture_past_the_files(
+        &data,
+        5,
+        "KHR_materials_diffuse_transmission",
+        "diffuseTransmissionTexture",
     );
-    assert!(prepared.gpu.features.diffuse_transmission);
-    let film = render(
-        &prepared,
-        &FrameParams::new(48, 48, 8, prepared.camera),
-        Sampling::Mis,
+}
+
+/// KHR_materials_sheen (issue 25): the colour, roughness and textures load as written (a zero
+/// colour is no sheen) and the spheres render; a colour that is not three numbers is refused.
+#[test]
+fn sheen_spheres_load_as_written_and_render_under_a_map() {
+    let data = platoon_scenegen::materials::sheen();
+    let scene = load_generated(&data);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let roughness: Vec<f32> = scene.materials.iter().map(|m| m.sheen_roughness).collect();
+    assert_eq!(&roughness[..3], &[0.1, 0.4, 0.8]);
+    assert_eq!(
+        scene.materials[3].sheen_color,
+        glam::Vec3::new(0.1, 0.3, 1.0)
     );
-    assert_eq!(film.count_non_finite(), 0);
+    assert!(scene.materials[5].has_clearcoat() && scene.materials[5].has_sheen());
+    assert!(scene.materials[6].sheen_color_texture.is_some());
+    assert!(scene.materials[7].sheen_roughness_texture.is_some());
+    assert!(!scene.materials[8].has_sheen());
+    renders_finite_under_a_map(scene, |f| f.sheen && f.sheen_textures);
+    refuses_a_texture_past_the_files(&data, 6, "KHR_materials_sheen", "sheenColorTexture");
     let (mut json, bin) = platoon_scenegen::twins::split_glb(&platoon_scenegen::to_glb(&data));
-    json["materials"][5]["extensions"]["KHR_materials_diffuse_transmission"]
-        ["diffuseTransmissionTexture"]["index"] = 9.into();
+    json["materials"][0]["extensions"]["KHR_materials_sheen"]["sheenColorFactor"][1] =
+        "white".into();
     let e = load_error(&platoon_scenegen::glb(&json, &bin));
-    assert!(
-        e.contains("diffuseTransmissionTexture") && e.contains("texture 9"),
-        "{e}"
-    );
+    assert!(e.contains("sheenColorFactor is not three numbers"), "{e}");
 }

@@ -3,9 +3,9 @@
 //! `platoon-scenegen OUT.glb --conference-room`: the IGI scene (a room lit by point lights).
 //! `platoon-scenegen OUT.glb --cornell-nodes | --spheres`: the bench scenes as exporters write
 //! them (the Cornell box a node per object; five spheres of glTF materials, textured ground).
-//! `platoon-scenegen OUT.glb --clearcoat | --diffuse-transmission`: spheres of
-//! KHR_materials_clearcoat or KHR_materials_diffuse_transmission (render them under an
-//! environment: `platoon render OUT.glb --env MAP.exr`).
+//! `platoon-scenegen OUT.glb --clearcoat | --diffuse-transmission | --sheen`: spheres of a
+//! material extension (`materials::SCENES`; render them under an environment: `platoon render
+//! OUT.glb --env MAP.exr`).
 //! `platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]`: writes the
 //! adversarial suite (valid hard scenes, malformed and hostile files, mutations of SCENES).
 
@@ -21,8 +21,7 @@ fn main() -> ExitCode {
     let mut conference_room = false;
     let mut cornell_nodes = false;
     let mut spheres = false;
-    let mut clearcoat = false;
-    let mut diffuse_transmission = false;
+    let mut material_scene = None;
     let mut adversarial = None;
     let mut shared = PathBuf::from("../shared/scenes");
     let mut mutants = 8usize;
@@ -54,11 +53,15 @@ fn main() -> ExitCode {
             "--conference-room" => conference_room = true,
             "--cornell-nodes" => cornell_nodes = true,
             "--spheres" => spheres = true,
-            "--clearcoat" => clearcoat = true,
-            "--diffuse-transmission" => diffuse_transmission = true,
             "--adversarial" => adversarial = it.next().map(PathBuf::from),
             "--shared" => shared = it.next().map(PathBuf::from).unwrap_or(shared),
-            other => out = Some(other.to_string()),
+            other => match platoon_scenegen::materials::SCENES
+                .iter()
+                .find(|(flag, _)| *flag == other)
+            {
+                Some(&(_, make)) => material_scene = Some(make),
+                None => out = Some(other.to_string()),
+            },
         }
     }
     if let Some(dir) = adversarial {
@@ -73,7 +76,7 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let Some(out) = out else {
-        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --cornell-nodes | --spheres | --clearcoat | --diffuse-transmission]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
+        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --cornell-nodes | --spheres | --clearcoat | --diffuse-transmission | --sheen]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
         return ExitCode::FAILURE;
     };
     let scene = if glossy_glass {
@@ -84,10 +87,8 @@ fn main() -> ExitCode {
         platoon_scenegen::bench::cornell_nodes()
     } else if spheres {
         platoon_scenegen::bench::spheres()
-    } else if clearcoat {
-        platoon_scenegen::materials::clearcoat()
-    } else if diffuse_transmission {
-        platoon_scenegen::materials::diffuse_transmission()
+    } else if let Some(make) = material_scene {
+        make()
     } else {
         platoon_scenegen::sphere_field(grid, unique)
     };

@@ -5,7 +5,34 @@
 use serde_json::{json, Value};
 
 use crate::bench::{checker_png, facing};
+
+/// A 4 x 4 checker of 16-texel cells in RGB and alpha alike (`checker_png`'s alpha is opaque):
+/// for the extensions that read a texture's alpha.
+fn checker_with_alpha_png() -> Vec<u8> {
+    let n = 64;
+    let px = (0..n * n)
+        .flat_map(|k| {
+            let v = if (k % n / 16 + k / n / 16) % 2 == 0 {
+                200
+            } else {
+                70
+            };
+            [v, v, v, v]
+        })
+        .collect();
+    crate::twins::png(n, n, px)
+}
 use crate::{uv_sphere, NodeData, SceneData};
+
+/// What makes one of the scenes.
+pub type MakeScene = fn() -> SceneData;
+
+/// Each scene by its `platoon-scenegen` flag.
+pub const SCENES: &[(&str, MakeScene)] = &[
+    ("--clearcoat", clearcoat),
+    ("--diffuse-transmission", diffuse_transmission),
+    ("--sheen", sheen),
+];
 
 /// Spheres of `materials` in rows of `per_row`, before a camera that sees them all.
 fn rows_of_spheres(materials: Vec<Value>, per_row: usize, extensions: &[&str]) -> SceneData {
@@ -84,7 +111,45 @@ pub fn diffuse_transmission() -> SceneData {
     materials.push(leaf(json!({"diffuseTransmissionFactor": 1.0,
         "diffuseTransmissionTexture": {"index": 0}})));
     let mut scene = rows_of_spheres(materials, 3, &["KHR_materials_diffuse_transmission"]);
-    scene.images = vec![checker_png(4, 16)];
+    scene.images = vec![checker_with_alpha_png()];
+    scene
+}
+
+/// KHR_materials_sheen, after Khronos' SheenTestGrid: a dark red velvet-like dielectric under
+/// a white sheen of roughness 0.1, 0.4 and 0.8; coloured sheens (blue over white, gold over a
+/// metal); a sheen under a clear coat; sheens whose colour (RGB) and roughness (alpha) a
+/// checker texture sets.
+pub fn sheen() -> SceneData {
+    let velvet = |sheen: Value| {
+        json!({"name": "velvet", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.03, 0.04, 1], "metallicFactor": 0, "roughnessFactor": 0.9},
+               "extensions": {"KHR_materials_sheen": sheen}})
+    };
+    let mut materials: Vec<Value> = [0.1, 0.4, 0.8]
+        .into_iter()
+        .map(|r| velvet(json!({"sheenColorFactor": [1.0, 1.0, 1.0], "sheenRoughnessFactor": r})))
+        .collect();
+    materials.push(json!({"name": "blue sheen", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0, "roughnessFactor": 0.8},
+        "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [0.1, 0.3, 1.0], "sheenRoughnessFactor": 0.5}}}));
+    materials.push(json!({"name": "sheened gold", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.78, 0.34, 1], "metallicFactor": 1, "roughnessFactor": 0.5},
+        "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1.0, 0.9, 0.6], "sheenRoughnessFactor": 0.3}}}));
+    materials.push(json!({"name": "coated velvet", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.03, 0.04, 1], "metallicFactor": 0, "roughnessFactor": 0.9},
+        "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1.0, 1.0, 1.0], "sheenRoughnessFactor": 0.4},
+                       "KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.1}}}));
+    materials.push(velvet(
+        json!({"sheenColorFactor": [1.0, 1.0, 1.0], "sheenRoughnessFactor": 0.5,
+        "sheenColorTexture": {"index": 0}}),
+    ));
+    materials.push(velvet(
+        json!({"sheenColorFactor": [1.0, 1.0, 1.0], "sheenRoughnessFactor": 1.0,
+        "sheenRoughnessTexture": {"index": 0}}),
+    ));
+    materials.push(velvet(json!({"sheenColorFactor": [0.0, 0.0, 0.0]})));
+    let mut scene = rows_of_spheres(
+        materials,
+        3,
+        &["KHR_materials_sheen", "KHR_materials_clearcoat"],
+    );
+    scene.images = vec![checker_with_alpha_png()];
     scene
 }
 

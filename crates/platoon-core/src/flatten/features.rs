@@ -37,6 +37,9 @@ pub struct SceneFeatures {
     /// KHR_materials_diffuse_transmission; and some texture of it.
     pub diffuse_transmission: bool,
     pub diffuse_transmission_textures: bool,
+    /// KHR_materials_sheen; and some texture of it.
+    pub sheen: bool,
+    pub sheen_textures: bool,
     pub emissive_triangles: bool,
     pub punctual_lights: bool,
     pub environment_map: bool,
@@ -98,6 +101,11 @@ impl SceneFeatures {
                     && (m.diffuse_transmission_texture.is_some()
                         || m.diffuse_transmission_color_texture.is_some())
             }),
+            sheen: used.iter().any(|m| m.has_sheen()),
+            sheen_textures: used.iter().any(|m| {
+                m.has_sheen()
+                    && (m.sheen_color_texture.is_some() || m.sheen_roughness_texture.is_some())
+            }),
             emissive_triangles: used.iter().any(|m| m.is_emissive()),
             punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
             environment_map: matches!(
@@ -129,6 +137,8 @@ impl SceneFeatures {
             clearcoat_textures: true,
             diffuse_transmission: true,
             diffuse_transmission_textures: true,
+            sheen: true,
+            sheen_textures: true,
             emissive_triangles: true,
             punctual_lights: true,
             environment_map: true,
@@ -137,7 +147,7 @@ impl SceneFeatures {
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 21] {
+    pub(crate) fn options(&self) -> [KernelOption; 23] {
         [
             ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
@@ -189,6 +199,8 @@ impl SceneFeatures {
                 "HAS_DIFFUSE_TRANSMISSION_TEXTURES",
                 self.diffuse_transmission_textures,
             ),
+            ("sheen", "HAS_SHEEN", self.sheen),
+            ("sheen-textures", "HAS_SHEEN_TEXTURES", self.sheen_textures),
             (
                 "emissive-triangles",
                 "HAS_EMISSIVE_TRIANGLES",

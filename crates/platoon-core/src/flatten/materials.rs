@@ -8,9 +8,13 @@ use super::layout::{
 use super::GpuScene;
 use crate::scene::{AlphaMode, Scene, Wrap};
 
-/// Appends the scene's materials and textures to `g`.
+/// Appends the scene's materials and textures to `g`; first, where a material has a sheen, the
+/// sheen's albedo table (the kernel reads it at texel 0).
 pub(super) fn add(scene: &Scene, g: &mut GpuScene) {
     g.materials = scene.materials.iter().map(gpu_material).collect();
+    if scene.materials.iter().any(|m| m.has_sheen()) {
+        g.texels.extend(super::sheen_albedo::texels());
+    }
     for t in &scene.textures {
         g.textures.push(GpuTexture {
             offset: g.texels.len() as u32,
@@ -109,10 +113,15 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             .to_array(),
         textures3: [
             tex(m.diffuse_transmission_color_texture),
-            NO_TEXTURE,
-            NO_TEXTURE,
+            tex(m.sheen_color_texture),
+            tex(m.sheen_roughness_texture),
             NO_TEXTURE,
         ],
+        sheen: m
+            .sheen_color
+            .clamp(glam::Vec3::ZERO, glam::Vec3::ONE)
+            .extend(m.sheen_roughness.clamp(0.0, 1.0))
+            .to_array(),
         uv_rows,
     }
 }

@@ -17,6 +17,8 @@ mod lights;
 mod materials;
 mod placed;
 pub mod refit;
+pub mod sheen_albedo;
+mod sheen_albedo_table;
 pub mod static_merge;
 
 pub use layout::*;

@@ -130,6 +130,12 @@ pub struct Material {
     pub diffuse_transmission_texture: Option<TextureRef>,
     pub diffuse_transmission_color: Vec3,
     pub diffuse_transmission_color_texture: Option<TextureRef>,
+    /// KHR_materials_sheen: the sheen's colour (times its texture's RGB, sRGB) and roughness
+    /// (times its texture's alpha).
+    pub sheen_color: Vec3,
+    pub sheen_color_texture: Option<TextureRef>,
+    pub sheen_roughness: f32,
+    pub sheen_roughness_texture: Option<TextureRef>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
     /// KHR_materials_unlit: the base colour is emitted radiance and nothing is reflected.
@@ -167,6 +173,10 @@ impl Default for Material {
             diffuse_transmission_texture: None,
             diffuse_transmission_color: Vec3::ONE,
             diffuse_transmission_color_texture: None,
+            sheen_color: Vec3::ZERO,
+            sheen_color_texture: None,
+            sheen_roughness: 0.0,
+            sheen_roughness_texture: None,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             unlit: false,
@@ -181,7 +191,7 @@ impl Material {
     /// Every texture slot, in the kernel's order (`flatten::TEXTURE_SLOTS`, TEXTURE_SLOT_* in
     /// shaders/scene.glsl): base colour, metallic-roughness, normal, emissive, specular,
     /// specular colour, transmission, clearcoat, clearcoat roughness, clearcoat normal, diffuse
-    /// transmission, diffuse transmission colour.
+    /// transmission, diffuse transmission colour, sheen colour, sheen roughness.
     pub fn texture_slots(&self) -> [Option<TextureRef>; crate::flatten::TEXTURE_SLOTS] {
         [
             self.base_color_texture,
@@ -196,7 +206,15 @@ impl Material {
             self.clearcoat_normal_texture,
             self.diffuse_transmission_texture,
             self.diffuse_transmission_color_texture,
+            self.sheen_color_texture,
+            self.sheen_roughness_texture,
         ]
+    }
+
+    /// Whether it has a sheen (the spec: a zero colour disables the layer; a texture only
+    /// scales the factor).
+    pub fn has_sheen(&self) -> bool {
+        self.sheen_color.max_element() > 0.0
     }
 
     /// Whether some of its diffuse light goes through (a texture only scales the factor).

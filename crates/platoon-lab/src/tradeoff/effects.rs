@@ -17,11 +17,13 @@ pub enum Effect {
     Clearcoat,
     /// KHR_materials_diffuse_transmission.
     DiffuseTransmission,
+    /// KHR_materials_sheen.
+    Sheen,
 }
 
 impl Effect {
     /// The technique's name: `no-textures`, `no-normal-maps`, `opaque`, `env-mean`,
-    /// `no-clearcoat`, `no-diffuse-transmission`.
+    /// `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`.
     pub fn name(self) -> &'static str {
         match self {
             Effect::Textures => "no-textures",
@@ -30,6 +32,7 @@ impl Effect {
             Effect::EnvironmentMap => "env-mean",
             Effect::Clearcoat => "no-clearcoat",
             Effect::DiffuseTransmission => "no-diffuse-transmission",
+            Effect::Sheen => "no-sheen",
         }
     }
 
@@ -41,6 +44,7 @@ impl Effect {
             Effect::EnvironmentMap,
             Effect::Clearcoat,
             Effect::DiffuseTransmission,
+            Effect::Sheen,
         ]
         .into_iter()
         .find(|e| e.name() == name)
@@ -85,6 +89,16 @@ impl Effect {
                     m.diffuse_transmission = 0.0;
                     m.diffuse_transmission_texture = None;
                     m.diffuse_transmission_color_texture = None;
+                }
+                any
+            }
+            Effect::Sheen => {
+                let mut any = false;
+                for m in &mut scene.materials {
+                    any |= m.has_sheen();
+                    m.sheen_color = Vec3::ZERO;
+                    m.sheen_color_texture = None;
+                    m.sheen_roughness_texture = None;
                 }
                 any
             }
@@ -172,6 +186,14 @@ fn remove_textures(scene: &mut Scene) -> bool {
         }
         if let Some(c) = mean_of(m.diffuse_transmission_color_texture.take(), true) {
             m.diffuse_transmission_color *= c.truncate();
+            any = true;
+        }
+        if let Some(c) = mean_of(m.sheen_color_texture.take(), true) {
+            m.sheen_color *= c.truncate();
+            any = true;
+        }
+        if let Some(r) = mean_of(m.sheen_roughness_texture.take(), false) {
+            m.sheen_roughness *= r.w;
             any = true;
         }
         // A normal map has no factor to fold into: the coat follows the mesh's normal, as

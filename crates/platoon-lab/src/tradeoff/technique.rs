@@ -237,7 +237,7 @@ impl Technique {
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
     /// `rr-fixed=P` (percent), `clamp=C`, `uniform-lights`, `no-regeneration`,
     /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `spt`, `nop`, `no-textures`,
-    /// `no-normal-maps`, `opaque`, `env-mean`, `no-clearcoat`, `no-diffuse-transmission`,
+    /// `no-normal-maps`, `opaque`, `env-mean`, `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`,
     /// `denoise=atrous`, `adaptive=T`.
     pub fn parse(s: &str) -> Result<Technique> {
         if let Some(effect) = Effect::parse(s.trim()) {
@@ -307,7 +307,7 @@ impl Technique {
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
                  generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
-                 env-mean, no-clearcoat, no-diffuse-transmission, igi=N[+boxes][+downK][+interMxN][+minD], \
+                 env-mean, no-clearcoat, no-diffuse-transmission, no-sheen, igi=N[+boxes][+downK][+interMxN][+minD], \
                  links=N[+bB][+nosmooth][+vertex][+subK], lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild], \
                  denoise=atrous, denoise=oidn, adaptive=T"
             ),

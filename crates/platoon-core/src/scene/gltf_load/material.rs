@@ -173,6 +173,34 @@ fn json_number(ext: &serde_json::Value, key: &str, default: f32, what: &str) -> 
     }
 }
 
+/// A colour (three numbers) of an extension's JSON object, `default` when absent.
+fn json_rgb(ext: &serde_json::Value, key: &str, default: Vec3, what: &str) -> Check<Vec3> {
+    let Some(c) = ext.get(key) else {
+        return Ok(default);
+    };
+    let c: Option<Vec<f32>> = c
+        .as_array()
+        .and_then(|a| a.iter().map(|x| x.as_f64().map(|x| x as f32)).collect());
+    match c.as_deref() {
+        Some(&[r, g, b]) => Ok(Vec3::new(r, g, b)),
+        _ => Err(format!("{what}: {key} is not three numbers")),
+    }
+}
+
+/// KHR_materials_sheen (the `gltf` crate does not model it) onto `mat`.
+fn sheen(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
+    let Some(ext) = m.extension_value("KHR_materials_sheen") else {
+        return Ok(());
+    };
+    let what = "KHR_materials_sheen";
+    mat.sheen_color = json_rgb(ext, "sheenColorFactor", Vec3::ZERO, what)?;
+    mat.sheen_roughness = json_number(ext, "sheenRoughnessFactor", 0.0, what)?;
+    let tex = |key: &str| json_tex_ref(ext.get(key), &format!("{what} {key}"), textures);
+    mat.sheen_color_texture = tex("sheenColorTexture")?.map(|t| t.0);
+    mat.sheen_roughness_texture = tex("sheenRoughnessTexture")?.map(|t| t.0);
+    Ok(())
+}
+
 /// KHR_materials_clearcoat (the `gltf` crate does not model it) onto `mat`.
 fn clearcoat(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
     let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
@@ -198,20 +226,8 @@ fn diffuse_transmission(m: &gltf::Material, mat: &mut Material, textures: usize)
     };
     let what = "KHR_materials_diffuse_transmission";
     mat.diffuse_transmission = json_number(ext, "diffuseTransmissionFactor", 0.0, what)?;
-    if let Some(c) = ext.get("diffuseTransmissionColorFactor") {
-        let c: Option<Vec<f32>> = c
-            .as_array()
-            .map(|a| a.iter().map(|x| x.as_f64().map(|x| x as f32)).collect())
-            .unwrap_or(None);
-        match c.as_deref() {
-            Some(&[r, g, b]) => mat.diffuse_transmission_color = Vec3::new(r, g, b),
-            _ => {
-                return Err(format!(
-                    "{what}: diffuseTransmissionColorFactor is not three numbers"
-                ))
-            }
-        }
-    }
+    mat.diffuse_transmission_color =
+        json_rgb(ext, "diffuseTransmissionColorFactor", Vec3::ONE, what)?;
     let tex = |key: &str| json_tex_ref(ext.get(key), &format!("{what} {key}"), textures);
     mat.diffuse_transmission_texture = tex("diffuseTransmissionTexture")?.map(|t| t.0);
     mat.diffuse_transmission_color_texture = tex("diffuseTransmissionColorTexture")?.map(|t| t.0);
@@ -346,6 +362,7 @@ pub fn material(
     }
     clearcoat(m, &mut mat, textures.len())?;
     diffuse_transmission(m, &mut mat, textures.len())?;
+    sheen(m, &mut mat, textures.len())?;
     spec_gloss(m, &mut mat, textures, glossiness)?;
     let factors = [
         mat.base_color.to_array().as_slice(),
@@ -362,8 +379,10 @@ pub fn material(
             mat.clearcoat_roughness,
             mat.clearcoat_normal_scale,
             mat.diffuse_transmission,
+            mat.sheen_roughness,
         ],
         &mat.diffuse_transmission_color.to_array(),
+        &mat.sheen_color.to_array(),
     ]
     .concat();
     if factors.iter().any(|f| !f.is_finite()) {
