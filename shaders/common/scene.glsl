@@ -22,6 +22,7 @@ struct Material {
     vec4 diffuse_transmission;  // KHR_materials_diffuse_transmission: colour rgb, w = factor
     ivec4 textures3;    // diffuse transmission colour, sheen colour, sheen roughness textures
     vec4 sheen;         // KHR_materials_sheen: colour rgb, w = roughness
+    vec4 volume;        // KHR_materials_volume: absorption per unit length rgb, w = 1 with a volume
     vec4 uv_rows[28];
 };
 struct Texture { uint offset; uint width; uint height; uint wrap; };

@@ -31,6 +31,10 @@ struct Surface {
     vec3 sheen_color;           // KHR_materials_sheen's colour and roughness
     float sheen_roughness;
 #endif
+#ifdef HAS_VOLUME
+    bool volume;                // KHR_materials_volume: the inside is a medium
+    vec3 absorption;            // its absorption per unit length
+#endif
 };
 
 vec3 instance_point(Instance inst, vec3 p) {
@@ -72,6 +76,10 @@ void apply_material(inout Surface s, Material m) {
 #ifdef HAS_SHEEN
     s.sheen_color = m.sheen.rgb;
     s.sheen_roughness = m.sheen.w;
+#endif
+#ifdef HAS_VOLUME
+    s.volume = m.volume.w > 0.0;
+    s.absorption = m.volume.rgb;
 #endif
 #ifdef HAS_UNLIT
     s.unlit = (m.textures1.w & MATERIAL_UNLIT) != 0;

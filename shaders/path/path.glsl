@@ -101,6 +101,9 @@ struct Path {
     uint depth;
     uint sample_index;  // the pixel's sample: what deterministic termination (DPT) reads
     uint diffuse;       // non-delta bounces so far (single diffuse bounce)
+#ifdef HAS_VOLUME
+    vec3 medium;        // the absorption of the medium the ray travels in (0: the outside)
+#endif
 #ifdef PATH_HOOKS
     PathHook hook;
 #endif
@@ -134,12 +137,31 @@ Path path_start(Ray ray, uint sample_index) {
     p.depth = 0u;
     p.sample_index = sample_index;
     p.diffuse = 0u;
+#ifdef HAS_VOLUME
+    p.medium = vec3(0.0);
+#endif
 #ifdef PATH_HOOKS
     hook_path_start(p.hook);
 #endif
     return p;
 }
 
+
+#ifdef HAS_VOLUME
+// Beer-Lambert: what a medium of absorption `a` lets through over `d` (d = INF: an endless ray,
+// which a medium that absorbs takes whole).
+vec3 transmittance(vec3 a, float d) {
+    return d < INF ? exp(-a * d) : vec3(equal(a, vec3(0.0)));
+}
+
+// The medium beyond surface `s` for a ray that crossed it (KHR_materials_volume, one medium at
+// a time as the spec allows: the one of the last surface entered): the material's own entering
+// from the front, the outside leaving from the back; a thin wall changes nothing.
+vec3 medium_beyond(Surface s, vec3 medium, bool from_front) {
+    if (!s.volume) return medium;
+    return from_front ? s.absorption : vec3(0.0);
+}
+#endif
 
 // Next-event estimation's shadow ray from a vertex, and the light it brings if nothing blocks
 // it (weighed and clamped already): traced after the vertex's shading, by the megakernel's
@@ -156,6 +178,10 @@ struct ShadowRay {
 // still to be added then.
 bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay shadow) {
     shadow.valid = false;
+#ifdef HAS_VOLUME
+    // What the medium absorbed along the segment just traced (before the light found at its end).
+    p.throughput *= transmittance(p.medium, found ? hit.t : INF);
+#endif
     if (!found) {
         if (env_kind() != ENV_NONE)
             add_light(p.L, p.throughput * env_radiance(p.ray.dir) * path_emission_weight(p, environment_light_pdf(p.ray.dir)), p.depth);
@@ -218,7 +244,13 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 #else
                 float w = (ls.delta || last_diffuse || PATH_NEE_ALONE(p)) ? 1.0 : power_heuristic(ls.mis_pdf, pdf);
 #endif
-                shadow.light = clamped_light(p.throughput * f * ls.radiance * (w / ls.pdf), p.depth);
+                vec3 through = vec3(1.0);
+#ifdef HAS_VOLUME
+                // The shadow ray's medium: the path's, or the one beyond if it crosses.
+                vec3 m = dot(ls.wi, ng_wo) > 0.0 ? p.medium : medium_beyond(s, p.medium, dot(s.ng, p.ray.dir) < 0.0);
+                through = transmittance(m, ls.infinite ? INF : distance(o, ls.target));
+#endif
+                shadow.light = clamped_light(p.throughput * through * f * ls.radiance * (w / ls.pdf), p.depth);
                 shadow.valid = true;
             }
         }
@@ -260,6 +292,9 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
         p.throughput /= survive;
 #endif
     }
+#ifdef HAS_VOLUME
+    if (dot(wi, ng_wo) < 0.0) p.medium = medium_beyond(s, p.medium, dot(s.ng, p.ray.dir) < 0.0);
+#endif
     p.ray = Ray(offset_ray(s.position, dot(wi, ng_wo) > 0.0 ? ng_wo : -ng_wo, s.magnitude), wi, INF);
     p.depth++;
     return true;

@@ -148,7 +148,8 @@ fn estimators_agree_under_an_importance_sampled_environment_map() {
 /// The Cornell box with issue 25's extensions: a floor that passes on half its diffuse light
 /// (green, to the sky below), a tall box of velvet (a white sheen) under a glossy clear coat and
 /// the rest of the room under a mirror coat (roughness 0, the extension's default) with a
-/// bluish sheen beneath, lit by its area light.
+/// bluish sheen beneath, a short box of rough glass whose inside absorbs (KHR_materials_volume),
+/// lit by its area light.
 fn coated_cornell() -> platoon::Prepared {
     let mut scene = platoon::core::scene::cornell::scene();
     let leaf = scene.materials.len() as u32;
@@ -179,12 +180,24 @@ fn coated_cornell() -> platoon::Prepared {
             m.sheen_roughness = 0.7;
         }
     }
+    scene.materials.push(Material {
+        name: "absorbing glass".into(),
+        roughness: 0.3,
+        transmission: 1.0,
+        thickness: 1.0,
+        attenuation_color: Vec3::new(0.3, 0.6, 0.9),
+        attenuation_distance: 1.0,
+        ..Material::default()
+    });
     let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
     let n = mesh.triangle_materials.len();
     mesh.triangle_materials[0] = leaf;
     mesh.triangle_materials[1] = leaf;
     for m in &mut mesh.triangle_materials[n - 10..] {
         *m = leaf + 1;
+    }
+    for m in &mut mesh.triangle_materials[n - 20..n - 10] {
+        *m = leaf + 2;
     }
     prepare(scene, constant_env(0.3))
 }
@@ -193,6 +206,6 @@ fn coated_cornell() -> platoon::Prepared {
 fn estimators_agree_with_the_material_extensions() {
     let prepared = coated_cornell();
     let f = prepared.gpu.features;
-    assert!(f.clearcoat && f.diffuse_transmission && f.sheen && f.emissive_triangles);
+    assert!(f.clearcoat && f.diffuse_transmission && f.sheen && f.volume && f.emissive_triangles);
     assert_estimators_agree(&prepared);
 }

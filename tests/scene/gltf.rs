@@ -530,3 +530,30 @@ fn sheen_spheres_load_as_written_and_render_under_a_map() {
     let e = load_error(&platoon_scenegen::glb(&json, &bin));
     assert!(e.contains("sheenColorFactor is not three numbers"), "{e}");
 }
+
+/// KHR_materials_volume (issue 25): thickness, attenuation colour and distance load as written
+/// (the spec's default distance is infinite, a zero thickness a thin wall that absorbs nothing),
+/// the spheres render, and a distance that is not above 0 is refused.
+#[test]
+fn volume_spheres_load_as_written_and_render_under_a_map() {
+    let data = platoon_scenegen::materials::volume();
+    let scene = load_generated(&data);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let distances: Vec<f32> = scene
+        .materials
+        .iter()
+        .map(|m| m.attenuation_distance)
+        .collect();
+    assert_eq!(&distances[..3], &[0.5, 1.0, 2.0]);
+    assert_eq!(
+        scene.materials[3].attenuation_color,
+        glam::Vec3::new(0.9, 0.5, 0.1)
+    );
+    assert!(!scene.materials[6].has_volume() && !scene.materials[6].absorbs());
+    assert!(scene.materials[7].has_volume() && !scene.materials[7].absorbs());
+    renders_finite_under_a_map(scene, |f| f.volume && f.transmission);
+    let (mut json, bin) = platoon_scenegen::twins::split_glb(&platoon_scenegen::to_glb(&data));
+    json["materials"][0]["extensions"]["KHR_materials_volume"]["attenuationDistance"] = 0.into();
+    let e = load_error(&platoon_scenegen::glb(&json, &bin));
+    assert!(e.contains("attenuationDistance is not above 0"), "{e}");
+}

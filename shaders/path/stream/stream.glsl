@@ -22,13 +22,17 @@ const uint SLOT_LIVE = 1u;     // has a ray to extend
 const uint SLOT_ENDED = 2u;    // its path ended: its light goes to its pixel at the next regeneration
 const uint SLOT_RETIRED = 3u;  // no pixel left in the band
 
-// One path in flight, packed (std430, 80 bytes; StreamSlot in method/stream.rs sizes it).
+// One path in flight, packed (std430, 80 bytes; 96 with a medium: StreamSlot in
+// method/stream.rs sizes the larger, so a scene without volumes moves no more than it needs).
 struct SptSlot {
     vec4 origin;      // ray origin, tmax
     vec4 dir;         // ray direction, the BSDF pdf it was sampled with
     vec4 L;           // light gathered so far; w: rays traced for the pixel (uint bits)
     vec4 throughput;  // w: path depth (uint bits)
     uvec4 info;       // state | after_delta << 2 | diffuse bounces << 8, pixel index, sample, rng
+#ifdef HAS_VOLUME
+    vec4 medium;      // Path::medium
+#endif
 };
 // The closest hit of the ray of live-queue entry k (32 bytes): (t, b1, b2, -), (instance,
 // triangle, found, -).
@@ -102,6 +106,9 @@ Path unpack_path(SptSlot s) {
     p.depth = floatBitsToUint(s.throughput.w);
     p.sample_index = s.info.z;
     p.diffuse = s.info.x >> 8;
+#ifdef HAS_VOLUME
+    p.medium = s.medium.xyz;
+#endif
     return p;
 }
 
@@ -110,7 +117,11 @@ void store_path(uint i, Path p, uint state, uint pixel, Rng rng, uint rays) {
     uint flags = state | (p.after_delta ? 4u : 0u) | (p.diffuse << 8);
     slots[i] = SptSlot(vec4(p.ray.origin, p.ray.tmax), vec4(p.ray.dir, p.bsdf_pdf),
                        vec4(p.L, uintBitsToFloat(rays)), vec4(p.throughput, uintBitsToFloat(p.depth)),
-                       uvec4(flags, pixel, p.sample_index, rng.state));
+                       uvec4(flags, pixel, p.sample_index, rng.state)
+#ifdef HAS_VOLUME
+                       , vec4(p.medium, 0.0)
+#endif
+                       );
 }
 
 // Appends to the queue counted by `counter` where `want`: `at` is this invocation's entry. One

@@ -32,6 +32,7 @@ pub const SCENES: &[(&str, MakeScene)] = &[
     ("--clearcoat", clearcoat),
     ("--diffuse-transmission", diffuse_transmission),
     ("--sheen", sheen),
+    ("--volume", volume),
 ];
 
 /// Spheres of `materials` in rows of `per_row`, before a camera that sees them all.
@@ -151,6 +152,48 @@ pub fn sheen() -> SceneData {
     );
     scene.images = vec![checker_with_alpha_png()];
     scene
+}
+
+/// KHR_materials_volume, after Khronos' AttenuationTest: smooth glass spheres (diameter 2)
+/// whose inside leaves a colour after a distance: a teal at distances 0.5, 1 and 2, an amber and
+/// a deep blue at 1, a rough one, a thin-walled one (thickness 0: no absorption), one at the
+/// spec's default infinite distance, and a slightly rough teal at 2.
+pub fn volume() -> SceneData {
+    let glass = |roughness: f64, thickness: f64, volume: Value| {
+        let mut v = volume;
+        v["thicknessFactor"] = json!(thickness);
+        json!({"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": roughness},
+               "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                              "KHR_materials_volume": v}})
+    };
+    let teal = |d: f64| json!({"attenuationColor": [0.2, 0.7, 0.6], "attenuationDistance": d});
+    let mut materials: Vec<Value> = [0.5, 1.0, 2.0]
+        .into_iter()
+        .map(|d| glass(0.0, 2.0, teal(d)))
+        .collect();
+    materials.push(glass(
+        0.0,
+        2.0,
+        json!({"attenuationColor": [0.9, 0.5, 0.1], "attenuationDistance": 1.0}),
+    ));
+    materials.push(glass(
+        0.0,
+        2.0,
+        json!({"attenuationColor": [0.1, 0.2, 0.8], "attenuationDistance": 1.0}),
+    ));
+    materials.push(glass(0.3, 2.0, teal(1.0)));
+    materials.push(glass(0.0, 0.0, teal(0.5)));
+    materials.push(glass(
+        0.0,
+        2.0,
+        json!({"attenuationColor": [0.2, 0.7, 0.6]}),
+    ));
+    materials.push(glass(0.1, 2.0, teal(2.0)));
+    rows_of_spheres(
+        materials,
+        3,
+        &["KHR_materials_transmission", "KHR_materials_volume"],
+    )
 }
 
 #[cfg(test)]

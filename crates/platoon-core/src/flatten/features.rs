@@ -40,6 +40,8 @@ pub struct SceneFeatures {
     /// KHR_materials_sheen; and some texture of it.
     pub sheen: bool,
     pub sheen_textures: bool,
+    /// KHR_materials_volume absorbing somewhere (a volume that absorbs nothing changes nothing).
+    pub volume: bool,
     pub emissive_triangles: bool,
     pub punctual_lights: bool,
     pub environment_map: bool,
@@ -106,6 +108,7 @@ impl SceneFeatures {
                 m.has_sheen()
                     && (m.sheen_color_texture.is_some() || m.sheen_roughness_texture.is_some())
             }),
+            volume: used.iter().any(|m| m.absorbs()),
             emissive_triangles: used.iter().any(|m| m.is_emissive()),
             punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
             environment_map: matches!(
@@ -139,6 +142,7 @@ impl SceneFeatures {
             diffuse_transmission_textures: true,
             sheen: true,
             sheen_textures: true,
+            volume: true,
             emissive_triangles: true,
             punctual_lights: true,
             environment_map: true,
@@ -147,7 +151,7 @@ impl SceneFeatures {
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 23] {
+    pub(crate) fn options(&self) -> [KernelOption; 24] {
         [
             ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
@@ -201,6 +205,7 @@ impl SceneFeatures {
             ),
             ("sheen", "HAS_SHEEN", self.sheen),
             ("sheen-textures", "HAS_SHEEN_TEXTURES", self.sheen_textures),
+            ("volume", "HAS_VOLUME", self.volume),
             (
                 "emissive-triangles",
                 "HAS_EMISSIVE_TRIANGLES",

@@ -80,6 +80,9 @@ pub struct GpuMaterial {
     pub textures3: [i32; 4],
     /// KHR_materials_sheen: colour rgb, w = roughness
     pub sheen: [f32; 4],
+    /// KHR_materials_volume: absorption per unit length rgb, w = 1 with a volume (thickness
+    /// above 0), else 0 (a thin wall)
+    pub volume: [f32; 4],
     /// Per texture slot, the UV transform's two rows (xyz: the 2 x 3 matrix applied to
     /// (u, v, 1)); the first row's w is the UV set (0 or 1).
     pub uv_rows: [[f32; 4]; 2 * TEXTURE_SLOTS],
@@ -144,7 +147,7 @@ const _: () = {
     assert!(std::mem::size_of::<GpuVertex>() == 48);
     assert!(std::mem::size_of::<GpuTriangle>() == 16);
     assert!(std::mem::size_of::<GpuInstance>() == 112);
-    assert!(std::mem::size_of::<GpuMaterial>() == 640);
+    assert!(std::mem::size_of::<GpuMaterial>() == 656);
     assert!(std::mem::size_of::<GpuVertexExtra>() == 16);
     assert!(std::mem::size_of::<GpuTexture>() == 16);
     assert!(std::mem::size_of::<GpuLight>() == 80);

@@ -122,6 +122,10 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             .clamp(glam::Vec3::ZERO, glam::Vec3::ONE)
             .extend(m.sheen_roughness.clamp(0.0, 1.0))
             .to_array(),
+        volume: m
+            .absorption()
+            .extend(if m.has_volume() { 1.0 } else { 0.0 })
+            .to_array(),
         uv_rows,
     }
 }

@@ -136,6 +136,13 @@ pub struct Material {
     pub sheen_color_texture: Option<TextureRef>,
     pub sheen_roughness: f32,
     pub sheen_roughness_texture: Option<TextureRef>,
+    /// KHR_materials_volume: a thickness above 0 makes the mesh's inside a medium that absorbs
+    /// (Beer-Lambert) what travels through it, leaving `attenuation_color` after
+    /// `attenuation_distance`; 0 is a thin wall. (The thickness texture is for rasterisers: a
+    /// path tracer measures the distances through the mesh.)
+    pub thickness: f32,
+    pub attenuation_distance: f32,
+    pub attenuation_color: Vec3,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
     /// KHR_materials_unlit: the base colour is emitted radiance and nothing is reflected.
@@ -177,6 +184,9 @@ impl Default for Material {
             sheen_color_texture: None,
             sheen_roughness: 0.0,
             sheen_roughness_texture: None,
+            thickness: 0.0,
+            attenuation_distance: f32::INFINITY,
+            attenuation_color: Vec3::ONE,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             unlit: false,
@@ -209,6 +219,31 @@ impl Material {
             self.sheen_color_texture,
             self.sheen_roughness_texture,
         ]
+    }
+
+    /// Whether its inside is a medium (thickness above 0): what enters it leaves the outside.
+    pub fn has_volume(&self) -> bool {
+        self.thickness > 0.0
+    }
+
+    /// The volume's absorption coefficient per unit length, -ln(colour) / distance: zero
+    /// without a volume or at an infinite distance (the spec's default), which absorbs nothing.
+    pub fn absorption(&self) -> Vec3 {
+        let d = self.attenuation_distance;
+        if !(self.has_volume() && d.is_finite() && d > 0.0) {
+            return Vec3::ZERO;
+        }
+        // A colour of 0 would absorb all at once; 1e-6 is gone within the distance's 1/14th.
+        -self
+            .attenuation_color
+            .clamp(Vec3::splat(1e-6), Vec3::ONE)
+            .map(f32::ln)
+            / d
+    }
+
+    /// Whether some light is absorbed in its volume.
+    pub fn absorbs(&self) -> bool {
+        self.absorption().max_element() > 0.0
     }
 
     /// Whether it has a sheen (the spec: a zero colour disables the layer; a texture only

@@ -19,11 +19,13 @@ pub enum Effect {
     DiffuseTransmission,
     /// KHR_materials_sheen.
     Sheen,
+    /// KHR_materials_volume's absorption.
+    Volume,
 }
 
 impl Effect {
     /// The technique's name: `no-textures`, `no-normal-maps`, `opaque`, `env-mean`,
-    /// `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`.
+    /// `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`, `no-volume`.
     pub fn name(self) -> &'static str {
         match self {
             Effect::Textures => "no-textures",
@@ -33,6 +35,7 @@ impl Effect {
             Effect::Clearcoat => "no-clearcoat",
             Effect::DiffuseTransmission => "no-diffuse-transmission",
             Effect::Sheen => "no-sheen",
+            Effect::Volume => "no-volume",
         }
     }
 
@@ -45,6 +48,7 @@ impl Effect {
             Effect::Clearcoat,
             Effect::DiffuseTransmission,
             Effect::Sheen,
+            Effect::Volume,
         ]
         .into_iter()
         .find(|e| e.name() == name)
@@ -99,6 +103,15 @@ impl Effect {
                     m.sheen_color = Vec3::ZERO;
                     m.sheen_color_texture = None;
                     m.sheen_roughness_texture = None;
+                }
+                any
+            }
+            Effect::Volume => {
+                // Thin walls: the glass stays, its inside absorbs nothing.
+                let mut any = false;
+                for m in &mut scene.materials {
+                    any |= m.absorbs();
+                    m.thickness = 0.0;
                 }
                 any
             }

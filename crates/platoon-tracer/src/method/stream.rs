@@ -31,7 +31,7 @@ pub(crate) const KERNELS: [&str; 6] = [REGENERATE, COMPACT, QUEUE, EXTEND, SHADE
 /// here for their sizes.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct StreamSlot([[u32; 4]; 5]);
+struct StreamSlot([[u32; 4]; 6]);
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct StreamHit([[u32; 4]; 2]);
@@ -56,7 +56,7 @@ struct StreamControl {
     listed: u32,
     _pad: [u32; 3],
 }
-const _: () = assert!(std::mem::size_of::<StreamSlot>() == 80);
+const _: () = assert!(std::mem::size_of::<StreamSlot>() == 96);
 const _: () = assert!(std::mem::size_of::<StreamHit>() == 32);
 const _: () = assert!(std::mem::size_of::<StreamShadow>() == 48);
 const _: () = assert!(std::mem::size_of::<StreamControl>() == 96);

@@ -201,6 +201,21 @@ fn sheen(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
     Ok(())
 }
 
+/// KHR_materials_volume (read from its JSON, as the other extensions) onto `mat`.
+fn volume(m: &gltf::Material, mat: &mut Material) -> Check<()> {
+    let Some(ext) = m.extension_value("KHR_materials_volume") else {
+        return Ok(());
+    };
+    let what = "KHR_materials_volume";
+    mat.thickness = json_number(ext, "thicknessFactor", 0.0, what)?;
+    mat.attenuation_distance = json_number(ext, "attenuationDistance", f32::INFINITY, what)?;
+    mat.attenuation_color = json_rgb(ext, "attenuationColor", Vec3::ONE, what)?;
+    if mat.attenuation_distance <= 0.0 {
+        return Err(format!("{what}: attenuationDistance is not above 0"));
+    }
+    Ok(())
+}
+
 /// KHR_materials_clearcoat (the `gltf` crate does not model it) onto `mat`.
 fn clearcoat(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
     let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
@@ -363,6 +378,7 @@ pub fn material(
     clearcoat(m, &mut mat, textures.len())?;
     diffuse_transmission(m, &mut mat, textures.len())?;
     sheen(m, &mut mat, textures.len())?;
+    volume(m, &mut mat)?;
     spec_gloss(m, &mut mat, textures, glossiness)?;
     let factors = [
         mat.base_color.to_array().as_slice(),
@@ -380,6 +396,7 @@ pub fn material(
             mat.clearcoat_normal_scale,
             mat.diffuse_transmission,
             mat.sheen_roughness,
+            mat.thickness,
         ],
         &mat.diffuse_transmission_color.to_array(),
         &mat.sheen_color.to_array(),

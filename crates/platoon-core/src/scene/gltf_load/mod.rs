@@ -33,6 +33,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_diffuse_transmission",
     "KHR_materials_sheen",
+    "KHR_materials_volume",
     "KHR_mesh_quantization",
     "EXT_texture_webp",
     "KHR_texture_transform",
