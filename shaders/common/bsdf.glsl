@@ -8,7 +8,7 @@
 //                the specular layer's (1 - s max(F)) at wi mirrored to wo's side
 //   sheened    = sheen_color * Charlie(wo, wi) + bsdf * min(1 - max3(sheen_color) E(wo),
 //                1 - max3(sheen_color) E(wi))      KHR_materials_sheen: the Charlie lobe (Estevez
-//                & Kulla 2017) over the base, scaled by E, its albedo (sheen_albedo.glsl's table)
+//                & Kulla 2017) over the base, scaled by E, its albedo (a table in the texel array)
 //   coated     = mix(sheened, coat, clearcoat * Schlick(0.04, |wo.nc|))   KHR_materials_clearcoat:
 //                coat = D G / (4 |wo.nc| |wi.nc|), GGX about the coat's own normal nc
 // GGX with height-correlated Smith G2; visible normals sampled by spherical caps (Dupuy & Benyoub 2023).
@@ -459,14 +459,10 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
     below_coat -= b.p_coat;
 #endif
     if (b.p_sheen > 0.0 && ul >= below_coat - b.p_sheen) {
-        // Uniform over the hemisphere: cos θ uniform in (0, 1].
+        // Uniform over the hemisphere: cos θ uniform in (0, 1]; weighed below like the others.
         float c = 1.0 - u.y, sn = sqrt(max(0.0, 1.0 - c * c)), phi = 2.0 * PI * u.x;
         bs.wi = vec3(sn * cos(phi), sn * sin(phi), c * side);
-        vec3 f = bsdf_eval(b, wo, bs.wi, bs.pdf);
-        if (!(bs.pdf > 0.0)) return false;
-        bs.weight = f / bs.pdf;
-        return true;
-    }
+    } else
 #endif
     if (ul < b.p.x) {
         // The first p.x * q_transmit of the diffuse interval goes through to the other side.

@@ -861,18 +861,24 @@ fn diffuse_transmission_passes_light_as_the_spec_integrates() {
         dt_color: 0.7,
         ..DIELECTRIC
     };
-    check("diffuse transmission", leaf);
-    check_from("diffuse transmission from below", leaf, &[-0.5]);
+    check_layer("diffuse transmission", leaf, [0.8, 0.3]);
+}
+
+/// A lobe over or in the base, held to the formula's albedo from three views above, one below
+/// and under a glossy coat, and sampled as its pdf says from `sampled_views` and from below.
+fn check_layer(name: &str, lobe: Lobe, sampled_views: [f64; 2]) {
+    check(name, lobe);
+    check_from(&format!("{name} from below"), lobe, &[-0.5]);
     let coated = Lobe {
         clearcoat: 1.0,
         coat_roughness: 0.3,
-        ..leaf
+        ..lobe
     };
-    check_from("coated diffuse transmission", coated, &[0.6]);
-    for cos_view in [0.8, 0.3] {
-        sampling_fits_pdf("diffuse transmission", leaf, cos_view);
+    check_from(&format!("coated {name}"), coated, &[0.6]);
+    for cos_view in sampled_views {
+        sampling_fits_pdf(name, lobe, cos_view);
     }
-    sampling_fits_pdf("diffuse transmission from below", leaf, -0.6);
+    sampling_fits_pdf(&format!("{name} from below"), lobe, -0.6);
 }
 
 /// Velvet: a sheen over a rough dielectric and over a metal, seen from above and below, under a
@@ -887,20 +893,13 @@ fn sheen_reflects_as_the_spec_integrates() {
         roughness: 0.8,
         ..DIELECTRIC
     };
-    check("sheen r 0.3 over dielectric", velvet);
-    check_from("sheen from below", velvet, &[-0.5]);
+    check_layer("sheen r 0.3 over dielectric", velvet, [0.9, 0.3]);
     let sheened_metal = Lobe {
         sheen: 0.6,
         sheen_roughness: 0.7,
         ..METAL
     };
     check("sheen 0.6 r 0.7 over metal", sheened_metal);
-    let coated = Lobe {
-        clearcoat: 1.0,
-        coat_roughness: 0.3,
-        ..velvet
-    };
-    check_from("coated sheen", coated, &[0.6]);
     let white = Lobe {
         base: 1.0,
         roughness: 1.0,
@@ -913,9 +912,5 @@ fn sheen_reflects_as_the_spec_integrates() {
         assert!(a < 1.0, "the white furnace reflects {a} at cos {c}");
     }
     check_from("white sheen over white", white, &[0.2]);
-    for cos_view in [0.9, 0.3] {
-        sampling_fits_pdf("sheen r 0.3", velvet, cos_view);
-    }
     sampling_fits_pdf("sheen over metal", sheened_metal, 0.6);
-    sampling_fits_pdf("sheen from below", velvet, -0.6);
 }

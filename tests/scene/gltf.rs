@@ -9,6 +9,7 @@ use platoon::core::drive::Edit;
 use platoon::core::frame::FrameParams;
 use platoon::core::output::Film;
 use platoon::tracer::Sampling;
+use platoon_scenegen::twins::edited_glb;
 
 /// A .glb's bytes loaded through the glTF loader, as a user's file is.
 fn load_glb(bytes: &[u8]) -> platoon::core::Scene {
@@ -392,9 +393,9 @@ fn refuses_a_texture_past_the_files(
     extension: &str,
     key: &str,
 ) {
-    let (mut json, bin) = platoon_scenegen::twins::split_glb(&platoon_scenegen::to_glb(data));
-    json["materials"][m]["extensions"][extension][key]["index"] = 9.into();
-    let e = load_error(&platoon_scenegen::glb(&json, &bin));
+    let e = load_error(&edited_glb(&platoon_scenegen::to_glb(data), |json| {
+        json["materials"][m]["extensions"][extension][key]["index"] = 9.into();
+    }));
     assert!(
         e.contains(&format!("{extension} {key}")) && e.contains("texture 9"),
         "{e}"
@@ -445,10 +446,11 @@ fn a_material_variant_renders_the_material_it_maps() {
         e.contains("variants.glb") && e.contains("\"green\"") && e.contains("red, blue, plain"),
         "{e}"
     );
-    let (mut json, bin) = platoon_scenegen::twins::split_glb(&bytes);
-    json["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]["mappings"][1]
-        ["variants"][0] = 7.into();
-    std::fs::write(&path, platoon_scenegen::glb(&json, &bin)).unwrap();
+    let bad = edited_glb(&bytes, |json| {
+        json["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]["mappings"][1]
+            ["variants"][0] = 7.into();
+    });
+    std::fs::write(&path, bad).unwrap();
     let e = load(None).unwrap_err().to_string();
     assert!(e.contains("names variant 7") && e.contains("has 3"), "{e}");
 }
@@ -524,10 +526,10 @@ fn sheen_spheres_load_as_written_and_render_under_a_map() {
     assert!(!scene.materials[8].has_sheen());
     renders_finite_under_a_map(scene, |f| f.sheen && f.sheen_textures);
     refuses_a_texture_past_the_files(&data, 6, "KHR_materials_sheen", "sheenColorTexture");
-    let (mut json, bin) = platoon_scenegen::twins::split_glb(&platoon_scenegen::to_glb(&data));
-    json["materials"][0]["extensions"]["KHR_materials_sheen"]["sheenColorFactor"][1] =
-        "white".into();
-    let e = load_error(&platoon_scenegen::glb(&json, &bin));
+    let e = load_error(&edited_glb(&platoon_scenegen::to_glb(&data), |json| {
+        json["materials"][0]["extensions"]["KHR_materials_sheen"]["sheenColorFactor"][1] =
+            "white".into();
+    }));
     assert!(e.contains("sheenColorFactor is not three numbers"), "{e}");
 }
 
@@ -552,8 +554,9 @@ fn volume_spheres_load_as_written_and_render_under_a_map() {
     assert!(!scene.materials[6].has_volume() && !scene.materials[6].absorbs());
     assert!(scene.materials[7].has_volume() && !scene.materials[7].absorbs());
     renders_finite_under_a_map(scene, |f| f.volume && f.transmission);
-    let (mut json, bin) = platoon_scenegen::twins::split_glb(&platoon_scenegen::to_glb(&data));
-    json["materials"][0]["extensions"]["KHR_materials_volume"]["attenuationDistance"] = 0.into();
-    let e = load_error(&platoon_scenegen::glb(&json, &bin));
+    let e = load_error(&edited_glb(&platoon_scenegen::to_glb(&data), |json| {
+        json["materials"][0]["extensions"]["KHR_materials_volume"]["attenuationDistance"] =
+            0.into();
+    }));
     assert!(e.contains("attenuationDistance is not above 0"), "{e}");
 }

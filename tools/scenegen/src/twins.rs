@@ -369,6 +369,14 @@ pub fn split_glb(bytes: &[u8]) -> (Value, Vec<u8>) {
     (json, bytes[bin_start..bin_start + bin_len].to_vec())
 }
 
+/// A .glb of `bytes` (one [`glb`] wrote) with its JSON changed by `edit`: a file made bad in
+/// one place, for the loader's errors.
+pub fn edited_glb(bytes: &[u8], edit: impl FnOnce(&mut Value)) -> Vec<u8> {
+    let (mut json, bin) = split_glb(bytes);
+    edit(&mut json);
+    glb(&json, &bin)
+}
+
 /// A closed 2-unit room, [-1, 1]^3 with inward faces and an emissive ceiling, whose vertices an
 /// exporter baked at `offset` (added to every coordinate in f64, then stored as f32: exact for
 /// these corners up to 1.6e7), seen from inside (the camera at offset + (0, 0, 0.9)).

@@ -1,11 +1,12 @@
 //! What each effect a scene calls for is worth: the scene rendered without it, replaced by its
 //! cheapest stand-in (textures by their mean colour, normal maps off, transmission opaque, the
-//! environment map by its mean radiance, clear coats off). The row's time says what the effect costs (its code
-//! leaves the kernel too), its error what removing it would do to the image.
+//! environment map by its mean radiance, each material extension off). The row's time says what
+//! the effect costs (its code leaves the kernel too), its error what removing it would do to the
+//! image.
 
 use glam::{Vec3, Vec4};
 use platoon_core::scene::environment::Environment;
-use platoon_core::scene::{Scene, Texture};
+use platoon_core::scene::{Material, Scene, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Effect {
@@ -66,55 +67,34 @@ impl Effect {
                 }
                 any
             }
-            Effect::Transmission => {
-                let mut any = false;
-                for m in &mut scene.materials {
-                    any |= m.transmission > 0.0;
+            Effect::Transmission => turn_off(
+                scene,
+                |m| m.transmission > 0.0,
+                |m| {
                     m.transmission = 0.0;
                     m.transmission_texture = None;
-                }
-                any
-            }
-            Effect::Clearcoat => {
-                let mut any = false;
-                for m in &mut scene.materials {
-                    any |= m.has_clearcoat();
-                    m.clearcoat = 0.0;
-                    m.clearcoat_texture = None;
-                    m.clearcoat_roughness_texture = None;
-                    m.clearcoat_normal_texture = None;
-                }
-                any
-            }
+                },
+            ),
+            Effect::Clearcoat => turn_off(scene, Material::has_clearcoat, |m| {
+                m.clearcoat = 0.0;
+                m.clearcoat_texture = None;
+                m.clearcoat_roughness_texture = None;
+                m.clearcoat_normal_texture = None;
+            }),
             Effect::DiffuseTransmission => {
-                let mut any = false;
-                for m in &mut scene.materials {
-                    any |= m.has_diffuse_transmission();
+                turn_off(scene, Material::has_diffuse_transmission, |m| {
                     m.diffuse_transmission = 0.0;
                     m.diffuse_transmission_texture = None;
                     m.diffuse_transmission_color_texture = None;
-                }
-                any
+                })
             }
-            Effect::Sheen => {
-                let mut any = false;
-                for m in &mut scene.materials {
-                    any |= m.has_sheen();
-                    m.sheen_color = Vec3::ZERO;
-                    m.sheen_color_texture = None;
-                    m.sheen_roughness_texture = None;
-                }
-                any
-            }
-            Effect::Volume => {
-                // Thin walls: the glass stays, its inside absorbs nothing.
-                let mut any = false;
-                for m in &mut scene.materials {
-                    any |= m.absorbs();
-                    m.thickness = 0.0;
-                }
-                any
-            }
+            Effect::Sheen => turn_off(scene, Material::has_sheen, |m| {
+                m.sheen_color = Vec3::ZERO;
+                m.sheen_color_texture = None;
+                m.sheen_roughness_texture = None;
+            }),
+            // Thin walls: the glass stays, its inside absorbs nothing.
+            Effect::Volume => turn_off(scene, Material::absorbs, |m| m.thickness = 0.0),
             Effect::EnvironmentMap => match &scene.environment {
                 Some(Environment::Map(map)) => {
                     scene.environment = Some(Environment::Constant(map.mean_radiance()));
@@ -148,6 +128,21 @@ fn mean(t: &Texture, srgb: bool) -> Vec4 {
         acc + rgb.extend(p[3] as f32 / 255.0)
     });
     sum / n
+}
+
+/// Turns a material extension off in every material (`off`); whether some material had it
+/// (`has`, asked before).
+fn turn_off(
+    scene: &mut Scene,
+    has: impl Fn(&Material) -> bool,
+    off: impl Fn(&mut Material),
+) -> bool {
+    let mut any = false;
+    for m in &mut scene.materials {
+        any |= has(m);
+        off(m);
+    }
+    any
 }
 
 /// Every texture replaced by its mean folded into the factor it multiplies.
