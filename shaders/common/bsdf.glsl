@@ -11,6 +11,9 @@
 //                & Kulla 2017) over the base, scaled by E, its albedo (a table in the texel array)
 //   coated     = mix(sheened, coat, clearcoat * Schlick(0.04, |wo.nc|))   KHR_materials_clearcoat:
 //                coat = D G / (4 |wo.nc| |wi.nc|), GGX about the coat's own normal nc
+//   F          = mix(F, thin_film(F's f0), iridescence) in the dielectric, metal and glass lobes:
+//                KHR_materials_iridescence (thin_film.glsl), the film under the coat; glass
+//                samples reflection by the mean of its three channels
 // GGX with height-correlated Smith G2; visible normals sampled by spherical caps (Dupuy & Benyoub 2023).
 // Roughness below MIN_ROUGHNESS makes the specular lobes perfect (delta) mirrors and refractors.
 // All vectors are in the local shading frame, n = +z on the front (outside) side.
@@ -57,6 +60,12 @@ struct Bsdf {
     float coat_alpha;
     bool coat_delta;
     vec3 coat_t, coat_b, coat_n;   // the coat's frame in the shading frame
+#endif
+#ifdef HAS_IRIDESCENCE
+    float film;         // KHR_materials_iridescence's strength (0: none), the film's index,
+    float film_ior;     // its thickness (nm) and the index above it (the coat's 1.5 or air's 1)
+    float film_thickness;
+    float film_outside;
 #endif
 #ifdef HAS_SHEEN
     vec3 sheen_color;   // KHR_materials_sheen's colour, times what the coat leaves (1 - coat)
@@ -125,6 +134,46 @@ bool refract_dir(vec3 wo, vec3 n, float eta, out float etap, out vec3 wi) {
     wi = -wo / eta + (c / eta - cos_t) * n;
     etap = eta;
     return true;
+}
+
+#ifdef HAS_IRIDESCENCE
+#include "common/thin_film.glsl"
+#endif
+
+// The Fresnel reflectance at cos c (of wo to the microfacet) of the dielectric's specular layer
+// and of the metal: Schlick's, mixed with the thin film's where one lies over them.
+vec3 layer_fresnel(Bsdf b, float c) {
+    vec3 f = schlick(b.f0, c);
+#ifdef HAS_IRIDESCENCE
+    if (b.film > 0.0) f = mix(f, thin_film_fresnel(b.film_outside, b.film_ior, b.film_thickness, c, b.f0), b.film);
+#endif
+    return f;
+}
+vec3 metal_fresnel(Bsdf b, float c) {
+    vec3 f = schlick(b.base_color, c);
+#ifdef HAS_IRIDESCENCE
+    if (b.film > 0.0) f = mix(f, thin_film_fresnel(b.film_outside, b.film_ior, b.film_thickness, c, b.base_color), b.film);
+#endif
+    return f;
+}
+
+// Glass's reflectance at cos oh (below 0: from inside) and the chance with which reflection is
+// sampled: the exact Fresnel, mixed with a film's as seen from outside (a lossless film reflects
+// alike from both sides, at the angles Snell's law pairs), sampled by the mean of its channels.
+vec3 glass_fresnel(Bsdf b, float oh, out float chance) {
+    float F = fresnel_dielectric(oh, b.ior);
+    chance = F;
+#ifdef HAS_IRIDESCENCE
+    if (b.film > 0.0 && F < 1.0) {
+        float c = oh >= 0.0 ? oh : sqrt(max(0.0, 1.0 - b.ior * b.ior * (1.0 - oh * oh)));
+        float g = (b.ior - 1.0) / (b.ior + 1.0);
+        vec3 film = thin_film_fresnel(b.film_outside, b.film_ior, b.film_thickness, c, vec3(g * g));
+        vec3 f = mix(vec3(F), film, b.film);
+        chance = (f.x + f.y + f.z) / 3.0;
+        return f;
+    }
+#endif
+    return vec3(F);
 }
 
 #ifdef HAS_SHEEN
@@ -218,6 +267,16 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
         // What the coat reflects the base does not: every base lobe weighs 1 - coat.
         b.w *= 1.0 - b.coat;
     }
+#endif
+#ifdef HAS_IRIDESCENCE
+    b.film = s.iridescence;
+    b.film_ior = s.iridescence_ior;
+    b.film_thickness = s.iridescence_thickness;
+    b.film_outside = 1.0;
+#ifdef HAS_CLEARCOAT
+    // The spec: under a coat the film's outside is the coat's index.
+    if (s.clearcoat > 0.0) b.film_outside = 1.5;
+#endif
 #endif
 #ifdef HAS_SHEEN
     b.sheen_color = vec3(0.0);
@@ -319,7 +378,7 @@ vec3 bsdf_diffuse(Bsdf b, vec3 wo, vec3 wi) {
     vec3 o = wo.z < 0.0 ? -wo : wo;
     vec3 i = wo.z < 0.0 ? -wi : wi;
     vec3 h = normalize(o + i);
-    return diffuse_reflectance(b, schlick(b.f0, dot(o, h))) * INV_PI * i.z * sheen_scale(b, wi);
+    return diffuse_reflectance(b, layer_fresnel(b, dot(o, h))) * INV_PI * i.z * sheen_scale(b, wi);
 }
 
 // Non-delta part of the BSDF times |cos(wi)|, and the matching sampling pdf (solid angle).
@@ -334,12 +393,12 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
 #ifdef HAS_SPECULAR_LOBES
         vec3 h = normalize(o + i);
         float oh = dot(o, h);
-        vec3 fr = schlick(b.f0, oh);
+        vec3 fr = layer_fresnel(b, oh);
         f += diffuse_reflectance(b, fr) * INV_PI * i.z;
         pdf += b.p.x * diffuse_reflect_chance(b) * i.z * INV_PI;
         if (!b.delta) {
             float spec = ggx_d(b.alpha, h.z) * ggx_g2(b.alpha, o, i) / (4.0 * o.z);
-            f += (b.w.x * b.specular * fr + b.w.z * schlick(b.base_color, oh)) * spec;
+            f += (b.w.x * b.specular * fr + b.w.z * metal_fresnel(b, oh)) * spec;
             pdf += (b.p.y + b.p.z) * ggx_vndf_pdf(b.alpha, o, h) / (4.0 * oh);
         }
 #else
@@ -356,7 +415,7 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
 #ifdef HAS_SPECULAR_LOBES
         // The specular layer's Fresnel at wi mirrored to wo's side (thin: no refraction).
         vec3 h = normalize(o + vec3(i.x, i.y, -i.z));
-        layer = 1.0 - b.specular * max3(schlick(b.f0, dot(o, h)));
+        layer = 1.0 - b.specular * max3(layer_fresnel(b, dot(o, h)));
 #endif
         f += b.w.x * layer * b.dt * b.dt_color * INV_PI * abs(i.z);
         pdf += b.p.x * b.q_transmit * abs(i.z) * INV_PI;
@@ -372,19 +431,20 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
             if (h.z < 0.0) h = -h;
             float oh = dot(wo, h), ih = dot(wi, h);
             if (oh * wo.z > 0.0 && ih * wi.z > 0.0) {
-                float F = fresnel_dielectric(oh, b.ior);
+                float chance;
+                vec3 F = glass_fresnel(b, oh, chance);
                 float D = ggx_d(b.alpha, h.z);
                 float G = ggx_g2(b.alpha, wo, wi);
                 if (reflect) {
-                    f += vec3(b.w.y * D * G * F / (4.0 * abs(wo.z)));
-                    pdf += b.p.w * ggx_vndf_pdf(b.alpha, wo, h) / (4.0 * abs(oh)) * F;
+                    f += b.w.y * D * G * F / (4.0 * abs(wo.z));
+                    pdf += b.p.w * ggx_vndf_pdf(b.alpha, wo, h) / (4.0 * abs(oh)) * chance;
                 } else {
                     float denom = ih + oh / etap;
                     denom *= denom;
                     // Radiance is compressed by 1/etap^2 on entering a denser medium.
-                    float ft = D * (1.0 - F) * G * abs(ih * oh / (denom * wo.z)) / (etap * etap);
+                    vec3 ft = D * (1.0 - F) * G * abs(ih * oh / (denom * wo.z)) / (etap * etap);
                     f += b.w.y * b.base_color * ft;
-                    pdf += b.p.w * ggx_vndf_pdf(b.alpha, wo, h) * abs(ih) / denom * (1.0 - F);
+                    pdf += b.p.w * ggx_vndf_pdf(b.alpha, wo, h) * abs(ih) / denom * (1.0 - chance);
                 }
             }
         }
@@ -476,8 +536,8 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
     else if (ul < b.p.x + b.p.y + b.p.z) {
         if (b.delta) {
             bool metal = ul >= b.p.x + b.p.y;
-            vec3 fr = metal ? b.w.z * schlick(b.base_color, o.z) / b.p.z
-                            : b.w.x * b.specular * schlick(b.f0, o.z) / b.p.y;
+            vec3 fr = metal ? b.w.z * metal_fresnel(b, o.z) / b.p.z
+                            : b.w.x * b.specular * layer_fresnel(b, o.z) / b.p.y;
             bs.wi = vec3(-wo.x, -wo.y, wo.z);
             bs.weight = fr * sheen_scale(b, bs.wi);
             bs.delta = true;
@@ -496,16 +556,25 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
         if (b.p.w <= 0.0) return false;
         vec3 h = b.delta ? vec3(0.0, 0.0, 1.0) : ggx_sample_vndf(b.alpha, wo, u);
         float oh = dot(wo, h);
-        float F = fresnel_dielectric(oh, b.ior);
-        if (rng_next(rng) < F) {
+        float chance;
+        vec3 F = glass_fresnel(b, oh, chance);
+        // A film's colour is what its reflectance weighs against the chance sampled.
+        vec3 tint = vec3(1.0);
+        if (rng_next(rng) < chance) {
             bs.wi = reflect(-wo, h);
             if (bs.wi.z * wo.z <= 0.0) return false;
-            if (b.delta) { bs.weight = vec3(b.w.y / b.p.w) * sheen_scale(b, bs.wi); bs.delta = true; return true; }
+#ifdef HAS_IRIDESCENCE
+            if (b.film > 0.0) tint = F / chance;
+#endif
+            if (b.delta) { bs.weight = vec3(b.w.y / b.p.w) * tint * sheen_scale(b, bs.wi); bs.delta = true; return true; }
         } else {
             float etap;
             if (!refract_dir(wo, h, b.ior, etap, bs.wi)) return false;
             if (bs.wi.z * wo.z >= 0.0 || bs.wi.z == 0.0) return false;
-            if (b.delta) { bs.weight = b.w.y * b.base_color * sheen_scale(b, bs.wi) / (b.p.w * etap * etap); bs.delta = true; return true; }
+#ifdef HAS_IRIDESCENCE
+            if (b.film > 0.0) tint = (1.0 - F) / (1.0 - chance);
+#endif
+            if (b.delta) { bs.weight = b.w.y * b.base_color * tint * sheen_scale(b, bs.wi) / (b.p.w * etap * etap); bs.delta = true; return true; }
         }
 #else
         return false;

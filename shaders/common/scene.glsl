@@ -20,10 +20,12 @@ struct Material {
     vec4 clearcoat;     // KHR_materials_clearcoat: factor, roughness, normal scale
     ivec4 textures2;    // clearcoat, clearcoat roughness, clearcoat normal, diffuse transmission textures
     vec4 diffuse_transmission;  // KHR_materials_diffuse_transmission: colour rgb, w = factor
-    ivec4 textures3;    // diffuse transmission colour, sheen colour, sheen roughness textures
+    ivec4 textures3;    // diffuse transmission colour, sheen colour, sheen roughness, iridescence textures
     vec4 sheen;         // KHR_materials_sheen: colour rgb, w = roughness
     vec4 volume;        // KHR_materials_volume: absorption per unit length rgb, w = 1 with a volume
-    vec4 uv_rows[28];
+    ivec4 textures4;    // iridescence thickness texture
+    vec4 iridescence;   // KHR_materials_iridescence: factor, ior, thickness minimum, maximum (nm)
+    vec4 uv_rows[32];
 };
 struct Texture { uint offset; uint width; uint height; uint wrap; };
 struct Light { vec4 a; vec4 b; vec4 c; vec4 emission; uvec4 ids; };
@@ -186,6 +188,8 @@ const int TEXTURE_SLOT_DIFFUSE_TRANSMISSION = 10;
 const int TEXTURE_SLOT_DIFFUSE_TRANSMISSION_COLOR = 11;
 const int TEXTURE_SLOT_SHEEN_COLOR = 12;
 const int TEXTURE_SLOT_SHEEN_ROUGHNESS = 13;
+const int TEXTURE_SLOT_IRIDESCENCE = 14;
+const int TEXTURE_SLOT_IRIDESCENCE_THICKNESS = 15;
 
 float max3(vec3 v) { return max(v.x, max(v.y, v.z)); }
 float min3(vec3 v) { return min(v.x, min(v.y, v.z)); }

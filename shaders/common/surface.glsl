@@ -35,6 +35,11 @@ struct Surface {
     bool volume;                // KHR_materials_volume: the inside is a medium
     vec3 absorption;            // its absorption per unit length
 #endif
+#ifdef HAS_IRIDESCENCE
+    float iridescence;          // KHR_materials_iridescence's strength, the film's index and
+    float iridescence_ior;      // its thickness in nanometres
+    float iridescence_thickness;
+#endif
 };
 
 vec3 instance_point(Instance inst, vec3 p) {
@@ -81,6 +86,11 @@ void apply_material(inout Surface s, Material m) {
     s.volume = m.volume.w > 0.0;
     s.absorption = m.volume.rgb;
 #endif
+#ifdef HAS_IRIDESCENCE
+    s.iridescence = m.iridescence.x;
+    s.iridescence_ior = m.iridescence.y;
+    s.iridescence_thickness = m.iridescence.w;
+#endif
 #ifdef HAS_UNLIT
     s.unlit = (m.textures1.w & MATERIAL_UNLIT) != 0;
 #endif
@@ -115,6 +125,11 @@ void apply_material(inout Surface s, Material m) {
 #ifdef HAS_SHEEN_TEXTURES
     if (m.textures3.y >= 0) s.sheen_color *= sample_texture(m.textures3.y, slot_uv(m, TEXTURE_SLOT_SHEEN_COLOR, a), true).rgb;
     if (m.textures3.z >= 0) s.sheen_roughness *= sample_texture(m.textures3.z, slot_uv(m, TEXTURE_SLOT_SHEEN_ROUGHNESS, a), false).a;
+#endif
+#ifdef HAS_IRIDESCENCE_TEXTURES
+    if (m.textures3.w >= 0) s.iridescence *= sample_texture(m.textures3.w, slot_uv(m, TEXTURE_SLOT_IRIDESCENCE, a), false).r;
+    // Without a texture the film is the maximum thick.
+    if (m.textures4.x >= 0) s.iridescence_thickness = mix(m.iridescence.z, m.iridescence.w, sample_texture(m.textures4.x, slot_uv(m, TEXTURE_SLOT_IRIDESCENCE_THICKNESS, a), false).g);
 #endif
 #ifdef HAS_CLEARCOAT_TEXTURES
     if (m.textures2.x >= 0) s.clearcoat *= sample_texture(m.textures2.x, slot_uv(m, TEXTURE_SLOT_CLEARCOAT, a), false).r;

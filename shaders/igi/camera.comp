@@ -50,7 +50,7 @@ void igi_record(Path p, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_wo) {
     // with the specular layer's Fresnel at the viewing direction (the filters gather irradiance
     // and apply it after).
     uint a = 3u * (igi_pixel.y * F.dims.x + igi_pixel.x);
-    vec3 reflectance = p.throughput * diffuse_reflectance(bsdf, schlick(bsdf.f0, abs(wo.z))) * (sheen_view_scale(bsdf) * INV_PI);
+    vec3 reflectance = p.throughput * diffuse_reflectance(bsdf, layer_fresnel(bsdf, abs(wo.z))) * (sheen_view_scale(bsdf) * INV_PI);
     IGI_TEXELS.v[a] += vec4(0.0, 0.0, 0.0, 1.0);
     IGI_TEXELS.v[a + 1u] += vec4(reflectance, distance(F.cam_origin.xyz, s.position));
     IGI_TEXELS.v[a + 2u] += vec4(n, 0.0);

@@ -183,7 +183,7 @@ void main() {
             // Radiance x area of the diffuse reflection: flux x albedo / pi (Fresnel of the
             // specular layer taken at the incoming direction); it leaves through the geometric
             // surface, on the side the light arrived on.
-            vec3 albedo = diffuse_reflectance(bsdf, schlick(bsdf.f0, abs(wo.z))) * sheen_view_scale(bsdf);
+            vec3 albedo = diffuse_reflectance(bsdf, layer_fresnel(bsdf, abs(wo.z))) * sheen_view_scale(bsdf);
             store(base + k, offset_ray(s.position, ng_wo, s.magnitude), ng_wo, power * albedo * (INV_PI * shading_in));
         }
         if (k + 1u == bounces) return;

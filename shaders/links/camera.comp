@@ -63,7 +63,7 @@ void hook_vertex(inout Path p, Hit hit, Surface s, Bsdf bsdf, vec3 wo, vec3 ng_w
     p.hook.gathered = true;
     // The elements hold the light arriving on their normal's side (the front by winding).
     if (wo.z <= 0.0) return;
-    vec3 reflectance = diffuse_reflectance(bsdf, schlick(bsdf.f0, abs(wo.z))) * (sheen_view_scale(bsdf) * INV_PI);
+    vec3 reflectance = diffuse_reflectance(bsdf, layer_fresnel(bsdf, abs(wo.z))) * (sheen_view_scale(bsdf) * INV_PI);
     add_light(p.L, p.throughput * reflectance * links_irradiance(hit), p.depth + 1u);
 }
 

@@ -85,7 +85,7 @@ void main() {
     Hit at = Hit(0.0, k.z == 1u ? 1.0 : 0.0, k.z == 2u ? 1.0 : 0.0, k.x, k.y);
     Surface s = surface_at(at);
     Bsdf bsdf = make_bsdf(s, vec3(0.0, 0.0, 1.0));
-    LINKS_OUTPUT.v[index] = vec4(diffuse_reflectance(bsdf, schlick(bsdf.f0, 1.0)) * sheen_view_scale(bsdf), 0.0);
+    LINKS_OUTPUT.v[index] = vec4(diffuse_reflectance(bsdf, layer_fresnel(bsdf, 1.0)) * sheen_view_scale(bsdf), 0.0);
     if (rejected > 0u) atomicAdd(pc.g.stats.v[0], rejected);
     atomicAdd(pc.g.stats.v[4u + pixel.y], rays);
 }

@@ -149,7 +149,8 @@ fn estimators_agree_under_an_importance_sampled_environment_map() {
 /// (green, to the sky below), a tall box of velvet (a white sheen) under a glossy clear coat and
 /// the rest of the room under a mirror coat (roughness 0, the extension's default) with a
 /// bluish sheen beneath, a short box of rough glass whose inside absorbs (KHR_materials_volume),
-/// lit by its area light.
+/// thin films (KHR_materials_iridescence) on the velvet under its coat and on the glass (whose
+/// reflection is then sampled by the film's mean reflectance), lit by its area light.
 fn coated_cornell() -> platoon::Prepared {
     let mut scene = platoon::core::scene::cornell::scene();
     let leaf = scene.materials.len() as u32;
@@ -171,6 +172,9 @@ fn coated_cornell() -> platoon::Prepared {
         clearcoat_roughness: 0.2,
         sheen_color: Vec3::ONE,
         sheen_roughness: 0.4,
+        iridescence: 1.0,
+        iridescence_ior: 1.5,
+        iridescence_thickness_max: 450.0,
         ..Material::default()
     });
     for m in &mut scene.materials[..leaf as usize] {
@@ -187,6 +191,9 @@ fn coated_cornell() -> platoon::Prepared {
         thickness: 1.0,
         attenuation_color: Vec3::new(0.3, 0.6, 0.9),
         attenuation_distance: 1.0,
+        iridescence: 0.8,
+        iridescence_ior: 1.8,
+        iridescence_thickness_max: 300.0,
         ..Material::default()
     });
     let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
@@ -206,6 +213,7 @@ fn coated_cornell() -> platoon::Prepared {
 fn estimators_agree_with_the_material_extensions() {
     let prepared = coated_cornell();
     let f = prepared.gpu.features;
-    assert!(f.clearcoat && f.diffuse_transmission && f.sheen && f.volume && f.emissive_triangles);
+    assert!(f.clearcoat && f.diffuse_transmission && f.sheen && f.volume && f.iridescence);
+    assert!(f.emissive_triangles);
     assert_estimators_agree(&prepared);
 }

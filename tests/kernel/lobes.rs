@@ -37,6 +37,12 @@ struct Lobe {
     /// KHR_materials_sheen's (grey) colour and roughness.
     sheen: f64,
     sheen_roughness: f64,
+    /// KHR_materials_iridescence's strength, the film's index and thickness (nm).
+    iridescence: f64,
+    film_ior: f64,
+    film_thickness: f64,
+    /// The colour channel compared (a film colours a grey lobe).
+    channel: usize,
 }
 
 /// Trowbridge-Reitz (GGX) with alpha = roughness^2.
@@ -61,6 +67,73 @@ fn v_smith(alpha: f64, n_l: f64, n_v: f64) -> f64 {
 
 fn schlick(f0: f64, v_h: f64) -> f64 {
     f0 + (1.0 - f0) * (1.0 - v_h.abs()).powi(5)
+}
+
+/// KHR_materials_iridescence's film (the spec's implementation notes: Belcour and Barla's
+/// Airy sum with Schlick interfaces, the first two orders of interference integrated over the
+/// spectrum through Gaussian fits of the CIE curves in Fourier space), in linear Rec. 709
+/// channel `k`: the reflectance at cos `c1` outside (index `n1`) of a film of index `n2`,
+/// `nm` thick, over a base of normal-incidence reflectance `f0`. The optical path difference
+/// uses the angle inside the film, as the paper (the spec's text writes the outside angle).
+fn thin_film(n1: f64, n2: f64, nm: f64, c1: f64, f0: f64, k: usize) -> f64 {
+    let n2 = if nm > 0.03 {
+        n2
+    } else {
+        n1 + (n2 - n1) * smoothstep(nm / 0.03)
+    };
+    let sin2 = (n1 / n2).powi(2) * (1.0 - c1 * c1);
+    if sin2 >= 1.0 {
+        return 1.0;
+    }
+    let c2 = (1.0 - sin2).sqrt();
+    let r12 = schlick(((n2 - n1) / (n2 + n1)).powi(2), c1);
+    let t121 = 1.0 - r12;
+    let n3 = {
+        let r = f0.clamp(0.0, 0.9999).sqrt();
+        (1.0 + r) / (1.0 - r)
+    };
+    let r23 = schlick(((n3 - n2) / (n3 + n2)).powi(2), c2);
+    let phi12 = if n2 < n1 { PI } else { 0.0 };
+    let phi23 = if n3 < n2 { PI } else { 0.0 };
+    let phi = (PI - phi12) + phi23;
+    let opd = 2.0 * n2 * nm * c2;
+    let r123 = (r12 * r23).clamp(1e-5, 0.9999);
+    let rs = t121 * t121 * r23 / (1.0 - r123);
+    let mut reflectance = r12 + rs;
+    let mut cm = rs - t121;
+    for m in 1..=2 {
+        cm *= r123.sqrt();
+        let xyz = sensitivity(m as f64 * opd, m as f64 * phi);
+        // CIE XYZ to linear Rec. 709, row k.
+        let rgb = [
+            [3.2404542, -1.5371385, -0.4985314],
+            [-0.9692660, 1.8760108, 0.0415560],
+            [0.0556434, -0.2040259, 1.0572252],
+        ][k];
+        let s = rgb[0] * xyz[0] + rgb[1] * xyz[1] + rgb[2] * xyz[2];
+        reflectance += cm * 2.0 * s;
+    }
+    reflectance.clamp(0.0, 1.0)
+}
+
+fn smoothstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
+/// The spec's evalSensitivity: X, Y, Z of interference at optical path `opd` nm, phase `shift`.
+fn sensitivity(opd: f64, shift: f64) -> [f64; 3] {
+    let phase = 2.0 * PI * opd * 1e-9;
+    let gauss = |amplitude: f64, centre: f64, variance: f64| {
+        amplitude
+            * (2.0 * PI * variance).sqrt()
+            * (centre * phase + shift).cos()
+            * (-phase * phase * variance).exp()
+    };
+    let x = gauss(5.4856e-13, 1.6810e6, 4.3278e9) + gauss(9.7470e-14, 2.2399e6, 4.5282e9);
+    let y = gauss(4.4201e-13, 1.7953e6, 9.3046e9);
+    let z = gauss(5.2481e-13, 2.2084e6, 6.6121e9);
+    [x / 1.0685e-7, y / 1.0685e-7, z / 1.0685e-7]
 }
 
 /// Unpolarised Fresnel reflectance of a dielectric of relative index eta, cos_i > 0.
@@ -140,6 +213,61 @@ impl SheenAlbedo {
 }
 
 impl Lobe {
+    /// The index above the film: the coat's 1.5 under a coat, else air's.
+    fn film_outside(&self) -> f64 {
+        if self.clearcoat > 0.0 {
+            1.5
+        } else {
+            1.0
+        }
+    }
+
+    /// Schlick's Fresnel of normal-incidence reflectance `f0` at cos `c`, mixed with the film's,
+    /// in `channel`.
+    fn filmed_in(&self, f0: f64, c: f64, channel: usize) -> f64 {
+        let f = schlick(f0, c);
+        if self.iridescence == 0.0 {
+            return f;
+        }
+        let film = thin_film(
+            self.film_outside(),
+            self.film_ior,
+            self.film_thickness,
+            c,
+            f0,
+            channel,
+        );
+        f + (film - f) * self.iridescence
+    }
+
+    fn filmed(&self, f0: f64, c: f64) -> f64 {
+        self.filmed_in(f0, c, self.channel)
+    }
+
+    /// The largest channel's: what the specular layer takes from the diffuse light beneath
+    /// (the spec's fresnel_mix weighs the base by 1 - max_value(F)).
+    fn filmed_max(&self, f0: f64, c: f64) -> f64 {
+        (0..3).map(|k| self.filmed_in(f0, c, k)).fold(0.0, f64::max)
+    }
+
+    /// Glass's exact Fresnel at cos `c` from outside, mixed with the film's.
+    fn glass_filmed(&self, c: f64) -> f64 {
+        let f = fresnel(c, self.ior);
+        if self.iridescence == 0.0 {
+            return f;
+        }
+        let f0 = ((self.ior - 1.0) / (self.ior + 1.0)).powi(2);
+        let film = thin_film(
+            self.film_outside(),
+            self.film_ior,
+            self.film_thickness,
+            c,
+            f0,
+            self.channel,
+        );
+        f + (film - f) * self.iridescence
+    }
+
     /// f(v, l) |n.l| with n = +z, v above the surface; `sheen_e` the sheen's albedo E.
     fn f_cos(&self, v: DVec3, l: DVec3, sheen_e: &SheenAlbedo) -> f64 {
         let alpha = self.roughness * self.roughness;
@@ -148,17 +276,17 @@ impl Lobe {
         if l.z > 0.0 {
             let h = (v + l).normalize();
             let spec = d_ggx(alpha, h.z) * v_smith(alpha, l.z, v.z);
-            let metal = schlick(self.base, v.dot(h)) * spec;
-            let fr = schlick(f0, v.dot(h));
+            let metal = self.filmed(self.base, v.dot(h)) * spec;
+            let fr = self.filmed(f0, v.dot(h));
             let diffuse = self.base * (1.0 - self.diffuse_transmission);
-            let dielectric = (1.0 - fr) * diffuse / PI + fr * spec;
-            let glass_reflect = fresnel(v.dot(h), self.ior) * spec;
+            let dielectric = (1.0 - self.filmed_max(f0, v.dot(h))) * diffuse / PI + fr * spec;
+            let glass_reflect = self.glass_filmed(v.dot(h)) * spec;
             let opaque = (1.0 - self.transmission) * dielectric + self.transmission * glass_reflect;
             f = self.metallic * metal + (1.0 - self.metallic) * opaque;
         } else if self.transmission > 0.0 || self.diffuse_transmission > 0.0 {
             // Diffuse transmission: thin, weighed by the layer's Fresnel at l mirrored up.
             let h = (v + DVec3::new(l.x, l.y, -l.z)).normalize();
-            let layer = 1.0 - schlick(f0, v.dot(h));
+            let layer = 1.0 - self.filmed_max(f0, v.dot(h));
             f = (1.0 - self.metallic)
                 * (1.0 - self.transmission)
                 * layer
@@ -175,7 +303,7 @@ impl Lobe {
             if vh > 0.0 && lh < 0.0 {
                 let denom = vh + eta * lh;
                 let g = 4.0 * v_smith(alpha, l.z, v.z) * l.z.abs() * v.z;
-                let t = (1.0 - fresnel(vh, eta)) * d_ggx(alpha, h.z) * g * (vh * lh).abs()
+                let t = (1.0 - self.glass_filmed(vh)) * d_ggx(alpha, h.z) * g * (vh * lh).abs()
                     / (l.z.abs() * v.z * denom * denom);
                 f += (1.0 - self.metallic) * self.transmission * self.base * t;
             }
@@ -252,6 +380,9 @@ impl Lobe {
             diffuse_transmission_color: Vec3::splat(self.dt_color as f32),
             sheen_color: Vec3::splat(self.sheen as f32),
             sheen_roughness: self.sheen_roughness as f32,
+            iridescence: self.iridescence as f32,
+            iridescence_ior: self.film_ior as f32,
+            iridescence_thickness_max: self.film_thickness as f32,
             ..Material::default()
         }
     }
@@ -286,7 +417,7 @@ fn rendered(lobe: &Lobe, cos_view: f64, sampling: Sampling, spp: u32) -> (f64, f
     let mut params = FrameParams::new(32, 32, spp, prepared.camera);
     params.max_depth = 8;
     let film = render(&prepared, &params, sampling);
-    mean_and_stderr(film.pixels.iter().map(|p| p[0] as f64))
+    mean_and_stderr(film.pixels.iter().map(|p| p[lobe.channel] as f64))
 }
 
 fn check(name: &str, lobe: Lobe) {
@@ -329,6 +460,7 @@ fn the_quadrature_gives_a_lambertian_plane_its_albedo() {
         dt_color: 1.0,
         sheen: 0.0,
         sheen_roughness: 0.5,
+        ..DIELECTRIC
     };
     let v = DVec3::new(0.6, 0.0, 0.8);
     let quadrature = {
@@ -375,6 +507,7 @@ fn rough_and_glossy_metals_reflect_as_the_spec_integrates() {
                 dt_color: 1.0,
                 sheen: 0.0,
                 sheen_roughness: 0.5,
+                ..DIELECTRIC
             },
         );
     }
@@ -397,6 +530,7 @@ fn the_dielectric_diffuse_and_specular_layer_reflect_as_the_spec_integrates() {
                 dt_color: 1.0,
                 sheen: 0.0,
                 sheen_roughness: 0.5,
+                ..DIELECTRIC
             },
         );
     }
@@ -419,6 +553,7 @@ fn rough_glass_reflects_and_refracts_as_the_spec_integrates() {
                 dt_color: 1.0,
                 sheen: 0.0,
                 sheen_roughness: 0.5,
+                ..DIELECTRIC
             },
         );
     }
@@ -553,6 +688,7 @@ fn every_lobe_samples_as_its_pdf_says() {
                 dt_color: 1.0,
                 sheen: 0.0,
                 sheen_roughness: 0.5,
+                ..DIELECTRIC
             },
         ),
         (
@@ -569,6 +705,7 @@ fn every_lobe_samples_as_its_pdf_says() {
                 dt_color: 1.0,
                 sheen: 0.0,
                 sheen_roughness: 0.5,
+                ..DIELECTRIC
             },
         ),
         (
@@ -585,6 +722,7 @@ fn every_lobe_samples_as_its_pdf_says() {
                 dt_color: 1.0,
                 sheen: 0.0,
                 sheen_roughness: 0.5,
+                ..DIELECTRIC
             },
         ),
         (
@@ -601,6 +739,7 @@ fn every_lobe_samples_as_its_pdf_says() {
                 dt_color: 1.0,
                 sheen: 0.0,
                 sheen_roughness: 0.5,
+                ..DIELECTRIC
             },
         ),
         (
@@ -617,6 +756,7 @@ fn every_lobe_samples_as_its_pdf_says() {
                 dt_color: 1.0,
                 sheen: 0.0,
                 sheen_roughness: 0.5,
+                ..DIELECTRIC
             },
         ),
         (
@@ -633,6 +773,7 @@ fn every_lobe_samples_as_its_pdf_says() {
                 dt_color: 1.0,
                 sheen: 0.0,
                 sheen_roughness: 0.5,
+                ..DIELECTRIC
             },
         ),
     ];
@@ -656,6 +797,10 @@ const DIELECTRIC: Lobe = Lobe {
     dt_color: 1.0,
     sheen: 0.0,
     sheen_roughness: 0.5,
+    iridescence: 0.0,
+    film_ior: 1.3,
+    film_thickness: 400.0,
+    channel: 0,
 };
 const METAL: Lobe = Lobe {
     base: 0.6,
@@ -913,4 +1058,285 @@ fn sheen_reflects_as_the_spec_integrates() {
     }
     check_from("white sheen over white", white, &[0.2]);
     sampling_fits_pdf("sheen over metal", sheened_metal, 0.6);
+}
+
+/// An oil film (KHR_materials_iridescence) over a dark glossy dielectric: each colour channel
+/// reflects as much as the spec's formula integrates to, from above, below and under a coat (the
+/// film's outside then the coat's index); sampled as the pdf says. The film must change what
+/// the formula gives, or the test would not tell it from its absence.
+#[test]
+fn a_film_over_a_dielectric_reflects_as_the_spec_integrates() {
+    let oil = Lobe {
+        base: 0.05,
+        roughness: 0.3,
+        iridescence: 1.0,
+        film_ior: 1.3,
+        film_thickness: 400.0,
+        ..DIELECTRIC
+    };
+    let v = DVec3::new(0.6, 0.0, 0.8);
+    let bare = Lobe {
+        iridescence: 0.0,
+        ..oil
+    };
+    let with: Vec<f64> = (0..3)
+        .map(|channel| Lobe { channel, ..oil }.albedo(v))
+        .collect();
+    assert!(
+        with.iter().any(|a| (a - bare.albedo(v)).abs() > 0.02),
+        "{with:?} vs {}",
+        bare.albedo(v)
+    );
+    for channel in 0..3 {
+        check(
+            &format!("film over dielectric, channel {channel}"),
+            Lobe { channel, ..oil },
+        );
+    }
+    check_from("film from below", Lobe { channel: 2, ..oil }, &[-0.5]);
+    // Over a bright base what a film of high index reflects (its largest channel) the diffuse
+    // light loses.
+    check_from(
+        "film over a bright dielectric",
+        Lobe {
+            base: 0.8,
+            roughness: 0.6,
+            film_ior: 2.0,
+            channel: 1,
+            ..oil
+        },
+        &[0.7, 0.3],
+    );
+    check_from(
+        "coated film",
+        Lobe {
+            clearcoat: 1.0,
+            coat_roughness: 0.3,
+            channel: 1,
+            ..oil
+        },
+        &[0.6],
+    );
+    sampling_fits_pdf("film over dielectric", oil, 0.5);
+}
+
+/// Films over a rough metal and on rough glass (where reflection is sampled by the mean of the
+/// film's channels and each channel weighed by its own reflectance): as the formula integrates,
+/// channel by channel, and sampled as the pdf says.
+#[test]
+fn films_over_metal_and_on_glass_reflect_as_the_spec_integrates() {
+    let metal = Lobe {
+        base: 0.9,
+        metallic: 1.0,
+        roughness: 0.4,
+        iridescence: 0.7,
+        film_ior: 1.8,
+        film_thickness: 300.0,
+        ..DIELECTRIC
+    };
+    let glass = Lobe {
+        base: 1.0,
+        transmission: 1.0,
+        roughness: 0.3,
+        iridescence: 1.0,
+        film_ior: 2.0,
+        film_thickness: 350.0,
+        ..DIELECTRIC
+    };
+    for channel in 0..3 {
+        check_from(
+            &format!("film over metal, channel {channel}"),
+            Lobe { channel, ..metal },
+            &[0.8, 0.3],
+        );
+        check_from(
+            &format!("film on glass, channel {channel}"),
+            Lobe { channel, ..glass },
+            &[0.8, 0.4],
+        );
+    }
+    sampling_fits_pdf("film on glass", glass, 0.7);
+    sampling_fits_pdf("film over metal", metal, 0.4);
+}
+
+/// A smooth metal under a film, under a sky of 1, shows exactly the film's Fresnel at the view
+/// in each channel (the perfect mirror's weight), and the film colours it.
+#[test]
+fn a_smooth_filmed_mirror_shows_the_films_fresnel_in_each_channel() {
+    let mirror = Lobe {
+        base: 0.9,
+        metallic: 1.0,
+        roughness: 0.0,
+        iridescence: 1.0,
+        film_ior: 1.8,
+        film_thickness: 500.0,
+        ..DIELECTRIC
+    };
+    for cos_view in [0.9, 0.45] {
+        let prepared = plane(&mirror, cos_view);
+        let expected: Vec<f64> = (0..3).map(|k| mirror.filmed_in(0.9, cos_view, k)).collect();
+        assert!(
+            expected.iter().fold(0.0f64, |a, &b| a.max(b))
+                - expected.iter().fold(1.0f64, |a, &b| a.min(b))
+                > 0.05,
+            "the film leaves the mirror grey: {expected:?}"
+        );
+        for sampling in [Sampling::Mis, Sampling::Bsdf] {
+            let film = render(
+                &prepared,
+                &FrameParams::new(8, 8, 4, prepared.camera),
+                sampling,
+            );
+            for p in &film.pixels {
+                for k in 0..3 {
+                    assert!(
+                        (p[k] as f64 - expected[k]).abs() < 2e-4 + 1e-4 * expected[k],
+                        "cos {cos_view}, {sampling:?}, channel {k}: {} where the film's Fresnel is {}",
+                        p[k],
+                        expected[k]
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The film's textures: the thickness mixes the minimum and maximum by the thickness texture's
+/// green channel, the strength is the factor times the strength texture's red channel (both
+/// linear, 8-bit): a smooth filmed mirror then shows that film's Fresnel exactly.
+#[test]
+fn a_films_textures_set_its_thickness_and_strength() {
+    use platoon::core::scene::{Texture, TextureRef, Wrap};
+    let (r, g) = (153u8, 64u8);
+    let (strength, mix) = (r as f64 / 255.0, g as f64 / 255.0);
+    let (thin, thick) = (150.0, 650.0);
+    let mirror = Lobe {
+        base: 0.9,
+        metallic: 1.0,
+        roughness: 0.0,
+        iridescence: strength,
+        film_ior: 1.6,
+        film_thickness: thin + (thick - thin) * mix,
+        ..DIELECTRIC
+    };
+    let cos_view = 0.7f64;
+    let mut mesh = mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0);
+    mesh.uvs = vec![glam::Vec2::ZERO; mesh.positions.len()];
+    let material = Material {
+        iridescence: 1.0,
+        iridescence_texture: Some(TextureRef::new(0)),
+        iridescence_thickness_min: thin as f32,
+        iridescence_thickness_max: thick as f32,
+        iridescence_thickness_texture: Some(TextureRef::new(0)),
+        ..mirror.material()
+    };
+    let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
+    let mut scene = scene_of(
+        vec![(mesh, Vec3::ZERO, 1000.0)],
+        vec![material],
+        Vec3::new(s, c, 0.0) * 10.0,
+        Vec3::ZERO,
+        0.5,
+    );
+    scene.textures.push(Texture {
+        name: "film".into(),
+        width: 1,
+        height: 1,
+        rgba8: vec![r, g, 0, 255],
+        wrap_s: Wrap::Repeat,
+        wrap_t: Wrap::Repeat,
+        nearest: true,
+    });
+    scene.cameras[0].orthographic = Some([0.05, 0.05]);
+    let prepared = prepare(scene, constant_env(1.0));
+    assert!(prepared.gpu.features.iridescence_textures);
+    let film = render(
+        &prepared,
+        &FrameParams::new(8, 8, 4, prepared.camera),
+        Sampling::Mis,
+    );
+    // Without the textures (the maximum thickness, full strength) the mirror looks otherwise.
+    let untextured = Lobe {
+        iridescence: 1.0,
+        film_thickness: thick,
+        ..mirror
+    };
+    let mut apart = 0.0f64;
+    for k in 0..3 {
+        let expected = mirror.filmed_in(0.9, cos_view, k);
+        apart = apart.max((expected - untextured.filmed_in(0.9, cos_view, k)).abs());
+        for p in &film.pixels {
+            assert!(
+                (p[k] as f64 - expected).abs() < 2e-4 + 1e-4 * expected,
+                "channel {k}: {} where the textured film's Fresnel is {expected}",
+                p[k]
+            );
+        }
+    }
+    assert!(apart > 0.03, "the textures change the film by only {apart}");
+}
+
+/// Smooth filmed glass over a black floor, under a sky of 1: what the camera sees is the
+/// reflection alone (the refracted light finds the black floor), exactly the mixed Fresnel in
+/// each channel, though reflection is chosen by the channels' mean.
+#[test]
+fn smooth_filmed_glass_reflects_the_films_fresnel_in_each_channel() {
+    let glass = Lobe {
+        base: 1.0,
+        roughness: 0.0,
+        transmission: 1.0,
+        iridescence: 0.9,
+        film_ior: 1.9,
+        film_thickness: 420.0,
+        ..DIELECTRIC
+    };
+    let black = Material {
+        name: "black".into(),
+        base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
+        metallic: 0.0,
+        specular: 0.0,
+        ..Material::default()
+    };
+    for cos_view in [0.85f64, 0.4] {
+        let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
+        let mut scene = scene_of(
+            vec![
+                (
+                    mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0),
+                    Vec3::ZERO,
+                    1000.0,
+                ),
+                (
+                    mesh_from(&platoon_scenegen::quad(1.0, 1.0), 1),
+                    Vec3::new(0.0, -1.0, 0.0),
+                    1000.0,
+                ),
+            ],
+            vec![glass.material(), black.clone()],
+            Vec3::new(s, c, 0.0) * 10.0,
+            Vec3::ZERO,
+            0.5,
+        );
+        scene.cameras[0].orthographic = Some([0.05, 0.05]);
+        let prepared = prepare(scene, constant_env(1.0));
+        let (w, h, spp) = (16, 16, 1024);
+        let image = render(
+            &prepared,
+            &FrameParams::new(w, h, spp, prepared.camera),
+            Sampling::Mis,
+        );
+        for k in 0..3 {
+            let expected = Lobe {
+                channel: k,
+                ..glass
+            }
+            .glass_filmed(cos_view);
+            let (m, se) = mean_and_stderr(image.pixels.iter().map(|p| p[k] as f64));
+            eprintln!("cos {cos_view} channel {k}: {m:.5} +- {se:.5}, film {expected:.5}");
+            assert!(
+                (m - expected).abs() < 4.0 * se + 2e-3 * expected,
+                "cos {cos_view}, channel {k}: {m:.5} +- {se:.5} where the film's Fresnel is {expected:.5}"
+            );
+        }
+    }
 }

@@ -560,3 +560,49 @@ fn volume_spheres_load_as_written_and_render_under_a_map() {
     }));
     assert!(e.contains("attenuationDistance is not above 0"), "{e}");
 }
+
+/// KHR_materials_iridescence (issue 25): strength, the film's index and thickness range and
+/// both textures load as written (the spec's key iridescenceIor, and the drafts'
+/// iridescenceIOR), a factor of 0 is no film, the spheres render; an index below 1 and a texture
+/// past the file's are refused.
+#[test]
+fn iridescence_spheres_load_as_written_and_render_under_a_map() {
+    let data = platoon_scenegen::materials::iridescence();
+    let scene = load_generated(&data);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let films: Vec<(f32, f32)> = scene
+        .materials
+        .iter()
+        .map(|m| (m.iridescence_ior, m.iridescence_thickness_max))
+        .collect();
+    assert_eq!(&films[..3], &[(1.3, 250.0), (1.3, 400.0), (1.8, 700.0)]);
+    assert!(scene.materials[6].has_clearcoat() && scene.materials[6].has_iridescence());
+    let textured = &scene.materials[7];
+    assert!(textured.iridescence_thickness_texture.is_some());
+    assert_eq!(textured.iridescence_thickness_min, 200.0);
+    assert!(scene.materials[8].iridescence_texture.is_some());
+    assert!(!scene.materials[9].has_iridescence());
+    renders_finite_under_a_map(scene, |f| f.iridescence && f.iridescence_textures);
+    refuses_a_texture_past_the_files(
+        &data,
+        7,
+        "KHR_materials_iridescence",
+        "iridescenceThicknessTexture",
+    );
+    let glb = platoon_scenegen::to_glb(&data);
+    let draft = edited_glb(&glb, |json| {
+        let film = &mut json["materials"][0]["extensions"]["KHR_materials_iridescence"];
+        film.as_object_mut().unwrap().remove("iridescenceIor");
+        film["iridescenceIOR"] = 2.1.into();
+    });
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("draft.glb");
+    std::fs::write(&path, &draft).unwrap();
+    let scene = platoon::load_scene(Some(&path)).unwrap();
+    assert_eq!(scene.materials[0].iridescence_ior, 2.1);
+    let e = load_error(&edited_glb(&glb, |json| {
+        json["materials"][0]["extensions"]["KHR_materials_iridescence"]["iridescenceIor"] =
+            0.5.into();
+    }));
+    assert!(e.contains("iridescenceIor is below 1"), "{e}");
+}

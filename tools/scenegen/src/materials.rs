@@ -33,6 +33,7 @@ pub const SCENES: &[(&str, MakeScene)] = &[
     ("--diffuse-transmission", diffuse_transmission),
     ("--sheen", sheen),
     ("--volume", volume),
+    ("--iridescence", iridescence),
 ];
 
 /// Spheres of `materials` in rows of `per_row`, before a camera that sees them all.
@@ -194,6 +195,72 @@ pub fn volume() -> SceneData {
         3,
         &["KHR_materials_transmission", "KHR_materials_volume"],
     )
+}
+
+/// KHR_materials_iridescence, after Khronos' IridescenceDielectricSpheres, MetallicSpheres and
+/// Lamp: films of index 1.3 and 1.8, 250, 400 and 700 nm thick, over a dark glossy dielectric;
+/// over a silver and a rough gold; a soap bubble (a film of index 1.33 in air: thin-walled glass
+/// of index 1); a film under a clear coat; a film whose thickness (green, 200-700 nm) and one
+/// whose strength (red) a checker texture sets; a factor of 0 (no film).
+pub fn iridescence() -> SceneData {
+    let film = |base: [f64; 3], metallic: f64, roughness: f64, film: Value| {
+        json!({"name": "iridescent", "pbrMetallicRoughness": {"baseColorFactor": [base[0], base[1], base[2], 1], "metallicFactor": metallic, "roughnessFactor": roughness},
+               "extensions": {"KHR_materials_iridescence": film}})
+    };
+    let dark = [0.02, 0.02, 0.03];
+    let mut materials: Vec<Value> = [(1.3, 250.0), (1.3, 400.0), (1.8, 700.0)]
+        .into_iter()
+        .map(|(ior, nm)| {
+            film(dark, 0.0, 0.15, json!({"iridescenceFactor": 1.0, "iridescenceIor": ior, "iridescenceThicknessMaximum": nm}))
+        })
+        .collect();
+    materials.push(film([0.95, 0.95, 0.95], 1.0, 0.2, json!({"iridescenceFactor": 1.0, "iridescenceIor": 1.8, "iridescenceThicknessMaximum": 450.0})));
+    materials.push(film([1.0, 0.78, 0.34], 1.0, 0.5, json!({"iridescenceFactor": 0.8, "iridescenceIor": 1.5, "iridescenceThicknessMaximum": 550.0})));
+    let mut bubble = film(
+        [1.0, 1.0, 1.0],
+        0.0,
+        0.0,
+        json!({"iridescenceFactor": 1.0, "iridescenceIor": 1.33, "iridescenceThicknessMaximum": 380.0}),
+    );
+    bubble["extensions"]["KHR_materials_transmission"] = json!({"transmissionFactor": 1.0});
+    bubble["extensions"]["KHR_materials_ior"] = json!({"ior": 1.0});
+    materials.push(bubble);
+    let mut coated = film(
+        dark,
+        0.0,
+        0.4,
+        json!({"iridescenceFactor": 1.0, "iridescenceIor": 1.3, "iridescenceThicknessMaximum": 500.0}),
+    );
+    coated["extensions"]["KHR_materials_clearcoat"] =
+        json!({"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.05});
+    materials.push(coated);
+    materials.push(film(dark, 0.0, 0.15, json!({"iridescenceFactor": 1.0, "iridescenceIor": 1.3,
+        "iridescenceThicknessMinimum": 200.0, "iridescenceThicknessMaximum": 700.0, "iridescenceThicknessTexture": {"index": 0}})));
+    materials.push(film(
+        [0.95, 0.95, 0.95],
+        1.0,
+        0.2,
+        json!({"iridescenceFactor": 1.0, "iridescenceIor": 1.8,
+        "iridescenceThicknessMaximum": 450.0, "iridescenceTexture": {"index": 0}}),
+    ));
+    materials.push(film(
+        dark,
+        0.0,
+        0.15,
+        json!({"iridescenceFactor": 0.0, "iridescenceThicknessMaximum": 400.0}),
+    ));
+    let mut scene = rows_of_spheres(
+        materials,
+        5,
+        &[
+            "KHR_materials_iridescence",
+            "KHR_materials_transmission",
+            "KHR_materials_ior",
+            "KHR_materials_clearcoat",
+        ],
+    );
+    scene.images = vec![checker_png(4, 16)];
+    scene
 }
 
 #[cfg(test)]

@@ -42,6 +42,9 @@ pub struct SceneFeatures {
     pub sheen_textures: bool,
     /// KHR_materials_volume absorbing somewhere (a volume that absorbs nothing changes nothing).
     pub volume: bool,
+    /// KHR_materials_iridescence; and some texture of it.
+    pub iridescence: bool,
+    pub iridescence_textures: bool,
     pub emissive_triangles: bool,
     pub punctual_lights: bool,
     pub environment_map: bool,
@@ -109,6 +112,12 @@ impl SceneFeatures {
                     && (m.sheen_color_texture.is_some() || m.sheen_roughness_texture.is_some())
             }),
             volume: used.iter().any(|m| m.absorbs()),
+            iridescence: used.iter().any(|m| m.has_iridescence()),
+            iridescence_textures: used.iter().any(|m| {
+                m.has_iridescence()
+                    && (m.iridescence_texture.is_some()
+                        || m.iridescence_thickness_texture.is_some())
+            }),
             emissive_triangles: used.iter().any(|m| m.is_emissive()),
             punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
             environment_map: matches!(
@@ -143,6 +152,8 @@ impl SceneFeatures {
             sheen: true,
             sheen_textures: true,
             volume: true,
+            iridescence: true,
+            iridescence_textures: true,
             emissive_triangles: true,
             punctual_lights: true,
             environment_map: true,
@@ -151,7 +162,7 @@ impl SceneFeatures {
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 24] {
+    pub(crate) fn options(&self) -> [KernelOption; 26] {
         [
             ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
@@ -206,6 +217,12 @@ impl SceneFeatures {
             ("sheen", "HAS_SHEEN", self.sheen),
             ("sheen-textures", "HAS_SHEEN_TEXTURES", self.sheen_textures),
             ("volume", "HAS_VOLUME", self.volume),
+            ("iridescence", "HAS_IRIDESCENCE", self.iridescence),
+            (
+                "iridescence-textures",
+                "HAS_IRIDESCENCE_TEXTURES",
+                self.iridescence_textures,
+            ),
             (
                 "emissive-triangles",
                 "HAS_EMISSIVE_TRIANGLES",

@@ -52,7 +52,7 @@ pub const MATERIAL_UNLIT: i32 = 8;
 /// Some texture slot reads TEXCOORD_1 (the kernel then reads the vertex extras).
 pub const MATERIAL_USES_UV1: i32 = 16;
 /// Texture slots in `GpuMaterial` order (`Material::texture_slots`).
-pub const TEXTURE_SLOTS: usize = 14;
+pub const TEXTURE_SLOTS: usize = 16;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -76,13 +76,17 @@ pub struct GpuMaterial {
     pub textures2: [i32; 4],
     /// KHR_materials_diffuse_transmission: colour rgb, w = factor
     pub diffuse_transmission: [f32; 4],
-    /// diffuse transmission colour, sheen colour, sheen roughness textures
+    /// diffuse transmission colour, sheen colour, sheen roughness, iridescence textures
     pub textures3: [i32; 4],
     /// KHR_materials_sheen: colour rgb, w = roughness
     pub sheen: [f32; 4],
     /// KHR_materials_volume: absorption per unit length rgb, w = 1 with a volume (thickness
     /// above 0), else 0 (a thin wall)
     pub volume: [f32; 4],
+    /// iridescence thickness texture
+    pub textures4: [i32; 4],
+    /// KHR_materials_iridescence: factor, ior, thickness minimum, maximum (nm)
+    pub iridescence: [f32; 4],
     /// Per texture slot, the UV transform's two rows (xyz: the 2 x 3 matrix applied to
     /// (u, v, 1)); the first row's w is the UV set (0 or 1).
     pub uv_rows: [[f32; 4]; 2 * TEXTURE_SLOTS],
@@ -147,7 +151,7 @@ const _: () = {
     assert!(std::mem::size_of::<GpuVertex>() == 48);
     assert!(std::mem::size_of::<GpuTriangle>() == 16);
     assert!(std::mem::size_of::<GpuInstance>() == 112);
-    assert!(std::mem::size_of::<GpuMaterial>() == 656);
+    assert!(std::mem::size_of::<GpuMaterial>() == 752);
     assert!(std::mem::size_of::<GpuVertexExtra>() == 16);
     assert!(std::mem::size_of::<GpuTexture>() == 16);
     assert!(std::mem::size_of::<GpuLight>() == 80);

@@ -115,7 +115,7 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             tex(m.diffuse_transmission_color_texture),
             tex(m.sheen_color_texture),
             tex(m.sheen_roughness_texture),
-            NO_TEXTURE,
+            tex(m.iridescence_texture),
         ],
         sheen: m
             .sheen_color
@@ -126,6 +126,18 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             .absorption()
             .extend(if m.has_volume() { 1.0 } else { 0.0 })
             .to_array(),
+        textures4: [
+            tex(m.iridescence_thickness_texture),
+            NO_TEXTURE,
+            NO_TEXTURE,
+            NO_TEXTURE,
+        ],
+        iridescence: [
+            m.iridescence.clamp(0.0, 1.0),
+            m.iridescence_ior.max(1.0),
+            m.iridescence_thickness_min.max(0.0),
+            m.iridescence_thickness_max.max(0.0),
+        ],
         uv_rows,
     }
 }

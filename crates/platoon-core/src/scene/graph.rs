@@ -143,6 +143,16 @@ pub struct Material {
     pub thickness: f32,
     pub attenuation_distance: f32,
     pub attenuation_color: Vec3,
+    /// KHR_materials_iridescence: a thin film over the specular lobes, of strength
+    /// `iridescence` (times its texture's red channel), index of refraction `iridescence_ior`
+    /// and a thickness in nanometres: the maximum, or with a texture mixed from the minimum to
+    /// the maximum by its green channel.
+    pub iridescence: f32,
+    pub iridescence_texture: Option<TextureRef>,
+    pub iridescence_ior: f32,
+    pub iridescence_thickness_min: f32,
+    pub iridescence_thickness_max: f32,
+    pub iridescence_thickness_texture: Option<TextureRef>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
     /// KHR_materials_unlit: the base colour is emitted radiance and nothing is reflected.
@@ -187,6 +197,12 @@ impl Default for Material {
             thickness: 0.0,
             attenuation_distance: f32::INFINITY,
             attenuation_color: Vec3::ONE,
+            iridescence: 0.0,
+            iridescence_texture: None,
+            iridescence_ior: 1.3,
+            iridescence_thickness_min: 100.0,
+            iridescence_thickness_max: 400.0,
+            iridescence_thickness_texture: None,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             unlit: false,
@@ -201,7 +217,8 @@ impl Material {
     /// Every texture slot, in the kernel's order (`flatten::TEXTURE_SLOTS`, TEXTURE_SLOT_* in
     /// shaders/scene.glsl): base colour, metallic-roughness, normal, emissive, specular,
     /// specular colour, transmission, clearcoat, clearcoat roughness, clearcoat normal, diffuse
-    /// transmission, diffuse transmission colour, sheen colour, sheen roughness.
+    /// transmission, diffuse transmission colour, sheen colour, sheen roughness, iridescence,
+    /// iridescence thickness.
     pub fn texture_slots(&self) -> [Option<TextureRef>; crate::flatten::TEXTURE_SLOTS] {
         [
             self.base_color_texture,
@@ -218,6 +235,8 @@ impl Material {
             self.diffuse_transmission_color_texture,
             self.sheen_color_texture,
             self.sheen_roughness_texture,
+            self.iridescence_texture,
+            self.iridescence_thickness_texture,
         ]
     }
 
@@ -250,6 +269,11 @@ impl Material {
     /// scales the factor).
     pub fn has_sheen(&self) -> bool {
         self.sheen_color.max_element() > 0.0
+    }
+
+    /// Whether a thin film lies over it (the spec: a factor of 0 disables the layer).
+    pub fn has_iridescence(&self) -> bool {
+        self.iridescence > 0.0
     }
 
     /// Whether some of its diffuse light goes through (a texture only scales the factor).

@@ -22,11 +22,13 @@ pub enum Effect {
     Sheen,
     /// KHR_materials_volume's absorption.
     Volume,
+    /// KHR_materials_iridescence.
+    Iridescence,
 }
 
 impl Effect {
     /// The technique's name: `no-textures`, `no-normal-maps`, `opaque`, `env-mean`,
-    /// `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`, `no-volume`.
+    /// `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`, `no-volume`, `no-iridescence`.
     pub fn name(self) -> &'static str {
         match self {
             Effect::Textures => "no-textures",
@@ -37,6 +39,7 @@ impl Effect {
             Effect::DiffuseTransmission => "no-diffuse-transmission",
             Effect::Sheen => "no-sheen",
             Effect::Volume => "no-volume",
+            Effect::Iridescence => "no-iridescence",
         }
     }
 
@@ -50,6 +53,7 @@ impl Effect {
             Effect::DiffuseTransmission,
             Effect::Sheen,
             Effect::Volume,
+            Effect::Iridescence,
         ]
         .into_iter()
         .find(|e| e.name() == name)
@@ -95,6 +99,11 @@ impl Effect {
             }),
             // Thin walls: the glass stays, its inside absorbs nothing.
             Effect::Volume => turn_off(scene, Material::absorbs, |m| m.thickness = 0.0),
+            Effect::Iridescence => turn_off(scene, Material::has_iridescence, |m| {
+                m.iridescence = 0.0;
+                m.iridescence_texture = None;
+                m.iridescence_thickness_texture = None;
+            }),
             Effect::EnvironmentMap => match &scene.environment {
                 Some(Environment::Map(map)) => {
                     scene.environment = Some(Environment::Constant(map.mean_radiance()));
@@ -202,6 +211,15 @@ fn remove_textures(scene: &mut Scene) -> bool {
         }
         if let Some(r) = mean_of(m.sheen_roughness_texture.take(), false) {
             m.sheen_roughness *= r.w;
+            any = true;
+        }
+        if let Some(r) = mean_of(m.iridescence_texture.take(), false) {
+            m.iridescence *= r.x;
+            any = true;
+        }
+        if let Some(g) = mean_of(m.iridescence_thickness_texture.take(), false) {
+            m.iridescence_thickness_max = m.iridescence_thickness_min
+                + (m.iridescence_thickness_max - m.iridescence_thickness_min) * g.y;
             any = true;
         }
         // A normal map has no factor to fold into: the coat follows the mesh's normal, as

@@ -216,6 +216,33 @@ fn volume(m: &gltf::Material, mat: &mut Material) -> Check<()> {
     Ok(())
 }
 
+/// KHR_materials_iridescence (the `gltf` crate does not model it) onto `mat`.
+fn iridescence(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
+    let Some(ext) = m.extension_value("KHR_materials_iridescence") else {
+        return Ok(());
+    };
+    let what = "KHR_materials_iridescence";
+    mat.iridescence = json_number(ext, "iridescenceFactor", 0.0, what)?;
+    // The ratified spec's key (drafts, and some exporters still, wrote iridescenceIOR).
+    let ior_key = match ext.get("iridescenceIor") {
+        None if ext.get("iridescenceIOR").is_some() => "iridescenceIOR",
+        _ => "iridescenceIor",
+    };
+    mat.iridescence_ior = json_number(ext, ior_key, 1.3, what)?;
+    mat.iridescence_thickness_min = json_number(ext, "iridescenceThicknessMinimum", 100.0, what)?;
+    mat.iridescence_thickness_max = json_number(ext, "iridescenceThicknessMaximum", 400.0, what)?;
+    let tex = |key: &str| json_tex_ref(ext.get(key), &format!("{what} {key}"), textures);
+    mat.iridescence_texture = tex("iridescenceTexture")?.map(|t| t.0);
+    mat.iridescence_thickness_texture = tex("iridescenceThicknessTexture")?.map(|t| t.0);
+    if mat.iridescence_ior < 1.0 {
+        return Err(format!("{what}: iridescenceIor is below 1"));
+    }
+    if mat.iridescence_thickness_min < 0.0 || mat.iridescence_thickness_max < 0.0 {
+        return Err(format!("{what}: a thickness is below 0"));
+    }
+    Ok(())
+}
+
 /// KHR_materials_clearcoat (the `gltf` crate does not model it) onto `mat`.
 fn clearcoat(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
     let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
@@ -379,6 +406,7 @@ pub fn material(
     diffuse_transmission(m, &mut mat, textures.len())?;
     sheen(m, &mut mat, textures.len())?;
     volume(m, &mut mat)?;
+    iridescence(m, &mut mat, textures.len())?;
     spec_gloss(m, &mut mat, textures, glossiness)?;
     let factors = [
         mat.base_color.to_array().as_slice(),
@@ -397,6 +425,10 @@ pub fn material(
             mat.diffuse_transmission,
             mat.sheen_roughness,
             mat.thickness,
+            mat.iridescence,
+            mat.iridescence_ior,
+            mat.iridescence_thickness_min,
+            mat.iridescence_thickness_max,
         ],
         &mat.diffuse_transmission_color.to_array(),
         &mat.sheen_color.to_array(),

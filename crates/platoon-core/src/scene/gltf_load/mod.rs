@@ -34,6 +34,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_diffuse_transmission",
     "KHR_materials_sheen",
     "KHR_materials_volume",
+    "KHR_materials_iridescence",
     "KHR_mesh_quantization",
     "EXT_texture_webp",
     "KHR_texture_transform",
