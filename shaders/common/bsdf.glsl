@@ -11,6 +11,8 @@
 //                & Kulla 2017) over the base, scaled by E, its albedo (a table in the texel array)
 //   coated     = mix(sheened, coat, clearcoat * Schlick(0.04, |wo.nc|))   KHR_materials_clearcoat:
 //                coat = D G / (4 |wo.nc| |wi.nc|), GGX about the coat's own normal nc
+//   anisotropy = the base's GGX (specular layer, metal, glass) of alphas mix(alpha, 1, strength^2)
+//                along the direction and alpha across it: KHR_materials_anisotropy (ggx.glsl)
 //   F          = mix(F, thin_film(F's f0), iridescence) in the dielectric, metal and glass lobes:
 //                KHR_materials_iridescence (thin_film.glsl), the film under the coat; glass
 //                samples reflection by the mean of its three channels
@@ -61,6 +63,11 @@ struct Bsdf {
     bool coat_delta;
     vec3 coat_t, coat_b, coat_n;   // the coat's frame in the shading frame
 #endif
+#ifdef HAS_ANISOTROPY
+    bool aniso;         // KHR_materials_anisotropy: the base's GGX lobes stretched along
+    vec2 aniso_dir;     // aniso_dir (cos, sin in the shading frame's xy) to alphas
+    vec2 alpha2;        // (along, across)
+#endif
 #ifdef HAS_IRIDESCENCE
     float film;         // KHR_materials_iridescence's strength (0: none), the film's index,
     float film_ior;     // its thickness (nm) and the index above it (the coat's 1.5 or air's 1)
@@ -76,34 +83,39 @@ struct Bsdf {
 #endif
 };
 
-float ggx_d(float a, float nh) {
-    float a2 = a * a;
-    float d = nh * nh * (a2 - 1.0) + 1.0;
-    return a2 / (PI * d * d);
+#include "common/ggx.glsl"
+
+#ifdef HAS_ANISOTROPY
+// A shading-frame vector in the anisotropy's frame (x along its direction), and back.
+vec3 aniso_local(Bsdf b, vec3 v) { return vec3(dot(v.xy, b.aniso_dir), b.aniso_dir.x * v.y - b.aniso_dir.y * v.x, v.z); }
+vec3 aniso_shading(Bsdf b, vec3 v) { return vec3(b.aniso_dir.x * v.x - b.aniso_dir.y * v.y, b.aniso_dir.y * v.x + b.aniso_dir.x * v.y, v.z); }
+#endif
+
+// The base's GGX lobes (dielectric specular layer, metal, glass): isotropic of alpha b.alpha, or
+// anisotropic. The coat's GGX stays isotropic (the spec stretches the base's specular lobe).
+float spec_d(Bsdf b, vec3 h) {
+#ifdef HAS_ANISOTROPY
+    if (b.aniso) return ggx_d_aniso(b.alpha2, aniso_local(b, h));
+#endif
+    return ggx_d(b.alpha, h.z);
 }
-
-float ggx_lambda(float a, vec3 w) {
-    float c2 = w.z * w.z;
-    float t2 = max(0.0, 1.0 - c2) / max(c2, 1e-12);
-    return 0.5 * (-1.0 + sqrt(1.0 + a * a * t2));
+float spec_g2(Bsdf b, vec3 wo, vec3 wi) {
+#ifdef HAS_ANISOTROPY
+    if (b.aniso) return ggx_g2_aniso(b.alpha2, aniso_local(b, wo), aniso_local(b, wi));
+#endif
+    return ggx_g2(b.alpha, wo, wi);
 }
-
-float ggx_g1(float a, vec3 w) { return 1.0 / (1.0 + ggx_lambda(a, w)); }
-float ggx_g2(float a, vec3 wo, vec3 wi) { return 1.0 / (1.0 + ggx_lambda(a, wo) + ggx_lambda(a, wi)); }
-
-// Density of visible normal h seen from wo (either hemisphere).
-float ggx_vndf_pdf(float a, vec3 wo, vec3 h) {
-    return ggx_g1(a, wo) / abs(wo.z) * ggx_d(a, h.z) * abs(dot(wo, h));
+float spec_vndf_pdf(Bsdf b, vec3 wo, vec3 h) {
+#ifdef HAS_ANISOTROPY
+    if (b.aniso) return ggx_vndf_pdf_aniso(b.alpha2, aniso_local(b, wo), aniso_local(b, h));
+#endif
+    return ggx_vndf_pdf(b.alpha, wo, h);
 }
-
-vec3 ggx_sample_vndf(float a, vec3 wo, vec2 u) {
-    vec3 wh = normalize(vec3(a * wo.x, a * wo.y, wo.z));
-    if (wh.z < 0.0) wh = -wh;
-    float phi = 2.0 * PI * u.x;
-    float z = (1.0 - u.y) * (1.0 + wh.z) - wh.z;
-    float st = sqrt(clamp(1.0 - z * z, 0.0, 1.0));
-    vec3 h = vec3(st * cos(phi), st * sin(phi), z) + wh;
-    return normalize(vec3(a * h.x, a * h.y, max(h.z, 1e-7)));
+vec3 spec_sample_vndf(Bsdf b, vec3 wo, vec2 u) {
+#ifdef HAS_ANISOTROPY
+    if (b.aniso) return aniso_shading(b, ggx_sample_vndf_aniso(b.alpha2, aniso_local(b, wo), u));
+#endif
+    return ggx_sample_vndf(b.alpha, wo, u);
 }
 
 vec3 schlick(vec3 f0, float c) {
@@ -268,6 +280,27 @@ Bsdf make_bsdf(Surface s, vec3 wo) {
         b.w *= 1.0 - b.coat;
     }
 #endif
+#ifdef HAS_ANISOTROPY
+    b.aniso = false;
+    b.aniso_dir = vec2(1.0, 0.0);
+    b.alpha2 = vec2(b.alpha);
+    if (s.anisotropy > 0.0) {
+        // The direction in the shading frame the callers build (make_frame of s.ns).
+        vec3 t, bt;
+        make_frame(s.ns, t, bt);
+        vec2 d = vec2(dot(s.anisotropy_direction, t), dot(s.anisotropy_direction, bt));
+        // The spec: alpha along the direction mix(alpha, 1, strength^2), across it the
+        // material's (kept from a perfect mirror's 0: the lobe is then a finite streak). Too
+        // weak to lift a mirror off MIN_ROUGHNESS, it stays the mirror.
+        float along = mix(b.alpha, 1.0, s.anisotropy * s.anisotropy);
+        if (dot(d, d) > 1e-12 && along >= MIN_ROUGHNESS * MIN_ROUGHNESS) {
+            b.aniso = true;
+            b.aniso_dir = normalize(d);
+            b.alpha2 = vec2(along, max(b.alpha, MIN_ROUGHNESS * MIN_ROUGHNESS));
+            b.delta = false;
+        }
+    }
+#endif
 #ifdef HAS_IRIDESCENCE
     b.film = s.iridescence;
     b.film_ior = s.iridescence_ior;
@@ -397,9 +430,9 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         f += diffuse_reflectance(b, fr) * INV_PI * i.z;
         pdf += b.p.x * diffuse_reflect_chance(b) * i.z * INV_PI;
         if (!b.delta) {
-            float spec = ggx_d(b.alpha, h.z) * ggx_g2(b.alpha, o, i) / (4.0 * o.z);
+            float spec = spec_d(b, h) * spec_g2(b, o, i) / (4.0 * o.z);
             f += (b.w.x * b.specular * fr + b.w.z * metal_fresnel(b, oh)) * spec;
-            pdf += (b.p.y + b.p.z) * ggx_vndf_pdf(b.alpha, o, h) / (4.0 * oh);
+            pdf += (b.p.y + b.p.z) * spec_vndf_pdf(b, o, h) / (4.0 * oh);
         }
 #else
         // diffuse_reflectance with a specular layer of zero: w.x * (1 - 0) * base colour.
@@ -433,18 +466,18 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
             if (oh * wo.z > 0.0 && ih * wi.z > 0.0) {
                 float chance;
                 vec3 F = glass_fresnel(b, oh, chance);
-                float D = ggx_d(b.alpha, h.z);
-                float G = ggx_g2(b.alpha, wo, wi);
+                float D = spec_d(b, h);
+                float G = spec_g2(b, wo, wi);
                 if (reflect) {
                     f += b.w.y * D * G * F / (4.0 * abs(wo.z));
-                    pdf += b.p.w * ggx_vndf_pdf(b.alpha, wo, h) / (4.0 * abs(oh)) * chance;
+                    pdf += b.p.w * spec_vndf_pdf(b, wo, h) / (4.0 * abs(oh)) * chance;
                 } else {
                     float denom = ih + oh / etap;
                     denom *= denom;
                     // Radiance is compressed by 1/etap^2 on entering a denser medium.
                     vec3 ft = D * (1.0 - F) * G * abs(ih * oh / (denom * wo.z)) / (etap * etap);
                     f += b.w.y * b.base_color * ft;
-                    pdf += b.p.w * ggx_vndf_pdf(b.alpha, wo, h) * abs(ih) / denom * (1.0 - chance);
+                    pdf += b.p.w * spec_vndf_pdf(b, wo, h) * abs(ih) / denom * (1.0 - chance);
                 }
             }
         }
@@ -543,7 +576,7 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
             bs.delta = true;
             return true;
         }
-        vec3 h = ggx_sample_vndf(b.alpha, o, u);
+        vec3 h = spec_sample_vndf(b, o, u);
         vec3 i = reflect(-o, h);
         if (i.z <= 0.0) return false;
         // Mirrored through the origin, as bsdf_eval mirrors wo's side (a mirror in z alone
@@ -554,7 +587,7 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
     else {
 #ifdef HAS_TRANSMISSION
         if (b.p.w <= 0.0) return false;
-        vec3 h = b.delta ? vec3(0.0, 0.0, 1.0) : ggx_sample_vndf(b.alpha, wo, u);
+        vec3 h = b.delta ? vec3(0.0, 0.0, 1.0) : spec_sample_vndf(b, wo, u);
         float oh = dot(wo, h);
         float chance;
         vec3 F = glass_fresnel(b, oh, chance);

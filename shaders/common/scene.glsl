@@ -23,9 +23,9 @@ struct Material {
     ivec4 textures3;    // diffuse transmission colour, sheen colour, sheen roughness, iridescence textures
     vec4 sheen;         // KHR_materials_sheen: colour rgb, w = roughness
     vec4 volume;        // KHR_materials_volume: absorption per unit length rgb, w = 1 with a volume
-    ivec4 textures4;    // iridescence thickness texture
+    ivec4 textures4;    // iridescence thickness, anisotropy textures
     vec4 iridescence;   // KHR_materials_iridescence: factor, ior, thickness minimum, maximum (nm)
-    vec4 uv_rows[32];
+    vec4 uv_rows[34];
 };
 struct Texture { uint offset; uint width; uint height; uint wrap; };
 struct Light { vec4 a; vec4 b; vec4 c; vec4 emission; uvec4 ids; };
@@ -190,6 +190,7 @@ const int TEXTURE_SLOT_SHEEN_COLOR = 12;
 const int TEXTURE_SLOT_SHEEN_ROUGHNESS = 13;
 const int TEXTURE_SLOT_IRIDESCENCE = 14;
 const int TEXTURE_SLOT_IRIDESCENCE_THICKNESS = 15;
+const int TEXTURE_SLOT_ANISOTROPY = 16;
 
 float max3(vec3 v) { return max(v.x, max(v.y, v.z)); }
 float min3(vec3 v) { return min(v.x, min(v.y, v.z)); }

@@ -41,9 +41,9 @@ Instance unpack_instance(utextureBuffer t, uint i) {
                     ids.x, ids.y, ids.z, ids.w);
 }
 Material unpack_material(utextureBuffer t, uint i) {
-    uint b = 47u * i;
+    uint b = 49u * i;
     // Written out: llvmpipe counts every loop iteration of an invocation against one limit.
-    vec4 rows[32] = vec4[32](fetch_vec4(t, b + 15u), fetch_vec4(t, b + 16u), fetch_vec4(t, b + 17u), fetch_vec4(t, b + 18u), fetch_vec4(t, b + 19u), fetch_vec4(t, b + 20u), fetch_vec4(t, b + 21u), fetch_vec4(t, b + 22u), fetch_vec4(t, b + 23u), fetch_vec4(t, b + 24u), fetch_vec4(t, b + 25u), fetch_vec4(t, b + 26u), fetch_vec4(t, b + 27u), fetch_vec4(t, b + 28u), fetch_vec4(t, b + 29u), fetch_vec4(t, b + 30u), fetch_vec4(t, b + 31u), fetch_vec4(t, b + 32u), fetch_vec4(t, b + 33u), fetch_vec4(t, b + 34u), fetch_vec4(t, b + 35u), fetch_vec4(t, b + 36u), fetch_vec4(t, b + 37u), fetch_vec4(t, b + 38u), fetch_vec4(t, b + 39u), fetch_vec4(t, b + 40u), fetch_vec4(t, b + 41u), fetch_vec4(t, b + 42u), fetch_vec4(t, b + 43u), fetch_vec4(t, b + 44u), fetch_vec4(t, b + 45u), fetch_vec4(t, b + 46u));
+    vec4 rows[34] = vec4[34](fetch_vec4(t, b + 15u), fetch_vec4(t, b + 16u), fetch_vec4(t, b + 17u), fetch_vec4(t, b + 18u), fetch_vec4(t, b + 19u), fetch_vec4(t, b + 20u), fetch_vec4(t, b + 21u), fetch_vec4(t, b + 22u), fetch_vec4(t, b + 23u), fetch_vec4(t, b + 24u), fetch_vec4(t, b + 25u), fetch_vec4(t, b + 26u), fetch_vec4(t, b + 27u), fetch_vec4(t, b + 28u), fetch_vec4(t, b + 29u), fetch_vec4(t, b + 30u), fetch_vec4(t, b + 31u), fetch_vec4(t, b + 32u), fetch_vec4(t, b + 33u), fetch_vec4(t, b + 34u), fetch_vec4(t, b + 35u), fetch_vec4(t, b + 36u), fetch_vec4(t, b + 37u), fetch_vec4(t, b + 38u), fetch_vec4(t, b + 39u), fetch_vec4(t, b + 40u), fetch_vec4(t, b + 41u), fetch_vec4(t, b + 42u), fetch_vec4(t, b + 43u), fetch_vec4(t, b + 44u), fetch_vec4(t, b + 45u), fetch_vec4(t, b + 46u), fetch_vec4(t, b + 47u), fetch_vec4(t, b + 48u));
     return Material(fetch_vec4(t, b), fetch_vec4(t, b + 1u), fetch_vec4(t, b + 2u), fetch_vec4(t, b + 3u),
                     ivec4(texelFetch(t, int(b + 4u))), ivec4(texelFetch(t, int(b + 5u))), fetch_vec4(t, b + 6u),
                     fetch_vec4(t, b + 7u), ivec4(texelFetch(t, int(b + 8u))),

@@ -35,6 +35,10 @@ struct Surface {
     bool volume;                // KHR_materials_volume: the inside is a medium
     vec3 absorption;            // its absorption per unit length
 #endif
+#ifdef HAS_ANISOTROPY
+    float anisotropy;           // KHR_materials_anisotropy's strength and direction: world, in
+    vec3 anisotropy_direction;  // the shading normal's plane (apply_material: tangent space)
+#endif
 #ifdef HAS_IRIDESCENCE
     float iridescence;          // KHR_materials_iridescence's strength, the film's index and
     float iridescence_ior;      // its thickness in nanometres
@@ -86,6 +90,10 @@ void apply_material(inout Surface s, Material m) {
     s.volume = m.volume.w > 0.0;
     s.absorption = m.volume.rgb;
 #endif
+#ifdef HAS_ANISOTROPY
+    s.anisotropy = m.misc.y;
+    s.anisotropy_direction = vec3(cos(m.misc.z), sin(m.misc.z), 0.0);
+#endif
 #ifdef HAS_IRIDESCENCE
     s.iridescence = m.iridescence.x;
     s.iridescence_ior = m.iridescence.y;
@@ -130,6 +138,18 @@ void apply_material(inout Surface s, Material m) {
     if (m.textures3.w >= 0) s.iridescence *= sample_texture(m.textures3.w, slot_uv(m, TEXTURE_SLOT_IRIDESCENCE, a), false).r;
     // Without a texture the film is the maximum thick.
     if (m.textures4.x >= 0) s.iridescence_thickness = mix(m.iridescence.z, m.iridescence.w, sample_texture(m.textures4.x, slot_uv(m, TEXTURE_SLOT_IRIDESCENCE_THICKNESS, a), false).g);
+#endif
+#ifdef HAS_ANISOTROPY_TEXTURES
+    if (m.textures4.y >= 0) {
+        // A direction in tangent space (red, green in [-1, 1]) turned by the rotation, and the
+        // strength (blue) times the factor.
+        vec3 t = sample_texture(m.textures4.y, slot_uv(m, TEXTURE_SLOT_ANISOTROPY, a), false).rgb;
+        vec2 d = t.rg * 2.0 - 1.0;
+        d = dot(d, d) > 1e-12 ? normalize(d) : vec2(1.0, 0.0);
+        vec2 r = s.anisotropy_direction.xy;
+        s.anisotropy_direction = vec3(r.x * d.x - r.y * d.y, r.y * d.x + r.x * d.y, 0.0);
+        s.anisotropy *= t.b;
+    }
 #endif
 #ifdef HAS_CLEARCOAT_TEXTURES
     if (m.textures2.x >= 0) s.clearcoat *= sample_texture(m.textures2.x, slot_uv(m, TEXTURE_SLOT_CLEARCOAT, a), false).r;
@@ -181,7 +201,7 @@ Surface surface_at(Hit hit) {
     if (dot(s.ns, s.ng) < 0.0) s.ns = -s.ns;
     s.material = T.material;
     apply_material(s, m);
-#if defined(HAS_NORMAL_MAPS) || defined(HAS_CLEARCOAT_TEXTURES)
+#if defined(HAS_NORMAL_MAPS) || defined(HAS_CLEARCOAT_TEXTURES) || defined(HAS_ANISOTROPY)
     vec3 tangent = (b0 * v0.tangent + hit.b1 * v1.tangent + hit.b2 * v2.tangent).xyz;
     float sign = v0.tangent.w < 0.0 ? -1.0 : 1.0;
 #endif
@@ -196,6 +216,22 @@ Surface surface_at(Hit hit) {
 #ifdef HAS_NORMAL_MAPS
     if (m.textures0.z >= 0)
         s.ns = normal_mapped(s.ns, s.ng, inst, tangent, sign, m.textures0.z, slot_uv(m, TEXTURE_SLOT_NORMAL, s.attr), m.emissive.w);
+#endif
+#ifdef HAS_ANISOTROPY
+    if (s.anisotropy > 0.0) {
+        // Tangent space about the final shading normal; without tangents (a file without
+        // TANGENT, UVs or a normal map to make them from) the shading frame's own.
+        vec3 tw = instance_vector(inst, tangent);
+        tw -= s.ns * dot(s.ns, tw);
+        vec3 bw;
+        if (dot(tw, tw) > 1e-12) {
+            tw = normalize(tw);
+            bw = cross(s.ns, tw) * sign;
+        } else {
+            make_frame(s.ns, tw, bw);
+        }
+        s.anisotropy_direction = s.anisotropy_direction.x * tw + s.anisotropy_direction.y * bw;
+    }
 #endif
     return s;
 }

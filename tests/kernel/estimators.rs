@@ -150,7 +150,9 @@ fn estimators_agree_under_an_importance_sampled_environment_map() {
 /// the rest of the room under a mirror coat (roughness 0, the extension's default) with a
 /// bluish sheen beneath, a short box of rough glass whose inside absorbs (KHR_materials_volume),
 /// thin films (KHR_materials_iridescence) on the velvet under its coat and on the glass (whose
-/// reflection is then sampled by the film's mean reflectance), lit by its area light.
+/// reflection is then sampled by the film's mean reflectance), both anisotropic
+/// (KHR_materials_anisotropy; the box has no tangents: the shading frame's own), lit by its area
+/// light.
 fn coated_cornell() -> platoon::Prepared {
     let mut scene = platoon::core::scene::cornell::scene();
     let leaf = scene.materials.len() as u32;
@@ -175,6 +177,8 @@ fn coated_cornell() -> platoon::Prepared {
         iridescence: 1.0,
         iridescence_ior: 1.5,
         iridescence_thickness_max: 450.0,
+        anisotropy_strength: 0.6,
+        anisotropy_rotation: 0.3,
         ..Material::default()
     });
     for m in &mut scene.materials[..leaf as usize] {
@@ -194,6 +198,7 @@ fn coated_cornell() -> platoon::Prepared {
         iridescence: 0.8,
         iridescence_ior: 1.8,
         iridescence_thickness_max: 300.0,
+        anisotropy_strength: 0.7,
         ..Material::default()
     });
     let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
@@ -214,6 +219,7 @@ fn estimators_agree_with_the_material_extensions() {
     let prepared = coated_cornell();
     let f = prepared.gpu.features;
     assert!(f.clearcoat && f.diffuse_transmission && f.sheen && f.volume && f.iridescence);
+    assert!(f.anisotropy);
     assert!(f.emissive_triangles);
     assert_estimators_agree(&prepared);
 }

@@ -43,6 +43,17 @@ struct Lobe {
     film_thickness: f64,
     /// The colour channel compared (a film colours a grey lobe).
     channel: usize,
+    /// KHR_materials_anisotropy's strength and rotation (radians from the plane's tangent, +x,
+    /// toward its bitangent, +y here).
+    anisotropy: f64,
+    aniso_rotation: f64,
+    /// The plane's tangent, turned by this angle from +x toward the bitangent: the rotation
+    /// adds to it (a kernel turning the other way, or taking the bitangent's other side, would
+    /// subtract it).
+    tangent_angle: f64,
+    /// The view's azimuth from +x toward +y (from the kernel's shading frame's x axis: a bug
+    /// that mirrors the direction about it is invisible from an azimuth of 0).
+    view_azimuth: f64,
 }
 
 /// Trowbridge-Reitz (GGX) with alpha = roughness^2.
@@ -213,6 +224,43 @@ impl SheenAlbedo {
 }
 
 impl Lobe {
+    /// The base's GGX alphas along the anisotropy's direction and across it: the spec's
+    /// mix(roughness², 1, strength²) and roughness² (equal without anisotropy).
+    fn alphas(&self) -> (f64, f64) {
+        let a = self.roughness * self.roughness;
+        let s2 = self.anisotropy * self.anisotropy;
+        (a * (1.0 - s2) + s2, a)
+    }
+
+    /// `w`'s components along the anisotropy's direction, across it and along the normal.
+    fn along(&self, w: DVec3) -> DVec3 {
+        let (s, c) = (self.aniso_rotation + self.tangent_angle).sin_cos();
+        DVec3::new(c * w.x + s * w.y, c * w.y - s * w.x, w.z)
+    }
+
+    /// The spec's D_GGX_anisotropic (the isotropic GGX when the alphas are equal).
+    fn d(&self, h: DVec3) -> f64 {
+        if h.z <= 0.0 {
+            return 0.0;
+        }
+        let (at, ab) = self.alphas();
+        let h = self.along(h);
+        let a2 = at * ab;
+        let f = DVec3::new(ab * h.x, at * h.y, a2 * h.z);
+        let w2 = a2 / f.length_squared();
+        a2 * w2 * w2 / PI
+    }
+
+    /// The spec's V_GGX_anisotropic, height-correlated Smith G / (4 |n.l| |n.v|) (without the
+    /// rasteriser's clamp to 1).
+    fn v(&self, l: DVec3, v: DVec3) -> f64 {
+        let (at, ab) = self.alphas();
+        let (l, v) = (self.along(l), self.along(v));
+        let ggx_v = l.z.abs() * DVec3::new(at * v.x, ab * v.y, v.z).length();
+        let ggx_l = v.z.abs() * DVec3::new(at * l.x, ab * l.y, l.z).length();
+        0.5 / (ggx_v + ggx_l)
+    }
+
     /// The index above the film: the coat's 1.5 under a coat, else air's.
     fn film_outside(&self) -> f64 {
         if self.clearcoat > 0.0 {
@@ -270,12 +318,11 @@ impl Lobe {
 
     /// f(v, l) |n.l| with n = +z, v above the surface; `sheen_e` the sheen's albedo E.
     fn f_cos(&self, v: DVec3, l: DVec3, sheen_e: &SheenAlbedo) -> f64 {
-        let alpha = self.roughness * self.roughness;
         let f0 = ((self.ior - 1.0) / (self.ior + 1.0)).powi(2);
         let mut f = 0.0;
         if l.z > 0.0 {
             let h = (v + l).normalize();
-            let spec = d_ggx(alpha, h.z) * v_smith(alpha, l.z, v.z);
+            let spec = self.d(h) * self.v(l, v);
             let metal = self.filmed(self.base, v.dot(h)) * spec;
             let fr = self.filmed(f0, v.dot(h));
             let diffuse = self.base * (1.0 - self.diffuse_transmission);
@@ -302,8 +349,8 @@ impl Lobe {
             let (vh, lh) = (v.dot(h), l.dot(h));
             if vh > 0.0 && lh < 0.0 {
                 let denom = vh + eta * lh;
-                let g = 4.0 * v_smith(alpha, l.z, v.z) * l.z.abs() * v.z;
-                let t = (1.0 - self.glass_filmed(vh)) * d_ggx(alpha, h.z) * g * (vh * lh).abs()
+                let g = 4.0 * self.v(l, v) * l.z.abs() * v.z;
+                let t = (1.0 - self.glass_filmed(vh)) * self.d(h) * g * (vh * lh).abs()
                     / (l.z.abs() * v.z * denom * denom);
                 f += (1.0 - self.metallic) * self.transmission * self.base * t;
             }
@@ -383,6 +430,8 @@ impl Lobe {
             iridescence: self.iridescence as f32,
             iridescence_ior: self.film_ior as f32,
             iridescence_thickness_max: self.film_thickness as f32,
+            anisotropy_strength: self.anisotropy as f32,
+            anisotropy_rotation: self.aniso_rotation as f32,
             ..Material::default()
         }
     }
@@ -394,14 +443,12 @@ fn plane(lobe: &Lobe, cos_view: f64) -> platoon::Prepared {
     let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
     let mut material = lobe.material();
     material.double_sided = cos_view < 0.0;
-    // The plane is y = 0 facing +y; the camera looks down at it from (s, c) in the x-y plane.
-    let eye = Vec3::new(s, c, 0.0) * 10.0;
+    // The plane is y = 0 facing +y; the camera looks down at it from (s, c) in the x-y plane,
+    // turned by the azimuth about +y (toward -z, the test's +y).
+    let (sa, ca) = (lobe.view_azimuth as f32).sin_cos();
+    let eye = Vec3::new(s * ca, c, -s * sa) * 10.0;
     let mut scene = scene_of(
-        vec![(
-            mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0),
-            Vec3::ZERO,
-            1000.0,
-        )],
+        vec![(tangent_quad(lobe.tangent_angle), Vec3::ZERO, 1000.0)],
         vec![material],
         eye,
         Vec3::ZERO,
@@ -409,6 +456,17 @@ fn plane(lobe: &Lobe, cos_view: f64) -> platoon::Prepared {
     );
     scene.cameras[0].orthographic = Some([0.05, 0.05]);
     prepare(scene, constant_env(1.0))
+}
+
+/// The quad facing +y with UVs of 0 and its tangent turned `angle` from +x toward -z, the
+/// bitangent n x t of the untilted tangent: the test's frame is x = +x (the view's azimuth),
+/// y = -z, z = +y.
+fn tangent_quad(angle: f64) -> platoon::core::scene::Mesh {
+    let mut mesh = mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0);
+    mesh.uvs = vec![glam::Vec2::ZERO; mesh.positions.len()];
+    let (s, c) = (angle as f32).sin_cos();
+    mesh.tangents = vec![Vec4::new(c, 0.0, -s, 1.0); mesh.positions.len()];
+    mesh
 }
 
 /// The plane's mean pixel and its standard error, seen along `v` (cos θ = v.z) under a sky of 1.
@@ -429,7 +487,8 @@ fn check(name: &str, lobe: Lobe) {
 fn check_from(name: &str, lobe: Lobe, views: &[f64]) {
     for &cos_view in views {
         let theta = cos_view.abs().acos();
-        let v = DVec3::new(theta.sin(), 0.0, cos_view.abs());
+        let (sa, ca) = lobe.view_azimuth.sin_cos();
+        let v = DVec3::new(theta.sin() * ca, theta.sin() * sa, cos_view.abs());
         let expected = lobe.albedo(v);
         for sampling in [Sampling::Mis, Sampling::Bsdf, Sampling::Light] {
             let (m, se) = rendered(&lobe, cos_view, sampling, 512);
@@ -801,6 +860,10 @@ const DIELECTRIC: Lobe = Lobe {
     film_ior: 1.3,
     film_thickness: 400.0,
     channel: 0,
+    anisotropy: 0.0,
+    aniso_rotation: 0.0,
+    tangent_angle: 0.0,
+    view_azimuth: 0.0,
 };
 const METAL: Lobe = Lobe {
     base: 0.6,
@@ -1339,4 +1402,183 @@ fn smooth_filmed_glass_reflects_the_films_fresnel_in_each_channel() {
             );
         }
     }
+}
+
+/// Brushed metal (KHR_materials_anisotropy): the base's GGX stretched along a direction the
+/// rotation turns from the tangent, integrated from the spec's anisotropic D and V on the CPU:
+/// along the view's azimuth and turned from it, over a dielectric and on rough glass, from
+/// below; the direction must matter (rougher along the view than across it at a grazing view).
+#[test]
+fn anisotropic_lobes_reflect_as_the_spec_integrates() {
+    let brushed = Lobe {
+        base: 0.9,
+        metallic: 1.0,
+        roughness: 0.3,
+        anisotropy: 0.8,
+        ..DIELECTRIC
+    };
+    let v = DVec3::new((1.0f64 - 0.09).sqrt(), 0.0, 0.3);
+    let across = Lobe {
+        aniso_rotation: std::f64::consts::FRAC_PI_2,
+        ..brushed
+    };
+    let (a, b) = (brushed.albedo(v), across.albedo(v));
+    assert!((a - b).abs() > 0.02, "along {a} across {b}");
+    check("brushed metal along the view", brushed);
+    check_from(
+        "brushed metal turned 1 rad",
+        Lobe {
+            aniso_rotation: 1.0,
+            ..brushed
+        },
+        &[0.8, 0.3],
+    );
+    check_from("brushed metal from below", brushed, &[-0.5]);
+    // Seen from an azimuth of 0.4 on a tangent turned 0.5, turned on by 0.9: the direction at
+    // 1.4 is 1.0 from the view; turned the other way about the tangent (-0.4) or about the
+    // kernel's frame (-1.4) it would be 0.8 or 1.8 from it.
+    let turned = Lobe {
+        aniso_rotation: 0.9,
+        tangent_angle: 0.5,
+        view_azimuth: 0.4,
+        ..brushed
+    };
+    let (sa, ca) = 0.4f64.sin_cos();
+    let at_azimuth = DVec3::new(v.x * ca, v.x * sa, v.z);
+    for wrong in [-0.4, -1.4] {
+        let other = Lobe {
+            aniso_rotation: wrong - 0.5,
+            ..turned
+        };
+        let (a, b) = (turned.albedo(at_azimuth), other.albedo(at_azimuth));
+        assert!((a - b).abs() > 0.01, "turned {a}, at {wrong} {b}");
+    }
+    check_from("brushed metal on a turned tangent", turned, &[0.3]);
+    check_from(
+        "brushed dielectric",
+        Lobe {
+            base: 0.3,
+            roughness: 0.4,
+            anisotropy: 0.6,
+            aniso_rotation: 0.5,
+            ..DIELECTRIC
+        },
+        &[0.7, 0.3],
+    );
+    check_from(
+        "anisotropic rough glass",
+        Lobe {
+            base: 1.0,
+            transmission: 1.0,
+            roughness: 0.3,
+            anisotropy: 0.7,
+            aniso_rotation: 2.0,
+            ..DIELECTRIC
+        },
+        &[0.8, 0.4],
+    );
+}
+
+#[test]
+fn anisotropic_lobes_sample_as_their_pdf_says() {
+    let brushed = Lobe {
+        base: 0.9,
+        metallic: 1.0,
+        roughness: 0.3,
+        anisotropy: 0.8,
+        aniso_rotation: 1.0,
+        ..DIELECTRIC
+    };
+    sampling_fits_pdf("brushed metal", brushed, 0.6);
+    sampling_fits_pdf(
+        "brushed dielectric",
+        Lobe {
+            base: 0.3,
+            metallic: 0.0,
+            roughness: 0.5,
+            anisotropy: 0.6,
+            ..brushed
+        },
+        0.4,
+    );
+    sampling_fits_pdf(
+        "anisotropic rough glass",
+        Lobe {
+            base: 1.0,
+            metallic: 0.0,
+            transmission: 1.0,
+            roughness: 0.4,
+            anisotropy: 0.7,
+            aniso_rotation: 2.0,
+            ..brushed
+        },
+        0.7,
+    );
+}
+
+/// The anisotropy texture: its red-green direction in tangent space, turned by the rotation,
+/// and its blue strength times the factor (linear, 8-bit) make the lobe of that direction and
+/// strength; the texture must matter (the rotation alone gives another albedo).
+#[test]
+fn an_anisotropy_texture_sets_the_direction_and_strength() {
+    use platoon::core::scene::{Texture, TextureRef, Wrap};
+    let texel = [128u8, 255, 153, 255];
+    let d = (
+        texel[0] as f64 / 255.0 * 2.0 - 1.0,
+        texel[1] as f64 / 255.0 * 2.0 - 1.0,
+    );
+    let rotation = 0.3;
+    let expected_lobe = Lobe {
+        base: 0.9,
+        metallic: 1.0,
+        roughness: 0.3,
+        anisotropy: texel[2] as f64 / 255.0,
+        aniso_rotation: d.1.atan2(d.0) + rotation,
+        ..DIELECTRIC
+    };
+    let cos_view = 0.35f64;
+    let v = DVec3::new((1.0 - cos_view * cos_view).sqrt(), 0.0, cos_view);
+    let expected = expected_lobe.albedo(v);
+    let untextured = Lobe {
+        anisotropy: 1.0,
+        aniso_rotation: rotation,
+        ..expected_lobe
+    }
+    .albedo(v);
+    let material = Material {
+        anisotropy_strength: 1.0,
+        anisotropy_rotation: rotation as f32,
+        anisotropy_texture: Some(TextureRef::new(0)),
+        ..expected_lobe.material()
+    };
+    let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
+    let mut scene = scene_of(
+        vec![(tangent_quad(0.0), Vec3::ZERO, 1000.0)],
+        vec![material],
+        Vec3::new(s, c, 0.0) * 10.0,
+        Vec3::ZERO,
+        0.5,
+    );
+    scene.textures.push(Texture {
+        name: "direction".into(),
+        width: 1,
+        height: 1,
+        rgba8: texel.to_vec(),
+        wrap_s: Wrap::Repeat,
+        wrap_t: Wrap::Repeat,
+        nearest: true,
+    });
+    scene.cameras[0].orthographic = Some([0.05, 0.05]);
+    let prepared = prepare(scene, constant_env(1.0));
+    assert!(prepared.gpu.features.anisotropy_textures);
+    let mut params = FrameParams::new(32, 32, 512, prepared.camera);
+    params.max_depth = 8;
+    let film = render(&prepared, &params, Sampling::Mis);
+    let (m, se) = mean_and_stderr(film.pixels.iter().map(|p| p[0] as f64));
+    eprintln!("textured: {m:.5} +- {se:.5}, formula {expected:.5}, untextured {untextured:.5}");
+    assert!(
+        (m - expected).abs() < 4.0 * se + 0.006 * expected,
+        "rendered {m:.5} +- {se:.5} where the textured lobe integrates to {expected:.5}"
+    );
+    assert!((expected - untextured).abs() > 20.0 * se + 0.02);
 }

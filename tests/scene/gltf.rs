@@ -606,3 +606,43 @@ fn iridescence_spheres_load_as_written_and_render_under_a_map() {
     }));
     assert!(e.contains("iridescenceIor is below 1"), "{e}");
 }
+
+/// KHR_materials_anisotropy (issue 25): strength, rotation and texture load as written, the
+/// spheres (which carry no TANGENT) get MikkTSpace tangents from their UVs, the spheres render;
+/// a texture past the file's is refused; a mesh with neither TANGENT nor UVs is warned about.
+#[test]
+fn anisotropy_spheres_load_as_written_and_render_under_a_map() {
+    let data = platoon_scenegen::materials::anisotropy();
+    let scene = load_generated(&data);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let strengths: Vec<f32> = scene
+        .materials
+        .iter()
+        .map(|m| m.anisotropy_strength)
+        .collect();
+    assert_eq!(&strengths[..4], &[0.0, 0.3, 0.6, 1.0]);
+    assert_eq!(
+        scene.materials[5].anisotropy_rotation,
+        std::f32::consts::FRAC_PI_2
+    );
+    assert!(scene.materials[8].anisotropy_texture.is_some());
+    assert!(!scene.materials[0].has_anisotropy());
+    for mesh in &scene.meshes[1..] {
+        assert_eq!(mesh.tangents.len(), mesh.positions.len(), "{}", mesh.name);
+    }
+    renders_finite_under_a_map(scene, |f| f.anisotropy && f.anisotropy_textures);
+    refuses_a_texture_past_the_files(&data, 8, "KHR_materials_anisotropy", "anisotropyTexture");
+    let mut bare = platoon_scenegen::materials::anisotropy();
+    for (mesh, _) in &mut bare.meshes {
+        mesh.uvs.clear();
+    }
+    let scene = load_generated(&bare);
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("anisotropic") && w.contains("TANGENT")),
+        "{:?}",
+        scene.warnings
+    );
+}

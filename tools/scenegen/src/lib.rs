@@ -20,7 +20,8 @@ pub struct MeshData {
     pub indices: Vec<u32>,
 }
 
-/// UV sphere of radius 1 with 2 * rings * (segments - 1) triangles or so.
+/// UV sphere of radius 1 with 2 * rings * (segments - 1) triangles or so; u runs around the
+/// axis (+y), v from pole to pole.
 pub fn uv_sphere(rings: u32, segments: u32) -> MeshData {
     let mut m = MeshData::default();
     for r in 0..=rings {
@@ -34,6 +35,8 @@ pub fn uv_sphere(rings: u32, segments: u32) -> MeshData {
             ];
             m.positions.push(p);
             m.normals.push(p);
+            m.uvs
+                .push([s as f32 / segments as f32, r as f32 / rings as f32]);
         }
     }
     let row = segments + 1;

@@ -45,6 +45,9 @@ pub struct SceneFeatures {
     /// KHR_materials_iridescence; and some texture of it.
     pub iridescence: bool,
     pub iridescence_textures: bool,
+    /// KHR_materials_anisotropy; and some texture of it.
+    pub anisotropy: bool,
+    pub anisotropy_textures: bool,
     pub emissive_triangles: bool,
     pub punctual_lights: bool,
     pub environment_map: bool,
@@ -118,6 +121,10 @@ impl SceneFeatures {
                     && (m.iridescence_texture.is_some()
                         || m.iridescence_thickness_texture.is_some())
             }),
+            anisotropy: used.iter().any(|m| m.has_anisotropy()),
+            anisotropy_textures: used
+                .iter()
+                .any(|m| m.has_anisotropy() && m.anisotropy_texture.is_some()),
             emissive_triangles: used.iter().any(|m| m.is_emissive()),
             punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
             environment_map: matches!(
@@ -154,6 +161,8 @@ impl SceneFeatures {
             volume: true,
             iridescence: true,
             iridescence_textures: true,
+            anisotropy: true,
+            anisotropy_textures: true,
             emissive_triangles: true,
             punctual_lights: true,
             environment_map: true,
@@ -162,7 +171,7 @@ impl SceneFeatures {
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 26] {
+    pub(crate) fn options(&self) -> [KernelOption; 28] {
         [
             ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
@@ -222,6 +231,12 @@ impl SceneFeatures {
                 "iridescence-textures",
                 "HAS_IRIDESCENCE_TEXTURES",
                 self.iridescence_textures,
+            ),
+            ("anisotropy", "HAS_ANISOTROPY", self.anisotropy),
+            (
+                "anisotropy-textures",
+                "HAS_ANISOTROPY_TEXTURES",
+                self.anisotropy_textures,
             ),
             (
                 "emissive-triangles",

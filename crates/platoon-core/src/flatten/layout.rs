@@ -52,10 +52,10 @@ pub const MATERIAL_UNLIT: i32 = 8;
 /// Some texture slot reads TEXCOORD_1 (the kernel then reads the vertex extras).
 pub const MATERIAL_USES_UV1: i32 = 16;
 /// Texture slots in `GpuMaterial` order (`Material::texture_slots`).
-pub const TEXTURE_SLOTS: usize = 16;
+pub const TEXTURE_SLOTS: usize = 17;
 
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuMaterial {
     pub base_color: [f32; 4],
     /// rgb emission, w = normal scale
@@ -68,7 +68,7 @@ pub struct GpuMaterial {
     pub textures0: [i32; 4],
     /// specular, specular colour, transmission textures, flags
     pub textures1: [i32; 4],
-    /// alpha cutoff
+    /// alpha cutoff, KHR_materials_anisotropy's strength and rotation (radians)
     pub misc: [f32; 4],
     /// KHR_materials_clearcoat: factor, roughness, normal scale
     pub clearcoat: [f32; 4],
@@ -83,13 +83,21 @@ pub struct GpuMaterial {
     /// KHR_materials_volume: absorption per unit length rgb, w = 1 with a volume (thickness
     /// above 0), else 0 (a thin wall)
     pub volume: [f32; 4],
-    /// iridescence thickness texture
+    /// iridescence thickness, anisotropy textures
     pub textures4: [i32; 4],
     /// KHR_materials_iridescence: factor, ior, thickness minimum, maximum (nm)
     pub iridescence: [f32; 4],
     /// Per texture slot, the UV transform's two rows (xyz: the 2 x 3 matrix applied to
     /// (u, v, 1)); the first row's w is the UV set (0 or 1).
     pub uv_rows: [[f32; 4]; 2 * TEXTURE_SLOTS],
+}
+
+/// All zero, as a derived Default would be (std derives it for arrays of at most 32 elements;
+/// `uv_rows` has more).
+impl Default for GpuMaterial {
+    fn default() -> Self {
+        Zeroable::zeroed()
+    }
 }
 
 #[repr(C)]
@@ -151,7 +159,7 @@ const _: () = {
     assert!(std::mem::size_of::<GpuVertex>() == 48);
     assert!(std::mem::size_of::<GpuTriangle>() == 16);
     assert!(std::mem::size_of::<GpuInstance>() == 112);
-    assert!(std::mem::size_of::<GpuMaterial>() == 752);
+    assert!(std::mem::size_of::<GpuMaterial>() == 784);
     assert!(std::mem::size_of::<GpuVertexExtra>() == 16);
     assert!(std::mem::size_of::<GpuTexture>() == 16);
     assert!(std::mem::size_of::<GpuLight>() == 80);

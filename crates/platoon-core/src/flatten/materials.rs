@@ -93,7 +93,12 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             tex(m.transmission_texture),
             flags,
         ],
-        misc: [cutoff, 0.0, 0.0, 0.0],
+        misc: [
+            cutoff,
+            m.anisotropy_strength.clamp(0.0, 1.0),
+            m.anisotropy_rotation,
+            0.0,
+        ],
         clearcoat: [
             m.clearcoat.clamp(0.0, 1.0),
             m.clearcoat_roughness.clamp(0.0, 1.0),
@@ -128,7 +133,7 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             .to_array(),
         textures4: [
             tex(m.iridescence_thickness_texture),
-            NO_TEXTURE,
+            tex(m.anisotropy_texture),
             NO_TEXTURE,
             NO_TEXTURE,
         ],

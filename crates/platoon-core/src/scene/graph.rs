@@ -153,6 +153,13 @@ pub struct Material {
     pub iridescence_thickness_min: f32,
     pub iridescence_thickness_max: f32,
     pub iridescence_thickness_texture: Option<TextureRef>,
+    /// KHR_materials_anisotropy: the strength (times its texture's blue channel) by which the
+    /// base's specular lobes are rougher along a direction: the tangent turned counter-clockwise
+    /// by `anisotropy_rotation` radians (the texture's red-green direction in tangent space, when
+    /// it has one, turned by it).
+    pub anisotropy_strength: f32,
+    pub anisotropy_rotation: f32,
+    pub anisotropy_texture: Option<TextureRef>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
     /// KHR_materials_unlit: the base colour is emitted radiance and nothing is reflected.
@@ -203,6 +210,9 @@ impl Default for Material {
             iridescence_thickness_min: 100.0,
             iridescence_thickness_max: 400.0,
             iridescence_thickness_texture: None,
+            anisotropy_strength: 0.0,
+            anisotropy_rotation: 0.0,
+            anisotropy_texture: None,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             unlit: false,
@@ -218,7 +228,7 @@ impl Material {
     /// shaders/scene.glsl): base colour, metallic-roughness, normal, emissive, specular,
     /// specular colour, transmission, clearcoat, clearcoat roughness, clearcoat normal, diffuse
     /// transmission, diffuse transmission colour, sheen colour, sheen roughness, iridescence,
-    /// iridescence thickness.
+    /// iridescence thickness, anisotropy.
     pub fn texture_slots(&self) -> [Option<TextureRef>; crate::flatten::TEXTURE_SLOTS] {
         [
             self.base_color_texture,
@@ -237,6 +247,7 @@ impl Material {
             self.sheen_roughness_texture,
             self.iridescence_texture,
             self.iridescence_thickness_texture,
+            self.anisotropy_texture,
         ]
     }
 
@@ -269,6 +280,11 @@ impl Material {
     /// scales the factor).
     pub fn has_sheen(&self) -> bool {
         self.sheen_color.max_element() > 0.0
+    }
+
+    /// Whether its specular lobes are anisotropic (a texture only scales the strength).
+    pub fn has_anisotropy(&self) -> bool {
+        self.anisotropy_strength > 0.0
     }
 
     /// Whether a thin film lies over it (the spec: a factor of 0 disables the layer).

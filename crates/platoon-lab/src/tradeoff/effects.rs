@@ -24,11 +24,14 @@ pub enum Effect {
     Volume,
     /// KHR_materials_iridescence.
     Iridescence,
+    /// KHR_materials_anisotropy.
+    Anisotropy,
 }
 
 impl Effect {
     /// The technique's name: `no-textures`, `no-normal-maps`, `opaque`, `env-mean`,
-    /// `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`, `no-volume`, `no-iridescence`.
+    /// `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`, `no-volume`, `no-iridescence`,
+    /// `no-anisotropy`.
     pub fn name(self) -> &'static str {
         match self {
             Effect::Textures => "no-textures",
@@ -40,6 +43,7 @@ impl Effect {
             Effect::Sheen => "no-sheen",
             Effect::Volume => "no-volume",
             Effect::Iridescence => "no-iridescence",
+            Effect::Anisotropy => "no-anisotropy",
         }
     }
 
@@ -54,6 +58,7 @@ impl Effect {
             Effect::Sheen,
             Effect::Volume,
             Effect::Iridescence,
+            Effect::Anisotropy,
         ]
         .into_iter()
         .find(|e| e.name() == name)
@@ -103,6 +108,10 @@ impl Effect {
                 m.iridescence = 0.0;
                 m.iridescence_texture = None;
                 m.iridescence_thickness_texture = None;
+            }),
+            Effect::Anisotropy => turn_off(scene, Material::has_anisotropy, |m| {
+                m.anisotropy_strength = 0.0;
+                m.anisotropy_texture = None;
             }),
             Effect::EnvironmentMap => match &scene.environment {
                 Some(Environment::Map(map)) => {
@@ -220,6 +229,12 @@ fn remove_textures(scene: &mut Scene) -> bool {
         if let Some(g) = mean_of(m.iridescence_thickness_texture.take(), false) {
             m.iridescence_thickness_max = m.iridescence_thickness_min
                 + (m.iridescence_thickness_max - m.iridescence_thickness_min) * g.y;
+            any = true;
+        }
+        // The mean of directions is no direction: the strength keeps its mean, the direction
+        // the rotation alone.
+        if let Some(b) = mean_of(m.anisotropy_texture.take(), false) {
+            m.anisotropy_strength *= b.z;
             any = true;
         }
         // A normal map has no factor to fold into: the coat follows the mesh's normal, as

@@ -243,6 +243,19 @@ fn iridescence(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check
     Ok(())
 }
 
+/// KHR_materials_anisotropy (the `gltf` crate does not model it) onto `mat`.
+fn anisotropy(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
+    let Some(ext) = m.extension_value("KHR_materials_anisotropy") else {
+        return Ok(());
+    };
+    let what = "KHR_materials_anisotropy";
+    mat.anisotropy_strength = json_number(ext, "anisotropyStrength", 0.0, what)?;
+    mat.anisotropy_rotation = json_number(ext, "anisotropyRotation", 0.0, what)?;
+    let tex = |key: &str| json_tex_ref(ext.get(key), &format!("{what} {key}"), textures);
+    mat.anisotropy_texture = tex("anisotropyTexture")?.map(|t| t.0);
+    Ok(())
+}
+
 /// KHR_materials_clearcoat (the `gltf` crate does not model it) onto `mat`.
 fn clearcoat(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
     let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
@@ -407,6 +420,7 @@ pub fn material(
     sheen(m, &mut mat, textures.len())?;
     volume(m, &mut mat)?;
     iridescence(m, &mut mat, textures.len())?;
+    anisotropy(m, &mut mat, textures.len())?;
     spec_gloss(m, &mut mat, textures, glossiness)?;
     let factors = [
         mat.base_color.to_array().as_slice(),
@@ -429,6 +443,8 @@ pub fn material(
             mat.iridescence_ior,
             mat.iridescence_thickness_min,
             mat.iridescence_thickness_max,
+            mat.anisotropy_strength,
+            mat.anisotropy_rotation,
         ],
         &mat.diffuse_transmission_color.to_array(),
         &mat.sheen_color.to_array(),

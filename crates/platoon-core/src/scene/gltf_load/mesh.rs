@@ -400,13 +400,23 @@ pub fn load_mesh(
             crate::flatten::bvh::MAX_COORDINATE
         ));
     }
-    let normal_mapped = out
-        .triangle_materials
-        .iter()
-        .any(|&m| materials[m as usize].normal_texture.is_some());
-    if normal_mapped && !any_tangents && any_uvs {
+    // A normal map (the base's or the coat's) or an anisotropic lobe needs a tangent frame.
+    let uses = |f: fn(&Material) -> bool| {
+        out.triangle_materials
+            .iter()
+            .any(|&m| f(&materials[m as usize]))
+    };
+    let anisotropic = uses(Material::has_anisotropy);
+    let framed =
+        anisotropic || uses(|m| m.normal_texture.is_some() || m.clearcoat_normal_texture.is_some());
+    if framed && !any_tangents && any_uvs {
         out.tangents =
             crate::scene::tangents::generate(&out.positions, &out.normals, &out.uvs, &out.indices);
+    }
+    if anisotropic && !any_tangents && !any_uvs {
+        warnings.push(format!(
+            "mesh '{name}': an anisotropic material without TANGENT or TEXCOORD_0 to make them from: its anisotropy follows an arbitrary direction"
+        ));
     }
     Ok(out)
 }
