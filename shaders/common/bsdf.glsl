@@ -148,6 +148,9 @@ bool refract_dir(vec3 wo, vec3 n, float eta, out float etap, out vec3 wi) {
     return true;
 }
 
+#if defined(HAS_IRIDESCENCE) || defined(HAS_DISPERSION)
+#include "common/spectrum.glsl"
+#endif
 #ifdef HAS_IRIDESCENCE
 #include "common/thin_film.glsl"
 #endif

@@ -39,6 +39,10 @@ struct Surface {
     float anisotropy;           // KHR_materials_anisotropy's strength and direction: world, in
     vec3 anisotropy_direction;  // the shading normal's plane (apply_material: tangent space)
 #endif
+#ifdef HAS_DISPERSION
+    float dispersion;           // KHR_materials_dispersion's 20 / Abbe number (0: none, and
+                                // none on a thin wall: the spec disperses in a volume)
+#endif
 #ifdef HAS_IRIDESCENCE
     float iridescence;          // KHR_materials_iridescence's strength, the film's index and
     float iridescence_ior;      // its thickness in nanometres
@@ -93,6 +97,9 @@ void apply_material(inout Surface s, Material m) {
 #ifdef HAS_ANISOTROPY
     s.anisotropy = m.misc.y;
     s.anisotropy_direction = vec3(cos(m.misc.z), sin(m.misc.z), 0.0);
+#endif
+#ifdef HAS_DISPERSION
+    s.dispersion = m.volume.w > 0.0 ? m.misc.w : 0.0;
 #endif
 #ifdef HAS_IRIDESCENCE
     s.iridescence = m.iridescence.x;

@@ -4,12 +4,7 @@
 // base's index inferred from its normal-incidence reflectance as a dielectric's, phase shifts of
 // 0 or pi by which side is denser, the first two orders of interference. The optical path
 // difference takes the angle inside the film (the paper's and the Khronos sample viewer's; the
-// spec's text writes the outside one). Included by bsdf.glsl after `schlick`.
-
-// CIE XYZ to linear Rec. 709 (sRGB primaries, D65), columns.
-const mat3 XYZ_TO_REC709 = mat3(3.2404542, -0.9692660, 0.0556434,
-                                -1.5371385, 1.8760108, -0.2040259,
-                                -0.4985314, 0.0415560, 1.0572252);
+// spec's text writes the outside one). Included by bsdf.glsl after `schlick` and spectrum.glsl.
 
 // The colour-matching functions fit by Gaussians (amplitude, centre, variance per X, Y, Z and a
 // second lobe for X), integrated against the interference of optical path difference `opd` (nm)

@@ -104,6 +104,9 @@ struct Path {
 #ifdef HAS_VOLUME
     vec3 medium;        // the absorption of the medium the ray travels in (0: the outside)
 #endif
+#ifdef HAS_DISPERSION
+    float wavelength;   // nm, from the first dispersive surface on (0: the path is RGB)
+#endif
 #ifdef PATH_HOOKS
     PathHook hook;
 #endif
@@ -139,6 +142,9 @@ Path path_start(Ray ray, uint sample_index) {
     p.diffuse = 0u;
 #ifdef HAS_VOLUME
     p.medium = vec3(0.0);
+#endif
+#ifdef HAS_DISPERSION
+    p.wavelength = 0.0;
 #endif
 #ifdef PATH_HOOKS
     hook_path_start(p.hook);
@@ -216,6 +222,19 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
     vec3 t, b;
     make_frame(s.ns, t, b);
     vec3 wo = to_local(-p.ray.dir, t, b, s.ns);
+#ifdef HAS_DISPERSION
+    if (s.dispersion > 0.0 && s.transmission > 0.0) {
+        // KHR_materials_dispersion: the path turns spectral at the first dispersive surface it
+        // meets (one wavelength, its throughput weighed by the wavelength's colour) and every
+        // dispersive surface then refracts at that wavelength's index; the rest stays RGB.
+        if (p.wavelength == 0.0) {
+            vec3 weight;
+            p.wavelength = sample_wavelength(rng_next(rng), weight);
+            p.throughput *= weight;
+        }
+        s.ior = dispersed_ior(s.ior, s.dispersion, p.wavelength);
+    }
+#endif
     Bsdf bsdf = make_bsdf(s, wo);
     // The geometric side the ray arrived on; new rays leave from the side they head to.
     vec3 ng_wo = dot(s.ng, p.ray.dir) < 0.0 ? s.ng : -s.ng;

@@ -151,8 +151,8 @@ fn estimators_agree_under_an_importance_sampled_environment_map() {
 /// bluish sheen beneath, a short box of rough glass whose inside absorbs (KHR_materials_volume),
 /// thin films (KHR_materials_iridescence) on the velvet under its coat and on the glass (whose
 /// reflection is then sampled by the film's mean reflectance), both anisotropic
-/// (KHR_materials_anisotropy; the box has no tangents: the shading frame's own), lit by its area
-/// light.
+/// (KHR_materials_anisotropy; the box has no tangents: the shading frame's own), the glass also
+/// dispersive (KHR_materials_dispersion: its paths turn spectral), lit by its area light.
 fn coated_cornell() -> platoon::Prepared {
     let mut scene = platoon::core::scene::cornell::scene();
     let leaf = scene.materials.len() as u32;
@@ -199,6 +199,7 @@ fn coated_cornell() -> platoon::Prepared {
         iridescence_ior: 1.8,
         iridescence_thickness_max: 300.0,
         anisotropy_strength: 0.7,
+        dispersion: 1.0,
         ..Material::default()
     });
     let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
@@ -219,7 +220,7 @@ fn estimators_agree_with_the_material_extensions() {
     let prepared = coated_cornell();
     let f = prepared.gpu.features;
     assert!(f.clearcoat && f.diffuse_transmission && f.sheen && f.volume && f.iridescence);
-    assert!(f.anisotropy);
+    assert!(f.anisotropy && f.dispersion);
     assert!(f.emissive_triangles);
     assert_estimators_agree(&prepared);
 }

@@ -646,3 +646,24 @@ fn anisotropy_spheres_load_as_written_and_render_under_a_map() {
         scene.warnings
     );
 }
+
+/// KHR_materials_dispersion (issue 25): the dispersions load as written; a thin wall (thickness
+/// 0) does not disperse; the spheres render; a dispersion below 0 is refused.
+#[test]
+fn dispersion_spheres_load_as_written_and_render_under_a_map() {
+    let data = platoon_scenegen::materials::dispersion();
+    let scene = load_generated(&data);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let dispersions: Vec<f32> = scene.materials.iter().map(|m| m.dispersion).collect();
+    assert_eq!(&dispersions[..4], &[0.0, 0.33, 1.0, 2.04]);
+    assert_eq!(scene.materials[4].ior, 2.42);
+    assert!(!scene.materials[0].has_dispersion());
+    assert!(scene.materials[6].has_dispersion() && scene.materials[6].absorbs());
+    assert!(!scene.materials[7].has_dispersion());
+    renders_finite_under_a_map(scene, |f| f.dispersion && f.volume);
+    let e = load_error(&edited_glb(&platoon_scenegen::to_glb(&data), |json| {
+        json["materials"][1]["extensions"]["KHR_materials_dispersion"]["dispersion"] =
+            (-0.5).into();
+    }));
+    assert!(e.contains("dispersion is below 0"), "{e}");
+}

@@ -22,7 +22,7 @@ const uint SLOT_LIVE = 1u;     // has a ray to extend
 const uint SLOT_ENDED = 2u;    // its path ended: its light goes to its pixel at the next regeneration
 const uint SLOT_RETIRED = 3u;  // no pixel left in the band
 
-// One path in flight, packed (std430, 80 bytes; 96 with a medium: StreamSlot in
+// One path in flight, packed (std430, 80 bytes; 96 with a medium or a wavelength: StreamSlot in
 // method/stream.rs sizes the larger, so a scene without volumes moves no more than it needs).
 struct SptSlot {
     vec4 origin;      // ray origin, tmax
@@ -30,8 +30,8 @@ struct SptSlot {
     vec4 L;           // light gathered so far; w: rays traced for the pixel (uint bits)
     vec4 throughput;  // w: path depth (uint bits)
     uvec4 info;       // state | after_delta << 2 | diffuse bounces << 8, pixel index, sample, rng
-#ifdef HAS_VOLUME
-    vec4 medium;      // Path::medium
+#if defined(HAS_VOLUME) || defined(HAS_DISPERSION)
+    vec4 medium;      // Path::medium, w: Path::wavelength
 #endif
 };
 // The closest hit of the ray of live-queue entry k (32 bytes): (t, b1, b2, -), (instance,
@@ -109,6 +109,9 @@ Path unpack_path(SptSlot s) {
 #ifdef HAS_VOLUME
     p.medium = s.medium.xyz;
 #endif
+#ifdef HAS_DISPERSION
+    p.wavelength = s.medium.w;
+#endif
     return p;
 }
 
@@ -118,8 +121,12 @@ void store_path(uint i, Path p, uint state, uint pixel, Rng rng, uint rays) {
     slots[i] = SptSlot(vec4(p.ray.origin, p.ray.tmax), vec4(p.ray.dir, p.bsdf_pdf),
                        vec4(p.L, uintBitsToFloat(rays)), vec4(p.throughput, uintBitsToFloat(p.depth)),
                        uvec4(flags, pixel, p.sample_index, rng.state)
-#ifdef HAS_VOLUME
+#if defined(HAS_VOLUME) && defined(HAS_DISPERSION)
+                       , vec4(p.medium, p.wavelength)
+#elif defined(HAS_VOLUME)
                        , vec4(p.medium, 0.0)
+#elif defined(HAS_DISPERSION)
+                       , vec4(vec3(0.0), p.wavelength)
 #endif
                        );
 }

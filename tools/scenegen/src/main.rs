@@ -4,7 +4,7 @@
 //! `platoon-scenegen OUT.glb --cornell-nodes | --spheres`: the bench scenes as exporters write
 //! them (the Cornell box a node per object; five spheres of glTF materials, textured ground).
 //! `platoon-scenegen OUT.glb --clearcoat | --diffuse-transmission | --sheen | --volume |
-//! --iridescence | --anisotropy`: spheres of a material extension (`materials::SCENES`; render them under an
+//! --iridescence | --anisotropy | --dispersion`: spheres of a material extension (`materials::SCENES`; render them under an
 //! environment: `platoon render OUT.glb --env MAP.exr`).
 //! `platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]`: writes the
 //! adversarial suite (valid hard scenes, malformed and hostile files, mutations of SCENES).
@@ -76,7 +76,7 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let Some(out) = out else {
-        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --cornell-nodes | --spheres | --clearcoat | --diffuse-transmission | --sheen | --volume | --iridescence | --anisotropy]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
+        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --cornell-nodes | --spheres | --clearcoat | --diffuse-transmission | --sheen | --volume | --iridescence | --anisotropy | --dispersion]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
         return ExitCode::FAILURE;
     };
     let scene = if glossy_glass {

@@ -35,6 +35,7 @@ pub const SCENES: &[(&str, MakeScene)] = &[
     ("--volume", volume),
     ("--iridescence", iridescence),
     ("--anisotropy", anisotropy),
+    ("--dispersion", dispersion),
 ];
 
 /// Spheres of `materials` in rows of `per_row`, before a camera that sees them all.
@@ -337,6 +338,44 @@ pub fn anisotropy() -> SceneData {
     );
     scene.images = vec![swirl_png(), checker_png(4, 16)];
     scene
+}
+
+/// KHR_materials_dispersion, after Khronos' DispersionTest and DiamondDispersion: smooth glass
+/// spheres (diameter 2, thickness 2) of index 1.5 with no dispersion, a crown glass's (0.33),
+/// 1 (an Abbe number of 20) and rutile's 2.04; a diamond (index 2.42, 0.36); a rough one; a
+/// tinted absorbing one; and a thin wall (thickness 0: the spec disperses in a volume only).
+pub fn dispersion() -> SceneData {
+    let glass = |ior: f64, roughness: f64, dispersion: f64, volume: Value| {
+        json!({"name": "dispersive glass", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": roughness},
+               "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                              "KHR_materials_ior": {"ior": ior},
+                              "KHR_materials_volume": volume,
+                              "KHR_materials_dispersion": {"dispersion": dispersion}}})
+    };
+    let solid = json!({"thicknessFactor": 2.0});
+    let mut materials: Vec<Value> = [0.0, 0.33, 1.0, 2.04]
+        .into_iter()
+        .map(|d| glass(1.5, 0.0, d, solid.clone()))
+        .collect();
+    materials.push(glass(2.42, 0.0, 0.36, solid.clone()));
+    materials.push(glass(1.5, 0.2, 1.0, solid.clone()));
+    materials.push(glass(
+        1.5,
+        0.0,
+        1.0,
+        json!({"thicknessFactor": 2.0, "attenuationColor": [0.9, 0.6, 0.3], "attenuationDistance": 2.0}),
+    ));
+    materials.push(glass(1.5, 0.0, 1.0, json!({"thicknessFactor": 0.0})));
+    rows_of_spheres(
+        materials,
+        4,
+        &[
+            "KHR_materials_transmission",
+            "KHR_materials_ior",
+            "KHR_materials_volume",
+            "KHR_materials_dispersion",
+        ],
+    )
 }
 
 #[cfg(test)]

@@ -48,6 +48,8 @@ pub struct SceneFeatures {
     /// KHR_materials_anisotropy; and some texture of it.
     pub anisotropy: bool,
     pub anisotropy_textures: bool,
+    /// KHR_materials_dispersion in a transmissive volume: paths carry a wavelength.
+    pub dispersion: bool,
     pub emissive_triangles: bool,
     pub punctual_lights: bool,
     pub environment_map: bool,
@@ -125,6 +127,7 @@ impl SceneFeatures {
             anisotropy_textures: used
                 .iter()
                 .any(|m| m.has_anisotropy() && m.anisotropy_texture.is_some()),
+            dispersion: used.iter().any(|m| m.has_dispersion()),
             emissive_triangles: used.iter().any(|m| m.is_emissive()),
             punctual_lights: scene.nodes.iter().any(|n| n.light.is_some()),
             environment_map: matches!(
@@ -163,6 +166,7 @@ impl SceneFeatures {
             iridescence_textures: true,
             anisotropy: true,
             anisotropy_textures: true,
+            dispersion: true,
             emissive_triangles: true,
             punctual_lights: true,
             environment_map: true,
@@ -171,7 +175,7 @@ impl SceneFeatures {
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 28] {
+    pub(crate) fn options(&self) -> [KernelOption; 29] {
         [
             ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
@@ -238,6 +242,7 @@ impl SceneFeatures {
                 "HAS_ANISOTROPY_TEXTURES",
                 self.anisotropy_textures,
             ),
+            ("dispersion", "HAS_DISPERSION", self.dispersion),
             (
                 "emissive-triangles",
                 "HAS_EMISSIVE_TRIANGLES",

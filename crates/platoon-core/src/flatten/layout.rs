@@ -68,7 +68,8 @@ pub struct GpuMaterial {
     pub textures0: [i32; 4],
     /// specular, specular colour, transmission textures, flags
     pub textures1: [i32; 4],
-    /// alpha cutoff, KHR_materials_anisotropy's strength and rotation (radians)
+    /// alpha cutoff, KHR_materials_anisotropy's strength and rotation (radians),
+    /// KHR_materials_dispersion's 20 / Abbe number
     pub misc: [f32; 4],
     /// KHR_materials_clearcoat: factor, roughness, normal scale
     pub clearcoat: [f32; 4],

@@ -97,7 +97,7 @@ fn gpu_material(m: &crate::scene::Material) -> GpuMaterial {
             cutoff,
             m.anisotropy_strength.clamp(0.0, 1.0),
             m.anisotropy_rotation,
-            0.0,
+            m.dispersion.max(0.0),
         ],
         clearcoat: [
             m.clearcoat.clamp(0.0, 1.0),

@@ -160,6 +160,13 @@ pub struct Material {
     pub anisotropy_strength: f32,
     pub anisotropy_rotation: f32,
     pub anisotropy_texture: Option<TextureRef>,
+    /// KHR_materials_dispersion: 20 / the Abbe number, by which the index of refraction (`ior`
+    /// at 587.6 nm) varies with the wavelength (the spec's Cauchy equation), in the volume of a
+    /// transmissive material (`has_volume`); 0 none. A path that meets such a surface carries one
+    /// wavelength from there on, drawn uniformly over 380-780 nm and weighed by the linear
+    /// Rec. 709 colour-matching functions (clamped at 0, each channel normalised to 1 over the
+    /// range: shaders/common/spectrum.glsl).
+    pub dispersion: f32,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
     /// KHR_materials_unlit: the base colour is emitted radiance and nothing is reflected.
@@ -213,6 +220,7 @@ impl Default for Material {
             anisotropy_strength: 0.0,
             anisotropy_rotation: 0.0,
             anisotropy_texture: None,
+            dispersion: 0.0,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             unlit: false,
@@ -280,6 +288,12 @@ impl Material {
     /// scales the factor).
     pub fn has_sheen(&self) -> bool {
         self.sheen_color.max_element() > 0.0
+    }
+
+    /// Whether light refracted into it disperses (a dispersion above 0 in a volume that
+    /// transmits; a texture only scales the transmission).
+    pub fn has_dispersion(&self) -> bool {
+        self.dispersion > 0.0 && self.has_volume() && self.transmission > 0.0
     }
 
     /// Whether its specular lobes are anisotropic (a texture only scales the strength).

@@ -26,12 +26,14 @@ pub enum Effect {
     Iridescence,
     /// KHR_materials_anisotropy.
     Anisotropy,
+    /// KHR_materials_dispersion.
+    Dispersion,
 }
 
 impl Effect {
     /// The technique's name: `no-textures`, `no-normal-maps`, `opaque`, `env-mean`,
     /// `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`, `no-volume`, `no-iridescence`,
-    /// `no-anisotropy`.
+    /// `no-anisotropy`, `no-dispersion`.
     pub fn name(self) -> &'static str {
         match self {
             Effect::Textures => "no-textures",
@@ -44,6 +46,7 @@ impl Effect {
             Effect::Volume => "no-volume",
             Effect::Iridescence => "no-iridescence",
             Effect::Anisotropy => "no-anisotropy",
+            Effect::Dispersion => "no-dispersion",
         }
     }
 
@@ -59,6 +62,7 @@ impl Effect {
             Effect::Volume,
             Effect::Iridescence,
             Effect::Anisotropy,
+            Effect::Dispersion,
         ]
         .into_iter()
         .find(|e| e.name() == name)
@@ -113,6 +117,7 @@ impl Effect {
                 m.anisotropy_strength = 0.0;
                 m.anisotropy_texture = None;
             }),
+            Effect::Dispersion => turn_off(scene, Material::has_dispersion, |m| m.dispersion = 0.0),
             Effect::EnvironmentMap => match &scene.environment {
                 Some(Environment::Map(map)) => {
                     scene.environment = Some(Environment::Constant(map.mean_radiance()));

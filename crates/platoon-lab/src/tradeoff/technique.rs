@@ -239,6 +239,7 @@ impl Technique {
     /// `generic-kernel`, `ris=M`, `mis-ris=M`, `dpt`, `single-bounce`, `spt`, `nop`, `no-textures`,
     /// `no-normal-maps`, `opaque`, `env-mean`, `no-clearcoat`, `no-diffuse-transmission`, `no-sheen`,
     /// `no-volume`, `no-iridescence`, `no-anisotropy`,
+    /// `no-dispersion`,
     /// `denoise=atrous`, `adaptive=T`.
     pub fn parse(s: &str) -> Result<Technique> {
         if let Some(effect) = Effect::parse(s.trim()) {
@@ -308,7 +309,7 @@ impl Technique {
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
                  generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
-                 env-mean, no-clearcoat, no-diffuse-transmission, no-sheen, no-volume, no-iridescence, no-anisotropy, igi=N[+boxes][+downK][+interMxN][+minD], \
+                 env-mean, no-clearcoat, no-diffuse-transmission, no-sheen, no-volume, no-iridescence, no-anisotropy, no-dispersion, igi=N[+boxes][+downK][+interMxN][+minD], \
                  links=N[+bB][+nosmooth][+vertex][+subK], lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild], \
                  denoise=atrous, denoise=oidn, adaptive=T"
             ),

@@ -256,6 +256,19 @@ fn anisotropy(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<
     Ok(())
 }
 
+/// KHR_materials_dispersion (the `gltf` crate does not model it) onto `mat`.
+fn dispersion(m: &gltf::Material, mat: &mut Material) -> Check<()> {
+    let Some(ext) = m.extension_value("KHR_materials_dispersion") else {
+        return Ok(());
+    };
+    let what = "KHR_materials_dispersion";
+    mat.dispersion = json_number(ext, "dispersion", 0.0, what)?;
+    if mat.dispersion < 0.0 {
+        return Err(format!("{what}: dispersion is below 0"));
+    }
+    Ok(())
+}
+
 /// KHR_materials_clearcoat (the `gltf` crate does not model it) onto `mat`.
 fn clearcoat(m: &gltf::Material, mat: &mut Material, textures: usize) -> Check<()> {
     let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
@@ -421,6 +434,7 @@ pub fn material(
     volume(m, &mut mat)?;
     iridescence(m, &mut mat, textures.len())?;
     anisotropy(m, &mut mat, textures.len())?;
+    dispersion(m, &mut mat)?;
     spec_gloss(m, &mut mat, textures, glossiness)?;
     let factors = [
         mat.base_color.to_array().as_slice(),
@@ -445,6 +459,7 @@ pub fn material(
             mat.iridescence_thickness_max,
             mat.anisotropy_strength,
             mat.anisotropy_rotation,
+            mat.dispersion,
         ],
         &mat.diffuse_transmission_color.to_array(),
         &mat.sheen_color.to_array(),

@@ -36,6 +36,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_volume",
     "KHR_materials_iridescence",
     "KHR_materials_anisotropy",
+    "KHR_materials_dispersion",
     "KHR_mesh_quantization",
     "EXT_texture_webp",
     "KHR_texture_transform",
