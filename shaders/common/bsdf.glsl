@@ -155,22 +155,18 @@ bool refract_dir(vec3 wo, vec3 n, float eta, out float etap, out vec3 wi) {
 #include "common/thin_film.glsl"
 #endif
 
-// The Fresnel reflectance at cos c (of wo to the microfacet) of the dielectric's specular layer
-// and of the metal: Schlick's, mixed with the thin film's where one lies over them.
-vec3 layer_fresnel(Bsdf b, float c) {
-    vec3 f = schlick(b.f0, c);
+// The Fresnel reflectance at cos c (of wo to the microfacet) of a surface of normal-incidence
+// reflectance f0: Schlick's, mixed with the thin film's where one lies over it.
+vec3 filmed_fresnel(Bsdf b, vec3 f0, float c) {
+    vec3 f = schlick(f0, c);
 #ifdef HAS_IRIDESCENCE
-    if (b.film > 0.0) f = mix(f, thin_film_fresnel(b.film_outside, b.film_ior, b.film_thickness, c, b.f0), b.film);
+    if (b.film > 0.0) f = mix(f, thin_film_fresnel(b.film_outside, b.film_ior, b.film_thickness, c, f0), b.film);
 #endif
     return f;
 }
-vec3 metal_fresnel(Bsdf b, float c) {
-    vec3 f = schlick(b.base_color, c);
-#ifdef HAS_IRIDESCENCE
-    if (b.film > 0.0) f = mix(f, thin_film_fresnel(b.film_outside, b.film_ior, b.film_thickness, c, b.base_color), b.film);
-#endif
-    return f;
-}
+// The dielectric's specular layer's, and the metal's (its base colour the f0).
+vec3 layer_fresnel(Bsdf b, float c) { return filmed_fresnel(b, b.f0, c); }
+vec3 metal_fresnel(Bsdf b, float c) { return filmed_fresnel(b, b.base_color, c); }
 
 // Glass's reflectance at cos oh (below 0: from inside) and the chance with which reflection is
 // sampled: the exact Fresnel, mixed with a film's as seen from outside (a lossless film reflects
