@@ -254,3 +254,56 @@ pub fn minus(a: &Film, b: &Film) -> Film {
     }
     d
 }
+
+/// `meshes` of `materials` (with `textures`) seen from `eye` toward the origin by an
+/// orthographic camera 0.05 wide, under a sky of 1: the set-up of the tests that hold a surface
+/// to an integral of its BSDF (every ray it reflects or refracts finds the sky or a mesh).
+pub fn under_unit_sky(
+    meshes: Vec<(Mesh, Vec3, f32)>,
+    materials: Vec<Material>,
+    textures: Vec<platoon::core::scene::Texture>,
+    eye: Vec3,
+) -> Prepared {
+    let mut scene = scene_of(meshes, materials, eye, Vec3::ZERO, 0.5);
+    scene.textures = textures;
+    scene.cameras[0].orthographic = Some([0.05, 0.05]);
+    prepare(scene, constant_env(1.0))
+}
+
+/// A texture of one texel, repeating, unfiltered: one value for a texture slot.
+pub fn one_texel(name: &str, rgba8: [u8; 4]) -> platoon::core::scene::Texture {
+    use platoon::core::scene::{Texture, Wrap};
+    Texture {
+        name: name.into(),
+        width: 1,
+        height: 1,
+        rgba8: rgba8.to_vec(),
+        wrap_s: Wrap::Repeat,
+        wrap_t: Wrap::Repeat,
+        nearest: true,
+    }
+}
+
+/// `material` as the plane y = 0 over a black floor at y = -1, seen from cos θ `cos_view` (in
+/// the x-y plane) under a sky of 1: of a plane that transmits, the camera sees the reflection
+/// alone (what it refracts finds the black floor).
+pub fn over_black_floor(material: Material, cos_view: f64) -> Prepared {
+    let black = Material {
+        name: "black".into(),
+        base_color: glam::Vec4::new(0.0, 0.0, 0.0, 1.0),
+        metallic: 0.0,
+        specular: 0.0,
+        ..Material::default()
+    };
+    let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
+    let quad = |m| mesh_from(&platoon_scenegen::quad(1.0, 1.0), m);
+    under_unit_sky(
+        vec![
+            (quad(0), Vec3::ZERO, 1000.0),
+            (quad(1), Vec3::new(0.0, -1.0, 0.0), 1000.0),
+        ],
+        vec![material, black],
+        vec![],
+        Vec3::new(s, c, 0.0) * 10.0,
+    )
+}

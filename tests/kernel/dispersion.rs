@@ -10,7 +10,7 @@
 mod common;
 
 use common::*;
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 use platoon::core::frame::FrameParams;
 use platoon::core::method::path::PathKernel;
 use platoon::core::scene::Material;
@@ -80,37 +80,11 @@ fn glass(dispersion: f32, thickness: f32) -> Material {
     }
 }
 
-/// The glass plane y = 0 over a black floor at y = -1, seen from cos θ `cos_view` by an
-/// orthographic camera, under a sky of 1.
-fn over_black(material: Material, cos_view: f64) -> platoon::Prepared {
-    let black = Material {
-        name: "black".into(),
-        base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
-        metallic: 0.0,
-        specular: 0.0,
-        ..Material::default()
-    };
-    let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
-    let quad = |m| mesh_from(&platoon_scenegen::quad(1.0, 1.0), m);
-    let mut scene = scene_of(
-        vec![
-            (quad(0), Vec3::ZERO, 1000.0),
-            (quad(1), Vec3::new(0.0, -1.0, 0.0), 1000.0),
-        ],
-        vec![material, black],
-        Vec3::new(s, c, 0.0) * 10.0,
-        Vec3::ZERO,
-        0.5,
-    );
-    scene.cameras[0].orthographic = Some([0.05, 0.05]);
-    prepare(scene, constant_env(1.0))
-}
-
 #[test]
 fn dispersive_glass_reflects_the_spectrum_of_its_indices() {
     let (ior, dispersion) = (1.5, 5.0);
     for cos_view in [0.95, 0.5] {
-        let prepared = over_black(glass(dispersion as f32, 1.0), cos_view);
+        let prepared = over_black_floor(glass(dispersion as f32, 1.0), cos_view);
         assert!(prepared.gpu.features.dispersion);
         let expected: Vec<f64> = (0..3)
             .map(|k| channel_mean(k, |l| fresnel(cos_view, index_at(ior, dispersion, l))))
@@ -145,9 +119,9 @@ fn dispersive_glass_reflects_the_spectrum_of_its_indices() {
 fn a_thin_wall_does_not_disperse() {
     // The spec disperses in a volume: a thin wall (thickness 0) compiles no dispersion and
     // renders the bits of the same glass without the extension.
-    let thin = over_black(glass(1.0, 0.0), 0.8);
+    let thin = over_black_floor(glass(1.0, 0.0), 0.8);
     assert!(!thin.gpu.features.dispersion);
-    let plain = over_black(glass(0.0, 0.0), 0.8);
+    let plain = over_black_floor(glass(0.0, 0.0), 0.8);
     let params = FrameParams::new(16, 16, 16, thin.camera);
     let a = render(&thin, &params, Sampling::Mis);
     let b = render(&plain, &params, Sampling::Mis);
@@ -184,19 +158,16 @@ fn a_spectral_path_keeps_white_white() {
     // channel's sensitivity over its integral and the pdf).
     let mut material = glass(1.0, 1.0);
     material.ior = 1.0;
-    let mut scene = scene_of(
+    let prepared = under_unit_sky(
         vec![(
             mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0),
             Vec3::ZERO,
             1000.0,
         )],
         vec![material],
+        vec![],
         Vec3::new(0.3, 1.0, 0.0) * 10.0,
-        Vec3::ZERO,
-        0.5,
     );
-    scene.cameras[0].orthographic = Some([0.05, 0.05]);
-    let prepared = prepare(scene, constant_env(1.0));
     assert!(prepared.gpu.features.dispersion);
     let film = render(
         &prepared,

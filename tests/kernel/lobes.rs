@@ -446,16 +446,12 @@ fn plane(lobe: &Lobe, cos_view: f64) -> platoon::Prepared {
     // The plane is y = 0 facing +y; the camera looks down at it from (s, c) in the x-y plane,
     // turned by the azimuth about +y (toward -z, the test's +y).
     let (sa, ca) = (lobe.view_azimuth as f32).sin_cos();
-    let eye = Vec3::new(s * ca, c, -s * sa) * 10.0;
-    let mut scene = scene_of(
+    under_unit_sky(
         vec![(tangent_quad(lobe.tangent_angle), Vec3::ZERO, 1000.0)],
         vec![material],
-        eye,
-        Vec3::ZERO,
-        0.5,
-    );
-    scene.cameras[0].orthographic = Some([0.05, 0.05]);
-    prepare(scene, constant_env(1.0))
+        vec![],
+        Vec3::new(s * ca, c, -s * sa) * 10.0,
+    )
 }
 
 /// The quad facing +y with UVs of 0 and its tangent turned `angle` from +x toward -z, the
@@ -971,11 +967,11 @@ fn coats_and_back_sides_sample_as_their_pdf_says() {
 /// or its own map's.
 #[test]
 fn a_coat_follows_its_own_normal_map_not_the_bases() {
-    use platoon::core::scene::{Texture, TextureRef, Wrap};
+    use platoon::core::scene::TextureRef;
     // A map turning the normal 40 degrees toward the bitangent, as 8-bit texels.
     let tilt = 40f32.to_radians();
     let texel = |c: f32| ((c * 0.5 + 0.5) * 255.0).round() as u8;
-    let rgba8 = vec![texel(0.0), texel(tilt.sin()), texel(tilt.cos()), 255];
+    let rgba8 = [texel(0.0), texel(tilt.sin()), texel(tilt.cos()), 255];
     // As the kernel decodes it (0 is stored as 128, 0.0039).
     let decoded = (Vec3::new(rgba8[0] as f32, rgba8[1] as f32, rgba8[2] as f32) / 255.0 * 2.0
         - Vec3::ONE)
@@ -1017,28 +1013,12 @@ fn a_coat_follows_its_own_normal_map_not_the_bases() {
         ),
     ];
     for (name, material, expected) in cases {
-        let eye = v * 10.0;
-        let mut mesh = mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0);
-        mesh.uvs = vec![glam::Vec2::ZERO; mesh.positions.len()];
-        mesh.tangents = vec![Vec4::new(1.0, 0.0, 0.0, 1.0); mesh.positions.len()];
-        let mut scene = scene_of(
-            vec![(mesh, Vec3::ZERO, 1000.0)],
+        let prepared = under_unit_sky(
+            vec![(tangent_quad(0.0), Vec3::ZERO, 1000.0)],
             vec![material],
-            eye,
-            Vec3::ZERO,
-            0.5,
+            vec![one_texel("tilt", rgba8)],
+            v * 10.0,
         );
-        scene.textures.push(Texture {
-            name: "tilt".into(),
-            width: 1,
-            height: 1,
-            rgba8: rgba8.clone(),
-            wrap_s: Wrap::Repeat,
-            wrap_t: Wrap::Repeat,
-            nearest: true,
-        });
-        scene.cameras[0].orthographic = Some([0.05, 0.05]);
-        let prepared = prepare(scene, constant_env(1.0));
         for sampling in [Sampling::Mis, Sampling::Bsdf] {
             let film = render(
                 &prepared,
@@ -1269,7 +1249,7 @@ fn a_smooth_filmed_mirror_shows_the_films_fresnel_in_each_channel() {
 /// linear, 8-bit): a smooth filmed mirror then shows that film's Fresnel exactly.
 #[test]
 fn a_films_textures_set_its_thickness_and_strength() {
-    use platoon::core::scene::{Texture, TextureRef, Wrap};
+    use platoon::core::scene::TextureRef;
     let (r, g) = (153u8, 64u8);
     let (strength, mix) = (r as f64 / 255.0, g as f64 / 255.0);
     let (thin, thick) = (150.0, 650.0);
@@ -1294,24 +1274,12 @@ fn a_films_textures_set_its_thickness_and_strength() {
         ..mirror.material()
     };
     let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
-    let mut scene = scene_of(
-        vec![(mesh, Vec3::ZERO, 1000.0)],
+    let prepared = under_unit_sky(
+        vec![(tangent_quad(0.0), Vec3::ZERO, 1000.0)],
         vec![material],
+        vec![one_texel("film", [r, g, 0, 255])],
         Vec3::new(s, c, 0.0) * 10.0,
-        Vec3::ZERO,
-        0.5,
     );
-    scene.textures.push(Texture {
-        name: "film".into(),
-        width: 1,
-        height: 1,
-        rgba8: vec![r, g, 0, 255],
-        wrap_s: Wrap::Repeat,
-        wrap_t: Wrap::Repeat,
-        nearest: true,
-    });
-    scene.cameras[0].orthographic = Some([0.05, 0.05]);
-    let prepared = prepare(scene, constant_env(1.0));
     assert!(prepared.gpu.features.iridescence_textures);
     let film = render(
         &prepared,
@@ -1353,35 +1321,8 @@ fn smooth_filmed_glass_reflects_the_films_fresnel_in_each_channel() {
         film_thickness: 420.0,
         ..DIELECTRIC
     };
-    let black = Material {
-        name: "black".into(),
-        base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
-        metallic: 0.0,
-        specular: 0.0,
-        ..Material::default()
-    };
     for cos_view in [0.85f64, 0.4] {
-        let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
-        let mut scene = scene_of(
-            vec![
-                (
-                    mesh_from(&platoon_scenegen::quad(1.0, 1.0), 0),
-                    Vec3::ZERO,
-                    1000.0,
-                ),
-                (
-                    mesh_from(&platoon_scenegen::quad(1.0, 1.0), 1),
-                    Vec3::new(0.0, -1.0, 0.0),
-                    1000.0,
-                ),
-            ],
-            vec![glass.material(), black.clone()],
-            Vec3::new(s, c, 0.0) * 10.0,
-            Vec3::ZERO,
-            0.5,
-        );
-        scene.cameras[0].orthographic = Some([0.05, 0.05]);
-        let prepared = prepare(scene, constant_env(1.0));
+        let prepared = over_black_floor(glass.material(), cos_view);
         let (w, h, spp) = (16, 16, 1024);
         let image = render(
             &prepared,
@@ -1521,7 +1462,7 @@ fn anisotropic_lobes_sample_as_their_pdf_says() {
 /// strength; the texture must matter (the rotation alone gives another albedo).
 #[test]
 fn an_anisotropy_texture_sets_the_direction_and_strength() {
-    use platoon::core::scene::{Texture, TextureRef, Wrap};
+    use platoon::core::scene::TextureRef;
     let texel = [128u8, 255, 153, 255];
     let d = (
         texel[0] as f64 / 255.0 * 2.0 - 1.0,
@@ -1552,24 +1493,12 @@ fn an_anisotropy_texture_sets_the_direction_and_strength() {
         ..expected_lobe.material()
     };
     let (s, c) = ((1.0 - cos_view * cos_view).sqrt() as f32, cos_view as f32);
-    let mut scene = scene_of(
+    let prepared = under_unit_sky(
         vec![(tangent_quad(0.0), Vec3::ZERO, 1000.0)],
         vec![material],
+        vec![one_texel("direction", texel)],
         Vec3::new(s, c, 0.0) * 10.0,
-        Vec3::ZERO,
-        0.5,
     );
-    scene.textures.push(Texture {
-        name: "direction".into(),
-        width: 1,
-        height: 1,
-        rgba8: texel.to_vec(),
-        wrap_s: Wrap::Repeat,
-        wrap_t: Wrap::Repeat,
-        nearest: true,
-    });
-    scene.cameras[0].orthographic = Some([0.05, 0.05]);
-    let prepared = prepare(scene, constant_env(1.0));
     assert!(prepared.gpu.features.anisotropy_textures);
     let mut params = FrameParams::new(32, 32, 512, prepared.camera);
     params.max_depth = 8;
