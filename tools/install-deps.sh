@@ -5,8 +5,9 @@
 # libraries `platoon view` opens its window with, and Xvfb and xdotool for the viewer test.
 # shaderc comes from Debian (libshaderc-dev with glslang-dev and spirv-tools, linked in seconds);
 # `--features shaderc-from-source` builds it instead, which needs cmake and ninja-build.
-# Packages named as arguments are installed too (tools/test.sh adds ffmpeg, for the video test;
-# the first image does not wait for it). Uses sudo only when not root.
+# Packages named as arguments are installed too (tools/test.sh adds ffmpeg, for the video test,
+# and Open MPI with libclang, for the MPI tests; the first image waits for none of them).
+# Uses sudo only when not root.
 set -euo pipefail
 packages=(mesa-vulkan-drivers libvulkan1 vulkan-validationlayers libshaderc-dev glslang-dev spirv-tools python3 g++ git
     fonts-dejavu-core

@@ -4,7 +4,8 @@
 # with one line totalling all test binaries.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tools/install-deps.sh ffmpeg
+# ffmpeg for the video test; Open MPI and libclang (rsmpi's bindings) for the MPI tests.
+tools/install-deps.sh ffmpeg openmpi-bin libopenmpi-dev libclang-dev
 export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 export VK_ICD_FILENAMES=$VK_DRIVER_FILES
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$HOME/.cache/platoon-target}
@@ -14,6 +15,9 @@ status=0
 cargo test --workspace --all-targets "$@" 2>&1 | tee "$log" || status=$?
 # The examples in the API documentation (--all-targets leaves doc tests out).
 cargo test --workspace --doc "$@" 2>&1 | tee -a "$log" || status=$?
+# Frames split between processes (docs/DISTRIBUTED.md): the CLI built with the feature `mpi`
+# and run under `mpirun -np 3` against one process, bit for bit.
+cargo test -p platoon-cli --features mpi --test mpi "$@" 2>&1 | tee -a "$log" || status=$?
 # Open Image Denoise's own tests need the library, which Debian does not package:
 # tools/oidn.sh finds it ($OIDN_DIR) or fetches the pyoidn wheel's copy into the cache.
 # Without it they are skipped, and this says why.

@@ -845,6 +845,27 @@ fn oidn_denoises_with_the_feature_and_is_refused_saying_how_without() {
     }
 }
 
+/// `--mpi` in a build without the feature says how to build one, writing nothing (the
+/// feature's own tests run under mpirun: tests/cli/mpi.rs). With the feature and no mpirun, a
+/// process alone is a job of one rank: the render is written as without --mpi.
+#[test]
+fn mpi_renders_alone_with_the_feature_and_is_refused_saying_how_without() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("mpi.exr");
+    let cli = Cli::new("render")
+        .spp(2)
+        .size(16, 12)
+        .arg("--mpi")
+        .out(&out);
+    if cfg!(feature = "mpi") {
+        let o = cli.run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(out.exists());
+    } else {
+        cli.fails_naming("--features mpi", &out);
+    }
+}
+
 /// KHR_materials_variants from the command line: `info` lists a file's variants, `render
 /// --variant` renders one (the unlit quad's centre is the mapped colour), and an unknown
 /// variant fails naming the file's, writing nothing.

@@ -17,6 +17,7 @@
 
 pub mod balance;
 pub mod denoise;
+pub mod distribute;
 pub mod drive;
 pub mod error;
 pub mod flatten;

@@ -30,6 +30,7 @@ pub mod animation;
 pub mod aov;
 pub mod batched;
 pub mod devices;
+pub mod distributed;
 pub mod game;
 pub mod generated;
 pub mod metadata;

@@ -130,6 +130,12 @@ pub fn metadata_of(
         ),
         ("approximations".into(), approximations(params)),
     ];
+    if let Some(r) = &rendered.ranks {
+        m.extend([
+            ("mpi_ranks".into(), r.ranks.to_string()),
+            ("mpi_balancer".into(), r.balancer.to_string()),
+        ]);
+    }
     if let Some(a) = rendered.batched.as_ref().and_then(|b| b.adaptive) {
         m.extend([
             ("adaptive_threshold".into(), a.threshold.to_string()),

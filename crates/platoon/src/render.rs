@@ -5,6 +5,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use anyhow::{Context as _, Result};
+use platoon_core::distribute::RankRenderer;
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::renderer::Renderer;
@@ -43,6 +44,9 @@ pub struct Rendered {
     pub sums: Vec<[f32; 3]>,
     /// What a frame rendered in batches (`crate::batched`) knows of each pixel.
     pub batched: Option<BatchedStats>,
+    /// A frame over the ranks of a job (`crate::distributed`): each rank's part and the
+    /// communication; `tracers` then holds one entry per rank.
+    pub ranks: Option<crate::distributed::RanksReport>,
 }
 
 /// Per-pixel statistics of a frame rendered in batches.
@@ -118,6 +122,7 @@ pub fn render_bands(
             platoon_core::frame::renderer::first_report(&out),
         ]
         .concat(),
+        ranks: None,
     })
 }
 
@@ -172,6 +177,7 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         film: frame.film,
         sums: frame.sums,
         batched: None,
+        ranks: None,
     })
 }
 
@@ -181,6 +187,9 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
 pub enum Tracers {
     One(Box<Tracer>),
     Many(Renderer<Tracer>),
+    /// This rank's devices in a job of several processes (`crate::distributed`): every call
+    /// is a collective operation of the ranks.
+    Ranks(Box<RankRenderer<Tracer>>),
 }
 
 impl Tracers {
@@ -195,10 +204,28 @@ impl Tracers {
         Ok(Tracers::Many(Renderer::new(tracers, policy)))
     }
 
+    /// The devices rendering in this process.
     pub fn count(&self) -> usize {
         match self {
             Tracers::One(_) => 1,
             Tracers::Many(r) => r.alive().len(),
+            Tracers::Ranks(r) => r.local().alive().len(),
+        }
+    }
+
+    /// The processes rendering each frame (1 unless over the ranks of a job).
+    pub fn ranks(&self) -> usize {
+        match self {
+            Tracers::Ranks(r) => r.ranks(),
+            _ => 1,
+        }
+    }
+
+    /// This process's rank in its job (0 when alone): rank 0 gets the images.
+    pub fn rank(&self) -> usize {
+        match self {
+            Tracers::Ranks(r) => r.rank(),
+            _ => 0,
         }
     }
 
@@ -212,6 +239,10 @@ impl Tracers {
             Tracers::Many(r) => {
                 r.apply_commit(commit, frame)
                     .context("uploading the frame's changes")?;
+            }
+            Tracers::Ranks(r) => {
+                r.apply_commit(commit, frame)
+                    .context("sending and uploading the frame's changes")?;
             }
         }
         Ok(())
@@ -234,6 +265,7 @@ impl Tracers {
                 let params = crate::method_update::on_renderer(r, scene, params)?;
                 render_frame(r, &params)
             }
+            Tracers::Ranks(r) => crate::distributed::render(r, scene, params),
         }
     }
 }

@@ -60,6 +60,13 @@ pub fn run(a: RenderArgs) -> Result<()> {
         super::video::check(v, a.frames.task_index.is_some())?;
     }
     let (setup, out, args) = super::setup(a)?;
+    let session = setup.session.clone();
+    super::on_every_rank(session, || animation(setup, out, args))
+}
+
+/// The frames of `run`.
+fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<()> {
+    let speaks = setup.speaks();
     let range = args.frames.expect("run only with --frames");
     if !(args.fps.is_finite() && args.fps > 0.0) {
         bail!("--fps must be a positive number, not {}", args.fps);
@@ -74,10 +81,21 @@ pub fn run(a: RenderArgs) -> Result<()> {
     for f in frames {
         let path = frame_path(&out, f);
         if !args.overwrite && job.done(&path, f) {
-            println!("frame {f}: skipped, {} is done", path.display());
+            if speaks {
+                println!("frame {f}: skipped, {} is done", path.display());
+            }
         } else {
             todo.push(f);
         }
+    }
+    // Over ranks, the frames are those rank 0 found to do (the others may not see its files).
+    if let Some(s) = &setup.session {
+        let mine: Vec<u8> = todo.iter().flat_map(|f| f.to_le_bytes()).collect();
+        todo = s
+            .broadcast(mine)
+            .chunks_exact(8)
+            .map(|b| i64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .collect();
     }
     if todo.is_empty() {
         eprintln!("every frame is done (--overwrite renders them again)");
@@ -87,11 +105,16 @@ pub fn run(a: RenderArgs) -> Result<()> {
         return Ok(());
     }
     let spp = setup.params.spp as u64;
-    let bar = ProgressBar::new(todo.len() as u64 * spp);
+    let bar = if speaks {
+        ProgressBar::new(todo.len() as u64 * spp)
+    } else {
+        ProgressBar::hidden()
+    };
     bar.set_style(
         ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg} (eta {eta})").unwrap(),
     );
-    let mut frames = Frames::new(setup, args.fresh_prepare)?;
+    let setup_is_job = setup.session.is_some();
+    let mut frames = Frames::new(setup, args.fresh_prepare, speaks)?;
     let mut failed = 0;
     let start = Instant::now();
     for (i, &f) in todo.iter().enumerate() {
@@ -101,6 +124,13 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let began = Instant::now();
         let done = i as u64 * spp;
         let result = frames.render(&job, f, &path, &mut |s| bar.set_position(done + s as u64));
+        if setup_is_job && result.is_err() {
+            // A rank that fails a frame is out of step with the others: the job ends.
+            return result;
+        }
+        if !speaks {
+            continue;
+        }
         bar.suspend(|| match result {
             Ok(()) => println!(
                 "frame {f}: ok, {} in {:.2} s",
@@ -114,6 +144,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         });
     }
     bar.finish_and_clear();
+    if !speaks {
+        return Ok(());
+    }
     let secs = start.elapsed().as_secs_f64();
     eprintln!(
         "{} frame(s) in {secs:.1} s ({:.2} s a frame), {failed} failed",
@@ -222,17 +255,22 @@ struct Frames {
     setup: Setup,
     carried: Option<(Animation, Tracers)>,
     fresh: bool,
+    /// Whether this process writes the frames (rank 0 of a job, or a process alone).
+    speaks: bool,
 }
 
 impl Frames {
-    fn new(setup: Setup, fresh: bool) -> Result<Frames> {
-        for w in &setup.scene.warnings {
-            eprintln!("warning: {w}");
+    fn new(setup: Setup, fresh: bool, speaks: bool) -> Result<Frames> {
+        if speaks {
+            for w in &setup.scene.warnings {
+                eprintln!("warning: {w}");
+            }
         }
         Ok(Frames {
             setup,
             carried: None,
             fresh,
+            speaks,
         })
     }
 
@@ -253,7 +291,7 @@ impl Frames {
             let mut options = self.setup.options.clone();
             options.time = time;
             let prepared = platoon::prepare(self.setup.scene.clone(), &options)?;
-            let tracers = Tracers::new(&self.setup.tracers, &self.setup.balancer, &prepared.gpu)?;
+            let tracers = self.setup.tracers(&prepared.gpu)?;
             let (prepared, tracers) = fresh.insert((prepared, tracers));
             (&prepared.gpu, prepared.camera, prepared.facts(), tracers)
         } else {
@@ -261,11 +299,10 @@ impl Frames {
                 let mut options = self.setup.options.clone();
                 options.time = time;
                 let animation = Animation::new(self.setup.scene.clone(), &options)?;
-                if let Some(note) = &animation.note {
+                if let (Some(note), true) = (&animation.note, self.speaks) {
                     eprintln!("note: {note}");
                 }
-                let tracers =
-                    Tracers::new(&self.setup.tracers, &self.setup.balancer, animation.scene())?;
+                let tracers = self.setup.tracers(animation.scene())?;
                 self.carried = Some((animation, tracers));
             }
             let (animation, tracers) = self.carried.as_mut().expect("made above");
@@ -292,6 +329,9 @@ impl Frames {
             denoiser,
             facts.origin,
         )?;
+        if !self.speaks {
+            return Ok(());
+        }
         let meta = platoon::metadata_of(&facts, &params, &rendered, self.setup.sampling);
         let mut meta = meta;
         meta.push(("animation_frame".into(), frame.to_string()));

@@ -7,6 +7,7 @@ mod outputs;
 mod video;
 
 use std::path::PathBuf;
+use std::rc::Rc;
 
 use anyhow::{bail, Result};
 use clap::ValueEnum;
@@ -18,6 +19,7 @@ use platoon::core::frame::adaptive::{Adaptive, Batching};
 use platoon::core::frame::aov::Aov;
 use platoon::core::frame::FrameParams;
 use platoon::devices::DeviceSpec;
+use platoon::distributed::Session;
 use platoon::tracer::Sampling;
 use platoon::{PrepareOptions, Tracers};
 
@@ -111,6 +113,12 @@ pub struct RenderArgs {
     /// least 16).
     #[arg(long, requires = "adaptive_threshold")]
     adaptive_min_spp: Option<u32>,
+    /// Split each frame between the ranks of an MPI job: `mpirun -n N platoon render ...
+    /// --mpi`, in a build with `--features mpi`. Every rank loads the scene and renders on its
+    /// own --devices; rank 0 cuts frames between the ranks with --balancer and writes the
+    /// image (docs/DISTRIBUTED.md).
+    #[arg(long)]
+    mpi: bool,
     #[command(flatten)]
     frames: frames::FrameArgs,
 }
@@ -145,6 +153,38 @@ struct Setup {
     denoiser: Denoiser,
     /// Adaptive sampling and the variance AOV's batches.
     batching: Batching,
+    /// The job's ranks, with --mpi.
+    session: Option<Rc<dyn Session>>,
+}
+
+impl Setup {
+    /// The tracers of this process holding `scene`: over the job's ranks with --mpi.
+    fn tracers(&self, scene: &platoon::core::flatten::GpuScene) -> Result<Tracers> {
+        match &self.session {
+            Some(s) => Tracers::over_ranks(&self.tracers, &self.balancer, scene, s.clone()),
+            None => Tracers::new(&self.tracers, &self.balancer, scene),
+        }
+    }
+
+    /// Whether this process writes and reports (rank 0 of a job, or a process alone).
+    fn speaks(&self) -> bool {
+        self.session.as_ref().is_none_or(|s| s.rank() == 0)
+    }
+}
+
+/// Runs `body`; in a job of several ranks an error on one ends them all (MPI_Abort), since
+/// the others would wait for it in their next exchange.
+fn on_every_rank(
+    session: Option<Rc<dyn Session>>,
+    body: impl FnOnce() -> Result<()>,
+) -> Result<()> {
+    match (body(), session) {
+        (Err(e), Some(s)) if s.size() > 1 => {
+            eprintln!("error: rank {}: {e:#}", s.rank());
+            s.abort(1)
+        }
+        (result, _) => result,
+    }
 }
 
 fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
@@ -170,6 +210,7 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         denoise,
         adaptive_threshold,
         adaptive_min_spp,
+        mpi,
         frames,
     } = a;
     let mut aovs = aov.map(|l| l.0).unwrap_or_default();
@@ -222,6 +263,11 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
     if tracers.len() > 1 && time_limit.is_some() {
         bail!("--time-limit renders on one device: bands cut at different times would break the image's independence from the device split");
     }
+    let session = if mpi {
+        Some(platoon::distributed::join()?)
+    } else {
+        None
+    };
     let batching = batching::of(
         adaptive_threshold.map(|threshold| Adaptive {
             threshold,
@@ -241,6 +287,7 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         aovs,
         denoiser: denoise,
         batching,
+        session,
     };
     Ok((setup, out, frames))
 }
@@ -251,26 +298,32 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     check_output(&a)?;
     let (setup, out, _) = setup(a)?;
+    let session = setup.session.clone();
+    on_every_rank(session, || still(setup, out))
+}
+
+/// The still render of `run`.
+fn still(setup: Setup, out: PathBuf) -> Result<()> {
+    let speaks = setup.speaks();
+    let prepared = platoon::prepare(setup.scene.clone(), &setup.options)?;
+    if speaks {
+        for w in &prepared.scene.warnings {
+            eprintln!("warning: {w}");
+        }
+        if let Some(note) = &prepared.note {
+            eprintln!("note: {note}");
+        }
+    }
+    let mut tracers = setup.tracers(&prepared.gpu)?;
     let Setup {
-        scene,
-        options,
         mut params,
-        tracers: options_of_tracers,
-        balancer,
         sampling,
         aovs,
         denoiser,
         batching,
+        ..
     } = setup;
-    let prepared = platoon::prepare(scene, &options)?;
-    for w in &prepared.scene.warnings {
-        eprintln!("warning: {w}");
-    }
-    if let Some(note) = &prepared.note {
-        eprintln!("note: {note}");
-    }
     params.camera = prepared.camera;
-    let mut tracers = Tracers::new(&options_of_tracers, &balancer, &prepared.gpu)?;
     let rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
     let origin = prepared.posed.origin;
     let outputs = Outputs::of(
@@ -282,6 +335,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         denoiser,
         origin,
     )?;
+    if !speaks {
+        return Ok(());
+    }
     let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
     meta.extend(aov_metadata(&aovs));
     outputs.write(&out, &meta)?;
@@ -335,7 +391,9 @@ fn render_frame(
     params: &FrameParams,
     batching: &Batching,
 ) -> Result<platoon::Rendered> {
-    let rendered = if tracers.count() == 1 {
+    let rendered = if tracers.rank() != 0 {
+        tracers.render_batched(scene, params, batching, &mut |_| {})?
+    } else if tracers.count() == 1 && tracers.ranks() == 1 {
         let bar = ProgressBar::new(params.spp as u64);
         bar.set_style(
             ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp {msg}")
@@ -348,12 +406,22 @@ fn render_frame(
         r?
     } else {
         let spinner = ProgressBar::new_spinner();
-        spinner.set_message(format!("rendering on {} tracers", tracers.count()));
+        spinner.set_message(match tracers.ranks() {
+            1 => format!("rendering on {} tracers", tracers.count()),
+            n => format!("rendering on {n} ranks"),
+        });
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
         let r = tracers.render_batched(scene, params, batching, &mut |_| {});
         spinner.finish_and_clear();
         r?
     };
+    if tracers.rank() != 0 {
+        return Ok(rendered);
+    }
+    if let Some(report) = &rendered.ranks {
+        report_ranks(report, params.width);
+        return Ok(rendered);
+    }
     for t in &rendered.tracers {
         eprintln!(
             "  tracer {}: lines {:.2}..{:.2} ({} pixels rendered), {:.3} s, idle {:.3} s",
@@ -369,6 +437,29 @@ fn render_frame(
         eprintln!("validation: {m}");
     }
     Ok(rendered)
+}
+
+/// Each rank's share and devices, and what crossed between the ranks.
+fn report_ranks(report: &platoon::distributed::RanksReport, width: u32) {
+    for p in &report.parts {
+        eprintln!(
+            "  rank {}: lines {:.2}..{:.2}, {:.3} s on {} device(s)",
+            p.rank,
+            p.span.begin as f64 / width as f64,
+            p.span.end as f64 / width as f64,
+            p.wall_time.as_secs_f64(),
+            p.tracers.len()
+        );
+    }
+    let c = &report.communication;
+    eprintln!(
+        "  {} ranks under {}: {} bytes sent, {} received, {:.1} ms in exchanges (rank 0)",
+        report.ranks,
+        report.balancer,
+        c.sent,
+        c.received,
+        c.time.as_secs_f64() * 1e3
+    );
 }
 
 /// What the method's report says a user should see (layered hit buffers' build and losses).

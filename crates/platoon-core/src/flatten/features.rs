@@ -174,6 +174,74 @@ impl SceneFeatures {
         }
     }
 
+    /// Every flag, in a stable order (what a commit sent to another rank carries,
+    /// `crate::distribute::wire`). Written out field by field: a new feature breaks the build
+    /// here until it is listed.
+    pub fn flags_mut(&mut self) -> [&mut bool; 29] {
+        let SceneFeatures {
+            specular_lobes,
+            textures,
+            base_color_textures,
+            metallic_roughness_textures,
+            emissive_textures,
+            specular_textures,
+            transmission_textures,
+            normal_maps,
+            transmission,
+            alpha_mask,
+            alpha_blend,
+            vertex_colors,
+            uv_transforms,
+            unlit,
+            clearcoat,
+            clearcoat_textures,
+            diffuse_transmission,
+            diffuse_transmission_textures,
+            sheen,
+            sheen_textures,
+            volume,
+            iridescence,
+            iridescence_textures,
+            anisotropy,
+            anisotropy_textures,
+            dispersion,
+            emissive_triangles,
+            punctual_lights,
+            environment_map,
+        } = self;
+        [
+            specular_lobes,
+            textures,
+            base_color_textures,
+            metallic_roughness_textures,
+            emissive_textures,
+            specular_textures,
+            transmission_textures,
+            normal_maps,
+            transmission,
+            alpha_mask,
+            alpha_blend,
+            vertex_colors,
+            uv_transforms,
+            unlit,
+            clearcoat,
+            clearcoat_textures,
+            diffuse_transmission,
+            diffuse_transmission_textures,
+            sheen,
+            sheen_textures,
+            volume,
+            iridescence,
+            iridescence_textures,
+            anisotropy,
+            anisotropy_textures,
+            dispersion,
+            emissive_triangles,
+            punctual_lights,
+            environment_map,
+        ]
+    }
+
     /// Each feature with whether the scene has it, in a stable order.
     pub(crate) fn options(&self) -> [KernelOption; 29] {
         [

@@ -253,6 +253,46 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         learn: bool,
     ) -> Result<FrameResult, RenderError> {
         let start = Instant::now();
+        let part = self.render_part(params, planned, learn, (0, params.height))?;
+        Ok(frame_of(params, part, start))
+    }
+
+    /// Renders the pixels `span` of the frame `params` (a rank's share of a frame split
+    /// between machines, `crate::distribute`): the balancer cuts it between the tracers as it
+    /// would a frame of the lines the span touches, and learns from it. The bands come back
+    /// as they are, for whoever assembles the frame.
+    pub fn render_within(
+        &mut self,
+        params: &FrameParams,
+        span: Span,
+    ) -> Result<PartResult, RenderError> {
+        if self.tracers.is_empty() {
+            return Err(RenderError::NoTracers("every tracer has failed".into()));
+        }
+        let w = params.width;
+        let window = (span.first_line(w), span.end_line(w));
+        let base = window.0 * w;
+        let planned = self
+            .balancer
+            .plan(w, window.1 - window.0, self.tracers.len())
+            .into_iter()
+            .map(|s| {
+                let at = |p: u32| (p + base).clamp(span.begin, span.end);
+                Span::new(at(s.begin), at(s.end))
+            })
+            .collect();
+        self.render_part(params, planned, true, window)
+    }
+
+    /// The bands of `planned` rendered (failed tracers' by the survivors); the balancer,
+    /// when `learn`, observes them as a frame of the lines `window` (y0, y1).
+    fn render_part(
+        &mut self,
+        params: &FrameParams,
+        planned: Vec<Span>,
+        learn: bool,
+        window: (u32, u32),
+    ) -> Result<PartResult, RenderError> {
         let params = &Arc::new(params.clone());
         let mut stats: Vec<TracerStats> = self
             .tracers
@@ -341,50 +381,89 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         for (s, t) in stats.iter_mut().zip(&times) {
             s.idle = Duration::from_secs_f64(max - t);
         }
-        // A line cut between two bands is counted by both, each for its pixels.
-        let mut line_rays = vec![0u64; params.height as usize];
-        for b in &done {
-            let first = b.span.first_line(params.width) as usize;
-            for (k, r) in b.line_rays.iter().enumerate() {
-                if let Some(l) = line_rays.get_mut(first + k) {
-                    *l += r;
-                }
-            }
-        }
-        let line_costs: Vec<f64> = line_rays.iter().map(|&r| r as f64).collect();
-        let observed: Vec<TracerFrame> = stats
-            .iter()
-            .zip(&times)
-            .map(|(s, &t)| TracerFrame {
-                span: s.span,
-                seconds: t,
-            })
-            .collect();
         // A frame with a failure measured a split that no longer exists: learn nothing from it.
         if learn && new_failures.is_empty() {
+            let (y0, y1) = window;
+            let base = y0 * params.width;
+            let line_rays = line_rays_of(params, &done);
+            let line_costs: Vec<f64> = line_rays[y0 as usize..y1 as usize]
+                .iter()
+                .map(|&r| r as f64)
+                .collect();
+            let observed: Vec<TracerFrame> = stats
+                .iter()
+                .zip(&times)
+                .map(|(s, &t)| TracerFrame {
+                    span: Span::new(s.span.begin - base, s.span.end - base),
+                    seconds: t,
+                })
+                .collect();
             self.balancer.observe(&FrameMeasure {
                 width: params.width,
-                height: params.height,
+                height: y1 - y0,
                 tracers: &observed,
                 line_costs: &line_costs,
             });
         }
         self.failures.extend(new_failures.iter().cloned());
-        // The method's pass over the whole frame (what needs neighbours across band edges).
-        params.method.unit().finish(params, &mut done);
-        Ok(FrameResult {
-            film: assemble(params, &done),
-            sums: gather_sums(params, &done),
-            per_pixel: per_pixel_in_order(&mut done),
-            method_report: first_report(&done),
-            line_rays,
+        Ok(PartResult {
+            bands: done,
             idle_fraction: idle_fraction(&times),
-            rejected_samples: done.iter().map(|b| b.rejected_samples).sum(),
-            kernel_fallbacks: done.iter().map(|b| b.kernel_fallbacks).sum(),
             tracers: stats,
             failures: new_failures,
-            wall_time: start.elapsed(),
         })
+    }
+}
+
+/// What the tracers rendered of a part of a frame (all of it, or a rank's span): the bands
+/// as they came back.
+#[derive(Debug, Default)]
+pub struct PartResult {
+    pub bands: Vec<Band>,
+    pub tracers: Vec<TracerStats>,
+    /// sum_i (T_max - T_i) / (n T_max) over the tracers' planned bands.
+    pub idle_fraction: f64,
+    pub failures: Vec<TracerFailure>,
+}
+
+/// Rays traced in each line of the frame from its bands, a line cut between two bands counted
+/// by both, each for its pixels.
+pub fn line_rays_of(params: &FrameParams, bands: &[Band]) -> Vec<u64> {
+    let mut line_rays = vec![0u64; params.height as usize];
+    for b in bands {
+        let first = b.span.first_line(params.width) as usize;
+        for (k, r) in b.line_rays.iter().enumerate() {
+            if let Some(l) = line_rays.get_mut(first + k) {
+                *l += r;
+            }
+        }
+    }
+    line_rays
+}
+
+/// The frame from bands covering it: the method's pass over the whole frame (what needs
+/// neighbours across band edges), then the image and what the bands counted; its wall time
+/// from `start`.
+pub fn frame_of(params: &FrameParams, part: PartResult, start: Instant) -> FrameResult {
+    let PartResult {
+        bands: mut done,
+        tracers,
+        idle_fraction,
+        failures,
+    } = part;
+    params.method.unit().finish(params, &mut done);
+    FrameResult {
+        film: assemble(params, &done),
+        sums: gather_sums(params, &done),
+        line_rays: line_rays_of(params, &done),
+        per_pixel: per_pixel_in_order(&mut done),
+        method_report: first_report(&done),
+        idle_fraction,
+        rejected_samples: done.iter().map(|b| b.rejected_samples).sum(),
+        kernel_fallbacks: done.iter().map(|b| b.kernel_fallbacks).sum(),
+        tracers,
+        failures,
+        wall_time: start.elapsed(),
     }
 }
 

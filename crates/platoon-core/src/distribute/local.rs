@@ -1,0 +1,78 @@
+//! Ranks as threads of one process: the [`Collective`] the tests split frames over (and a
+//! model of what the MPI transport does), with a barrier around every exchange.
+
+use std::sync::{Arc, Barrier, Mutex};
+
+use super::Collective;
+
+struct Shared {
+    barrier: Barrier,
+    /// One message per rank: what rank 0 sends to each, or what each sends to rank 0.
+    slots: Mutex<Vec<Vec<u8>>>,
+}
+
+pub struct LocalGroup {
+    rank: usize,
+    size: usize,
+    shared: Arc<Shared>,
+}
+
+impl LocalGroup {
+    /// The `size` ranks of one group, to be moved one to a thread.
+    pub fn new(size: usize) -> Vec<LocalGroup> {
+        let shared = Arc::new(Shared {
+            barrier: Barrier::new(size),
+            slots: Mutex::new(vec![Vec::new(); size]),
+        });
+        (0..size)
+            .map(|rank| LocalGroup {
+                rank,
+                size,
+                shared: shared.clone(),
+            })
+            .collect()
+    }
+
+    fn slots(&self) -> std::sync::MutexGuard<'_, Vec<Vec<u8>>> {
+        self.shared.slots.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+impl Collective for LocalGroup {
+    fn rank(&self) -> usize {
+        self.rank
+    }
+    fn size(&self) -> usize {
+        self.size
+    }
+    fn broadcast(&self, bytes: Vec<u8>) -> Vec<u8> {
+        if self.rank == 0 {
+            self.slots()[0] = bytes;
+        }
+        self.shared.barrier.wait();
+        let out = self.slots()[0].clone();
+        self.shared.barrier.wait();
+        out
+    }
+    fn scatter(&self, parts: Vec<Vec<u8>>) -> Vec<u8> {
+        if self.rank == 0 {
+            assert_eq!(parts.len(), self.size, "one part per rank");
+            *self.slots() = parts;
+        }
+        self.shared.barrier.wait();
+        let out = std::mem::take(&mut self.slots()[self.rank]);
+        self.shared.barrier.wait();
+        out
+    }
+    fn gather(&self, mine: Vec<u8>) -> Vec<Vec<u8>> {
+        self.slots()[self.rank] = mine;
+        self.shared.barrier.wait();
+        let out = if self.rank == 0 {
+            std::mem::replace(&mut *self.slots(), vec![Vec::new(); self.size])
+        } else {
+            Vec::new()
+        };
+        self.shared.barrier.wait();
+        out
+    }
+}

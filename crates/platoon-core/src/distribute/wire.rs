@@ -1,0 +1,423 @@
+//! The bytes that travel between ranks: a rank's share of a frame, the bands it rendered, a
+//! scene commit. Little-endian, length-prefixed, no schema: both ends are the same build
+//! (every rank runs the same binary, as `mpirun` starts it), and the frame's fingerprint
+//! (`fingerprint`) catches ranks whose settings differ. Bulk arrays (sums, bytes of a commit)
+//! are copied as they are.
+
+use std::hash::{Hash, Hasher};
+use std::time::Duration;
+
+use crate::flatten::commit::{ArrayCommit, Commit, SceneHeader};
+use crate::frame::renderer::{TracerFailure, TracerStats};
+use crate::frame::{Band, FrameParams, Span};
+
+#[derive(Debug, thiserror::Error)]
+#[error("a message between ranks is cut short or malformed: {0}")]
+pub struct WireError(pub String);
+
+/// Appends values to a message.
+#[derive(Default)]
+pub struct Writer(pub Vec<u8>);
+
+impl Writer {
+    pub fn u8(&mut self, v: u8) {
+        self.0.push(v);
+    }
+    pub fn u32(&mut self, v: u32) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    pub fn u64(&mut self, v: u64) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    pub fn f32(&mut self, v: f32) {
+        self.u32(v.to_bits());
+    }
+    pub fn f64(&mut self, v: f64) {
+        self.u64(v.to_bits());
+    }
+    pub fn duration(&mut self, d: Duration) {
+        self.u64(d.as_nanos().min(u64::MAX as u128) as u64);
+    }
+    /// A length, then the bytes.
+    pub fn bytes(&mut self, b: &[u8]) {
+        self.u64(b.len() as u64);
+        self.0.extend_from_slice(b);
+    }
+    /// A plain-data slice as its bytes (bit for bit).
+    pub fn pod<T: bytemuck::Pod>(&mut self, v: &[T]) {
+        self.bytes(bytemuck::cast_slice(v));
+    }
+    pub fn str(&mut self, s: &str) {
+        self.bytes(s.as_bytes());
+    }
+    pub fn span(&mut self, s: Span) {
+        self.u32(s.begin);
+        self.u32(s.end);
+    }
+}
+
+/// Reads values back in the order they were written.
+pub struct Reader<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Reader<'a> {
+    pub fn new(bytes: &'a [u8]) -> Reader<'a> {
+        Reader { bytes, at: 0 }
+    }
+    fn take(&mut self, n: usize) -> Result<&'a [u8], WireError> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len());
+        let end = end.ok_or_else(|| {
+            WireError(format!(
+                "{n} bytes wanted at {} of {}",
+                self.at,
+                self.bytes.len()
+            ))
+        })?;
+        let piece = &self.bytes[self.at..end];
+        self.at = end;
+        Ok(piece)
+    }
+    pub fn u8(&mut self) -> Result<u8, WireError> {
+        Ok(self.take(1)?[0])
+    }
+    pub fn u32(&mut self) -> Result<u32, WireError> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4")))
+    }
+    pub fn u64(&mut self) -> Result<u64, WireError> {
+        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8")))
+    }
+    pub fn f32(&mut self) -> Result<f32, WireError> {
+        Ok(f32::from_bits(self.u32()?))
+    }
+    pub fn f64(&mut self) -> Result<f64, WireError> {
+        Ok(f64::from_bits(self.u64()?))
+    }
+    pub fn duration(&mut self) -> Result<Duration, WireError> {
+        Ok(Duration::from_nanos(self.u64()?))
+    }
+    pub fn bytes(&mut self) -> Result<&'a [u8], WireError> {
+        let n = usize::try_from(self.u64()?).map_err(|_| WireError("length".into()))?;
+        self.take(n)
+    }
+    pub fn pod<T: bytemuck::Pod>(&mut self) -> Result<Vec<T>, WireError> {
+        let b = self.bytes()?;
+        if b.len() % std::mem::size_of::<T>() != 0 {
+            return Err(WireError(format!(
+                "{} bytes are not whole values of {} bytes",
+                b.len(),
+                std::mem::size_of::<T>()
+            )));
+        }
+        // Copied: the message's bytes need not be aligned for T.
+        Ok(bytemuck::pod_collect_to_vec(b))
+    }
+    pub fn string(&mut self) -> Result<String, WireError> {
+        String::from_utf8(self.bytes()?.to_vec()).map_err(|e| WireError(e.to_string()))
+    }
+    pub fn span(&mut self) -> Result<Span, WireError> {
+        Ok(Span::new(self.u32()?, self.u32()?))
+    }
+    /// Whether every byte was read (a message with bytes left over is not what was sent).
+    pub fn finish(&self) -> Result<(), WireError> {
+        if self.at == self.bytes.len() {
+            Ok(())
+        } else {
+            Err(WireError(format!(
+                "{} bytes left over",
+                self.bytes.len() - self.at
+            )))
+        }
+    }
+}
+
+/// A hash of everything in `params` that every rank must agree on (all but the sums and
+/// masks rank 0 sends with each share, which are the frame's data, not its settings): ranks
+/// that prepared the frame differently would render a different image in their bands.
+pub fn fingerprint(params: &FrameParams) -> u64 {
+    struct HashWriter<'a>(&'a mut std::collections::hash_map::DefaultHasher);
+    impl std::fmt::Write for HashWriter<'_> {
+        fn write_str(&mut self, s: &str) -> std::fmt::Result {
+            s.hash(self.0);
+            Ok(())
+        }
+    }
+    let mut p = params.clone();
+    p.accumulated = None;
+    p.converged = None;
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    std::fmt::write(&mut HashWriter(&mut h), format_args!("{p:?}")).expect("hashing");
+    h.finish()
+}
+
+pub fn put_band(w: &mut Writer, b: &Band) {
+    w.span(b.span);
+    w.pod(&b.sums);
+    w.u32(b.samples);
+    w.u64(b.rays);
+    w.pod(&b.line_rays);
+    w.u64(b.rejected_samples);
+    w.u32(b.kernel_fallbacks);
+    w.pod(&b.per_pixel);
+    w.u32(b.method_report.len() as u32);
+    for (k, v) in &b.method_report {
+        w.str(k);
+        w.str(v);
+    }
+    w.duration(b.gpu_time);
+    w.duration(b.wall_time);
+}
+
+pub fn get_band(r: &mut Reader) -> Result<Band, WireError> {
+    Ok(Band {
+        span: r.span()?,
+        sums: r.pod()?,
+        samples: r.u32()?,
+        rays: r.u64()?,
+        line_rays: r.pod()?,
+        rejected_samples: r.u64()?,
+        kernel_fallbacks: r.u32()?,
+        per_pixel: r.pod()?,
+        method_report: (0..r.u32()?)
+            .map(|_| Ok((r.string()?, r.string()?)))
+            .collect::<Result<_, WireError>>()?,
+        gpu_time: r.duration()?,
+        wall_time: r.duration()?,
+    })
+}
+
+pub fn put_tracer_stats(w: &mut Writer, s: &TracerStats) {
+    w.u32(s.tracer as u32);
+    w.span(s.span);
+    w.u32(s.pixels);
+    w.duration(s.gpu_time);
+    w.duration(s.wall_time);
+    w.duration(s.idle);
+    w.u64(s.rays);
+}
+
+pub fn get_tracer_stats(r: &mut Reader) -> Result<TracerStats, WireError> {
+    Ok(TracerStats {
+        tracer: r.u32()? as usize,
+        span: r.span()?,
+        pixels: r.u32()?,
+        gpu_time: r.duration()?,
+        wall_time: r.duration()?,
+        idle: r.duration()?,
+        rays: r.u64()?,
+    })
+}
+
+pub fn put_failure(w: &mut Writer, f: &TracerFailure) {
+    w.u32(f.tracer as u32);
+    w.u32(f.frame);
+    w.str(&f.message);
+}
+
+pub fn get_failure(r: &mut Reader) -> Result<TracerFailure, WireError> {
+    Ok(TracerFailure {
+        tracer: r.u32()? as usize,
+        frame: r.u32()?,
+        message: r.string()?,
+    })
+}
+
+/// A commit: every changed range with its bytes, and the scene header.
+pub fn put_commit(w: &mut Writer, c: &Commit) {
+    w.u32(c.arrays.len() as u32);
+    for a in &c.arrays {
+        w.u32(a.array as u32);
+        w.u64(a.len);
+        let flat: Vec<u64> = a.ranges.iter().flat_map(|&(o, l)| [o, l]).collect();
+        w.pod(&flat);
+        w.bytes(&a.data);
+    }
+    put_header(w, &c.header);
+}
+
+pub fn get_commit(r: &mut Reader) -> Result<Commit, WireError> {
+    let count = r.u32()?;
+    let mut arrays = Vec::new();
+    for _ in 0..count {
+        let array = r.u32()? as usize;
+        if array >= crate::flatten::commit::ARRAY_COUNT {
+            return Err(WireError(format!("no scene array {array}")));
+        }
+        let len = r.u64()?;
+        let flat: Vec<u64> = r.pod()?;
+        let ranges: Vec<(u64, u64)> = flat.chunks_exact(2).map(|p| (p[0], p[1])).collect();
+        let data = r.bytes()?.to_vec();
+        let covered: u64 = ranges.iter().map(|r| r.1).sum();
+        if covered != data.len() as u64 || ranges.iter().any(|&(o, l)| o + l > len) {
+            return Err(WireError(format!(
+                "array {array}'s ranges do not match its bytes"
+            )));
+        }
+        arrays.push(ArrayCommit {
+            array,
+            len,
+            ranges,
+            data,
+        });
+    }
+    Ok(Commit {
+        arrays,
+        header: get_header(r)?,
+    })
+}
+
+fn put_header(w: &mut Writer, h: &SceneHeader) {
+    let SceneHeader {
+        lights,
+        instances,
+        tlas_root,
+        env_kind,
+        env_color,
+        env_integral,
+        env_size,
+        features,
+        scene_sphere,
+    } = h;
+    for v in [lights, instances, tlas_root, env_kind] {
+        w.u32(*v);
+    }
+    w.pod(env_color);
+    w.f32(*env_integral);
+    w.pod(env_size);
+    let mut features = *features;
+    let flags: Vec<u8> = features.flags_mut().map(|f| *f as u8).to_vec();
+    w.bytes(&flags);
+    w.pod(scene_sphere);
+}
+
+fn get_header(r: &mut Reader) -> Result<SceneHeader, WireError> {
+    let mut h = SceneHeader {
+        lights: r.u32()?,
+        instances: r.u32()?,
+        tlas_root: r.u32()?,
+        env_kind: r.u32()?,
+        ..Default::default()
+    };
+    h.env_color = array_of(r.pod()?)?;
+    h.env_integral = r.f32()?;
+    h.env_size = array_of(r.pod()?)?;
+    let flags = r.bytes()?;
+    let mut slots = h.features.flags_mut();
+    if flags.len() != slots.len() {
+        return Err(WireError(format!(
+            "{} feature flags, {} expected",
+            flags.len(),
+            slots.len()
+        )));
+    }
+    for (slot, &f) in slots.iter_mut().zip(flags) {
+        **slot = f != 0;
+    }
+    h.scene_sphere = array_of(r.pod()?)?;
+    Ok(h)
+}
+
+fn array_of<T: Copy, const N: usize>(v: Vec<T>) -> Result<[T; N], WireError> {
+    v.try_into()
+        .map_err(|v: Vec<T>| WireError(format!("{} values, {N} expected", v.len())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_band_comes_back_as_it_was_sent() {
+        let band = Band {
+            span: Span::new(5, 9),
+            sums: vec![[1.0, -0.0, f32::NAN], [2.5, 3.0, 4.0]],
+            samples: 3,
+            rays: 77,
+            line_rays: vec![4, 5],
+            rejected_samples: 1,
+            kernel_fallbacks: 2,
+            per_pixel: vec![[0.5; 4]],
+            method_report: vec![("a".into(), "b c".into())],
+            gpu_time: Duration::from_nanos(123),
+            wall_time: Duration::from_millis(4),
+        };
+        let mut w = Writer::default();
+        put_band(&mut w, &band);
+        let mut r = Reader::new(&w.0);
+        let back = get_band(&mut r).unwrap();
+        r.finish().unwrap();
+        let bits = |b: &Band| {
+            b.sums
+                .iter()
+                .flatten()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&back), bits(&band));
+        assert_eq!(
+            format!(
+                "{:?}",
+                Band {
+                    sums: vec![],
+                    ..back
+                }
+            ),
+            format!(
+                "{:?}",
+                Band {
+                    sums: vec![],
+                    ..band
+                }
+            )
+        );
+        // Cut short anywhere, it is an error, not a panic.
+        for n in 0..w.0.len() {
+            assert!(get_band(&mut Reader::new(&w.0[..n])).is_err(), "{n}");
+        }
+    }
+
+    #[test]
+    fn a_commit_comes_back_as_it_was_sent() {
+        let mut header = SceneHeader {
+            lights: 3,
+            env_color: [0.1, 0.2, 0.3],
+            env_size: [8, 4],
+            scene_sphere: [1.0, 2.0, 3.0, 4.0],
+            ..Default::default()
+        };
+        header.features.sheen = true;
+        header.features.environment_map = true;
+        let commit = Commit {
+            arrays: vec![ArrayCommit {
+                array: 2,
+                len: 100,
+                ranges: vec![(0, 3), (50, 2)],
+                data: vec![1, 2, 3, 4, 5],
+            }],
+            header,
+        };
+        let mut w = Writer::default();
+        put_commit(&mut w, &commit);
+        let mut r = Reader::new(&w.0);
+        assert_eq!(get_commit(&mut r).unwrap(), commit);
+        r.finish().unwrap();
+        // Ranges that do not match the bytes are refused.
+        let mut bad = commit.clone();
+        bad.arrays[0].data.pop();
+        let mut w = Writer::default();
+        put_commit(&mut w, &bad);
+        assert!(get_commit(&mut Reader::new(&w.0)).is_err());
+    }
+
+    #[test]
+    fn the_fingerprint_sees_settings_and_not_the_frame_data() {
+        let camera = crate::scene::camera::Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
+        let p = FrameParams::new(4, 4, 2, camera);
+        let mut q = p.clone();
+        q.accumulated = Some(vec![[1.0; 3]; 16].into());
+        assert_eq!(fingerprint(&p), fingerprint(&q));
+        q.seed = 1;
+        assert_ne!(fingerprint(&p), fingerprint(&q));
+    }
+}

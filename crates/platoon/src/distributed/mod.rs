@@ -1,0 +1,135 @@
+//! Frames split between processes (`platoon_core::distribute`): every rank of a job holds
+//! the scene and its own devices; rank 0's balancer cuts each frame between the ranks, each
+//! rank's renderer between its devices, and the bands are gathered on rank 0, which gets the
+//! image (the others get frames of zeros and write nothing). With the feature `mpi` the ranks
+//! are an MPI job's ([`mpi`]: `mpirun -n 3 platoon render ... --mpi`); without it [`join`]
+//! says so.
+//!
+//! Every rank runs the same program on the same inputs (OSPRay's `mpiOffload` model, with the
+//! application replicated rather than only on rank 0): the same calls on [`crate::Tracers`]
+//! in the same order, each a collective operation. The frame's fingerprint catches ranks whose
+//! arguments or scene differ; scene commits are rank 0's, broadcast.
+
+#[cfg(feature = "mpi")]
+pub mod mpi;
+
+use std::rc::Rc;
+
+use anyhow::{Context as _, Result};
+use platoon_core::distribute::{Collective, Communication, RankFrame, RankRenderer, RankStats};
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::renderer::Renderer;
+use platoon_core::frame::FrameParams;
+use platoon_tracer::{Tracer, TracerOptions};
+
+use crate::{Rendered, Tracers};
+
+/// What a frame over ranks did besides its image: each rank's part and what crossed between
+/// the ranks (rank 0's view).
+#[derive(Clone, Debug)]
+pub struct RanksReport {
+    pub ranks: usize,
+    /// The policy that cut the frame between the ranks.
+    pub balancer: &'static str,
+    /// Each rank's part, in rank order (ranks given nothing left out).
+    pub parts: Vec<RankStats>,
+    pub communication: Communication,
+}
+
+/// The ranks of the job this process belongs to: MPI's world (initialised here, finalised
+/// when the last handle goes). An error without the feature `mpi`, or when MPI cannot start.
+pub fn join() -> Result<Rc<dyn Session>> {
+    #[cfg(feature = "mpi")]
+    {
+        Ok(Rc::new(mpi::Mpi::init()?))
+    }
+    #[cfg(not(feature = "mpi"))]
+    {
+        anyhow::bail!(
+            "this platoon was built without MPI: build it with `cargo build --release \
+             --features mpi` (Debian: apt-get install libopenmpi-dev openmpi-bin libclang-dev) \
+             and start it with `mpirun -n N platoon render ... --mpi`"
+        )
+    }
+}
+
+/// A job's ranks, with what a program needs beyond the collectives: ending every rank when one
+/// fails (a rank that returns leaves the others waiting in their next collective).
+pub trait Session: Collective {
+    /// Ends the whole job with `code` (MPI_Abort); does not return.
+    fn abort(&self, code: i32) -> !;
+}
+
+impl Tracers {
+    /// This rank's tracers for `options` holding `scene`, in the job `group`: `balancer` (a
+    /// name of `platoon_core::balance::NAMES`) cuts frames between the ranks on rank 0 and
+    /// between each rank's devices.
+    pub fn over_ranks(
+        options: &[TracerOptions],
+        balancer: &str,
+        scene: &GpuScene,
+        group: Rc<dyn Collective>,
+    ) -> Result<Tracers> {
+        let rank = group.rank();
+        let tracers = crate::devices::tracers_from_options(options, scene)
+            .with_context(|| format!("rank {rank}: creating its devices"))?;
+        let local = Renderer::new(tracers, crate::devices::balancer(balancer)?);
+        let ranks = RankRenderer::new(local, group, crate::devices::balancer(balancer)?);
+        Ok(Tracers::Ranks(Box::new(ranks)))
+    }
+}
+
+/// Renders a frame over the ranks after the method's preparation (each rank prepares on its
+/// own devices: the same bits, as for any split).
+pub(crate) fn render(
+    r: &mut RankRenderer<Tracer>,
+    scene: &GpuScene,
+    params: &FrameParams,
+) -> Result<Rendered> {
+    let params = crate::method_update::on_renderer(r.local_mut(), scene, params)?;
+    let RankFrame {
+        frame,
+        ranks: parts,
+        communication,
+        failures,
+    } = r.render_frame(&params)?;
+    if r.rank() == 0 {
+        for f in &failures {
+            eprintln!("warning: {f}");
+        }
+    }
+    let local = r.local();
+    let names: Vec<String> = local.with_tracers(|t| t.device_info().name.clone());
+    let defines = local
+        .with_tracers(|t| t.kernel_defines(&params))
+        .into_iter()
+        .next()
+        .unwrap_or_default();
+    Ok(Rendered {
+        wall_time: frame.wall_time,
+        gpu_time: parts
+            .iter()
+            .flat_map(|p| &p.tracers)
+            .map(|t| t.gpu_time)
+            .sum(),
+        rays: frame.tracers.iter().map(|t| t.rays).sum(),
+        rejected_samples: frame.rejected_samples,
+        kernel_fallbacks: frame.kernel_fallbacks,
+        device: format!("{} ranks; rank 0: {}", r.ranks(), names.join(", ")),
+        kernel_defines: defines,
+        spp: params.spp,
+        tracers: frame.tracers,
+        balancer: Some(local.balancer_name()),
+        validation_messages: local.with_tracers(|t| t.validation_messages()).concat(),
+        method_metadata: [params.method.unit().metadata(), frame.method_report].concat(),
+        film: frame.film,
+        sums: frame.sums,
+        batched: None,
+        ranks: Some(RanksReport {
+            ranks: r.ranks(),
+            balancer: r.balancer_name(),
+            parts,
+            communication,
+        }),
+    })
+}

@@ -1,0 +1,170 @@
+//! `mpirun -np 3 platoon render ... --mpi` (issue 26): frames split between three processes,
+//! each with two tracers, are the one-process render bit for bit, for two balancers (one of
+//! them over adaptive batches, whose shares carry the film's sums and converged pixels) and
+//! for a living scene over three generations (rank 0's commits broadcast). Needs the feature
+//! `mpi` (tools/test.sh builds it) and Open MPI's mpirun (tools/install-deps.sh installs it):
+//! without mpirun the tests fail saying so.
+
+#[path = "../common/mod.rs"]
+mod common;
+mod support;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::shared;
+use platoon::core::output::read_exr;
+use support::*;
+
+fn mpirun() -> PathBuf {
+    std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())
+        .map(|d| d.join("mpirun"))
+        .find(|p| p.is_file())
+        .expect(
+            "MPI is missing: no mpirun on PATH. This build has the feature `mpi`; install \
+             Open MPI (tools/install-deps.sh openmpi-bin libopenmpi-dev) to run its tests",
+        )
+}
+
+/// `cli` with --mpi on `programs.len()` ranks, rank i running `programs[i]`'s arguments
+/// (MPI's several-programs form), one lavapipe thread each, as this machine's 2 cores allow.
+fn over_ranks(programs: &[&Cli]) -> Output {
+    common::init();
+    let mut c = Command::new(mpirun());
+    // More ranks than cores; root may run them (a container's CI), others need not be.
+    c.args(["--oversubscribe", "--allow-run-as-root"]);
+    for (i, cli) in programs.iter().enumerate() {
+        if i > 0 {
+            c.arg(":");
+        }
+        c.args(["-np", "1", "-x", "LP_NUM_THREADS=1"]);
+        for var in ["VK_DRIVER_FILES", "VK_ICD_FILENAMES", "PLATOON_CACHE_DIR"] {
+            if std::env::var_os(var).is_some() {
+                c.args(["-x", var]);
+            }
+        }
+        c.arg(env!("CARGO_BIN_EXE_platoon"))
+            .args(cli.strs())
+            .arg("--mpi");
+    }
+    c.output().expect("run mpirun")
+}
+
+fn pixels(path: &Path) -> Vec<u32> {
+    read_exr(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .0
+        .pixels
+        .iter()
+        .flatten()
+        .map(|v| v.to_bits())
+        .collect()
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+#[test]
+fn three_ranks_render_the_one_process_image_bit_for_bit_under_two_balancers() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = shared("scenes/teapot.gltf");
+    for (balancer, extra) in [
+        ("cost-aware", &[][..]),
+        ("perfect", &["--adaptive-threshold", "0.2"][..]),
+    ] {
+        let render = |out: &Path| {
+            let mut cli = Cli::new("render")
+                .arg(&scene)
+                .flag("--env", shared("envmaps/courtyard.exr"))
+                .spp(32)
+                .size(24, 20)
+                .flag("--balancer", balancer)
+                .out(out);
+            for a in extra {
+                cli = cli.arg(a);
+            }
+            cli
+        };
+        let one = dir.path().join(format!("one_{balancer}.exr"));
+        let o = render(&one).run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        let ranks = dir.path().join(format!("ranks_{balancer}.exr"));
+        let cli = render(&ranks).flag("--devices", "lavapipe:1,1");
+        let o = over_ranks(&[&cli, &cli, &cli]);
+        assert!(o.status.success(), "{}", text(&o));
+        let said = text(&o);
+        assert!(
+            said.contains(&format!("3 ranks under {balancer}")),
+            "{said}"
+        );
+        for rank in 0..3 {
+            assert!(said.contains(&format!("rank {rank}: lines")), "{said}");
+        }
+        assert!(
+            pixels(&ranks) == pixels(&one),
+            "{balancer}: three ranks differ from one process"
+        );
+        let (_, meta) = read_exr(&ranks).unwrap();
+        assert_eq!(metadata_value(&meta, "mpi_ranks"), "3", "{meta:?}");
+    }
+}
+
+#[test]
+fn a_living_scene_over_three_generations_is_the_one_process_animation() {
+    let dir = tempfile::tempdir().unwrap();
+    let man = shared("scenes/CesiumMan.glb");
+    let frames = |out: PathBuf| {
+        Cli::new("render")
+            .arg(&man)
+            .flag("--frames", "0..8:4")
+            .spp(4)
+            .size(24, 24)
+            .flag("--balancer", "cost-aware")
+            .out(out)
+    };
+    let o = frames(dir.path().join("one_#.exr")).run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let cli = frames(dir.path().join("ranks_#.exr")).flag("--devices", "lavapipe:1,1");
+    let o = over_ranks(&[&cli, &cli, &cli]);
+    assert!(o.status.success(), "{}", text(&o));
+    let said = String::from_utf8_lossy(&o.stdout);
+    for f in [0, 4, 8] {
+        // Rank 0 alone reports and writes.
+        assert_eq!(said.matches(&format!("frame {f}: ok")).count(), 1, "{said}");
+        assert!(
+            pixels(&dir.path().join(format!("ranks_{f}.exr")))
+                == pixels(&dir.path().join(format!("one_{f}.exr"))),
+            "frame {f}: three ranks differ from one process"
+        );
+    }
+    assert!(
+        pixels(&dir.path().join("ranks_0.exr")) != pixels(&dir.path().join("ranks_8.exr")),
+        "the animation moved nothing"
+    );
+}
+
+#[test]
+fn a_rank_given_other_arguments_stops_the_job_naming_the_difference() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never.exr");
+    let cli = |seed: &str| {
+        Cli::new("render")
+            .spp(2)
+            .size(16, 16)
+            .flag("--seed", seed)
+            .out(&out)
+    };
+    let o = over_ranks(&[&cli("0"), &cli("1")]);
+    assert!(!o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("rank 1 prepared a different frame than rank 0"),
+        "{}",
+        text(&o)
+    );
+    assert!(!out.exists(), "a job that stopped wrote its image");
+}
