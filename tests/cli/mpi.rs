@@ -26,26 +26,36 @@ fn mpirun() -> PathBuf {
         )
 }
 
-/// `cli` with --mpi on `programs.len()` ranks, rank i running `programs[i]`'s arguments
-/// (MPI's several-programs form), one lavapipe thread each, as this machine's 2 cores allow.
-fn over_ranks(programs: &[&Cli]) -> Output {
+/// mpirun with what every rank needs: more ranks than cores allowed, root allowed (a
+/// container's CI; harmless otherwise).
+fn mpirun_command() -> Command {
     common::init();
     let mut c = Command::new(mpirun());
-    // More ranks than cores; root may run them (a container's CI), others need not be.
     c.args(["--oversubscribe", "--allow-run-as-root"]);
+    c
+}
+
+/// The arguments of one program of a job: `np` ranks with one lavapipe thread each (as this
+/// machine's 2 cores allow) and the test's Vulkan driver and kernel cache.
+fn program(c: &mut Command, np: usize, args: &[&str]) {
+    c.args(["-np", &np.to_string(), "-x", "LP_NUM_THREADS=1"]);
+    for var in ["VK_DRIVER_FILES", "VK_ICD_FILENAMES", "PLATOON_CACHE_DIR"] {
+        if std::env::var_os(var).is_some() {
+            c.args(["-x", var]);
+        }
+    }
+    c.arg(env!("CARGO_BIN_EXE_platoon")).args(args);
+}
+
+/// `cli` with --mpi on `programs.len()` ranks, rank i running `programs[i]`'s arguments
+/// (MPI's several-programs form).
+fn over_ranks(programs: &[&Cli]) -> Output {
+    let mut c = mpirun_command();
     for (i, cli) in programs.iter().enumerate() {
         if i > 0 {
             c.arg(":");
         }
-        c.args(["-np", "1", "-x", "LP_NUM_THREADS=1"]);
-        for var in ["VK_DRIVER_FILES", "VK_ICD_FILENAMES", "PLATOON_CACHE_DIR"] {
-            if std::env::var_os(var).is_some() {
-                c.args(["-x", var]);
-            }
-        }
-        c.arg(env!("CARGO_BIN_EXE_platoon"))
-            .args(cli.strs())
-            .arg("--mpi");
+        program(&mut c, 1, &[&cli.strs()[..], &["--mpi"]].concat());
     }
     c.output().expect("run mpirun")
 }
@@ -167,4 +177,52 @@ fn a_rank_given_other_arguments_stops_the_job_naming_the_difference() {
         text(&o)
     );
     assert!(!out.exists(), "a job that stopped wrote its image");
+}
+
+#[test]
+fn a_farm_deals_every_frame_once_each_the_one_process_frame_and_a_rerun_skips_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let man = shared("scenes/CesiumMan.glb");
+    let cli = |flag: &str, out: PathBuf| {
+        Cli::new("render")
+            .arg(&man)
+            .flag(flag, "0..10:2")
+            .spp(2)
+            .size(16, 16)
+            .out(out)
+    };
+    let o = cli("--frames", dir.path().join("one_#.exr")).run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    // --mpi-frames joins the job itself: no --mpi.
+    let farm = |c: &Cli| {
+        let mut command = mpirun_command();
+        program(&mut command, 3, &c.strs());
+        command.output().expect("run mpirun")
+    };
+    let job = cli("--mpi-frames", dir.path().join("farm_#.exr"));
+    let o = farm(&job);
+    assert!(o.status.success(), "{}", text(&o));
+    let said = String::from_utf8_lossy(&o.stdout).into_owned();
+    let mut ranks = std::collections::BTreeSet::new();
+    for f in (0..=10).step_by(2) {
+        let lines: Vec<&str> = said
+            .lines()
+            .filter(|l| l.starts_with(&format!("frame {f}: ok")))
+            .collect();
+        assert_eq!(lines.len(), 1, "frame {f} dealt other than once: {said}");
+        ranks.insert(lines[0].rsplit("(rank ").next().unwrap().to_string());
+        assert!(
+            pixels(&dir.path().join(format!("farm_{f}.exr")))
+                == pixels(&dir.path().join(format!("one_{f}.exr"))),
+            "frame {f}: the farm's differs from one process's"
+        );
+    }
+    assert!(ranks.len() >= 2, "one rank rendered everything: {said}");
+    let again = farm(&job);
+    assert!(again.status.success(), "{}", text(&again));
+    assert!(
+        text(&again).contains("every frame is done"),
+        "{}",
+        text(&again)
+    );
 }

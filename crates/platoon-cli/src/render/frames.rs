@@ -45,6 +45,13 @@ pub struct FrameArgs {
     /// carrying the scene from frame to frame with refits: what a loop of still renders costs.
     #[arg(long)]
     pub fresh_prepare: bool,
+    /// A render farm over an MPI job (`mpirun -n N platoon render SCENE --mpi-frames 0..99
+    /// --out shots/f_####.exr`, a build with `--features mpi`): rank 0 deals the frames
+    /// A..B[:STEP] to the ranks as they finish, each rank renders whole frames on its own
+    /// --devices and writes them, atomically, into the output folder, which the ranks must
+    /// share; a rerun skips the frames done.
+    #[arg(long, conflicts_with_all = ["frames", "task_index", "mpi"])]
+    pub mpi_frames: Option<FrameRange>,
     /// Also encode the frames as a video (e.g. shot.mp4) with ffmpeg, when it is installed
     /// (H.264 at --fps; EXR frames tone-mapped as PNGs are). Not with --task-index.
     #[arg(long, value_name = "FILE", requires = "frames")]
@@ -67,7 +74,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
 /// The frames of `run`.
 fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<()> {
     let speaks = setup.speaks();
-    let range = args.frames.expect("run only with --frames");
+    let range = args
+        .frames
+        .or(args.mpi_frames)
+        .expect("run only with --frames or --mpi-frames");
     if !(args.fps.is_finite() && args.fps > 0.0) {
         bail!("--fps must be a positive number, not {}", args.fps);
     }
@@ -104,7 +114,44 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
         }
         return Ok(());
     }
-    let spp = setup.params.spp as u64;
+    let farm = args.mpi_frames.is_some();
+    let mut frames = Frames::new(setup, args.fresh_prepare, speaks || farm, speaks)?;
+    let start = Instant::now();
+    let tally = if farm {
+        super::farm::run(&mut frames, &job, &out, todo)?
+    } else {
+        in_order(&mut frames, &job, &out, &todo)?
+    };
+    if !speaks {
+        return Ok(());
+    }
+    let secs = start.elapsed().as_secs_f64();
+    eprintln!(
+        "{} frame(s) in {secs:.1} s ({:.2} s a frame), {} failed",
+        tally.rendered,
+        secs / tally.rendered.max(1) as f64,
+        tally.failed
+    );
+    if tally.failed > 0 {
+        bail!("{} of {} frame(s) failed", tally.failed, tally.rendered);
+    }
+    if let Some(v) = &args.video {
+        super::video::encode(v, &paths, args.fps)?;
+    }
+    Ok(())
+}
+
+/// Frames rendered and failed.
+pub(super) struct Tally {
+    pub rendered: u64,
+    pub failed: u64,
+}
+
+/// Renders `todo` in order with a progress bar; over ranks every frame is split between them,
+/// and a rank failing one ends the job (it is out of step with the others).
+fn in_order(frames: &mut Frames, job: &Job, out: &Path, todo: &[i64]) -> Result<Tally> {
+    let speaks = frames.speaks;
+    let spp = frames.setup.params.spp as u64;
     let bar = if speaks {
         ProgressBar::new(todo.len() as u64 * spp)
     } else {
@@ -113,20 +160,20 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
     bar.set_style(
         ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg} (eta {eta})").unwrap(),
     );
-    let setup_is_job = setup.session.is_some();
-    let mut frames = Frames::new(setup, args.fresh_prepare, speaks)?;
+    let job_of_ranks = frames.setup.session.is_some();
     let mut failed = 0;
-    let start = Instant::now();
     for (i, &f) in todo.iter().enumerate() {
         bar.set_message(format!("frame {f} ({} of {})", i + 1, todo.len()));
         bar.set_position(i as u64 * spp);
-        let path = frame_path(&out, f);
+        let path = frame_path(out, f);
         let began = Instant::now();
         let done = i as u64 * spp;
-        let result = frames.render(&job, f, &path, &mut |s| bar.set_position(done + s as u64));
-        if setup_is_job && result.is_err() {
-            // A rank that fails a frame is out of step with the others: the job ends.
-            return result;
+        let result = frames.render(job, f, &path, &mut |s| bar.set_position(done + s as u64));
+        if job_of_ranks && result.is_err() {
+            return result.map(|_| Tally {
+                rendered: 0,
+                failed: 0,
+            });
         }
         if !speaks {
             continue;
@@ -144,27 +191,15 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
         });
     }
     bar.finish_and_clear();
-    if !speaks {
-        return Ok(());
-    }
-    let secs = start.elapsed().as_secs_f64();
-    eprintln!(
-        "{} frame(s) in {secs:.1} s ({:.2} s a frame), {failed} failed",
-        todo.len(),
-        secs / todo.len() as f64
-    );
-    if failed > 0 {
-        bail!("{failed} of {} frame(s) failed", todo.len());
-    }
-    if let Some(v) = &args.video {
-        super::video::encode(v, &paths, args.fps)?;
-    }
-    Ok(())
+    Ok(Tally {
+        rendered: todo.len() as u64,
+        failed,
+    })
 }
 
 /// What makes a frame's image what it is (the settings, the scene file as it is now, the
 /// frame): written into each frame's metadata as `job`; a file whose `job` matches is done.
-struct Job {
+pub(super) struct Job {
     settings: String,
     fps: f64,
     animated_seed: bool,
@@ -251,16 +286,19 @@ impl Job {
 
 /// The scene and tracers carried from frame to frame (or, with `--fresh-prepare`, made anew
 /// for each).
-struct Frames {
-    setup: Setup,
+pub(super) struct Frames {
+    pub(super) setup: Setup,
     carried: Option<(Animation, Tracers)>,
     fresh: bool,
-    /// Whether this process writes the frames (rank 0 of a job, or a process alone).
-    speaks: bool,
+    /// Whether this process writes the frames it renders (rank 0 of a job, a process alone,
+    /// every rank of a farm).
+    writes: bool,
+    /// Whether it reports (rank 0, or a process alone).
+    pub(super) speaks: bool,
 }
 
 impl Frames {
-    fn new(setup: Setup, fresh: bool, speaks: bool) -> Result<Frames> {
+    fn new(setup: Setup, fresh: bool, writes: bool, speaks: bool) -> Result<Frames> {
         if speaks {
             for w in &setup.scene.warnings {
                 eprintln!("warning: {w}");
@@ -270,12 +308,13 @@ impl Frames {
             setup,
             carried: None,
             fresh,
+            writes,
             speaks,
         })
     }
 
     /// Renders frame `frame` of `job` to `path` (atomically: a temporary file renamed).
-    fn render(
+    pub(super) fn render(
         &mut self,
         job: &Job,
         frame: i64,
@@ -329,7 +368,7 @@ impl Frames {
             denoiser,
             facts.origin,
         )?;
-        if !self.speaks {
+        if !self.writes {
             return Ok(());
         }
         let meta = platoon::metadata_of(&facts, &params, &rendered, self.setup.sampling);

@@ -2,6 +2,7 @@
 //! `--frames`, an animation to numbered files ([`frames`]), optionally a video ([`video`]).
 
 mod batching;
+mod farm;
 mod frames;
 mod outputs;
 mod video;
@@ -153,16 +154,20 @@ struct Setup {
     denoiser: Denoiser,
     /// Adaptive sampling and the variance AOV's batches.
     batching: Batching,
-    /// The job's ranks, with --mpi.
+    /// The job's ranks, with --mpi or --mpi-frames.
     session: Option<Rc<dyn Session>>,
+    /// --mpi-frames: each rank renders whole frames on its own devices.
+    farm: bool,
 }
 
 impl Setup {
     /// The tracers of this process holding `scene`: over the job's ranks with --mpi.
     fn tracers(&self, scene: &platoon::core::flatten::GpuScene) -> Result<Tracers> {
         match &self.session {
-            Some(s) => Tracers::over_ranks(&self.tracers, &self.balancer, scene, s.clone()),
-            None => Tracers::new(&self.tracers, &self.balancer, scene),
+            Some(s) if !self.farm => {
+                Tracers::over_ranks(&self.tracers, &self.balancer, scene, s.clone())
+            }
+            _ => Tracers::new(&self.tracers, &self.balancer, scene),
         }
     }
 
@@ -263,7 +268,8 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
     if tracers.len() > 1 && time_limit.is_some() {
         bail!("--time-limit renders on one device: bands cut at different times would break the image's independence from the device split");
     }
-    let session = if mpi {
+    let farm = frames.mpi_frames.is_some();
+    let session = if mpi || farm {
         Some(platoon::distributed::join()?)
     } else {
         None
@@ -288,12 +294,13 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
         denoiser: denoise,
         batching,
         session,
+        farm,
     };
     Ok((setup, out, frames))
 }
 
 pub fn run(a: RenderArgs) -> Result<()> {
-    if a.frames.frames.is_some() {
+    if a.frames.frames.is_some() || a.frames.mpi_frames.is_some() {
         return frames::run(a);
     }
     check_output(&a)?;

@@ -11,6 +11,8 @@
 //! arguments or scene differ; scene commits are rank 0's, broadcast.
 
 #[cfg(feature = "mpi")]
+mod deal;
+#[cfg(feature = "mpi")]
 pub mod mpi;
 
 use std::rc::Rc;
@@ -58,6 +60,10 @@ pub fn join() -> Result<Rc<dyn Session>> {
 pub trait Session: Collective {
     /// Ends the whole job with `code` (MPI_Abort); does not return.
     fn abort(&self, code: i32) -> !;
+    /// The frames of rank 0's `frames` this rank renders, dealt one at a time as the ranks
+    /// finish them (rank 0's dealer answers while its own renderer takes frames too). No other
+    /// call on the session until the iterator has ended.
+    fn deal(&self, frames: Vec<i64>) -> Box<dyn Iterator<Item = i64>>;
 }
 
 impl Tracers {

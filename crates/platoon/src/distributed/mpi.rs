@@ -62,7 +62,10 @@ impl Collective for Mpi {
         let mut len = bytes.len() as u64;
         root.broadcast_into(&mut len);
         bytes.resize(len as usize, 0);
-        root.broadcast_into(&mut bytes[..]);
+        // Open MPI refuses an empty slice's buffer (MPI_ERR_ARG): nothing to send anyway.
+        if len > 0 {
+            root.broadcast_into(&mut bytes[..]);
+        }
         bytes
     }
     fn scatter(&self, parts: Vec<Vec<u8>>) -> Vec<u8> {
@@ -111,5 +114,8 @@ impl Collective for Mpi {
 impl Session for Mpi {
     fn abort(&self, code: i32) -> ! {
         self.world.abort(code)
+    }
+    fn deal(&self, frames: Vec<i64>) -> Box<dyn Iterator<Item = i64>> {
+        super::deal::deal(&self.world, frames)
     }
 }
