@@ -8,6 +8,8 @@
 //! - [`method`]: the rendering methods (path tracing, instant global illumination): their
 //!   options, the kernel variant a render runs, the passes after assembly;
 //! - [`balance`]: the line balancers and the replay of recorded costs;
+//! - [`distribute`]: frames split between processes (the ranks of an MPI job), two levels of
+//!   balancing, the bytes between them;
 //! - [`drive`]: a living scene: the game's edits, and generations of the flattened scene with
 //!   what changed between them;
 //! - [`measure`]: summaries of measurements;

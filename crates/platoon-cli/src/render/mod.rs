@@ -460,12 +460,14 @@ fn report_ranks(report: &platoon::distributed::RanksReport, width: u32) {
     }
     let c = &report.communication;
     eprintln!(
-        "  {} ranks under {}: {} bytes sent, {} received, {:.1} ms in exchanges (rank 0)",
+        "  {} ranks under {}: {} bytes sent, {} received, {:.1} ms in exchanges, {:.1} ms waiting \
+         for the slowest rank (rank 0)",
         report.ranks,
         report.balancer,
         c.sent,
         c.received,
-        c.time.as_secs_f64() * 1e3
+        c.time.as_secs_f64() * 1e3,
+        c.waiting.as_secs_f64() * 1e3
     );
 }
 

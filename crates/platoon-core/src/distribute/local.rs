@@ -64,6 +64,9 @@ impl Collective for LocalGroup {
         self.shared.barrier.wait();
         out
     }
+    fn barrier(&self) {
+        self.shared.barrier.wait();
+    }
     fn gather(&self, mine: Vec<u8>) -> Vec<Vec<u8>> {
         self.slots()[self.rank] = mine;
         self.shared.barrier.wait();

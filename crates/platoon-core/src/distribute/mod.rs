@@ -29,4 +29,7 @@ pub trait Collective {
     fn scatter(&self, parts: Vec<Vec<u8>>) -> Vec<u8>;
     /// Every rank's `mine` on rank 0, in rank order; empty on the others.
     fn gather(&self, mine: Vec<u8>) -> Vec<Vec<u8>>;
+    /// Returns once every rank has called it (what separates waiting for the slowest rank
+    /// from moving bytes, in the measurements).
+    fn barrier(&self);
 }

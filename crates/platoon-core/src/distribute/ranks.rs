@@ -41,8 +41,11 @@ pub struct Communication {
     pub sent: u64,
     /// Bytes it received from them (bands, timings).
     pub received: u64,
-    /// Time this rank spent in the exchanges, waiting for the others included.
+    /// Time this rank spent moving the bytes (the exchanges, after every rank is ready).
     pub time: Duration,
+    /// Time it waited for the other ranks to finish their shares (load imbalance, not
+    /// communication).
+    pub waiting: Duration,
 }
 
 /// One rank's part in a frame.
@@ -163,6 +166,7 @@ impl<T: BandTracer + Send + 'static> RankRenderer<T> {
             sent: if root { got.len() as u64 * others } else { 0 },
             received: if root { 0 } else { got.len() as u64 },
             time,
+            waiting: Duration::ZERO,
         })
     }
 
@@ -218,6 +222,9 @@ impl<T: BandTracer + Send + 'static> RankRenderer<T> {
             Reply::Mismatch(_) => Vec::new(),
         };
         let bytes = encode_reply(&reply);
+        let began = Instant::now();
+        self.group.barrier();
+        comm.waiting = began.elapsed();
         let began = Instant::now();
         let replies = self.group.gather(bytes);
         comm.time += began.elapsed();

@@ -87,6 +87,9 @@ impl Collective for Mpi {
             out
         }
     }
+    fn barrier(&self) {
+        self.world.barrier();
+    }
     fn gather(&self, mine: Vec<u8>) -> Vec<Vec<u8>> {
         let root = self.world.process_at_rank(0);
         let len = count(mine.len());
