@@ -226,3 +226,39 @@ fn a_farm_deals_every_frame_once_each_the_one_process_frame_and_a_rerun_skips_th
         text(&again)
     );
 }
+
+#[test]
+fn the_game_bench_over_three_ranks_reports_its_communication_per_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let cli = Cli::new("bench")
+        .arg("game")
+        .flag("--frames", "20")
+        .flag("--size", "32x24")
+        .flag("--devices", "lavapipe:1")
+        .flag("--out", dir.path())
+        .arg("--json");
+    let o = over_ranks(&[&cli, &cli, &cli]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("over 3 ranks:"), "{out}");
+    let json: serde_json::Value = out
+        .lines()
+        .find_map(|l| serde_json::from_str(l).ok())
+        .unwrap_or_else(|| panic!("no JSON line: {out}"));
+    assert_eq!(json["frames"], 20, "{json}");
+    let mpi = &json["mpi"];
+    assert_eq!(mpi["ranks"], 3, "{json}");
+    // Every frame sends the ranks their bands' parameters and gets their bands back; the
+    // game's characters walk, so commits travel too.
+    for key in [
+        "sent_bytes_per_frame",
+        "received_bytes_per_frame",
+        "messages_per_frame",
+    ] {
+        assert!(mpi[key].as_f64().unwrap() > 0.0, "{key}: {json}");
+    }
+    assert!(
+        mpi["sent_bytes_per_frame"].as_f64().unwrap() > 10_000.0,
+        "{json}"
+    );
+}

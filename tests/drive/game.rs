@@ -10,6 +10,7 @@ use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
 use platoon::core::denoise::temporal::{GBuffer, Temporal};
 use platoon::core::denoise::Denoiser;
+use platoon::core::distribute::Collective as _;
 use platoon::core::drive::plan::Join;
 use platoon::core::drive::scaling::BelowOneSample;
 use platoon::core::drive::Edit;
@@ -368,4 +369,129 @@ fn denoised_frames_of_a_panning_view_reuse_their_history_with_the_same_bits_for_
     assert!(with_history < 0.7 * alone, "{with_history} vs {alone}");
     assert!(with_history < 0.5 * raw, "{with_history} vs {raw}");
     assert!(still < with_history, "{still} vs {with_history}");
+}
+
+/// Ranks as threads for the facade's game loop over ranks (`platoon::distributed::game`): the
+/// collectives and links of `platoon_core::distribute::local`.
+struct ThreadRanks {
+    group: platoon::core::distribute::local::LocalGroup,
+    link: std::sync::Arc<platoon::core::distribute::local::LocalLink>,
+}
+
+impl platoon::core::distribute::Collective for ThreadRanks {
+    fn rank(&self) -> usize {
+        self.group.rank()
+    }
+    fn size(&self) -> usize {
+        self.group.size()
+    }
+    fn broadcast(&self, bytes: Vec<u8>) -> Vec<u8> {
+        self.group.broadcast(bytes)
+    }
+    fn scatter(&self, parts: Vec<Vec<u8>>) -> Vec<u8> {
+        self.group.scatter(parts)
+    }
+    fn gather(&self, mine: Vec<u8>) -> Vec<Vec<u8>> {
+        self.group.gather(mine)
+    }
+    fn barrier(&self) {
+        self.group.barrier()
+    }
+}
+
+impl platoon::distributed::Session for ThreadRanks {
+    fn abort(&self, code: i32) -> ! {
+        panic!("rank {} aborted the job with {code}", self.group.rank())
+    }
+    fn deal(&self, frames: Vec<i64>) -> Box<dyn Iterator<Item = i64>> {
+        Box::new(frames.into_iter())
+    }
+    fn link(&self) -> anyhow::Result<std::sync::Arc<dyn platoon::core::distribute::remote::Link>> {
+        Ok(self.link.clone())
+    }
+}
+
+/// A living scene's game loop, rank 0 with two other ranks as threads (each a tracer of its
+/// frame driver, two lavapipe tracers inside one of them): every finished frame is the
+/// one-process driver's bit for bit, through a prop arriving, a camera move and the prop
+/// moving every frame (commits and the film's sums sent to the ranks).
+#[test]
+fn the_game_loop_over_ranks_is_the_one_process_loop_bit_for_bit() {
+    init();
+    let play = |ranks: Option<platoon::distributed::Ranks>, devices: &str| {
+        let (scene, camera) = cornell();
+        let mut driver = DriverOptions::new(W, H);
+        driver.spp = 2;
+        driver.samples_per_pass = 2;
+        driver.blend_floor = 0.25;
+        let mut options = platoon::game::GameOptions::new(driver);
+        options.devices = devices.parse().unwrap();
+        options.validation = true;
+        let mut d = match &ranks {
+            Some(r) => platoon::distributed::game::start(scene, &options, r).unwrap(),
+            None => platoon::game::start(scene, &options).unwrap(),
+        };
+        let prop = d
+            .scene()
+            .push(Edit::AddInstance {
+                mesh: 0,
+                placement: Placement::at(DVec3::new(0.0, 0.5, 0.0)),
+            })
+            .unwrap()
+            .unwrap();
+        let mut moved = camera;
+        moved.camera_to_world =
+            glam::Mat4::from_translation(Vec3::X * 0.01) * camera.camera_to_world;
+        let (stats, film) = run(
+            &mut d,
+            10,
+            |f| if f < 4 { camera } else { moved },
+            |d, f| {
+                if f >= 6 {
+                    let p = Placement::at(DVec3::new(0.05 * f as f64, 0.5, 0.0));
+                    d.scene()
+                        .push(Edit::Placement {
+                            node: prop,
+                            placement: p,
+                        })
+                        .unwrap();
+                }
+            },
+        );
+        (stats.len(), stats.last().unwrap().commit_bytes, film)
+    };
+    let alone = play(None, "lavapipe:1");
+    let mut groups = platoon::core::distribute::local::LocalGroup::new(3);
+    let links = platoon::core::distribute::local::LocalLink::new(3);
+    let over_ranks = std::thread::scope(|s| {
+        for (group, link) in groups.drain(1..).zip(links[1..].iter().cloned()) {
+            s.spawn(move || {
+                let devices = if group.rank() == 1 {
+                    "lavapipe:1,1"
+                } else {
+                    "lavapipe:1"
+                };
+                let ranks =
+                    platoon::distributed::Ranks(std::rc::Rc::new(ThreadRanks { group, link }));
+                platoon::distributed::game::serve(
+                    &ranks,
+                    &devices.parse().unwrap(),
+                    "perfect",
+                    true,
+                )
+                .unwrap();
+            });
+        }
+        let ranks = platoon::distributed::Ranks(std::rc::Rc::new(ThreadRanks {
+            group: groups.remove(0),
+            link: links[0].clone(),
+        }));
+        play(Some(ranks), "lavapipe:1")
+    });
+    assert_eq!(over_ranks.0, alone.0);
+    assert!(over_ranks.1 > 0, "the prop's moves committed nothing");
+    assert!(
+        over_ranks.2 == alone.2,
+        "the game over three ranks differs from one process"
+    );
 }

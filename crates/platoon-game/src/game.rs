@@ -29,6 +29,8 @@ pub struct GameOptions {
     pub balancer: String,
     pub updater: UpdaterThreads,
     pub validation: bool,
+    /// Rank 0 of an MPI job: the frames split between the ranks (platoon::distributed::game).
+    pub ranks: Option<platoon::distributed::Ranks>,
 }
 
 impl GameOptions {
@@ -45,6 +47,7 @@ impl GameOptions {
             balancer: "cost-aware".into(),
             updater: UpdaterThreads::default(),
             validation: false,
+            ranks: None,
         }
     }
 }
@@ -87,7 +90,10 @@ impl Game {
         options.balancer = o.balancer.clone();
         options.updater = o.updater.clone();
         options.validation = o.validation;
-        let driver = platoon::game::start(w.scene, &options)?;
+        let driver = match &o.ranks {
+            Some(ranks) => platoon::distributed::game::start(w.scene, &options, ranks)?,
+            None => platoon::game::start(w.scene, &options)?,
+        };
         let physics = Physics::new(w.unit, GROUND * w.unit);
         let mut game = Game {
             body_nodes: Vec::new(),

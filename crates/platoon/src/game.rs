@@ -60,7 +60,8 @@ impl GameOptions {
 }
 
 /// Starts the updater on `scene`, a tracer on every device of the spec with the scene's first
-/// generation, and the frame driver over them.
+/// generation, and the frame driver over them. Over the ranks of a job:
+/// `crate::distributed::game::start`.
 pub fn start(scene: Scene, options: &GameOptions) -> Result<FrameDriver> {
     let balancer = crate::devices::balancer(&options.balancer)?;
     let (pipeline, first) =

@@ -41,6 +41,11 @@ pub struct GameArgs {
     /// Print one JSON object after the text.
     #[arg(long)]
     pub json: bool,
+    /// Split every frame between the ranks of an MPI job (`mpirun -n N platoon bench game
+    /// --mpi`, a build with `--features mpi`): rank 0 plays, each rank is one tracer of its
+    /// frame driver rendering on its own --devices; the communication per frame is reported.
+    #[arg(long)]
+    pub mpi: bool,
     /// Instead of the bench, record the game's per-line cost maps (game.csv, and tune/game.csv
     /// for choosing constants) into this folder, for `platoon bench balance --costs`.
     #[arg(long)]
@@ -73,6 +78,29 @@ pub fn run(o: &GameArgs) -> Result<()> {
     if let Some(dir) = &o.record_costs {
         return super::game_costs::record(&o.character, dir);
     }
+    if !o.mpi {
+        return bench(o, None);
+    }
+    let session = platoon::distributed::join()?;
+    let ranks = platoon::distributed::Ranks(session.clone());
+    let result = if session.rank() == 0 {
+        bench(o, Some(ranks))
+    } else {
+        let devices = o.devices.parse().map_err(anyhow::Error::msg)?;
+        platoon::distributed::game::serve(&ranks, &devices, "cost-aware", false)
+    };
+    match result {
+        // The others would wait for this rank in their next exchange.
+        Err(e) if session.size() > 1 => {
+            eprintln!("error: rank {}: {e:#}", session.rank());
+            session.abort(1)
+        }
+        r => r,
+    }
+}
+
+/// The bench on this process's devices, or as rank 0 of `ranks`.
+fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()> {
     let (width, height) = o.size;
     if !(o.target_ms > 0.0 && o.target_ms.is_finite()) {
         bail!("--target-ms must be a positive number of milliseconds");
@@ -96,6 +124,7 @@ pub fn run(o: &GameArgs) -> Result<()> {
     };
     game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
     game.driver.denoise = o.denoise;
+    game.ranks = ranks.clone();
     o.denoise
         .available()
         .map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
@@ -114,12 +143,56 @@ pub fn run(o: &GameArgs) -> Result<()> {
     let s = summarize(&played.records, o.target_ms);
     let csv = o.out.join("game.csv");
     platoon_game::play::write_csv(&csv, &played.records)?;
+    let comm = ranks.map(|r| communication(r.0.size(), s.frames));
     println!("{}", text(o, &s));
+    if let Some(c) = &comm {
+        println!(
+            "over {} ranks: {:.0} bytes a frame to the other ranks, {:.0} back, {:.2} ms a frame \
+             on the wire (round trips less the ranks' own work), {:.1} messages a frame",
+            c.ranks,
+            c.sent_per_frame,
+            c.received_per_frame,
+            c.wire_ms_per_frame,
+            c.messages_per_frame
+        );
+    }
     println!("per-frame numbers in {}", csv.display());
     if o.json {
-        println!("{}", json(o, &s));
+        let mut j = json(o, &s);
+        if let Some(c) = &comm {
+            j["mpi"] = serde_json::json!({
+                "ranks": c.ranks,
+                "sent_bytes_per_frame": c.sent_per_frame,
+                "received_bytes_per_frame": c.received_per_frame,
+                "wire_ms_per_frame": c.wire_ms_per_frame,
+                "messages_per_frame": c.messages_per_frame,
+            });
+        }
+        println!("{j}");
     }
     Ok(())
+}
+
+/// What rank 0 exchanged with the other ranks, per frame on average.
+struct Communication {
+    ranks: usize,
+    sent_per_frame: f64,
+    received_per_frame: f64,
+    wire_ms_per_frame: f64,
+    messages_per_frame: f64,
+}
+
+fn communication(ranks: usize, frames: usize) -> Communication {
+    use std::sync::atomic::Ordering::Relaxed;
+    let t = &platoon::core::distribute::remote::TRAFFIC;
+    let per = |v: u64| v as f64 / frames.max(1) as f64;
+    Communication {
+        ranks,
+        sent_per_frame: per(t.sent.load(Relaxed)),
+        received_per_frame: per(t.received.load(Relaxed)),
+        wire_ms_per_frame: per(t.wire_nanos.load(Relaxed)) * 1e-6,
+        messages_per_frame: per(t.messages.load(Relaxed)),
+    }
 }
 
 pub fn summarize(records: &[FrameRecord], target_ms: f64) -> Summary {
@@ -196,7 +269,7 @@ fn text(o: &GameArgs, s: &Summary) -> String {
     )
 }
 
-fn json(o: &GameArgs, s: &Summary) -> String {
+fn json(o: &GameArgs, s: &Summary) -> serde_json::Value {
     serde_json::json!({
         "target_ms": o.target_ms,
         "frames": s.frames,
@@ -215,5 +288,4 @@ fn json(o: &GameArgs, s: &Summary) -> String {
         "denoise": o.denoise.name(),
         "denoise_ms_median": s.denoise_ms_median,
     })
-    .to_string()
 }

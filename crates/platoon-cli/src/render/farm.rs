@@ -4,25 +4,27 @@
 //! saying `frame N: ok ... (rank R)` for each; rank 0 totals the ranks' counts at the end.
 
 use std::path::Path;
+use std::rc::Rc;
 use std::time::Instant;
 
-use anyhow::{Context as _, Result};
+use anyhow::Result;
 use platoon::animation::frame_path;
+use platoon::distributed::Session;
 
-use super::frames::{Frames, Job, Tally};
-
-pub(super) fn run(frames: &mut Frames, job: &Job, out: &Path, todo: Vec<i64>) -> Result<Tally> {
-    let session = frames
-        .setup
-        .session
-        .clone()
-        .context("--mpi-frames runs in an MPI job")?;
+/// Renders the frames of `todo` this rank is dealt with `render` (frame, its file), saying
+/// each one's fate; rank 0 returns every rank's (frames rendered, failed).
+pub(super) fn run(
+    session: &Rc<dyn Session>,
+    todo: Vec<i64>,
+    out: &Path,
+    mut render: impl FnMut(i64, &Path) -> Result<()>,
+) -> Result<(u64, u64)> {
     let rank = session.rank();
     let (mut rendered, mut failed) = (0u64, 0u64);
     for f in session.deal(todo) {
         let path = frame_path(out, f);
         let began = Instant::now();
-        match frames.render(job, f, &path, &mut |_| {}) {
+        match render(f, &path) {
             Ok(()) => println!(
                 "frame {f}: ok, {} in {:.2} s (rank {rank})",
                 path.display(),
@@ -37,15 +39,12 @@ pub(super) fn run(frames: &mut Frames, job: &Job, out: &Path, todo: Vec<i64>) ->
     }
     let mine = [rendered, failed].map(u64::to_le_bytes).concat();
     let counts = session.gather(mine);
-    let mut tally = Tally {
-        rendered: 0,
-        failed: 0,
-    };
+    let mut total = (0, 0);
     for (r, c) in counts.iter().enumerate() {
         let n = |k: usize| u64::from_le_bytes(c[k * 8..k * 8 + 8].try_into().expect("8 bytes"));
         eprintln!("  rank {r}: {} frame(s), {} failed", n(0), n(1));
-        tally.rendered += n(0);
-        tally.failed += n(1);
+        total.0 += n(0);
+        total.1 += n(1);
     }
-    Ok(tally)
+    Ok(total)
 }

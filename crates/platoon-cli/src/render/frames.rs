@@ -118,7 +118,15 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
     let mut frames = Frames::new(setup, args.fresh_prepare, speaks || farm, speaks)?;
     let start = Instant::now();
     let tally = if farm {
-        super::farm::run(&mut frames, &job, &out, todo)?
+        let session = frames
+            .setup
+            .session
+            .clone()
+            .expect("--mpi-frames joins the job");
+        let (rendered, failed) = super::farm::run(&session, todo, &out, |f, path| {
+            frames.render(&job, f, path, &mut |_| {})
+        })?;
+        Tally { rendered, failed }
     } else {
         in_order(&mut frames, &job, &out, &todo)?
     };
@@ -142,9 +150,9 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
 }
 
 /// Frames rendered and failed.
-pub(super) struct Tally {
-    pub rendered: u64,
-    pub failed: u64,
+struct Tally {
+    rendered: u64,
+    failed: u64,
 }
 
 /// Renders `todo` in order with a progress bar; over ranks every frame is split between them,
@@ -199,7 +207,7 @@ fn in_order(frames: &mut Frames, job: &Job, out: &Path, todo: &[i64]) -> Result<
 
 /// What makes a frame's image what it is (the settings, the scene file as it is now, the
 /// frame): written into each frame's metadata as `job`; a file whose `job` matches is done.
-pub(super) struct Job {
+struct Job {
     settings: String,
     fps: f64,
     animated_seed: bool,
@@ -286,15 +294,15 @@ impl Job {
 
 /// The scene and tracers carried from frame to frame (or, with `--fresh-prepare`, made anew
 /// for each).
-pub(super) struct Frames {
-    pub(super) setup: Setup,
+struct Frames {
+    setup: Setup,
     carried: Option<(Animation, Tracers)>,
     fresh: bool,
     /// Whether this process writes the frames it renders (rank 0 of a job, a process alone,
     /// every rank of a farm).
     writes: bool,
     /// Whether it reports (rank 0, or a process alone).
-    pub(super) speaks: bool,
+    speaks: bool,
 }
 
 impl Frames {
@@ -314,7 +322,7 @@ impl Frames {
     }
 
     /// Renders frame `frame` of `job` to `path` (atomically: a temporary file renamed).
-    pub(super) fn render(
+    fn render(
         &mut self,
         job: &Job,
         frame: i64,

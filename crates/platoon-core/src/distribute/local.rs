@@ -1,8 +1,11 @@
 //! Ranks as threads of one process: the [`Collective`] the tests split frames over (and a
-//! model of what the MPI transport does), with a barrier around every exchange.
+//! model of what the MPI transport does), with a barrier around every exchange, and the
+//! point-to-point [`Link`] of the game loop's ranks, a channel per pair.
 
+use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::{Arc, Barrier, Mutex};
 
+use super::remote::Link;
 use super::Collective;
 
 struct Shared {
@@ -77,5 +80,61 @@ impl Collective for LocalGroup {
         };
         self.shared.barrier.wait();
         out
+    }
+}
+
+/// Point-to-point messages between ranks as threads: a channel for every ordered pair.
+pub struct LocalLink {
+    rank: usize,
+    mesh: Arc<Mesh>,
+}
+
+struct Mesh {
+    /// `senders[from][to]`.
+    senders: Vec<Vec<Mutex<Sender<Vec<u8>>>>>,
+    /// `receivers[to][from]`.
+    receivers: Vec<Vec<Mutex<Receiver<Vec<u8>>>>>,
+}
+
+impl LocalLink {
+    /// The links of `size` ranks, rank order.
+    pub fn new(size: usize) -> Vec<Arc<LocalLink>> {
+        let mut senders = Vec::new();
+        let mut receivers: Vec<Vec<_>> = (0..size).map(|_| Vec::new()).collect();
+        for _from in 0..size {
+            let mut row = Vec::new();
+            for to_row in receivers.iter_mut() {
+                let (tx, rx) = channel();
+                row.push(Mutex::new(tx));
+                // Sources in order: receivers[to][from].
+                to_row.push(Mutex::new(rx));
+            }
+            senders.push(row);
+        }
+        let mesh = Arc::new(Mesh { senders, receivers });
+        (0..size)
+            .map(|rank| {
+                Arc::new(LocalLink {
+                    rank,
+                    mesh: mesh.clone(),
+                })
+            })
+            .collect()
+    }
+}
+
+impl Link for LocalLink {
+    fn send(&self, to: usize, bytes: Vec<u8>) {
+        let tx = self.mesh.senders[self.rank][to]
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        // A rank that has ended drops nothing it still needs.
+        let _ = tx.send(bytes);
+    }
+    fn receive(&self, from: usize) -> Vec<u8> {
+        let rx = self.mesh.receivers[self.rank][from]
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        rx.recv().unwrap_or_default()
     }
 }

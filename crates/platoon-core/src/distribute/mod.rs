@@ -10,8 +10,12 @@
 //! and a variable-count gather to it (MPI_Bcast, MPI_Scatterv, MPI_Gatherv), over the bytes
 //! of [`wire`].
 
+#[cfg(test)]
+mod fakes;
 pub mod local;
+pub mod params;
 pub mod ranks;
+pub mod remote;
 pub mod wire;
 
 pub use ranks::{Communication, RankError, RankFrame, RankRenderer, RankStats};

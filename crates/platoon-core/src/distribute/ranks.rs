@@ -563,51 +563,10 @@ fn zeros(params: &FrameParams, tracers: Vec<TracerStats>, start: Instant) -> Fra
 mod tests {
     use super::*;
     use crate::balance::{by_name, NAMES};
+    use crate::distribute::fakes::{Fake, Keeping};
     use crate::distribute::local::LocalGroup;
     use crate::frame::fault::FaultInjector;
-    use crate::frame::{Band, TracerError};
     use crate::scene::camera::Camera;
-
-    /// A CPU tracer whose pixels are a fixed function of (x, y, frame) added onto the
-    /// accumulated sums, as the kernel continues them; `slowness` sets its speed.
-    struct Fake {
-        slowness: u64,
-    }
-
-    impl BandTracer for Fake {
-        fn render_band(
-            &mut self,
-            p: &FrameParams,
-            span: Span,
-            _: &mut dyn FnMut(u32),
-        ) -> Result<Band, TracerError> {
-            let first = span.first_line(p.width);
-            let mut line_rays = vec![0; (span.end_line(p.width) - first) as usize];
-            let mut sums = Vec::new();
-            for i in span.begin..span.end {
-                let (x, y) = (i % p.width, i / p.width);
-                let before = p.accumulated.as_ref().map_or([0.0; 3], |a| a[i as usize]);
-                let done = p.converged.as_ref().is_some_and(|c| c[i as usize]);
-                let add = if done {
-                    0.0
-                } else {
-                    (x * 7 + y * 13 + p.frame) as f32 * 0.1
-                };
-                sums.push(before.map(|v| v + add));
-                line_rays[(y - first) as usize] += if y < p.height / 2 { 1 } else { 8 };
-            }
-            let rays = line_rays.iter().sum::<u64>();
-            std::thread::sleep(Duration::from_micros(rays * self.slowness * 3));
-            Ok(Band {
-                span,
-                sums,
-                rays,
-                line_rays,
-                wall_time: Duration::from_micros(rays * self.slowness * 3),
-                ..Default::default()
-            })
-        }
-    }
 
     fn params(frame: u32) -> FrameParams {
         let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
@@ -758,24 +717,6 @@ mod tests {
         for r in &results {
             let e = r.as_ref().unwrap_err();
             assert!(e.contains("rank 1 prepared a different frame"), "{e}");
-        }
-    }
-
-    /// A tracer that keeps the headers of the commits it applied.
-    struct Keeping(Arc<std::sync::Mutex<Vec<u32>>>);
-
-    impl BandTracer for Keeping {
-        fn render_band(
-            &mut self,
-            p: &FrameParams,
-            span: Span,
-            progress: &mut dyn FnMut(u32),
-        ) -> Result<Band, TracerError> {
-            Fake { slowness: 0 }.render_band(p, span, progress)
-        }
-        fn apply_commit(&mut self, c: &Commit) -> Result<u64, TracerError> {
-            self.0.lock().unwrap().push(c.header.lights);
-            Ok(c.arrays.iter().map(|a| a.data.len() as u64).sum())
         }
     }
 

@@ -12,10 +12,12 @@
 
 #[cfg(feature = "mpi")]
 mod deal;
+pub mod game;
 #[cfg(feature = "mpi")]
 pub mod mpi;
 
 use std::rc::Rc;
+use std::sync::Arc;
 
 use anyhow::{Context as _, Result};
 use platoon_core::distribute::{Collective, Communication, RankFrame, RankRenderer, RankStats};
@@ -36,6 +38,16 @@ pub struct RanksReport {
     /// Each rank's part, in rank order (ranks given nothing left out).
     pub parts: Vec<RankStats>,
     pub communication: Communication,
+}
+
+/// A job's ranks as a game's option (`crate::game::GameOptions::ranks`).
+#[derive(Clone)]
+pub struct Ranks(pub Rc<dyn Session>);
+
+impl std::fmt::Debug for Ranks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "rank {} of {}", self.0.rank(), self.0.size())
+    }
 }
 
 /// The ranks of the job this process belongs to: MPI's world (initialised here, finalised
@@ -64,6 +76,10 @@ pub trait Session: Collective {
     /// finish them (rank 0's dealer answers while its own renderer takes frames too). No other
     /// call on the session until the iterator has ended.
     fn deal(&self, frames: Vec<i64>) -> Box<dyn Iterator<Item = i64>>;
+    /// Messages between rank 0 and each other rank from any thread: the game loop's ranks
+    /// (`platoon_core::distribute::remote`). An error where the library cannot talk from
+    /// several threads at once.
+    fn link(&self) -> Result<Arc<dyn platoon_core::distribute::remote::Link>>;
 }
 
 impl Tracers {

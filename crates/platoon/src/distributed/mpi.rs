@@ -8,6 +8,10 @@ use mpi::environment::Universe;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use mpi::Count;
+use std::sync::Arc;
+
+use mpi::Threading;
+use platoon_core::distribute::remote::Link;
 use platoon_core::distribute::Collective;
 
 use super::Session;
@@ -16,20 +20,55 @@ pub struct Mpi {
     /// Finalises MPI when dropped: held for as long as the process renders.
     _universe: Universe,
     world: SimpleCommunicator,
+    /// What the library grants: the game loop's ranks talk from several threads at once.
+    threading: Threading,
 }
 
 impl Mpi {
-    /// Joins the job `mpirun` started (a process started alone is a job of one rank). MPI
-    /// is called from one thread at a time, the one that renders.
+    /// Joins the job `mpirun` started (a process started alone is a job of one rank), asking
+    /// for MPI_THREAD_MULTIPLE (the game loop's); renders need only one thread at a time.
     pub fn init() -> Result<Mpi> {
-        let Some((universe, _)) = mpi::initialize_with_threading(mpi::Threading::Serialized) else {
+        let Some((universe, threading)) = mpi::initialize_with_threading(Threading::Multiple)
+        else {
             bail!("MPI was already initialised in this process");
         };
+        if threading < Threading::Serialized {
+            bail!(
+                "the MPI library grants {threading:?} threading; platoon needs at least \
+                 MPI_THREAD_SERIALIZED"
+            );
+        }
         let world = universe.world();
         Ok(Mpi {
             _universe: universe,
             world,
+            threading,
         })
+    }
+}
+
+/// Point-to-point messages of the game loop's ranks on MPI_COMM_WORLD under their own tag,
+/// from any thread (MPI_THREAD_MULTIPLE). A receive polls rather than blocks: Open MPI's
+/// blocking wait spins, and rank 0's tracers waiting on remote ranks would take the cores its
+/// own devices render on.
+struct MpiLink;
+
+const LINK_TAG: i32 = 27;
+
+impl Link for MpiLink {
+    fn send(&self, to: usize, bytes: Vec<u8>) {
+        let world = SimpleCommunicator::world();
+        world
+            .process_at_rank(to as i32)
+            .send_with_tag(&bytes[..], LINK_TAG);
+    }
+    fn receive(&self, from: usize) -> Vec<u8> {
+        let world = SimpleCommunicator::world();
+        let source = world.process_at_rank(from as i32);
+        while source.immediate_probe_with_tag(LINK_TAG).is_none() {
+            std::thread::sleep(std::time::Duration::from_micros(100));
+        }
+        source.receive_vec_with_tag::<u8>(LINK_TAG).0
     }
 }
 
@@ -120,5 +159,15 @@ impl Session for Mpi {
     }
     fn deal(&self, frames: Vec<i64>) -> Box<dyn Iterator<Item = i64>> {
         super::deal::deal(&self.world, frames)
+    }
+    fn link(&self) -> Result<Arc<dyn Link>> {
+        if self.threading < Threading::Multiple {
+            bail!(
+                "the MPI library grants {:?} threading; the game loop over ranks needs \
+                 MPI_THREAD_MULTIPLE (Open MPI built with thread support)",
+                self.threading
+            );
+        }
+        Ok(Arc::new(MpiLink))
     }
 }

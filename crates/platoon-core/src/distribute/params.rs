@@ -1,0 +1,351 @@
+//! A frame's parameters on the wire, for ranks that cannot make them themselves (the game
+//! loop's workers: the frame driver on rank 0 decides each frame's camera, samples and film).
+//! Every field is written out by name: a new field of `FrameParams` breaks the build here until
+//! it travels. The accumulated sums and the converged mask travel only for the span the rank
+//! renders. Methods whose frames carry a preparation (vertex links' solution, layered hit
+//! buffers' tables) do not travel yet: refused with a message.
+
+use std::time::Duration;
+
+use super::wire::{Reader, WireError, Writer};
+use crate::frame::aov::AovPass;
+use crate::frame::{FrameParams, Output, Span};
+use crate::method::igi::IgiOptions;
+use crate::method::path_kernel::PathKernel;
+use crate::method::Method;
+use crate::scene::camera::Camera;
+
+fn opt_f32(w: &mut Writer, v: Option<f32>) {
+    w.u8(v.is_some() as u8);
+    w.f32(v.unwrap_or(0.0));
+}
+
+fn get_opt_f32(r: &mut Reader) -> Result<Option<f32>, WireError> {
+    let some = r.u8()? == 1;
+    let v = r.f32()?;
+    Ok(some.then_some(v))
+}
+
+fn flag(r: &mut Reader) -> Result<bool, WireError> {
+    Ok(r.u8()? != 0)
+}
+
+/// Whether `method`'s frames can be sent to another rank.
+pub fn travels(method: &Method) -> Result<(), String> {
+    match method {
+        Method::PathTracing | Method::Igi(_) => Ok(()),
+        Method::Links(_) | Method::Lhb(_) => Err(format!(
+            "{} cannot render over the ranks of a game loop yet (its preparation does not \
+             travel): use --method path or igi",
+            method.unit().name()
+        )),
+    }
+}
+
+/// `p` for a rank rendering `span`: everything, with the sums and mask of the span only.
+pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), String> {
+    travels(&p.method)?;
+    let FrameParams {
+        width,
+        height,
+        spp,
+        max_depth,
+        rr_depth,
+        rr_survival,
+        rr_fixed,
+        clamp_indirect,
+        uniform_light_selection,
+        generic_kernel,
+        deterministic_termination,
+        single_diffuse_bounce,
+        cut_last_paths,
+        ris_candidates,
+        ris_mis,
+        method,
+        kernel,
+        seed,
+        frame,
+        first_sample,
+        accumulated,
+        converged,
+        samples_per_pass,
+        time_limit,
+        camera,
+        output,
+    } = p;
+    for v in [width, height, spp, max_depth, rr_depth] {
+        w.u32(*v);
+    }
+    w.f32(*rr_survival);
+    opt_f32(w, *rr_fixed);
+    opt_f32(w, *clamp_indirect);
+    for b in [
+        uniform_light_selection,
+        generic_kernel,
+        deterministic_termination,
+        single_diffuse_bounce,
+        cut_last_paths,
+        ris_mis,
+    ] {
+        w.u8(*b as u8);
+    }
+    w.u8(ris_candidates.is_some() as u8);
+    w.u32(ris_candidates.unwrap_or(0));
+    match method {
+        Method::Igi(o) => {
+            let IgiOptions {
+                paths,
+                bounces,
+                min_distance,
+                imperfect_visibility,
+                downsample,
+                interleave,
+            } = o;
+            w.u8(1);
+            w.u32(*paths);
+            w.u32(*bounces);
+            w.f32(*min_distance);
+            w.u8(*imperfect_visibility as u8);
+            w.u32(*downsample);
+            w.pod(interleave);
+        }
+        _ => w.u8(0),
+    }
+    w.u8(match kernel {
+        PathKernel::Auto => 0,
+        PathKernel::Mega => 1,
+        PathKernel::Streaming => 2,
+    });
+    for v in [seed, frame, first_sample, samples_per_pass] {
+        w.u32(*v);
+    }
+    let range = span.begin as usize..span.end as usize;
+    match accumulated {
+        Some(a) => {
+            w.u8(1);
+            w.pod(
+                &a[range.clone()]
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .collect::<Vec<f32>>(),
+            );
+        }
+        None => w.u8(0),
+    }
+    match converged {
+        Some(c) => {
+            w.u8(1);
+            w.bytes(&c[range].iter().map(|&b| b as u8).collect::<Vec<u8>>());
+        }
+        None => w.u8(0),
+    }
+    w.u8(time_limit.is_some() as u8);
+    w.duration(time_limit.unwrap_or_default());
+    let Camera {
+        camera_to_world,
+        yfov,
+        aperture_radius,
+        focus_distance,
+        orthographic,
+    } = camera;
+    w.pod(&camera_to_world.to_cols_array());
+    w.f32(*yfov);
+    w.f32(*aperture_radius);
+    w.f32(*focus_distance);
+    w.u8(orthographic.is_some() as u8);
+    w.pod(&orthographic.unwrap_or_default());
+    w.u8(match output {
+        Output::Radiance => 0,
+        Output::PrimaryHit => 1,
+        Output::BsdfSample => 2,
+        Output::BsdfValue => 3,
+        Output::Aov(AovPass::Albedo) => 4,
+        Output::Aov(AovPass::Normal) => 5,
+        Output::Aov(AovPass::Position) => 6,
+        Output::Aov(AovPass::Ids) => 7,
+    });
+    Ok(())
+}
+
+/// The parameters `put_params` wrote for `span`: the sums and mask outside it are zero.
+pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> {
+    let camera0 = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
+    let mut p = FrameParams::new(r.u32()?, r.u32()?, r.u32()?, camera0);
+    p.max_depth = r.u32()?;
+    p.rr_depth = r.u32()?;
+    p.rr_survival = r.f32()?;
+    p.rr_fixed = get_opt_f32(r)?;
+    p.clamp_indirect = get_opt_f32(r)?;
+    p.uniform_light_selection = flag(r)?;
+    p.generic_kernel = flag(r)?;
+    p.deterministic_termination = flag(r)?;
+    p.single_diffuse_bounce = flag(r)?;
+    p.cut_last_paths = flag(r)?;
+    p.ris_mis = flag(r)?;
+    let some = flag(r)?;
+    let m = r.u32()?;
+    p.ris_candidates = some.then_some(m);
+    p.method = match r.u8()? {
+        0 => Method::PathTracing,
+        1 => Method::Igi(IgiOptions {
+            paths: r.u32()?,
+            bounces: r.u32()?,
+            min_distance: r.f32()?,
+            imperfect_visibility: flag(r)?,
+            downsample: r.u32()?,
+            interleave: r
+                .pod::<u32>()?
+                .try_into()
+                .map_err(|_| WireError("IGI's interleave".into()))?,
+        }),
+        k => return Err(WireError(format!("unknown method {k}"))),
+    };
+    p.kernel = match r.u8()? {
+        0 => PathKernel::Auto,
+        1 => PathKernel::Mega,
+        2 => PathKernel::Streaming,
+        k => return Err(WireError(format!("unknown path kernel {k}"))),
+    };
+    p.seed = r.u32()?;
+    p.frame = r.u32()?;
+    p.first_sample = r.u32()?;
+    p.samples_per_pass = r.u32()?;
+    let pixels = p.width as usize * p.height as usize;
+    if span.end as usize > pixels || span.begin > span.end {
+        return Err(WireError(format!("a span {span:?} outside the frame")));
+    }
+    let range = span.begin as usize..span.end as usize;
+    if flag(r)? {
+        let sums: Vec<f32> = r.pod()?;
+        if sums.len() != range.len() * 3 {
+            return Err(WireError("the sums do not fit the span".into()));
+        }
+        let mut full = vec![[0.0f32; 3]; pixels];
+        for (dst, src) in full[range.clone()].iter_mut().zip(sums.chunks_exact(3)) {
+            *dst = [src[0], src[1], src[2]];
+        }
+        p.accumulated = Some(full.into());
+    }
+    if flag(r)? {
+        let mask = r.bytes()?;
+        if mask.len() != range.len() {
+            return Err(WireError("the mask does not fit the span".into()));
+        }
+        let mut full = vec![false; pixels];
+        for (dst, &m) in full[range].iter_mut().zip(mask) {
+            *dst = m != 0;
+        }
+        p.converged = Some(full.into());
+    }
+    let some = flag(r)?;
+    let limit: Duration = r.duration()?;
+    p.time_limit = some.then_some(limit);
+    let cols: Vec<f32> = r.pod()?;
+    let cols: [f32; 16] = cols
+        .try_into()
+        .map_err(|_| WireError("the camera's matrix".into()))?;
+    p.camera = Camera {
+        camera_to_world: glam::Mat4::from_cols_array(&cols),
+        yfov: r.f32()?,
+        aperture_radius: r.f32()?,
+        focus_distance: r.f32()?,
+        orthographic: {
+            let some = flag(r)?;
+            let xy: Vec<f32> = r.pod()?;
+            let xy: [f32; 2] = xy
+                .try_into()
+                .map_err(|_| WireError("the orthographic size".into()))?;
+            some.then_some(xy)
+        },
+    };
+    p.output = match r.u8()? {
+        0 => Output::Radiance,
+        1 => Output::PrimaryHit,
+        2 => Output::BsdfSample,
+        3 => Output::BsdfValue,
+        4 => Output::Aov(AovPass::Albedo),
+        5 => Output::Aov(AovPass::Normal),
+        6 => Output::Aov(AovPass::Position),
+        7 => Output::Aov(AovPass::Ids),
+        k => return Err(WireError(format!("unknown output {k}"))),
+    };
+    Ok(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::distribute::wire::fingerprint;
+
+    fn round_trip(p: &FrameParams, span: Span) -> FrameParams {
+        let mut w = Writer::default();
+        put_params(&mut w, p, span).unwrap();
+        let mut r = Reader::new(&w.0);
+        let back = get_params(&mut r, span).unwrap();
+        r.finish().unwrap();
+        back
+    }
+
+    #[test]
+    fn every_setting_travels_and_the_span_takes_its_sums() {
+        let mut camera = Camera::look_at(glam::Vec3::new(1.0, 2.0, 3.0), glam::Vec3::ZERO, 0.7);
+        camera.orthographic = Some([2.0, 1.5]);
+        camera.aperture_radius = 0.1;
+        let mut p = FrameParams::new(5, 4, 3, camera);
+        p.rr_fixed = Some(0.5);
+        p.clamp_indirect = Some(9.0);
+        p.ris_candidates = Some(4);
+        p.ris_mis = true;
+        p.cut_last_paths = true;
+        p.method = Method::Igi(IgiOptions {
+            paths: 7,
+            interleave: [2, 3],
+            ..Default::default()
+        });
+        p.kernel = PathKernel::Streaming;
+        p.seed = 11;
+        p.frame = 12;
+        p.first_sample = 13;
+        p.output = Output::Aov(AovPass::Normal);
+        p.accumulated = Some(
+            (0..20)
+                .map(|i| [i as f32, 0.5, -1.0])
+                .collect::<Vec<_>>()
+                .into(),
+        );
+        p.converged = Some((0..20).map(|i| i % 3 == 0).collect::<Vec<_>>().into());
+        let span = Span::new(6, 13);
+        let back = round_trip(&p, span);
+        assert_eq!(fingerprint(&back), fingerprint(&p));
+        let (a, b) = (p.accumulated.unwrap(), back.accumulated.unwrap());
+        for i in 0..20 {
+            let inside = (6..13).contains(&i);
+            assert_eq!(b[i], if inside { a[i] } else { [0.0; 3] }, "{i}");
+            assert_eq!(
+                back.converged.as_ref().unwrap()[i],
+                inside && p.converged.as_ref().unwrap()[i]
+            );
+        }
+        let plain = FrameParams::new(
+            3,
+            3,
+            1,
+            Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
+        );
+        assert_eq!(round_trip(&plain, Span::new(0, 9)), plain);
+    }
+
+    #[test]
+    fn methods_whose_preparation_does_not_travel_are_refused() {
+        let mut p = FrameParams::new(
+            3,
+            3,
+            1,
+            Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
+        );
+        p.method = Method::Lhb(crate::method::lhb::Lhb::new(Default::default()));
+        let e = put_params(&mut Writer::default(), &p, Span::new(0, 9)).unwrap_err();
+        assert!(e.contains("--method path or igi"), "{e}");
+    }
+}
