@@ -185,7 +185,9 @@ fn on_every_rank(
 ) -> Result<()> {
     match (body(), session) {
         (Err(e), Some(s)) if s.size() > 1 => {
-            eprintln!("error: rank {}: {e:#}", s.rank());
+            use std::io::Write as _;
+            let line = format!("error: rank {}: {e:#}\n", s.rank());
+            let _ = std::io::stderr().write_all(line.as_bytes());
             s.abort(1)
         }
         (result, _) => result,
