@@ -8,7 +8,9 @@
 //!
 //! The transport is a [`Collective`]: a broadcast and a variable-count scatter from rank 0
 //! and a variable-count gather to it (MPI_Bcast, MPI_Scatterv, MPI_Gatherv), over the bytes
-//! of [`wire`].
+//! of [`wire`] (the frame's messages in `share`). A game loop cannot be replayed on every rank:
+//! there each rank is one tracer of rank 0's frame driver ([`remote`]), sent each band's
+//! parameters ([`params`]) point to point.
 
 #[cfg(test)]
 mod fakes;
@@ -16,6 +18,7 @@ pub mod local;
 pub mod params;
 pub mod ranks;
 pub mod remote;
+mod share;
 pub mod wire;
 
 pub use ranks::{Communication, RankError, RankFrame, RankRenderer, RankStats};

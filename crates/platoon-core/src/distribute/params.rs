@@ -2,12 +2,12 @@
 //! loop's workers: the frame driver on rank 0 decides each frame's camera, samples and film).
 //! Every field is written out by name: a new field of `FrameParams` breaks the build here until
 //! it travels. The accumulated sums and the converged mask travel only for the span the rank
-//! renders. Methods whose frames carry a preparation (vertex links' solution, layered hit
-//! buffers' tables) do not travel yet: refused with a message.
+//! renders (`wire::put_film_span`). Methods whose frames carry a preparation (vertex links'
+//! solution, layered hit buffers' tables) do not travel yet: refused with a message.
 
 use std::time::Duration;
 
-use super::wire::{Reader, WireError, Writer};
+use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
 use crate::frame::aov::AovPass;
 use crate::frame::{FrameParams, Output, Span};
 use crate::method::igi::IgiOptions;
@@ -119,27 +119,9 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
     for v in [seed, frame, first_sample, samples_per_pass] {
         w.u32(*v);
     }
-    let range = span.begin as usize..span.end as usize;
-    match accumulated {
-        Some(a) => {
-            w.u8(1);
-            w.pod(
-                &a[range.clone()]
-                    .iter()
-                    .flatten()
-                    .copied()
-                    .collect::<Vec<f32>>(),
-            );
-        }
-        None => w.u8(0),
-    }
-    match converged {
-        Some(c) => {
-            w.u8(1);
-            w.bytes(&c[range].iter().map(|&b| b as u8).collect::<Vec<u8>>());
-        }
-        None => w.u8(0),
-    }
+    // The film's sums and mask: the span's only.
+    let _ = (accumulated, converged);
+    put_film_span(w, p, span);
     w.u8(time_limit.is_some() as u8);
     w.duration(time_limit.unwrap_or_default());
     let Camera {
@@ -211,33 +193,7 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
     p.frame = r.u32()?;
     p.first_sample = r.u32()?;
     p.samples_per_pass = r.u32()?;
-    let pixels = p.width as usize * p.height as usize;
-    if span.end as usize > pixels || span.begin > span.end {
-        return Err(WireError(format!("a span {span:?} outside the frame")));
-    }
-    let range = span.begin as usize..span.end as usize;
-    if flag(r)? {
-        let sums: Vec<f32> = r.pod()?;
-        if sums.len() != range.len() * 3 {
-            return Err(WireError("the sums do not fit the span".into()));
-        }
-        let mut full = vec![[0.0f32; 3]; pixels];
-        for (dst, src) in full[range.clone()].iter_mut().zip(sums.chunks_exact(3)) {
-            *dst = [src[0], src[1], src[2]];
-        }
-        p.accumulated = Some(full.into());
-    }
-    if flag(r)? {
-        let mask = r.bytes()?;
-        if mask.len() != range.len() {
-            return Err(WireError("the mask does not fit the span".into()));
-        }
-        let mut full = vec![false; pixels];
-        for (dst, &m) in full[range].iter_mut().zip(mask) {
-            *dst = m != 0;
-        }
-        p.converged = Some(full.into());
-    }
+    get_film_span(r, &mut p, span)?;
     let some = flag(r)?;
     let limit: Duration = r.duration()?;
     p.time_limit = some.then_some(limit);

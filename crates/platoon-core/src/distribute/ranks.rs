@@ -11,6 +11,7 @@ use std::rc::Rc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use super::share::{decode_reply, encode_reply, share, unshare, Reply};
 use super::wire::{self, Reader, WireError, Writer};
 use super::Collective;
 use crate::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
@@ -79,18 +80,6 @@ pub struct RankRenderer<T: BandTracer + Send + 'static> {
     /// Rank 0's: cuts the frame between the ranks still rendering.
     balancer: Box<dyn Balancer>,
     alive: Vec<usize>,
-}
-
-/// What a rank answers for its share.
-enum Reply {
-    Done {
-        seconds: Duration,
-        part: PartResult,
-    },
-    /// Its devices all failed: its share is rank 0's to render.
-    Lost(String),
-    /// Its frame is not rank 0's: the job must stop.
-    Mismatch(String),
 }
 
 impl<T: BandTracer + Send + 'static> RankRenderer<T> {
@@ -367,174 +356,6 @@ fn device_failures(rank: usize, part: &PartResult) -> Vec<String> {
             )
         })
         .collect()
-}
-
-/// Rank 0's message to a rank: the frame's fingerprint, the rank's span and, when the frame
-/// continues sums, the sums and the converged mask of the span.
-fn share(params: &FrameParams, span: Span) -> Vec<u8> {
-    let mut w = Writer::default();
-    w.u64(wire::fingerprint(params));
-    w.span(span);
-    let range = span.begin as usize..span.end as usize;
-    match &params.accumulated {
-        Some(a) => {
-            w.u8(1);
-            w.pod(
-                &a[range.clone()]
-                    .iter()
-                    .flatten()
-                    .copied()
-                    .collect::<Vec<f32>>(),
-            );
-        }
-        None => w.u8(0),
-    }
-    match &params.converged {
-        Some(c) => {
-            w.u8(1);
-            w.bytes(&c[range].iter().map(|&b| b as u8).collect::<Vec<u8>>());
-        }
-        None => w.u8(0),
-    }
-    w.0
-}
-
-/// A share as it was sent.
-struct Share {
-    print: u64,
-    span: Span,
-    sums: Option<Vec<f32>>,
-    mask: Option<Vec<u8>>,
-}
-
-fn read_share(bytes: &[u8]) -> Result<Share, WireError> {
-    let mut r = Reader::new(bytes);
-    let print = r.u64()?;
-    let span = r.span()?;
-    let sums = if r.u8()? == 1 { Some(r.pod()?) } else { None };
-    let mask = if r.u8()? == 1 {
-        Some(r.bytes()?.to_vec())
-    } else {
-        None
-    };
-    r.finish()?;
-    Ok(Share {
-        print,
-        span,
-        sums,
-        mask,
-    })
-}
-
-/// A rank's span and its frame: `params` with the share's sums and mask (the rest of the
-/// frame's left at zero: the rank renders only its span). Err when the fingerprint differs.
-fn unshare(params: &FrameParams, bytes: &[u8]) -> Result<(Span, FrameParams), String> {
-    let Share {
-        print,
-        span,
-        sums,
-        mask,
-    } = read_share(bytes).map_err(|e| e.to_string())?;
-    if print != wire::fingerprint(params) {
-        return Err("the frame's settings differ".into());
-    }
-    let pixels = params.width as usize * params.height as usize;
-    if span.end as usize > pixels || span.begin > span.end {
-        return Err(format!("a share {span:?} outside the frame"));
-    }
-    let mut p = params.clone();
-    let range = span.begin as usize..span.end as usize;
-    if let Some(sums) = sums {
-        if sums.len() != range.len() * 3 {
-            return Err("the share's sums do not fit its span".into());
-        }
-        let mut full = vec![[0.0f32; 3]; pixels];
-        for (dst, src) in full[range.clone()].iter_mut().zip(sums.chunks_exact(3)) {
-            *dst = [src[0], src[1], src[2]];
-        }
-        p.accumulated = Some(full.into());
-    } else {
-        p.accumulated = None;
-    }
-    if let Some(mask) = mask {
-        if mask.len() != range.len() {
-            return Err("the share's mask does not fit its span".into());
-        }
-        let mut full = vec![false; pixels];
-        for (dst, &m) in full[range].iter_mut().zip(&mask) {
-            *dst = m != 0;
-        }
-        p.converged = Some(full.into());
-    } else {
-        p.converged = None;
-    }
-    Ok((span, p))
-}
-
-fn encode_reply(reply: &Reply) -> Vec<u8> {
-    let mut w = Writer::default();
-    match reply {
-        Reply::Done { seconds, part } => {
-            w.u8(0);
-            w.duration(*seconds);
-            w.f64(part.idle_fraction);
-            w.u32(part.bands.len() as u32);
-            for b in &part.bands {
-                wire::put_band(&mut w, b);
-            }
-            w.u32(part.tracers.len() as u32);
-            for t in &part.tracers {
-                wire::put_tracer_stats(&mut w, t);
-            }
-            w.u32(part.failures.len() as u32);
-            for f in &part.failures {
-                wire::put_failure(&mut w, f);
-            }
-        }
-        Reply::Lost(m) => {
-            w.u8(1);
-            w.str(m);
-        }
-        Reply::Mismatch(m) => {
-            w.u8(2);
-            w.str(m);
-        }
-    }
-    w.0
-}
-
-fn decode_reply(bytes: &[u8]) -> Result<Reply, WireError> {
-    let mut r = Reader::new(bytes);
-    let kind = r.u8()?;
-    let reply = match kind {
-        0 => {
-            let seconds = r.duration()?;
-            let idle_fraction = r.f64()?;
-            let bands = (0..r.u32()?)
-                .map(|_| wire::get_band(&mut r))
-                .collect::<Result<_, _>>()?;
-            let tracers = (0..r.u32()?)
-                .map(|_| wire::get_tracer_stats(&mut r))
-                .collect::<Result<_, _>>()?;
-            let failures = (0..r.u32()?)
-                .map(|_| wire::get_failure(&mut r))
-                .collect::<Result<_, _>>()?;
-            Reply::Done {
-                seconds,
-                part: PartResult {
-                    bands,
-                    tracers,
-                    idle_fraction,
-                    failures,
-                },
-            }
-        }
-        1 => Reply::Lost(r.string()?),
-        2 => Reply::Mismatch(r.string()?),
-        k => return Err(WireError(format!("unknown reply {k}"))),
-    };
-    r.finish()?;
-    Ok(reply)
 }
 
 /// What a rank other than 0 returns: a frame of the right size holding nothing.

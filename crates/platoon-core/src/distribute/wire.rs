@@ -151,6 +151,59 @@ pub fn fingerprint(params: &FrameParams) -> u64 {
     h.finish()
 }
 
+/// The film a frame continues, for the pixels `span`: the accumulated sums and the converged
+/// mask there, each when the frame has it.
+pub fn put_film_span(w: &mut Writer, p: &FrameParams, span: Span) {
+    let range = span.begin as usize..span.end as usize;
+    match &p.accumulated {
+        Some(a) => {
+            w.u8(1);
+            w.pod(&a[range.clone()]);
+        }
+        None => w.u8(0),
+    }
+    match &p.converged {
+        Some(c) => {
+            w.u8(1);
+            w.bytes(&c[range].iter().map(|&b| b as u8).collect::<Vec<u8>>());
+        }
+        None => w.u8(0),
+    }
+}
+
+/// What `put_film_span` wrote, into `p` (a `width` x `height` frame): the sums and mask of
+/// `span`, zero and unconverged elsewhere (the rank renders only its span).
+pub fn get_film_span(r: &mut Reader, p: &mut FrameParams, span: Span) -> Result<(), WireError> {
+    let pixels = p.width as usize * p.height as usize;
+    if span.end as usize > pixels || span.begin > span.end {
+        return Err(WireError(format!("a span {span:?} outside the frame")));
+    }
+    let range = span.begin as usize..span.end as usize;
+    p.accumulated = None;
+    if r.u8()? == 1 {
+        let sums: Vec<[f32; 3]> = r.pod()?;
+        if sums.len() != range.len() {
+            return Err(WireError("the film's sums do not fit the span".into()));
+        }
+        let mut full = vec![[0.0f32; 3]; pixels];
+        full[range.clone()].copy_from_slice(&sums);
+        p.accumulated = Some(full.into());
+    }
+    p.converged = None;
+    if r.u8()? == 1 {
+        let mask = r.bytes()?;
+        if mask.len() != range.len() {
+            return Err(WireError("the film's mask does not fit the span".into()));
+        }
+        let mut full = vec![false; pixels];
+        for (dst, &m) in full[range].iter_mut().zip(mask) {
+            *dst = m != 0;
+        }
+        p.converged = Some(full.into());
+    }
+    Ok(())
+}
+
 pub fn put_band(w: &mut Writer, b: &Band) {
     w.span(b.span);
     w.pod(&b.sums);
