@@ -262,3 +262,23 @@ fn the_game_bench_over_three_ranks_reports_its_communication_per_frame() {
         "{json}"
     );
 }
+
+#[test]
+fn a_time_limit_is_refused_over_ranks_before_mpi_starts() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never.png");
+    let cli = Cli::new("render")
+        .size(16, 16)
+        .flag("--time-limit", "1")
+        .out(&out);
+    let o = over_ranks(&[&cli, &cli]);
+    assert!(!o.status.success(), "{}", text(&o));
+    let said = text(&o);
+    assert!(
+        said.contains("--time-limit renders on one device"),
+        "{said}"
+    );
+    // Refused by every rank alike, before any exchange: no rank aborts the others.
+    assert!(!said.contains("MPI_ABORT"), "{said}");
+    assert!(!out.exists());
+}

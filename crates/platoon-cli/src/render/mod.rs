@@ -267,6 +267,9 @@ fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, frames::FrameArgs)> {
             MemoryArg::DeviceAddress => platoon::tracer::MemoryPath::DeviceAddress,
         };
     }
+    if mpi && time_limit.is_some() {
+        bail!("--time-limit renders on one device: shares of a frame cut at different times on the ranks would break the image's independence from the split (--mpi-frames renders whole frames, each with the limit)");
+    }
     if tracers.len() > 1 && time_limit.is_some() {
         bail!("--time-limit renders on one device: bands cut at different times would break the image's independence from the device split");
     }
