@@ -118,22 +118,43 @@ fn still_frames_of_the_driver_are_bit_for_bit_one_offline_render() {
     );
 }
 
+/// The prop both living-scene tests add: a copy of mesh 0 above the floor.
+fn add_prop(d: &mut FrameDriver) -> usize {
+    d.scene()
+        .push(Edit::AddInstance {
+            mesh: 0,
+            placement: Placement::at(DVec3::new(0.0, 0.5, 0.0)),
+        })
+        .unwrap()
+        .unwrap()
+}
+
+/// The prop at frame `f` of its walk along x.
+fn move_prop(d: &mut FrameDriver, prop: usize, f: u32) {
+    let p = Placement::at(DVec3::new(0.05 * f as f64, 0.5, 0.0));
+    d.scene()
+        .push(Edit::Placement {
+            node: prop,
+            placement: p,
+        })
+        .unwrap();
+}
+
+/// `camera` moved sideways by a hundredth of a unit.
+fn nudged(camera: Camera) -> Camera {
+    let mut moved = camera;
+    moved.camera_to_world = glam::Mat4::from_translation(Vec3::X * 0.01) * camera.camera_to_world;
+    moved
+}
+
 #[test]
 fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
     let mut options = DriverOptions::new(W, H);
     options.spp = 1;
     options.blend_floor = 0.25;
     let (mut d, camera, _) = driver("lavapipe:1", options);
-    let prop = d
-        .scene()
-        .push(Edit::AddInstance {
-            mesh: 0,
-            placement: Placement::at(DVec3::new(0.0, 0.5, 0.0)),
-        })
-        .unwrap()
-        .unwrap();
-    let mut moved = camera;
-    moved.camera_to_world = glam::Mat4::from_translation(Vec3::X * 0.01) * camera.camera_to_world;
+    let prop = add_prop(&mut d);
+    let moved = nudged(camera);
     // Frames 0-5 still (the prop's arrival is built during frame 0, rendered by frame 1), the
     // camera moves at 6, the prop moves from 9 on (edits rendered one frame later).
     let (stats, film) = run(
@@ -142,13 +163,7 @@ fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
         |f| if f < 6 { camera } else { moved },
         |d, f| {
             if f >= 9 {
-                let p = Placement::at(DVec3::new(0.05 * f as f64, 0.5, 0.0));
-                d.scene()
-                    .push(Edit::Placement {
-                        node: prop,
-                        placement: p,
-                    })
-                    .unwrap();
+                move_prop(d, prop, f);
             }
         },
     );
@@ -431,30 +446,15 @@ fn the_game_loop_over_ranks_is_the_one_process_loop_bit_for_bit() {
             Some(r) => platoon::distributed::game::start(scene, &options, r).unwrap(),
             None => platoon::game::start(scene, &options).unwrap(),
         };
-        let prop = d
-            .scene()
-            .push(Edit::AddInstance {
-                mesh: 0,
-                placement: Placement::at(DVec3::new(0.0, 0.5, 0.0)),
-            })
-            .unwrap()
-            .unwrap();
-        let mut moved = camera;
-        moved.camera_to_world =
-            glam::Mat4::from_translation(Vec3::X * 0.01) * camera.camera_to_world;
+        let prop = add_prop(&mut d);
+        let moved = nudged(camera);
         let (stats, film) = run(
             &mut d,
             10,
             |f| if f < 4 { camera } else { moved },
             |d, f| {
                 if f >= 6 {
-                    let p = Placement::at(DVec3::new(0.05 * f as f64, 0.5, 0.0));
-                    d.scene()
-                        .push(Edit::Placement {
-                            node: prop,
-                            placement: p,
-                        })
-                        .unwrap();
+                    move_prop(d, prop, f);
                 }
             },
         );

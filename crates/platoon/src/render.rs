@@ -5,10 +5,10 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use anyhow::{Context as _, Result};
-use platoon_core::distribute::RankRenderer;
+use platoon_core::distribute::{RankFrame, RankRenderer};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
-use platoon_core::frame::renderer::Renderer;
+use platoon_core::frame::renderer::{FrameResult, Renderer};
 use platoon_core::frame::{assemble, gather_sums, Band, FrameParams, Span};
 use platoon_core::output::Film;
 use platoon_tracer::{Tracer, TracerOptions};
@@ -150,13 +150,19 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
     for f in &frame.failures {
         eprintln!("warning: tracer {} failed in frame {} and was dropped; its lines were rendered by the others: {}", f.tracer, f.frame, f.message);
     }
+    Ok(rendered_of(renderer, params, frame))
+}
+
+/// A frame of `renderer` as the facade reports it: its devices, kernel, balancer and what
+/// they measured.
+fn rendered_of(renderer: &Renderer<Tracer>, params: &FrameParams, frame: FrameResult) -> Rendered {
     let names: Vec<String> = renderer.with_tracers(|t| t.device_info().name.clone());
     let defines = renderer
         .with_tracers(|t| t.kernel_defines(params))
         .into_iter()
         .next()
         .unwrap_or_default();
-    Ok(Rendered {
+    Rendered {
         wall_time: frame
             .tracers
             .iter()
@@ -178,7 +184,32 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
         sums: frame.sums,
         batched: None,
         ranks: None,
-    })
+    }
+}
+
+/// A frame over the ranks as the facade reports it: rank 0's devices, kernel and balancer,
+/// the ranks' parts and what crossed between them.
+fn ranks_rendered(r: &RankRenderer<Tracer>, params: &FrameParams, frame: RankFrame) -> Rendered {
+    let RankFrame {
+        frame,
+        ranks: parts,
+        communication,
+        ..
+    } = frame;
+    let wall_time = frame.wall_time;
+    let rendered = rendered_of(r.local(), params, frame);
+    Rendered {
+        // Rank 0's frame, its exchanges included (the ranks' own times are in `tracers`).
+        wall_time,
+        device: format!("{} ranks; rank 0: {}", r.ranks(), rendered.device),
+        ranks: Some(crate::distributed::RanksReport {
+            ranks: r.ranks(),
+            balancer: r.balancer_name(),
+            parts,
+            communication,
+        }),
+        ..rendered
+    }
 }
 
 /// The devices a render runs on: one tracer rendering the frame as one band, or several under
@@ -265,7 +296,10 @@ impl Tracers {
                 let params = crate::method_update::on_renderer(r, scene, params)?;
                 render_frame(r, &params)
             }
-            Tracers::Ranks(r) => crate::distributed::render(r, scene, params),
+            Tracers::Ranks(r) => {
+                let (params, frame) = crate::distributed::render(r, scene, params)?;
+                Ok(ranks_rendered(r, &params, frame))
+            }
         }
     }
 }

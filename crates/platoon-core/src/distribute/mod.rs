@@ -12,8 +12,6 @@
 //! there each rank is one tracer of rank 0's frame driver ([`remote`]), sent each band's
 //! parameters ([`params`]) point to point.
 
-#[cfg(test)]
-mod fakes;
 pub mod local;
 pub mod params;
 pub mod ranks;

@@ -173,7 +173,9 @@ impl<T: BandTracer + Send + 'static> RankRenderer<T> {
         let root = self.rank() == 0;
         let mut comm = Communication::default();
         let shares = if root { self.plan(params) } else { Vec::new() };
-        let parts: Vec<Vec<u8>> = shares.iter().map(|&s| share(params, s)).collect();
+        // The fingerprint formats every setting of the frame: once, not once per rank.
+        let print = if root { wire::fingerprint(params) } else { 0 };
+        let parts: Vec<Vec<u8>> = shares.iter().map(|&s| share(params, print, s)).collect();
         comm.sent = parts.iter().skip(1).map(|p| p.len() as u64).sum();
         let began = Instant::now();
         let mine = self.group.scatter(parts);
@@ -197,18 +199,19 @@ impl<T: BandTracer + Send + 'static> RankRenderer<T> {
                 Err(e) => Reply::Lost(e.to_string()),
             },
         };
-        let mismatch = match &reply {
-            Reply::Mismatch(m) => Some(m.clone()),
-            _ => None,
-        };
-        let own_devices = match &reply {
-            Reply::Done { part, .. } => part.tracers.clone(),
-            _ => Vec::new(),
-        };
-        let own_failures = match &reply {
-            Reply::Done { part, .. } => device_failures(self.rank(), part),
-            Reply::Lost(m) => vec![format!("rank {}: every device failed: {m}", self.rank())],
-            Reply::Mismatch(_) => Vec::new(),
+        // What this rank keeps of its reply, for a rank other than 0 to return.
+        let (mismatch, own_devices, own_failures) = match &reply {
+            Reply::Done { part, .. } => (
+                None,
+                part.tracers.clone(),
+                device_failures(self.rank(), part),
+            ),
+            Reply::Lost(m) => (
+                None,
+                Vec::new(),
+                vec![format!("rank {}: every device failed: {m}", self.rank())],
+            ),
+            Reply::Mismatch(m) => (Some(m.clone()), Vec::new(), Vec::new()),
         };
         let bytes = encode_reply(&reply);
         let began = Instant::now();
@@ -384,8 +387,8 @@ fn zeros(params: &FrameParams, tracers: Vec<TracerStats>, start: Instant) -> Fra
 mod tests {
     use super::*;
     use crate::balance::{by_name, NAMES};
-    use crate::distribute::fakes::{Fake, Keeping};
     use crate::distribute::local::LocalGroup;
+    use crate::frame::fakes::{Fake, Keeping};
     use crate::frame::fault::FaultInjector;
     use crate::scene::camera::Camera;
 

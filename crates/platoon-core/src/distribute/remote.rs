@@ -13,7 +13,9 @@ use std::time::{Duration, Instant};
 use super::params::{get_params, put_params};
 use super::wire::{self, Reader, WireError, Writer};
 use crate::flatten::commit::Commit;
-use crate::frame::renderer::{first_report, per_pixel_in_order, PartResult, Renderer};
+use crate::frame::renderer::{
+    first_report, line_rays_of, per_pixel_in_order, PartResult, Renderer,
+};
 use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
 /// Messages between rank 0 and another rank, callable from several threads at once (MPI
@@ -103,16 +105,8 @@ impl<T: BandTracer + Send + 'static> BandTracer for LocalRank<T> {
 fn merge(params: &FrameParams, span: Span, part: PartResult, wall: Duration) -> Band {
     let mut bands = part.bands;
     bands.sort_by_key(|b| b.span.begin);
-    let first = span.first_line(params.width) as usize;
-    let mut line_rays = vec![0u64; (span.end_line(params.width) as usize).saturating_sub(first)];
-    for b in &bands {
-        let at = b.span.first_line(params.width) as usize - first;
-        for (k, r) in b.line_rays.iter().enumerate() {
-            if let Some(l) = line_rays.get_mut(at + k) {
-                *l += r;
-            }
-        }
-    }
+    let lines = span.first_line(params.width) as usize..span.end_line(params.width) as usize;
+    let line_rays = line_rays_of(params, &bands)[lines].to_vec();
     Band {
         span,
         sums: bands.iter().flat_map(|b| b.sums.iter().copied()).collect(),
@@ -262,8 +256,8 @@ pub fn serve<T: BandTracer + Send + 'static>(
 mod tests {
     use super::*;
     use crate::balance::{by_name, NAMES};
-    use crate::distribute::fakes::{Fake, Keeping};
     use crate::distribute::local::LocalLink;
+    use crate::frame::fakes::{Fake, Keeping};
     use crate::output::Film;
     use crate::scene::camera::Camera;
 

@@ -20,11 +20,12 @@ pub(super) enum Reply {
     Mismatch(String),
 }
 
-/// Rank 0's message to a rank: the frame's fingerprint, the rank's span and, when the frame
-/// continues a film, its sums and converged mask there.
-pub(super) fn share(params: &FrameParams, span: Span) -> Vec<u8> {
+/// Rank 0's message to a rank: the frame's fingerprint (`print`, `wire::fingerprint` of
+/// `params`, made once for all ranks), the rank's span and, when the frame continues a film,
+/// its sums and converged mask there.
+pub(super) fn share(params: &FrameParams, print: u64, span: Span) -> Vec<u8> {
     let mut w = Writer::default();
-    w.u64(wire::fingerprint(params));
+    w.u64(print);
     w.span(span);
     wire::put_film_span(&mut w, params, span);
     w.0

@@ -4,6 +4,8 @@
 
 pub mod adaptive;
 pub mod aov;
+#[cfg(test)]
+pub(crate) mod fakes;
 pub mod fault;
 pub mod renderer;
 mod workers;

@@ -500,44 +500,9 @@ pub fn per_pixel_in_order(bands: &mut [Band]) -> Vec<[f32; 4]> {
 mod tests {
     use super::*;
     use crate::balance::{by_name, NAMES};
+    use crate::frame::fakes::Fake;
     use crate::frame::fault::FaultInjector;
     use crate::scene::camera::Camera;
-
-    /// A CPU tracer whose pixels are a fixed function of (x, y, frame) and whose speed is set.
-    struct Fake {
-        slowness: u32,
-    }
-
-    impl BandTracer for Fake {
-        fn render_band(
-            &mut self,
-            p: &FrameParams,
-            span: Span,
-            _: &mut dyn FnMut(u32),
-        ) -> Result<Band, TracerError> {
-            let t = Instant::now();
-            let mut sums = Vec::new();
-            let mut line_rays =
-                vec![0; (span.end_line(p.width) - span.first_line(p.width)) as usize];
-            let first = span.first_line(p.width);
-            for i in span.begin..span.end {
-                let (x, y) = (i % p.width, i / p.width);
-                sums.push([(x * 7 + y * 13 + p.frame) as f32, y as f32, 1.0]);
-                line_rays[(y - first) as usize] += if y < p.height / 2 { 1 } else { 8 };
-            }
-            std::thread::sleep(Duration::from_micros(
-                line_rays.iter().sum::<u64>() * self.slowness as u64 * 5,
-            ));
-            Ok(Band {
-                span,
-                sums,
-                rays: line_rays.iter().sum(),
-                line_rays,
-                wall_time: t.elapsed(),
-                ..Default::default()
-            })
-        }
-    }
 
     /// A fake that, when `refuse`, fails every scene commit, as a lost device would.
     struct Committing {

@@ -26,7 +26,7 @@ use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::FrameParams;
 use platoon_tracer::{Tracer, TracerOptions};
 
-use crate::{Rendered, Tracers};
+use crate::Tracers;
 
 /// What a frame over ranks did besides its image: each rank's part and what crossed between
 /// the ranks (rank 0's view).
@@ -102,56 +102,19 @@ impl Tracers {
 }
 
 /// Renders a frame over the ranks after the method's preparation (each rank prepares on its
-/// own devices: the same bits, as for any split).
+/// own devices: the same bits, as for any split); rank 0 says what failed. Returns the frame
+/// and the parameters it was rendered with.
 pub(crate) fn render(
     r: &mut RankRenderer<Tracer>,
     scene: &GpuScene,
     params: &FrameParams,
-) -> Result<Rendered> {
+) -> Result<(FrameParams, RankFrame)> {
     let params = crate::method_update::on_renderer(r.local_mut(), scene, params)?;
-    let RankFrame {
-        frame,
-        ranks: parts,
-        communication,
-        failures,
-    } = r.render_frame(&params)?;
+    let frame = r.render_frame(&params)?;
     if r.rank() == 0 {
-        for f in &failures {
+        for f in &frame.failures {
             eprintln!("warning: {f}");
         }
     }
-    let local = r.local();
-    let names: Vec<String> = local.with_tracers(|t| t.device_info().name.clone());
-    let defines = local
-        .with_tracers(|t| t.kernel_defines(&params))
-        .into_iter()
-        .next()
-        .unwrap_or_default();
-    Ok(Rendered {
-        wall_time: frame.wall_time,
-        gpu_time: parts
-            .iter()
-            .flat_map(|p| &p.tracers)
-            .map(|t| t.gpu_time)
-            .sum(),
-        rays: frame.tracers.iter().map(|t| t.rays).sum(),
-        rejected_samples: frame.rejected_samples,
-        kernel_fallbacks: frame.kernel_fallbacks,
-        device: format!("{} ranks; rank 0: {}", r.ranks(), names.join(", ")),
-        kernel_defines: defines,
-        spp: params.spp,
-        tracers: frame.tracers,
-        balancer: Some(local.balancer_name()),
-        validation_messages: local.with_tracers(|t| t.validation_messages()).concat(),
-        method_metadata: [params.method.unit().metadata(), frame.method_report].concat(),
-        film: frame.film,
-        sums: frame.sums,
-        batched: None,
-        ranks: Some(RanksReport {
-            ranks: r.ranks(),
-            balancer: r.balancer_name(),
-            parts,
-            communication,
-        }),
-    })
+    Ok((params, frame))
 }
