@@ -78,6 +78,19 @@ pub fn describe(p: &Prepared) -> String {
             .fold(0.0, f32::max)
     );
     let _ = writeln!(out, "skins:        {}", s.skins.len());
+    let b = g.bvh_report();
+    let _ = writeln!(
+        out,
+        "bvh:          SAH cost {:.1} (bottom levels, by triangles; the largest {:.1} over {} \
+         triangles), top level {:.1} over {} instances, {} nodes, built in {:.1} ms",
+        b.bottom,
+        b.largest,
+        b.largest_triangles,
+        b.top,
+        b.instances,
+        b.nodes,
+        g.build_times.meshes.as_secs_f64() * 1e3
+    );
     let _ = writeln!(out, "features:     {}", g.features);
     let _ = writeln!(
         out,

@@ -8,7 +8,7 @@ use glam::{Vec3, Vec3A};
 use obvhs::ray::Ray;
 use obvhs::triangle::Triangle;
 use platoon::Prepared;
-use platoon_core::flatten::bvh::{build_params, flatten, BvhNode};
+use platoon_core::flatten::bvh::{build_params, flatten, BuildQuality, BvhNode};
 
 /// The two layouts on a prepared scene (the bench's 100k-triangle field) flattened to world
 /// space: one primary ray per pixel of a 256x256 view plus as many random rays from inside the
@@ -80,8 +80,16 @@ pub fn compare_layouts(tris: &[Triangle], rays: &[obvhs::ray::Ray]) -> LayoutCom
     use obvhs::ray::RayHit;
     let mut bvh2_build = Duration::ZERO;
     let mut cwbvh_build = Duration::ZERO;
-    let b2 = obvhs::bvh2::builder::build_bvh2_from_tris(tris, build_params(), &mut bvh2_build);
-    let cw = obvhs::cwbvh::builder::build_cwbvh_from_tris(tris, build_params(), &mut cwbvh_build);
+    let b2 = obvhs::bvh2::builder::build_bvh2_from_tris(
+        tris,
+        build_params(BuildQuality::Static),
+        &mut bvh2_build,
+    );
+    let cw = obvhs::cwbvh::builder::build_cwbvh_from_tris(
+        tris,
+        build_params(BuildQuality::Static),
+        &mut cwbvh_build,
+    );
     let run = |trace: &dyn Fn(&obvhs::ray::Ray) -> f32| {
         let start = Instant::now();
         let hits: Vec<f32> = rays.iter().map(trace).collect();

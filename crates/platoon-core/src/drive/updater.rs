@@ -499,7 +499,9 @@ fn top_arrays(g: &GpuScene) -> [Vec<u8>; 4] {
 
 /// The byte ranges of a mesh's region that a rewrite changed: vertices, triangle corners and the
 /// `nodes` in use; its triangles and their light indices too when the BVH was rebuilt (a refit
-/// keeps the triangle order).
+/// keeps the triangle order), and then every node of the region's capacity: a rebuild may use
+/// fewer nodes than the BVH before it, and the rewrite clears the rest, so that a copy that
+/// follows the commits holds the updater's bytes, not the old tree's leftovers.
 fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, u64)> {
     use crate::flatten::{GpuTriangle, GpuVertex};
     use std::mem::size_of;
@@ -514,7 +516,15 @@ fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, 
             r.vertex_count as u64 * vertex,
         ),
         (1, 3 * tb * 16, 3 * tc * 16),
-        (4, r.node_base as u64 * node, nodes * node),
+        (
+            4,
+            r.node_base as u64 * node,
+            if rebuilt {
+                r.node_capacity as u64
+            } else {
+                nodes
+            } * node,
+        ),
     ];
     if rebuilt {
         ranges.extend([(2, tb * triangle, tc * triangle), (3, tb * 4, tc * 4)]);

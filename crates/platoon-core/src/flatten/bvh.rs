@@ -51,7 +51,7 @@ pub struct BvhNode {
 }
 
 impl BvhNode {
-    fn pair(
+    pub(crate) fn pair(
         (min0, max0, item0): (Vec3, Vec3, u32),
         (min1, max1, item1): (Vec3, Vec3, u32),
     ) -> Self {
@@ -79,6 +79,38 @@ impl BvhNode {
             ..*self
         })
     }
+}
+
+/// The surface area heuristic's cost of a ray through the box of the BVH of `nodes` from item
+/// `root` (every node of `nodes` below it, or zero-area padding), in the kernel's layout: a visit
+/// of an inner node (two box tests) costs 1 and a triangle test 1, each weighed by the chance
+/// that a ray through the root's box meets the box that leads to it: its area over the root's
+/// (MacDonald and Booth 1990). The lower, the fewer nodes and triangles a ray visits.
+pub fn sah_cost(nodes: &[BvhNode], root: u32) -> f64 {
+    let (index, count) = unpack_item(root);
+    if count > 0 {
+        return count as f64;
+    }
+    let area = |lo: [f32; 3], hi: [f32; 3]| {
+        let d = (Vec3::from(hi) - Vec3::from(lo)).max(Vec3::ZERO);
+        (d.x * d.y + d.y * d.z + d.z * d.x) as f64
+    };
+    let r = &nodes[index as usize];
+    let lo = Vec3::from(r.min0).min(Vec3::from(r.min1)).to_array();
+    let hi = Vec3::from(r.max0).max(Vec3::from(r.max1)).to_array();
+    let root_area = area(lo, hi);
+    if root_area <= 0.0 {
+        return 1.0;
+    }
+    let mut cost = 1.0;
+    for n in nodes {
+        for (lo, hi, it) in [(n.min0, n.max0, n.item0), (n.min1, n.max1, n.item1)] {
+            let (_, count) = unpack_item(it);
+            let weight = if count == 0 { 1.0 } else { count as f64 };
+            cost += weight * area(lo, hi) / root_area;
+        }
+    }
+    cost
 }
 
 /// The item moved into arrays where its BVH's nodes start at `node_base` and its primitives at
@@ -111,6 +143,15 @@ impl FlatBvh {
 
     pub fn bounds(&self) -> (Vec3, Vec3) {
         self.bounds
+    }
+
+    /// The surface area heuristic's cost of a ray through the root's box: [`sah_cost`] of this
+    /// BVH, what `platoon info` reports per scene.
+    pub fn sah_cost(&self) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        sah_cost(&self.nodes, self.root)
     }
 
     /// Every (first primitive, count) range the leaves name.
@@ -180,10 +221,30 @@ pub fn flatten(bvh: &Bvh2) -> FlatBvh {
     }
 }
 
-/// The build preset: obvhs' "medium" (PLOC + reinsertion), without spatial pre-splits so that
-/// every triangle appears in exactly one leaf (triangles are reordered into leaf order).
-pub fn build_params() -> BvhBuildParams {
-    let mut p = BvhBuildParams::medium_build();
+/// How much time a bottom level's build may take to lower its traversal cost.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BuildQuality {
+    /// Geometry built once (static meshes, the merged static geometry): PLOC and then every
+    /// node reinserted where the surface area heuristic wants it (Meister and Bittner 2018,
+    /// obvhs' "very slow" preset). On tessellated surfaces PLOC alone leaves boxes that overlap
+    /// widely: the Cornell box cut into 48 x 48 quads a face costs 309 against 44 (SAH, merged)
+    /// and the generated atrium 320 against 66; rays visit that many fewer nodes. It takes 3-5x
+    /// the build time (docs/PERFORMANCE.md, "BVH quality").
+    Static,
+    /// A deforming mesh's rebuild, which the refit guard asks for while the scene lives (a
+    /// skinned character's 4,672 triangles: 2.3 ms against 9 ms): PLOC with 5% of the nodes
+    /// reinserted (obvhs' "medium").
+    Deforming,
+}
+
+/// The obvhs build parameters of `quality`, without spatial pre-splits in either, so that every
+/// triangle appears in exactly one leaf (triangles are reordered into leaf order; obvhs' splits
+/// changed the atrium's SAH cost by +0.7% and the others' by nothing, docs/PERFORMANCE.md).
+pub fn build_params(quality: BuildQuality) -> BvhBuildParams {
+    let mut p = match quality {
+        BuildQuality::Static => BvhBuildParams::very_slow_build(),
+        BuildQuality::Deforming => BvhBuildParams::medium_build(),
+    };
     p.pre_split = false;
     p
 }
@@ -217,10 +278,12 @@ pub fn placeable_triangles(mesh: &Mesh) -> (Vec<Triangle>, Vec<u32>) {
     (tris, original)
 }
 
-/// The obvhs BVH2 of triangles, with platoon's build preset.
-pub fn build_bvh2(tris: &[Triangle]) -> Bvh2 {
+/// The obvhs BVH2 of triangles, built at `quality`. The same triangles give the same tree
+/// whatever the number of threads building it (tested: the tracers' copies and the game
+/// thread's queries must hold the same bytes).
+pub fn build_bvh2(tris: &[Triangle], quality: BuildQuality) -> Bvh2 {
     let mut time = Duration::ZERO;
-    obvhs::bvh2::builder::build_bvh2_from_tris(tris, build_params(), &mut time)
+    obvhs::bvh2::builder::build_bvh2_from_tris(tris, build_params(quality), &mut time)
 }
 
 /// The flattened BVH of `bvh`, whose primitive `i` is mesh triangle `original[i]`.
@@ -232,14 +295,15 @@ pub(crate) fn flatten_mesh(bvh: &Bvh2, original: &[u32]) -> FlatBvh {
     flat
 }
 
-/// The BVH of a mesh's triangles. Triangles with an unplaceable corner (NaN or Inf from a file
-/// or from skinning) are left out of it, so they are never drawn.
+/// The BVH of a mesh's triangles, built once ([`BuildQuality::Static`]). Triangles with an
+/// unplaceable corner (NaN or Inf from a file or from skinning) are left out of it, so they are
+/// never drawn.
 pub fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
     let (tris, original) = placeable_triangles(mesh);
     if tris.is_empty() {
         return FlatBvh::default();
     }
-    flatten_mesh(&build_bvh2(&tris), &original)
+    flatten_mesh(&build_bvh2(&tris, BuildQuality::Static), &original)
 }
 
 /// Per-mesh BVHs, built in parallel on the CPU threads.
@@ -259,65 +323,6 @@ pub fn transform_bounds(m: &Mat4, (lo, hi): (Vec3, Vec3)) -> Aabb {
         aabb.extend(Vec3A::from(m.transform_point3(c)));
     }
     aabb
-}
-
-/// The top level over instance boxes (every box finite, see [`placeable`]), rebuilt every
-/// generation: a top-down median split on the longest axis of the centroids, one instance per
-/// leaf. It takes a few microseconds per hundred instances where obvhs' fastest PLOC preset took
-/// 0.3 ms for a thousand (measured by `platoon bench dynamic`); a top level is small and its
-/// quality matters less than the bottom levels'.
-pub fn build_instance_bvh(boxes: &[Aabb]) -> FlatBvh {
-    if boxes.is_empty() {
-        return FlatBvh::default();
-    }
-    let mut order: Vec<u32> = (0..boxes.len() as u32).collect();
-    let mut nodes = Vec::with_capacity(boxes.len().saturating_sub(1));
-    let (bounds, root) = median_split(&mut order, 0, boxes, &mut nodes);
-    FlatBvh {
-        nodes,
-        root,
-        order,
-        bounds: (bounds.min.into(), bounds.max.into()),
-    }
-}
-
-/// The subtree over `ids` (which sit at `offset` in the final order), reordered in place.
-fn median_split(
-    ids: &mut [u32],
-    offset: usize,
-    boxes: &[Aabb],
-    nodes: &mut Vec<BvhNode>,
-) -> (Aabb, u32) {
-    if let [only] = ids {
-        return (boxes[*only as usize], item(offset as u32, 1));
-    }
-    let mut centroids = Aabb::empty();
-    for &i in ids.iter() {
-        centroids.extend(boxes[i as usize].center());
-    }
-    let extent = centroids.diagonal();
-    let axis = if extent.x >= extent.y && extent.x >= extent.z {
-        0
-    } else if extent.y >= extent.z {
-        1
-    } else {
-        2
-    };
-    let mid = ids.len() / 2;
-    ids.select_nth_unstable_by(mid, |&a, &b| {
-        let (ca, cb) = (boxes[a as usize].center(), boxes[b as usize].center());
-        ca[axis].total_cmp(&cb[axis]).then(a.cmp(&b))
-    });
-    let index = nodes.len();
-    nodes.push(BvhNode::default());
-    let (left, right) = ids.split_at_mut(mid);
-    let (a, ia) = median_split(left, offset, boxes, nodes);
-    let (b, ib) = median_split(right, offset + mid, boxes, nodes);
-    nodes[index] = BvhNode::pair(
-        (a.min.into(), a.max.into(), ia),
-        (b.min.into(), b.max.into(), ib),
-    );
-    (a.union(&b), item(index as u32, 0))
 }
 
 /// Build timings, reported by `platoon bench kernel`.
@@ -384,40 +389,70 @@ mod tests {
             .all(|n| n.min0 == [0.0; 3] && n.max1 == [1.0; 3]));
     }
 
+    /// The flattened BVH's bytes: nodes, root, triangle order.
+    fn bytes(b: &FlatBvh) -> Vec<u8> {
+        let mut out = bytemuck::cast_slice::<BvhNode, u8>(&b.nodes).to_vec();
+        out.extend(b.root.to_le_bytes());
+        out.extend(bytemuck::cast_slice::<u32, u8>(&b.order));
+        out
+    }
+
     #[test]
-    fn the_top_level_names_every_instance_once_inside_its_parents_boxes() {
-        let boxes: Vec<Aabb> = (0..37)
-            .map(|i| {
-                let p = Vec3A::new((i * 7 % 11) as f32, (i % 5) as f32, (i / 9) as f32);
-                Aabb::new(p, p + Vec3A::splat(0.5))
-            })
-            .collect();
-        let bvh = build_instance_bvh(&boxes);
-        let mut seen = vec![0; boxes.len()];
-        for (i, c) in bvh.leaves() {
-            assert_eq!(c, 1);
-            seen[bvh.order[i as usize] as usize] += 1;
-        }
-        assert!(seen.iter().all(|&s| s == 1));
-        // Each child box contains the boxes of everything below it.
-        fn check(bvh: &FlatBvh, it: u32, lo: Vec3, hi: Vec3, boxes: &[Aabb]) {
-            let (index, count) = unpack_item(it);
-            if count > 0 {
-                let b = boxes[bvh.order[index as usize] as usize];
-                assert!(Vec3::from(b.min).cmpge(lo).all() && Vec3::from(b.max).cmple(hi).all());
-                return;
-            }
-            let n = bvh.nodes[index as usize];
-            for (mn, mx, item) in [(n.min0, n.max0, n.item0), (n.min1, n.max1, n.item1)] {
-                let (mn, mx) = (Vec3::from_array(mn), Vec3::from_array(mx));
-                assert!(mn.cmpge(lo).all() && mx.cmple(hi).all());
-                check(bvh, item, mn, mx, boxes);
+    fn a_build_gives_the_same_bytes_whatever_the_threads_building_it() {
+        // Tessellated walls: many nodes of equal areas, where ties in the builder's sorts and
+        // reinsertions would show any dependence on the order the threads finish in.
+        let scene = crate::scene::cornell::tessellated(24);
+        let mesh = &scene.meshes[0];
+        let (tris, original) = placeable_triangles(mesh);
+        for quality in [BuildQuality::Static, BuildQuality::Deforming] {
+            let build = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                bytes(&pool.install(|| flatten_mesh(&build_bvh2(&tris, quality), &original)))
+            };
+            let one = build(1);
+            for threads in [3, 2, 3] {
+                assert!(build(threads) == one, "{quality:?} on {threads} threads");
             }
         }
-        let (lo, hi) = bvh.bounds();
-        check(&bvh, bvh.root, lo, hi, &boxes);
-        let one = build_instance_bvh(&boxes[..1]);
-        assert!(one.nodes.is_empty() && unpack_item(one.root) == (0, 1));
+    }
+
+    #[test]
+    fn the_static_build_costs_rays_less_on_tessellated_walls() {
+        let scene = crate::scene::cornell::tessellated(24);
+        let (tris, original) = placeable_triangles(&scene.meshes[0]);
+        let cost = |q| flatten_mesh(&build_bvh2(&tris, q), &original).sah_cost();
+        let (fine, quick) = (cost(BuildQuality::Static), cost(BuildQuality::Deforming));
+        assert!(fine < 0.5 * quick, "SAH {fine} against {quick}");
+    }
+
+    #[test]
+    fn the_sah_cost_of_one_leaf_is_its_triangles_and_of_a_split_its_boxes() {
+        let one = FlatBvh {
+            root: item(0, 3),
+            order: vec![0, 1, 2],
+            bounds: (Vec3::ZERO, Vec3::ONE),
+            ..Default::default()
+        };
+        assert_eq!(one.sah_cost(), 3.0);
+        // Two unit-area halves of a 2 x 1 x 0 box (area 2) with 1 and 2 triangles: the root's
+        // visit, then each half met half the time.
+        let split = FlatBvh {
+            nodes: vec![BvhNode::pair(
+                (Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), item(0, 1)),
+                (
+                    Vec3::new(1.0, 0.0, 0.0),
+                    Vec3::new(2.0, 1.0, 0.0),
+                    item(1, 2),
+                ),
+            )],
+            root: item(0, 0),
+            order: vec![0, 1, 2],
+            bounds: (Vec3::ZERO, Vec3::new(2.0, 1.0, 0.0)),
+        };
+        assert_eq!(split.sah_cost(), 1.0 + 0.5 * 1.0 + 0.5 * 2.0);
     }
 
     #[test]

@@ -246,7 +246,7 @@ pub(super) fn top_level<'a>(
         })
         .filter(|(_, b)| bvh::placeable(b.min.into()) && bvh::placeable(b.max.into()))
         .unzip();
-    let (tlas, time) = bvh::timed(|| bvh::build_instance_bvh(&boxes));
+    let (tlas, time) = bvh::timed(|| super::instance_bvh::build_instance_bvh(&boxes));
     g.tlas_nodes = tlas.nodes.clone();
     g.tlas_root = tlas.root;
     let (lo, hi) = tlas.bounds();

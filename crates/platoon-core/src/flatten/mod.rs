@@ -8,9 +8,11 @@
 
 pub mod arrays;
 pub mod bvh;
+mod bvh_report;
 pub mod commit;
 pub mod features;
 mod geometry;
+pub mod instance_bvh;
 mod instances;
 pub mod layout;
 mod lights;
@@ -20,6 +22,8 @@ pub mod refit;
 pub mod sheen_albedo;
 mod sheen_albedo_table;
 pub mod static_merge;
+
+pub use bvh_report::BvhReport;
 
 pub use layout::*;
 pub use lights::selection_distribution;

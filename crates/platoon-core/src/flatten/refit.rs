@@ -9,7 +9,7 @@ use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 
 use super::bvh::{
-    build_bvh2, flatten_mesh, placeable, placeable_triangles, FlatBvh, MAX_COORDINATE,
+    build_bvh2, flatten_mesh, placeable, placeable_triangles, BuildQuality, FlatBvh, MAX_COORDINATE,
 };
 use crate::scene::Mesh;
 
@@ -72,7 +72,7 @@ impl MeshBvh {
         let mut bvh = if tris.is_empty() {
             Bvh2::default()
         } else {
-            build_bvh2(&tris)
+            build_bvh2(&tris, BuildQuality::Deforming)
         };
         bvh.reorder_in_stack_traversal_order();
         let fresh_cost = sah_cost(&bvh);

@@ -11,7 +11,7 @@ mod valid;
 use std::path::Path;
 
 pub use mutate::mutations;
-pub use valid::valid;
+pub use valid::{thicket, valid};
 
 /// What rendering a case must give.
 #[derive(Clone, Debug, PartialEq)]

@@ -261,6 +261,58 @@ pub fn sunlit(far_vertex: bool) -> SceneData {
     )
 }
 
+/// A thicket: `n` triangles, each with its corners at random places on the surface of the cube
+/// [-1, 1]^3 (a fixed sequence), so that every one crosses the cube and every box of a BVH over
+/// them spans most of it: a ray through the cube tests nearly all of them, whatever the BVH.
+/// Lit by a point light; the camera looks at it from +z. What runs a SIMD group of the path
+/// tracer's megakernel past llvmpipe's loop limit (65,535 iterations an invocation) at a few
+/// samples a pixel, while one traversal stays well within it.
+pub fn thicket(n: u32) -> SceneData {
+    let mut state = 0x9e37_79b9u32;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state as f32 / u32::MAX as f32 * 2.0 - 1.0
+    };
+    let mut on_cube = || {
+        let mut p = [next(), next(), next()];
+        let face = ((next() + 1.0) * 3.0).min(5.99) as usize;
+        p[face % 3] = if face < 3 { -1.0 } else { 1.0 };
+        p
+    };
+    let mut mesh = MeshData::default();
+    for t in 0..n {
+        let corners = [on_cube(), on_cube(), on_cube()];
+        let e1: [f32; 3] = std::array::from_fn(|k| corners[1][k] - corners[0][k]);
+        let e2: [f32; 3] = std::array::from_fn(|k| corners[2][k] - corners[0][k]);
+        let c = [
+            e1[1] * e2[2] - e1[2] * e2[1],
+            e1[2] * e2[0] - e1[0] * e2[2],
+            e1[0] * e2[1] - e1[1] * e2[0],
+        ];
+        let l = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt().max(1e-12);
+        mesh.positions.extend(corners);
+        mesh.normals.extend([c.map(|v| v / l); 3]);
+        mesh.indices.extend([3 * t, 3 * t + 1, 3 * t + 2]);
+    }
+    let nodes = vec![
+        NodeData::mesh(0, [0.0; 3], 1.0),
+        NodeData {
+            translation: [0.5, 2.0, 2.5],
+            light: Some(0),
+            ..NodeData::new()
+        },
+        camera([0.0, 0.0, 3.5], [0.0, 0.0, 0.0, 1.0], 0.7),
+    ];
+    scene(
+        vec![(mesh, 0)],
+        vec![lambert("leaves", [0.6; 3])],
+        nodes,
+        vec![point_light(30.0)],
+    )
+}
+
 /// Every valid hard case with its expected answer.
 pub fn valid() -> Vec<Case> {
     vec![
