@@ -8,8 +8,10 @@
 //! emitters, the constant sky and the environment map (turned to platoon's longitude origin).
 //! Materials: a Lambertian one (dielectric, KHR_materials_specular factor 0) as `diffuse`, the
 //! rest as the `principled` BSDF (base colour and its texture, metallic, roughness, the
-//! transmission factor and the IOR); Mitsuba has no match for the specular colour, normal maps,
-//! texture transforms or alpha, so those are left out: the exported scene is the same work for
+//! transmission factor and the IOR), under Mitsuba's `mask` where glTF's alpha lets light through
+//! (MASK as an opacity of 0 or 1 by the cutoff, BLEND as the alpha: both renderers then pass a
+//! ray through with the same probability); Mitsuba has no match for the specular colour, normal
+//! maps or texture transforms, so those are left out: the exported scene is the same work for
 //! the renderer, not the same image.
 
 use std::fmt::Write as _;
@@ -18,7 +20,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context as _, Result};
 use glam::{Mat3, Vec3};
 use platoon::core::scene::environment::Environment;
-use platoon::core::scene::{LightKind, Material};
+use platoon::core::scene::{AlphaMode, LightKind, Material, Texture};
 use platoon::Prepared;
 
 /// What the render is: its size, samples and path length.
@@ -85,6 +87,51 @@ fn bsdf(m: &Material, texture: Option<&str>) -> String {
     } else {
         format!(r#"<bsdf type="twosided">{principled}</bsdf>"#)
     }
+}
+
+/// The chance that a ray meets `m`'s surface, as a grey image of `texture`'s alpha (times the
+/// base colour's): thresholded at the cutoff for MASK, as it is for BLEND; `None` for an opaque
+/// material or one without a texture (then [`opacity_constant`]).
+fn opacity_image(m: &Material, texture: &Texture) -> Option<image::GrayImage> {
+    let cutoff = match m.alpha_mode {
+        AlphaMode::Opaque => return None,
+        AlphaMode::Mask(c) => Some(c),
+        AlphaMode::Blend => None,
+    };
+    let pixels = texture
+        .rgba8
+        .chunks_exact(4)
+        .map(|p| {
+            let alpha = m.base_color.w * p[3] as f32 / 255.0;
+            let coverage = match cutoff {
+                Some(c) => (alpha >= c) as u8 as f32,
+                None => alpha,
+            };
+            (coverage * 255.0).round() as u8
+        })
+        .collect();
+    image::GrayImage::from_raw(texture.width, texture.height, pixels)
+}
+
+/// The opacity of an untextured material whose alpha lets light through, or `None`.
+fn opacity_constant(m: &Material) -> Option<f32> {
+    match m.alpha_mode {
+        AlphaMode::Opaque => None,
+        AlphaMode::Mask(c) => Some((m.base_color.w >= c) as u8 as f32),
+        AlphaMode::Blend => Some(m.base_color.w),
+    }
+}
+
+/// `inner` under Mitsuba's `mask` of the given opacity (an image file or a constant).
+fn masked(inner: String, image: Option<&str>, constant: Option<f32>) -> String {
+    let opacity = match (image, constant) {
+        (Some(file), _) => format!(
+            r#"<texture type="bitmap" name="opacity"><string name="filename" value="{file}"/><boolean name="raw" value="true"/></texture>"#
+        ),
+        (None, Some(c)) if c < 1.0 => format!(r#"<float name="opacity" value="{c}"/>"#),
+        _ => return inner,
+    };
+    format!(r#"<bsdf type="mask">{opacity}{inner}</bsdf>"#)
 }
 
 /// One mesh's triangles in world space: positions, normals, UVs and corner indices.
@@ -167,8 +214,21 @@ pub fn export(prepared: &Prepared, settings: &Settings, dir: &Path) -> Result<Pa
         let texture = m
             .base_color_texture
             .and_then(|t| texture_files[t.texture as usize].as_deref());
+        let opacity = match m.base_color_texture {
+            Some(t) => match opacity_image(m, &scene.textures[t.texture as usize]) {
+                Some(img) => {
+                    let name = format!("textures/opacity{i}.png");
+                    img.save(dir.join(&name))?;
+                    Some(name)
+                }
+                None => None,
+            },
+            None => None,
+        };
+        let constant = opacity_constant(m).filter(|_| m.base_color_texture.is_none());
+        let b = masked(bsdf(m, texture), opacity.as_deref(), constant);
         // The id sits on the outermost BSDF.
-        let b = bsdf(m, texture).replacen("<bsdf ", &format!(r#"<bsdf id="m{i}" "#), 1);
+        let b = b.replacen("<bsdf ", &format!(r#"<bsdf id="m{i}" "#), 1);
         writeln!(xml, "{b}")?;
     }
 
@@ -285,4 +345,56 @@ pub fn export(prepared: &Prepared, settings: &Settings, dir: &Path) -> Result<Pa
     let path = dir.join("scene.xml");
     std::fs::write(&path, xml)?;
     Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec4;
+
+    fn leaf(mode: AlphaMode, factor: f32) -> (Material, Texture) {
+        let m = Material {
+            base_color: Vec4::new(1.0, 1.0, 1.0, factor),
+            alpha_mode: mode,
+            ..Default::default()
+        };
+        // Alphas 0, 100, 200, 255 in a 4 x 1 image.
+        let t = Texture {
+            name: "leaf".into(),
+            width: 4,
+            height: 1,
+            rgba8: [0u8, 100, 200, 255]
+                .iter()
+                .flat_map(|&a| [10, 200, 10, a])
+                .collect(),
+            wrap_s: platoon::core::scene::Wrap::Repeat,
+            wrap_t: platoon::core::scene::Wrap::Repeat,
+            nearest: false,
+        };
+        (m, t)
+    }
+
+    #[test]
+    fn a_masked_material_becomes_mitsubas_mask_of_its_cutoff() {
+        let (m, t) = leaf(AlphaMode::Mask(0.5), 1.0);
+        let img = opacity_image(&m, &t).unwrap();
+        assert_eq!(img.as_raw(), &vec![0, 0, 255, 255]);
+        // The base colour's alpha multiplies the texture's before the cutoff.
+        let (m, t) = leaf(AlphaMode::Mask(0.5), 0.5);
+        assert_eq!(opacity_image(&m, &t).unwrap().as_raw(), &vec![0, 0, 0, 255]);
+        let (m, t) = leaf(AlphaMode::Blend, 1.0);
+        assert_eq!(
+            opacity_image(&m, &t).unwrap().as_raw(),
+            &vec![0, 100, 200, 255]
+        );
+        let (m, t) = leaf(AlphaMode::Opaque, 0.2);
+        assert!(opacity_image(&m, &t).is_none() && opacity_constant(&m).is_none());
+        let b = masked(bsdf(&m, None), Some("textures/opacity4.png"), None);
+        assert!(b.starts_with(r#"<bsdf type="mask"><texture type="bitmap" name="opacity">"#));
+        assert!(b.contains(r#"<string name="filename" value="textures/opacity4.png"/>"#));
+        // Nothing to mask: the BSDF as it was.
+        assert_eq!(masked(bsdf(&m, None), None, Some(1.0)), bsdf(&m, None));
+        let half = masked(bsdf(&m, None), None, Some(0.5));
+        assert!(half.starts_with(r#"<bsdf type="mask"><float name="opacity" value="0.5"/>"#));
+    }
 }

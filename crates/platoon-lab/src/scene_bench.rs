@@ -2,7 +2,9 @@
 //! exported through [`crate::mitsuba`], by Mitsuba's `llvm_ad_rgb` path tracer
 //! (tools/reference_bench.py), as whole processes on the same cores, alternated, medians.
 //! Scenes as exporters write them, not only the one-mesh box: a node and a mesh per object,
-//! textures, glTF materials, several kinds of light.
+//! textures, glTF materials, several kinds of light; and at real scale (issue 39): the box with
+//! every face cut into 16 x 16 and 48 x 48 quads, the 152k-triangle conference room and the
+//! 264k-triangle atrium (long thin triangles, alpha-tested leaves, 13 lights and a sky).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -44,8 +46,34 @@ impl BenchScene {
     }
 }
 
+/// The sky of the atrium (`--env-color`): daylight through its open roof.
+pub const ATRIUM_SKY: [f32; 3] = [0.5, 0.6, 0.8];
+
 /// The names [`scenes`] knows, in its order.
-pub const NAMES: [&str; 5] = ["cornell", "cornell-nodes", "spheres", "field", "cesium"];
+pub const NAMES: [&str; 10] = [
+    "cornell",
+    "cornell-nodes",
+    "cornell-16",
+    "cornell-48",
+    "spheres",
+    "field",
+    "cesium",
+    "room",
+    "atrium",
+    "all",
+];
+
+/// The scenes `all` names: every scene but the built-in box's duplicates.
+pub const ALL: [&str; 8] = [
+    "cornell",
+    "cornell-nodes",
+    "cornell-16",
+    "cornell-48",
+    "spheres",
+    "field",
+    "room",
+    "atrium",
+];
 
 /// Writes the generated bench scenes into `dir` and returns those of `names` (CesiumMan from
 /// `shared`/scenes under `shared`/envmaps/courtyard.exr; an error when it is missing).
@@ -56,7 +84,14 @@ pub fn scenes(dir: &Path, shared: &Path, names: &[String]) -> Result<Vec<BenchSc
         Ok(path)
     };
     let mut out = Vec::new();
-    for name in names {
+    let names: Vec<String> = names
+        .iter()
+        .flat_map(|n| match n.as_str() {
+            "all" => ALL.iter().map(|a| a.to_string()).collect(),
+            _ => vec![n.clone()],
+        })
+        .collect();
+    for name in &names {
         out.push(match name.as_str() {
             "cornell" => BenchScene {
                 name: "cornell",
@@ -69,6 +104,30 @@ pub fn scenes(dir: &Path, shared: &Path, names: &[String]) -> Result<Vec<BenchSc
                 what: "Cornell box, a node per object (8 instances)",
                 file: Some(write(name, platoon_scenegen::bench::cornell_nodes())?),
                 env: EnvChoice::Scene,
+            },
+            "cornell-16" | "cornell-48" => {
+                let (what, cells) = match name.as_str() {
+                    "cornell-16" => ("Cornell box, every face 16 x 16 quads (9,216 triangles)", 16),
+                    _ => ("Cornell box, every face 48 x 48 quads (82,944 triangles)", 48),
+                };
+                BenchScene {
+                    name: if cells == 16 { "cornell-16" } else { "cornell-48" },
+                    what,
+                    file: Some(write(name, platoon_scenegen::bench::cornell_cut(cells))?),
+                    env: EnvChoice::Scene,
+                }
+            }
+            "room" => BenchScene {
+                name: "room",
+                what: "conference room, 152k triangles, tessellated walls, 4 point lights",
+                file: Some(write(name, platoon_scenegen::conference_room())?),
+                env: EnvChoice::Scene,
+            },
+            "atrium" => BenchScene {
+                name: "atrium",
+                what: "Sponza-sized atrium, 264k triangles, thin triangles, alpha-tested leaves, 13 lights + sky",
+                file: Some(write(name, platoon_scenegen::atrium::atrium())?),
+                env: EnvChoice::Color(Vec3::from(ATRIUM_SKY)),
             },
             "spheres" => BenchScene {
                 name: "spheres",
@@ -280,4 +339,31 @@ pub fn measure(
         rows.push(row);
     }
     Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn all_names_every_generated_scene_once_and_unknown_names_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let scenes = scenes(dir.path(), Path::new("/nonexistent"), &["all".to_string()]).unwrap();
+        let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
+        assert_eq!(names, ALL);
+        for s in &scenes {
+            if let Some(f) = &s.file {
+                assert!(f.is_file(), "{} not written", s.name);
+            }
+        }
+        let e = scenes_err(dir.path(), "cornell-47");
+        assert!(e.contains("unknown bench scene cornell-47"), "{e}");
+    }
+
+    fn scenes_err(dir: &Path, name: &str) -> String {
+        match scenes(dir, Path::new("/nonexistent"), &[name.to_string()]) {
+            Ok(_) => String::new(),
+            Err(e) => e.to_string(),
+        }
+    }
 }

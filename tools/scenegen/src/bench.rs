@@ -4,7 +4,7 @@
 
 use serde_json::{json, Value};
 
-use crate::{flat_box, grid, icosphere, quad_from, MeshData, NodeData, SceneData};
+use crate::{cut_quads, flat_box, grid, icosphere, quad_from, MeshData, NodeData, SceneData};
 
 /// The rotation (x, y, z, w) that turns -Z (where glTF cameras look and lights point) to `d`,
 /// turning about +Y when `d` is +Z so that a camera stays upright.
@@ -41,6 +41,13 @@ fn placed_quad(corners: [[f32; 3]; 4]) -> (MeshData, [f64; 3]) {
 /// it: five walls, the light and two closed blocks, each its own mesh under its own node (8
 /// instances, 36 triangles), and the built-in's camera.
 pub fn cornell_nodes() -> SceneData {
+    cornell_cut(1)
+}
+
+/// [`cornell_nodes`] with every face (walls, light, each side of the blocks) cut into `cells` x
+/// `cells` quads: 36 * cells^2 triangles, the same surfaces tessellated as a scanned or
+/// subdivided asset is (48 cells: 82,944 triangles).
+pub fn cornell_cut(cells: u32) -> SceneData {
     let s = 5.55f32;
     let materials = vec![
         lambertian("white", [0.73, 0.73, 0.73]),
@@ -75,7 +82,7 @@ pub fn cornell_nodes() -> SceneData {
     let mut nodes = Vec::new();
     for (corners, material) in quads {
         let (mesh, at) = placed_quad(corners);
-        meshes.push((mesh, material));
+        meshes.push((cut_quads(&mesh, cells), material));
         nodes.push(NodeData::mesh(meshes.len() - 1, at, 1.0));
     }
     // The blocks: centre on the floor, size, turn about y in degrees.
@@ -83,7 +90,7 @@ pub fn cornell_nodes() -> SceneData {
         ((1.855f64, 1.69f64), (1.65f32, 1.65f32), -18.0f32),
         ((3.685, 3.51), (1.65, 3.3), 15.0),
     ] {
-        meshes.push((flat_box(), 0));
+        meshes.push((cut_quads(&flat_box(), cells), 0));
         let (sin, cos) = (degrees.to_radians() / 2.0).sin_cos();
         nodes.push(NodeData {
             mesh: Some(meshes.len() - 1),
@@ -221,6 +228,21 @@ mod tests {
         assert_eq!(c.nodes.iter().filter(|n| n.mesh.is_some()).count(), 8);
         assert_eq!(c.meshes.len(), 8);
         assert_eq!(triangles(&c), 36);
+        let cut = cornell_cut(48);
+        assert_eq!(triangles(&cut), 82_944);
+        // The same surfaces: every cut mesh spans its uncut mesh's box.
+        for ((whole, _), (pieces, _)) in c.meshes.iter().zip(&cut.meshes) {
+            assert_eq!(bounds(whole), bounds(pieces));
+        }
+    }
+
+    fn bounds(m: &MeshData) -> ([f32; 3], [f32; 3]) {
+        let mut b = ([f32::MAX; 3], [f32::MIN; 3]);
+        for p in &m.positions {
+            b.0 = std::array::from_fn(|k| b.0[k].min(p[k]));
+            b.1 = std::array::from_fn(|k| b.1[k].max(p[k]));
+        }
+        b
     }
 
     #[test]

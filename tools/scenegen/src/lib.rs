@@ -6,6 +6,7 @@ use std::f32::consts::PI;
 use serde_json::{json, Value};
 
 pub mod adversarial;
+pub mod atrium;
 pub mod bench;
 pub mod materials;
 pub mod twins;
@@ -248,6 +249,57 @@ pub fn quad_from(corners: [[f32; 3]; 4]) -> MeshData {
         indices: vec![0, 1, 2, 0, 2, 3],
         ..Default::default()
     }
+}
+
+/// `m`, whose indices are quads written as two triangles (a, b, c) and (a, c, d) as
+/// [`quad_from`] and [`flat_box`] write them, with every quad cut into `cells` x `cells` quads
+/// (positions, normals and UVs interpolated bilinearly): the same surfaces with as many
+/// triangles as a tessellated asset has.
+pub fn cut_quads(m: &MeshData, cells: u32) -> MeshData {
+    let n = cells.max(1);
+    let mut out = MeshData::default();
+    let lerp = |a: &[f32], b: &[f32], c: &[f32], d: &[f32], u: f32, v: f32, k: usize| {
+        let ab = a[k] + (b[k] - a[k]) * u;
+        let dc = d[k] + (c[k] - d[k]) * u;
+        ab + (dc - ab) * v
+    };
+    for q in m.indices.chunks_exact(6) {
+        assert!(
+            q[0] == q[3] && q[2] == q[4],
+            "cut_quads: indices {q:?} are not a quad (a, b, c, a, c, d)"
+        );
+        let [a, b, c, d] = [q[0], q[1], q[2], q[5]].map(|i| i as usize);
+        let base = out.positions.len() as u32;
+        for j in 0..=n {
+            for i in 0..=n {
+                let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+                let p = &m.positions;
+                out.positions.push(std::array::from_fn(|k| {
+                    lerp(&p[a], &p[b], &p[c], &p[d], u, v, k)
+                }));
+                if !m.normals.is_empty() {
+                    let s = &m.normals;
+                    out.normals.push(std::array::from_fn(|k| {
+                        lerp(&s[a], &s[b], &s[c], &s[d], u, v, k)
+                    }));
+                }
+                if !m.uvs.is_empty() {
+                    let t = &m.uvs;
+                    out.uvs.push(std::array::from_fn(|k| {
+                        lerp(&t[a], &t[b], &t[c], &t[d], u, v, k)
+                    }));
+                }
+            }
+        }
+        for j in 0..n {
+            for i in 0..n {
+                let p = base + j * (n + 1) + i;
+                let (pb, pc, pd) = (p + 1, p + n + 2, p + n + 1);
+                out.indices.extend([p, pb, pc, p, pc, pd]);
+            }
+        }
+    }
+    out
 }
 
 /// Quad in the y = 0 plane of half-size `h`, facing `ny` (+1 up, -1 down).

@@ -1,8 +1,9 @@
 //! `platoon-scenegen OUT.glb [--grid N] [--unique]`: writes the benchmark sphere field.
 //! `platoon-scenegen OUT.glb --glossy-glass`: the trade-off tool's glossy-and-glass scene.
 //! `platoon-scenegen OUT.glb --conference-room`: the IGI scene (a room lit by point lights).
-//! `platoon-scenegen OUT.glb --cornell-nodes | --spheres`: the bench scenes as exporters write
-//! them (the Cornell box a node per object; five spheres of glTF materials, textured ground).
+//! `platoon-scenegen OUT.glb --cornell-nodes | --cornell-cut N | --spheres | --atrium`: the bench
+//! scenes as exporters write them (the Cornell box a node per object, with every face cut into
+//! N x N quads; five spheres of glTF materials, textured ground; a Sponza-sized courtyard).
 //! `platoon-scenegen OUT.glb --clearcoat | --diffuse-transmission | --sheen | --volume |
 //! --iridescence | --anisotropy | --dispersion`: spheres of a material extension (`materials::SCENES`; render them under an
 //! environment: `platoon render OUT.glb --env MAP.exr`).
@@ -20,6 +21,8 @@ fn main() -> ExitCode {
     let mut glossy_glass = false;
     let mut conference_room = false;
     let mut cornell_nodes = false;
+    let mut cornell_cut = None;
+    let mut atrium = false;
     let mut spheres = false;
     let mut material_scene = None;
     let mut adversarial = None;
@@ -40,6 +43,13 @@ fn main() -> ExitCode {
                 Some(g) if g > 0 => grid = g as u32,
                 _ => return ExitCode::FAILURE,
             },
+            "--cornell-cut" => match number("--cornell-cut") {
+                Some(n) if n > 0 && n <= 1024 => cornell_cut = Some(n as u32),
+                _ => {
+                    eprintln!("error: --cornell-cut takes 1 to 1024 cells a side");
+                    return ExitCode::FAILURE;
+                }
+            },
             "--mutants" => match number("--mutants") {
                 Some(m) => mutants = m as usize,
                 None => return ExitCode::FAILURE,
@@ -53,6 +63,7 @@ fn main() -> ExitCode {
             "--conference-room" => conference_room = true,
             "--cornell-nodes" => cornell_nodes = true,
             "--spheres" => spheres = true,
+            "--atrium" => atrium = true,
             "--adversarial" => adversarial = it.next().map(PathBuf::from),
             "--shared" => shared = it.next().map(PathBuf::from).unwrap_or(shared),
             other => match platoon_scenegen::materials::SCENES
@@ -76,7 +87,7 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let Some(out) = out else {
-        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --cornell-nodes | --spheres | --clearcoat | --diffuse-transmission | --sheen | --volume | --iridescence | --anisotropy | --dispersion]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
+        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --cornell-nodes | --cornell-cut N | --spheres | --atrium | --clearcoat | --diffuse-transmission | --sheen | --volume | --iridescence | --anisotropy | --dispersion]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
         return ExitCode::FAILURE;
     };
     let scene = if glossy_glass {
@@ -85,8 +96,12 @@ fn main() -> ExitCode {
         platoon_scenegen::conference_room()
     } else if cornell_nodes {
         platoon_scenegen::bench::cornell_nodes()
+    } else if let Some(cells) = cornell_cut {
+        platoon_scenegen::bench::cornell_cut(cells)
     } else if spheres {
         platoon_scenegen::bench::spheres()
+    } else if atrium {
+        platoon_scenegen::atrium::atrium()
     } else if let Some(make) = material_scene {
         make()
     } else {

@@ -12,7 +12,8 @@ use platoon_lab::scene_bench::{self, Mitsuba, Options, Row};
 /// `platoon bench scenes`'s settings.
 #[derive(clap::Args)]
 pub struct ScenesArgs {
-    /// Scenes, comma-separated: cornell, cornell-nodes, spheres, field, cesium.
+    /// Scenes, comma-separated: cornell, cornell-nodes, cornell-16, cornell-48, spheres, field,
+    /// cesium, room, atrium; `all` for every generated one and the built-in box.
     #[arg(
         long,
         default_value = "cornell,cornell-nodes,spheres,field,cesium",
