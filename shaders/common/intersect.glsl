@@ -119,6 +119,18 @@ bool alpha_rejects(RayTri r, uint tri, float b1, float b2) {
         ^ pcg_hash(floatBitsToUint(r.org.x) ^ pcg_hash(floatBitsToUint(r.org.y) ^ pcg_hash(floatBitsToUint(r.inv_dir.z)))))));
     return float(h >> 8) * (1.0 / 16777216.0) >= coverage;
 }
+
+// The triangle of a hit that is a leaf's box, not a triangle (igi/visibility.glsl).
+const uint NO_TRIANGLE = 0xffffffffu;
+
+// Whether `hit` is on an alpha-tested triangle (whose coverage trace() has yet to test).
+bool alpha_tested_hit(Hit hit) {
+    return hit.triangle != NO_TRIANGLE && tri_pos_at(3u * hit.triangle).w == CORNER_ALPHA_TESTED;
+}
+
+// Hits at or before this distance are not taken (trace() moves it past an alpha-tested
+// triangle that let the ray through, and traverses again).
+float g_tmin = 0.0;
 #endif
 
 // Bottom level from the `root` item: returns true on a hit closer than hit.t; with any_hit,
@@ -128,6 +140,10 @@ bool alpha_rejects(RayTri r, uint tri, float b1, float b2) {
 // single loop that took a node or a triangle per step paid both tests at every step; apart, a
 // step pays one (about 20% fewer instructions and 9-19% less time, docs/PERFORMANCE.md). A lane
 // in a leaf does not hold the others at its triangle count: it goes on to the next leaf.
+// Alpha-tested triangles (CORNER_ALPHA_TESTED) are taken as hits here, and do not end an any-hit
+// search: their coverage is tested once, at the nearest, by trace(). Testing it at every hit
+// candidate put the texture fetch in this loop, where llvmpipe runs it at every step for all
+// lanes: twice the time of the atrium with its leaves (docs/PERFORMANCE.md).
 bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit hit) {
     uint stack[64];
     int sp = 0;
@@ -150,15 +166,20 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
         while (!done && (item & ITEM_COUNT_MASK) != 0u) {
             uint count = item & ITEM_COUNT_MASK, index = item >> ITEM_INDEX_SHIFT;
             float t, b1, b2;
-            vec3 v0 = tri_pos_at(3u * index).xyz, v1 = tri_pos_at(3u * index + 1u).xyz, v2 = tri_pos_at(3u * index + 2u).xyz;
-            if (intersect_triangle(r, v0, v1, v2, hit.t, t, b1, b2)
+            vec4 p0 = tri_pos_at(3u * index);
+            vec3 v1 = tri_pos_at(3u * index + 1u).xyz, v2 = tri_pos_at(3u * index + 2u).xyz;
+            if (intersect_triangle(r, p0.xyz, v1, v2, hit.t, t, b1, b2)
 #ifdef HAS_ALPHA_TEST
-                && !alpha_rejects(r, index, b1, b2)
+                && t > g_tmin
 #endif
             ) {
                 hit = Hit(t, b1, b2, instance, index);
                 found = true;
+#ifdef HAS_ALPHA_TEST
+                if (any_hit && p0.w != CORNER_ALPHA_TESTED) return true;
+#else
                 if (any_hit) return true;
+#endif
             }
             if (count > 1u) {
                 item = ((index + 1u) << ITEM_INDEX_SHIFT) | (count - 1u);

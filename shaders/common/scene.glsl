@@ -174,6 +174,9 @@ const int MATERIAL_ALPHA_MASK = 2;
 const int MATERIAL_ALPHA_BLEND = 4;
 const int MATERIAL_UNLIT = 8;
 const int MATERIAL_USES_UV1 = 16;
+// The w of a triangle's first corner when its material lets light through by its alpha (Must
+// match GPU side: flatten/layout.rs).
+const float CORNER_ALPHA_TESTED = 1.0;
 const int TEXTURE_SLOT_BASE_COLOR = 0;
 const int TEXTURE_SLOT_METALLIC_ROUGHNESS = 1;
 const int TEXTURE_SLOT_NORMAL = 2;

@@ -6,7 +6,7 @@
 #define VISIT_BLAS traverse_blas
 #endif
 
-bool trace(Ray ray, bool any_hit, out Hit hit) {
+bool trace_levels(Ray ray, bool any_hit, out Hit hit) {
     hit = Hit(ray.tmax, 0.0, 0.0, 0u, 0u);
     if (instance_count() == 0u) return false;
     RayTri world = ray_tri_setup(ray.origin, ray.dir);
@@ -23,7 +23,12 @@ bool trace(Ray ray, bool any_hit, out Hit hit) {
                 vec3 d = vec3(dot(inst.w2o[0].xyz, ray.dir), dot(inst.w2o[1].xyz, ray.dir), dot(inst.w2o[2].xyz, ray.dir));
                 if (VISIT_BLAS(ray_tri_setup(o, d), inst.blas_root, i, any_hit, hit)) {
                     found = true;
+#ifdef HAS_ALPHA_TEST
+                    // An alpha-tested candidate ends nothing yet: the nearest is tested.
+                    if (any_hit && !alpha_tested_hit(hit)) return true;
+#else
                     if (any_hit) return true;
+#endif
                 }
             }
         } else {
@@ -40,3 +45,33 @@ bool trace(Ray ray, bool any_hit, out Hit hit) {
     }
     return found;
 }
+
+#ifdef HAS_ALPHA_TEST
+// The world-space ray as instance `i`'s bottom level traverses it (what alpha_rejects hashes).
+RayTri instance_ray(Ray ray, uint i) {
+    Instance inst = instance_at(i);
+    vec3 o = vec3(dot(inst.w2o[0], vec4(ray.origin, 1.0)), dot(inst.w2o[1], vec4(ray.origin, 1.0)), dot(inst.w2o[2], vec4(ray.origin, 1.0)));
+    vec3 d = vec3(dot(inst.w2o[0].xyz, ray.dir), dot(inst.w2o[1].xyz, ray.dir), dot(inst.w2o[2].xyz, ray.dir));
+    return ray_tri_setup(o, d);
+}
+
+// The nearest hit whose surface covers the ray there (an any-hit search ends at the first
+// opaque triangle, or at an alpha-tested one that covers). The traversal takes alpha-tested
+// triangles as hits; when the nearest is one that lets this ray through, the search starts
+// again beyond it. The same hit as testing coverage at every candidate, but the texture is read
+// once per alpha-tested surface the ray meets, not at every step of the traversal.
+bool trace(Ray ray, bool any_hit, out Hit hit) {
+    g_tmin = 0.0;
+    while (true) {
+        bool found = trace_levels(ray, any_hit, hit);
+        if (!found || !alpha_tested_hit(hit)) return found;
+        if (!alpha_rejects(instance_ray(ray, hit.instance), hit.triangle, hit.b1, hit.b2)) return true;
+        g_tmin = hit.t;
+    }
+    return false;
+}
+#else
+bool trace(Ray ray, bool any_hit, out Hit hit) {
+    return trace_levels(ray, any_hit, hit);
+}
+#endif

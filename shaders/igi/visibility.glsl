@@ -33,7 +33,12 @@ bool leaf_boxes_block(RayTri r, uint root, uint instance, bool any_hit, inout Hi
         vec3 hi[2] = vec3[2](n.max0, n.max1);
         for (int c = 0; c < 2; ++c) {
             if ((items[c] & ITEM_COUNT_MASK) != 0u) {
-                if (passes_through(r, lo[c], hi[c], tmax)) return true;
+                if (passes_through(r, lo[c], hi[c], tmax)) {
+#ifdef HAS_ALPHA_TEST
+                    hit.triangle = NO_TRIANGLE;  // a box, which no alpha lets light through
+#endif
+                    return true;
+                }
             } else if (intersect_aabb(r, lo[c], hi[c], tmax) != INF && sp < 64) {
                 stack[sp++] = items[c] >> ITEM_INDEX_SHIFT;
             }

@@ -5,10 +5,10 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use super::bvh::{self, FlatBvh};
-use super::layout::{GpuTriangle, GpuVertex, GpuVertexExtra};
+use super::layout::{GpuTriangle, GpuVertex, GpuVertexExtra, CORNER_ALPHA_TESTED};
 use super::GpuScene;
 use crate::error::{Error, Result};
-use crate::scene::{Instance, Mesh, Posed, Scene};
+use crate::scene::{AlphaMode, Instance, Mesh, Posed, Scene};
 
 /// The meshes some instance uses; the others are left empty (a skinned mesh's bind pose is
 /// replaced by its pose).
@@ -121,7 +121,7 @@ pub(super) fn write_mesh(
             u32::MAX
         };
     }
-    write_corners(mesh, &flat.order, r, g);
+    write_corners(scene, mesh, &flat.order, r, g);
     let too_large = || {
         Error::Invalid(format!(
             "more than {} triangles or BVH nodes: too large for the kernel's node items",
@@ -162,7 +162,12 @@ pub(super) fn write_refitted(
         )));
     }
     write_vertices(mesh, r, g);
-    g.triangle_positions[3 * r.triangle_base as usize..][..corners.len()].copy_from_slice(corners);
+    // The positions only: w keeps what the whole write put there (the refit does not know the
+    // materials).
+    let slots = &mut g.triangle_positions[3 * r.triangle_base as usize..][..corners.len()];
+    for (slot, c) in slots.iter_mut().zip(corners) {
+        slot[..3].copy_from_slice(&c[..3]);
+    }
     let nodes = &mut g.blas_nodes[r.node_base as usize..][..flat.nodes.len()];
     for (n, f) in nodes.iter_mut().zip(&flat.nodes) {
         // The items stay as rebased when the region was written whole.
@@ -217,13 +222,18 @@ fn write_vertices(mesh: &Mesh, r: MeshRegion, g: &mut GpuScene) {
     }
 }
 
-/// Each triangle's three corners, in leaf `order` (what the kernel intersects).
-fn write_corners(mesh: &Mesh, order: &[u32], r: MeshRegion, g: &mut GpuScene) {
+/// Each triangle's three corners, in leaf `order` (what the kernel intersects), the first one's
+/// w [`CORNER_ALPHA_TESTED`] where the triangle's material lets light through by its alpha.
+fn write_corners(scene: &Scene, mesh: &Mesh, order: &[u32], r: MeshRegion, g: &mut GpuScene) {
     let corners = &mut g.triangle_positions[3 * r.triangle_base as usize..][..3 * order.len()];
     for (slot, &orig) in corners.chunks_exact_mut(3).zip(order) {
         for (c, &v) in slot.iter_mut().zip(&mesh.indices[orig as usize]) {
             let p = mesh.positions[v as usize];
             *c = [p.x, p.y, p.z, 0.0];
+        }
+        let material = &scene.materials[mesh.triangle_materials[orig as usize] as usize];
+        if material.alpha_mode != AlphaMode::Opaque {
+            slot[0][3] = CORNER_ALPHA_TESTED;
         }
     }
 }

@@ -44,6 +44,11 @@ pub struct GpuInstance {
     pub _pad: [u32; 2],
 }
 
+/// The w of a triangle's first corner in the triangle positions when its material lets light
+/// through by its alpha (MASK or BLEND), 0 otherwise: the kernel tests coverage only for such
+/// triangles, and only at the nearest hit (shaders/common/trace.glsl).
+pub const CORNER_ALPHA_TESTED: f32 = 1.0;
+
 pub const NO_TEXTURE: i32 = -1;
 pub const MATERIAL_DOUBLE_SIDED: i32 = 1;
 pub const MATERIAL_ALPHA_MASK: i32 = 2;
@@ -201,5 +206,7 @@ mod tests {
             assert!(glsl.contains(&line), "scene.glsl lacks {line}");
         }
         assert!(glsl.contains(&format!("vec4 uv_rows[{}];", 2 * TEXTURE_SLOTS)));
+        let line = format!("const float CORNER_ALPHA_TESTED = {CORNER_ALPHA_TESTED:?};");
+        assert!(glsl.contains(&line), "scene.glsl lacks {line}");
     }
 }
