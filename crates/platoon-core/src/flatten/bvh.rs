@@ -246,8 +246,18 @@ pub fn build_params(quality: BuildQuality) -> BvhBuildParams {
         BuildQuality::Deforming => BvhBuildParams::medium_build(),
     };
     p.pre_split = false;
+    if quality == BuildQuality::Static {
+        p.collapse_traversal_cost = STATIC_COLLAPSE_TRAVERSAL_COST;
+    }
     p
 }
+
+/// The cost of a node step, in triangle tests, by which obvhs collapses subtrees into leaves
+/// (its presets: 3). On llvmpipe a triangle test (three corner fetches) costs more against a
+/// node step than on a GPU, and a long leaf keeps every lane of a group waiting: at 1.5 leaves
+/// are smaller and a static scene renders 3-37% faster (the conference room most, the 48 x 48
+/// box within noise; docs/PERFORMANCE.md, "Leaf size"), for twice the nodes.
+const STATIC_COLLAPSE_TRAVERSAL_COST: f32 = 1.5;
 
 /// Largest coordinate magnitude a triangle may have to enter a BVH. Far beyond it, box extents
 /// and surface areas overflow f32 and the builder's arithmetic turns to NaN (obvhs asserts on
