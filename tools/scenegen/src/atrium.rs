@@ -11,7 +11,7 @@ use std::f32::consts::PI;
 use serde_json::{json, Value};
 
 use crate::bench::facing;
-use crate::{cut_quads, flat_box, grid, icosphere, MeshData, NodeData, SceneData};
+use crate::{cut_quads, flat_box, grid, grid_rect, icosphere, MeshData, NodeData, SceneData};
 
 /// Half the courtyard's length (x) and width (z), metres.
 const HALF_LENGTH: f32 = 18.0;
@@ -543,29 +543,6 @@ pub fn atrium() -> SceneData {
     }
 }
 
-/// A rectangular grid of `nx` x `nz` quads over [-1, 1]^2 in the xz plane facing +y.
-fn grid_rect(nx: u32, nz: u32) -> MeshData {
-    let mut m = MeshData::default();
-    for j in 0..=nz {
-        for i in 0..=nx {
-            let (x, z) = (
-                i as f32 / nx as f32 * 2.0 - 1.0,
-                j as f32 / nz as f32 * 2.0 - 1.0,
-            );
-            m.positions.push([x, 0.0, z]);
-            m.normals.push([0.0, 1.0, 0.0]);
-        }
-    }
-    for j in 0..nz {
-        for i in 0..nx {
-            let a = j * (nx + 1) + i;
-            let (b, c, d) = (a + 1, a + nx + 2, a + nx + 1);
-            m.indices.extend([a, d, c, a, c, b]);
-        }
-    }
-    m
-}
-
 /// grid(1)'s quad rewritten as (a, b, c, a, c, d) for [`cut_quads`].
 fn quad_of(g: &MeshData) -> MeshData {
     // grid(1) writes (a, d, c, a, c, b) with a = (-1, -1), b = (1, -1), c = (1, 1), d = (-1, 1).
@@ -592,18 +569,10 @@ fn quat_z(angle: f32) -> [f32; 4] {
 mod tests {
     use super::*;
 
-    fn triangles(s: &SceneData) -> usize {
-        s.nodes
-            .iter()
-            .filter_map(|n| n.mesh)
-            .map(|m| s.meshes[m].0.indices.len() / 3)
-            .sum()
-    }
-
     #[test]
     fn the_atrium_is_sponza_sized_with_thin_triangles_and_alpha_tested_leaves() {
         let a = atrium();
-        let tris = triangles(&a);
+        let tris = a.triangle_count();
         assert!((220_000..290_000).contains(&tris), "{tris} triangles");
         assert!(a.materials.iter().any(|m| m["alphaMode"] == "MASK"));
         assert!(a.lights.len() >= 9);

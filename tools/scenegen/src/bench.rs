@@ -214,22 +214,14 @@ pub fn spheres() -> SceneData {
 mod tests {
     use super::*;
 
-    fn triangles(s: &SceneData) -> usize {
-        s.nodes
-            .iter()
-            .filter_map(|n| n.mesh)
-            .map(|m| s.meshes[m].0.indices.len() / 3)
-            .sum()
-    }
-
     #[test]
     fn the_multi_node_box_has_eight_instances_and_36_triangles() {
         let c = cornell_nodes();
         assert_eq!(c.nodes.iter().filter(|n| n.mesh.is_some()).count(), 8);
         assert_eq!(c.meshes.len(), 8);
-        assert_eq!(triangles(&c), 36);
+        assert_eq!(c.triangle_count(), 36);
         let cut = cornell_cut(48);
-        assert_eq!(triangles(&cut), 82_944);
+        assert_eq!(cut.triangle_count(), 82_944);
         // The same surfaces: every cut mesh spans its uncut mesh's box.
         for ((whole, _), (pieces, _)) in c.meshes.iter().zip(&cut.meshes) {
             assert_eq!(bounds(whole), bounds(pieces));
@@ -248,7 +240,7 @@ mod tests {
     #[test]
     fn the_spheres_scene_has_five_smooth_spheres_a_textured_ground_and_three_lights() {
         let s = spheres();
-        assert_eq!(triangles(&s), 5 * 5120 + 2 * 144 + 2);
+        assert_eq!(s.triangle_count(), 5 * 5120 + 2 * 144 + 2);
         assert_eq!(s.lights.len(), 2);
         assert!(!s.meshes[0].0.uvs.is_empty());
         assert_eq!(s.images.len(), 1);

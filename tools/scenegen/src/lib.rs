@@ -208,21 +208,26 @@ pub fn flat_box() -> MeshData {
 /// or wall with enough triangles to weigh like real architecture.
 pub fn grid(cells: u32) -> MeshData {
     let n = cells.max(1);
+    grid_rect(n, n)
+}
+
+/// A grid of `nx` x `nz` quads over [-1, 1]^2 in the xz plane facing +y.
+pub fn grid_rect(nx: u32, nz: u32) -> MeshData {
     let mut m = MeshData::default();
-    for j in 0..=n {
-        for i in 0..=n {
+    for j in 0..=nz {
+        for i in 0..=nx {
             let (x, z) = (
-                i as f32 / n as f32 * 2.0 - 1.0,
-                j as f32 / n as f32 * 2.0 - 1.0,
+                i as f32 / nx as f32 * 2.0 - 1.0,
+                j as f32 / nz as f32 * 2.0 - 1.0,
             );
             m.positions.push([x, 0.0, z]);
             m.normals.push([0.0, 1.0, 0.0]);
         }
     }
-    for j in 0..n {
-        for i in 0..n {
-            let a = j * (n + 1) + i;
-            let (b, c, d) = (a + 1, a + n + 2, a + n + 1);
+    for j in 0..nz {
+        for i in 0..nx {
+            let a = j * (nx + 1) + i;
+            let (b, c, d) = (a + 1, a + nx + 2, a + nx + 1);
             // Counter-clockwise seen from +y.
             m.indices.extend([a, d, c, a, c, b]);
         }
@@ -373,6 +378,17 @@ pub struct SceneData {
     /// PNG images, texture `i` showing image `i` (repeating, bilinear): what materials'
     /// `{"index": i}` texture infos name.
     pub images: Vec<Vec<u8>>,
+}
+
+impl SceneData {
+    /// Triangles of the meshes the nodes place, each placement counted.
+    pub fn triangle_count(&self) -> usize {
+        self.nodes
+            .iter()
+            .filter_map(|n| n.mesh)
+            .map(|m| self.meshes[m].0.indices.len() / 3)
+            .sum()
+    }
 }
 
 fn pad4(v: &mut Vec<u8>, byte: u8) {
