@@ -229,7 +229,7 @@ pub enum BuildQuality {
     /// obvhs' "very slow" preset). On tessellated surfaces PLOC alone leaves boxes that overlap
     /// widely: the Cornell box cut into 48 x 48 quads a face costs 309 against 44 (SAH, merged)
     /// and the generated atrium 320 against 66; rays visit that many fewer nodes. It takes 3-5x
-    /// the build time (docs/PERFORMANCE.md, "BVH quality").
+    /// the build time (docs/PERFORMANCE.md, "Real scenes").
     Static,
     /// A deforming mesh's rebuild, which the refit guard asks for while the scene lives (a
     /// skinned character's 4,672 triangles: 2.3 ms against 9 ms): PLOC with 5% of the nodes
