@@ -78,13 +78,28 @@ bool intersect_triangle(RayTri r, vec3 v0, vec3 v1, vec3 v2, float tmax, out flo
     return true;
 }
 
+#if defined(HAS_ALPHA_MASK) || defined(HAS_ALPHA_BLEND)
+#define HAS_ALPHA_TEST
+// Hits at or before this distance are not taken (trace() moves it past an alpha-tested
+// triangle that let the ray through, and traverses again).
+float g_tmin = 0.0;
+#endif
+
 // Slab test, conservative by 2*gamma(3) (Ize 2013) so that rounding never culls a real hit.
+// With alpha-tested geometry, a box that ends before g_tmin holds no hit the traversal may take
+// and is culled: the traversal that resumes beyond a leaf the ray passed through skips what lies
+// before it. The entry distance returned (the children's order) is the unclamped one, so the
+// boxes visited are visited in the order they were, and the hit is the same bits.
 float intersect_aabb(RayTri r, vec3 bmin, vec3 bmax, float tmax) {
     vec3 t0 = (bmin - r.org) * r.inv_dir;
     vec3 t1 = (bmax - r.org) * r.inv_dir;
     float tn = max(max3(min(t0, t1)), 0.0);
     float tf = min3(max(t0, t1)) * 1.0000003577;
+#ifdef HAS_ALPHA_TEST
+    return (max(tn, g_tmin) <= tf && tn < tmax) ? tn : INF;
+#else
     return (tn <= tf && tn < tmax) ? tn : INF;
+#endif
 }
 
 // Items (see BvhNode): a leaf's primitive count in the low bits, the index above them.
@@ -102,8 +117,7 @@ int order_children(RayTri r, BvhNode n, float tmax, out uint near, out uint far)
     return ta == INF ? 0 : (tb == INF ? 1 : 2);
 }
 
-#if defined(HAS_ALPHA_MASK) || defined(HAS_ALPHA_BLEND)
-#define HAS_ALPHA_TEST
+#ifdef HAS_ALPHA_TEST
 // Whether a ray passes through triangle `tri` at (b1, b2): alphaMode MASK below its cutoff, and
 // BLEND with probability 1 - alpha (stochastic transparency: unbiased for coverage, for shadow
 // rays too). The blend's number is a hash of the ray and the hit, so it is a pure function of
@@ -127,10 +141,6 @@ const uint NO_TRIANGLE = 0xffffffffu;
 bool alpha_tested_hit(Hit hit) {
     return hit.triangle != NO_TRIANGLE && tri_pos_at(3u * hit.triangle).w == CORNER_ALPHA_TESTED;
 }
-
-// Hits at or before this distance are not taken (trace() moves it past an alpha-tested
-// triangle that let the ray through, and traverses again).
-float g_tmin = 0.0;
 #endif
 
 // Bottom level from the `root` item: returns true on a hit closer than hit.t; with any_hit,

@@ -125,6 +125,25 @@ fn the_shared_scenes_and_the_built_in_box_keep_their_bits() {
     check(SCENES, renders);
 }
 
+const ALPHA: &[(&str, u64)] = &[
+    ("atrium, 1 tracer", 0x451fb7d08ffd9bf0),
+    ("atrium, 3 tracers", 0x451fb7d08ffd9bf0),
+];
+
+/// Alpha-tested geometry in depth: the atrium's bushes of masked leaves, which camera, bounce
+/// and shadow rays pass through a leaf at a time (each a traversal resumed beyond the last),
+/// under its sun, point lights, emissive lanterns and sky.
+#[test]
+fn the_atrium_with_its_alpha_tested_leaves_keeps_its_bits() {
+    let atrium = prepare(
+        load_generated(&platoon_scenegen::atrium::atrium()),
+        platoon::EnvChoice::Color(glam::Vec3::new(0.5, 0.6, 0.8)),
+    );
+    assert!(atrium.gpu.features.alpha_mask);
+    let params = FrameParams::new(32, 20, 2, atrium.camera);
+    check(ALPHA, one_and_three("atrium", &atrium, &params));
+}
+
 const IGI: &[(&str, u64)] = &[
     ("room igi exact, 1 tracer", 0x39b09228e0093c53),
     ("room igi exact, 3 tracers", 0x39b09228e0093c53),
