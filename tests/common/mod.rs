@@ -144,7 +144,13 @@ use std::sync::Arc;
 use platoon::core::scene::{Material, Mesh, Node, Scene};
 
 pub fn mesh_from(data: &platoon_scenegen::MeshData, material: u32) -> Mesh {
-    platoon::generated::mesh(data, material, true)
+    Mesh::from_arrays(
+        "generated",
+        &data.positions,
+        &data.normals,
+        &data.indices,
+        material,
+    )
 }
 
 /// A scene of meshes (one node each, at the given translation and uniform scale) and a camera

@@ -366,7 +366,7 @@ fn relighting_a_still_scene_reuses_the_links_and_equals_a_full_update() {
 /// the floor (his node's placement), as the updater makes its generations.
 fn walk_in_a_room() -> (Updater, usize, Camera) {
     let man = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
-    let (scene, node) = platoon::generated::walk_in_a_room(&man, 6).unwrap();
+    let (scene, node) = platoon::core::drive::walk::walk_in_a_room(&man, 6).unwrap();
     let camera = Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
     (Updater::new(scene, 0.0, DVec3::ZERO).unwrap(), node, camera)
 }
@@ -394,7 +394,7 @@ fn revalidating_a_walk_gives_the_bits_of_regenerating_every_link() {
     let mut last = solve(&mut t, updater.flattened(), None);
     let all_rays = last.stats.rays;
     for step in 1..=2 {
-        for e in platoon::generated::walk_edits(node, step) {
+        for e in platoon::core::drive::walk::walk_edits(node, step) {
             updater.apply(e).unwrap();
         }
         let generation = updater.update().unwrap();
@@ -463,7 +463,7 @@ fn revalidating_on_three_tracers_gives_one_tracers_bits_under_every_balancer() {
     updater
         .apply(Edit::Placement {
             node,
-            placement: platoon::generated::walk_step(1.0),
+            placement: platoon::core::drive::walk::walk_step(1.0),
         })
         .unwrap();
     updater.update().unwrap();
@@ -541,7 +541,7 @@ fn play_the_walk(
     loop {
         if frame < steps {
             // The replica takes each step's edits as one generation, as the driver's updater.
-            for e in platoon::generated::walk_edits(node, frame + 1) {
+            for e in platoon::core::drive::walk::walk_edits(node, frame + 1) {
                 updater.apply(e.clone()).unwrap();
                 d.scene().push(e).unwrap();
             }

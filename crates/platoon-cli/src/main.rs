@@ -14,6 +14,7 @@ mod size_arg;
 mod tradeoff;
 #[cfg(feature = "view")]
 mod view;
+mod warnings;
 
 use std::process::ExitCode;
 
@@ -75,6 +76,7 @@ fn run(cli: Cli) -> Result<()> {
 }
 
 fn main() -> ExitCode {
+    warnings::to_stderr();
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

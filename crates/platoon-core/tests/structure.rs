@@ -16,3 +16,83 @@ fn no_module_imports_itself_through_others() {
     assert!(out.status.success(), "import circles:\n{report}");
     assert!(report.contains("0 import circle(s)"), "{report}");
 }
+
+/// The names in the `[dependencies]` table of `manifest` (a Cargo.toml), one a line as this
+/// workspace writes them (`name.workspace = true`, `name = ...`).
+fn dependencies(manifest: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(manifest).expect("read the manifest");
+    let mut inside = false;
+    let mut names = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.starts_with('[') {
+            inside = line == "[dependencies]";
+        } else if inside && !line.is_empty() && !line.starts_with('#') {
+            let name = line.split(['=', '.', ' ']).next().unwrap_or_default();
+            names.push(name.to_string());
+        }
+    }
+    names
+}
+
+/// The embedding API is a library: no argument parser, no plotter, no test-scene generator, no
+/// lab (issue 40: "the facade depends on core, tracer and the crates a library needs").
+#[test]
+fn the_facade_depends_on_no_generator_parser_or_lab() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let deps = dependencies(&root.join("crates/platoon/Cargo.toml"));
+    assert!(deps.iter().any(|d| d == "platoon-core"), "{deps:?}");
+    for refused in ["platoon-scenegen", "platoon-lab", "clap", "plotters"] {
+        assert!(
+            !deps.iter().any(|d| d == refused),
+            "crates/platoon/Cargo.toml depends on {refused}: {deps:?}"
+        );
+    }
+}
+
+/// The `.rs` files under `dir`, recursively.
+fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
+    for entry in std::fs::read_dir(dir).expect("read a source folder") {
+        let path = entry.expect("a folder entry").path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The library returns its errors and logs its warnings (`log`): an application embedding it,
+/// a Python session or a game, decides what reaches the terminal, so the facade writes nothing
+/// to standard output or error itself.
+#[test]
+fn the_facade_prints_nothing_itself() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../platoon/src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    assert!(files.len() > 5, "{files:?}");
+    let mut printing = Vec::new();
+    for file in files {
+        let text = std::fs::read_to_string(&file).expect("read a source file");
+        for (i, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or_default();
+            if [
+                "eprintln!",
+                "println!",
+                "eprint!",
+                "print!",
+                "stderr()",
+                "stdout()",
+            ]
+            .iter()
+            .any(|p| code.contains(p))
+            {
+                printing.push(format!("{}:{}: {}", file.display(), i + 1, line.trim()));
+            }
+        }
+    }
+    assert!(
+        printing.is_empty(),
+        "the facade prints:\n{}",
+        printing.join("\n")
+    );
+}

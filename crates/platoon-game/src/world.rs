@@ -9,7 +9,7 @@ use std::sync::Arc;
 use anyhow::{bail, Context, Result};
 use glam::{DVec3, Quat, Vec3, Vec4};
 use platoon::core::scene::environment::Environment;
-use platoon::core::scene::{LightKind, Material, Node, Placement, PunctualLight, Scene};
+use platoon::core::scene::{LightKind, Material, Mesh, Node, Placement, PunctualLight, Scene};
 
 /// A character of the scene: its placing node and its materials.
 #[derive(Clone, Debug)]
@@ -76,11 +76,9 @@ pub fn build(character_path: &Path, characters: usize) -> Result<World> {
     let g = GROUND * unit;
     let ground =
         platoon_scenegen::quad_from([[-g, 0.0, g], [g, 0.0, g], [g, 0.0, -g], [-g, 0.0, -g]]);
-    scene.meshes.push(Arc::new(platoon::generated::mesh(
-        &ground,
-        ground_material,
-        true,
-    )));
+    scene
+        .meshes
+        .push(Arc::new(generated_mesh(&ground, ground_material, true)));
     let mut node = Node::new("ground");
     node.mesh = Some(0);
     scene.nodes.push(node);
@@ -95,7 +93,7 @@ pub fn build(character_path: &Path, characters: usize) -> Result<World> {
             .map(|&m| {
                 scene
                     .meshes
-                    .push(Arc::new(platoon::generated::mesh(data, m as u32, smooth)));
+                    .push(Arc::new(generated_mesh(data, m as u32, smooth)));
                 scene.meshes.len() - 1
             })
             .collect()
@@ -148,4 +146,17 @@ pub fn highlighted(m: &Material) -> Material {
         base_color: Vec4::new(1.0, 0.5, 0.12, m.base_color.w),
         ..m.clone()
     }
+}
+
+/// `data` as a scene mesh, every triangle of `material`; with `smooth` false its normals are
+/// left out and it is shaded flat (a box's faces stay flat).
+fn generated_mesh(data: &platoon_scenegen::MeshData, material: u32, smooth: bool) -> Mesh {
+    let normals: &[[f32; 3]] = if smooth { &data.normals } else { &[] };
+    Mesh::from_arrays(
+        "generated",
+        &data.positions,
+        normals,
+        &data.indices,
+        material,
+    )
 }

@@ -47,7 +47,7 @@ impl Default for Options {
             frames: 200,
             characters: 16,
             movers: 64,
-            character: platoon::shared::path("scenes/CesiumMan.glb"),
+            character: crate::shared::path("scenes/CesiumMan.glb"),
             width: 64,
             height: 64,
             lavapipe_threads: 1,

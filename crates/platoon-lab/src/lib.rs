@@ -17,5 +17,6 @@ pub mod links_walk;
 pub mod mitsuba;
 pub mod plot;
 pub mod scene_bench;
+pub mod shared;
 pub mod tearoom;
 pub mod tradeoff;

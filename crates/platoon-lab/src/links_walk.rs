@@ -1,7 +1,7 @@
 //! The walk of `platoon bench links --walk`: CesiumMan walking across a tessellated Cornell
-//! box (`platoon::generated::walk_in_a_room`). Per step: the paper's regeneration of every link
-//! against platoon's revalidation (wall time, rays shot, elements regrouped), the two compared
-//! bit for bit, and the error of lighting the step with the previous step's links (what a
+//! box (`platoon::core::drive::walk`). Per step: the paper's regeneration of every link against
+//! platoon's revalidation (wall time, rays shot, elements regrouped), the two compared bit for
+//! bit, and the error of lighting the step with the previous step's links (what a
 //! frame shows while an asynchronous update is a generation behind).
 
 use std::sync::Arc;
@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 use glam::DVec3;
+use platoon::core::drive::walk::{walk_edits, walk_in_a_room, walk_step};
 use platoon::core::drive::{DriverOptions, Edit, GiUpdate, Updater};
 use platoon::core::flatten::GpuScene;
 use platoon::core::frame::FrameParams;
@@ -17,7 +18,6 @@ use platoon::core::method::links::{Job, Links, LinksOptions, Solution};
 use platoon::core::scene::camera::Camera;
 use platoon::core::{Method, Scene};
 use platoon::game::{start, GameOptions};
-use platoon::generated::{walk_edits, walk_in_a_room, walk_step};
 use platoon::tracer::{Tracer, TracerOptions};
 
 /// One step of the walk.

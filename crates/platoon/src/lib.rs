@@ -32,12 +32,10 @@ pub mod batched;
 pub mod devices;
 pub mod distributed;
 pub mod game;
-pub mod generated;
 pub mod metadata;
 pub mod method_update;
 pub mod prepare;
 pub mod render;
-pub mod shared;
 
 pub use metadata::{approximations, metadata, metadata_of, SceneFacts};
 pub use platoon_core as core;

@@ -37,10 +37,11 @@ pub fn on_renderer<T: BandTracer + Send + 'static>(
 ) -> Result<FrameParams> {
     let (prepared, failures) = platoon_core::drive::gi::prepare_on(renderer, g, params)?;
     for f in &failures {
-        eprintln!(
-            "warning: tracer {} failed while preparing the frame and was dropped; the others \
+        log::warn!(
+            "tracer {} failed while preparing the frame and was dropped; the others \
              did its part: {}",
-            f.tracer, f.message
+            f.tracer,
+            f.message
         );
     }
     Ok(prepared)

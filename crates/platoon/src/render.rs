@@ -148,7 +148,7 @@ pub fn whole_frame(params: &FrameParams) -> Span {
 pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Result<Rendered> {
     let frame = renderer.render_frame(params)?;
     for f in &frame.failures {
-        eprintln!("warning: tracer {} failed in frame {} and was dropped; its lines were rendered by the others: {}", f.tracer, f.frame, f.message);
+        log::warn!("tracer {} failed in frame {} and was dropped; its lines were rendered by the others: {}", f.tracer, f.frame, f.message);
     }
     Ok(rendered_of(renderer, params, frame))
 }

@@ -16,7 +16,7 @@ pub struct DynamicArgs {
     #[arg(long, default_value_t = 64)]
     movers: u32,
     /// The skinned, animated glTF to place.
-    #[arg(long, default_value_os_t = platoon::shared::path("scenes/CesiumMan.glb"))]
+    #[arg(long, default_value_os_t = platoon_lab::shared::path("scenes/CesiumMan.glb"))]
     character: std::path::PathBuf,
     #[arg(long, default_value_t = 0)]
     device: usize,

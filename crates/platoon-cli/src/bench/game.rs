@@ -32,7 +32,7 @@ pub struct GameArgs {
     #[arg(long, default_value = "all")]
     pub devices: String,
     /// The skinned, animated glTF the game's characters are.
-    #[arg(long, default_value_os_t = platoon::shared::path("scenes/CesiumMan.glb"))]
+    #[arg(long, default_value_os_t = platoon_lab::shared::path("scenes/CesiumMan.glb"))]
     pub character: std::path::PathBuf,
     /// Denoise every frame with its reprojected history (none, atrous, or oidn in a build with
     /// `--features oidn`): its cost joins the frame time the loop holds.

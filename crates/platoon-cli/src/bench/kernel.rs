@@ -97,7 +97,7 @@ pub struct KernelArgs {
     #[arg(long, default_value = "mega,spt", value_delimiter = ',', value_parser = parse_kernel)]
     kernels: Vec<PathKernel>,
     /// The folder of the shared test data (CesiumMan and courtyard.exr for the last row).
-    #[arg(long, default_value_os_t = platoon::shared::dir())]
+    #[arg(long, default_value_os_t = platoon_lab::shared::dir())]
     shared: std::path::PathBuf,
 }
 

@@ -40,7 +40,7 @@ pub struct LhbArgs {
     #[arg(long, default_value_t = 4)]
     spp: u32,
     /// The folder of the shared test data (scenes/).
-    #[arg(long, default_value_os_t = platoon::shared::dir())]
+    #[arg(long, default_value_os_t = platoon_lab::shared::dir())]
     shared: PathBuf,
     /// Instead of the scenes: CesiumMan walking this many steps across the Cornell box, each
     /// step's buffers built keeping what did not move and rebuilt whole, against the path

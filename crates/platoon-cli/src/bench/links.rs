@@ -31,7 +31,7 @@ pub struct LinksArgs {
     #[arg(long, default_value_t = 1)]
     spp: u32,
     /// The folder of the shared test data (scenes/).
-    #[arg(long, default_value_os_t = platoon::shared::dir())]
+    #[arg(long, default_value_os_t = platoon_lab::shared::dir())]
     shared: PathBuf,
     /// Instead of the scenes: CesiumMan walking this many steps across the Cornell box, each
     /// step's links regenerated (the paper) and revalidated (platoon), and the error of the

@@ -35,7 +35,7 @@ pub struct ScenesArgs {
     #[arg(long)]
     mitsuba: Option<PathBuf>,
     /// The folder of the shared test data (scenes/, envmaps/).
-    #[arg(long, default_value_os_t = platoon::shared::dir())]
+    #[arg(long, default_value_os_t = platoon_lab::shared::dir())]
     shared: PathBuf,
     /// Keep the generated scenes, their Mitsuba exports and the renders in this folder
     /// (default: a temporary folder, removed at the end).

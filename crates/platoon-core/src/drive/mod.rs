@@ -19,6 +19,7 @@ pub mod queries;
 pub mod scaling;
 pub mod threads;
 pub mod updater;
+pub mod walk;
 
 pub use denoising::DenoiseStats;
 pub use driver::{DriverOptions, FinishedFrame, FrameDriver, FrameOutput, FrameStats};

@@ -49,6 +49,29 @@ pub struct MorphTarget {
 }
 
 impl Mesh {
+    /// A mesh made by code: `indices` three to a triangle, every triangle of `material`;
+    /// `normals` one per position, or empty for flat shading (a box's faces stay flat).
+    pub fn from_arrays(
+        name: &str,
+        positions: &[[f32; 3]],
+        normals: &[[f32; 3]],
+        indices: &[u32],
+        material: u32,
+    ) -> Mesh {
+        let v3 = |p: &[f32; 3]| Vec3::from_array(*p);
+        Mesh {
+            name: name.into(),
+            positions: positions.iter().map(v3).collect(),
+            normals: normals.iter().map(v3).collect(),
+            indices: indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect(),
+            triangle_materials: vec![material; indices.len() / 3],
+            ..Default::default()
+        }
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.indices.len()
     }

@@ -113,7 +113,7 @@ pub(crate) fn render(
     let frame = r.render_frame(&params)?;
     if r.rank() == 0 {
         for f in &frame.failures {
-            eprintln!("warning: {f}");
+            log::warn!("{f}");
         }
     }
     Ok((params, frame))

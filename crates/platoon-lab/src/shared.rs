@@ -27,7 +27,7 @@ fn candidates() -> Vec<PathBuf> {
         out.push(PathBuf::from(d));
     }
     out.push(PathBuf::from("../shared"));
-    // crates/platoon -> the repository -> its parent, where shared/ sits beside it.
+    // crates/platoon-lab -> the repository -> its parent, where shared/ sits beside it.
     out.push(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared"));
     out
 }
