@@ -3,14 +3,17 @@
 //! approximation (biased): the raw image is always kept beside the denoised one.
 
 pub mod atrous;
+mod guides;
 #[cfg(feature = "oidn")]
 pub mod oidn;
 pub mod temporal;
 #[cfg(test)]
 mod test_frames;
 
-use crate::frame::aov::{Aov, Layer};
+use crate::frame::aov::Aov;
 use crate::output::Film;
+
+pub use guides::Guides;
 
 /// Which denoiser `--denoise` names.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -86,36 +89,6 @@ impl Denoiser {
             #[cfg(not(feature = "oidn"))]
             Denoiser::Oidn => unreachable!("refused by available()"),
         }
-    }
-}
-
-/// A frame's albedo, normal and depth, pixel by pixel.
-#[derive(Clone, Debug)]
-pub struct Guides {
-    pub albedo: Vec<[f32; 3]>,
-    pub normal: Vec<[f32; 3]>,
-    /// Along the view axis; infinite where the pixel sees no surface.
-    pub depth: Vec<f32>,
-}
-
-impl Guides {
-    /// The guides from the frame's layers (None unless albedo, normal and depth are there).
-    pub fn from_layers(layers: &[Layer]) -> Option<Guides> {
-        let plane = |name: &str, channels: [&str; 3]| -> Option<Vec<[f32; 3]>> {
-            let l = layers.iter().find(|l| l.name == name)?;
-            let [a, b, c] = channels.map(|ch| l.channel(ch));
-            let (a, b, c) = (a?, b?, c?);
-            Some((0..a.len()).map(|i| [a[i], b[i], c[i]]).collect())
-        };
-        Some(Guides {
-            albedo: plane("albedo", ["R", "G", "B"])?,
-            normal: plane("normal", ["X", "Y", "Z"])?,
-            depth: layers
-                .iter()
-                .find(|l| l.name == "depth")?
-                .channel("Z")?
-                .to_vec(),
-        })
     }
 }
 
