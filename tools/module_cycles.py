@@ -2,7 +2,13 @@
 """Import circles between the modules (files) of each crate: `crate::a::b` paths, `use super::`
 and `use self::` resolved to files. A module and the modules inside it are one unit: a parent's
 `mod child;` and a child's `super::Item` are not edges. Prints each circle
-found and exits 1 when there is one. Usage: tools/module_cycles.py [crates-dir]"""
+found and exits 1 when there is one. Usage: tools/module_cycles.py [--strict] [crates-dir]
+
+--strict also counts the circles between a module and its children (a parent using a child's
+items, by a bare `child::` path or a re-export, while the child uses items the parent defines),
+and follows `pub use` re-exports to the module that defines what they name (`super::Balancer`
+re-exported from `policy` is an edge to `policy`, not to the parent). The structure test runs
+the default; it moves to --strict once --strict finds none (issue 40)."""
 import os, re, sys
 
 def module_files(src):
@@ -18,12 +24,77 @@ def module_files(src):
             mods[tuple(rel)] = p
     return mods
 
-def resolve(mods, path):
-    """The longest module prefix of `path` that is a file."""
+REEXPORTS = {}
+
+def resolve(mods, path, depth=0):
+    """The module that defines what `path` names: the longest module prefix of `path` that is
+    a file, followed through that module's `pub use` re-exports of the next name."""
     for n in range(len(path), -1, -1):
         if tuple(path[:n]) in mods:
-            return tuple(path[:n])
+            k = tuple(path[:n])
+            if n < len(path) and depth < 8:
+                target = REEXPORTS.get(k, {}).get(path[n])
+                if target is not None:
+                    return resolve(mods, target + list(path[n + 1:]), depth + 1) or k
+            return k
     return None
+
+def expand_use(tree):
+    """`a::{b, c::{d, e as f}}` -> [(["a","b"], "b"), (["a","c","d"], "d"), (["a","c","e"], "f")]."""
+    tree = re.sub(r"\s*(::|\{|\}|,)\s*", r"\1", tree.strip())
+    def split_top(s):
+        parts, depth, cur = [], 0, ""
+        for ch in s:
+            if ch == "," and depth == 0:
+                parts.append(cur); cur = ""
+                continue
+            depth += ch == "{"; depth -= ch == "}"
+            cur += ch
+        if cur:
+            parts.append(cur)
+        return parts
+    out = []
+    def walk(prefix, s):
+        i = s.find("{")
+        if i < 0:
+            m = re.fullmatch(r"([\w:]+)(?:\s+as\s+(\w+))?", s.strip())
+            path = [p for p in (m.group(1) if m else s).split("::") if p]
+            if path:
+                out.append((prefix + path, (m.group(2) if m and m.group(2) else path[-1])))
+            return
+        head = [p for p in s[:i].split("::") if p]
+        inner = s[i + 1:s.rfind("}")]
+        for part in split_top(inner):
+            walk(prefix + head, part)
+    walk([], tree)
+    return out
+
+def reexports(mods):
+    """Each module's `pub use` names: name -> the absolute path it stands for."""
+    for m, p in mods.items():
+        text = re.sub(r"//[^\n]*", "", open(p).read())
+        children = {k[len(m)] for k in mods if len(k) == len(m) + 1 and k[:len(m)] == m}
+        table = {}
+        for tree in re.findall(r"\bpub(?:\([\w ]+\))?\s+use\s+([^;]+);", text):
+            for path, name in expand_use(tree):
+                if name in ("self", "*"):
+                    continue
+                if path[0] == "crate":
+                    absolute = path[1:]
+                elif path[0] == "self":
+                    absolute = list(m) + path[1:]
+                elif path[0] == "super":
+                    base = list(m[:-1])
+                    rest = path[1:]
+                    while rest and rest[0] == "super":
+                        rest = rest[1:]; base = base[:-1]
+                    absolute = base + rest
+                elif path[0] in children:
+                    absolute = list(m) + path
+                else:
+                    continue
+                table[name] = absolute
+        REEXPORTS[m] = table
 
 def strip_tests(text):
     # Tests may import anything; circles through #[cfg(test)] modules are not structure.
@@ -63,6 +134,17 @@ def edges(mods):
                 target = resolve(mods, base + head + item.split("::"))
                 if target is not None and target != m and target != ():
                     out[m].add(target)
+        if STRICT:
+            # Bare paths to a child module: `child::f()`, `use child::X;`, `pub use child::{X, Y}`.
+            children = {k[len(m)] for k in mods if len(k) == len(m) + 1 and k[:len(m)] == m}
+            for name, tail in re.findall(r"(?<![:\w])(\w+)((?:::\w+)*)::", text):
+                if name in children:
+                    target = resolve(mods, list(m) + [name] + [t for t in tail.split("::") if t])
+                    if target is not None and target != m:
+                        out[m].add(target)
+            for name, group in re.findall(r"(?<![:\w])(\w+)::\{([^}]*)\}", text):
+                if name in children:
+                    out[m].add(tuple(list(m) + [name]))
     return out
 
 def related(a, b):
@@ -78,7 +160,7 @@ def cycles(graph):
         index[v] = low[v] = counter[0]; counter[0] += 1
         stack.append(v); on.add(v)
         for w in graph[v]:
-            if related(v, w):
+            if not STRICT and related(v, w):
                 continue
             if w not in index:
                 visit(w); low[v] = min(low[v], low[w])
@@ -97,14 +179,23 @@ def cycles(graph):
             visit(v)
     return found
 
+STRICT = False
+
 def main():
-    root = sys.argv[1] if len(sys.argv) > 1 else "crates"
+    global STRICT
+    args = [a for a in sys.argv[1:] if a != "--strict"]
+    STRICT = len(args) != len(sys.argv) - 1
+    root = args[0] if args else "crates"
     bad = 0
     for crate in sorted(os.listdir(root)):
         src = os.path.join(root, crate, "src")
         if not os.path.isdir(src):
             continue
-        for comp in cycles(edges(module_files(src))):
+        mods = module_files(src)
+        REEXPORTS.clear()
+        if STRICT:
+            reexports(mods)
+        for comp in cycles(edges(mods)):
             bad += 1
             print(f"{crate}: " + " <-> ".join("/".join(m) for m in comp))
     print(f"{bad} import circle(s)")

@@ -17,6 +17,55 @@ fn no_module_imports_itself_through_others() {
     assert!(report.contains("0 import circle(s)"), "{report}");
 }
 
+/// `tools/module_cycles.py --strict` over a crate of `files` (path under src, text): its report.
+fn strict_report(files: &[(&str, &str)]) -> String {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    for (path, text) in files {
+        let file = dir.path().join("toy/src").join(path);
+        std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+        std::fs::write(file, text).unwrap();
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = Command::new("python3")
+        .arg(root.join("tools/module_cycles.py"))
+        .arg("--strict")
+        .arg(dir.path())
+        .output()
+        .expect("python3 runs tools/module_cycles.py");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// --strict sees a parent and its child importing each other (the default treats them as one
+/// unit), and follows a re-export to the module that defines what it names.
+#[test]
+fn the_strict_cycle_check_sees_parents_and_children() {
+    let circle = strict_report(&[
+        ("lib.rs", "pub mod balance;\n"),
+        (
+            "balance/mod.rs",
+            "mod even;\npub use even::Even;\npub trait Policy {}\n",
+        ),
+        (
+            "balance/even.rs",
+            "use super::Policy;\npub struct Even;\nimpl Policy for Even {}\n",
+        ),
+    ]);
+    assert!(circle.contains("toy: balance <-> balance/even"), "{circle}");
+    let apart = strict_report(&[
+        ("lib.rs", "pub mod balance;\n"),
+        (
+            "balance/mod.rs",
+            "mod even;\nmod policy;\npub use even::Even;\npub use policy::Policy;\n",
+        ),
+        ("balance/policy.rs", "pub trait Policy {}\n"),
+        (
+            "balance/even.rs",
+            "use super::Policy;\npub struct Even;\nimpl Policy for Even {}\n",
+        ),
+    ]);
+    assert!(apart.contains("0 import circle(s)"), "{apart}");
+}
+
 /// The names in the `[dependencies]` table of `manifest` (a Cargo.toml), one a line as this
 /// workspace writes them (`name.workspace = true`, `name = ...`).
 fn dependencies(manifest: &Path) -> Vec<String> {
