@@ -9,66 +9,25 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use platoon::animation::{frame_path, task_index, Animation, FrameRange};
+use platoon::animation::{frame_path, task_index, Animation};
 use platoon::core::frame::FrameParams;
 use platoon::Tracers;
 
+use super::args::{FrameArgs, RenderArgs};
 use super::outputs::Outputs;
-use super::{RenderArgs, Setup};
-
-#[derive(clap::Args)]
-pub struct FrameArgs {
-    /// Render an animation: frames A..B[:STEP] (B included), frame F at animation time
-    /// F / --fps seconds, to numbered files (`--out dir/shot_####.exr`: the last run of #
-    /// takes the frame number; a name without # gets `_####`).
-    #[arg(long)]
-    pub frames: Option<FrameRange>,
-    /// Frames per second of the animation.
-    #[arg(long, default_value_t = 24.0)]
-    pub fps: f64,
-    /// Render farms: the environment variable holding this task's index, counted from 0
-    /// (Slurm: SLURM_ARRAY_TASK_ID with --array=0-N; a Kubernetes indexed job:
-    /// JOB_COMPLETION_INDEX). The task renders chunk INDEX of the range cut into --chunk frames.
-    #[arg(long, value_name = "VARIABLE")]
-    pub task_index: Option<String>,
-    /// Frames per farm task (with --task-index).
-    #[arg(long, default_value_t = 1)]
-    pub chunk: usize,
-    /// Render again frames whose file is already there with these settings (default: skip).
-    #[arg(long)]
-    pub overwrite: bool,
-    /// A different noise pattern every frame (seed plus frame number), as Cycles' animated
-    /// seed; by default every frame uses --seed, as a still render at its time would.
-    #[arg(long)]
-    pub animated_seed: bool,
-    /// Prepare each frame from scratch (BVHs rebuilt, tracers created anew) instead of
-    /// carrying the scene from frame to frame with refits: what a loop of still renders costs.
-    #[arg(long)]
-    pub fresh_prepare: bool,
-    /// A render farm over an MPI job (`mpirun -n N platoon render SCENE --mpi-frames 0..99
-    /// --out shots/f_####.exr`, a build with `--features mpi`): rank 0 deals the frames
-    /// A..B[:STEP] to the ranks as they finish, each rank renders whole frames on its own
-    /// --devices and writes them, atomically, into the output folder, which the ranks must
-    /// share; a rerun skips the frames done.
-    #[arg(long, conflicts_with_all = ["frames", "task_index", "mpi"])]
-    pub mpi_frames: Option<FrameRange>,
-    /// Also encode the frames as a video (e.g. shot.mp4) with ffmpeg, when it is installed
-    /// (H.264 at --fps; EXR frames tone-mapped as PNGs are). Not with --task-index.
-    #[arg(long, value_name = "FILE", requires = "frames")]
-    pub video: Option<std::path::PathBuf>,
-}
+use super::setup::{aov_metadata, check_output, on_every_rank, setup, Setup};
 
 pub fn run(a: RenderArgs) -> Result<()> {
-    super::check_output(&a)?;
+    check_output(&a)?;
     if a.scene.time != 0.0 {
         bail!("--time and --frames: each frame's time is its number / --fps");
     }
     if let Some(v) = &a.frames.video {
         super::video::check(v, a.frames.task_index.is_some())?;
     }
-    let (setup, out, args) = super::setup(a)?;
+    let (setup, out, args) = setup(a)?;
     let session = setup.session.clone();
-    super::on_every_rank(session, || animation(setup, out, args))
+    on_every_rank(session, || animation(setup, out, args))
 }
 
 /// The frames of `run`.
@@ -384,7 +343,7 @@ impl Frames {
         meta.push(("animation_frame".into(), frame.to_string()));
         meta.push(("animation_time".into(), time.to_string()));
         meta.push(("job".into(), job.of_frame(frame)));
-        meta.extend(super::aov_metadata(aovs));
+        meta.extend(aov_metadata(aovs));
         outputs.write(path, &meta)?;
         Ok(())
     }

@@ -1,0 +1,169 @@
+//! `platoon render`'s arguments: the still's and the animation's (`FrameArgs`).
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::ValueEnum;
+use platoon::animation::FrameRange;
+use platoon::core::balance;
+use platoon::core::denoise::Denoiser;
+use platoon::core::frame::aov::Aov;
+use platoon::devices::DeviceSpec;
+
+use crate::method_args::MethodArgs;
+use crate::scene_args::SceneArgs;
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum MemoryArg {
+    Auto,
+    TexelBuffers,
+    StorageBuffers,
+    DeviceAddress,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum SamplingArg {
+    Mis,
+    Bsdf,
+    Light,
+}
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub(super) scene: SceneArgs,
+    #[command(flatten)]
+    pub(super) method: MethodArgs,
+    #[arg(long, default_value_t = 64)]
+    pub(super) spp: u32,
+    /// Stop at the last complete pass within this many seconds (then --spp is an upper
+    /// bound; the spp reached goes into the metadata). One device only.
+    #[arg(long)]
+    pub(super) time_limit: Option<f64>,
+    #[arg(long, default_value_t = 512)]
+    pub(super) width: u32,
+    #[arg(long, default_value_t = 512)]
+    pub(super) height: u32,
+    /// Longest path in segments (1: emitters only, 2: direct light). Default: effectively unbounded.
+    #[arg(long)]
+    pub(super) max_depth: Option<u32>,
+    #[arg(long, default_value_t = 0)]
+    pub(super) seed: u32,
+    /// Index of the scene camera; the scene is framed from its bounds when it has none.
+    #[arg(long)]
+    pub(super) camera: Option<usize>,
+    /// Thin-lens aperture radius in scene units (0: pinhole).
+    #[arg(long, default_value_t = 0.0)]
+    pub(super) aperture: f32,
+    /// Distance to the plane in focus (default: the scene centre).
+    #[arg(long)]
+    pub(super) focus_distance: Option<f32>,
+    /// Devices: `all`, indices like `0,1` (see `platoon devices`), or `lavapipe:T1,T2,...`
+    /// (one software tracer per entry, with Ti threads each).
+    #[arg(long, default_value = "0")]
+    pub(super) devices: DeviceSpec,
+    /// How lines are split between devices: none, robin-hood, perfect, perfect-smooth,
+    /// cycles, cost-aware.
+    #[arg(long, default_value = "cost-aware", value_parser = parse_balancer)]
+    pub(super) balancer: String,
+    /// Estimator: MIS of light and BSDF sampling (default), or either alone.
+    #[arg(long, value_enum, default_value = "mis")]
+    pub(super) sampling: SamplingArg,
+    /// Enable the Khronos validation layer.
+    #[arg(long)]
+    pub(super) validation: bool,
+    /// How the kernel reads scene arrays: auto is texel buffers on CPU devices (lavapipe) and
+    /// storage buffers on GPUs, each where the array fits the device's limits, else device
+    /// addresses; the others force one path where it fits. Same image on every path.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub(super) memory: MemoryArg,
+    #[arg(long, short, default_value = "render.png")]
+    pub(super) out: PathBuf,
+    /// AOVs written as layers of the EXR beside the beauty, comma-separated: albedo, normal
+    /// (Cycles' denoising conventions), depth, position, instance-id, material-id,
+    /// primitive-id, variance (of each pixel's mean, from batches of its samples),
+    /// sample-count.
+    #[arg(long, value_parser = parse_aovs)]
+    pub(super) aov: Option<AovList>,
+    /// Denoise the image after assembly, guided by its albedo, normal and depth: none, atrous
+    /// (the edge-avoiding a-trous filter) or oidn (Intel Open Image Denoise, in a build with
+    /// `--features oidn`); biased. The raw image is written beside it as NAME.noisy.EXT.
+    #[arg(long, default_value = "none")]
+    pub(super) denoise: Denoiser,
+    /// Adaptive sampling (Cycles' scheme): a pixel stops taking samples once its noise
+    /// estimate is below this threshold (0.01 clean, 0.1 a preview); --spp is then the most a
+    /// pixel takes. An EXR output gets the sample-count layer. Path tracing only.
+    #[arg(long)]
+    pub(super) adaptive_threshold: Option<f32>,
+    /// Samples every pixel takes before adaptive sampling may stop it (default: spp / 16, at
+    /// least 16).
+    #[arg(long, requires = "adaptive_threshold")]
+    pub(super) adaptive_min_spp: Option<u32>,
+    /// Split each frame between the ranks of an MPI job: `mpirun -n N platoon render ...
+    /// --mpi`, in a build with `--features mpi`. Every rank loads the scene and renders on its
+    /// own --devices; rank 0 cuts frames between the ranks with --balancer and writes the
+    /// image (docs/DISTRIBUTED.md).
+    #[arg(long)]
+    pub(super) mpi: bool,
+    #[command(flatten)]
+    pub(super) frames: FrameArgs,
+}
+
+#[derive(Clone, Debug)]
+pub struct AovList(pub Vec<Aov>);
+
+fn parse_aovs(s: &str) -> Result<AovList, String> {
+    Aov::parse_list(s).map(AovList)
+}
+
+fn parse_balancer(s: &str) -> Result<String, String> {
+    match balance::by_name(s) {
+        Some(_) => Ok(s.to_string()),
+        None => Err(format!(
+            "unknown balancer {s}: one of {}",
+            balance::NAMES.join(", ")
+        )),
+    }
+}
+
+#[derive(clap::Args)]
+pub struct FrameArgs {
+    /// Render an animation: frames A..B[:STEP] (B included), frame F at animation time
+    /// F / --fps seconds, to numbered files (`--out dir/shot_####.exr`: the last run of #
+    /// takes the frame number; a name without # gets `_####`).
+    #[arg(long)]
+    pub frames: Option<FrameRange>,
+    /// Frames per second of the animation.
+    #[arg(long, default_value_t = 24.0)]
+    pub fps: f64,
+    /// Render farms: the environment variable holding this task's index, counted from 0
+    /// (Slurm: SLURM_ARRAY_TASK_ID with --array=0-N; a Kubernetes indexed job:
+    /// JOB_COMPLETION_INDEX). The task renders chunk INDEX of the range cut into --chunk frames.
+    #[arg(long, value_name = "VARIABLE")]
+    pub task_index: Option<String>,
+    /// Frames per farm task (with --task-index).
+    #[arg(long, default_value_t = 1)]
+    pub chunk: usize,
+    /// Render again frames whose file is already there with these settings (default: skip).
+    #[arg(long)]
+    pub overwrite: bool,
+    /// A different noise pattern every frame (seed plus frame number), as Cycles' animated
+    /// seed; by default every frame uses --seed, as a still render at its time would.
+    #[arg(long)]
+    pub animated_seed: bool,
+    /// Prepare each frame from scratch (BVHs rebuilt, tracers created anew) instead of
+    /// carrying the scene from frame to frame with refits: what a loop of still renders costs.
+    #[arg(long)]
+    pub fresh_prepare: bool,
+    /// A render farm over an MPI job (`mpirun -n N platoon render SCENE --mpi-frames 0..99
+    /// --out shots/f_####.exr`, a build with `--features mpi`): rank 0 deals the frames
+    /// A..B[:STEP] to the ranks as they finish, each rank renders whole frames on its own
+    /// --devices and writes them, atomically, into the output folder, which the ranks must
+    /// share; a rerun skips the frames done.
+    #[arg(long, conflicts_with_all = ["frames", "task_index", "mpi"])]
+    pub mpi_frames: Option<FrameRange>,
+    /// Also encode the frames as a video (e.g. shot.mp4) with ffmpeg, when it is installed
+    /// (H.264 at --fps; EXR frames tone-mapped as PNGs are). Not with --task-index.
+    #[arg(long, value_name = "FILE", requires = "frames")]
+    pub video: Option<std::path::PathBuf>,
+}

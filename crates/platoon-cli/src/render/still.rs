@@ -1,0 +1,171 @@
+//! One frame of `platoon render` (no --frames): rendered with a progress bar, written, reported.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use indicatif::{ProgressBar, ProgressStyle};
+use platoon::core::frame::adaptive::Batching;
+use platoon::core::frame::FrameParams;
+use platoon::Tracers;
+
+use super::outputs::Outputs;
+
+use super::setup::{aov_metadata, Setup};
+
+/// The still render of `run`.
+pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
+    let speaks = setup.speaks();
+    let prepared = platoon::prepare(setup.scene.clone(), &setup.options)?;
+    if speaks {
+        for w in &prepared.scene.warnings {
+            eprintln!("warning: {w}");
+        }
+        if let Some(note) = &prepared.note {
+            eprintln!("note: {note}");
+        }
+    }
+    let mut tracers = setup.tracers(&prepared.gpu)?;
+    let Setup {
+        mut params,
+        sampling,
+        aovs,
+        denoiser,
+        batching,
+        ..
+    } = setup;
+    params.camera = prepared.camera;
+    let rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
+    let origin = prepared.posed.origin;
+    let outputs = Outputs::of(
+        &mut tracers,
+        &prepared.gpu,
+        &params,
+        &rendered,
+        &aovs,
+        denoiser,
+        origin,
+    )?;
+    if !speaks {
+        return Ok(());
+    }
+    let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
+    meta.extend(aov_metadata(&aovs));
+    outputs.write(&out, &meta)?;
+    let secs = rendered.wall_time.as_secs_f64();
+    let spp = match rendered.batched.as_ref().and_then(|b| b.adaptive) {
+        Some(_) => format!(
+            "{:.1} spp on average (adaptive, at most {})",
+            rendered.mean_spp(),
+            rendered.spp
+        ),
+        None => format!("{} spp", rendered.spp),
+    };
+    eprintln!(
+        "{}: {}x{} at {spp} in {:.2} s on {} ({:.2} M samples/s, {:.2} M rays/s, {} rejected samples)",
+        out.display(),
+        params.width,
+        params.height,
+        secs,
+        rendered.device,
+        (params.width as f64 * params.height as f64 * rendered.mean_spp()) / secs / 1e6,
+        rendered.rays() as f64 / secs / 1e6,
+        rendered.rejected_samples()
+    );
+    report_method(&rendered);
+    Ok(())
+}
+
+/// Renders a frame with a progress bar over its samples (one tracer) or a spinner (several,
+/// which render on their own threads), then prints the tracers' shares.
+fn render_frame(
+    tracers: &mut Tracers,
+    scene: &platoon::core::flatten::GpuScene,
+    params: &FrameParams,
+    batching: &Batching,
+) -> Result<platoon::Rendered> {
+    let rendered = if tracers.rank() != 0 {
+        tracers.render_batched(scene, params, batching, &mut |_| {})?
+    } else if tracers.count() == 1 && tracers.ranks() == 1 {
+        let bar = ProgressBar::new(params.spp as u64);
+        bar.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp {msg}")
+                .unwrap(),
+        );
+        let r = tracers.render_batched(scene, params, batching, &mut |done| {
+            bar.set_position(done as u64)
+        });
+        bar.finish_and_clear();
+        r?
+    } else {
+        let spinner = ProgressBar::new_spinner();
+        spinner.set_message(match tracers.ranks() {
+            1 => format!("rendering on {} tracers", tracers.count()),
+            n => format!("rendering on {n} ranks"),
+        });
+        spinner.enable_steady_tick(std::time::Duration::from_millis(200));
+        let r = tracers.render_batched(scene, params, batching, &mut |_| {});
+        spinner.finish_and_clear();
+        r?
+    };
+    if tracers.rank() != 0 {
+        return Ok(rendered);
+    }
+    if let Some(report) = &rendered.ranks {
+        report_ranks(report, params.width);
+        return Ok(rendered);
+    }
+    for t in &rendered.tracers {
+        eprintln!(
+            "  tracer {}: lines {:.2}..{:.2} ({} pixels rendered), {:.3} s, idle {:.3} s",
+            t.tracer,
+            t.span.begin as f64 / params.width as f64,
+            t.span.end as f64 / params.width as f64,
+            t.pixels,
+            t.wall_time.as_secs_f64(),
+            t.idle.as_secs_f64()
+        );
+    }
+    for m in &rendered.validation_messages {
+        eprintln!("validation: {m}");
+    }
+    Ok(rendered)
+}
+
+/// Each rank's share and devices, and what crossed between the ranks.
+fn report_ranks(report: &platoon::distributed::RanksReport, width: u32) {
+    for p in &report.parts {
+        eprintln!(
+            "  rank {}: lines {:.2}..{:.2}, {:.3} s on {} device(s)",
+            p.rank,
+            p.span.begin as f64 / width as f64,
+            p.span.end as f64 / width as f64,
+            p.wall_time.as_secs_f64(),
+            p.tracers.len()
+        );
+    }
+    let c = &report.communication;
+    eprintln!(
+        "  {} ranks under {}: {} bytes sent, {} received, {:.1} ms in exchanges, {:.1} ms waiting \
+         for the slowest rank (rank 0)",
+        report.ranks,
+        report.balancer,
+        c.sent,
+        c.received,
+        c.time.as_secs_f64() * 1e3,
+        c.waiting.as_secs_f64() * 1e3
+    );
+}
+
+/// What the method's report says a user should see (layered hit buffers' build and losses).
+fn report_method(rendered: &platoon::Rendered) {
+    let entry = |key| platoon::core::frame::renderer::report_entry(&rendered.method_metadata, key);
+    if let Some(build) = entry("lhb_build") {
+        eprintln!("  layered hit buffers: {build}");
+    }
+    if let Some(lost) = entry("lhb_lost_layers").filter(|l| *l != "0") {
+        eprintln!(
+            "warning: {lost} layers did not fit the buffers' lists and are missing from the \
+             lookups: raise --lhb-layers or use --lhb-variant exact"
+        );
+    }
+}
