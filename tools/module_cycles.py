@@ -108,7 +108,7 @@ def edges(mods):
         text = re.sub(r"//[^\n]*", "", text)
         is_dir_mod = os.path.basename(p) in ("mod.rs", "lib.rs", "main.rs")
         here = list(m) if is_dir_mod else list(m[:-1])
-        for kw, tail in re.findall(r"\b(crate|super|self)((?:::\w+)+)", text):
+        for kw, tail in re.findall(r"\b(crate|super|self)((?:::\w+)+)\b(?!::\{)", text):
             parts = tail.strip(":").split("::")
             if kw == "crate":
                 base = []
@@ -119,7 +119,7 @@ def edges(mods):
                 while parts and parts[0] == "super":
                     parts = parts[1:]
                     base = base[:-1]
-            # `use crate::a::{b, c}`: the brace part is not followed here; the prefix is.
+            # `use crate::a::{b, c}`: the brace groups below resolve each name.
             target = resolve(mods, base + parts)
             if target is not None and target != m and target != ():
                 out[m].add(target)

@@ -7,122 +7,15 @@
 mod igi;
 mod lhb;
 mod links;
+mod passes;
 mod path;
 mod stream;
 
 pub use path::{kernel_label, kernel_spirv, path_kernel};
 
-use std::time::Duration;
-
-use ash::vk;
-use gpu_allocator::MemoryLocation;
-use platoon_core::frame::{FrameParams, Span};
 use platoon_core::method::Method;
 
-use crate::buffer::GpuBuffer;
-use crate::dispatch::Dispatchable;
-use crate::globals::{Globals, Push, METHOD_WORDS};
-use crate::gpu::Gpu;
-use crate::memory::SceneDescriptors;
-use crate::Result;
-
-/// What a band's passes record with: the frame, the device, and the method's kernels in the
-/// render's variant, resolved once for the band (by entry file); a kernel of the variant not
-/// resolved is built when first asked for (a fallback's). The band's counters (`Stats` of
-/// shaders/common/scene.glsl), host-visible between submissions.
-pub(crate) struct Recorder<'a> {
-    pub params: &'a FrameParams,
-    pub gpu: &'a mut Gpu,
-    pub kernels: Vec<(&'static str, Dispatchable)>,
-    pub defines: Vec<&'static str>,
-    pub scene: &'a SceneDescriptors,
-    pub stats: &'a mut GpuBuffer,
-    /// Passes a method could not finish in its own kernel and finished another way (the
-    /// megakernel past the device's loop limit): `Band::kernel_fallbacks`.
-    pub fallbacks: u32,
-    /// The frame's root block (`Globals`), mapped, and what it holds.
-    pub globals: &'a mut GpuBuffer,
-    pub globals_block: Globals,
-}
-
-impl Recorder<'_> {
-    /// The kernel of the entry file `entry` in the render's variant.
-    pub fn kernel(&mut self, entry: &'static str) -> Result<Dispatchable> {
-        if let Some(k) = self.kernels.iter().find(|k| k.0 == entry) {
-            return Ok(k.1);
-        }
-        let k = self.gpu.kernel((entry, self.defines.clone()), self.scene)?;
-        self.kernels.push((entry, k));
-        Ok(k)
-    }
-
-    /// Word `i` of the band's counters (read after the submission that wrote it).
-    pub fn stat(&mut self, i: usize) -> u32 {
-        bytemuck::cast_slice::<u8, u32>(self.stats.mapped())[i]
-    }
-
-    /// Sets word `i` of the band's counters (before the next submission).
-    pub fn set_stat(&mut self, i: usize, value: u32) {
-        bytemuck::cast_slice_mut::<u8, u32>(self.stats.mapped())[i] = value;
-    }
-
-    /// Points the next submissions' method buffers at `buffers` (a method that grew one while
-    /// recording: layered hit buffers' queue and lists).
-    pub fn set_method_buffers(&mut self, buffers: [u64; 3]) {
-        self.globals_block.method_buffers = buffers;
-        self.globals.mapped()[..std::mem::size_of::<Globals>()]
-            .copy_from_slice(bytemuck::bytes_of(&self.globals_block));
-    }
-}
-
-/// A rendering method on one device. The band (band.rs) clears the accumulation and the
-/// method's `clears`, calls `begin_band`, then `pass` until the samples are in, and reads back
-/// the sums and `per_pixel`.
-pub(crate) trait MethodPasses {
-    /// The entry files of its kernels (shaders/) for `params` on a CPU device (`cpu`) or a
-    /// GPU, built before the band's clock starts.
-    fn kernels(&self, params: &FrameParams, cpu: bool) -> &'static [&'static str];
-    /// Makes or grows the buffers its kernels read for `params`; returns their addresses
-    /// (Globals' method buffers; 0 where unused).
-    fn prepare(&mut self, _gpu: &mut Gpu, _params: &FrameParams) -> Result<[u64; 3]> {
-        Ok([0; 3])
-    }
-    /// Its push-constant words for `params`.
-    fn push_words(&self, _params: &FrameParams) -> [u32; METHOD_WORDS] {
-        [0; METHOD_WORDS]
-    }
-    /// Ranges of its buffers (buffer, offset, size) the band clears before its first pass.
-    fn clears(&self, _params: &FrameParams, _span: Span) -> Vec<(vk::Buffer, u64, u64)> {
-        Vec::new()
-    }
-    /// Samples one pass adds per pixel.
-    fn samples_per_pass(&self, params: &FrameParams) -> u32 {
-        params.samples_per_pass.max(1)
-    }
-    /// Work before the band's first pass; returns its device time.
-    fn begin_band(&mut self, _rec: &mut Recorder, _push: &Push) -> Result<Duration> {
-        Ok(Duration::ZERO)
-    }
-    /// One pass: the samples [push.sample_begin, push.sample_end) of the band's pixels, over
-    /// `groups` workgroups of 8 x 8; returns its device time.
-    fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration>;
-    /// What its passes report for the output's metadata (`Band::method_report`), given the
-    /// band's counters after its last pass.
-    fn report(&mut self, _counters: &[u32]) -> Vec<(String, String)> {
-        Vec::new()
-    }
-    /// What the span leaves for the method's pass after assembly (`Band::per_pixel`).
-    fn per_pixel(&mut self, _params: &FrameParams, _span: Span) -> Vec<[f32; 4]> {
-        Vec::new()
-    }
-    /// Its buffers as the last band left them, for tests to compare with the CPU's (layered
-    /// hit buffers: the work words of every texel, the layers); empty for most methods.
-    fn read_back(&mut self, _gpu: &mut Gpu) -> Result<Vec<Vec<u8>>> {
-        Ok(Vec::new())
-    }
-    /// Frees its buffers.
-    fn destroy(&mut self, _gpu: &mut Gpu) {}
-}
+pub(crate) use passes::{ensure, MethodPasses, Recorder};
 
 /// The device side of `method`: the registration of every method.
 pub(crate) fn passes_of(method: &Method) -> Box<dyn MethodPasses> {
@@ -132,30 +25,4 @@ pub(crate) fn passes_of(method: &Method) -> Box<dyn MethodPasses> {
         Method::Links(_) => Box::<links::LinksPasses>::default(),
         Method::Lhb(_) => Box::<lhb::LhbPasses>::default(),
     }
-}
-
-/// The buffer in `slot` of at least `size` bytes, replaced when too small; its address.
-pub(crate) fn ensure(
-    gpu: &mut Gpu,
-    slot: &mut Option<GpuBuffer>,
-    name: &str,
-    size: u64,
-    location: MemoryLocation,
-) -> Result<u64> {
-    if let Some(b) = slot.as_ref() {
-        if b.size >= size {
-            return Ok(b.address);
-        }
-    }
-    gpu.wait_idle()?;
-    if let Some(mut old) = slot.take() {
-        gpu.destroy_buffer(&mut old);
-    }
-    let usage = vk::BufferUsageFlags::STORAGE_BUFFER
-        | vk::BufferUsageFlags::TRANSFER_DST
-        | vk::BufferUsageFlags::TRANSFER_SRC;
-    let b = gpu.buffer(name, size, usage, location)?;
-    let address = b.address;
-    *slot = Some(b);
-    Ok(address)
 }

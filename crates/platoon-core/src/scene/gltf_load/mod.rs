@@ -10,6 +10,7 @@ mod guard;
 mod material;
 mod mesh;
 mod nodes;
+mod options;
 mod resources;
 pub mod validate;
 
@@ -20,6 +21,8 @@ use gltf::Gltf;
 
 use crate::error::{Error, Result};
 use crate::scene::*;
+
+pub use options::LoadOptions;
 
 /// Extensions that platoon implements; a file that *requires* any other is refused.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
@@ -46,15 +49,6 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
 
 /// Extensions that change nothing a path tracer renders (metadata), ignored without a warning.
 pub const INERT_EXTENSIONS: &[&str] = &["KHR_xmp_json_ld"];
-
-#[derive(Clone, Debug, Default)]
-pub struct LoadOptions {
-    /// Read buffers and images whose URI is absolute or leaves the scene's folder.
-    pub allow_external_files: bool,
-    /// KHR_materials_variants: the variant whose materials the primitives take (None: each
-    /// primitive's own material, the file's default look).
-    pub variant: Option<String>,
-}
 
 /// Loads a scene with the default options (URIs confined to the scene's folder).
 pub fn load(path: &Path) -> Result<Scene> {

@@ -4,7 +4,7 @@
 
 use ash::vk;
 
-use super::{
+use super::state::{
     lhb, tables, Build, LhbPasses, APPEND, BLOCKS, COUNT, DIRECTIONS_PER_DISPATCH, FILL,
     MAX_GROUPS_X, PREFIX, RASTER, STAT_LAYERS, STAT_QUEUED,
 };

@@ -2,30 +2,13 @@
 //! frames (the capacity variant), with what moved rasterized on top of them every frame.
 
 use gpu_allocator::MemoryLocation;
-use platoon_core::method::lhb::frame::BufferFrame;
 use platoon_core::method::lhb::tables::Tables;
 use platoon_core::method::lhb::LhbOptions;
 
-use super::{LhbPasses, APPEND, STAT_LAYERS};
-use crate::buffer::GpuBuffer;
+use super::state::{LhbPasses, Statics, APPEND, STAT_LAYERS};
 use crate::globals::Push;
 use crate::method::{ensure, Recorder};
 use crate::Result;
-
-/// The layers of the instances that have not moved, kept between frames (the capacity variant):
-/// they are the first of every texel's list, up to the counts saved after them.
-pub(super) struct Statics {
-    options: LhbOptions,
-    frame: BufferFrame,
-    /// Each instance's digest when the kept part was built.
-    digests: Vec<u64>,
-    /// Instances left out of the kept part (they moved once), rasterized every frame.
-    moving: Vec<bool>,
-    /// Every texel's count after the kept part, and the layers it lost.
-    pub(super) counts: Option<GpuBuffer>,
-    lost: u64,
-    valid: bool,
-}
 
 impl LhbPasses {
     /// The capacity variant keeping what did not move (the thesis' static buffers): when the

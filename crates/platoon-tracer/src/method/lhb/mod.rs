@@ -10,13 +10,17 @@ use std::time::Duration;
 
 use gpu_allocator::MemoryLocation;
 use platoon_core::frame::FrameParams;
-use platoon_core::method::lhb::tables::Tables;
-use platoon_core::method::lhb::{Lhb, RasterVariant};
+use platoon_core::method::lhb::RasterVariant;
 
 mod build;
 mod kept;
+mod state;
 
-use kept::Statics;
+pub(crate) use state::LhbPasses;
+use state::{
+    lhb, queue_at, tables, BLOCKS, CAMERA, CAMERA_SAMPLES_PER_PASS, PREFIX, PROBE, RASTER,
+    STAT_QUEUED,
+};
 
 use super::{ensure, MethodPasses, Recorder};
 use crate::buffer::GpuBuffer;
@@ -24,89 +28,6 @@ use crate::dispatch::record_dispatch;
 use crate::globals::{Push, METHOD_WORDS};
 use crate::gpu::Gpu;
 use crate::Result;
-
-const RASTER: &str = "lhb/raster.comp";
-const BLOCKS: &str = "lhb/blocks.comp";
-const PREFIX: &str = "lhb/prefix.comp";
-const CAMERA: &str = "lhb/camera.comp";
-const PROBE: &str = "lhb/probe.comp";
-
-/// Build passes (shaders/lhb/raster.glsl).
-const APPEND: u32 = 0;
-const COUNT: u32 = 1;
-const FILL: u32 = 2;
-/// Counters of the band's stats while building (shaders/lhb/lhb.glsl): blocks queued, layers
-/// lost (capacity) or in all (exact); during image passes the first counts lookups.
-const STAT_QUEUED: usize = 2;
-const STAT_LAYERS: usize = 3;
-/// Directions one rasterizer dispatch takes (its workgroups' rows).
-const DIRECTIONS_PER_DISPATCH: u32 = 64;
-/// Workgroups a dispatch's row takes at most (Vulkan's guaranteed minimum limit).
-const MAX_GROUPS_X: u32 = 65535;
-/// Samples an image pass adds per pixel at most (llvmpipe's loop limit, as vertex links').
-const CAMERA_SAMPLES_PER_PASS: u32 = 4;
-
-/// What the last build did.
-#[derive(Clone, Copy, Debug, Default)]
-struct Build {
-    layers: u64,
-    lost: u64,
-    blocks: u64,
-    bytes: u64,
-    time: Duration,
-    attempts: u32,
-    /// With the kept part: whether it was kept as it was (else built again), and the instances
-    /// rasterized on top of it.
-    kept: Option<(bool, u32)>,
-    /// Lists without a capacity: `layers` counts the layers, else the slots.
-    exact: bool,
-}
-
-pub(crate) struct LhbPasses {
-    tables: Option<GpuBuffer>,
-    work: Option<GpuBuffer>,
-    layers: Option<GpuBuffer>,
-    /// The tables the buffer holds.
-    uploaded: Option<Arc<Tables>>,
-    /// Entries the queue has room for (grown when a build needs more; kept between frames).
-    queue_capacity: u32,
-    build: Build,
-    statics: Option<Statics>,
-}
-
-impl Default for LhbPasses {
-    fn default() -> Self {
-        LhbPasses {
-            tables: None,
-            work: None,
-            layers: None,
-            uploaded: None,
-            queue_capacity: 1 << 16,
-            build: Build::default(),
-            statics: None,
-        }
-    }
-}
-
-fn lhb(params: &FrameParams) -> &Lhb {
-    params
-        .method
-        .lhb()
-        .expect("layered hit buffers' passes render their frames")
-}
-
-fn tables(params: &FrameParams) -> &Arc<Tables> {
-    lhb(params)
-        .tables
-        .as_ref()
-        .expect("validated: an lhb frame has its tables")
-}
-
-/// Words before the queue (shaders/lhb/lhb.glsl: lhb_queue_at).
-fn queue_at(directions: u64, resolution: u64) -> u64 {
-    let texels = directions * resolution * resolution;
-    (texels + directions * resolution + directions + 3) & !3
-}
 
 impl LhbPasses {
     fn addresses(&self) -> [u64; 3] {
