@@ -1,11 +1,12 @@
 //! Rendering a prepared frame: on one tracer band by band, or on many through the core's
 //! renderer, and what it cost.
 
+use std::rc::Rc;
 use std::sync::Arc;
 use std::time::Duration;
 
 use anyhow::{Context as _, Result};
-use platoon_core::distribute::{RankFrame, RankRenderer};
+use platoon_core::distribute::{Collective, RankFrame, RankRenderer};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::renderer::{FrameResult, Renderer};
@@ -221,6 +222,25 @@ pub enum Tracers {
     /// This rank's devices in a job of several processes (`crate::distributed`): every call
     /// is a collective operation of the ranks.
     Ranks(Box<RankRenderer<Tracer>>),
+}
+
+impl Tracers {
+    /// This rank's tracers for `options` holding `scene`, in the job `group`: `balancer` (a
+    /// name of `platoon_core::balance::NAMES`) cuts frames between the ranks on rank 0 and
+    /// between each rank's devices.
+    pub fn over_ranks(
+        options: &[TracerOptions],
+        balancer: &str,
+        scene: &GpuScene,
+        group: Rc<dyn Collective>,
+    ) -> Result<Tracers> {
+        let rank = group.rank();
+        let tracers = crate::devices::tracers_from_options(options, scene)
+            .with_context(|| format!("rank {rank}: creating its devices"))?;
+        let local = Renderer::new(tracers, crate::devices::balancer(balancer)?);
+        let ranks = RankRenderer::new(local, group, crate::devices::balancer(balancer)?);
+        Ok(Tracers::Ranks(Box::new(ranks)))
+    }
 }
 
 impl Tracers {

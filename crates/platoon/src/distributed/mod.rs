@@ -15,18 +15,17 @@ mod deal;
 pub mod game;
 #[cfg(feature = "mpi")]
 pub mod mpi;
+mod session;
 
 use std::rc::Rc;
-use std::sync::Arc;
 
-use anyhow::{Context as _, Result};
-use platoon_core::distribute::{Collective, Communication, RankFrame, RankRenderer, RankStats};
+use anyhow::Result;
+use platoon_core::distribute::{Communication, RankFrame, RankRenderer, RankStats};
 use platoon_core::flatten::GpuScene;
-use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::FrameParams;
-use platoon_tracer::{Tracer, TracerOptions};
+use platoon_tracer::Tracer;
 
-use crate::Tracers;
+pub use session::Session;
 
 /// What a frame over ranks did besides its image: each rank's part and what crossed between
 /// the ranks (rank 0's view).
@@ -64,40 +63,6 @@ pub fn join() -> Result<Rc<dyn Session>> {
              --features mpi` (Debian: apt-get install libopenmpi-dev openmpi-bin libclang-dev) \
              and start it with `mpirun -n N platoon render ... --mpi`"
         )
-    }
-}
-
-/// A job's ranks, with what a program needs beyond the collectives: ending every rank when one
-/// fails (a rank that returns leaves the others waiting in their next collective).
-pub trait Session: Collective {
-    /// Ends the whole job with `code` (MPI_Abort); does not return.
-    fn abort(&self, code: i32) -> !;
-    /// The frames of rank 0's `frames` this rank renders, dealt one at a time as the ranks
-    /// finish them (rank 0's dealer answers while its own renderer takes frames too). No other
-    /// call on the session until the iterator has ended.
-    fn deal(&self, frames: Vec<i64>) -> Box<dyn Iterator<Item = i64>>;
-    /// Messages between rank 0 and each other rank from any thread: the game loop's ranks
-    /// (`platoon_core::distribute::remote`). An error where the library cannot talk from
-    /// several threads at once.
-    fn link(&self) -> Result<Arc<dyn platoon_core::distribute::remote::Link>>;
-}
-
-impl Tracers {
-    /// This rank's tracers for `options` holding `scene`, in the job `group`: `balancer` (a
-    /// name of `platoon_core::balance::NAMES`) cuts frames between the ranks on rank 0 and
-    /// between each rank's devices.
-    pub fn over_ranks(
-        options: &[TracerOptions],
-        balancer: &str,
-        scene: &GpuScene,
-        group: Rc<dyn Collective>,
-    ) -> Result<Tracers> {
-        let rank = group.rank();
-        let tracers = crate::devices::tracers_from_options(options, scene)
-            .with_context(|| format!("rank {rank}: creating its devices"))?;
-        let local = Renderer::new(tracers, crate::devices::balancer(balancer)?);
-        let ranks = RankRenderer::new(local, group, crate::devices::balancer(balancer)?);
-        Ok(Tracers::Ranks(Box::new(ranks)))
     }
 }
 
