@@ -6,7 +6,7 @@ found and exits 1 when there is one. Usage: tools/module_cycles.py [--strict] [c
 
 --strict also counts the circles between a module and its children (a parent using a child's
 items, by a bare `child::` path or a re-export, while the child uses items the parent defines),
-and follows `pub use` re-exports to the module that defines what they name (`super::Balancer`
+and follows `pub use` re-exports, globs too, to the module that defines what they name (`super::Balancer`
 re-exported from `policy` is an edge to `policy`, not to the parent). The structure test runs
 the default; it moves to --strict once --strict finds none (issue 40)."""
 import os, re, sys
@@ -33,11 +33,30 @@ def resolve(mods, path, depth=0):
         if tuple(path[:n]) in mods:
             k = tuple(path[:n])
             if n < len(path) and depth < 8:
-                target = REEXPORTS.get(k, {}).get(path[n])
+                table = REEXPORTS.get(k, {})
+                target = table.get(path[n])
+                if target is None:
+                    # `pub use child::*`: the glob's module, when it defines the name.
+                    for glob in table.get("*", []):
+                        g = tuple(glob)
+                        if g in mods and defines(mods[g], path[n]):
+                            target = glob + [path[n]]
+                            break
                 if target is not None:
                     return resolve(mods, target + list(path[n + 1:]), depth + 1) or k
             return k
     return None
+
+DEFINED = {}
+
+def defines(path, name):
+    """Whether the file at `path` defines a public item `name` (what a glob re-export carries)."""
+    if path not in DEFINED:
+        text = open(path).read()
+        DEFINED[path] = set(re.findall(
+            r"\bpub(?:\([\w ]+\))?\s+(?:unsafe\s+)?(?:struct|enum|fn|const|static|trait|type|mod|union)\s+(\w+)",
+            text))
+    return name in DEFINED[path]
 
 def expand_use(tree):
     """`a::{b, c::{d, e as f}}` -> [(["a","b"], "b"), (["a","c","d"], "d"), (["a","c","e"], "f")]."""
@@ -57,7 +76,7 @@ def expand_use(tree):
     def walk(prefix, s):
         i = s.find("{")
         if i < 0:
-            m = re.fullmatch(r"([\w:]+)(?:\s+as\s+(\w+))?", s.strip())
+            m = re.fullmatch(r"([\w:*]+)(?:\s+as\s+(\w+))?", s.strip())
             path = [p for p in (m.group(1) if m else s).split("::") if p]
             if path:
                 out.append((prefix + path, (m.group(2) if m and m.group(2) else path[-1])))
@@ -77,7 +96,7 @@ def reexports(mods):
         table = {}
         for tree in re.findall(r"\bpub(?:\([\w ]+\))?\s+use\s+([^;]+);", text):
             for path, name in expand_use(tree):
-                if name in ("self", "*"):
+                if name == "self":
                     continue
                 if path[0] == "crate":
                     absolute = path[1:]
@@ -93,7 +112,10 @@ def reexports(mods):
                     absolute = list(m) + path
                 else:
                     continue
-                table[name] = absolute
+                if name == "*":
+                    table.setdefault("*", []).append(absolute[:-1])
+                else:
+                    table[name] = absolute
         REEXPORTS[m] = table
 
 def strip_tests(text):
@@ -108,7 +130,7 @@ def edges(mods):
         text = re.sub(r"//[^\n]*", "", text)
         is_dir_mod = os.path.basename(p) in ("mod.rs", "lib.rs", "main.rs")
         here = list(m) if is_dir_mod else list(m[:-1])
-        for kw, tail in re.findall(r"\b(crate|super|self)((?:::\w+)+)\b(?!::\{)", text):
+        for kw, tail in re.findall(r"\b(crate|super|self)((?:::\w+)+)\b(?!::)", text):
             parts = tail.strip(":").split("::")
             if kw == "crate":
                 base = []
@@ -119,7 +141,15 @@ def edges(mods):
                 while parts and parts[0] == "super":
                     parts = parts[1:]
                     base = base[:-1]
-            # `use crate::a::{b, c}`: the brace groups below resolve each name.
+            # A whole path only: `crate::a::{b, c}` (the brace groups below resolve each name)
+            # and `crate::a::*` (below) are not edges to their prefixes.
+            target = resolve(mods, base + parts)
+            if target is not None and target != m and target != ():
+                out[m].add(target)
+        # Globs: `use crate::a::*` depends on a.
+        for kw, tail in re.findall(r"\b(crate|super|self)((?:::\w+)+)::\*", text):
+            parts = tail.strip(":").split("::")
+            base = [] if kw == "crate" else (list(m) if kw == "self" else (here[:-1] if is_dir_mod else here))
             target = resolve(mods, base + parts)
             if target is not None and target != m and target != ():
                 out[m].add(target)

@@ -259,15 +259,7 @@ pub fn build_params(quality: BuildQuality) -> BvhBuildParams {
 /// box within noise; docs/PERFORMANCE.md, "Leaf size"), for twice the nodes.
 const STATIC_COLLAPSE_TRAVERSAL_COST: f32 = 1.5;
 
-/// Largest coordinate magnitude a triangle may have to enter a BVH. Far beyond it, box extents
-/// and surface areas overflow f32 and the builder's arithmetic turns to NaN (obvhs asserts on
-/// NaN bounds); a vertex at 1e30 still renders.
-pub const MAX_COORDINATE: f32 = 1e32;
-
-/// Whether a point can be placed in a BVH: finite and within [`MAX_COORDINATE`].
-pub fn placeable(p: Vec3) -> bool {
-    p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
-}
+pub use crate::scene::placeable::{placeable, MAX_COORDINATE};
 
 /// The mesh's triangles that can enter a BVH (every corner [`placeable`]), with the mesh index
 /// of each.

@@ -56,8 +56,7 @@ pub const MATERIAL_ALPHA_BLEND: i32 = 4;
 pub const MATERIAL_UNLIT: i32 = 8;
 /// Some texture slot reads TEXCOORD_1 (the kernel then reads the vertex extras).
 pub const MATERIAL_USES_UV1: i32 = 16;
-/// Texture slots in `GpuMaterial` order (`Material::texture_slots`).
-pub const TEXTURE_SLOTS: usize = 17;
+pub use crate::scene::TEXTURE_SLOTS;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]

@@ -114,6 +114,10 @@ pub enum AlphaMode {
     Blend,
 }
 
+/// Texture slots a material has, in the kernel's order (`Material::texture_slots`, the
+/// `GpuMaterial` of `flatten::layout`, TEXTURE_SLOT_* in shaders/common/scene.glsl).
+pub const TEXTURE_SLOTS: usize = 17;
+
 /// glTF metallic-roughness material with the extensions platoon supports.
 #[derive(Clone, Debug)]
 pub struct Material {
@@ -260,7 +264,7 @@ impl Material {
     /// specular colour, transmission, clearcoat, clearcoat roughness, clearcoat normal, diffuse
     /// transmission, diffuse transmission colour, sheen colour, sheen roughness, iridescence,
     /// iridescence thickness, anisotropy.
-    pub fn texture_slots(&self) -> [Option<TextureRef>; crate::flatten::TEXTURE_SLOTS] {
+    pub fn texture_slots(&self) -> [Option<TextureRef>; TEXTURE_SLOTS] {
         [
             self.base_color_texture,
             self.metallic_roughness_texture,
@@ -654,7 +658,7 @@ impl Posed {
             for p in &self.meshes[inst.mesh].positions {
                 let w = inst.object_to_world.transform_point3(*p);
                 // What the BVH leaves out (NaN, Inf, beyond 1e32) does not frame the view.
-                if crate::flatten::bvh::placeable(w) {
+                if crate::scene::placeable::placeable(w) {
                     lo = lo.min(w);
                     hi = hi.max(w);
                 }

@@ -10,6 +10,7 @@ pub mod floating_origin;
 pub mod gltf_load;
 mod graph;
 mod merge;
+pub mod placeable;
 pub mod placement;
 mod subdivide;
 pub mod tangents;

@@ -243,7 +243,7 @@ fn recentre(mesh: &mut Mesh) {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     for p in &mesh.positions {
-        if crate::flatten::bvh::placeable(*p) {
+        if crate::scene::placeable::placeable(*p) {
             lo = lo.min(p.as_dvec3());
             hi = hi.max(p.as_dvec3());
         }
@@ -257,7 +257,7 @@ fn recentre(mesh: &mut Mesh) {
         return;
     }
     for p in &mut mesh.positions {
-        if crate::flatten::bvh::placeable(*p) {
+        if crate::scene::placeable::placeable(*p) {
             *p = (p.as_dvec3() - centre).as_vec3();
         }
     }
@@ -392,12 +392,12 @@ pub fn load_mesh(
     let unplaceable = out
         .positions
         .iter()
-        .filter(|p| !crate::flatten::bvh::placeable(**p))
+        .filter(|p| !crate::scene::placeable::placeable(**p))
         .count();
     if unplaceable > 0 {
         warnings.push(format!(
             "mesh '{name}': {unplaceable} vertices are not finite or beyond {:e}; their triangles are not drawn",
-            crate::flatten::bvh::MAX_COORDINATE
+            crate::scene::placeable::MAX_COORDINATE
         ));
     }
     // A normal map (the base's or the coat's) or an anisotropic lobe needs a tangent frame.
