@@ -5,8 +5,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use super::bvh::{self, FlatBvh};
+use super::gpu_scene::{GpuScene, MeshRegion};
 use super::layout::{GpuTriangle, GpuVertex, GpuVertexExtra, CORNER_ALPHA_TESTED};
-use super::GpuScene;
 use crate::error::{Error, Result};
 use crate::scene::{AlphaMode, Instance, Mesh, Posed, Scene};
 
@@ -23,20 +23,6 @@ pub fn used_meshes(posed: &Posed) -> Vec<Arc<Mesh>> {
         .zip(&used)
         .map(|(m, &u)| if u { m.clone() } else { Default::default() })
         .collect()
-}
-
-/// Where one mesh lives in the global arrays (a CPU-side record: a deforming mesh is rewritten in
-/// place, and the tracers get just that range).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct MeshRegion {
-    pub vertex_base: u32,
-    pub vertex_count: u32,
-    pub triangle_base: u32,
-    pub triangle_count: u32,
-    pub node_base: u32,
-    pub node_capacity: u32,
-    /// The root item of the mesh's BVH (global indices).
-    pub root: u32,
 }
 
 /// Appends every mesh's vertices, triangles (in leaf order, with their emissive-light indices)

@@ -12,6 +12,7 @@ mod bvh_report;
 pub mod commit;
 pub mod features;
 mod geometry;
+mod gpu_scene;
 pub mod instance_bvh;
 mod instances;
 pub mod layout;
@@ -32,44 +33,9 @@ use crate::error::Result;
 use crate::flatten::features::SceneFeatures;
 use crate::scene::environment::Environment;
 use crate::scene::{Posed, Scene};
-use bvh::{BvhNode, FlatBvh};
-pub use geometry::{used_meshes, MeshRegion};
-
-/// Everything the kernel needs, as flat arrays.
-#[derive(Clone, Debug, Default)]
-pub struct GpuScene {
-    pub vertices: Vec<GpuVertex>,
-    /// One per vertex when some mesh has COLOR_0 or TEXCOORD_1, else empty.
-    pub vertex_extras: Vec<GpuVertexExtra>,
-    /// Object-space triangle corners in BLAS leaf order, xyz + pad.
-    pub triangle_positions: Vec<[f32; 4]>,
-    pub triangles: Vec<GpuTriangle>,
-    /// Per triangle: index of its emissive light relative to the instance's `light_base`.
-    pub triangle_lights: Vec<u32>,
-    pub blas_nodes: Vec<BvhNode>,
-    pub tlas_nodes: Vec<BvhNode>,
-    /// The item the top level starts at (inner node 0, or the one instance's leaf).
-    pub tlas_root: u32,
-    pub instances: Vec<GpuInstance>,
-    pub materials: Vec<GpuMaterial>,
-    pub textures: Vec<GpuTexture>,
-    pub texels: Vec<u32>,
-    pub lights: Vec<GpuLight>,
-    /// Light selection CDF, `lights.len() + 1` entries.
-    pub light_cdf: Vec<f32>,
-    pub env: GpuEnvironment,
-    pub features: SceneFeatures,
-    pub triangle_count: usize,
-    pub build_times: bvh::BuildTimes,
-    /// Radius of the scene's bounding sphere (for directional and environment light power), in
-    /// f64: a vertex at 1e30 makes its square overflow f32.
-    pub scene_radius: f64,
-    /// Centre of that sphere (where IGI's particles from directional lights and the
-    /// environment aim).
-    pub scene_center: [f32; 3],
-    /// Where each posed mesh lives in the arrays (CPU side).
-    pub regions: Vec<MeshRegion>,
-}
+use bvh::FlatBvh;
+pub use geometry::used_meshes;
+pub use gpu_scene::{GpuScene, MeshRegion};
 
 impl GpuScene {
     /// A hash of everything the kernel reads (arrays, environment): two scenes with the same
