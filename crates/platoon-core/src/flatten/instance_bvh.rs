@@ -4,7 +4,7 @@ use obvhs::aabb::Aabb;
 
 use super::bvh::{item, BvhNode, FlatBvh};
 
-/// The top level over instance boxes (every box finite, see [`placeable`]), rebuilt every
+/// The top level over instance boxes (every box finite, see [`placeable`](crate::scene::placeable::placeable)), rebuilt every
 /// generation: a top-down median split on the longest axis of the centroids, one instance per
 /// leaf. It takes a few microseconds per hundred instances where obvhs' fastest PLOC preset took
 /// 0.3 ms for a thousand (measured by `platoon bench dynamic`); a top level is small and its

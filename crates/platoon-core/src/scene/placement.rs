@@ -5,7 +5,7 @@
 use glam::{DVec3, Quat, Vec3};
 
 use crate::error::{Error, Result};
-use crate::scene::graph::Node;
+use crate::scene::Node;
 
 /// A node's placement relative to its parent, as a game sets it.
 #[derive(Clone, Copy, Debug, PartialEq)]
