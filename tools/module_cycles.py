@@ -1,14 +1,12 @@
 #!/usr/bin/env python3
 """Import circles between the modules (files) of each crate: `crate::a::b` paths, `use super::`
-and `use self::` resolved to files. A module and the modules inside it are one unit: a parent's
-`mod child;` and a child's `super::Item` are not edges. Prints each circle
-found and exits 1 when there is one. Usage: tools/module_cycles.py [--strict] [crates-dir]
-
---strict also counts the circles between a module and its children (a parent using a child's
-items, by a bare `child::` path or a re-export, while the child uses items the parent defines),
-and follows `pub use` re-exports, globs too, to the module that defines what they name (`super::Balancer`
-re-exported from `policy` is an edge to `policy`, not to the parent). The structure test runs
-the default; it moves to --strict once --strict finds none (issue 40)."""
+and `use self::`, braced and glob imports, and bare paths to a child module (`child::f()`),
+resolved to the file that defines what they name: `pub use` re-exports, globs too, are followed
+(`super::Balancer` re-exported from `policy` is an edge to `policy`, not to the parent). A parent
+and its children count as any two modules: a parent using a child's items while the child uses
+items the parent defines is a circle. A module's `mod child;` and its tests (`#[cfg(test)] mod
+tests`) are not edges. Prints each circle found and exits 1 when there is one.
+Usage: tools/module_cycles.py [crates-dir]"""
 import os, re, sys
 
 def module_files(src):
@@ -164,24 +162,17 @@ def edges(mods):
                 target = resolve(mods, base + head + item.split("::"))
                 if target is not None and target != m and target != ():
                     out[m].add(target)
-        if STRICT:
-            # Bare paths to a child module: `child::f()`, `use child::X;`, `pub use child::{X, Y}`.
-            children = {k[len(m)] for k in mods if len(k) == len(m) + 1 and k[:len(m)] == m}
-            for name, tail in re.findall(r"(?<![:\w])(\w+)((?:::\w+)*)::", text):
-                if name in children:
-                    target = resolve(mods, list(m) + [name] + [t for t in tail.split("::") if t])
-                    if target is not None and target != m:
-                        out[m].add(target)
-            for name, group in re.findall(r"(?<![:\w])(\w+)::\{([^}]*)\}", text):
-                if name in children:
-                    out[m].add(tuple(list(m) + [name]))
+        # Bare paths to a child module: `child::f()`, `use child::X;`, `pub use child::{X, Y}`.
+        children = {k[len(m)] for k in mods if len(k) == len(m) + 1 and k[:len(m)] == m}
+        for name, tail in re.findall(r"(?<![:\w])(\w+)((?:::\w+)*)::", text):
+            if name in children:
+                target = resolve(mods, list(m) + [name] + [t for t in tail.split("::") if t])
+                if target is not None and target != m:
+                    out[m].add(target)
+        for name, group in re.findall(r"(?<![:\w])(\w+)::\{([^}]*)\}", text):
+            if name in children:
+                out[m].add(tuple(list(m) + [name]))
     return out
-
-def related(a, b):
-    """One module contains the other: a module and its children are one unit (a parent's
-    `mod child;` and a child's `super::Item` are containment, not a circle)."""
-    n = min(len(a), len(b))
-    return a[:n] == b[:n]
 
 def cycles(graph):
     index, low, stack, on, found, counter = {}, {}, [], set(), [], [0]
@@ -190,8 +181,6 @@ def cycles(graph):
         index[v] = low[v] = counter[0]; counter[0] += 1
         stack.append(v); on.add(v)
         for w in graph[v]:
-            if not STRICT and related(v, w):
-                continue
             if w not in index:
                 visit(w); low[v] = min(low[v], low[w])
             elif w in on:
@@ -209,13 +198,8 @@ def cycles(graph):
             visit(v)
     return found
 
-STRICT = False
-
 def main():
-    global STRICT
-    args = [a for a in sys.argv[1:] if a != "--strict"]
-    STRICT = len(args) != len(sys.argv) - 1
-    root = args[0] if args else "crates"
+    root = sys.argv[1] if len(sys.argv) > 1 else "crates"
     bad = 0
     for crate in sorted(os.listdir(root)):
         src = os.path.join(root, crate, "src")
@@ -223,8 +207,7 @@ def main():
             continue
         mods = module_files(src)
         REEXPORTS.clear()
-        if STRICT:
-            reexports(mods)
+        reexports(mods)
         for comp in cycles(edges(mods)):
             bad += 1
             print(f"{crate}: " + " <-> ".join("/".join(m) for m in comp))

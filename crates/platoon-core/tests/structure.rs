@@ -17,8 +17,8 @@ fn no_module_imports_itself_through_others() {
     assert!(report.contains("0 import circle(s)"), "{report}");
 }
 
-/// `tools/module_cycles.py --strict` over a crate of `files` (path under src, text): its report.
-fn strict_report(files: &[(&str, &str)]) -> String {
+/// `tools/module_cycles.py` over a crate of `files` (path under src, text): its report.
+fn cycles_report(files: &[(&str, &str)]) -> String {
     let dir = tempfile::tempdir().expect("a temporary folder");
     for (path, text) in files {
         let file = dir.path().join("toy/src").join(path);
@@ -28,18 +28,17 @@ fn strict_report(files: &[(&str, &str)]) -> String {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let out = Command::new("python3")
         .arg(root.join("tools/module_cycles.py"))
-        .arg("--strict")
         .arg(dir.path())
         .output()
         .expect("python3 runs tools/module_cycles.py");
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
-/// --strict sees a parent and its child importing each other (the default treats them as one
-/// unit), and follows a re-export (a glob too) to the module that defines what it names.
+/// The check sees a parent and its child importing each other (a module and its children are
+/// not one unit), and follows a re-export (a glob too) to the module that defines what it names.
 #[test]
-fn the_strict_cycle_check_sees_parents_and_children() {
-    let circle = strict_report(&[
+fn the_cycle_check_sees_parents_and_children() {
+    let circle = cycles_report(&[
         ("lib.rs", "pub mod balance;\n"),
         (
             "balance/mod.rs",
@@ -51,7 +50,7 @@ fn the_strict_cycle_check_sees_parents_and_children() {
         ),
     ]);
     assert!(circle.contains("toy: balance <-> balance/even"), "{circle}");
-    let apart = strict_report(&[
+    let apart = cycles_report(&[
         ("lib.rs", "pub mod balance;\n"),
         (
             "balance/mod.rs",

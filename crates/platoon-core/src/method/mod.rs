@@ -10,6 +10,7 @@
 //! - [`lhb`]: layered hit buffers (Yu): indirect rays answered by lookups in buffers of fixed
 //!   directions.
 
+mod choice;
 pub mod igi;
 pub mod lhb;
 pub mod links;
@@ -19,42 +20,4 @@ pub mod registry;
 pub mod render_method;
 pub mod variant;
 
-/// How a frame is rendered: a method and its options.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum Method {
-    /// Path tracing (`path`): unbiased.
-    #[default]
-    PathTracing,
-    /// Instant global illumination (`igi`; biased, listed as an approximation).
-    Igi(igi::IgiOptions),
-    /// Vertex links (`links`; biased, listed as approximations).
-    Links(links::Links),
-    /// Layered hit buffers (`lhb`; biased, listed as approximations).
-    Lhb(lhb::Lhb),
-}
-
-impl Method {
-    /// IGI's options when the method is IGI.
-    pub fn igi(&self) -> Option<&igi::IgiOptions> {
-        match self {
-            Method::Igi(o) => Some(o),
-            _ => None,
-        }
-    }
-
-    /// Vertex links' options and job when the method is vertex links.
-    pub fn links(&self) -> Option<&links::Links> {
-        match self {
-            Method::Links(l) => Some(l),
-            _ => None,
-        }
-    }
-
-    /// Layered hit buffers' options and tables when the method is layered hit buffers.
-    pub fn lhb(&self) -> Option<&lhb::Lhb> {
-        match self {
-            Method::Lhb(l) => Some(l),
-            _ => None,
-        }
-    }
-}
+pub use choice::Method;

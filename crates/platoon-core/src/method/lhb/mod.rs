@@ -20,13 +20,14 @@ pub mod lookup;
 mod method;
 mod options;
 pub mod oracle;
+mod prepared;
 pub mod raster;
 pub mod tables;
 
-pub use method::Lhb;
 pub use options::{
     LhbOptions, RasterVariant, FRAME_MARGIN, MAX_BOUNCES, MAX_BYTES, MAX_RESOLUTION,
 };
+pub use prepared::Lhb;
 
 /// A flattened scene of `mesh` alone, at the origin (the tests' scenes).
 #[cfg(test)]
