@@ -66,7 +66,7 @@ fn unbiased_error_falls_as_the_inverse_square_root() {
         // the curve (BSDF sampling is the better estimator under a uniform sky).
         let o = Options {
             reference_spp: 16384,
-            ..options(dir.path(), &spps, &[technique])
+            ..options(dir.path(), &spps, std::slice::from_ref(&technique))
         };
         let report = tradeoff::run(&sphere_under_sky(), &o, &mut |_| {}).unwrap();
         let points: Vec<(f64, f64)> = report.rows.iter().map(|r| (r.spp as f64, r.rmse)).collect();
@@ -339,20 +339,20 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
     init();
     let prepared = cornell();
     let base = FrameParams::new(16, 16, 1, prepared.camera);
-    let defines = |t: Technique| {
+    let defines = |t: &Technique| {
         let tracer = tracer(&prepared, t.sampling());
         let mut p = base.clone();
         t.apply(&mut p);
         tracer.kernel_defines(&p)
     };
-    let plain = defines(Technique::Mis);
+    let plain = defines(&Technique::Mis);
     for t in [
         Technique::MaxDepth(2),
         Technique::RouletteFrom(1),
         Technique::RouletteSurvival(50),
         Technique::NoRegeneration,
     ] {
-        assert_eq!(defines(t), plain, "{t} changed the kernel");
+        assert_eq!(defines(&t), plain, "{t} changed the kernel");
     }
     let with = |d: &'static str| {
         let mut v = plain.clone();
@@ -364,36 +364,36 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
         v
     };
     assert_eq!(
-        sorted(defines(Technique::Bsdf)),
+        sorted(defines(&Technique::Bsdf)),
         sorted(with("SAMPLING_BSDF"))
     );
     assert_eq!(
-        sorted(defines(Technique::Light)),
+        sorted(defines(&Technique::Light)),
         sorted(with("SAMPLING_LIGHT"))
     );
     assert_eq!(Technique::Light.sampling(), Sampling::Light);
     let clamp = Technique::parse("clamp=4").unwrap();
-    assert_eq!(sorted(defines(clamp)), sorted(with("CLAMP_INDIRECT")));
+    assert_eq!(sorted(defines(&clamp)), sorted(with("CLAMP_INDIRECT")));
     assert_eq!(
-        sorted(defines(Technique::UniformLights)),
+        sorted(defines(&Technique::UniformLights)),
         sorted(with("LIGHT_SELECT_UNIFORM"))
     );
     assert_eq!(
-        sorted(defines(Technique::DeterministicTermination)),
+        sorted(defines(&Technique::DeterministicTermination)),
         sorted(with("RR_DETERMINISTIC"))
     );
     assert_eq!(
-        sorted(defines(Technique::SingleDiffuseBounce)),
+        sorted(defines(&Technique::SingleDiffuseBounce)),
         sorted(with("SINGLE_DIFFUSE_BOUNCE"))
     );
     assert_eq!(
-        sorted(defines(Technique::Ris(4))),
+        sorted(defines(&Technique::Ris(4))),
         sorted(with("LIGHT_SELECT_RIS"))
     );
     let mut both = with("LIGHT_SELECT_RIS");
     both.push("RIS_MIS");
-    assert_eq!(sorted(defines(Technique::MisRis(4))), sorted(both));
-    let generic = defines(Technique::GenericKernel);
+    assert_eq!(sorted(defines(&Technique::MisRis(4))), sorted(both));
+    let generic = defines(&Technique::GenericKernel);
     for effect in [
         "HAS_TEXTURES",
         "HAS_TRANSMISSION",
@@ -406,7 +406,7 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
         );
     }
     let fixed = Technique::parse("rr-fixed=50").unwrap();
-    assert_eq!(sorted(defines(fixed)), sorted(with("RR_FIXED")));
+    assert_eq!(sorted(defines(&fixed)), sorted(with("RR_FIXED")));
 }
 
 #[test]

@@ -8,8 +8,9 @@ use anyhow::{anyhow, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use platoon_lab::tradeoff::{self, report, Progress, Technique};
 
-use crate::method_args::MethodArg;
 use crate::scene_args::SceneArgs;
+use platoon::core::method::kind::MethodKind;
+use platoon::core::method::registry;
 
 #[derive(clap::Args)]
 pub struct TradeoffArgs {
@@ -26,23 +27,18 @@ pub struct TradeoffArgs {
     /// rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, generic-kernel, ris=M,
     /// mis-ris=M, dpt, spt (the streaming kernels: Bikker's RR/SPT), nop (the last path of a
     /// pass cut where its SIMD group stopped: biased), single-bounce, no-textures,
-    /// no-normal-maps, opaque, env-mean,
-    /// igi=N[+boxes][+downK][+interMxN][+minD], links=N[+bB][+nosmooth][+vertex][+subK] (vertex
-    /// links: N directions, B bounces, every mesh subdivided K times; the update's time
-    /// counts), lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild] (layered hit buffers),
-    /// denoise=atrous (the filter after assembly, guides and filter timed), adaptive=T
-    /// (adaptive sampling at noise threshold T; the spp is each pixel's most). Default:
-    /// mis,bsdf,light, max-depth=2, no-regeneration; with --method igi or links that method's
-    /// sweep.
+    /// no-normal-maps, opaque, env-mean, denoise=atrous (the filter after assembly, guides and
+    /// filter timed), adaptive=T (adaptive sampling at noise threshold T; the spp is each
+    /// pixel's most), and a method with its options, NAME=VALUE[+OPTION]... (its flags'
+    /// settings, `+subK`: every mesh subdivided K times; its preparation's time counts; an
+    /// unknown option lists them). Default: the sweep of --method.
     #[arg(long, value_delimiter = ',')]
     techniques: Option<Vec<String>>,
-    /// `igi` sweeps instant global illumination against the path tracer (mis) by default: VPL
-    /// counts 30, 90, 180 and 720, then at 180 each acceleration alone (imperfect visibility,
-    /// 4x4 downsampling, 3x3 interleaving) and all three. `links` sweeps vertex links against
-    /// mis and igi=180: 16, 64 and 256 directions, then at 256 one bounce, no smoothing,
-    /// direct light at vertices alone, and the scene subdivided twice and three times.
-    #[arg(long, value_enum, default_value = "path")]
-    method: MethodArg,
+    /// The method whose comparison is swept when no --techniques are given (path: mis, bsdf,
+    /// light, max-depth=2, no-regeneration; another: that method at its settings against the
+    /// path tracer and the methods before it).
+    #[arg(long, default_value = "path", value_parser = parse_method)]
+    method: &'static dyn MethodKind,
     #[arg(long, default_value_t = 0)]
     seed: u32,
     /// Renders timed per cell (the median is reported).
@@ -63,15 +59,12 @@ pub struct TradeoffArgs {
 }
 
 pub fn run(args: TradeoffArgs) -> Result<()> {
-    let techniques = match (&args.techniques, args.method) {
-        (Some(list), _) => list
+    let techniques = match &args.techniques {
+        Some(list) => list
             .iter()
             .map(|t| Technique::parse(t))
             .collect::<Result<Vec<_>>>()?,
-        (None, MethodArg::Path) => Technique::DEFAULT.to_vec(),
-        (None, MethodArg::Igi) => Technique::igi_sweep(),
-        (None, MethodArg::Links) => Technique::links_sweep(),
-        (None, MethodArg::Lhb) => Technique::lhb_sweep(),
+        None => Technique::sweep_of(args.method),
     };
     let options = tradeoff::Options {
         width: args.width,
@@ -141,4 +134,9 @@ pub fn run(args: TradeoffArgs) -> Result<()> {
         println!("{text}");
     }
     Ok(())
+}
+
+fn parse_method(name: &str) -> Result<&'static dyn MethodKind, String> {
+    registry::kind(name)
+        .ok_or_else(|| format!("unknown method {name}: one of {}", registry::names()))
 }

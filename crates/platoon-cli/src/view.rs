@@ -278,8 +278,8 @@ impl Viewer {
             if s.plan.resolution < 1.0 {
                 below += &format!(", {:.0}% resolution (upscaled)", 100.0 * s.plan.resolution);
             }
-            if let Some(igi) = self.driver.options().method.igi() {
-                below += &format!(", IGI {} VPLs", igi.slots());
+            if let Some(brief) = self.driver.options().method.unit().brief() {
+                below += &format!(", {brief}");
             }
             if let Some(gi) = &s.gi {
                 below += &format!(", lighting {} generations old", gi.age);

@@ -14,6 +14,7 @@
 
 mod collective;
 pub mod local;
+pub mod method_wire;
 pub mod params;
 pub mod ranks;
 pub mod remote;

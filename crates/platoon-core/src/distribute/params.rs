@@ -2,17 +2,15 @@
 //! loop's workers: the frame driver on rank 0 decides each frame's camera, samples and film).
 //! Every field is written out by name: a new field of `FrameParams` breaks the build here until
 //! it travels. The accumulated sums and the converged mask travel only for the span the rank
-//! renders (`wire::put_film_span`). Methods whose frames carry a preparation (vertex links'
-//! solution, layered hit buffers' tables) do not travel yet: refused with a message.
+//! renders (`wire::put_film_span`); the method by its settings (`method_wire`).
 
 use std::time::Duration;
 
+use super::method_wire::{get_method, put_method};
 use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
 use crate::frame::aov::AovPass;
 use crate::frame::{FrameParams, Output, Span};
-use crate::method::igi::IgiOptions;
 use crate::method::path_kernel::PathKernel;
-use crate::method::Method;
 use crate::scene::camera::Camera;
 
 fn opt_f32(w: &mut Writer, v: Option<f32>) {
@@ -30,21 +28,8 @@ fn flag(r: &mut Reader) -> Result<bool, WireError> {
     Ok(r.u8()? != 0)
 }
 
-/// Whether `method`'s frames can be sent to another rank.
-pub fn travels(method: &Method) -> Result<(), String> {
-    match method {
-        Method::PathTracing | Method::Igi(_) => Ok(()),
-        Method::Links(_) | Method::Lhb(_) => Err(format!(
-            "{} cannot render over the ranks of a game loop yet (its preparation does not \
-             travel): use --method path or igi",
-            method.unit().name()
-        )),
-    }
-}
-
 /// `p` for a rank rendering `span`: everything, with the sums and mask of the span only.
 pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), String> {
-    travels(&p.method)?;
     let FrameParams {
         width,
         height,
@@ -91,26 +76,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
     }
     w.u8(ris_candidates.is_some() as u8);
     w.u32(ris_candidates.unwrap_or(0));
-    match method {
-        Method::Igi(o) => {
-            let IgiOptions {
-                paths,
-                bounces,
-                min_distance,
-                imperfect_visibility,
-                downsample,
-                interleave,
-            } = o;
-            w.u8(1);
-            w.u32(*paths);
-            w.u32(*bounces);
-            w.f32(*min_distance);
-            w.u8(*imperfect_visibility as u8);
-            w.u32(*downsample);
-            w.pod(interleave);
-        }
-        _ => w.u8(0),
-    }
+    put_method(w, method)?;
     w.u8(match kernel {
         PathKernel::Auto => 0,
         PathKernel::Mega => 1,
@@ -168,21 +134,7 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
     let some = flag(r)?;
     let m = r.u32()?;
     p.ris_candidates = some.then_some(m);
-    p.method = match r.u8()? {
-        0 => Method::PathTracing,
-        1 => Method::Igi(IgiOptions {
-            paths: r.u32()?,
-            bounces: r.u32()?,
-            min_distance: r.f32()?,
-            imperfect_visibility: flag(r)?,
-            downsample: r.u32()?,
-            interleave: r
-                .pod::<u32>()?
-                .try_into()
-                .map_err(|_| WireError("IGI's interleave".into()))?,
-        }),
-        k => return Err(WireError(format!("unknown method {k}"))),
-    };
+    p.method = get_method(r)?;
     p.kernel = match r.u8()? {
         0 => PathKernel::Auto,
         1 => PathKernel::Mega,
@@ -233,6 +185,8 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
 mod tests {
     use super::*;
     use crate::distribute::wire::fingerprint;
+    use crate::method::igi::IgiOptions;
+    use crate::method::Method;
 
     fn round_trip(p: &FrameParams, span: Span) -> FrameParams {
         let mut w = Writer::default();
@@ -254,10 +208,14 @@ mod tests {
         p.ris_candidates = Some(4);
         p.ris_mis = true;
         p.cut_last_paths = true;
+        // Every IGI option away from its default: each must travel.
         p.method = Method::Igi(IgiOptions {
             paths: 7,
+            bounces: 2,
+            min_distance: 0.25,
+            imperfect_visibility: true,
+            downsample: 2,
             interleave: [2, 3],
-            ..Default::default()
         });
         p.kernel = PathKernel::Streaming;
         p.seed = 11;

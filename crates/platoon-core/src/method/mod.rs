@@ -12,12 +12,15 @@
 
 mod choice;
 pub mod igi;
+pub mod kind;
 pub mod lhb;
 pub mod links;
 pub mod path;
 pub mod path_kernel;
 pub mod registry;
 pub mod render_method;
+pub mod settings;
+pub mod technique;
 pub mod variant;
 
 pub use choice::Method;

@@ -33,3 +33,34 @@ impl RenderMethod for PathTracing {
 }
 
 pub use super::path_kernel::PathKernel;
+
+/// The path tracer as a user chooses it: no settings of its own (its knobs are the frame's).
+pub struct PathKind;
+
+impl crate::method::kind::MethodKind for PathKind {
+    fn name(&self) -> &'static str {
+        "path"
+    }
+    fn title(&self) -> &'static str {
+        "path tracing"
+    }
+    fn summary(&self) -> &'static str {
+        "Path tracing with NEE and MIS: unbiased, the reference."
+    }
+    fn settings(&self) -> &'static [crate::method::settings::Setting] {
+        &[]
+    }
+    fn build(
+        &self,
+        _given: &crate::method::settings::Settings,
+    ) -> Result<crate::method::Method, String> {
+        Ok(crate::method::Method::PathTracing)
+    }
+    fn settings_of(&self, _method: &crate::method::Method) -> crate::method::settings::Settings {
+        Default::default()
+    }
+    /// Its estimators against each other, a short path and no regeneration.
+    fn sweep(&self) -> &'static [&'static str] {
+        &["mis", "bsdf", "light", "max-depth=2", "no-regeneration"]
+    }
+}

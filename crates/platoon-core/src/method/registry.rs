@@ -1,12 +1,31 @@
-//! The one place that maps a `Method` to its unit: a new method adds its variant to `Method`
-//! and one arm to `Method::unit`.
+//! The registration of every method: how it is chosen (`KINDS`, its settings and sweep) and
+//! what renders it (`Method::unit`). A new method adds its variant to `Method`, its entry here
+//! and its arm of `Method::unit`.
 
-use crate::method::path::PathTracing;
+use crate::method::igi::IgiKind;
+use crate::method::kind::MethodKind;
+use crate::method::lhb::LhbKind;
+use crate::method::links::LinksKind;
+use crate::method::path::{PathKind, PathTracing};
 use crate::method::render_method::RenderMethod;
 use crate::method::Method;
 
+/// Every method, the default first.
+pub static KINDS: &[&dyn MethodKind] = &[&PathKind, &IgiKind, &LinksKind, &LhbKind];
+
+/// The method named `name`.
+pub fn kind(name: &str) -> Option<&'static dyn MethodKind> {
+    KINDS.iter().copied().find(|k| k.name() == name)
+}
+
+/// The names of every method, comma-separated (for messages).
+pub fn names() -> String {
+    let names: Vec<&str> = KINDS.iter().map(|k| k.name()).collect();
+    names.join(", ")
+}
+
 impl Method {
-    /// The method's unit: the registration of every method.
+    /// The method's unit: what renders it.
     pub fn unit(&self) -> &dyn RenderMethod {
         match self {
             Method::PathTracing => &PathTracing,
@@ -14,5 +33,63 @@ impl Method {
             Method::Links(links) => links,
             Method::Lhb(lhb) => lhb,
         }
+    }
+
+    /// How it is chosen: its settings and what it asks of the layers above.
+    pub fn kind(&self) -> &'static dyn MethodKind {
+        kind(self.unit().name()).expect("every method is registered in KINDS")
+    }
+
+    /// Its settings, all of them.
+    pub fn settings(&self) -> crate::method::settings::Settings {
+        self.kind().settings_of(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::technique;
+
+    #[test]
+    fn every_flag_names_one_setting_of_one_method() {
+        let mut flags: Vec<&str> = KINDS
+            .iter()
+            .flat_map(|k| k.settings().iter().map(|s| s.flag))
+            .collect();
+        let all = flags.len();
+        flags.sort();
+        flags.dedup();
+        assert_eq!(flags.len(), all, "a flag is given twice: {flags:?}");
+    }
+
+    #[test]
+    fn a_method_is_rebuilt_from_its_settings_and_writes_its_techniques_back() {
+        for kind in KINDS {
+            let defaults = kind.build(&Default::default()).unwrap();
+            assert_eq!(defaults.kind().name(), kind.name());
+            let own = format!("{}=", kind.name());
+            // (`+subK` is the lab's: the scene subdivided.)
+            let own_techniques = kind.sweep().iter().filter(|t| t.starts_with(&own));
+            for t in own_techniques.filter(|t| !t.contains("+sub")) {
+                let given = technique::parse(*kind, t, &t[own.len()..]).unwrap();
+                assert_eq!(technique::format(*kind, &given), *t);
+                let method = kind.build(&given).unwrap();
+                // What the wire sends rebuilds the same method.
+                assert_eq!(kind.build(&method.settings()).unwrap(), method, "{t}");
+            }
+        }
+    }
+
+    #[test]
+    fn an_unknown_option_is_refused_with_the_ones_there_are() {
+        let igi = kind("igi").unwrap();
+        let e = technique::parse(igi, "igi=30+sideways", "30+sideways").unwrap_err();
+        assert!(e.contains("unknown IGI option \"sideways\""), "{e}");
+        assert!(e.contains("boxes, downN, interMxN, minX, all"), "{e}");
+        let e = technique::parse(igi, "igi=", "").unwrap_err();
+        assert!(e.contains("igi needs its vpls"), "{e}");
+        let e = technique::parse(igi, "igi=0", "0").unwrap_err();
+        assert!(e.contains("at least one VPL"), "{e}");
     }
 }

@@ -55,6 +55,10 @@ pub trait RenderMethod {
     fn renewal(&self) -> Option<Method> {
         None
     }
+    /// A few words for a live view's status line (IGI's VPL count), if it has any to say.
+    fn brief(&self) -> Option<String> {
+        None
+    }
     /// Entries of the output's metadata beyond its description (what its preparation did).
     fn metadata(&self) -> Vec<(String, String)> {
         Vec::new()

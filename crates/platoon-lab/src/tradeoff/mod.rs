@@ -7,9 +7,8 @@
 pub mod adaptive;
 pub mod denoise;
 pub mod effects;
-pub mod lhb_technique;
-pub mod links_technique;
 pub mod markdown;
+pub mod method_technique;
 pub mod metrics;
 pub mod plots;
 pub mod reference;
@@ -156,7 +155,7 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
         tracer
             .render(&params, 0, o.height, &mut |_| {})
             .with_context(|| format!("warming up {technique}"))?;
-        setups.push((*technique, params, update));
+        setups.push((technique.clone(), params, update));
     }
     let cells: Vec<(usize, u32)> = (0..setups.len())
         .flat_map(|t| o.spp_list.iter().map(move |&spp| (t, spp)))

@@ -7,15 +7,15 @@ use std::fmt;
 use anyhow::{bail, Result};
 use platoon_core::denoise::Denoiser;
 use platoon_core::frame::FrameParams;
-use platoon_core::method::igi::IgiOptions;
+use platoon_core::method::kind::MethodKind;
+use platoon_core::method::registry;
 use platoon_tracer::Sampling;
 
 use super::effects::Effect;
-use super::lhb_technique::LhbTechnique;
-use super::links_technique::LinksTechnique;
+use super::method_technique::{methods_help, MethodTechnique};
 use super::variant::Variant;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Technique {
     /// Next-event estimation and BSDF sampling combined by MIS: platoon's default.
     Mis,
@@ -57,12 +57,8 @@ pub enum Technique {
     /// MIS on the scene without one of its effects (its stand-in instead): what the effect
     /// costs in time and what removing it does to the image.
     Without(Effect),
-    /// Instant global illumination with N VPLs and some of its accelerations (biased).
-    Igi(IgiTechnique),
-    /// Vertex links with N directions per element and some of its options (biased).
-    Links(LinksTechnique),
-    /// Layered hit buffers with a direction set and some of its options (biased).
-    Lhb(LhbTechnique),
+    /// A rendering method other than the path tracer, with some of its settings (biased).
+    Method(MethodTechnique),
     /// MIS, then a denoiser over the assembled image, guided by the frame's albedo, normal and
     /// depth (biased); its time includes the guides' passes and the filter.
     Denoise(Denoiser),
@@ -71,167 +67,14 @@ pub enum Technique {
     Adaptive(u32),
 }
 
-/// IGI's options as a technique: `igi=N` (N VPLs, exact) with `+boxes` (imperfect
-/// visibility), `+downK`, `+interMxN`, `+minD` (bounded geometry term) or `+all` (boxes, down4
-/// and inter3x3, the paper's combination).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct IgiTechnique {
-    pub vpls: u32,
-    pub boxes: bool,
-    pub downsample: u32,
-    pub interleave: [u32; 2],
-    /// The minimum distance's f32 bits (0: unbounded).
-    pub min_distance: u32,
-}
-
-impl IgiTechnique {
-    pub fn options(self) -> IgiOptions {
-        IgiOptions {
-            min_distance: f32::from_bits(self.min_distance),
-            imperfect_visibility: self.boxes,
-            downsample: self.downsample,
-            interleave: self.interleave,
-            ..IgiOptions::with_vpls(self.vpls)
-        }
-    }
-
-    fn parse(s: &str, value: &str) -> Result<IgiTechnique> {
-        let mut parts = value.split('+');
-        let vpls = match parts.next().map(|v| v.trim().parse::<u32>()) {
-            Some(Ok(n)) if n > 0 => n,
-            _ => bail!("technique {s:?}: igi needs a VPL count, e.g. igi=180+boxes"),
-        };
-        let mut t = IgiTechnique {
-            vpls,
-            boxes: false,
-            downsample: 1,
-            interleave: [1, 1],
-            min_distance: 0,
-        };
-        for part in parts {
-            let part = part.trim();
-            let bad = || {
-                anyhow::anyhow!(
-                "technique {s:?}: unknown IGI option {part:?} (boxes, downK, interMxN, minD, all)"
-            )
-            };
-            if part == "boxes" {
-                t.boxes = true;
-            } else if part == "all" {
-                t.boxes = true;
-                t.downsample = 4;
-                t.interleave = [3, 3];
-            } else if let Some(k) = part.strip_prefix("down") {
-                t.downsample = k.parse().map_err(|_| bad())?;
-            } else if let Some(tile) = part.strip_prefix("inter") {
-                let (m, n) = tile.split_once('x').ok_or_else(bad)?;
-                t.interleave = [m.parse().map_err(|_| bad())?, n.parse().map_err(|_| bad())?];
-            } else if let Some(d) = part.strip_prefix("min") {
-                t.min_distance = d.parse::<f32>().map_err(|_| bad())?.to_bits();
-            } else {
-                return Err(bad());
-            }
-        }
-        t.options()
-            .validate()
-            .map_err(|e| anyhow::anyhow!("technique {s:?}: {e}"))?;
-        Ok(t)
-    }
-}
-
-impl fmt::Display for IgiTechnique {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "igi={}", self.vpls)?;
-        let all = self.boxes && self.downsample == 4 && self.interleave == [3, 3];
-        if all {
-            write!(f, "+all")?;
-        } else if self.boxes {
-            write!(f, "+boxes")?;
-        }
-        if self.downsample > 1 && !all {
-            write!(f, "+down{}", self.downsample)?;
-        }
-        if self.interleave != [1, 1] && !all {
-            write!(f, "+inter{}x{}", self.interleave[0], self.interleave[1])?;
-        }
-        if self.min_distance != 0 {
-            write!(f, "+min{}", f32::from_bits(self.min_distance))?;
-        }
-        Ok(())
-    }
-}
-
 impl Technique {
-    /// The techniques a sweep runs when none are named.
-    pub const DEFAULT: [Technique; 5] = [
-        Technique::Mis,
-        Technique::Bsdf,
-        Technique::Light,
-        Technique::MaxDepth(2),
-        Technique::NoRegeneration,
-    ];
-
-    /// What `tradeoff --method igi` sweeps: the path tracer, IGI at the paper's VPL counts,
-    /// then at 180 VPLs each acceleration alone and the three together.
-    pub fn igi_sweep() -> Vec<Technique> {
-        [
-            "mis",
-            "igi=30",
-            "igi=90",
-            "igi=180",
-            "igi=720",
-            "igi=180+boxes",
-            "igi=180+down4",
-        ]
-        .into_iter()
-        .chain(["igi=180+inter3x3", "igi=180+all"])
-        .map(|t| Technique::parse(t).expect("a valid technique"))
-        .collect()
-    }
-
-    /// What `tradeoff --method links` sweeps: the path tracer and IGI at 180 VPLs against vertex
-    /// links at the paper's 256 directions and fewer, with one bounce, without smoothing and
-    /// with the direct light at vertices alone.
-    pub fn links_sweep() -> Vec<Technique> {
-        [
-            "mis",
-            "igi=180",
-            "links=16",
-            "links=64",
-            "links=256",
-            "links=256+b1",
-            "links=256+nosmooth",
-            "links=256+vertex",
-            "links=256+sub2",
-            "links=256+sub3",
-        ]
-        .into_iter()
-        .map(|t| Technique::parse(t).expect("a valid technique"))
-        .collect()
-    }
-
-    /// What `tradeoff --method lhb` sweeps: the path tracer, IGI at 180 VPLs and vertex links
-    /// at 256 directions against layered hit buffers along the thesis' directions and
-    /// resolutions, cone radii and bounces.
-    pub fn lhb_sweep() -> Vec<Technique> {
-        [
-            "mis",
-            "igi=180",
-            "links=256",
-            "lhb=ico20+r32",
-            "lhb=ico80+r64",
-            "lhb=ico320+r64",
-            "lhb=ico320",
-            "lhb=ico320+c0",
-            "lhb=ico320+c3",
-            "lhb=ico320+b1",
-            "lhb=ico320+b3",
-            "lhb=oct128",
-            "lhb=halton320",
-        ]
-        .into_iter()
-        .map(|t| Technique::parse(t).expect("a valid technique"))
-        .collect()
+    /// What `tradeoff --method NAME` sweeps when no techniques are named: the method's own
+    /// comparison (`MethodKind::sweep`).
+    pub fn sweep_of(kind: &dyn MethodKind) -> Vec<Technique> {
+        kind.sweep()
+            .iter()
+            .map(|t| Technique::parse(t).expect("a method's sweep parses"))
+            .collect()
     }
 
     /// `mis`, `bsdf`, `light`, `max-depth=N`, `rr-depth=N`, `rr-survival=P` (percent),
@@ -255,10 +98,12 @@ impl Technique {
                 _ => bail!("technique {s:?}: {what} needs a whole number, e.g. {name}=2"),
             }
         };
+        if let Some(kind) = registry::kind(name).filter(|k| k.primary().is_some()) {
+            return MethodTechnique::parse(kind, s, value.unwrap_or(""))
+                .map(Technique::Method)
+                .map_err(anyhow::Error::msg);
+        }
         Ok(match name {
-            "igi" => Technique::Igi(IgiTechnique::parse(s, value.unwrap_or(""))?),
-            "links" => Technique::Links(LinksTechnique::parse(s, value.unwrap_or(""))?),
-            "lhb" => Technique::Lhb(LhbTechnique::parse(s, value.unwrap_or(""))?),
             "denoise" => match value.unwrap_or("").parse::<Denoiser>() {
                 Ok(Denoiser::None) | Err(_) => {
                     bail!("technique {s:?}: denoise needs a denoiser, e.g. denoise=atrous")
@@ -309,15 +154,16 @@ impl Technique {
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
                  generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
-                 env-mean, no-clearcoat, no-diffuse-transmission, no-sheen, no-volume, no-iridescence, no-anisotropy, no-dispersion, igi=N[+boxes][+downK][+interMxN][+minD], \
-                 links=N[+bB][+nosmooth][+vertex][+subK], lhb=SET[+rR][+cC][+bB][+lL][+exact][+rebuild], \
-                 denoise=atrous, denoise=oidn, adaptive=T"
+                 env-mean, no-clearcoat, no-diffuse-transmission, no-sheen, no-volume, \
+                 no-iridescence, no-anisotropy, no-dispersion, denoise=atrous, denoise=oidn, \
+                 adaptive=T, and the methods': {}",
+                methods_help()
             ),
         })
     }
 
     /// Converges to something else than the reference.
-    pub fn biased(self) -> bool {
+    pub fn biased(&self) -> bool {
         matches!(
             self,
             Technique::MaxDepth(_)
@@ -326,9 +172,7 @@ impl Technique {
                 | Technique::DeterministicTermination
                 | Technique::SingleDiffuseBounce
                 | Technique::CutLastPaths
-                | Technique::Igi(_)
-                | Technique::Links(_)
-                | Technique::Lhb(_)
+                | Technique::Method(_)
                 | Technique::Denoise(_)
                 // Stopping on a pixel's own error estimate leans its mean (slightly).
                 | Technique::Adaptive(_)
@@ -336,7 +180,7 @@ impl Technique {
     }
 
     /// The estimator its tracer is built with.
-    pub fn sampling(self) -> Sampling {
+    pub fn sampling(&self) -> Sampling {
         match self {
             Technique::Bsdf => Sampling::Bsdf,
             Technique::Light => Sampling::Light,
@@ -345,17 +189,17 @@ impl Technique {
     }
 
     /// The scene it renders when not the sweep's own: without an effect, or subdivided.
-    pub fn variant(self) -> Option<Variant> {
-        match self {
+    pub fn variant(&self) -> Option<Variant> {
+        match self.clone() {
             Technique::Without(e) => Some(Variant::Without(e)),
-            Technique::Links(t) if t.subdivisions > 0 => Some(Variant::Subdivided(t.subdivisions)),
+            Technique::Method(t) if t.subdivisions > 0 => Some(Variant::Subdivided(t.subdivisions)),
             _ => None,
         }
     }
 
     /// Sets what it changes on a frame's parameters.
-    pub fn apply(self, params: &mut FrameParams) {
-        match self {
+    pub fn apply(&self, params: &mut FrameParams) {
+        match self.clone() {
             Technique::MaxDepth(n) => params.max_depth = n,
             Technique::RouletteFrom(n) => params.rr_depth = n,
             Technique::RouletteSurvival(p) => params.rr_survival = p as f32 / 100.0,
@@ -378,9 +222,7 @@ impl Technique {
                 params.kernel = platoon_core::method::path::PathKernel::Mega;
                 params.cut_last_paths = true;
             }
-            Technique::Igi(t) => params.method = platoon_core::Method::Igi(t.options()),
-            Technique::Links(t) => params.method = t.method(),
-            Technique::Lhb(t) => params.method = t.method(),
+            Technique::Method(t) => params.method = t.method(),
             // Its change is to the scene (`variant`).
             Technique::Without(_) => {}
             // Its change is after assembly, or how the frame is rendered (`mod.rs`).
@@ -413,9 +255,7 @@ impl fmt::Display for Technique {
             Technique::Without(e) => write!(f, "{}", e.name()),
             Technique::Denoise(d) => write!(f, "denoise={}", format!("{d:?}").to_lowercase()),
             Technique::Adaptive(bits) => write!(f, "adaptive={}", f32::from_bits(*bits)),
-            Technique::Igi(t) => write!(f, "{t}"),
-            Technique::Links(t) => write!(f, "{t}"),
-            Technique::Lhb(t) => write!(f, "{t}"),
+            Technique::Method(t) => write!(f, "{t}"),
         }
     }
 }

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use anyhow::{bail, Context as _, Result};
 use glam::DVec3;
-use platoon_core::distribute::params::travels;
+use platoon_core::distribute::method_wire::travels;
 use platoon_core::distribute::remote::{serve as serve_bands, LocalRank, RankTracer, RemoteRank};
 use platoon_core::distribute::wire::{self, Reader, Writer};
 use platoon_core::drive::queries::QueryScene;

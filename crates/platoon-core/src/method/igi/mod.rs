@@ -12,7 +12,9 @@
 //! image is the same bits for any split between devices (see `filter`).
 
 pub mod filter;
+mod kind;
 mod layout;
+pub use kind::IgiKind;
 mod options;
 
 pub use layout::{IgiTexel, IgiVertex, Vpl};
@@ -25,6 +27,10 @@ use crate::method::render_method::RenderMethod;
 impl RenderMethod for IgiOptions {
     fn name(&self) -> &'static str {
         "igi"
+    }
+
+    fn brief(&self) -> Option<String> {
+        Some(format!("IGI {} VPLs", self.slots()))
     }
 
     fn describe(&self) -> String {

@@ -16,7 +16,9 @@
 pub mod directional_map;
 pub mod directions;
 pub mod frame;
+mod kind;
 pub mod lookup;
+pub use kind::LhbKind;
 mod method;
 mod options;
 pub mod oracle;

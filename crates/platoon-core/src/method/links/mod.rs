@@ -27,6 +27,8 @@ pub mod directions;
 pub mod elements;
 pub mod gather;
 pub mod job;
+mod kind;
+pub use kind::LinksKind;
 mod options;
 pub mod reduce;
 pub mod revalidate;

@@ -1,0 +1,67 @@
+//! A rendering method as a user chooses it: its name, its settings described once, how they
+//! make the frame's `Method`, and what it asks of the layers above (whether it travels between
+//! ranks, the sweep it is compared in). One entry of `registry::KINDS` per method.
+
+use super::settings::{Setting, Settings};
+use super::Method;
+
+/// Named groups of settings a technique may give at once (IGI's `all`): the name, then each
+/// setting's key and value as written.
+pub type Preset = (&'static str, &'static [(&'static str, &'static str)]);
+
+pub trait MethodKind: Sync {
+    /// Its name: `--method NAME`, techniques' `NAME=...`, the wire.
+    fn name(&self) -> &'static str;
+    /// Its name in messages (`IGI`, `vertex links`).
+    fn title(&self) -> &'static str;
+    /// One line for `--method`'s help.
+    fn summary(&self) -> &'static str;
+    /// Its options, in the order help and technique strings list them.
+    fn settings(&self) -> &'static [Setting];
+    /// The method with the `given` settings and the rest default, validated: an error names
+    /// the setting.
+    fn build(&self, given: &Settings) -> Result<Method, String>;
+    /// Every setting of `method` (one of this kind), so that `build` of them renders what
+    /// `method` renders (the wire sends these).
+    fn settings_of(&self, method: &Method) -> Settings;
+    /// The setting a technique string gives right after `=` (`igi=180`: the VPLs).
+    fn primary(&self) -> Option<&'static str> {
+        None
+    }
+    fn presets(&self) -> &'static [Preset] {
+        &[]
+    }
+    /// The techniques `platoon tradeoff --method NAME` compares by default.
+    fn sweep(&self) -> &'static [&'static str];
+    /// Whether its frames can be sent to another rank, and if not why.
+    fn travels(&self) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+impl std::fmt::Debug for dyn MethodKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.name())
+    }
+}
+
+impl PartialEq for dyn MethodKind {
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name()
+    }
+}
+
+impl dyn MethodKind + '_ {
+    /// The setting named `key`.
+    pub fn setting(&self, key: &str) -> Option<&'static Setting> {
+        self.settings().iter().find(|s| s.key == key)
+    }
+
+    /// Every setting's value when none is given.
+    pub fn defaults(&self) -> Settings {
+        let method = self
+            .build(&Settings::default())
+            .expect("a method's defaults are valid");
+        self.settings_of(&method)
+    }
+}
