@@ -30,11 +30,15 @@ pub struct SceneArgs {
 
 impl SceneArgs {
     pub fn load(&self) -> Result<platoon::core::Scene> {
-        let options = platoon::core::scene::gltf_load::LoadOptions {
+        platoon::load_scene_with(self.scene.as_deref(), &self.load_options())
+    }
+
+    /// How the glTF file is read.
+    pub fn load_options(&self) -> platoon::core::scene::gltf_load::LoadOptions {
+        platoon::core::scene::gltf_load::LoadOptions {
             allow_external_files: self.allow_external_files,
             variant: self.variant.clone(),
-        };
-        platoon::load_scene_with(self.scene.as_deref(), &options)
+        }
     }
 
     /// The scene loaded and prepared with the arguments' light and time (and the rest of

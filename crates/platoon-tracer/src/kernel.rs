@@ -58,6 +58,28 @@ pub enum Sampling {
 }
 
 impl Sampling {
+    /// Every estimator, by the name the metadata and the command line give it.
+    pub const NAMES: [(&'static str, Sampling); 3] = [
+        ("mis", Sampling::Mis),
+        ("bsdf", Sampling::Bsdf),
+        ("light", Sampling::Light),
+    ];
+
+    pub fn name(self) -> &'static str {
+        Self::NAMES
+            .iter()
+            .find(|(_, s)| *s == self)
+            .map(|(n, _)| *n)
+            .expect("every estimator is named")
+    }
+
+    pub fn by_name(name: &str) -> Option<Sampling> {
+        Self::NAMES
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, s)| *s)
+    }
+
     pub(crate) fn define(self) -> Option<&'static str> {
         match self {
             Sampling::Mis => None,

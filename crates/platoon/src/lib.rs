@@ -36,6 +36,7 @@ pub mod metadata;
 pub mod method_update;
 pub mod prepare;
 pub mod render;
+pub mod request;
 
 pub use metadata::{approximations, metadata, metadata_of, SceneFacts};
 pub use platoon_core as core;
@@ -46,3 +47,4 @@ pub use prepare::{
 pub use render::{
     render, render_bands, render_frame, whole_frame, BatchedStats, Rendered, Tracers,
 };
+pub use request::{CameraChoice, Request, RequestError, SceneSource, Still};

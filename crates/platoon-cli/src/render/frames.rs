@@ -14,8 +14,10 @@ use platoon::core::frame::FrameParams;
 use platoon::Tracers;
 
 use super::args::{FrameArgs, RenderArgs};
-use super::outputs::Outputs;
-use super::setup::{aov_metadata, check_output, on_every_rank, setup, Setup};
+use platoon::Still;
+
+use super::outputs;
+use super::setup::{check_output, on_every_rank, setup, Setup};
 
 pub fn run(a: RenderArgs) -> Result<()> {
     check_output(&a)?;
@@ -326,11 +328,12 @@ impl Frames {
         };
         let params = job.params(&self.setup, frame, camera);
         let rendered = tracers.render_batched(scene, &params, &self.setup.batching, progress)?;
-        let outputs = Outputs::of(
+        let mut meta = platoon::metadata_of(&facts, &params, &rendered, self.setup.sampling);
+        let still = Still::of(
             tracers,
             scene,
             &params,
-            &rendered,
+            rendered,
             aovs,
             denoiser,
             facts.origin,
@@ -338,13 +341,10 @@ impl Frames {
         if !self.writes {
             return Ok(());
         }
-        let meta = platoon::metadata_of(&facts, &params, &rendered, self.setup.sampling);
-        let mut meta = meta;
         meta.push(("animation_frame".into(), frame.to_string()));
         meta.push(("animation_time".into(), time.to_string()));
         meta.push(("job".into(), job.of_frame(frame)));
-        meta.extend(aov_metadata(aovs));
-        outputs.write(path, &meta)?;
+        outputs::write(&still.with_metadata(meta), path)?;
         Ok(())
     }
 }

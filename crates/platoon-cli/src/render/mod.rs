@@ -2,7 +2,6 @@
 //! `--frames`, an animation to numbered files ([`frames`]), optionally a video ([`video`]).
 
 mod args;
-mod batching;
 mod farm;
 mod frames;
 mod outputs;

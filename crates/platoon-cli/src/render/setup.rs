@@ -1,6 +1,6 @@
-//! What `platoon render` makes of its arguments before rendering: the scene loaded, the frame's
-//! parameters, the tracers' options, the job's ranks; the output refused early when it cannot be
-//! written.
+//! What `platoon render` makes of its arguments before rendering: a request (`platoon::Request`,
+//! which holds the rules), the scene it loads, the frame's parameters, the tracers' options, the
+//! job's ranks; the output refused early when it cannot be written.
 
 use std::path::PathBuf;
 use std::rc::Rc;
@@ -11,12 +11,12 @@ use platoon::core::denoise::Denoiser;
 use platoon::core::frame::adaptive::{Adaptive, Batching};
 use platoon::core::frame::aov::Aov;
 use platoon::core::frame::FrameParams;
+use platoon::core::output::{check_image_path, ImageFormat};
 use platoon::distributed::Session;
-use platoon::tracer::Sampling;
-use platoon::{PrepareOptions, Tracers};
+use platoon::tracer::{MemoryPath, Sampling};
+use platoon::{CameraChoice, PrepareOptions, Request, RequestError, SceneSource, Tracers};
 
 use super::args::{FrameArgs, MemoryArg, RenderArgs, SamplingArg};
-use super::batching;
 
 /// What a render needs besides the camera: the scene loaded, how to prepare it, the frame's
 /// parameters and the tracers' options.
@@ -98,87 +98,104 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         frames,
     } = a;
     let mut aovs = aov.map(|l| l.0).unwrap_or_default();
-    denoise
-        .available()
-        .map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
-    let kernel = method.kernel;
-    let method = method.method()?;
-    if width == 0 || height == 0 || spp == 0 {
-        bail!("--width, --height and --spp must be positive");
+    let adaptive = adaptive_threshold.map(|threshold| Adaptive {
+        threshold,
+        min_spp: adaptive_min_spp,
+    });
+    // An adaptive render's EXR shows where it stopped: the sample-count layer.
+    if adaptive.is_some()
+        && matches!(check_image_path(&out)?, ImageFormat::Exr)
+        && !aovs.contains(&Aov::SampleCount)
+    {
+        aovs.push(Aov::SampleCount);
     }
-    let loaded = scene.load()?;
-    let options = PrepareOptions {
+    let time_limit = match time_limit {
+        Some(t) if !(t.is_finite() && t > 0.0) => {
+            bail!("--time-limit must be a positive number of seconds")
+        }
+        t => t.map(std::time::Duration::from_secs_f64),
+    };
+    let request = Request {
+        scene: match &scene.scene {
+            Some(path) => SceneSource::File(path.clone()),
+            None => SceneSource::BuiltIn,
+        },
+        load: scene.load_options(),
         env: scene.env_choice(),
         time: scene.time,
-        camera,
-        aperture_radius: aperture,
+        camera: CameraChoice::Scene(camera),
+        aperture,
         focus_distance,
-        ..Default::default()
+        width,
+        height,
+        spp,
+        time_limit,
+        max_depth,
+        seed,
+        method: method.method()?,
+        kernel: method.kernel,
+        sampling: match sampling {
+            SamplingArg::Mis => Sampling::Mis,
+            SamplingArg::Bsdf => Sampling::Bsdf,
+            SamplingArg::Light => Sampling::Light,
+        },
+        devices,
+        balancer,
+        memory: match memory {
+            MemoryArg::Auto => MemoryPath::Auto,
+            MemoryArg::TexelBuffers => MemoryPath::TexelBuffers,
+            MemoryArg::StorageBuffers => MemoryPath::StorageBuffers,
+            MemoryArg::DeviceAddress => MemoryPath::DeviceAddress,
+        },
+        validation,
+        aovs,
+        denoiser: denoise,
+        adaptive,
     };
-    // The camera is the prepared scene's, or each frame's: set before rendering.
-    let placeholder = platoon::core::scene::camera::Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0);
-    let mut params = FrameParams::new(width, height, spp, placeholder);
-    params.seed = seed;
-    params.method = method;
-    params.kernel = kernel;
-    if let Some(d) = max_depth {
-        params.max_depth = d.max(1);
-    }
-    if let Some(t) = time_limit {
-        if !(t.is_finite() && t > 0.0) {
-            bail!("--time-limit must be a positive number of seconds");
-        }
-        params.time_limit = Some(std::time::Duration::from_secs_f64(t));
-    }
-    let (sampling, sampling_name) = match sampling {
-        SamplingArg::Mis => (Sampling::Mis, "mis"),
-        SamplingArg::Bsdf => (Sampling::Bsdf, "bsdf"),
-        SamplingArg::Light => (Sampling::Light, "light"),
-    };
-    let mut tracers = platoon::devices::tracer_options(&devices, validation, sampling)?;
-    for o in &mut tracers {
-        o.memory = match memory {
-            MemoryArg::Auto => platoon::tracer::MemoryPath::Auto,
-            MemoryArg::TexelBuffers => platoon::tracer::MemoryPath::TexelBuffers,
-            MemoryArg::StorageBuffers => platoon::tracer::MemoryPath::StorageBuffers,
-            MemoryArg::DeviceAddress => platoon::tracer::MemoryPath::DeviceAddress,
-        };
-    }
+    request.validate().map_err(as_flags)?;
     if mpi && time_limit.is_some() {
         bail!("--time-limit renders on one device: shares of a frame cut at different times on the ranks would break the image's independence from the split (--mpi-frames renders whole frames, each with the limit)");
     }
-    if tracers.len() > 1 && time_limit.is_some() {
-        bail!("--time-limit renders on one device: bands cut at different times would break the image's independence from the device split");
-    }
+    let tracers = request
+        .tracer_options()
+        .map_err(|e| match e.downcast::<RequestError>() {
+            Ok(e) => as_flags(e),
+            Err(e) => e,
+        })?;
+    let loaded = request.load_scene()?;
     let farm = frames.mpi_frames.is_some();
     let session = if mpi || farm {
         Some(platoon::distributed::join()?)
     } else {
         None
     };
-    let batching = batching::of(
-        adaptive_threshold.map(|threshold| Adaptive {
-            threshold,
-            min_spp: adaptive_min_spp,
-        }),
-        &params,
-        &out,
-        &mut aovs,
-    )?;
+    // The camera is the prepared scene's, or each frame's: set before rendering.
+    let placeholder = platoon::core::scene::camera::Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0);
     let setup = Setup {
         scene: loaded,
-        options,
-        params,
+        options: request.prepare_options(),
+        params: request.frame_params(placeholder),
         tracers,
-        balancer,
-        sampling: sampling_name,
-        aovs,
-        denoiser: denoise,
-        batching,
+        balancer: request.balancer.clone(),
+        sampling: request.sampling.name(),
+        aovs: request.aovs.clone(),
+        denoiser: request.denoiser,
+        batching: request.batching(),
         session,
         farm,
     };
     Ok((setup, out, frames))
+}
+
+/// A request's error with its option written as the flag that sets it.
+fn as_flags(e: RequestError) -> anyhow::Error {
+    let flag = match e.option {
+        "adaptive" => "adaptive-threshold",
+        "aovs" => "aov",
+        "denoiser" => "denoise",
+        option => option,
+    };
+    anyhow::anyhow!("--{}: {}", flag.replace('_', "-"), e.problem)
 }
 
 /// Refuses an output the render could not write, before it starts.
@@ -191,10 +208,4 @@ pub(super) fn check_output(a: &RenderArgs) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// The metadata entry naming the AOV layers (none without AOVs).
-pub(super) fn aov_metadata(aovs: &[Aov]) -> Option<(String, String)> {
-    let names: Vec<&str> = aovs.iter().map(|a| a.name()).collect();
-    (!aovs.is_empty()).then(|| ("aovs".into(), names.join(",")))
 }

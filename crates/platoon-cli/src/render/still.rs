@@ -8,9 +8,10 @@ use platoon::core::frame::adaptive::Batching;
 use platoon::core::frame::FrameParams;
 use platoon::Tracers;
 
-use super::outputs::Outputs;
+use platoon::Still;
 
-use super::setup::{aov_metadata, Setup};
+use super::outputs;
+use super::setup::Setup;
 
 /// The still render of `run`.
 pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
@@ -35,22 +36,22 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
     } = setup;
     params.camera = prepared.camera;
     let rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
-    let origin = prepared.posed.origin;
-    let outputs = Outputs::of(
+    let meta = platoon::metadata(&prepared, &params, &rendered, sampling);
+    let still = Still::of(
         &mut tracers,
         &prepared.gpu,
         &params,
-        &rendered,
+        rendered,
         &aovs,
         denoiser,
-        origin,
-    )?;
+        prepared.posed.origin,
+    )?
+    .with_metadata(meta);
     if !speaks {
         return Ok(());
     }
-    let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
-    meta.extend(aov_metadata(&aovs));
-    outputs.write(&out, &meta)?;
+    outputs::write(&still, &out)?;
+    let rendered = &still.rendered;
     let secs = rendered.wall_time.as_secs_f64();
     let spp = match rendered.batched.as_ref().and_then(|b| b.adaptive) {
         Some(_) => format!(
@@ -71,7 +72,7 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         rendered.rays() as f64 / secs / 1e6,
         rendered.rejected_samples()
     );
-    report_method(&rendered);
+    report_method(rendered);
     Ok(())
 }
 

@@ -1,0 +1,191 @@
+//! The request's form: what it asks for, its defaults, and what it turns into for the layers
+//! below (the preparation's options, the frame's parameters, the tracers' options).
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::Result;
+use platoon_core::denoise::Denoiser;
+use platoon_core::frame::adaptive::{Adaptive, Batching};
+use platoon_core::frame::aov::Aov;
+use platoon_core::frame::FrameParams;
+use platoon_core::method::path::PathKernel;
+use platoon_core::scene::camera::Camera;
+use platoon_core::scene::gltf_load::LoadOptions;
+use platoon_core::scene::Scene;
+use platoon_core::Method;
+use platoon_tracer::{MemoryPath, Sampling, TracerOptions};
+
+use crate::devices::DeviceSpec;
+use crate::{EnvChoice, PrepareOptions};
+
+/// Where the scene comes from.
+#[derive(Clone, Debug, Default)]
+pub enum SceneSource {
+    /// The built-in Cornell box.
+    #[default]
+    BuiltIn,
+    /// A glTF file (.gltf or .glb), loaded with the request's `load` options.
+    File(PathBuf),
+    /// A scene the caller made (a generator, an edit of a loaded one).
+    Scene(Box<Scene>),
+}
+
+/// Which camera renders.
+#[derive(Clone, Debug)]
+pub enum CameraChoice {
+    /// The scene's camera of this index (None: its first; the scene framed from its bounds
+    /// when it has none).
+    Scene(Option<usize>),
+    /// This camera, in world space.
+    Given(Camera),
+}
+
+impl Default for CameraChoice {
+    fn default() -> Self {
+        CameraChoice::Scene(None)
+    }
+}
+
+/// A render as a caller asks for it. `Default` is the built-in box, 512 x 512 at 64 samples on
+/// Vulkan device 0, path traced.
+#[derive(Clone, Debug)]
+pub struct Request {
+    pub scene: SceneSource,
+    pub load: LoadOptions,
+    /// The distant light (the scene's own by default).
+    pub env: EnvChoice,
+    /// Animation time in seconds.
+    pub time: f32,
+    pub camera: CameraChoice,
+    /// Thin-lens aperture radius in scene units (0: a pinhole).
+    pub aperture: f32,
+    /// Distance to the plane in focus (None: the scene centre).
+    pub focus_distance: Option<f32>,
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel (with a time limit, the most).
+    pub spp: u32,
+    /// Stop at the last complete pass within this time (one device only).
+    pub time_limit: Option<Duration>,
+    /// Longest path in segments (1: emitters only); None: effectively unbounded.
+    pub max_depth: Option<u32>,
+    pub seed: u32,
+    pub method: Method,
+    pub kernel: PathKernel,
+    pub sampling: Sampling,
+    pub devices: DeviceSpec,
+    /// How lines are split between devices (`platoon_core::balance::NAMES`).
+    pub balancer: String,
+    pub memory: MemoryPath,
+    /// The Khronos validation layer.
+    pub validation: bool,
+    /// AOVs rendered beside the beauty.
+    pub aovs: Vec<Aov>,
+    /// A denoiser run after assembly (biased).
+    pub denoiser: Denoiser,
+    pub adaptive: Option<Adaptive>,
+}
+
+impl Default for Request {
+    fn default() -> Self {
+        Request {
+            scene: SceneSource::BuiltIn,
+            load: LoadOptions::default(),
+            env: EnvChoice::Scene,
+            time: 0.0,
+            camera: CameraChoice::default(),
+            aperture: 0.0,
+            focus_distance: None,
+            width: 512,
+            height: 512,
+            spp: 64,
+            time_limit: None,
+            max_depth: None,
+            seed: 0,
+            method: Method::PathTracing,
+            kernel: PathKernel::Auto,
+            sampling: Sampling::Mis,
+            devices: DeviceSpec::Indices(vec![0]),
+            balancer: "cost-aware".into(),
+            memory: MemoryPath::Auto,
+            validation: false,
+            aovs: Vec::new(),
+            denoiser: Denoiser::None,
+            adaptive: None,
+        }
+    }
+}
+
+impl Request {
+    /// The scene, loaded (a file) or as given.
+    pub fn load_scene(&self) -> Result<Scene> {
+        match &self.scene {
+            SceneSource::BuiltIn => crate::load_scene_with(None, &self.load),
+            SceneSource::File(path) => crate::load_scene_with(Some(path), &self.load),
+            SceneSource::Scene(scene) => Ok((**scene).clone()),
+        }
+    }
+
+    /// How the scene is posed and flattened (the scene's camera: a given one is placed after).
+    pub fn prepare_options(&self) -> PrepareOptions {
+        PrepareOptions {
+            env: self.env.clone(),
+            time: self.time,
+            camera: match self.camera {
+                CameraChoice::Scene(index) => index,
+                CameraChoice::Given(_) => None,
+            },
+            aperture_radius: self.aperture,
+            focus_distance: self.focus_distance,
+            ..Default::default()
+        }
+    }
+
+    /// The frame's parameters, seen by `camera` (in render space).
+    pub fn frame_params(&self, camera: Camera) -> FrameParams {
+        let mut params = FrameParams::new(self.width, self.height, self.spp, camera);
+        params.seed = self.seed;
+        params.method = self.method.clone();
+        params.kernel = self.kernel;
+        if let Some(d) = self.max_depth {
+            params.max_depth = d;
+        }
+        params.time_limit = self.time_limit;
+        params
+    }
+
+    /// The batches of samples the outputs need: adaptive sampling, the variance AOV's.
+    pub fn batching(&self) -> Batching {
+        Batching {
+            adaptive: self.adaptive,
+            variance: self.aovs.contains(&Aov::Variance),
+        }
+    }
+
+    /// One tracer's options per device of `devices`, each with the request's estimator,
+    /// memory path and validation; refused where the devices cannot serve the request.
+    pub fn tracer_options(&self) -> Result<Vec<TracerOptions>> {
+        let mut tracers =
+            crate::devices::tracer_options(&self.devices, self.validation, self.sampling)?;
+        for t in &mut tracers {
+            t.memory = self.memory;
+        }
+        self.validate_devices(tracers.len())?;
+        Ok(tracers)
+    }
+
+    /// The camera that renders a scene prepared by `prepared` from this request.
+    pub fn camera_in(&self, prepared: &crate::Prepared) -> Camera {
+        match &self.camera {
+            CameraChoice::Scene(_) => prepared.camera,
+            CameraChoice::Given(world) => {
+                // Render space is centred on the prepared scene's floating origin.
+                let mut c = *world;
+                let shift = prepared.posed.origin.as_vec3();
+                c.camera_to_world.w_axis -= shift.extend(0.0);
+                c
+            }
+        }
+    }
+}

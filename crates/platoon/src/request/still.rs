@@ -1,0 +1,142 @@
+//! A still: a frame's outputs (the image, denoised when asked, the raw one kept; the AOV
+//! layers; the metadata), made after its render on the tracers that rendered it
+//! ([`Still::of`]: the CLI's stills, animations and ranks use it), and a request rendered as
+//! one in this process ([`Request::render`]).
+
+use anyhow::Result;
+use glam::DVec3;
+use platoon_core::denoise::{Denoiser, Guides};
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::aov::{Aov, Layer};
+use platoon_core::frame::FrameParams;
+use platoon_core::output::Film;
+
+use super::form::Request;
+use crate::{Rendered, Tracers};
+
+/// A rendered frame's outputs.
+pub struct Still {
+    /// The image: denoised when a denoiser was asked for (then `raw` is the render).
+    pub image: Film,
+    pub raw: Option<Film>,
+    /// The AOV layers asked for, in the order asked.
+    pub layers: Vec<Layer>,
+    /// The image's metadata (`with_metadata`).
+    pub metadata: Vec<(String, String)>,
+    /// The raw image's: the same without the denoiser's entries.
+    pub raw_metadata: Vec<(String, String)>,
+    pub rendered: Rendered,
+    denoiser: Denoiser,
+    aovs: Vec<Aov>,
+}
+
+impl Still {
+    /// The outputs of `rendered`, the frame `params` of `scene` on `tracers`: the AOVs `aovs`
+    /// and the denoiser's guides rendered on the same tracers (so their bits do not depend on
+    /// the split), and the image denoised. `origin`: the world point render space is centred
+    /// on. The metadata is empty until `with_metadata`.
+    pub fn of(
+        tracers: &mut Tracers,
+        scene: &GpuScene,
+        params: &FrameParams,
+        rendered: Rendered,
+        aovs: &[Aov],
+        denoiser: Denoiser,
+        origin: DVec3,
+    ) -> Result<Still> {
+        let mut wanted = aovs.to_vec();
+        if denoiser != Denoiser::None {
+            for g in Denoiser::GUIDES {
+                if !wanted.contains(&g) {
+                    wanted.push(g);
+                }
+            }
+        }
+        let mut layers = if wanted.is_empty() {
+            Vec::new()
+        } else {
+            crate::aov::render_layers(tracers, scene, params, &wanted, origin)?
+        };
+        let (image, raw) = match denoiser {
+            Denoiser::None => (rendered.film.clone(), None),
+            _ => {
+                let guides = Guides::from_layers(&layers).expect("the guides were rendered");
+                (
+                    denoiser
+                        .apply(&rendered.film, &guides)
+                        .map_err(anyhow::Error::msg)?,
+                    Some(rendered.film.clone()),
+                )
+            }
+        };
+        layers.extend(crate::aov::batch_layers(&rendered, aovs)?);
+        layers.retain(|l| aovs.iter().any(|a| a.name() == l.name));
+        layers.sort_by_key(|l| aovs.iter().position(|a| a.name() == l.name));
+        Ok(Still {
+            image,
+            raw,
+            layers,
+            metadata: Vec::new(),
+            raw_metadata: Vec::new(),
+            rendered,
+            denoiser,
+            aovs: aovs.to_vec(),
+        })
+    }
+
+    /// Sets the metadata from the render's (`crate::metadata`): the AOV layers named, and for
+    /// the image the denoiser and its approximation.
+    pub fn with_metadata(mut self, mut meta: Vec<(String, String)>) -> Still {
+        if !self.aovs.is_empty() {
+            let names: Vec<&str> = self.aovs.iter().map(|a| a.name()).collect();
+            meta.push(("aovs".into(), names.join(",")));
+        }
+        self.raw_metadata = meta.clone();
+        if let Some(d) = self.denoiser.describe() {
+            meta.push((
+                "denoiser".into(),
+                format!("{:?}", self.denoiser).to_lowercase(),
+            ));
+            for (k, v) in &mut meta {
+                if k == "approximations" {
+                    *v = format!("{v}; {d}");
+                }
+            }
+        }
+        self.metadata = meta;
+        self
+    }
+}
+
+impl Request {
+    /// Renders the request as a still in this process, on its devices: validated, the scene
+    /// loaded and prepared (its warnings and notes logged), the frame rendered in the batches
+    /// its outputs need, its AOVs and denoiser run; `progress` hears the samples done (one
+    /// device; several render on their own threads).
+    pub fn render(&self, progress: &mut dyn FnMut(u32)) -> Result<Still> {
+        self.validate()?;
+        let prepared = crate::prepare(self.load_scene()?, &self.prepare_options())?;
+        for w in &prepared.scene.warnings {
+            log::warn!("{w}");
+        }
+        if let Some(note) = &prepared.note {
+            log::info!("{note}");
+        }
+        let options = self.tracer_options()?;
+        let mut tracers = Tracers::new(&options, &self.balancer, &prepared.gpu)?;
+        let params = self.frame_params(self.camera_in(&prepared));
+        let rendered =
+            tracers.render_batched(&prepared.gpu, &params, &self.batching(), progress)?;
+        let meta = crate::metadata(&prepared, &params, &rendered, self.sampling.name());
+        let still = Still::of(
+            &mut tracers,
+            &prepared.gpu,
+            &params,
+            rendered,
+            &self.aovs,
+            self.denoiser,
+            prepared.posed.origin,
+        )?;
+        Ok(still.with_metadata(meta))
+    }
+}

@@ -1,0 +1,149 @@
+//! Every rule of a render request, once, each error naming the option it is about (the CLI
+//! writes it as a flag, a binding as a keyword argument).
+
+use std::fmt;
+
+use platoon_core::frame::aov::Aov;
+use platoon_core::Method;
+
+use super::form::{CameraChoice, Request};
+
+/// What is wrong with a request: the option (a `Request` field's name) and the problem.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RequestError {
+    pub option: &'static str,
+    pub problem: String,
+}
+
+impl fmt::Display for RequestError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.option, self.problem)
+    }
+}
+
+impl std::error::Error for RequestError {}
+
+fn refuse(option: &'static str, problem: impl Into<String>) -> Result<(), RequestError> {
+    Err(RequestError {
+        option,
+        problem: problem.into(),
+    })
+}
+
+/// The most pixels a frame may have: a frame's sample and line counts are 32-bit.
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+impl Request {
+    /// Every rule that needs neither the scene nor the devices.
+    pub fn validate(&self) -> Result<(), RequestError> {
+        for (option, v) in [
+            ("width", self.width),
+            ("height", self.height),
+            ("spp", self.spp),
+        ] {
+            if v == 0 {
+                refuse(option, "must be positive")?;
+            }
+        }
+        let pixels = self.width as u64 * self.height as u64;
+        if pixels > MAX_PIXELS {
+            refuse(
+                "width",
+                format!(
+                    "{} x {} is {pixels} pixels, more than the {MAX_PIXELS} a frame may have",
+                    self.width, self.height
+                ),
+            )?;
+        }
+        if self.max_depth == Some(0) {
+            refuse(
+                "max_depth",
+                "a path has at least one segment (1: emitters seen directly)",
+            )?;
+        }
+        if let Some(t) = self.time_limit {
+            if t.is_zero() {
+                refuse("time_limit", "must be a positive number of seconds")?;
+            }
+        }
+        if !(self.time.is_finite()) {
+            refuse(
+                "time",
+                format!("must be a finite number of seconds, not {}", self.time),
+            )?;
+        }
+        if !(self.aperture.is_finite() && self.aperture >= 0.0) {
+            refuse(
+                "aperture",
+                format!(
+                    "must be a radius >= 0 (0: a pinhole), not {}",
+                    self.aperture
+                ),
+            )?;
+        }
+        if let Some(f) = self.focus_distance {
+            if !(f.is_finite() && f > 0.0) {
+                refuse("focus_distance", format!("must be positive, not {f}"))?;
+            }
+        }
+        if let CameraChoice::Given(c) = &self.camera {
+            if !c.camera_to_world.is_finite() {
+                refuse("camera", "the given camera's transform is not finite")?;
+            }
+        }
+        if platoon_core::balance::by_name(&self.balancer).is_none() {
+            refuse(
+                "balancer",
+                format!(
+                    "unknown balancer {}: one of {}",
+                    self.balancer,
+                    platoon_core::balance::NAMES.join(", ")
+                ),
+            )?;
+        }
+        if let Err(e) = self.denoiser.available() {
+            refuse("denoiser", e)?;
+        }
+        self.validate_batching()
+    }
+
+    /// The rules of adaptive sampling and the variance AOV's batches.
+    fn validate_batching(&self) -> Result<(), RequestError> {
+        if let Some(a) = &self.adaptive {
+            if let Err(e) = a.validate(self.spp) {
+                refuse("adaptive", e)?;
+            }
+            if self.method != Method::PathTracing {
+                refuse(
+                    "adaptive",
+                    "adaptive sampling is the path tracer's (method path)",
+                )?;
+            }
+        }
+        if self.batching().is_some() && self.time_limit.is_some() {
+            refuse(
+                "time_limit",
+                "cannot end adaptive sampling or the variance AOV's batches early",
+            )?;
+        }
+        if self.aovs.contains(&Aov::Variance) && self.spp < 2 {
+            refuse(
+                "aovs",
+                "the variance AOV needs at least 2 samples per pixel",
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The rules that need the number of devices the request renders on.
+    pub fn validate_devices(&self, tracers: usize) -> Result<(), RequestError> {
+        if tracers > 1 && self.time_limit.is_some() {
+            refuse(
+                "time_limit",
+                "renders on one device: bands cut at different times would break the image's \
+                 independence from the device split",
+            )?;
+        }
+        Ok(())
+    }
+}

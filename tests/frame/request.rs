@@ -1,0 +1,242 @@
+//! The facade's front door (`platoon::Request`): a request renders what the layers below render
+//! from the same settings, bit for bit and whatever the split; a camera given in world space sees
+//! what the scene's camera sees; and every rule refuses by naming its option.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+use std::time::Duration;
+
+use common::*;
+use platoon::core::frame::adaptive::Adaptive;
+use platoon::core::frame::aov::Aov;
+use platoon::core::method::registry;
+use platoon::core::method::settings::{Settings, Value};
+use platoon::core::scene::camera::Camera;
+use platoon::devices::DeviceSpec;
+use platoon::tracer::Sampling;
+use platoon::{CameraChoice, Request, RequestError, SceneSource};
+
+fn small() -> Request {
+    init();
+    Request {
+        width: 24,
+        height: 16,
+        spp: 4,
+        devices: DeviceSpec::Lavapipe(vec![1]),
+        ..Default::default()
+    }
+}
+
+#[test]
+fn a_request_renders_what_the_layers_below_render() {
+    let request = Request {
+        aovs: vec![Aov::Albedo, Aov::Depth],
+        ..small()
+    };
+    let still = request.render(&mut |_| {}).unwrap();
+    // The same frame through the layers below, by hand.
+    let prepared = prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Scene,
+    );
+    let mut params = platoon::core::frame::FrameParams::new(24, 16, 4, prepared.camera);
+    params.seed = 0;
+    let film = render(&prepared, &params, Sampling::Mis);
+    assert_eq!(still.image.pixels, film.pixels);
+    assert_eq!(still.rendered.film.pixels, film.pixels);
+    let names: Vec<&str> = still.layers.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(names, ["albedo", "depth"]);
+    let meta = |k: &str| {
+        still
+            .metadata
+            .iter()
+            .find(|(key, _)| key == k)
+            .map(|(_, v)| v)
+    };
+    assert_eq!(meta("aovs").map(String::as_str), Some("albedo,depth"));
+    assert_eq!(meta("spp").map(String::as_str), Some("4"));
+    // Three tracers under a balancer: the same bits.
+    let three = Request {
+        devices: DeviceSpec::Lavapipe(vec![1, 1, 1]),
+        ..request
+    }
+    .render(&mut |_| {})
+    .unwrap();
+    assert_eq!(three.image.pixels, film.pixels);
+    assert_eq!(three.layers[1].channels, still.layers[1].channels);
+}
+
+#[test]
+fn a_camera_given_in_world_space_sees_what_the_scenes_camera_sees() {
+    // The box far from the world's origin, where render space is centred on the camera.
+    let mut scene = platoon::core::scene::cornell::scene();
+    for node in scene.nodes.iter_mut().filter(|n| n.parent.is_none()) {
+        node.translation += glam::DVec3::new(65536.0, 0.0, 0.0);
+    }
+    let world = Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
+    let far = Request {
+        scene: SceneSource::Scene(Box::new(scene)),
+        ..small()
+    };
+    let of_scene = far.render(&mut |_| {}).unwrap();
+    assert!(mean(&of_scene.image) > 0.01);
+    let given = Request {
+        camera: CameraChoice::Given(world),
+        ..far.clone()
+    }
+    .render(&mut |_| {})
+    .unwrap();
+    // The same view up to the rounding of the two ways to the camera's matrix (a few paths
+    // take other turns).
+    let close = |a: &platoon::core::output::Film, b: &platoon::core::output::Film| {
+        (mean(a) - mean(b)).abs() / mean(b) < 0.01
+    };
+    assert!(close(&given.image, &of_scene.image));
+    let moved = Request {
+        camera: CameraChoice::Given(Camera::look_at(
+            world.position() + glam::Vec3::new(0.3, 0.0, 0.0),
+            glam::Vec3::new(0.0, 1.0, 0.0),
+            world.yfov,
+        )),
+        ..far
+    }
+    .render(&mut |_| {})
+    .unwrap();
+    assert!(!close(&moved.image, &of_scene.image));
+}
+
+#[test]
+fn every_rule_refuses_by_naming_its_option() {
+    assert_eq!(small().validate(), Ok(()));
+    let igi = registry::kind("igi")
+        .unwrap()
+        .build(&Settings(vec![("vpls", Value::Count(30))]))
+        .unwrap();
+    let adaptive = Some(Adaptive {
+        threshold: 0.1,
+        min_spp: None,
+    });
+    let cases: Vec<(Request, &str, &str)> = vec![
+        (
+            Request {
+                width: 0,
+                ..small()
+            },
+            "width",
+            "positive",
+        ),
+        (Request { spp: 0, ..small() }, "spp", "positive"),
+        (
+            Request {
+                width: 100_000,
+                height: 100_000,
+                ..small()
+            },
+            "width",
+            "pixels",
+        ),
+        (
+            Request {
+                max_depth: Some(0),
+                ..small()
+            },
+            "max_depth",
+            "one segment",
+        ),
+        (
+            Request {
+                time_limit: Some(Duration::ZERO),
+                ..small()
+            },
+            "time_limit",
+            "positive",
+        ),
+        (
+            Request {
+                time: f32::NAN,
+                ..small()
+            },
+            "time",
+            "finite",
+        ),
+        (
+            Request {
+                aperture: -1.0,
+                ..small()
+            },
+            "aperture",
+            ">= 0",
+        ),
+        (
+            Request {
+                focus_distance: Some(0.0),
+                ..small()
+            },
+            "focus_distance",
+            "positive",
+        ),
+        (
+            Request {
+                balancer: "fastest".into(),
+                ..small()
+            },
+            "balancer",
+            "cost-aware",
+        ),
+        (
+            Request {
+                adaptive: Some(Adaptive {
+                    threshold: 0.0,
+                    min_spp: None,
+                }),
+                ..small()
+            },
+            "adaptive",
+            "positive",
+        ),
+        (
+            Request {
+                adaptive,
+                method: igi,
+                ..small()
+            },
+            "adaptive",
+            "path tracer",
+        ),
+        (
+            Request {
+                adaptive,
+                time_limit: Some(Duration::from_secs(1)),
+                ..small()
+            },
+            "time_limit",
+            "adaptive",
+        ),
+        (
+            Request {
+                aovs: vec![Aov::Variance],
+                spp: 1,
+                ..small()
+            },
+            "aovs",
+            "2 samples",
+        ),
+    ];
+    for (request, option, says) in cases {
+        let e = request.validate().unwrap_err();
+        assert_eq!(e.option, option, "{e}");
+        assert!(e.problem.contains(says), "{e}");
+    }
+    // A rule that needs the devices: a time limit cuts one device's frame only.
+    let e = Request {
+        time_limit: Some(Duration::from_secs(1)),
+        devices: DeviceSpec::Lavapipe(vec![1, 1]),
+        ..small()
+    }
+    .tracer_options()
+    .unwrap_err();
+    let e = e.downcast::<RequestError>().unwrap();
+    assert_eq!(e.option, "time_limit");
+    assert!(e.problem.contains("one device"), "{e}");
+}
