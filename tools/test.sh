@@ -10,7 +10,7 @@ export VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json
 export VK_ICD_FILENAMES=$VK_DRIVER_FILES
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$HOME/.cache/platoon-target}
 log=$(mktemp)
-trap 'rm -f "$log" "$log.oidn"' EXIT
+trap 'rm -f "$log" "$log.oidn" "$log.py"' EXIT
 status=0
 cargo test --workspace --all-targets "$@" 2>&1 | tee "$log" || status=$?
 # The examples in the API documentation (--all-targets leaves doc tests out).
@@ -28,6 +28,20 @@ else
     echo "Open Image Denoise's tests skipped: $(cat "$log.oidn")"
 fi
 rm -f "$log.oidn"
+# The Python module (crates/platoon-py, outside the workspace): built into a virtual
+# environment by tools/python.sh, its tests under pytest against the CLI built above. pytest's
+# summary joins the total as one more "test result" line.
+if python=$(tools/python.sh); then
+    PLATOON_CLI=$CARGO_TARGET_DIR/debug/platoon "$python" -m pytest crates/platoon-py/tests -q \
+        -p no:cacheprovider 2>&1 | tee "$log.py" || status=$?
+    tail -n 1 "$log.py" | awk '{ for (i = 2; i <= NF; i++) { n = $(i - 1) + 0
+        if ($i ~ /^passed/) p = n; if ($i ~ /^failed/) f = n; if ($i ~ /^skipped/) s = n } }
+        END { printf "test result: pytest. %d passed; %d failed; %d ignored;\n", p, f, s }' >> "$log"
+    rm -f "$log.py"
+else
+    echo "the Python module did not build"
+    status=1
+fi
 awk '/^test result:/ { p += $4; f += $6; s += $8 }
      END { printf "platoon: %d passed, %d failed, %d skipped\n", p, f, s }' "$log"
 exit "$status"

@@ -1,0 +1,18 @@
+"""platoon: a physically based path tracer on every Vulkan device of a machine at once.
+
+    >>> import platoon
+    >>> r = platoon.render(spp=16, width=256, height=256)   # the built-in Cornell box
+    >>> r.image.shape, r.image.dtype
+    ((256, 256, 3), dtype('float32'))
+    >>> r = platoon.render("scene.glb", method="igi", vpls=180, aovs=["albedo", "normal"])
+
+`render` returns a `Rendered`: `.image` (linear radiance, float32 H x W x 3), `.aovs`
+({name: float32 H x W x C}), `.metadata` (what platoon writes into its EXR files). Bad
+arguments raise ValueError naming the argument; a scene or device that fails raises
+PlatoonError naming the file and the problem. `devices()` lists the Vulkan devices,
+`methods()` the rendering methods and the options each takes as keyword arguments.
+"""
+
+from ._platoon import PlatoonError, Rendered, devices, methods, read_exr, render
+
+__all__ = ["PlatoonError", "Rendered", "devices", "methods", "read_exr", "render"]

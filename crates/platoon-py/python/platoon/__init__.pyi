@@ -1,0 +1,81 @@
+"""Type stubs of platoon's Python module (the Rust extension `platoon._platoon`)."""
+
+from os import PathLike
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+class PlatoonError(Exception):
+    """A render that failed: a scene that cannot be read, a device that cannot be made."""
+
+class Rendered:
+    """A rendered still."""
+
+    @property
+    def image(self) -> npt.NDArray[np.float32]:
+        """Linear radiance, H x W x 3 (denoised when a denoiser was asked for)."""
+    @property
+    def raw(self) -> npt.NDArray[np.float32] | None:
+        """The render before the denoiser, when one ran."""
+    @property
+    def aovs(self) -> dict[str, npt.NDArray[np.float32]]:
+        """Each AOV asked for, H x W x C."""
+    @property
+    def metadata(self) -> dict[str, str]:
+        """What platoon writes into its EXR files: scene, method, approximations, devices..."""
+    @property
+    def spp(self) -> int: ...
+    @property
+    def seconds(self) -> float:
+        """Until the last device was done."""
+    @property
+    def rays(self) -> int: ...
+    @property
+    def width(self) -> int: ...
+    @property
+    def height(self) -> int: ...
+
+def render(
+    scene: str | PathLike[str] | None = None,
+    *,
+    width: int = 512,
+    height: int = 512,
+    spp: int = 64,
+    method: str = "path",
+    devices: str = "0",
+    aovs: list[str] | None = None,
+    denoise: str = "none",
+    seed: int = 0,
+    max_depth: int | None = None,
+    time_limit: float | None = None,
+    env: str | PathLike[str] | None = None,
+    env_color: tuple[float, float, float] | None = None,
+    time: float = 0.0,
+    camera: int | tuple[tuple[float, float, float], tuple[float, float, float], float] | None = None,
+    aperture: float = 0.0,
+    focus_distance: float | None = None,
+    balancer: str = "cost-aware",
+    sampling: str = "mis",
+    adaptive_threshold: float | None = None,
+    variant: str | None = None,
+    allow_external_files: bool = False,
+    **options: Any,
+) -> Rendered:
+    """Renders a glTF scene (the built-in Cornell box when None).
+
+    `devices`: "all", indices like "0,1", or "lavapipe:T1,T2" (software tracers of Ti
+    threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
+    variance, sample-count. `denoise`: none, atrous, oidn. `camera`: a scene camera's index or
+    (eye, target, vertical fov in degrees) in world space. The method's options by name
+    (`methods()`), e.g. method="igi", vpls=180.
+    """
+
+def devices() -> list[dict[str, Any]]:
+    """The Vulkan devices, in the order `devices="0,1"` numbers them."""
+
+def methods() -> dict[str, dict[str, str]]:
+    """Each rendering method and the options it takes: {method: {option: help}}."""
+
+def read_exr(path: str | PathLike[str]) -> tuple[npt.NDArray[np.float32], dict[str, str]]:
+    """An EXR's first RGB(A) layer (H x W x 3) and its metadata."""

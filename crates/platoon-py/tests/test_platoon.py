@@ -1,0 +1,120 @@
+"""platoon's Python module against the CLI and against bad input (run by tools/test.sh on
+lavapipe, forced through VK_DRIVER_FILES)."""
+
+import os
+import resource
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import platoon
+
+SMALL = dict(width=24, height=16, spp=4, devices="lavapipe:1")
+
+
+def cli() -> Path:
+    """The CLI binary the suite built (tools/test.sh says where)."""
+    path = Path(os.environ.get("PLATOON_CLI", ""))
+    assert path.is_file(), f"PLATOON_CLI does not name the built CLI: {path!s}"
+    return path
+
+
+def test_a_render_is_a_linear_float_image_with_its_metadata():
+    r = platoon.render(**SMALL)
+    assert r.image.shape == (16, 24, 3) and r.image.dtype == np.float32
+    assert np.isfinite(r.image).all() and r.image.mean() > 0.01
+    assert r.spp == 4 and r.metadata["spp"] == "4"
+    assert "llvmpipe" in r.metadata["device"]
+
+
+def test_a_python_render_equals_the_clis_bit_for_bit(tmp_path):
+    out = tmp_path / "cli.exr"
+    args = ["render", "--width", "24", "--height", "16", "--spp", "4", "--devices",
+            "lavapipe:1", "--method", "igi", "--vpls", "30", "--igi-interleave", "2x2",
+            "--aov", "albedo,depth", "--out", str(out)]
+    subprocess.run([str(cli()), *args], check=True, capture_output=True)
+    cli_image, cli_meta = platoon.read_exr(out)
+    r = platoon.render(**SMALL, method="igi", vpls=30, interleave=(2, 2),
+                       aovs=["albedo", "depth"])
+    assert np.array_equal(r.image, cli_image)
+    assert r.metadata["method"] == cli_meta["method"]
+    assert "30 VPLs" in r.metadata["method"]
+    assert sorted(r.aovs) == ["albedo", "depth"]
+    assert r.aovs["albedo"].shape == (16, 24, 3) and r.aovs["depth"].shape == (16, 24, 1)
+
+
+def test_the_same_bits_on_three_tracers():
+    one = platoon.render(**SMALL)
+    three = platoon.render(**{**SMALL, "devices": "lavapipe:1,1,1"})
+    assert np.array_equal(one.image, three.image)
+
+
+@pytest.mark.parametrize("kwargs, error, says", [
+    (dict(width=0), ValueError, "width: must be positive"),
+    (dict(max_depth=0), ValueError, "max_depth"),
+    (dict(method="photons"), ValueError, "unknown method"),
+    (dict(vplz=30), ValueError, "vplz: not an argument of render"),
+    (dict(method="igi", vpls="many"), ValueError, "vpls: expects a whole number"),
+    (dict(method="igi", bounces=20), ValueError, "bounces"),
+    (dict(aovs=["beauty"]), ValueError, "unknown AOV"),
+    (dict(devices="lavapipe:1,1", time_limit=1.0), ValueError, "time_limit"),
+    (dict(scene="/nonexistent/man.glb"), platoon.PlatoonError, "/nonexistent/man.glb"),
+])
+def test_bad_input_raises_naming_the_argument_or_file(kwargs, error, says):
+    with pytest.raises(error, match=None) as caught:
+        platoon.render(**{**SMALL, **kwargs})
+    assert says in str(caught.value)
+
+
+def test_a_file_that_is_no_gltf_names_itself(tmp_path):
+    bad = tmp_path / "garbage.gltf"
+    bad.write_text("not json")
+    with pytest.raises(platoon.PlatoonError) as caught:
+        platoon.render(str(bad), **SMALL)
+    assert "garbage.gltf" in str(caught.value)
+
+
+def rss_kib() -> int:
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * resource.getpagesize() // 1024
+
+
+def test_a_hundred_renders_keep_memory_flat():
+    tiny = dict(width=8, height=8, spp=1, devices="lavapipe:1")
+    for _ in range(10):
+        platoon.render(**tiny)
+    before = rss_kib()
+    for _ in range(100):
+        platoon.render(**tiny)
+    grown = rss_kib() - before
+    assert grown < 16 * 1024, f"resident memory grew {grown} KiB over 100 renders"
+
+
+def test_devices_and_methods_describe_themselves():
+    found = platoon.devices()
+    assert found and found[0]["index"] == 0 and "llvmpipe" in found[0]["name"]
+    m = platoon.methods()
+    assert list(m)[0] == "path" and "vpls" in m["igi"]
+
+
+def test_ctrl_c_returns_from_a_long_render_at_once():
+    import signal
+    import sys
+    import time
+    code = ("import platoon, sys\n"
+            "print('rendering', flush=True)\n"
+            "try:\n"
+            "    platoon.render(width=256, height=256, spp=100000, devices='lavapipe:1')\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted', flush=True)\n"
+            "    sys.exit(3)\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "rendering"
+    time.sleep(1.5)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 3 and "interrupted" in out
+    assert time.monotonic() - sent < 5, "Ctrl-C waited for the render"
