@@ -240,3 +240,36 @@ fn every_rule_refuses_by_naming_its_option() {
     assert_eq!(e.option, "time_limit");
     assert!(e.problem.contains("one device"), "{e}");
 }
+
+#[test]
+fn a_progressive_render_is_one_render_of_all_its_samples() {
+    let whole = Request {
+        spp: 7,
+        aovs: vec![Aov::Albedo],
+        ..small()
+    }
+    .render(&mut |_| {})
+    .unwrap();
+    for devices in [vec![1], vec![1, 1, 1]] {
+        let mut p = platoon::Progressive::new(Request {
+            aovs: vec![Aov::Albedo],
+            devices: DeviceSpec::Lavapipe(devices),
+            ..small()
+        })
+        .unwrap();
+        p.add(3, &mut |_| {}).unwrap();
+        let still = p.add(4, &mut |_| {}).unwrap();
+        assert_eq!(p.spp(), 7);
+        assert_eq!(still.image.pixels, whole.image.pixels);
+        assert_eq!(still.layers[0].channels, whole.layers[0].channels);
+        let spp = still.metadata.iter().find(|(k, _)| k == "spp").unwrap();
+        assert_eq!(spp.1, "7");
+    }
+    let e = platoon::Progressive::new(Request {
+        time_limit: Some(Duration::from_secs(1)),
+        ..small()
+    })
+    .err()
+    .unwrap();
+    assert_eq!(e.downcast::<RequestError>().unwrap().option, "time_limit");
+}

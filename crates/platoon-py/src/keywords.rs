@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+use pyo3::conversion::FromPyObjectOwned;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -17,148 +18,163 @@ use platoon::core::scene::gltf_load::LoadOptions;
 use platoon::tracer::Sampling;
 use platoon::{CameraChoice, EnvChoice, Request, SceneSource};
 
-pub struct Keywords<'a, 'py> {
-    pub scene: Option<PathBuf>,
-    pub width: u32,
-    pub height: u32,
-    pub spp: u32,
-    pub method: &'a str,
-    pub devices: &'a str,
-    pub aovs: Vec<String>,
-    pub denoise: &'a str,
-    pub seed: u32,
-    pub max_depth: Option<u32>,
-    pub time_limit: Option<f64>,
-    pub env: Option<PathBuf>,
-    pub env_color: Option<(f32, f32, f32)>,
-    pub time: f32,
-    pub camera: Option<&'a Bound<'py, PyAny>>,
-    pub aperture: f32,
-    pub focus_distance: Option<f32>,
-    pub balancer: &'a str,
-    pub sampling: &'a str,
-    pub adaptive_threshold: Option<f32>,
-    pub variant: Option<String>,
-    pub allow_external_files: bool,
-    pub options: Option<&'a Bound<'py, PyDict>>,
+/// A keyword argument taken out of `kwargs` (so that what is left are the method's options),
+/// converted; a value of the wrong type raises ValueError naming the argument.
+fn take<'py, T: FromPyObjectOwned<'py>>(
+    kwargs: &Bound<'py, PyDict>,
+    key: &str,
+    expects: &str,
+) -> PyResult<Option<T>> {
+    let Some(value) = kwargs.get_item(key)? else {
+        return Ok(None);
+    };
+    kwargs.del_item(key)?;
+    if value.is_none() {
+        return Ok(None);
+    }
+    value
+        .extract::<T>()
+        .map(Some)
+        .map_err(|_| bad(key, format!("expects {expects}, not {value}")))
 }
 
 fn bad(argument: &str, problem: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(format!("{argument}: {problem}"))
 }
 
-impl Keywords<'_, '_> {
-    pub fn request(&self) -> PyResult<Request> {
-        let kind = registry::kind(self.method).ok_or_else(|| {
-            bad(
-                "method",
-                format!(
-                    "unknown method {:?}: one of {}",
-                    self.method,
-                    registry::names()
-                ),
-            )
-        })?;
-        let mut given = Settings::default();
-        if let Some(options) = self.options {
-            for (key, value) in options.iter() {
-                let key: String = key.extract()?;
-                let setting = kind.setting(&key).ok_or_else(|| {
-                    let known: Vec<&str> = kind.settings().iter().map(|s| s.key).collect();
-                    bad(
-                        &key,
-                        format!(
-                            "not an argument of render, nor an option of method {:?} ({})",
-                            kind.name(),
-                            if known.is_empty() {
-                                "it has none".into()
-                            } else {
-                                known.join(", ")
-                            }
-                        ),
-                    )
-                })?;
-                given.set(
-                    setting.key,
-                    value_of(setting.kind, &value).map_err(|e| bad(&key, e))?,
-                );
-            }
+/// The request `render(scene, **kwargs)` asks for: the arguments `platoon.render` documents,
+/// and the method's options by their setting names. `spp` defaults to `default_spp`.
+pub fn request(
+    py: Python<'_>,
+    scene: Option<PathBuf>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+    default_spp: u32,
+) -> PyResult<Request> {
+    let kwargs = match kwargs {
+        Some(k) => k.copy()?,
+        None => PyDict::new(py),
+    };
+    let k = &kwargs;
+    let d = Request::default();
+    let method: String = take(k, "method", "a method's name")?.unwrap_or("path".into());
+    let aovs: Vec<String> = take(k, "aovs", "a list of AOV names")?.unwrap_or_default();
+    let time_limit: Option<f64> = take(k, "time_limit", "seconds")?;
+    let env: Option<PathBuf> = take(k, "env", "a path")?;
+    let env_color: Option<(f32, f32, f32)> = take(k, "env_color", "(r, g, b)")?;
+    let camera = match k.get_item("camera")? {
+        Some(c) => {
+            k.del_item("camera")?;
+            camera(&c)?
         }
-        let method = kind.build(&given).map_err(|e| bad("method", e))?;
-        let aovs = self
-            .aovs
-            .iter()
-            .map(|a| Aov::parse_list(a).map_err(|e| bad("aovs", e)))
-            .collect::<PyResult<Vec<Vec<Aov>>>>()?
-            .concat();
-        let time_limit = match self.time_limit {
+        None => CameraChoice::Scene(None),
+    };
+    let devices: String = take(k, "devices", "a device list")?.unwrap_or("0".into());
+    let denoise: String = take(k, "denoise", "a denoiser's name")?.unwrap_or("none".into());
+    let sampling: String = take(k, "sampling", "mis, bsdf or light")?.unwrap_or("mis".into());
+    let adaptive: Option<f32> = take(k, "adaptive_threshold", "a noise threshold")?;
+    let mut request = Request {
+        scene: match scene {
+            Some(p) => SceneSource::File(p),
+            None => SceneSource::BuiltIn,
+        },
+        load: LoadOptions {
+            allow_external_files: take(k, "allow_external_files", "True or False")?
+                .unwrap_or(false),
+            variant: take(k, "variant", "a variant's name")?,
+        },
+        env: match (env, env_color) {
+            (Some(p), None) => EnvChoice::File(p),
+            (None, Some((r, g, b))) => EnvChoice::Color(glam::Vec3::new(r, g, b)),
+            (None, None) => EnvChoice::Scene,
+            (Some(_), Some(_)) => return Err(bad("env", "give env or env_color, not both")),
+        },
+        time: take(k, "time", "seconds")?.unwrap_or(d.time),
+        camera,
+        aperture: take(k, "aperture", "a radius")?.unwrap_or(d.aperture),
+        focus_distance: take(k, "focus_distance", "a distance")?,
+        width: take(k, "width", "a whole number")?.unwrap_or(d.width),
+        height: take(k, "height", "a whole number")?.unwrap_or(d.height),
+        spp: take(k, "spp", "a whole number")?.unwrap_or(default_spp),
+        time_limit: match time_limit {
             Some(t) if !(t.is_finite() && t > 0.0) => {
                 return Err(bad("time_limit", "must be a positive number of seconds"))
             }
             t => t.map(Duration::from_secs_f64),
-        };
-        Ok(Request {
-            scene: match &self.scene {
-                Some(p) => SceneSource::File(p.clone()),
-                None => SceneSource::BuiltIn,
-            },
-            load: LoadOptions {
-                allow_external_files: self.allow_external_files,
-                variant: self.variant.clone(),
-            },
-            env: match (&self.env, self.env_color) {
-                (Some(p), None) => EnvChoice::File(p.clone()),
-                (None, Some((r, g, b))) => EnvChoice::Color(glam::Vec3::new(r, g, b)),
-                (None, None) => EnvChoice::Scene,
-                (Some(_), Some(_)) => return Err(bad("env", "give env or env_color, not both")),
-            },
-            time: self.time,
-            camera: self.camera()?,
-            aperture: self.aperture,
-            focus_distance: self.focus_distance,
-            width: self.width,
-            height: self.height,
-            spp: self.spp,
-            time_limit,
-            max_depth: self.max_depth,
-            seed: self.seed,
-            method,
-            sampling: Sampling::by_name(self.sampling)
-                .ok_or_else(|| bad("sampling", "one of mis, bsdf, light"))?,
-            devices: self.devices.parse().map_err(|e| bad("devices", e))?,
-            balancer: self.balancer.to_string(),
-            aovs,
-            denoiser: self.denoise.parse().map_err(|e| bad("denoise", e))?,
-            adaptive: self.adaptive_threshold.map(|threshold| Adaptive {
-                threshold,
-                min_spp: None,
-            }),
-            ..Default::default()
-        })
-    }
+        },
+        max_depth: take(k, "max_depth", "a whole number")?,
+        seed: take(k, "seed", "a whole number")?.unwrap_or(d.seed),
+        sampling: Sampling::by_name(&sampling)
+            .ok_or_else(|| bad("sampling", "one of mis, bsdf, light"))?,
+        devices: devices.parse().map_err(|e| bad("devices", e))?,
+        balancer: take(k, "balancer", "a balancer's name")?.unwrap_or(d.balancer),
+        aovs: aovs
+            .iter()
+            .map(|a| Aov::parse_list(a).map_err(|e| bad("aovs", e)))
+            .collect::<PyResult<Vec<Vec<Aov>>>>()?
+            .concat(),
+        denoiser: denoise.parse().map_err(|e| bad("denoise", e))?,
+        adaptive: adaptive.map(|threshold| Adaptive {
+            threshold,
+            min_spp: None,
+        }),
+        ..d
+    };
+    request.method = method_of(&method, k)?;
+    Ok(request)
+}
 
-    /// None: the scene's first camera; an int: the scene's camera of that index; a tuple
-    /// (eye, target, vertical field of view in degrees): a camera in world space.
-    fn camera(&self) -> PyResult<CameraChoice> {
-        let Some(c) = self.camera else {
-            return Ok(CameraChoice::Scene(None));
-        };
-        if let Ok(index) = c.extract::<usize>() {
-            return Ok(CameraChoice::Scene(Some(index)));
-        }
-        type LookAt = ((f32, f32, f32), (f32, f32, f32), f32);
-        let ((ex, ey, ez), (tx, ty, tz), fov): LookAt = c.extract().map_err(|_| {
+/// The method `name` with the options left in `kwargs`, by their setting names.
+fn method_of(name: &str, kwargs: &Bound<'_, PyDict>) -> PyResult<platoon::core::Method> {
+    let kind = registry::kind(name).ok_or_else(|| {
+        bad(
+            "method",
+            format!("unknown method {name:?}: one of {}", registry::names()),
+        )
+    })?;
+    let mut given = Settings::default();
+    for (key, value) in kwargs.iter() {
+        let key: String = key.extract()?;
+        let setting = kind.setting(&key).ok_or_else(|| {
+            let known: Vec<&str> = kind.settings().iter().map(|s| s.key).collect();
+            let options = match known.is_empty() {
+                true => "it has none".to_string(),
+                false => known.join(", "),
+            };
             bad(
-                "camera",
-                "an index of the scene's cameras, or (eye, target, fov_degrees)",
+                &key,
+                format!(
+                    "not an argument of render, nor an option of method {:?} ({options})",
+                    kind.name()
+                ),
             )
         })?;
-        Ok(CameraChoice::Given(Camera::look_at(
-            glam::Vec3::new(ex, ey, ez),
-            glam::Vec3::new(tx, ty, tz),
-            fov.to_radians(),
-        )))
+        let value = value_of(setting.kind, &value).map_err(|e| bad(&key, e))?;
+        given.set(setting.key, value);
     }
+    kind.build(&given).map_err(|e| bad("method", e))
+}
+
+/// None: the scene's first camera; an int: the scene's camera of that index; a tuple
+/// (eye, target, vertical field of view in degrees): a camera in world space.
+fn camera(c: &Bound<'_, PyAny>) -> PyResult<CameraChoice> {
+    if c.is_none() {
+        return Ok(CameraChoice::Scene(None));
+    }
+    if let Ok(index) = c.extract::<usize>() {
+        return Ok(CameraChoice::Scene(Some(index)));
+    }
+    type LookAt = ((f32, f32, f32), (f32, f32, f32), f32);
+    let ((ex, ey, ez), (tx, ty, tz), fov): LookAt = c.extract().map_err(|_| {
+        bad(
+            "camera",
+            "an index of the scene's cameras, or (eye, target, fov_degrees)",
+        )
+    })?;
+    Ok(CameraChoice::Given(Camera::look_at(
+        glam::Vec3::new(ex, ey, ez),
+        glam::Vec3::new(tx, ty, tz),
+        fov.to_radians(),
+    )))
 }
 
 /// A Python value as a setting of `kind`: a number, a bool, (m, n) or "MxN", a string.

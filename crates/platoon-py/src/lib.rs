@@ -7,6 +7,7 @@
 
 mod arrays;
 mod keywords;
+mod progressive;
 mod rendered;
 
 use std::path::PathBuf;
@@ -30,7 +31,7 @@ create_exception!(
 
 /// A failure of the library as a Python exception: the request's rules as `ValueError`
 /// (naming the argument), the rest as `PlatoonError` with the whole chain of causes.
-fn to_py(e: anyhow::Error) -> PyErr {
+pub(crate) fn to_py(e: anyhow::Error) -> PyErr {
     match e.downcast::<platoon::RequestError>() {
         Ok(r) => PyValueError::new_err(format!("{}: {}", r.option, r.problem)),
         Err(e) => PlatoonError::new_err(format!("{e:#}")),
@@ -44,66 +45,13 @@ fn to_py(e: anyhow::Error) -> PyErr {
 /// devices render; Ctrl-C returns at once with KeyboardInterrupt (the frame already on the
 /// devices finishes in the background).
 #[pyfunction]
-#[pyo3(signature = (
-    scene=None, *, width=512, height=512, spp=64, method="path", devices="0", aovs=None,
-    denoise="none", seed=0, max_depth=None, time_limit=None, env=None, env_color=None,
-    time=0.0, camera=None, aperture=0.0, focus_distance=None, balancer="cost-aware",
-    sampling="mis", adaptive_threshold=None, variant=None, allow_external_files=false,
-    **options
-))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (scene=None, **kwargs))]
 fn render(
     py: Python<'_>,
     scene: Option<PathBuf>,
-    width: u32,
-    height: u32,
-    spp: u32,
-    method: &str,
-    devices: &str,
-    aovs: Option<Vec<String>>,
-    denoise: &str,
-    seed: u32,
-    max_depth: Option<u32>,
-    time_limit: Option<f64>,
-    env: Option<PathBuf>,
-    env_color: Option<(f32, f32, f32)>,
-    time: f32,
-    camera: Option<&Bound<'_, PyAny>>,
-    aperture: f32,
-    focus_distance: Option<f32>,
-    balancer: &str,
-    sampling: &str,
-    adaptive_threshold: Option<f32>,
-    variant: Option<String>,
-    allow_external_files: bool,
-    options: Option<&Bound<'_, PyDict>>,
+    kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Rendered> {
-    let request = keywords::Keywords {
-        scene,
-        width,
-        height,
-        spp,
-        method,
-        devices,
-        aovs: aovs.unwrap_or_default(),
-        denoise,
-        seed,
-        max_depth,
-        time_limit,
-        env,
-        env_color,
-        time,
-        camera,
-        aperture,
-        focus_distance,
-        balancer,
-        sampling,
-        adaptive_threshold,
-        variant,
-        allow_external_files,
-        options,
-    }
-    .request()?;
+    let request = keywords::request(py, scene, kwargs, platoon::Request::default().spp)?;
     let still = render_interruptibly(py, request)?;
     Rendered::of(py, still)
 }
@@ -131,12 +79,18 @@ fn worker() -> &'static Mutex<mpsc::Sender<Job>> {
 
 /// Renders on the worker thread with the GIL released, looking for Ctrl-C meanwhile.
 fn render_interruptibly(py: Python<'_>, request: platoon::Request) -> PyResult<platoon::Still> {
-    let (done, mut result) = mpsc::channel();
+    let (done, result) = mpsc::channel();
     worker()
         .lock()
         .map_err(|_| PlatoonError::new_err("the render thread failed earlier"))?
         .send((request, done))
         .map_err(|_| PlatoonError::new_err("the render thread has ended"))?;
+    wait(py, result)?.map_err(to_py)
+}
+
+/// What another thread sends on `result`, waited for with the GIL released; Ctrl-C raises
+/// KeyboardInterrupt at once (the other thread finishes its work behind).
+pub(crate) fn wait<T: Send>(py: Python<'_>, mut result: mpsc::Receiver<T>) -> PyResult<T> {
     loop {
         // The receiver goes into the GIL-free wait and back (it may move between threads but
         // not be shared by them).
@@ -146,7 +100,7 @@ fn render_interruptibly(py: Python<'_>, request: platoon::Request) -> PyResult<p
         });
         result = back;
         match waited {
-            Ok(still) => return still.map_err(to_py),
+            Ok(value) => return Ok(value),
             Err(mpsc::RecvTimeoutError::Timeout) => py.check_signals()?,
             Err(mpsc::RecvTimeoutError::Disconnected) => {
                 return Err(PlatoonError::new_err(
@@ -216,6 +170,7 @@ fn _platoon(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(read_exr, m)?)?;
     m.add_class::<Rendered>()?;
+    m.add_class::<progressive::Renderer>()?;
     m.add("PlatoonError", m.py().get_type::<PlatoonError>())?;
     Ok(())
 }

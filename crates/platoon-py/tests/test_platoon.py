@@ -118,3 +118,19 @@ def test_ctrl_c_returns_from_a_long_render_at_once():
     out, _ = p.communicate(timeout=60)
     assert p.returncode == 3 and "interrupted" in out
     assert time.monotonic() - sent < 5, "Ctrl-C waited for the render"
+
+
+def test_a_renderer_continues_its_film_bit_for_bit():
+    whole = platoon.render(**{**SMALL, "spp": 7})
+    for devices in ["lavapipe:1", "lavapipe:1,1,1"]:
+        r = platoon.Renderer(width=24, height=16, devices=devices)
+        r.render(3)
+        last = r.render(4)
+        assert r.spp == 7 and last.spp == 7
+        assert np.array_equal(last.image, whole.image)
+    with pytest.raises(ValueError) as caught:
+        platoon.Renderer(width=24, height=16, time_limit=1.0)
+    assert "time_limit" in str(caught.value)
+    with pytest.raises(platoon.PlatoonError) as caught:
+        platoon.Renderer("/nonexistent/box.glb")
+    assert "/nonexistent/box.glb" in str(caught.value)

@@ -47,4 +47,4 @@ pub use prepare::{
 pub use render::{
     render, render_bands, render_frame, whole_frame, BatchedStats, Rendered, Tracers,
 };
-pub use request::{CameraChoice, Request, RequestError, SceneSource, Still};
+pub use request::{CameraChoice, Progressive, Request, RequestError, SceneSource, Still};

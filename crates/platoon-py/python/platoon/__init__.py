@@ -11,8 +11,10 @@
 arguments raise ValueError naming the argument; a scene or device that fails raises
 PlatoonError naming the file and the problem. `devices()` lists the Vulkan devices,
 `methods()` the rendering methods and the options each takes as keyword arguments.
+`Renderer(scene, **the same arguments)` keeps its tracers: each `.render(spp)` adds samples
+to the film (the same bits as one render of all of them).
 """
 
-from ._platoon import PlatoonError, Rendered, devices, methods, read_exr, render
+from ._platoon import PlatoonError, Rendered, Renderer, devices, methods, read_exr, render
 
-__all__ = ["PlatoonError", "Rendered", "devices", "methods", "read_exr", "render"]
+__all__ = ["PlatoonError", "Rendered", "Renderer", "devices", "methods", "read_exr", "render"]

@@ -71,6 +71,18 @@ def render(
     (`methods()`), e.g. method="igi", vpls=180.
     """
 
+class Renderer:
+    """A render that goes on: the scene prepared and the tracers made once (the arguments of
+    `render` but spp), each `render(spp)` adding samples to the film. After any number of calls
+    the image is the same bits as one render of all their samples."""
+
+    def __init__(self, scene: str | PathLike[str] | None = None, **kwargs: Any) -> None: ...
+    def render(self, spp: int) -> Rendered:
+        """Adds `spp` samples to every pixel; the still of all the samples so far."""
+    @property
+    def spp(self) -> int:
+        """Samples per pixel so far."""
+
 def devices() -> list[dict[str, Any]]:
     """The Vulkan devices, in the order `devices="0,1"` numbers them."""
 

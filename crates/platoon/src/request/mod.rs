@@ -21,9 +21,11 @@
 //! ```
 
 mod form;
+mod progressive;
 pub mod still;
 mod validate;
 
 pub use form::{CameraChoice, Request, SceneSource};
+pub use progressive::Progressive;
 pub use still::Still;
 pub use validate::RequestError;

@@ -1,0 +1,125 @@
+//! A render that goes on: the request's scene prepared and its tracers made once, each call
+//! adding samples to the film. The film continues its sums in sample order, so after any
+//! number of calls it holds the same bits as one render of all their samples.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use anyhow::Result;
+use platoon_core::frame::FrameParams;
+use platoon_core::output::Film;
+
+use super::form::Request;
+use super::still::Still;
+use super::validate::RequestError;
+use crate::{Prepared, Tracers};
+
+pub struct Progressive {
+    request: Request,
+    prepared: Prepared,
+    tracers: Tracers,
+    /// The samples of every pixel so far, summed, and how many.
+    sums: Option<Arc<[[f32; 3]]>>,
+    spp: u32,
+    /// The device time of every call so far.
+    wall_time: Duration,
+}
+
+impl Progressive {
+    /// The request's scene prepared on its devices, no sample taken yet. Its `spp` is not
+    /// used (each `add` says how many); adaptive sampling, the variance AOV and a time limit
+    /// are a single render's.
+    pub fn new(request: Request) -> Result<Progressive> {
+        let request = Request {
+            spp: request.spp.max(1),
+            ..request
+        };
+        request.validate()?;
+        for (option, set) in [
+            ("adaptive", request.adaptive.is_some()),
+            ("aovs", request.batching().variance),
+            ("time_limit", request.time_limit.is_some()),
+        ] {
+            if set {
+                return Err(RequestError {
+                    option,
+                    problem: "a single render's: a progressive render adds the samples it is \
+                              asked for"
+                        .into(),
+                }
+                .into());
+            }
+        }
+        let prepared = crate::prepare(request.load_scene()?, &request.prepare_options())?;
+        for w in &prepared.scene.warnings {
+            log::warn!("{w}");
+        }
+        let tracers = Tracers::new(&request.tracer_options()?, &request.balancer, &prepared.gpu)?;
+        Ok(Progressive {
+            request,
+            prepared,
+            tracers,
+            sums: None,
+            spp: 0,
+            wall_time: Duration::ZERO,
+        })
+    }
+
+    /// Samples per pixel so far.
+    pub fn spp(&self) -> u32 {
+        self.spp
+    }
+
+    /// The frame of all the samples so far (its AOVs rendered at that count).
+    fn params(&self) -> FrameParams {
+        let mut p = self
+            .request
+            .frame_params(self.request.camera_in(&self.prepared));
+        p.spp = self.spp;
+        p
+    }
+
+    /// Adds `spp` samples to every pixel; the still of all of them so far.
+    pub fn add(&mut self, spp: u32, progress: &mut dyn FnMut(u32)) -> Result<Still> {
+        if spp == 0 {
+            return Err(RequestError {
+                option: "spp",
+                problem: "must be positive".into(),
+            }
+            .into());
+        }
+        let mut more = self.params();
+        more.spp = spp;
+        more.first_sample = self.spp;
+        more.accumulated = self.sums.clone();
+        let mut rendered = self.tracers.render(&self.prepared.gpu, &more, progress)?;
+        self.spp += spp;
+        self.wall_time += rendered.wall_time;
+        let inv = 1.0 / self.spp as f32;
+        rendered.film = Film {
+            width: more.width,
+            height: more.height,
+            pixels: rendered.sums.iter().map(|s| s.map(|v| v * inv)).collect(),
+        };
+        self.sums = Some(rendered.sums.clone().into());
+        rendered.spp = self.spp;
+        rendered.wall_time = self.wall_time;
+        let params = self.params();
+        let meta = crate::metadata(
+            &self.prepared,
+            &params,
+            &rendered,
+            self.request.sampling.name(),
+        );
+        let still = Still::of(
+            &mut self.tracers,
+            &self.prepared.gpu,
+            &params,
+            rendered,
+            &self.request.aovs,
+            self.request.denoiser,
+            self.prepared.posed.origin,
+        )?;
+        Ok(still.with_metadata(meta))
+    }
+}
