@@ -273,3 +273,28 @@ fn a_progressive_render_is_one_render_of_all_its_samples() {
     .unwrap();
     assert_eq!(e.downcast::<RequestError>().unwrap().option, "time_limit");
 }
+
+#[test]
+fn a_game_loop_of_a_still_view_is_one_render_of_its_samples() {
+    let scene = platoon::core::scene::cornell::scene();
+    let camera = Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
+    let request = Request {
+        spp: 3,
+        devices: DeviceSpec::Lavapipe(vec![1, 1]),
+        ..small()
+    };
+    let mut driver = request.start_game(None).unwrap();
+    for _ in 0..4 {
+        driver.frame(camera).unwrap();
+    }
+    let last = driver.finish().unwrap().unwrap();
+    assert_eq!(last.stats.film_samples, Some(12));
+    let whole = Request {
+        spp: 12,
+        camera: CameraChoice::Given(camera),
+        ..small()
+    }
+    .render(&mut |_| {})
+    .unwrap();
+    assert_eq!(last.film.pixels, whole.image.pixels);
+}

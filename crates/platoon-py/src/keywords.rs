@@ -163,18 +163,25 @@ fn camera(c: &Bound<'_, PyAny>) -> PyResult<CameraChoice> {
     if let Ok(index) = c.extract::<usize>() {
         return Ok(CameraChoice::Scene(Some(index)));
     }
-    type LookAt = ((f32, f32, f32), (f32, f32, f32), f32);
-    let ((ex, ey, ez), (tx, ty, tz), fov): LookAt = c.extract().map_err(|_| {
+    look_at(c).map(CameraChoice::Given).map_err(|_| {
         bad(
             "camera",
             "an index of the scene's cameras, or (eye, target, fov_degrees)",
         )
-    })?;
-    Ok(CameraChoice::Given(Camera::look_at(
+    })
+}
+
+/// A camera in world space from (eye, target, vertical field of view in degrees).
+pub fn look_at(c: &Bound<'_, PyAny>) -> PyResult<Camera> {
+    type LookAt = ((f32, f32, f32), (f32, f32, f32), f32);
+    let ((ex, ey, ez), (tx, ty, tz), fov): LookAt = c
+        .extract()
+        .map_err(|_| bad("camera", "(eye, target, fov_degrees)"))?;
+    Ok(Camera::look_at(
         glam::Vec3::new(ex, ey, ez),
         glam::Vec3::new(tx, ty, tz),
         fov.to_radians(),
-    )))
+    ))
 }
 
 /// A Python value as a setting of `kind`: a number, a bool, (m, n) or "MxN", a string.

@@ -6,6 +6,7 @@
 //! argument; other failures raise `platoon.PlatoonError` naming the file and the problem.
 
 mod arrays;
+mod game;
 mod keywords;
 mod progressive;
 mod rendered;
@@ -171,6 +172,8 @@ fn _platoon(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_exr, m)?)?;
     m.add_class::<Rendered>()?;
     m.add_class::<progressive::Renderer>()?;
+    m.add_class::<game::Game>()?;
+    m.add_class::<game::Frame>()?;
     m.add("PlatoonError", m.py().get_type::<PlatoonError>())?;
     Ok(())
 }

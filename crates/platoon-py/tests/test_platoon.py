@@ -134,3 +134,37 @@ def test_a_renderer_continues_its_film_bit_for_bit():
     with pytest.raises(platoon.PlatoonError) as caught:
         platoon.Renderer("/nonexistent/box.glb")
     assert "/nonexistent/box.glb" in str(caught.value)
+
+
+CAMERA = ((0.0, 1.0, 3.4), (0.0, 1.0, 0.0), 40.0)
+
+
+def game_image(edits=lambda g: None, frames=3, **kwargs):
+    g = platoon.Game(**{**SMALL, "spp": 2, **kwargs})
+    edits(g)
+    for _ in range(frames):
+        g.frame(CAMERA)
+    return g.finish()
+
+
+def test_a_game_of_a_still_view_is_one_render_of_its_samples():
+    last = game_image(frames=4, spp=3, devices="lavapipe:1,1")
+    assert last.film_samples == 12 and last.frame == 3
+    whole = platoon.render(**{**SMALL, "spp": 12}, camera=CAMERA)
+    assert np.array_equal(last.image, whole.image)
+
+
+def test_a_living_scenes_edits_reach_the_image():
+    plain = game_image().image
+    at = lambda x: (lambda g: g.add_instance(0, (x, 0.6, 0.0), scale=(0.3, 0.3, 0.3)))
+    here, there = game_image(at(-0.3)).image, game_image(at(0.3)).image
+    assert not np.array_equal(here, plain) and not np.array_equal(here, there)
+
+    def add_then_move(g):
+        g.move(g.add_instance(0, (-0.3, 0.6, 0.0), scale=(0.3, 0.3, 0.3)), (0.3, 0.6, 0.0),
+               scale=(0.3, 0.3, 0.3))
+    assert np.array_equal(game_image(add_then_move).image, there)
+    assert np.array_equal(game_image(lambda g: g.remove(g.add_instance(0, (0.3, 0.6, 0.0)))).image,
+                          plain)
+    with pytest.raises(platoon.PlatoonError):
+        game_image(lambda g: g.move(999, (0.0, 0.0, 0.0)))

@@ -12,9 +12,32 @@ arguments raise ValueError naming the argument; a scene or device that fails rai
 PlatoonError naming the file and the problem. `devices()` lists the Vulkan devices,
 `methods()` the rendering methods and the options each takes as keyword arguments.
 `Renderer(scene, **the same arguments)` keeps its tracers: each `.render(spp)` adds samples
-to the film (the same bits as one render of all of them).
+to the film (the same bits as one render of all of them). `Game(scene, target_ms=None,
+**the same arguments)` is the game loop over a living scene: `frame((eye, target, fov))`
+renders this frame and returns the previous one, `add_instance`, `move`, `remove` and
+`set_time` change the scene for the next.
 """
 
-from ._platoon import PlatoonError, Rendered, Renderer, devices, methods, read_exr, render
+from ._platoon import (
+    Frame,
+    Game,
+    PlatoonError,
+    Rendered,
+    Renderer,
+    devices,
+    methods,
+    read_exr,
+    render,
+)
 
-__all__ = ["PlatoonError", "Rendered", "Renderer", "devices", "methods", "read_exr", "render"]
+__all__ = [
+    "Frame",
+    "Game",
+    "PlatoonError",
+    "Rendered",
+    "Renderer",
+    "devices",
+    "methods",
+    "read_exr",
+    "render",
+]

@@ -83,6 +83,58 @@ class Renderer:
     def spp(self) -> int:
         """Samples per pixel so far."""
 
+Vec3 = tuple[float, float, float]
+LookAt = tuple[Vec3, Vec3, float]
+
+class Frame:
+    """A finished frame of a `Game`."""
+
+    @property
+    def image(self) -> npt.NDArray[np.float32]:
+        """The film after this frame joined it, H x W x 3."""
+    @property
+    def denoised(self) -> npt.NDArray[np.float32] | None: ...
+    @property
+    def frame(self) -> int:
+        """The game frame, counting calls from 0."""
+    @property
+    def spp(self) -> int:
+        """Samples per pixel this frame took."""
+    @property
+    def film_samples(self) -> int | None:
+        """Samples behind the film when it holds exact sums (None after a blend)."""
+    @property
+    def busy_ms(self) -> float: ...
+    @property
+    def idle(self) -> float:
+        """The share of the frame the devices waited for each other."""
+
+class Game:
+    """The game loop over a living scene: the arguments of `render` (spp: samples a frame,
+    1 by default), and `target_ms` to hold a frame time by scaling them."""
+
+    def __init__(
+        self, scene: str | PathLike[str] | None = None, target_ms: float | None = None,
+        **kwargs: Any,
+    ) -> None: ...
+    def frame(self, camera: LookAt) -> Frame | None:
+        """Renders this frame from (eye, target, fov_degrees) in world space while the game
+        goes on; returns the previous frame (None on the first call)."""
+    def finish(self) -> Frame | None:
+        """Waits for the last frame and returns it."""
+    def add_instance(
+        self, mesh: int, position: Vec3, rotation: tuple[float, float, float, float] | None = None,
+        scale: Vec3 | None = None,
+    ) -> int:
+        """A new instance of the scene's mesh `mesh`; its node."""
+    def move(
+        self, node: int, position: Vec3, rotation: tuple[float, float, float, float] | None = None,
+        scale: Vec3 | None = None,
+    ) -> None: ...
+    def remove(self, node: int) -> None: ...
+    def set_time(self, seconds: float) -> None:
+        """The scene's animation time."""
+
 def devices() -> list[dict[str, Any]]:
     """The Vulkan devices, in the order `devices="0,1"` numbers them."""
 

@@ -21,6 +21,7 @@
 //! ```
 
 mod form;
+mod game;
 mod progressive;
 pub mod still;
 mod validate;

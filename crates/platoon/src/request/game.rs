@@ -1,0 +1,46 @@
+//! A request as a game loop: its scene lit as a still's would be, the frame driver over its
+//! devices, each frame of its size at its samples (or holding a frame time), with its seed,
+//! depth, method and denoiser. The camera is each frame's, in world space.
+
+use std::time::Duration;
+
+use anyhow::Result;
+use platoon_core::drive::{DriverOptions, FrameDriver};
+
+use super::form::Request;
+use crate::game::GameOptions;
+
+impl Request {
+    /// The game loop's options for this request; `target`: a frame time to hold by scaling
+    /// the samples a frame (None: the request's `spp` every frame).
+    pub fn game_options(&self, target: Option<Duration>) -> GameOptions {
+        let mut driver = DriverOptions::new(self.width, self.height);
+        driver.spp = self.spp;
+        driver.target = target;
+        driver.seed = self.seed;
+        if let Some(d) = self.max_depth {
+            driver.max_depth = d;
+        }
+        driver.method = self.method.clone();
+        driver.denoise = self.denoiser;
+        GameOptions {
+            driver,
+            devices: self.devices.clone(),
+            balancer: self.balancer.clone(),
+            time: self.time,
+            validation: self.validation,
+            ..GameOptions::new(DriverOptions::new(self.width, self.height))
+        }
+    }
+
+    /// Starts the game loop of this request (validated; its scene loaded and lit).
+    pub fn start_game(&self, target: Option<Duration>) -> Result<FrameDriver> {
+        self.validate()?;
+        let mut scene = self.load_scene()?;
+        crate::prepare::light(&mut scene, &self.env)?;
+        for w in &scene.warnings {
+            log::warn!("{w}");
+        }
+        crate::game::start(scene, &self.game_options(target))
+    }
+}
