@@ -72,7 +72,7 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         rendered.rays() as f64 / secs / 1e6,
         rendered.rejected_samples()
     );
-    report_method(rendered);
+    report_method(rendered, &params.method);
     Ok(())
 }
 
@@ -157,16 +157,13 @@ fn report_ranks(report: &platoon::distributed::RanksReport, width: u32) {
     );
 }
 
-/// What the method's report says a user should see (layered hit buffers' build and losses).
-fn report_method(rendered: &platoon::Rendered) {
-    let entry = |key| platoon::core::frame::renderer::report_entry(&rendered.method_metadata, key);
-    if let Some(build) = entry("lhb_build") {
-        eprintln!("  layered hit buffers: {build}");
+/// What the method says a user should read after its render.
+fn report_method(rendered: &platoon::Rendered, method: &platoon::core::Method) {
+    let report = method.unit().report(&rendered.method_metadata);
+    for line in &report.lines {
+        eprintln!("  {line}");
     }
-    if let Some(lost) = entry("lhb_lost_layers").filter(|l| *l != "0") {
-        eprintln!(
-            "warning: {lost} layers did not fit the buffers' lists and are missing from the \
-             lookups: raise --lhb-layers or use --lhb-variant exact"
-        );
+    for warning in &report.warnings {
+        eprintln!("warning: {warning}");
     }
 }

@@ -14,6 +14,13 @@ pub struct DeviceFrame {
     pub gpu_time: std::time::Duration,
 }
 
+/// What a method tells the user after a render.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Report {
+    pub lines: Vec<String>,
+    pub warnings: Vec<String>,
+}
+
 /// Renders a device frame: on one tracer's bands, or split between the renderer's tracers.
 pub type DeviceRun<'a> = dyn FnMut(&FrameParams) -> Result<DeviceFrame, String> + 'a;
 
@@ -58,6 +65,11 @@ pub trait RenderMethod {
     /// A few words for a live view's status line (IGI's VPL count), if it has any to say.
     fn brief(&self) -> Option<String> {
         None
+    }
+    /// What a user should read after a render, from the frame's report (its metadata
+    /// entries): lines to print, and warnings (layered hit buffers' build and lost layers).
+    fn report(&self, _entries: &[(String, String)]) -> Report {
+        Report::default()
     }
     /// Entries of the output's metadata beyond its description (what its preparation did).
     fn metadata(&self) -> Vec<(String, String)> {

@@ -6,7 +6,7 @@ use super::prepared::Lhb;
 use crate::flatten::features::KernelOption;
 use crate::flatten::GpuScene;
 use crate::frame::{FrameParams, Output};
-use crate::method::render_method::{DeviceRun, RenderMethod};
+use crate::method::render_method::{DeviceRun, RenderMethod, Report};
 use crate::method::Method;
 
 impl RenderMethod for Lhb {
@@ -93,6 +93,21 @@ impl RenderMethod for Lhb {
         }))
     }
 
+    fn report(&self, entries: &[(String, String)]) -> Report {
+        let entry = |key| crate::frame::renderer::report_entry(entries, key);
+        let mut report = Report::default();
+        if let Some(build) = entry("lhb_build") {
+            report.lines.push(format!("layered hit buffers: {build}"));
+        }
+        if let Some(lost) = entry("lhb_lost_layers").filter(|l| *l != "0") {
+            report.warnings.push(format!(
+                "{lost} layers did not fit the buffers' lists and are missing from the \
+                 lookups: raise --lhb-layers or use --lhb-variant exact"
+            ));
+        }
+        report
+    }
+
     fn metadata(&self) -> Vec<(String, String)> {
         let Some(t) = &self.tables else {
             return Vec::new();
@@ -110,5 +125,27 @@ impl RenderMethod for Lhb {
                 t.map.longest()
             ),
         )]
+    }
+}
+
+#[cfg(test)]
+mod report_tests {
+    use super::*;
+
+    #[test]
+    fn the_report_shows_the_build_and_warns_of_lost_layers_only() {
+        let lhb = Lhb::new(Default::default());
+        let entries = |lost: &str| {
+            vec![
+                ("lhb_build".to_string(), "320 buffers".to_string()),
+                ("lhb_lost_layers".to_string(), lost.to_string()),
+            ]
+        };
+        let r = lhb.report(&entries("3"));
+        assert_eq!(r.lines, ["layered hit buffers: 320 buffers"]);
+        assert_eq!(r.warnings.len(), 1);
+        assert!(r.warnings[0].starts_with("3 layers did not fit"), "{r:?}");
+        assert!(lhb.report(&entries("0")).warnings.is_empty());
+        assert_eq!(lhb.report(&[]), Report::default());
     }
 }
