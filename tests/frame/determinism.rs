@@ -217,7 +217,7 @@ fn the_streaming_path_tracer_continues_a_sum_as_one_longer_render() {
     let first = renderer.render_frame(&params).unwrap().sums;
     params.spp = 3;
     params.first_sample = 2;
-    params.accumulated = Some(first.into());
+    params.film.accumulated = Some(first.into());
     let rest = renderer.render_frame(&params).unwrap().sums;
     assert!(rest == whole, "continuing the sum changed the bits");
 }

@@ -360,10 +360,10 @@ fn a_still_view_in_the_frame_driver_averages_over_vpl_sets() {
         for i in 0..k {
             params.first_sample = i * s;
             let sums = renderer.render_frame(&params).unwrap().sums;
-            params.accumulated = Some(sums.into());
+            params.film.accumulated = Some(sums.into());
         }
         let inv = 1.0 / (k * s) as f32;
-        let sums = params.accumulated.as_ref().unwrap();
+        let sums = params.film.accumulated.as_ref().unwrap();
         let expected: Vec<[f32; 3]> = sums.iter().map(|p| p.map(|v| v * inv)).collect();
         assert!(
             done.film.pixels == expected,
@@ -372,7 +372,7 @@ fn a_still_view_in_the_frame_driver_averages_over_vpl_sets() {
 
         // One render of k s samples gathers one set: another image.
         params.first_sample = 0;
-        params.accumulated = None;
+        params.film.accumulated = None;
         params.spp = k * s;
         let one_set = renderer.render_frame(&params).unwrap().film;
         assert!(

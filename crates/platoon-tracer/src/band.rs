@@ -97,9 +97,9 @@ impl Tracer {
                 "the indirect clamp must be a positive radiance".into(),
             ));
         }
-        if let Some(c) = &params.converged {
+        if let Some(c) = &params.film.converged {
             let pixels = params.width as usize * params.height as usize;
-            if params.accumulated.is_none() || c.len() != pixels {
+            if params.film.accumulated.is_none() || c.len() != pixels {
                 return Err(crate::Error::Invalid(
                     "converged pixels need the accumulated sums, one flag per pixel".into(),
                 ));
@@ -193,7 +193,7 @@ impl Tracer {
             );
         };
         // The band starts from the earlier samples' sums when the frame continues them.
-        let start = match &params.accumulated {
+        let start = match &params.film.accumulated {
             Some(sums) => {
                 let pixels = width as usize * height as usize;
                 if sums.len() != pixels {
@@ -205,7 +205,7 @@ impl Tracer {
                 let range = span.begin as usize..span.end as usize;
                 // The kernels leave pixels flagged converged (w = 2, PIXEL_CONVERGED in
                 // shaders/path/path.glsl) as they are.
-                let flag = |i: usize| match &params.converged {
+                let flag = |i: usize| match &params.film.converged {
                     Some(c) if c[i] => 2.0,
                     _ => 0.0,
                 };

@@ -45,7 +45,7 @@ pub fn render_layers_with(
         p.method = Method::PathTracing;
         p.spp = pass.spp(params.spp);
         p.time_limit = None;
-        p.accumulated = None;
+        p.film.accumulated = None;
         films.push((pass, render(&p)?));
     }
     let film = |pass| {

@@ -81,7 +81,7 @@ pub fn render(
 }
 
 fn check(params: &FrameParams, batching: &Batching) -> Result<()> {
-    if params.accumulated.is_some() {
+    if params.film.accumulated.is_some() {
         bail!("a frame rendered in batches starts its own sums: it cannot continue others");
     }
     if params.time_limit.is_some() {

@@ -51,8 +51,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         seed,
         frame,
         first_sample,
-        accumulated,
-        converged,
+        film,
         samples_per_pass,
         time_limit,
         camera,
@@ -86,7 +85,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         w.u32(*v);
     }
     // The film's sums and mask: the span's only.
-    let _ = (accumulated, converged);
+    let _ = film;
     put_film_span(w, p, span);
     w.u8(time_limit.is_some() as u8);
     w.duration(time_limit.unwrap_or_default());
@@ -222,23 +221,23 @@ mod tests {
         p.frame = 12;
         p.first_sample = 13;
         p.output = Output::Aov(AovPass::Normal);
-        p.accumulated = Some(
+        p.film.accumulated = Some(
             (0..20)
                 .map(|i| [i as f32, 0.5, -1.0])
                 .collect::<Vec<_>>()
                 .into(),
         );
-        p.converged = Some((0..20).map(|i| i % 3 == 0).collect::<Vec<_>>().into());
+        p.film.converged = Some((0..20).map(|i| i % 3 == 0).collect::<Vec<_>>().into());
         let span = Span::new(6, 13);
         let back = round_trip(&p, span);
         assert_eq!(fingerprint(&back), fingerprint(&p));
-        let (a, b) = (p.accumulated.unwrap(), back.accumulated.unwrap());
+        let (a, b) = (p.film.accumulated.unwrap(), back.film.accumulated.unwrap());
         for i in 0..20 {
             let inside = (6..13).contains(&i);
             assert_eq!(b[i], if inside { a[i] } else { [0.0; 3] }, "{i}");
             assert_eq!(
-                back.converged.as_ref().unwrap()[i],
-                inside && p.converged.as_ref().unwrap()[i]
+                back.film.converged.as_ref().unwrap()[i],
+                inside && p.film.converged.as_ref().unwrap()[i]
             );
         }
         let plain = FrameParams::new(

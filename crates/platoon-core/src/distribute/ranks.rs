@@ -481,8 +481,8 @@ mod tests {
     fn a_frame_continuing_sums_gets_each_rank_its_share_of_them() {
         let mut p = params(2);
         let before: Vec<[f32; 3]> = (0..7 * 30).map(|i| [i as f32, 1.5, -2.0]).collect();
-        p.accumulated = Some(before.into());
-        p.converged = Some((0..7 * 30).map(|i| i % 5 == 0).collect::<Vec<_>>().into());
+        p.film.accumulated = Some(before.into());
+        p.film.converged = Some((0..7 * 30).map(|i| i % 5 == 0).collect::<Vec<_>>().into());
         let films = over_ranks(
             &[2, 1, 2],
             ("cost-aware", "perfect"),

@@ -322,7 +322,7 @@ mod tests {
                                 // A frame continuing a film: each rank gets its span's sums.
                                 let sums: Vec<[f32; 3]> =
                                     (0..9 * 31).map(|i| [i as f32, 2.0, 0.25]).collect();
-                                p.accumulated = Some(sums.into());
+                                p.film.accumulated = Some(sums.into());
                             }
                             let frame = r.render_frame(&p).unwrap();
                             assert_eq!(frame.line_rays.iter().sum::<u64>(), 9 * 15 + 9 * 16 * 8);

@@ -144,8 +144,8 @@ pub fn fingerprint(params: &FrameParams) -> u64 {
         }
     }
     let mut p = params.clone();
-    p.accumulated = None;
-    p.converged = None;
+    p.film.accumulated = None;
+    p.film.converged = None;
     let mut h = std::collections::hash_map::DefaultHasher::new();
     std::fmt::write(&mut HashWriter(&mut h), format_args!("{p:?}")).expect("hashing");
     h.finish()
@@ -155,14 +155,14 @@ pub fn fingerprint(params: &FrameParams) -> u64 {
 /// mask there, each when the frame has it.
 pub fn put_film_span(w: &mut Writer, p: &FrameParams, span: Span) {
     let range = span.begin as usize..span.end as usize;
-    match &p.accumulated {
+    match &p.film.accumulated {
         Some(a) => {
             w.u8(1);
             w.pod(&a[range.clone()]);
         }
         None => w.u8(0),
     }
-    match &p.converged {
+    match &p.film.converged {
         Some(c) => {
             w.u8(1);
             w.bytes(&c[range].iter().map(|&b| b as u8).collect::<Vec<u8>>());
@@ -179,7 +179,7 @@ pub fn get_film_span(r: &mut Reader, p: &mut FrameParams, span: Span) -> Result<
         return Err(WireError(format!("a span {span:?} outside the frame")));
     }
     let range = span.begin as usize..span.end as usize;
-    p.accumulated = None;
+    p.film.accumulated = None;
     if r.u8()? == 1 {
         let sums: Vec<[f32; 3]> = r.pod()?;
         if sums.len() != range.len() {
@@ -187,9 +187,9 @@ pub fn get_film_span(r: &mut Reader, p: &mut FrameParams, span: Span) -> Result<
         }
         let mut full = vec![[0.0f32; 3]; pixels];
         full[range.clone()].copy_from_slice(&sums);
-        p.accumulated = Some(full.into());
+        p.film.accumulated = Some(full.into());
     }
-    p.converged = None;
+    p.film.converged = None;
     if r.u8()? == 1 {
         let mask = r.bytes()?;
         if mask.len() != range.len() {
@@ -199,7 +199,7 @@ pub fn get_film_span(r: &mut Reader, p: &mut FrameParams, span: Span) -> Result<
         for (dst, &m) in full[range].iter_mut().zip(mask) {
             *dst = m != 0;
         }
-        p.converged = Some(full.into());
+        p.film.converged = Some(full.into());
     }
     Ok(())
 }
@@ -468,7 +468,7 @@ mod tests {
         let camera = crate::scene::camera::Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
         let p = FrameParams::new(4, 4, 2, camera);
         let mut q = p.clone();
-        q.accumulated = Some(vec![[1.0; 3]; 16].into());
+        q.film.accumulated = Some(vec![[1.0; 3]; 16].into());
         assert_eq!(fingerprint(&p), fingerprint(&q));
         q.seed = 1;
         assert_ne!(fingerprint(&p), fingerprint(&q));

@@ -151,8 +151,8 @@ fn render_geometry<T: BandTracer + Send + 'static>(
         p.method = Method::PathTracing;
         p.spp = GUIDE_SPP;
         p.rr_survival = 1.0;
-        p.accumulated = None;
-        p.converged = None;
+        p.film.accumulated = None;
+        p.film.converged = None;
         p.time_limit = None;
         let rendered = renderer
             .render_side_pass(&p)

@@ -580,7 +580,7 @@ fn render_one<T: BandTracer + Send + 'static>(
         )?);
     }
     let render_start = Instant::now();
-    params.accumulated = film.continued(plan.join);
+    params.film.accumulated = film.continued(plan.join);
     let rendered = renderer
         .render_frame_planned(&params, plan.rebalance)
         .map_err(failed)?;
@@ -592,7 +592,7 @@ fn render_one<T: BandTracer + Send + 'static>(
                 params: &params,
                 plan: &plan,
                 sums: &rendered.sums,
-                before: params.accumulated.as_deref(),
+                before: params.film.accumulated.as_deref(),
                 film_size: film.size(),
                 moved,
             };

@@ -111,7 +111,7 @@ fn prepare_after<T: BandTracer + Send + 'static>(
     let mut p = params.clone();
     p.frame = 0;
     p.first_sample = 0;
-    p.accumulated = None;
+    p.film.accumulated = None;
     p.method = last
         .and_then(|l| l.method.unit().renewal())
         .unwrap_or_else(|| params.method.clone());

@@ -152,8 +152,8 @@ impl Batched {
         let mut p = base.clone();
         p.first_sample = base.first_sample.wrapping_add(batch.begin);
         p.spp = batch.end - batch.begin;
-        p.accumulated = (batch.begin > 0).then(|| self.sums.clone());
-        p.converged = self
+        p.film.accumulated = (batch.begin > 0).then(|| self.sums.clone());
+        p.film.converged = self
             .converged
             .iter()
             .any(|&c| c)
@@ -340,7 +340,7 @@ mod tests {
         assert_eq!(b.samples(), &[4, 4, 4, 4, 4]);
         // Converged pixels keep their sums and counts through the next batch.
         let p = b.params(&FrameParams::new(w, h, 8, camera()), &second);
-        assert_eq!(p.converged.as_deref().unwrap().len(), 5);
+        assert_eq!(p.film.converged.as_deref().unwrap().len(), 5);
         let third = Batch {
             begin: 4,
             end: 8,

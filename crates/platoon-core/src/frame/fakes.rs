@@ -25,8 +25,12 @@ impl BandTracer for Fake {
         let mut sums = Vec::new();
         for i in span.begin..span.end {
             let (x, y) = (i % p.width, i / p.width);
-            let before = p.accumulated.as_ref().map_or([0.0; 3], |a| a[i as usize]);
-            let done = p.converged.as_ref().is_some_and(|c| c[i as usize]);
+            let before = p
+                .film
+                .accumulated
+                .as_ref()
+                .map_or([0.0; 3], |a| a[i as usize]);
+            let done = p.film.converged.as_ref().is_some_and(|c| c[i as usize]);
             let add = if done {
                 0.0
             } else {

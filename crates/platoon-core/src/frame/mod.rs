@@ -7,11 +7,13 @@ pub mod aov;
 #[cfg(test)]
 pub(crate) mod fakes;
 pub mod fault;
+mod film_state;
 pub mod renderer;
 mod workers;
 
-use std::sync::Arc;
 use std::time::Duration;
+
+pub use film_state::FilmState;
 
 use crate::output::Film;
 use crate::scene::camera::Camera;
@@ -86,14 +88,8 @@ pub struct FrameParams {
     /// Index of the first sample: the frame renders samples [first_sample, first_sample + spp)
     /// of each pixel (wrapping at 2^32, which a converging view does not reach).
     pub first_sample: u32,
-    /// Radiance sums of earlier samples of every pixel (row-major, width x height) that this
-    /// frame's samples are added onto, one by one in sample order, so that frames continuing a
-    /// sum are bit for bit one longer render. The bands' sums then include them.
-    pub accumulated: Option<Arc<[[f32; 3]]>>,
-    /// Pixels (row-major) that take no samples in this frame, their sums passed through from
-    /// `accumulated` (which they need): adaptive sampling's converged pixels (`adaptive`).
-    /// Path tracing only.
-    pub converged: Option<Arc<[bool]>>,
+    /// The film this frame continues (its earlier sums, its converged pixels).
+    pub film: FilmState,
     pub samples_per_pass: u32,
     /// Stop adding passes once this much wall time has gone (at least one pass is rendered):
     /// `spp` is then an upper bound and each band reports the samples it holds. For one
@@ -161,8 +157,7 @@ impl FrameParams {
             seed: 0,
             frame: 0,
             first_sample: 0,
-            accumulated: None,
-            converged: None,
+            film: FilmState::default(),
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             time_limit: None,
             camera,

@@ -91,7 +91,7 @@ impl Progressive {
         let mut more = self.params();
         more.spp = spp;
         more.first_sample = self.spp;
-        more.accumulated = self.sums.clone();
+        more.film.accumulated = self.sums.clone();
         let mut rendered = self.tracers.render(&self.prepared.gpu, &more, progress)?;
         self.spp += spp;
         self.wall_time += rendered.wall_time;

@@ -72,7 +72,7 @@ pub fn solve(
             previous: None,
         });
         (p.width, p.height, p.spp) = (width, height, spp);
-        p.accumulated = None;
+        p.film.accumulated = None;
         p.time_limit = None;
         p.first_sample = 0;
         run(&p).map_err(|e| Error::Invalid(format!("links update: {e}")))
