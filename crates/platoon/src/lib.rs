@@ -36,6 +36,7 @@ pub mod metadata;
 pub mod method_update;
 pub mod prepare;
 pub mod render;
+mod rendered;
 pub mod request;
 
 pub use metadata::{approximations, metadata, metadata_of, SceneFacts};

@@ -3,7 +3,6 @@
 
 use std::rc::Rc;
 use std::sync::Arc;
-use std::time::Duration;
 
 use anyhow::{Context as _, Result};
 use platoon_core::distribute::{Collective, RankFrame, RankRenderer};
@@ -11,76 +10,11 @@ use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::renderer::{FrameResult, Renderer};
 use platoon_core::frame::{assemble, gather_sums, Band, FrameParams, Span};
-use platoon_core::output::Film;
 use platoon_tracer::{Tracer, TracerOptions};
 
+use crate::rendered::{pack, Devices, Measured};
+pub use crate::rendered::{BatchedStats, Rendered};
 use crate::Prepared;
-
-/// A rendered frame and what it cost.
-pub struct Rendered {
-    pub film: Film,
-    /// Samples per pixel reached (below `FrameParams::spp` when a time limit ended it).
-    pub spp: u32,
-    /// Time until the last band was done (the slowest tracer's time).
-    pub wall_time: Duration,
-    /// GPU time of all dispatches, summed over tracers.
-    pub gpu_time: Duration,
-    pub rays: u64,
-    pub rejected_samples: u64,
-    /// Megakernel passes the device cut short and the streaming kernels finished
-    /// (`Band::kernel_fallbacks`: llvmpipe's loop limit on big scenes; the image is the same).
-    pub kernel_fallbacks: u32,
-    /// The devices, comma-separated.
-    pub device: String,
-    pub kernel_defines: Vec<&'static str>,
-    /// Per-tracer statistics of a multi-device frame (empty for one device).
-    pub tracers: Vec<platoon_core::frame::renderer::TracerStats>,
-    pub balancer: Option<&'static str>,
-    /// What the Khronos validation layer reported (with validation on).
-    pub validation_messages: Vec<String>,
-    /// The method's own metadata entries (`RenderMethod::metadata`: what its preparation
-    /// did, e.g. vertex links' update).
-    pub method_metadata: Vec<(String, String)>,
-    /// The radiance sums behind `film` (row-major; they include `FrameParams::accumulated`).
-    pub sums: Vec<[f32; 3]>,
-    /// What a frame rendered in batches (`crate::batched`) knows of each pixel.
-    pub batched: Option<BatchedStats>,
-    /// A frame over the ranks of a job (`crate::distributed`): each rank's part and the
-    /// communication; `tracers` then holds one entry per rank.
-    pub ranks: Option<crate::distributed::RanksReport>,
-}
-
-/// Per-pixel statistics of a frame rendered in batches.
-#[derive(Clone, Debug)]
-pub struct BatchedStats {
-    /// The adaptive sampling it was rendered with, if any.
-    pub adaptive: Option<platoon_core::frame::adaptive::Adaptive>,
-    /// Samples each pixel took (row-major).
-    pub samples: Vec<u32>,
-    /// The variance of each pixel's mean (per channel), when asked for.
-    pub variance: Option<Vec<[f32; 3]>>,
-}
-
-impl Rendered {
-    pub fn rays(&self) -> u64 {
-        self.rays
-    }
-    pub fn rejected_samples(&self) -> u64 {
-        self.rejected_samples
-    }
-    pub fn gpu_time(&self) -> Duration {
-        self.gpu_time
-    }
-    /// Samples per pixel on average (below `spp` where adaptive sampling stopped pixels).
-    pub fn mean_spp(&self) -> f64 {
-        match &self.batched {
-            Some(b) if !b.samples.is_empty() => {
-                b.samples.iter().map(|&n| n as f64).sum::<f64>() / b.samples.len() as f64
-            }
-            _ => self.spp as f64,
-        }
-    }
-}
 
 /// Renders the frame on one tracer as the given bands (one band covering the frame is usual).
 pub fn render_bands(
@@ -99,10 +33,9 @@ pub fn render_bands(
     }
     // The method's pass over the whole frame (IGI's filters: platoon_core::method::igi::filter).
     params.method.unit().finish(params, &mut out);
-    Ok(Rendered {
+    let measured = Measured {
         film: assemble(params, &out),
         sums: gather_sums(params, &out),
-        batched: None,
         spp: out
             .iter()
             .map(|b| b.spp(params))
@@ -113,18 +46,16 @@ pub fn render_bands(
         rays: out.iter().map(|b| b.rays).sum(),
         rejected_samples: out.iter().map(|b| b.rejected_samples).sum(),
         kernel_fallbacks: out.iter().map(|b| b.kernel_fallbacks).sum(),
-        device: tracer.device_info().name.clone(),
-        kernel_defines: tracer.kernel_defines(params),
+        method_report: platoon_core::frame::renderer::first_report(&out),
         tracers: Vec::new(),
+    };
+    let devices = Devices {
+        names: vec![tracer.device_info().name.clone()],
+        kernel_defines: tracer.kernel_defines(params),
         balancer: None,
         validation_messages: tracer.validation_messages(),
-        method_metadata: [
-            params.method.unit().metadata(),
-            platoon_core::frame::renderer::first_report(&out),
-        ]
-        .concat(),
-        ranks: None,
-    })
+    };
+    Ok(pack(params, measured, devices))
 }
 
 /// Renders a prepared scene on one device (after the method's preparation, when it has one:
@@ -157,13 +88,12 @@ pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Re
 /// A frame of `renderer` as the facade reports it: its devices, kernel, balancer and what
 /// they measured.
 fn rendered_of(renderer: &Renderer<Tracer>, params: &FrameParams, frame: FrameResult) -> Rendered {
-    let names: Vec<String> = renderer.with_tracers(|t| t.device_info().name.clone());
     let defines = renderer
         .with_tracers(|t| t.kernel_defines(params))
         .into_iter()
         .next()
         .unwrap_or_default();
-    Rendered {
+    let measured = Measured {
         wall_time: frame
             .tracers
             .iter()
@@ -174,18 +104,19 @@ fn rendered_of(renderer: &Renderer<Tracer>, params: &FrameParams, frame: FrameRe
         rays: frame.tracers.iter().map(|t| t.rays).sum(),
         rejected_samples: frame.rejected_samples,
         kernel_fallbacks: frame.kernel_fallbacks,
-        device: names.join(", "),
-        kernel_defines: defines,
         spp: params.spp,
+        method_report: frame.method_report,
         tracers: frame.tracers,
-        balancer: Some(renderer.balancer_name()),
-        validation_messages: renderer.with_tracers(|t| t.validation_messages()).concat(),
-        method_metadata: [params.method.unit().metadata(), frame.method_report].concat(),
         film: frame.film,
         sums: frame.sums,
-        batched: None,
-        ranks: None,
-    }
+    };
+    let devices = Devices {
+        names: renderer.with_tracers(|t| t.device_info().name.clone()),
+        kernel_defines: defines,
+        balancer: Some(renderer.balancer_name()),
+        validation_messages: renderer.with_tracers(|t| t.validation_messages()).concat(),
+    };
+    pack(params, measured, devices)
 }
 
 /// A frame over the ranks as the facade reports it: rank 0's devices, kernel and balancer,
