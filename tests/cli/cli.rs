@@ -686,6 +686,25 @@ fn paths_that_are_not_files_and_non_finite_times_are_refused_at_once() {
             .out(o)
             .fails_naming("--time", &out);
     }
+    // Settings that rendered something else than asked (issue 41): a size whose pixel count
+    // overflowed (a panic), a depth of 0 (rendered as 1), a negative aperture (as 0).
+    for (flags, names) in [
+        (
+            &[("--width", "100000"), ("--height", "100000")][..],
+            "--width: 100000 x 100000",
+        ),
+        (&[("--max-depth", "0")][..], "--max-depth"),
+        (&[("--aperture=-1", "")][..], "--aperture"),
+    ] {
+        let mut cli = Cli::new("render");
+        for (flag, value) in flags {
+            cli = match value.is_empty() {
+                true => cli.arg(flag),
+                false => cli.flag(flag, value),
+            };
+        }
+        cli.out(o).fails_naming(names, &out);
+    }
     assert!(started.elapsed().as_secs() < 60, "a refusal waited");
 }
 
