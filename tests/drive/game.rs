@@ -4,6 +4,8 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "../method/toy/grey.rs"]
+mod toy;
 
 use common::*;
 use glam::{DVec3, Vec3};
@@ -432,10 +434,23 @@ impl platoon::distributed::Session for ThreadRanks {
 /// moving every frame (commits and the film's sums sent to the ranks).
 #[test]
 fn the_game_loop_over_ranks_is_the_one_process_loop_bit_for_bit() {
+    game_over_ranks_and_alone(platoon::core::Method::PathTracing);
+}
+
+/// A method from outside platoon's crates, registered at run time, goes over the ranks as the
+/// built-in ones do: by its name and settings (distribute/ names no method).
+#[test]
+fn a_method_registered_at_run_time_renders_over_the_ranks_as_alone() {
+    game_over_ranks_and_alone(toy::grey(0.5, true));
+}
+
+/// The same game played by one process and by three thread ranks with `method`: the same film.
+fn game_over_ranks_and_alone(method: platoon::core::Method) {
     init();
     let play = |ranks: Option<platoon::distributed::Ranks>, devices: &str| {
         let (scene, camera) = cornell();
         let mut driver = DriverOptions::new(W, H);
+        driver.method = method.clone();
         driver.spp = 2;
         driver.samples_per_pass = 2;
         driver.blend_floor = 0.25;

@@ -23,4 +23,4 @@ pub mod settings;
 pub mod technique;
 pub mod variant;
 
-pub use choice::Method;
+pub use choice::{External, Method};

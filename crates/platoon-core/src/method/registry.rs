@@ -1,6 +1,10 @@
 //! The registration of every method: how it is chosen (`KINDS`, its settings and sweep) and
-//! what renders it (`Method::unit`). A new method adds its variant to `Method`, its entry here
-//! and its arm of `Method::unit`.
+//! what renders it (`Method::unit`). A new method of this crate adds its variant to `Method`, its
+//! entry here and its arm of `Method::unit`; a method from outside registers its kind at run time
+//! (`register`), its frames a `Method::External` and its device side the path kernel's (with
+//! its kernel options as defines) and its pass after assembly.
+
+use std::sync::RwLock;
 
 use crate::method::igi::IgiKind;
 use crate::method::kind::MethodKind;
@@ -13,14 +17,45 @@ use crate::method::Method;
 /// Every method, the default first.
 pub static KINDS: &[&dyn MethodKind] = &[&PathKind, &IgiKind, &LinksKind, &LhbKind];
 
+/// The methods registered at run time, after `KINDS`.
+static REGISTERED: RwLock<Vec<&'static dyn MethodKind>> = RwLock::new(Vec::new());
+
+/// Registers a method from outside this crate; refused when its name or one of its flags is
+/// taken.
+pub fn register(kind: &'static dyn MethodKind) -> Result<(), String> {
+    let mut registered = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
+    let taken = KINDS.iter().chain(registered.iter()).find_map(|k| {
+        let flag = k.settings().iter().find_map(|s| {
+            let same = kind.settings().iter().any(|t| t.flag == s.flag);
+            same.then_some(s.flag)
+        });
+        (k.name() == kind.name())
+            .then(|| format!("a method named {}", k.name()))
+            .or_else(|| flag.map(|f| format!("the flag --{f} of method {}", k.name())))
+    });
+    match taken {
+        Some(what) => Err(format!("cannot register {}: there is {what}", kind.name())),
+        None => {
+            registered.push(kind);
+            Ok(())
+        }
+    }
+}
+
+/// Every method: the built-in ones, then those registered.
+pub fn all() -> Vec<&'static dyn MethodKind> {
+    let registered = REGISTERED.read().unwrap_or_else(|e| e.into_inner());
+    KINDS.iter().chain(registered.iter()).copied().collect()
+}
+
 /// The method named `name`.
 pub fn kind(name: &str) -> Option<&'static dyn MethodKind> {
-    KINDS.iter().copied().find(|k| k.name() == name)
+    all().into_iter().find(|k| k.name() == name)
 }
 
 /// The names of every method, comma-separated (for messages).
 pub fn names() -> String {
-    let names: Vec<&str> = KINDS.iter().map(|k| k.name()).collect();
+    let names: Vec<&str> = all().iter().map(|k| k.name()).collect();
     names.join(", ")
 }
 
@@ -32,6 +67,9 @@ impl Method {
             Method::Igi(options) => options,
             Method::Links(links) => links,
             Method::Lhb(lhb) => lhb,
+            Method::External(e) => kind(e.name)
+                .and_then(|k| k.unit(self))
+                .expect("an external method's kind is registered and reads its state"),
         }
     }
 

@@ -24,5 +24,8 @@ pub(crate) fn passes_of(method: &Method) -> Box<dyn MethodPasses> {
         Method::Igi(_) => Box::<igi::IgiPasses>::default(),
         Method::Links(_) => Box::<links::LinksPasses>::default(),
         Method::Lhb(_) => Box::<lhb::LhbPasses>::default(),
+        // A method registered at run time renders with the path kernel (its kernel options
+        // as defines) and does its own work after assembly (`RenderMethod::finish`).
+        Method::External(_) => Box::<path::PathPasses>::default(),
     }
 }
