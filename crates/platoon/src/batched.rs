@@ -6,7 +6,6 @@
 use anyhow::{bail, Result};
 use platoon_core::frame::adaptive::{Batched, Batching};
 use platoon_core::frame::FrameParams;
-use platoon_core::Method;
 
 use crate::render::BatchedStats;
 use crate::{Rendered, Tracers};
@@ -91,10 +90,8 @@ fn check(params: &FrameParams, batching: &Batching) -> Result<()> {
         bail!("adaptive sampling and the variance AOV need at least 2 samples per pixel");
     }
     if let Some(a) = &batching.adaptive {
-        a.validate(params.spp).map_err(anyhow::Error::msg)?;
-        if params.method != Method::PathTracing {
-            bail!("adaptive sampling is the path tracer's (--method path)");
-        }
+        a.validate(params.spp, &params.method)
+            .map_err(anyhow::Error::msg)?;
     }
     Ok(())
 }

@@ -38,12 +38,18 @@ impl Adaptive {
             .clamp(2, spp.max(2))
     }
 
-    pub fn validate(&self, spp: u32) -> Result<(), String> {
+    /// What is wrong with sampling a frame of `spp` samples rendered by `method` adaptively:
+    /// the rules, once (the request's and the batched render's checks call this).
+    pub fn validate(&self, spp: u32, method: &crate::method::Method) -> Result<(), String> {
         if !(self.threshold.is_finite() && self.threshold > 0.0) {
             return Err("the adaptive threshold must be a positive number".into());
         }
         if spp < 2 || self.min_spp == Some(0) {
             return Err("adaptive sampling needs at least 2 samples per pixel".into());
+        }
+        // Converged pixels skip their samples in the path tracer's kernel alone.
+        if *method != crate::method::Method::PathTracing {
+            return Err("adaptive sampling is the path tracer's (method path)".into());
         }
         Ok(())
     }

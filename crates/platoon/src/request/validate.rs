@@ -4,7 +4,6 @@
 use std::fmt;
 
 use platoon_core::frame::aov::Aov;
-use platoon_core::Method;
 
 use super::form::{CameraChoice, Request};
 
@@ -110,14 +109,8 @@ impl Request {
     /// The rules of adaptive sampling and the variance AOV's batches.
     fn validate_batching(&self) -> Result<(), RequestError> {
         if let Some(a) = &self.adaptive {
-            if let Err(e) = a.validate(self.spp) {
+            if let Err(e) = a.validate(self.spp, &self.method) {
                 refuse("adaptive", e)?;
-            }
-            if self.method != Method::PathTracing {
-                refuse(
-                    "adaptive",
-                    "adaptive sampling is the path tracer's (method path)",
-                )?;
             }
         }
         if self.batching().is_some() && self.time_limit.is_some() {
