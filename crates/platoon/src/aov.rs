@@ -7,9 +7,9 @@ use anyhow::Result;
 use glam::DVec3;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::aov::{self, Aov, Layer};
-use platoon_core::frame::{FrameParams, Output};
+use platoon_core::frame::aov_params::aov_pass_params;
+use platoon_core::frame::FrameParams;
 use platoon_core::output::Film;
-use platoon_core::Method;
 
 use crate::{Rendered, Tracers};
 
@@ -39,13 +39,7 @@ pub fn render_layers_with(
 ) -> Result<Vec<Layer>> {
     let mut films: Vec<(aov::AovPass, Film)> = Vec::new();
     for pass in aov::passes(aovs) {
-        let mut p = params.clone();
-        p.output = Output::Aov(pass);
-        // The passes are the path tracer's kernel, whatever method renders the beauty.
-        p.method = Method::PathTracing;
-        p.spp = pass.spp(params.spp);
-        p.time_limit = None;
-        p.film.accumulated = None;
+        let p = aov_pass_params(params, pass, pass.spp(params.spp));
         films.push((pass, render(&p)?));
     }
     let film = |pass| {

@@ -12,9 +12,9 @@ use super::plan::FramePlan;
 use crate::denoise::temporal::{GBuffer, Temporal};
 use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
+use crate::frame::aov_params::aov_pass_params;
 use crate::frame::renderer::{Renderer, TracerFailure};
-use crate::frame::{BandTracer, FrameParams, Output};
-use crate::method::Method;
+use crate::frame::{BandTracer, FrameParams};
 use crate::output::Film;
 
 /// What denoising a frame did and cost.
@@ -143,17 +143,9 @@ fn render_geometry<T: BandTracer + Send + 'static>(
 ) -> Result<GBuffer> {
     let mut films = Vec::new();
     for pass in GBuffer::PASSES {
-        let mut p = params.clone();
+        let mut p = aov_pass_params(params, pass, GUIDE_SPP);
         p.width = width;
         p.height = height;
-        p.output = Output::Aov(pass);
-        // The passes are the path tracer's kernel, whatever method renders the beauty.
-        p.method = Method::PathTracing;
-        p.spp = GUIDE_SPP;
-        p.rr_survival = 1.0;
-        p.film.accumulated = None;
-        p.film.converged = None;
-        p.time_limit = None;
         let rendered = renderer
             .render_side_pass(&p)
             .map_err(|e| Error::Invalid(e.to_string()))?;

@@ -4,6 +4,7 @@
 
 pub mod adaptive;
 pub mod aov;
+pub mod aov_params;
 #[cfg(test)]
 pub(crate) mod fakes;
 pub mod fault;

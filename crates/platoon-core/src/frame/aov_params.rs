@@ -1,0 +1,19 @@
+//! The frame that renders one AOV pass of a frame: what a still's layers (the facade's
+//! `aov`) and the game loop's denoising guides (`drive::denoising`) both render.
+
+use super::aov::AovPass;
+use super::{FilmState, FrameParams, Output};
+use crate::method::Method;
+
+/// `params`' frame rendering `pass` at `spp`: the path tracer's kernel whatever method renders
+/// the beauty, from no earlier sums, without a time limit or scaled roulette.
+pub fn aov_pass_params(params: &FrameParams, pass: AovPass, spp: u32) -> FrameParams {
+    let mut p = params.clone();
+    p.output = Output::Aov(pass);
+    p.method = Method::PathTracing;
+    p.spp = spp;
+    p.rr_survival = 1.0;
+    p.film = FilmState::default();
+    p.time_limit = None;
+    p
+}
