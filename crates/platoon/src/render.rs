@@ -244,6 +244,9 @@ impl Tracers {
                 render_bands(t, &params, &[whole_frame(&params)], progress)
             }
             Tracers::Many(r) => {
+                params
+                    .check_split(r.alive().len())
+                    .map_err(anyhow::Error::msg)?;
                 let params = crate::method_update::on_renderer(r, scene, params)?;
                 render_frame(r, &params)
             }

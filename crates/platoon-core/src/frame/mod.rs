@@ -136,6 +136,20 @@ impl Output {
 }
 
 impl FrameParams {
+    /// Whether the frame may be split between `devices`: a time limit cuts one device's
+    /// frame only (bands cut at different times would break the image's independence from
+    /// the split).
+    pub fn check_split(&self, devices: usize) -> Result<(), String> {
+        if devices > 1 && self.time_limit.is_some() {
+            return Err(
+                "a time limit renders on one device: bands cut at different times \
+                        would break the image's independence from the device split"
+                    .into(),
+            );
+        }
+        Ok(())
+    }
+
     pub fn new(width: u32, height: u32, spp: u32, camera: Camera) -> FrameParams {
         FrameParams {
             width,

@@ -4,6 +4,7 @@
 use std::fmt;
 
 use platoon_core::frame::aov::Aov;
+use platoon_core::scene::camera::Camera;
 
 use super::form::{CameraChoice, Request};
 
@@ -130,13 +131,9 @@ impl Request {
 
     /// The rules that need the number of devices the request renders on.
     pub fn validate_devices(&self, tracers: usize) -> Result<(), RequestError> {
-        if tracers > 1 && self.time_limit.is_some() {
-            refuse(
-                "time_limit",
-                "renders on one device: bands cut at different times would break the image's \
-                 independence from the device split",
-            )?;
-        }
-        Ok(())
+        let params = self.frame_params(Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0));
+        params
+            .check_split(tracers)
+            .or_else(|e| refuse("time_limit", e))
     }
 }
