@@ -298,3 +298,25 @@ fn a_game_loop_of_a_still_view_is_one_render_of_its_samples() {
     .unwrap();
     assert_eq!(last.film.pixels, whole.image.pixels);
 }
+
+#[test]
+fn tracers_driven_directly_refuse_a_time_limit_on_several_devices() {
+    init();
+    let prepared = prepare(
+        platoon::core::scene::cornell::scene(),
+        platoon::EnvChoice::Scene,
+    );
+    let options =
+        platoon::devices::tracer_options(&DeviceSpec::Lavapipe(vec![1, 1]), false, Sampling::Mis)
+            .unwrap();
+    let mut tracers = platoon::Tracers::new(&options, "cost-aware", &prepared.gpu).unwrap();
+    let mut params = platoon::core::frame::FrameParams::new(8, 8, 1, prepared.camera);
+    params.time_limit = Some(Duration::from_secs(1));
+    let e = tracers
+        .render(&prepared.gpu, &params, &mut |_| {})
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("one device"), "{e}");
+    params.time_limit = None;
+    assert!(tracers.render(&prepared.gpu, &params, &mut |_| {}).is_ok());
+}
