@@ -35,11 +35,13 @@ fn frames(range: &str) -> Cli {
 fn frames_at_their_times_equal_still_renders_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
     let man = shared("scenes/CesiumMan.glb");
+    // Into a folder that does not exist yet (the README's example: made, issue 41).
     let o = frames("0..8:4")
         .arg(&man)
-        .out(dir.path().join("man_####.exr"))
+        .out(dir.path().join("shots/man_####.exr"))
         .run();
     assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.path().join("shots/man_0004.exr").is_file());
     let lines = stdout(&o);
     for f in ["0000", "0004", "0008"] {
         assert!(lines.contains(&format!("man_{f}.exr")), "{lines}");
@@ -64,7 +66,7 @@ fn frames_at_their_times_equal_still_renders_bit_for_bit() {
             .run();
         assert!(o.status.success(), "{}", stderr(&o));
         let frame_file = if seed == 0 {
-            dir.path().join(format!("man_{frame:04}.exr"))
+            dir.path().join(format!("shots/man_{frame:04}.exr"))
         } else {
             dir.path().join(format!("seeded_{frame}.exr"))
         };
@@ -74,10 +76,11 @@ fn frames_at_their_times_equal_still_renders_bit_for_bit() {
         );
     }
     assert!(
-        pixels(&dir.path().join("man_0000.exr")) != pixels(&dir.path().join("man_0008.exr")),
+        pixels(&dir.path().join("shots/man_0000.exr"))
+            != pixels(&dir.path().join("shots/man_0008.exr")),
         "the animation moved nothing"
     );
-    let (_, meta) = read_exr(&dir.path().join("man_0004.exr")).unwrap();
+    let (_, meta) = read_exr(&dir.path().join("shots/man_0004.exr")).unwrap();
     assert_eq!(metadata_value(&meta, "animation_frame"), "4");
     assert!(metadata_value(&meta, "job").ends_with("frame 4"));
 }

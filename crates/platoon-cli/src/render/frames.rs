@@ -20,6 +20,12 @@ use super::outputs;
 use super::setup::{check_output, on_every_rank, setup, Setup};
 
 pub fn run(a: RenderArgs) -> Result<()> {
+    // A sequence's folder is made, as Blender and Cycles make it (a still's must exist).
+    if let Some(dir) = a.out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            anyhow::anyhow!("{}: cannot make the output folder: {e}", dir.display())
+        })?;
+    }
     check_output(&a)?;
     if a.scene.time != 0.0 {
         bail!("--time and --frames: each frame's time is its number / --fps");
