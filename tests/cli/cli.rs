@@ -686,6 +686,17 @@ fn paths_that_are_not_files_and_non_finite_times_are_refused_at_once() {
             .out(o)
             .fails_naming("--time", &out);
     }
+    // Outputs that could not be written were found after the render (issue 41).
+    Cli::new("render")
+        .out("/sys/z.exr")
+        .fails_naming("cannot write into /sys", &out);
+    for video in ["v.txt", "v.gif"] {
+        Cli::new("render")
+            .flag("--frames", "1")
+            .flag("--video", d.join(video))
+            .out(d.join("f_#.png"))
+            .fails_naming(".mp4, .mkv or .mov", &d.join("f_1.png"));
+    }
     // Settings that rendered something else than asked (issue 41): a size whose pixel count
     // overflowed (a panic), a depth of 0 (rendered as 1), a negative aperture (as 0).
     for (flags, names) in [

@@ -151,6 +151,16 @@ pub fn check_image_path(path: &Path) -> Result<ImageFormat> {
             format!("output folder {} does not exist", dir.display()),
         ));
     }
+    // Found now, not after the render: the image is written through a temporary file there.
+    if let Err(e) = tempfile::Builder::new()
+        .prefix(".platoon-")
+        .tempfile_in(dir)
+    {
+        return Err(Error::file(
+            path,
+            format!("cannot write into {}: {e}", dir.display()),
+        ));
+    }
     Ok(format)
 }
 

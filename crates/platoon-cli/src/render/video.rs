@@ -19,9 +19,11 @@ pub fn check(video: &Path, farm_task: bool) -> Result<()> {
             video.display()
         );
     }
-    if video.extension().is_none() {
+    // The encoding is H.264 (`encode`), which these containers hold.
+    let ext = video.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if !["mp4", "mkv", "mov"].contains(&ext.to_ascii_lowercase().as_str()) {
         bail!(
-            "{}: --video needs a container extension (.mp4, .mkv, .mov)",
+            "{}: --video writes H.264 in an .mp4, .mkv or .mov file",
             video.display()
         );
     }
