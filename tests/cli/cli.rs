@@ -178,6 +178,23 @@ fn bad_inputs_fail_cleanly() {
         .arg(&garbage)
         .out(o)
         .fails_naming("garbage.gltf", &out);
+    // What is not glTF says so, naming the file (issue 41: the parser's "EOF while parsing",
+    // "expected value at line 1 column 1").
+    for (name, bytes, says) in [
+        ("empty.glb", &b""[..], "empty.glb: the file is empty"),
+        (
+            "cube.obj",
+            &b"v 0 0 0\nv 1 0 0\n"[..],
+            "cube.obj: a .obj file is not glTF",
+        ),
+    ] {
+        let file = d.join(name);
+        std::fs::write(&file, bytes).unwrap();
+        Cli::new("render")
+            .arg(&file)
+            .out(o)
+            .fails_naming(says, &out);
+    }
 
     let draco = write_gltf(
         d,

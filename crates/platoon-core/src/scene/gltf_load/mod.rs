@@ -58,8 +58,37 @@ pub fn load(path: &Path) -> Result<Scene> {
 pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene> {
     let bytes = crate::input::read_regular_file(path, None)
         .map_err(|e| Error::file(path, format!("cannot read scene: {e}")))?;
+    check_is_gltf(path, &bytes)?;
     let base = folder_of(path);
     guard::catching_panics(path, || load_from_slice(path, &bytes, base, options))
+}
+
+/// Refuses what is not a glTF file before the parser's messages about it ("EOF while
+/// parsing", "expected value"): an empty file, or another format (platoon reads glTF alone).
+fn check_is_gltf(path: &Path, bytes: &[u8]) -> Result<()> {
+    if bytes.is_empty() {
+        return Err(Error::file(path, "the file is empty, not a glTF scene"));
+    }
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let binary = bytes.starts_with(b"glTF");
+    let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let json = text.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
+    if !binary && !json {
+        let what = match ext.as_str() {
+            "gltf" | "glb" => "it is neither JSON nor binary glTF".to_string(),
+            "" => "it is not glTF".to_string(),
+            other => format!("a .{other} file is not glTF"),
+        };
+        return Err(Error::file(
+            path,
+            format!("{what}: platoon reads glTF scenes (.gltf, .glb) only"),
+        ));
+    }
+    Ok(())
 }
 
 /// The index of the material variant `name` among the file's, or why there is none.
