@@ -320,3 +320,36 @@ fn tracers_driven_directly_refuse_a_time_limit_on_several_devices() {
     params.time_limit = None;
     assert!(tracers.render(&prepared.gpu, &params, &mut |_| {}).is_ok());
 }
+
+#[test]
+fn a_camera_is_chosen_by_name() {
+    let mut scene = platoon::core::scene::cornell::scene();
+    let mut side = scene.cameras[0].clone();
+    side.name = "side".into();
+    scene.cameras.push(side);
+    let mut node = platoon::core::scene::Node::new("side camera");
+    node.camera = Some(1);
+    node.translation = glam::DVec3::new(0.4, 1.0, 3.0);
+    scene.nodes.push(node);
+    let with = |camera| {
+        Request {
+            scene: SceneSource::Scene(Box::new(scene.clone())),
+            camera,
+            ..small()
+        }
+        .render(&mut |_| {})
+    };
+    let first = with(CameraChoice::Scene(None)).unwrap();
+    let by_name = with(CameraChoice::Named("cornell".into())).unwrap();
+    assert_eq!(by_name.image.pixels, first.image.pixels);
+    let side = with(CameraChoice::Named("side".into())).unwrap();
+    assert_ne!(side.image.pixels, first.image.pixels);
+    assert_eq!(
+        side.image.pixels,
+        with(CameraChoice::Scene(Some(1))).unwrap().image.pixels
+    );
+    let e = with(CameraChoice::Named("top".into())).err().unwrap();
+    let e = e.downcast::<RequestError>().unwrap();
+    assert_eq!(e.option, "camera");
+    assert!(e.problem.contains("cornell, side"), "{e}");
+}

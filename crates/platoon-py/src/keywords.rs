@@ -154,7 +154,8 @@ fn method_of(name: &str, kwargs: &Bound<'_, PyDict>) -> PyResult<platoon::core::
     kind.build(&given).map_err(|e| bad("method", e))
 }
 
-/// None: the scene's first camera; an int: the scene's camera of that index; a tuple
+/// None: the scene's first camera; an int or a string: the scene's camera of that index or
+/// name; a tuple
 /// (eye, target, vertical field of view in degrees): a camera in world space.
 fn camera(c: &Bound<'_, PyAny>) -> PyResult<CameraChoice> {
     if c.is_none() {
@@ -163,10 +164,13 @@ fn camera(c: &Bound<'_, PyAny>) -> PyResult<CameraChoice> {
     if let Ok(index) = c.extract::<usize>() {
         return Ok(CameraChoice::Scene(Some(index)));
     }
+    if let Ok(name) = c.extract::<String>() {
+        return Ok(CameraChoice::Named(name));
+    }
     look_at(c).map(CameraChoice::Given).map_err(|_| {
         bad(
             "camera",
-            "an index of the scene's cameras, or (eye, target, fov_degrees)",
+            "a scene camera's index or name, or (eye, target, fov_degrees)",
         )
     })
 }

@@ -49,9 +49,10 @@ pub struct RenderArgs {
     pub(super) max_depth: Option<u32>,
     #[arg(long, default_value_t = 0)]
     pub(super) seed: u32,
-    /// Index of the scene camera; the scene is framed from its bounds when it has none.
+    /// The scene camera by index (from 0) or name; the scene is framed from its bounds when it
+    /// has none.
     #[arg(long)]
-    pub(super) camera: Option<usize>,
+    pub(super) camera: Option<String>,
     /// Thin-lens aperture radius in scene units (0: pinhole).
     #[arg(long, default_value_t = 0.0)]
     pub(super) aperture: f32,

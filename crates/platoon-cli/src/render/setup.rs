@@ -123,7 +123,13 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         load: scene.load_options(),
         env: scene.env_choice(),
         time: scene.time,
-        camera: CameraChoice::Scene(camera),
+        camera: match camera {
+            None => CameraChoice::Scene(None),
+            Some(c) => match c.parse::<usize>() {
+                Ok(index) => CameraChoice::Scene(Some(index)),
+                Err(_) => CameraChoice::Named(c),
+            },
+        },
         aperture,
         focus_distance,
         width,
@@ -156,13 +162,13 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     if mpi && time_limit.is_some() {
         bail!("--time-limit renders on one device: shares of a frame cut at different times on the ranks would break the image's independence from the split (--mpi-frames renders whole frames, each with the limit)");
     }
-    let tracers = request
-        .tracer_options()
-        .map_err(|e| match e.downcast::<RequestError>() {
-            Ok(e) => as_flags(e),
-            Err(e) => e,
-        })?;
+    let flags = |e: anyhow::Error| match e.downcast::<RequestError>() {
+        Ok(e) => as_flags(e),
+        Err(e) => e,
+    };
+    let tracers = request.tracer_options().map_err(flags)?;
     let loaded = request.load_scene()?;
+    let options = request.prepare_options(&loaded).map_err(flags)?;
     let farm = frames.mpi_frames.is_some();
     let session = if mpi || farm {
         Some(platoon::distributed::join()?)
@@ -173,7 +179,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     let placeholder = platoon::core::scene::camera::Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0);
     let setup = Setup {
         scene: loaded,
-        options: request.prepare_options(),
+        options,
         params: request.frame_params(placeholder),
         tracers,
         balancer: request.balancer.clone(),

@@ -52,7 +52,7 @@ def render(
     env: str | PathLike[str] | None = None,
     env_color: tuple[float, float, float] | None = None,
     time: float = 0.0,
-    camera: int | tuple[tuple[float, float, float], tuple[float, float, float], float] | None = None,
+    camera: int | str | tuple[tuple[float, float, float], tuple[float, float, float], float] | None = None,
     aperture: float = 0.0,
     focus_distance: float | None = None,
     balancer: str = "cost-aware",
@@ -67,8 +67,8 @@ def render(
     `devices`: "all", indices like "0,1", or "lavapipe:T1,T2" (software tracers of Ti
     threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
     variance, sample-count. `denoise`: none, atrous, oidn. `camera`: a scene camera's index or
-    (eye, target, vertical fov in degrees) in world space. The method's options by name
-    (`methods()`), e.g. method="igi", vpls=180.
+    name, or (eye, target, vertical fov in degrees) in world space. The method's options by
+    name (`methods()`), e.g. method="igi", vpls=180.
     """
 
 class Renderer:

@@ -16,6 +16,7 @@ use platoon_core::scene::Scene;
 use platoon_core::Method;
 use platoon_tracer::{MemoryPath, Sampling, TracerOptions};
 
+use super::error::RequestError;
 use crate::devices::DeviceSpec;
 use crate::{EnvChoice, PrepareOptions};
 
@@ -37,6 +38,8 @@ pub enum CameraChoice {
     /// The scene's camera of this index (None: its first; the scene framed from its bounds
     /// when it has none).
     Scene(Option<usize>),
+    /// The scene's camera of this name (a glTF camera's name).
+    Named(String),
     /// This camera, in world space.
     Given(Camera),
 }
@@ -127,19 +130,22 @@ impl Request {
         }
     }
 
-    /// How the scene is posed and flattened (the scene's camera: a given one is placed after).
-    pub fn prepare_options(&self) -> PrepareOptions {
-        PrepareOptions {
+    /// How `scene` is posed and flattened (the scene's camera, found by index or name; a
+    /// given one is placed after).
+    pub fn prepare_options(&self, scene: &Scene) -> Result<PrepareOptions> {
+        let camera = match &self.camera {
+            CameraChoice::Scene(index) => *index,
+            CameraChoice::Named(name) => Some(camera_named(scene, self.time, name)?),
+            CameraChoice::Given(_) => None,
+        };
+        Ok(PrepareOptions {
             env: self.env.clone(),
             time: self.time,
-            camera: match self.camera {
-                CameraChoice::Scene(index) => index,
-                CameraChoice::Given(_) => None,
-            },
+            camera,
             aperture_radius: self.aperture,
             focus_distance: self.focus_distance,
             ..Default::default()
-        }
+        })
     }
 
     /// The frame's parameters, seen by `camera` (in render space).
@@ -178,7 +184,7 @@ impl Request {
     /// The camera that renders a scene prepared by `prepared` from this request.
     pub fn camera_in(&self, prepared: &crate::Prepared) -> Camera {
         match &self.camera {
-            CameraChoice::Scene(_) => prepared.camera,
+            CameraChoice::Scene(_) | CameraChoice::Named(_) => prepared.camera,
             CameraChoice::Given(world) => {
                 // Render space is centred on the prepared scene's floating origin.
                 let mut c = *world;
@@ -188,4 +194,27 @@ impl Request {
             }
         }
     }
+}
+
+/// The index (among the posed cameras `--camera` counts) of `scene`'s camera named `name`.
+fn camera_named(scene: &Scene, time: f32, name: &str) -> Result<usize, RequestError> {
+    let posed = scene.pose(time);
+    let names: Vec<&str> = posed
+        .cameras
+        .iter()
+        .map(|c| scene.cameras[c.camera].name.as_str())
+        .collect();
+    names
+        .iter()
+        .position(|n| *n == name)
+        .ok_or_else(|| RequestError {
+            option: "camera",
+            problem: match names.is_empty() {
+                true => format!("the scene has no cameras, so none named {name:?}"),
+                false => format!(
+                    "the scene has no camera named {name:?}; its cameras: {}",
+                    names.join(", ")
+                ),
+            },
+        })
 }

@@ -20,13 +20,14 @@
 //! # }
 //! ```
 
+mod error;
 mod form;
 mod game;
 mod progressive;
 pub mod still;
 mod validate;
 
+pub use error::RequestError;
 pub use form::{CameraChoice, Request, SceneSource};
 pub use progressive::Progressive;
 pub use still::Still;
-pub use validate::RequestError;

@@ -9,9 +9,9 @@ use anyhow::Result;
 use platoon_core::frame::FrameParams;
 use platoon_core::output::Film;
 
+use super::error::RequestError;
 use super::form::Request;
 use super::still::Still;
-use super::validate::RequestError;
 use crate::{Prepared, Tracers};
 
 pub struct Progressive {
@@ -50,7 +50,9 @@ impl Progressive {
                 .into());
             }
         }
-        let prepared = crate::prepare(request.load_scene()?, &request.prepare_options())?;
+        let scene = request.load_scene()?;
+        let options = request.prepare_options(&scene)?;
+        let prepared = crate::prepare(scene, &options)?;
         for w in &prepared.scene.warnings {
             log::warn!("{w}");
         }

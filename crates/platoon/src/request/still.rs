@@ -115,7 +115,9 @@ impl Request {
     /// device; several render on their own threads).
     pub fn render(&self, progress: &mut dyn FnMut(u32)) -> Result<Still> {
         self.validate()?;
-        let prepared = crate::prepare(self.load_scene()?, &self.prepare_options())?;
+        let scene = self.load_scene()?;
+        let options = self.prepare_options(&scene)?;
+        let prepared = crate::prepare(scene, &options)?;
         for w in &prepared.scene.warnings {
             log::warn!("{w}");
         }

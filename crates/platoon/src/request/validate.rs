@@ -1,27 +1,11 @@
 //! Every rule of a render request, once, each error naming the option it is about (the CLI
 //! writes it as a flag, a binding as a keyword argument).
 
-use std::fmt;
-
 use platoon_core::frame::aov::Aov;
 use platoon_core::scene::camera::Camera;
 
+use super::error::RequestError;
 use super::form::{CameraChoice, Request};
-
-/// What is wrong with a request: the option (a `Request` field's name) and the problem.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RequestError {
-    pub option: &'static str,
-    pub problem: String,
-}
-
-impl fmt::Display for RequestError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}", self.option, self.problem)
-    }
-}
-
-impl std::error::Error for RequestError {}
 
 fn refuse(option: &'static str, problem: impl Into<String>) -> Result<(), RequestError> {
     Err(RequestError {
