@@ -7,6 +7,7 @@ mod devices;
 mod info;
 mod method_args;
 mod render;
+mod request_flags;
 mod scene_args;
 #[cfg(any(feature = "lab", feature = "view"))]
 mod size_arg;

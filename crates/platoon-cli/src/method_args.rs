@@ -1,5 +1,5 @@
 //! The rendering method's flags, made from the methods' own descriptions (the core's
-//! `method::registry::KINDS`): `--method NAME` and one flag per setting of every method
+//! `method::registry::all`): `--method NAME` and one flag per setting of every method
 //! (`--vpls`, `--links-directions`...), so this file names no method.
 
 use anyhow::{bail, Result};
@@ -7,7 +7,7 @@ use clap::builder::{PossibleValue, PossibleValuesParser};
 use clap::{Arg, ArgAction, ArgMatches, Command};
 use platoon::core::method::kind::MethodKind;
 use platoon::core::method::path::PathKernel;
-use platoon::core::method::registry::{self, KINDS};
+use platoon::core::method::registry;
 use platoon::core::method::settings::{Settings, Value, ValueKind};
 use platoon::core::Method;
 
@@ -46,8 +46,8 @@ impl MethodArgs {
 /// `--method`'s values, each with its summary.
 fn method_values() -> PossibleValuesParser {
     PossibleValuesParser::new(
-        KINDS
-            .iter()
+        registry::all()
+            .into_iter()
             .map(|k| PossibleValue::new(k.name()).help(k.summary())),
     )
 }
@@ -64,9 +64,9 @@ impl clap::Args for MethodArgs {
                 .long("method")
                 .help("Rendering method.")
                 .value_parser(method_values())
-                .default_value(KINDS[0].name()),
+                .default_value(registry::KINDS[0].name()),
         );
-        let cmd = KINDS.iter().fold(cmd, |cmd, kind| {
+        let cmd = registry::all().into_iter().fold(cmd, |cmd, kind| {
             kind.settings().iter().fold(cmd, |cmd, s| {
                 let help = format!("{}: {}", kind.title(), s.help);
                 let arg = Arg::new(s.flag).long(s.flag).help(help);
@@ -108,16 +108,16 @@ impl clap::FromArgMatches for MethodArgs {
         let name = m
             .get_one::<String>("method")
             .map(String::as_str)
-            .unwrap_or(KINDS[0].name());
+            .unwrap_or(registry::KINDS[0].name());
         let method = registry::kind(name).ok_or_else(|| {
             clap::Error::raw(
                 clap::error::ErrorKind::InvalidValue,
                 format!("unknown method {name}: one of {}", registry::names()),
             )
         })?;
-        let given = KINDS
-            .iter()
-            .map(|&kind| {
+        let given = registry::all()
+            .into_iter()
+            .map(|kind| {
                 let mut settings = Settings::default();
                 let mut flags = Vec::new();
                 for s in kind.settings() {

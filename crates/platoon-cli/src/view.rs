@@ -15,10 +15,10 @@ use glam::{Vec2, Vec3};
 use platoon::core::balance;
 use platoon::core::denoise::Denoiser;
 use platoon::core::drive::Edit;
-use platoon::core::drive::{DriverOptions, FrameDriver, GiUpdate};
+use platoon::core::drive::{FrameDriver, GiUpdate};
 use platoon::core::output::{write_image, Film};
 use platoon::core::scene::camera::Camera;
-use platoon::game::{start, GameOptions};
+use platoon::game::start;
 use winit::application::ApplicationHandler;
 use winit::dpi::{LogicalSize, PhysicalPosition};
 use winit::event::{ElementState, MouseButton, WindowEvent};
@@ -84,23 +84,40 @@ pub fn run(args: ViewArgs) -> Result<()> {
              to render without a window use `platoon render`"
         )
     })?;
-    let method = args.method.method()?;
-    let prepared = args.scene.prepare()?;
     let (w, h) = args.size;
-    let mut options = GameOptions::new(DriverOptions::new(w, h));
-    options.driver.method = method;
-    options.driver.denoise = args.denoise;
+    // The request holds the rules (the method's, the denoiser's...); the view adds the game
+    // loop's own options.
+    let request = platoon::Request {
+        scene: match &args.scene.scene {
+            Some(path) => platoon::SceneSource::File(path.clone()),
+            None => platoon::SceneSource::BuiltIn,
+        },
+        load: args.scene.load_options(),
+        env: args.scene.env_choice(),
+        time: args.scene.time,
+        width: w,
+        height: h,
+        spp: 1,
+        method: args.method.method()?,
+        devices: args
+            .devices
+            .parse()
+            .map_err(|e: String| anyhow!("--devices: {e}"))?,
+        denoiser: args.denoise,
+        ..Default::default()
+    };
+    request.validate().map_err(crate::request_flags::as_flags)?;
+    let target = Duration::from_secs_f64(args.target_ms.max(1.0) * 1e-3);
+    let mut options = request.game_options(Some(target));
+    let prepared = args.scene.prepare()?;
     options.driver.gi_update = match args.gi_update {
         GiUpdateArg::Sync => GiUpdate::Synchronous,
         GiUpdateArg::Async => GiUpdate::Asynchronous,
     };
-    options.driver.target = Some(Duration::from_secs_f64(args.target_ms.max(1.0) * 1e-3));
     options.driver.below_one = platoon::core::drive::scaling::BelowOneSample {
         roulette: args.roulette_scaling,
         resolution: args.resolution_scaling,
     };
-    options.devices = args.devices.parse().map_err(|e: String| anyhow!(e))?;
-    options.time = args.scene.time;
     let animation = prepared
         .scene
         .animations

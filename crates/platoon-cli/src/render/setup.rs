@@ -14,7 +14,9 @@ use platoon::core::frame::FrameParams;
 use platoon::core::output::{check_image_path, ImageFormat};
 use platoon::distributed::Session;
 use platoon::tracer::{MemoryPath, Sampling};
-use platoon::{CameraChoice, PrepareOptions, Request, RequestError, SceneSource, Tracers};
+use platoon::{CameraChoice, PrepareOptions, Request, SceneSource, Tracers};
+
+use crate::request_flags::{any_as_flags, as_flags};
 
 use super::args::{FrameArgs, MemoryArg, RenderArgs, SamplingArg};
 
@@ -162,13 +164,9 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     if mpi && time_limit.is_some() {
         bail!("--time-limit renders on one device: shares of a frame cut at different times on the ranks would break the image's independence from the split (--mpi-frames renders whole frames, each with the limit)");
     }
-    let flags = |e: anyhow::Error| match e.downcast::<RequestError>() {
-        Ok(e) => as_flags(e),
-        Err(e) => e,
-    };
-    let tracers = request.tracer_options().map_err(flags)?;
+    let tracers = request.tracer_options().map_err(any_as_flags)?;
     let loaded = request.load_scene()?;
-    let options = request.prepare_options(&loaded).map_err(flags)?;
+    let options = request.prepare_options(&loaded).map_err(any_as_flags)?;
     let farm = frames.mpi_frames.is_some();
     let session = if mpi || farm {
         Some(platoon::distributed::join()?)
@@ -191,17 +189,6 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         farm,
     };
     Ok((setup, out, frames))
-}
-
-/// A request's error with its option written as the flag that sets it.
-fn as_flags(e: RequestError) -> anyhow::Error {
-    let flag = match e.option {
-        "adaptive" => "adaptive-threshold",
-        "aovs" => "aov",
-        "denoiser" => "denoise",
-        option => option,
-    };
-    anyhow::anyhow!("--{}: {}", flag.replace('_', "-"), e.problem)
 }
 
 /// Refuses an output the render could not write, before it starts.
