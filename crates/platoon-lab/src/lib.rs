@@ -1,19 +1,16 @@
 //! platoon-lab: what measures platoon rather than embeds it. The balance bench
 //! ([`balance_bench`]), the living-scene bench ([`dynamic_bench`]), the CPU comparison of BVH
-//! layouts ([`layout_bench`]), vertex links' update ([`links_bench`]), the bench scenes against Mitsuba 3 ([`scene_bench`], through the
+//! layouts ([`layout_bench`]), each rendering method's own benches ([`method`]: vertex links',
+//! layered hit buffers'), the bench scenes against Mitsuba 3 ([`scene_bench`], through the
 //! exporter [`mitsuba`]), the accuracy-vs-time trade-off tool ([`tradeoff`]) and their plots
-//! ([`plot`]). The `platoon` command line runs them (`platoon bench kernel|scenes|dynamic|game|balance`,
+//! ([`plot`]). The `platoon` command line runs them (`platoon bench kernel|scenes|dynamic|game|balance|links|lhb`,
 //! `platoon tradeoff`);
 //! the embedding API (`platoon`) knows nothing of them and needs no argument parser.
 
 pub mod balance_bench;
 pub mod dynamic_bench;
 pub mod layout_bench;
-pub mod lhb_bench;
-pub mod lhb_plot;
-pub mod lhb_scenes;
-pub mod links_bench;
-pub mod links_walk;
+pub mod method;
 pub mod mitsuba;
 pub mod plot;
 pub mod scene_bench;

@@ -6,8 +6,6 @@ mod dynamic;
 mod game;
 mod game_costs;
 mod kernel;
-mod lhb;
-mod links;
 mod scenes;
 
 use anyhow::{Context as _, Result};
@@ -28,12 +26,9 @@ pub enum BenchMode {
     Game(game::GameArgs),
     /// The line balancers compared over an orbiting camera (Brigade's Table 16 for platoon).
     Balance(balance::BalanceArgs),
-    /// Vertex links' update stage by stage, links raw and compressed, first frame and frame
-    /// (Schmitz et al.'s table for platoon).
-    Links(links::LinksArgs),
-    /// Layered hit buffers: the build per direction, bytes, lookups against the path tracer's
-    /// rays and the break-even queries per build, over triangles, directions and resolution.
-    Lhb(lhb::LhbArgs),
+    /// Each rendering method's own bench (platoon-lab's `method`).
+    #[command(flatten)]
+    Method(platoon_lab::method::MethodBench),
 }
 
 pub fn run(mode: BenchMode) -> Result<()> {
@@ -43,7 +38,6 @@ pub fn run(mode: BenchMode) -> Result<()> {
         BenchMode::Dynamic(a) => dynamic::run(&a).context("bench dynamic failed"),
         BenchMode::Game(a) => game::run(&a).context("bench game failed"),
         BenchMode::Balance(a) => balance::run(a),
-        BenchMode::Links(a) => links::run(&a).context("bench links failed"),
-        BenchMode::Lhb(a) => lhb::run(&a).context("bench lhb failed"),
+        BenchMode::Method(m) => m.run(),
     }
 }

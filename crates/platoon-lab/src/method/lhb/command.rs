@@ -4,10 +4,10 @@
 
 use std::path::PathBuf;
 
+use super::{bench as lhb_bench, plot as lhb_plot, scenes as lhb_scenes};
 use anyhow::{bail, Result};
 use platoon::core::method::lhb::directions::DirectionSet;
 use platoon::core::method::lhb::{LhbOptions, RasterVariant};
-use platoon_lab::{lhb_bench, lhb_plot, lhb_scenes};
 
 /// `platoon bench lhb`'s settings.
 #[derive(clap::Args)]
@@ -40,7 +40,7 @@ pub struct LhbArgs {
     #[arg(long, default_value_t = 4)]
     spp: u32,
     /// The folder of the shared test data (scenes/).
-    #[arg(long, default_value_os_t = platoon_lab::shared::dir())]
+    #[arg(long, default_value_os_t = crate::shared::dir())]
     shared: PathBuf,
     /// Instead of the scenes: CesiumMan walking this many steps across the Cornell box, each
     /// step's buffers built keeping what did not move and rebuilt whole, against the path

@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::{anyhow, Result};
 use plotters::prelude::*;
 
-use crate::lhb_bench::LhbRow;
+use super::bench::LhbRow;
 use crate::plot::{draw_legend, write_through_temp};
 
 const COLORS: [RGBColor; 6] = [

@@ -3,10 +3,10 @@
 
 use std::path::PathBuf;
 
+use super::{bench as links_bench, walk as links_walk};
 use anyhow::{bail, Result};
 use platoon::core::drive::GiUpdate;
 use platoon::core::method::links::LinksOptions;
-use platoon_lab::{links_bench, links_walk};
 
 /// `platoon bench links`'s settings.
 #[derive(clap::Args)]
@@ -31,7 +31,7 @@ pub struct LinksArgs {
     #[arg(long, default_value_t = 1)]
     spp: u32,
     /// The folder of the shared test data (scenes/).
-    #[arg(long, default_value_os_t = platoon_lab::shared::dir())]
+    #[arg(long, default_value_os_t = crate::shared::dir())]
     shared: PathBuf,
     /// Instead of the scenes: CesiumMan walking this many steps across the Cornell box, each
     /// step's links regenerated (the paper) and revalidated (platoon), and the error of the
@@ -62,7 +62,7 @@ pub fn run(a: &LinksArgs) -> Result<()> {
     if let Some(steps) = a.walk {
         return walk(a, options, steps);
     }
-    let scenes = links_bench::scenes(&a.scenes, &a.shared)?;
+    let scenes = crate::method::scenes::scenes(&a.scenes, &a.shared)?;
     println!(
         "platoon bench links: {} directions, {} bounces; frames {2}x{2} at {3} spp on device 0",
         a.directions, a.bounces, a.size, a.spp

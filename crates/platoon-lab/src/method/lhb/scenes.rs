@@ -117,15 +117,15 @@ pub fn icosphere(level: u32) -> Scene {
     })
 }
 
-/// The bench's scenes by name: `cubesN`, `icosphereL`, or one of `links_bench::scenes`'.
+/// The bench's scenes by name: `cubesN`, `icosphereL`, or one of `method::scenes::scenes`'.
 pub fn scenes(
     names: &[String],
     shared: &std::path::Path,
-) -> anyhow::Result<Vec<crate::links_bench::LinksScene>> {
+) -> anyhow::Result<Vec<crate::method::scenes::MethodScene>> {
     names
         .iter()
         .map(|name| {
-            let made = |what: String, scene: Scene| crate::links_bench::LinksScene {
+            let made = |what: String, scene: Scene| crate::method::scenes::MethodScene {
                 name: name.clone(),
                 what,
                 scene,
@@ -152,7 +152,7 @@ pub fn scenes(
                     icosphere(level),
                 ));
             }
-            let mut one = crate::links_bench::scenes(std::slice::from_ref(name), shared)?;
+            let mut one = crate::method::scenes::scenes(std::slice::from_ref(name), shared)?;
             Ok(one.remove(0))
         })
         .collect()

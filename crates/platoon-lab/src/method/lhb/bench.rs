@@ -17,7 +17,7 @@ use platoon::core::method::lhb::{Lhb, LhbOptions};
 use platoon::core::Method;
 use platoon::tracer::{Tracer, TracerOptions};
 
-use crate::links_bench::LinksScene;
+use crate::method::scenes::MethodScene;
 
 /// One setting on one scene.
 pub struct LhbRow {
@@ -63,7 +63,7 @@ fn entry(report: &[(String, String)], key: &str) -> Result<f64> {
 
 /// Measures `scene` with every one of `settings` on device 0, frames of `size` x `size` at `spp`.
 pub fn measure(
-    s: &LinksScene,
+    s: &MethodScene,
     settings: &[LhbOptions],
     size: u32,
     spp: u32,
