@@ -723,6 +723,7 @@ fn paths_that_are_not_files_and_non_finite_times_are_refused_at_once() {
         ),
         (&[("--max-depth", "0")][..], "--max-depth"),
         (&[("--aperture=-1", "")][..], "--aperture"),
+        (&[("--frames", "1"), ("--fps", "1e-40")][..], "--fps 1e-40"),
     ] {
         let mut cli = Cli::new("render");
         for (flag, value) in flags {

@@ -48,6 +48,20 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
     if !(args.fps.is_finite() && args.fps > 0.0) {
         bail!("--fps must be a positive number, not {}", args.fps);
     }
+    // Each frame's time is its number / fps: refused now if one is not a finite time.
+    let last = range
+        .frames()
+        .into_iter()
+        .map(|f| f.abs())
+        .max()
+        .unwrap_or(0);
+    if !((last as f64 / args.fps) as f32).is_finite() {
+        bail!(
+            "--fps {:e}: frame {last} would be at {:e} s, past what a time can hold",
+            args.fps,
+            last as f64 / args.fps
+        );
+    }
     let frames = match &args.task_index {
         Some(var) => range.chunk(args.chunk, task_index(var)?)?,
         None => range.frames(),

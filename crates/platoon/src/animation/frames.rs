@@ -72,7 +72,7 @@ impl FrameRange {
 /// (Slurm's `SLURM_ARRAY_TASK_ID`, a Kubernetes indexed job's `JOB_COMPLETION_INDEX`, ...).
 pub fn task_index(name: &str) -> Result<usize> {
     let value = std::env::var(name)
-        .with_context(|| format!("--task-index {name}: the environment variable is not set"))?;
+        .map_err(|_| anyhow::anyhow!("--task-index {name}: the environment variable is not set"))?;
     value.trim().parse::<usize>().with_context(|| {
         format!("--task-index {name}: {value:?} is not a task index (a whole number from 0)")
     })

@@ -60,7 +60,12 @@ pub fn load_with(path: &Path, options: &LoadOptions) -> Result<Scene> {
         .map_err(|e| Error::file(path, format!("cannot read scene: {e}")))?;
     check_is_gltf(path, &bytes)?;
     let base = folder_of(path);
-    guard::catching_panics(path, || load_from_slice(path, &bytes, base, options))
+    let mut scene = guard::catching_panics(path, || load_from_slice(path, &bytes, base, options))?;
+    // A warning names its file: scenes are merged, and a render's log outlives its command.
+    for w in &mut scene.warnings {
+        *w = format!("{}: {w}", path.display());
+    }
+    Ok(scene)
 }
 
 /// Refuses what is not a glTF file before the parser's messages about it ("EOF while
