@@ -106,7 +106,7 @@ pub fn write_image_with_layers(
     layers: &[Layer],
     metadata: &[(String, String)],
 ) -> Result<()> {
-    match check_image_path(path)? {
+    match image_format(path)? {
         ImageFormat::Exr if layers.is_empty() => {
             write_atomically(path, |w| write_exr(path, w, film, metadata))
         }
@@ -128,9 +128,9 @@ pub enum ImageFormat {
     Png,
 }
 
-/// The format of an output path, or why it cannot be written: checked before a render starts
-/// (so a long render is not lost to a typo) and again when writing.
-pub fn check_image_path(path: &Path) -> Result<ImageFormat> {
+/// The format an image path names by its extension, in a folder that exists: what writing and
+/// reading an image need.
+pub fn image_format(path: &Path) -> Result<ImageFormat> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -141,17 +141,29 @@ pub fn check_image_path(path: &Path) -> Result<ImageFormat> {
         "png" => ImageFormat::Png,
         _ => return Err(Error::file(path, "output must end in .exr or .png")),
     };
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
+    let dir = output_folder(path);
     if !dir.is_dir() {
         return Err(Error::file(
             path,
             format!("output folder {} does not exist", dir.display()),
         ));
     }
-    // Found now, not after the render: the image is written through a temporary file there.
+    Ok(format)
+}
+
+/// The folder an image path writes into.
+fn output_folder(path: &Path) -> &Path {
+    path.parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
+}
+
+/// The format of an output path, or why it cannot be written: checked before a render starts,
+/// so that a long render is not lost to a typo or a folder it may not write into.
+pub fn check_image_path(path: &Path) -> Result<ImageFormat> {
+    let format = image_format(path)?;
+    // The image is written through a temporary file in its folder: try one now.
+    let dir = output_folder(path);
     if let Err(e) = tempfile::Builder::new()
         .prefix(".platoon-")
         .tempfile_in(dir)
@@ -294,7 +306,7 @@ fn write_png(
 /// The `platoon:` metadata of an image written by [`write_image`], read through to its last
 /// pixel, so that a truncated or damaged file is an error (a render farm's resume redoes it).
 pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>> {
-    match check_image_path(path)? {
+    match image_format(path)? {
         ImageFormat::Exr => Ok(read_exr(path)?.1),
         ImageFormat::Png => {
             let failed = |e: png::DecodingError| Error::file(path, format!("cannot read PNG: {e}"));

@@ -11,7 +11,7 @@ use platoon::core::denoise::Denoiser;
 use platoon::core::frame::adaptive::{Adaptive, Batching};
 use platoon::core::frame::aov::Aov;
 use platoon::core::frame::FrameParams;
-use platoon::core::output::{check_image_path, ImageFormat};
+use platoon::core::output::{image_format, ImageFormat};
 use platoon::distributed::Session;
 use platoon::tracer::{MemoryPath, Sampling};
 use platoon::{CameraChoice, PrepareOptions, Request, SceneSource, Tracers};
@@ -106,7 +106,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     });
     // An adaptive render's EXR shows where it stopped: the sample-count layer.
     if adaptive.is_some()
-        && matches!(check_image_path(&out)?, ImageFormat::Exr)
+        && matches!(image_format(&out)?, ImageFormat::Exr)
         && !aovs.contains(&Aov::SampleCount)
     {
         aovs.push(Aov::SampleCount);
