@@ -2,7 +2,6 @@
 //! method's options by their setting names, from the method's own description.
 
 use std::path::PathBuf;
-use std::time::Duration;
 
 use pyo3::conversion::FromPyObjectOwned;
 use pyo3::exceptions::PyValueError;
@@ -95,12 +94,7 @@ pub fn request(
         width: take(k, "width", "a whole number")?.unwrap_or(d.width),
         height: take(k, "height", "a whole number")?.unwrap_or(d.height),
         spp: take(k, "spp", "a whole number")?.unwrap_or(default_spp),
-        time_limit: match time_limit {
-            Some(t) if !(t.is_finite() && t > 0.0) => {
-                return Err(bad("time_limit", "must be a positive number of seconds"))
-            }
-            t => t.map(Duration::from_secs_f64),
-        },
+        time_limit: Request::time_limit_secs(time_limit).map_err(|e| bad(e.option, e.problem))?,
         max_depth: take(k, "max_depth", "a whole number")?,
         seed: take(k, "seed", "a whole number")?.unwrap_or(d.seed),
         sampling: Sampling::by_name(&sampling)

@@ -60,6 +60,7 @@ def test_the_same_bits_on_three_tracers():
     (dict(method="igi", bounces=20), ValueError, "bounces"),
     (dict(aovs=["beauty"]), ValueError, "unknown AOV"),
     (dict(devices="lavapipe:1,1", time_limit=1.0), ValueError, "time_limit"),
+    (dict(time_limit=-1.0), ValueError, "time_limit: must be a positive number of seconds"),
     (dict(scene="/nonexistent/man.glb"), platoon.PlatoonError, "/nonexistent/man.glb"),
 ])
 def test_bad_input_raises_naming_the_argument_or_file(kwargs, error, says):

@@ -111,12 +111,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     {
         aovs.push(Aov::SampleCount);
     }
-    let time_limit = match time_limit {
-        Some(t) if !(t.is_finite() && t > 0.0) => {
-            bail!("--time-limit must be a positive number of seconds")
-        }
-        t => t.map(std::time::Duration::from_secs_f64),
-    };
+    let time_limit = Request::time_limit_secs(time_limit).map_err(as_flags)?;
     let request = Request {
         scene: match &scene.scene {
             Some(path) => SceneSource::File(path.clone()),

@@ -1,6 +1,8 @@
 //! Every rule of a render request, once, each error naming the option it is about (the CLI
 //! writes it as a flag, a binding as a keyword argument).
 
+use std::time::Duration;
+
 use platoon_core::frame::aov::Aov;
 use platoon_core::scene::camera::Camera;
 
@@ -18,6 +20,18 @@ fn refuse(option: &'static str, problem: impl Into<String>) -> Result<(), Reques
 pub const MAX_PIXELS: u64 = 1 << 28;
 
 impl Request {
+    /// A time limit given in seconds (a command line's, a binding's): refused unless a
+    /// positive finite number, as `validate` refuses a zero one.
+    pub fn time_limit_secs(seconds: Option<f64>) -> Result<Option<Duration>, RequestError> {
+        match seconds {
+            Some(t) if !(t.is_finite() && t > 0.0) => Err(RequestError {
+                option: "time_limit",
+                problem: "must be a positive number of seconds".into(),
+            }),
+            t => Ok(t.map(Duration::from_secs_f64)),
+        }
+    }
+
     /// Every rule that needs neither the scene nor the devices.
     pub fn validate(&self) -> Result<(), RequestError> {
         for (option, v) in [
