@@ -29,11 +29,7 @@ pub fn scenes(names: &[String], shared: &std::path::Path) -> Result<Vec<MethodSc
                 });
             }
             if let Some(cells) = name.strip_prefix("tearoom").and_then(|n| n.parse().ok()) {
-                let path = shared.join("scenes/teapot.gltf");
-                if !path.is_file() {
-                    bail!("{}: not found (--shared names the folder)", path.display());
-                }
-                let teapot = platoon::load_scene(Some(&path))?;
+                let teapot = shared_scene(shared, "teapot.gltf")?;
                 return Ok(MethodScene {
                     name: name.clone(),
                     what: format!(
@@ -43,7 +39,7 @@ pub fn scenes(names: &[String], shared: &std::path::Path) -> Result<Vec<MethodSc
                     env: EnvChoice::Scene,
                 });
             }
-            let (what, path, env) = match name.as_str() {
+            let (what, file, env) = match name.as_str() {
                 "conference" => {
                     let dir = tempfile::tempdir()?;
                     let path = dir.path().join("conference.glb");
@@ -61,24 +57,30 @@ pub fn scenes(names: &[String], shared: &std::path::Path) -> Result<Vec<MethodSc
                 }
                 "cesium" => (
                     "CesiumMan under a grey sky",
-                    shared.join("scenes/CesiumMan.glb"),
+                    "CesiumMan.glb",
                     EnvChoice::Color(Vec3::splat(0.8)),
                 ),
                 _ => {
                     bail!("unknown bench scene {name:?}: boxN, conference, cesium, tearoomN")
                 }
             };
-            if !path.is_file() {
-                bail!("{}: not found (--shared names the folder)", path.display());
-            }
             Ok(MethodScene {
                 name: name.clone(),
                 what: what.into(),
-                scene: platoon::load_scene(Some(&path))?,
+                scene: shared_scene(shared, file)?,
                 env,
             })
         })
         .collect()
+}
+
+/// The scene `file` of the shared data's scenes/ folder (`shared`), or why it is not there.
+pub fn shared_scene(shared: &std::path::Path, file: &str) -> Result<platoon::core::Scene> {
+    let path = shared.join("scenes").join(file);
+    if !path.is_file() {
+        bail!("{}: not found (--shared names the folder)", path.display());
+    }
+    platoon::load_scene(Some(&path))
 }
 
 impl MethodScene {

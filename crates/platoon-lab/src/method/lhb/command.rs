@@ -146,11 +146,7 @@ pub fn run(a: &LhbArgs) -> Result<()> {
 }
 
 fn walk(a: &LhbArgs, options: LhbOptions, steps: usize) -> Result<()> {
-    let path = a.shared.join("scenes/CesiumMan.glb");
-    if !path.is_file() {
-        bail!("{}: not found (--shared names the folder)", path.display());
-    }
-    let man = platoon::load_scene(Some(&path))?;
+    let man = crate::method::scenes::shared_scene(&a.shared, "CesiumMan.glb")?;
     let options = LhbOptions {
         variant: RasterVariant::Capacity,
         ..options

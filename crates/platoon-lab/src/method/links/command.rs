@@ -114,11 +114,7 @@ pub fn run(a: &LinksArgs) -> Result<()> {
 }
 
 fn walk(a: &LinksArgs, options: LinksOptions, steps: usize) -> Result<()> {
-    let path = a.shared.join("scenes/CesiumMan.glb");
-    if !path.is_file() {
-        bail!("{}: not found (--shared names the folder)", path.display());
-    }
-    let man = platoon::load_scene(Some(&path))?;
+    let man = crate::method::scenes::shared_scene(&a.shared, "CesiumMan.glb")?;
     println!(
         "platoon bench links --walk: CesiumMan walking {steps} steps across the Cornell box \
          (faces {0}x{0} quads), {1} directions, {2} bounces, device 0",
