@@ -190,16 +190,18 @@ impl Technique {
 
     /// The scene it renders when not the sweep's own: without an effect, or subdivided.
     pub fn variant(&self) -> Option<Variant> {
-        match self.clone() {
+        match *self {
             Technique::Without(e) => Some(Variant::Without(e)),
-            Technique::Method(t) if t.subdivisions > 0 => Some(Variant::Subdivided(t.subdivisions)),
+            Technique::Method(ref t) if t.subdivisions > 0 => {
+                Some(Variant::Subdivided(t.subdivisions))
+            }
             _ => None,
         }
     }
 
     /// Sets what it changes on a frame's parameters.
     pub fn apply(&self, params: &mut FrameParams) {
-        match self.clone() {
+        match *self {
             Technique::MaxDepth(n) => params.max_depth = n,
             Technique::RouletteFrom(n) => params.rr_depth = n,
             Technique::RouletteSurvival(p) => params.rr_survival = p as f32 / 100.0,
@@ -222,7 +224,7 @@ impl Technique {
                 params.kernel = platoon_core::method::path::PathKernel::Mega;
                 params.cut_last_paths = true;
             }
-            Technique::Method(t) => params.method = t.method(),
+            Technique::Method(ref t) => params.method = t.method(),
             // Its change is to the scene (`variant`).
             Technique::Without(_) => {}
             // Its change is after assembly, or how the frame is rendered (`mod.rs`).
