@@ -22,6 +22,9 @@ pub struct DeviceInfo {
     pub max_texel_buffer_elements: u64,
     /// A CPU implementation (lavapipe).
     pub cpu: bool,
+    /// The Mesa release (major, minor) of a Mesa driver (lavapipe, RADV, ANV...), read from its
+    /// driverInfo; `None` for other drivers.
+    pub mesa: Option<(u32, u32)>,
 }
 
 impl DeviceInfo {
@@ -30,7 +33,7 @@ impl DeviceInfo {
         crate::memory::MemoryLimits {
             max_storage_buffer_range: self.max_storage_buffer_range,
             max_texel_buffer_elements: self.max_texel_buffer_elements,
-            cpu: self.cpu,
+            texel_fastest: crate::memory::texel_fastest(self.cpu, self.mesa),
         }
     }
 }
@@ -138,11 +141,13 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
         _ => "other",
     };
     let v = p.api_version;
+    let mesa = mesa_release(&driver_info);
     DeviceInfo {
         index,
         max_storage_buffer_range: p.limits.max_storage_buffer_range as u64,
         max_texel_buffer_elements: p.limits.max_texel_buffer_elements as u64,
         cpu: p.device_type == vk::PhysicalDeviceType::CPU,
+        mesa,
         name,
         device_type: device_type.into(),
         driver: format!("{driver_name} {driver_info}").trim().to_string(),
@@ -153,6 +158,17 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
             vk::api_version_patch(v)
         ),
     }
+}
+
+/// The release in a Mesa driver's driverInfo ("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"):
+/// lavapipe's driverVersion is 1 whatever the release.
+fn mesa_release(driver_info: &str) -> Option<(u32, u32)> {
+    let version = driver_info
+        .split_whitespace()
+        .skip_while(|w| *w != "Mesa")
+        .nth(1)?;
+    let mut parts = version.split(|c: char| !c.is_ascii_digit());
+    Some((parts.next()?.parse().ok()?, parts.next()?.parse().ok()?))
 }
 
 /// Every Vulkan device of the machine, in the order `--device` indexes them.
@@ -298,5 +314,25 @@ impl Drop for Context {
             self.instance.destroy_instance(None);
         }
         let _ = &self.entry;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::mesa_release;
+
+    #[test]
+    fn mesa_releases_are_read_from_the_driver_info() {
+        assert_eq!(mesa_release("Mesa 22.3.6 (LLVM 15.0.6)"), Some((22, 3)));
+        assert_eq!(
+            mesa_release("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"),
+            Some((25, 0))
+        );
+        assert_eq!(
+            mesa_release("Mesa 24.2.0-devel (git-1a2b3c)"),
+            Some((24, 2))
+        );
+        assert_eq!(mesa_release("580.159.04"), None);
+        assert_eq!(mesa_release("Mesa"), None);
     }
 }

@@ -3,7 +3,9 @@
 //! is compiled into a loop over the SIMD lanes for every 32-bit component and an SSBO load into
 //! one such loop per vector, while a texel fetch is straight-line vector loads (llvmpipe's
 //! texture gather), so texel buffers are the fastest path there; on GPUs storage buffers are the
-//! conventional choice. The image is the same bits on every path (tests/frame/determinism.rs).
+//! conventional choice. From Mesa 25 on, lavapipe's storage-buffer loads are the faster ones
+//! (docs/PERFORMANCE.md, "A newer lavapipe"). The image is the same bits on every path
+//! (tests/frame/determinism.rs), and on Mesa 22.3 and 25.0.
 
 use ash::vk;
 use platoon_core::flatten::GpuScene;
@@ -13,8 +15,8 @@ use crate::{Result, VkContext};
 /// The memory-path policy of a tracer.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum MemoryPath {
-    /// Texel buffers on CPU devices (lavapipe), storage buffers on GPUs, each where the array
-    /// fits the device's limits; device addresses for the rest.
+    /// Texel buffers on CPU devices (lavapipe before Mesa 25), storage buffers on GPUs and newer
+    /// lavapipe, each where the array fits the device's limits; device addresses for the rest.
     #[default]
     Auto,
     /// Texel buffers wherever the array fits `maxTexelBufferElements`.
@@ -48,8 +50,19 @@ impl ArrayPath {
 pub struct MemoryLimits {
     pub max_storage_buffer_range: u64,
     pub max_texel_buffer_elements: u64,
-    /// A CPU implementation (lavapipe), where texel fetches are the cheapest loads.
-    pub cpu: bool,
+    /// Texel fetches are the device's cheapest loads (lavapipe before Mesa 25: `texel_fastest`).
+    pub texel_fastest: bool,
+}
+
+/// The first Mesa release whose lavapipe reads storage buffers faster than texel buffers
+/// (measured on 25.0.7 against 22.3.6; the releases between were not measured).
+pub const MESA_STORAGE_FASTEST: u32 = 25;
+
+/// Whether texel fetches are a device's cheapest loads: on CPU devices (lavapipe), unless its
+/// Mesa release is one whose storage-buffer loads are faster. Another CPU driver keeps texel
+/// buffers, the measured choice for CPUs.
+pub fn texel_fastest(cpu: bool, mesa: Option<(u32, u32)>) -> bool {
+    cpu && mesa.is_none_or(|(major, _)| major < MESA_STORAGE_FASTEST)
 }
 
 /// The read-only scene arrays in upload and binding order: core's table, which
@@ -64,7 +77,7 @@ pub fn scene_array_bytes(s: &GpuScene) -> [&[u8]; SCENE_ARRAYS.len()] {
 /// The path of each scene array of these byte sizes (`SCENE_ARRAYS` order).
 pub fn choose(sizes: &[u64], limits: &MemoryLimits, policy: MemoryPath) -> Vec<ArrayPath> {
     let texel = match policy {
-        MemoryPath::Auto => limits.cpu,
+        MemoryPath::Auto => limits.texel_fastest,
         MemoryPath::TexelBuffers => true,
         MemoryPath::StorageBuffers | MemoryPath::DeviceAddress => false,
     };
@@ -280,7 +293,7 @@ mod tests {
     const LAVAPIPE: MemoryLimits = MemoryLimits {
         max_storage_buffer_range: 128 << 20,
         max_texel_buffer_elements: 128 << 20,
-        cpu: true,
+        texel_fastest: true,
     };
 
     #[test]
@@ -300,12 +313,23 @@ mod tests {
         assert!(!defines(&storage).contains(&"SSBO_TEXELS"));
         assert!(defines(&storage).contains(&"SSBO_VERTICES"));
         let gpu = MemoryLimits {
-            cpu: false,
+            texel_fastest: false,
             ..LAVAPIPE
         };
         assert_eq!(choose(&sizes, &gpu, MemoryPath::Auto), storage);
         assert!(choose(&sizes, &LAVAPIPE, MemoryPath::DeviceAddress)
             .iter()
             .all(|&p| p == ArrayPath::Address));
+    }
+
+    #[test]
+    fn lavapipe_reads_texel_buffers_before_mesa_25_and_storage_buffers_after() {
+        assert!(texel_fastest(true, Some((22, 3))));
+        assert!(texel_fastest(true, Some((24, 3))));
+        assert!(!texel_fastest(true, Some((25, 0))));
+        assert!(!texel_fastest(true, Some((26, 1))));
+        assert!(texel_fastest(true, None), "a CPU driver not from Mesa");
+        assert!(!texel_fastest(false, Some((22, 3))), "RADV");
+        assert!(!texel_fastest(false, None));
     }
 }

@@ -73,8 +73,8 @@ pub struct RenderArgs {
     /// Enable the Khronos validation layer.
     #[arg(long)]
     pub(super) validation: bool,
-    /// How the kernel reads scene arrays: auto is texel buffers on CPU devices (lavapipe) and
-    /// storage buffers on GPUs, each where the array fits the device's limits, else device
+    /// How the kernel reads scene arrays: auto is texel buffers on CPU devices (lavapipe before
+    /// Mesa 25) and storage buffers on GPUs and newer lavapipe, each where the array fits the device's limits, else device
     /// addresses; the others force one path where it fits. Same image on every path.
     #[arg(long, value_enum, default_value = "auto")]
     pub(super) memory: MemoryArg,
