@@ -122,6 +122,51 @@ fn a_rerun_skips_done_frames_and_redoes_a_damaged_one() {
 }
 
 #[test]
+fn a_rerun_redoes_frames_whose_environment_map_or_raw_image_changed() {
+    // Issue 41, defect 3: the job named the environment map by its path alone, and a denoised
+    // frame whose raw image (NAME.noisy.EXT) was deleted still counted as done.
+    let dir = tempfile::tempdir().unwrap();
+    let env = dir.path().join("sky.exr");
+    let place_sky = |from: &str| {
+        let _ = std::fs::remove_file(&env);
+        std::fs::write(&env, std::fs::read(shared(from)).unwrap()).unwrap();
+    };
+    place_sky("envmaps/sunset.exr");
+    let out = dir.path().join("f_#.png");
+    let run = || {
+        let o = frames("1..2")
+            .flag("--env", &env)
+            .flag("--denoise", "atrous")
+            .out(&out)
+            .run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o)
+    };
+    run();
+    let lines = run();
+    assert_eq!(lines.matches(": skipped").count(), 2, "{lines}");
+    std::fs::remove_file(dir.path().join("f_2.noisy.png")).unwrap();
+    let lines = run();
+    assert!(lines.contains("frame 1: skipped"), "{lines}");
+    assert!(lines.contains("frame 2: ok"), "{lines}");
+    assert!(dir.path().join("f_2.noisy.png").is_file());
+    // Another sky under the same name: every frame is another image.
+    place_sky("envmaps/forest.exr");
+    let lines = run();
+    assert_eq!(lines.matches(": ok").count(), 2, "{lines}");
+    // The job is said as a person reads it (issue 41, defect 7: it was Rust's debug output).
+    let meta = platoon::core::output::read_metadata(&dir.path().join("f_1.png")).unwrap();
+    let job = &meta.iter().find(|(k, _)| k == "platoon:job").unwrap().1;
+    assert!(
+        job.contains("environment /") && job.contains("sky.exr ("),
+        "{job}"
+    );
+    for debug in ["Some(", "None", "File(", "\"", "["] {
+        assert!(!job.contains(debug), "{debug} in {job}");
+    }
+}
+
+#[test]
 fn a_farm_task_renders_the_chunk_its_index_names() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("f_##.exr");

@@ -275,26 +275,37 @@ impl Tracer {
         let groups = (width.div_ceil(8), (y1 - y0).div_ceil(stride).div_ceil(8));
         let mut begin = 0;
         let mut pass_start = Duration::ZERO;
+        // Under a time limit the first pass takes one sample and each next one at most twice
+        // the last (up to a whole pass), as many as the time left allows at the last pass's
+        // pace: a limit shorter than a whole pass ends after a sample, not a pass (issue 41,
+        // defect 6). How the samples are cut into passes leaves the sums' bits as they are.
+        let mut next = if params.time_limit.is_some() {
+            1
+        } else {
+            per_pass
+        };
         while begin < spp {
-            let end = (begin + per_pass).min(spp);
+            let end = (begin + next).min(spp);
             let push = Push {
                 sample_begin: params.first_sample.wrapping_add(begin),
                 sample_end: params.first_sample.wrapping_add(end),
                 ..push
             };
             band.gpu_time += method.pass(&mut rec, &push, groups)?;
+            let taken = end - begin;
             begin = end;
             progress(end);
-            // Stop before a pass that would end past the limit (passes take about as long as
-            // the last one did), so the render ends within it unless one pass already overran.
             let elapsed = wall.elapsed();
             let pass = elapsed - pass_start;
             pass_start = elapsed;
-            if params
-                .time_limit
-                .is_some_and(|limit| elapsed + pass > limit)
-            {
-                break;
+            if let Some(limit) = params.time_limit {
+                let per_sample = pass.as_secs_f64() / taken as f64;
+                let left = limit.saturating_sub(elapsed).as_secs_f64();
+                let fits = (left / per_sample.max(1e-9)).min(u32::MAX as f64) as u32;
+                next = (2 * taken).min(per_pass).min(fits);
+                if next == 0 {
+                    break;
+                }
             }
         }
         band.samples = begin;

@@ -10,12 +10,12 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use platoon::animation::{frame_path, task_index, Animation};
-use platoon::core::frame::FrameParams;
 use platoon::Tracers;
 
 use super::args::{FrameArgs, RenderArgs};
 use platoon::Still;
 
+use super::job::Job;
 use super::outputs;
 use super::setup::{check_output, on_every_rank, setup, Setup};
 
@@ -184,93 +184,6 @@ fn in_order(frames: &mut Frames, job: &Job, out: &Path, todo: &[i64]) -> Result<
         rendered: todo.len() as u64,
         failed,
     })
-}
-
-/// What makes a frame's image what it is (the settings, the scene file as it is now, the
-/// frame): written into each frame's metadata as `job`; a file whose `job` matches is done.
-struct Job {
-    settings: String,
-    fps: f64,
-    animated_seed: bool,
-}
-
-impl Job {
-    fn new(setup: &Setup, args: &FrameArgs) -> Job {
-        let scene = match &setup.scene.source {
-            Some(p) => {
-                let stamp = std::fs::metadata(p).ok().map(|m| {
-                    let mtime = m.modified().ok().and_then(|t| {
-                        t.duration_since(std::time::UNIX_EPOCH)
-                            .ok()
-                            .map(|d| d.as_nanos())
-                    });
-                    format!("{} bytes, modified {mtime:?}", m.len())
-                });
-                let path = p.canonicalize().unwrap_or_else(|_| p.clone());
-                format!("{} ({})", path.display(), stamp.unwrap_or_default())
-            }
-            None => "built-in Cornell box".into(),
-        };
-        let p = &setup.params;
-        let o = &setup.options;
-        let settings = format!(
-            "scene {scene}; env {:?}; camera {:?}, aperture {}, focus {:?}; {}x{}, {} spp, \
-             time limit {:?}, max depth {}, seed {}{}; {}; kernel {:?}; {} sampling; {} fps; AOVs {:?}; denoiser {:?}; adaptive {:?}",
-            o.env,
-            o.camera,
-            o.aperture_radius,
-            o.focus_distance,
-            p.width,
-            p.height,
-            p.spp,
-            p.time_limit,
-            p.max_depth,
-            p.seed,
-            if args.animated_seed { " + frame" } else { "" },
-            p.method.unit().describe(),
-            p.kernel,
-            setup.sampling,
-            args.fps,
-            setup.aovs,
-            setup.denoiser,
-            setup.batching.adaptive
-        );
-        Job {
-            settings,
-            fps: args.fps,
-            animated_seed: args.animated_seed,
-        }
-    }
-
-    fn of_frame(&self, frame: i64) -> String {
-        format!("{}; frame {frame}", self.settings)
-    }
-
-    fn time(&self, frame: i64) -> f32 {
-        (frame as f64 / self.fps) as f32
-    }
-
-    /// Whether `path` holds frame `frame` of this job, whole.
-    fn done(&self, path: &Path, frame: i64) -> bool {
-        let want = self.of_frame(frame);
-        platoon::core::output::read_metadata(path)
-            .is_ok_and(|meta| meta.iter().any(|(k, v)| k == "platoon:job" && *v == want))
-    }
-
-    /// The frame's parameters: its camera, and its seed (plus the frame with an animated seed).
-    fn params(
-        &self,
-        setup: &Setup,
-        frame: i64,
-        camera: platoon::core::scene::camera::Camera,
-    ) -> FrameParams {
-        let mut params = setup.params.clone();
-        params.camera = camera;
-        if self.animated_seed {
-            params.seed = params.seed.wrapping_add(frame as u32);
-        }
-        params
-    }
 }
 
 /// The scene and tracers carried from frame to frame (or, with `--fresh-prepare`, made anew

@@ -4,6 +4,7 @@
 mod args;
 mod farm;
 mod frames;
+mod job;
 mod outputs;
 mod setup;
 mod still;

@@ -37,6 +37,9 @@ pub(super) struct Setup {
     pub(super) session: Option<Rc<dyn Session>>,
     /// --mpi-frames: each rank renders whole frames on its own devices.
     pub(super) farm: bool,
+    /// When the command began (before the scene was read): what a render's time in all counts
+    /// from.
+    pub(super) started: std::time::Instant,
 }
 
 impl Setup {
@@ -74,6 +77,7 @@ pub(super) fn on_every_rank(
 }
 
 pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
+    let started = std::time::Instant::now();
     let RenderArgs {
         scene,
         method,
@@ -171,6 +175,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     // The camera is the prepared scene's, or each frame's: set before rendering.
     let placeholder = platoon::core::scene::camera::Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0);
     let setup = Setup {
+        started,
         scene: loaded,
         options,
         params: request.frame_params(placeholder),

@@ -27,6 +27,7 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
     }
     let mut tracers = setup.tracers(&prepared.gpu)?;
     let Setup {
+        started,
         mut params,
         sampling,
         aovs,
@@ -61,8 +62,11 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         ),
         None => format!("{} spp", rendered.spp),
     };
+    // The render's own time first (what samples/s are of), then the command's whole time:
+    // reading the scene, building its BVH and compiling kernels are often most of a small
+    // render's wait (issue 41, defect 6).
     eprintln!(
-        "{}: {}x{} at {spp} in {:.2} s on {} ({:.2} M samples/s, {:.2} M rays/s, {} rejected samples)",
+        "{}: {}x{} at {spp} in {:.2} s on {} ({:.2} M samples/s, {:.2} M rays/s, {} rejected samples); {:.2} s in all with loading and preparing",
         out.display(),
         params.width,
         params.height,
@@ -70,7 +74,8 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         rendered.device,
         (params.width as f64 * params.height as f64 * rendered.mean_spp()) / secs / 1e6,
         rendered.rays() as f64 / secs / 1e6,
-        rendered.rejected_samples()
+        rendered.rejected_samples(),
+        started.elapsed().as_secs_f64()
     );
     report_method(rendered, &params.method);
     Ok(())
