@@ -979,3 +979,46 @@ fn a_still_reports_its_whole_time_beside_the_render_time() {
     let all = seconds_before(" s in all");
     assert!(all >= render && all > 0.0, "{err}");
 }
+
+#[test]
+fn flags_that_would_do_nothing_are_refused_or_said() {
+    // Issue 41, defect 4: without --frames these were ignored, silently (every farm task wrote
+    // the same still), as --variant was on the built-in box, and adaptive sampling that cannot
+    // stop a pixel early sampled every pixel fully without a word.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("still.png");
+    let refused: [(&[&str], &str); 7] = [
+        (&["--task-index", "X"], "--frames"),
+        (&["--chunk", "2"], "--task-index"),
+        (&["--overwrite"], "--frames"),
+        (&["--fps", "30"], "--frames"),
+        (&["--animated-seed"], "--frames"),
+        (&["--fresh-prepare"], "--frames"),
+        (&["--variant", "red"], "no material variants"),
+    ];
+    for (flags, says) in refused {
+        let mut cli = Cli::new("render").spp(1).size(8, 8).out(&out);
+        for f in flags {
+            cli = cli.arg(f);
+        }
+        let o = cli.run();
+        assert!(
+            !o.status.success() && stderr(&o).contains(says),
+            "{flags:?}: {}",
+            stderr(&o)
+        );
+        assert!(!out.exists(), "{flags:?} wrote an image");
+    }
+    let o = Cli::new("render")
+        .spp(4)
+        .size(8, 8)
+        .flag("--adaptive-threshold", "0.1")
+        .out(&out)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: adaptive sampling does nothing at 4 samples a pixel"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -35,6 +35,9 @@ pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
 
 pub fn load_scene_with(path: Option<&Path>, options: &LoadOptions) -> Result<Scene> {
     match path {
+        None if options.variant.is_some() => {
+            bail!("the built-in Cornell box has no material variants (a variant needs a glTF file)")
+        }
         None => Ok(platoon_core::scene::cornell::scene()),
         Some(p) => Ok(platoon_core::scene::gltf_load::load_with(p, options)?),
     }

@@ -74,8 +74,9 @@ pub struct RenderArgs {
     #[arg(long)]
     pub(super) validation: bool,
     /// How the kernel reads scene arrays: auto is texel buffers on CPU devices (lavapipe before
-    /// Mesa 25) and storage buffers on GPUs and newer lavapipe, each where the array fits the device's limits, else device
-    /// addresses; the others force one path where it fits. Same image on every path.
+    /// Mesa 25) and storage buffers on GPUs and newer lavapipe, each where the array fits the
+    /// device's limits, else device addresses; the others force one path where it fits. Same
+    /// image on every path.
     #[arg(long, value_enum, default_value = "auto")]
     pub(super) memory: MemoryArg,
     #[arg(long, short, default_value = "render.png")]
@@ -132,36 +133,36 @@ pub struct FrameArgs {
     /// Render an animation: frames A..B[:STEP] (B included), frame F at animation time
     /// F / --fps seconds, to numbered files (`--out dir/shot_####.exr`: the last run of #
     /// takes the frame number; a name without # gets `_####`).
-    #[arg(long)]
+    #[arg(long, group = "sequence")]
     pub frames: Option<FrameRange>,
     /// Frames per second of the animation.
-    #[arg(long, default_value_t = 24.0)]
+    #[arg(long, default_value_t = 24.0, requires = "sequence")]
     pub fps: f64,
     /// Render farms: the environment variable holding this task's index, counted from 0
     /// (Slurm: SLURM_ARRAY_TASK_ID with --array=0-N; a Kubernetes indexed job:
     /// JOB_COMPLETION_INDEX). The task renders chunk INDEX of the range cut into --chunk frames.
-    #[arg(long, value_name = "VARIABLE")]
+    #[arg(long, value_name = "VARIABLE", requires = "frames")]
     pub task_index: Option<String>,
     /// Frames per farm task (with --task-index).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, requires = "task_index")]
     pub chunk: usize,
     /// Render again frames whose file is already there with these settings (default: skip).
-    #[arg(long)]
+    #[arg(long, requires = "sequence")]
     pub overwrite: bool,
     /// A different noise pattern every frame (seed plus frame number), as Cycles' animated
     /// seed; by default every frame uses --seed, as a still render at its time would.
-    #[arg(long)]
+    #[arg(long, requires = "sequence")]
     pub animated_seed: bool,
     /// Prepare each frame from scratch (BVHs rebuilt, tracers created anew) instead of
     /// carrying the scene from frame to frame with refits: what a loop of still renders costs.
-    #[arg(long)]
+    #[arg(long, requires = "sequence")]
     pub fresh_prepare: bool,
     /// A render farm over an MPI job (`mpirun -n N platoon render SCENE --mpi-frames 0..99
     /// --out shots/f_####.exr`, a build with `--features mpi`): rank 0 deals the frames
     /// A..B[:STEP] to the ranks as they finish, each rank renders whole frames on its own
     /// --devices and writes them, atomically, into the output folder, which the ranks must
     /// share; a rerun skips the frames done.
-    #[arg(long, conflicts_with_all = ["frames", "task_index", "mpi"])]
+    #[arg(long, group = "sequence", conflicts_with_all = ["frames", "task_index", "mpi"])]
     pub mpi_frames: Option<FrameRange>,
     /// Also encode the frames as a video (e.g. shot.mp4) with ffmpeg, when it is installed
     /// (H.264 at --fps; EXR frames tone-mapped as PNGs are). Not with --task-index.

@@ -53,6 +53,18 @@ impl Adaptive {
         }
         Ok(())
     }
+
+    /// Why sampling `spp` samples a pixel adaptively would change nothing, when it would:
+    /// every pixel takes its minimum before any may stop.
+    pub fn idle(&self, spp: u32) -> Option<String> {
+        let min = self.min_spp(spp);
+        (min >= spp).then(|| {
+            format!(
+                "adaptive sampling does nothing at {spp} samples a pixel: every pixel takes its \
+                 minimum of {min} before any may stop (give more samples, or a lower minimum)"
+            )
+        })
+    }
 }
 
 /// How a frame's samples are batched.

@@ -111,6 +111,9 @@ impl Request {
             if let Err(e) = a.validate(self.spp, &self.method) {
                 refuse("adaptive", e)?;
             }
+            if let Some(w) = a.idle(self.spp) {
+                log::warn!("{w}");
+            }
         }
         if self.batching().is_some() && self.time_limit.is_some() {
             refuse(
