@@ -1009,6 +1009,15 @@ fn flags_that_would_do_nothing_are_refused_or_said() {
         );
         assert!(!out.exists(), "{flags:?} wrote an image");
     }
+    // A negative number is a value refused as such (issue 41, defect 7: clap's tip to write
+    // `-- -1`, which makes it a scene file).
+    let o = Cli::new("render").flag("--spp", "-1").out(&out).run();
+    assert!(!o.status.success(), "--spp -1 rendered");
+    assert!(
+        stderr(&o).contains("invalid value '-1' for '--spp") && !stderr(&o).contains("-- -1"),
+        "{}",
+        stderr(&o)
+    );
     let o = Cli::new("render")
         .spp(4)
         .size(8, 8)

@@ -34,30 +34,31 @@ pub struct RenderArgs {
     pub(super) scene: SceneArgs,
     #[command(flatten)]
     pub(super) method: MethodArgs,
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = 64, allow_negative_numbers = true)]
     pub(super) spp: u32,
-    /// Stop at the last complete pass within this many seconds (then --spp is an upper
-    /// bound; the spp reached goes into the metadata). One device only.
-    #[arg(long)]
+    /// Stop within this many seconds: the passes start at one sample and grow as the time
+    /// left allows (then --spp is an upper bound; the spp reached goes into the metadata).
+    /// One device only.
+    #[arg(long, allow_negative_numbers = true)]
     pub(super) time_limit: Option<f64>,
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 512, allow_negative_numbers = true)]
     pub(super) width: u32,
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, default_value_t = 512, allow_negative_numbers = true)]
     pub(super) height: u32,
     /// Longest path in segments (1: emitters only, 2: direct light). Default: effectively unbounded.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(super) max_depth: Option<u32>,
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub(super) seed: u32,
     /// The scene camera by index (from 0) or name; the scene is framed from its bounds when it
     /// has none.
     #[arg(long)]
     pub(super) camera: Option<String>,
     /// Thin-lens aperture radius in scene units (0: pinhole).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub(super) aperture: f32,
     /// Distance to the plane in focus (default: the scene centre).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(super) focus_distance: Option<f32>,
     /// Devices: `all`, indices like `0,1` (see `platoon devices`), or `lavapipe:T1,T2,...`
     /// (one software tracer per entry, with Ti threads each).
