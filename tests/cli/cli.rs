@@ -1031,3 +1031,56 @@ fn flags_that_would_do_nothing_are_refused_or_said() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_png_is_the_exr_under_the_view_transform_and_exposure_asked_for() {
+    // Issue 41, colour: the same render as scene-linear EXR and as PNG under each view; the
+    // PNG's bytes are the EXR's pixels through platoon::core::view, and its metadata says so.
+    use platoon::core::view::{View, ViewTransform};
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("box.exr");
+    let o = Cli::new("render").spp(2).size(16, 12).out(&exr).run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (film, _) = platoon::core::output::read_exr(&exr).unwrap();
+    let mut seen = Vec::new();
+    for (name, exposure) in [
+        ("standard", "1"),
+        ("agx", "0"),
+        ("pbr-neutral", "-0.5"),
+        ("aces", "0"),
+    ] {
+        let png = dir.path().join(format!("box-{name}.png"));
+        let o = Cli::new("render")
+            .spp(2)
+            .size(16, 12)
+            .flag("--view-transform", name)
+            .flag("--exposure", exposure)
+            .out(&png)
+            .run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        let view = View {
+            transform: ViewTransform::parse(name).unwrap(),
+            exposure: exposure.parse().unwrap(),
+        };
+        let bytes = image::open(&png).unwrap().to_rgb8().into_raw();
+        assert!(
+            bytes == film.srgb8_viewed(&view),
+            "{name}: the PNG is not the EXR under its view"
+        );
+        let meta = platoon::core::output::read_metadata(&png).unwrap();
+        let said = &meta.iter().find(|(k, _)| k == "platoon:view").unwrap().1;
+        assert_eq!(*said, format!("{name}, exposure {exposure}"));
+        seen.push(bytes);
+    }
+    seen.dedup();
+    assert_eq!(seen.len(), 4, "two views made the same image");
+    let o = Cli::new("render")
+        .flag("--view-transform", "filmic")
+        .out(dir.path().join("x.png"))
+        .run();
+    assert!(
+        !o.status.success() && stderr(&o).contains("standard, agx, pbr-neutral, aces"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -4,6 +4,7 @@
 #[cfg(feature = "lab")]
 mod bench;
 mod devices;
+mod display_args;
 mod info;
 mod method_args;
 mod render;

@@ -16,8 +16,9 @@ use platoon::core::balance;
 use platoon::core::denoise::Denoiser;
 use platoon::core::drive::Edit;
 use platoon::core::drive::{FrameDriver, GiUpdate};
-use platoon::core::output::{write_image, Film};
+use platoon::core::output::{write_image_viewed, Film};
 use platoon::core::scene::camera::Camera;
+use platoon::core::view::View;
 use platoon::game::start;
 use winit::application::ApplicationHandler;
 use winit::dpi::{LogicalSize, PhysicalPosition};
@@ -71,6 +72,8 @@ pub struct ViewArgs {
     /// On closing, write the last frame shown to this PNG or EXR.
     #[arg(long)]
     screenshot: Option<PathBuf>,
+    #[command(flatten)]
+    display: crate::display_args::DisplayArgs,
 }
 
 pub fn run(args: ViewArgs) -> Result<()> {
@@ -85,6 +88,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         )
     })?;
     let (w, h) = args.size;
+    let view = args.display.view()?;
     // The request holds the rules (the method's, the denoiser's...); the view adds the game
     // loop's own options.
     let request = platoon::Request {
@@ -142,6 +146,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         error: None,
         size: (w, h),
         redrawn: None,
+        view,
     };
     let p = app.camera.position;
     println!("camera starts at {:.4} {:.4} {:.4}", p.x, p.y, p.z);
@@ -156,7 +161,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         p.x, p.y, p.z, app.frames
     );
     if let (Some(path), Some(film)) = (&args.screenshot, &app.last) {
-        write_image(path, film, &[])?;
+        write_image_viewed(path, film, &[], &[], &view)?;
         println!("last frame written to {}", path.display());
     }
     Ok(())
@@ -254,6 +259,8 @@ struct Viewer {
     error: Option<anyhow::Error>,
     size: (u32, u32),
     redrawn: Option<Instant>,
+    /// How the window (and a PNG screenshot) shows the film.
+    view: View,
 }
 
 impl Viewer {
@@ -339,7 +346,7 @@ impl Viewer {
         };
         surface.resize(ww, wh).map_err(|e| anyhow!("{e}"))?;
         let mut buffer = surface.buffer_mut().map_err(|e| anyhow!("{e}"))?;
-        let srgb = film.srgb8();
+        let srgb = film.srgb8_viewed(&self.view);
         let (fw, fh) = (film.width as usize, film.height as usize);
         let (ww, wh) = (size.width as usize, size.height as usize);
         for y in 0..wh {

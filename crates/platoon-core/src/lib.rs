@@ -29,6 +29,7 @@ pub mod measure;
 pub mod method;
 pub mod output;
 pub mod scene;
+pub mod view;
 
 pub use error::{Error, Result};
 pub use flatten::features::SceneFeatures;

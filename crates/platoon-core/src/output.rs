@@ -5,6 +5,7 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::view::View;
 
 /// A rendered frame: linear RGB radiance, row-major from the top row.
 #[derive(Clone, Debug, PartialEq)]
@@ -24,9 +25,14 @@ impl Film {
         }
         s.map(|v| v / self.pixels.len().max(1) as f64)
     }
-    /// The image as 8-bit sRGB, three bytes a pixel (the PNG's pixels).
+    /// The image as 8-bit sRGB under the default view, three bytes a pixel.
     pub fn srgb8(&self) -> Vec<u8> {
-        self.pixels.iter().flat_map(|p| p.map(tonemap)).collect()
+        self.srgb8_viewed(&View::default())
+    }
+
+    /// The image as 8-bit sRGB under `view`, three bytes a pixel (a PNG's pixels).
+    pub fn srgb8_viewed(&self, view: &View) -> Vec<u8> {
+        self.pixels.iter().flat_map(|&p| view.srgb8(p)).collect()
     }
 
     pub fn count_non_finite(&self) -> usize {
@@ -106,6 +112,17 @@ pub fn write_image_with_layers(
     layers: &[Layer],
     metadata: &[(String, String)],
 ) -> Result<()> {
+    write_image_viewed(path, film, layers, metadata, &View::default())
+}
+
+/// The same, a PNG's pixels made under `view` (an EXR stays scene-linear whatever the view).
+pub fn write_image_viewed(
+    path: &Path,
+    film: &Film,
+    layers: &[Layer],
+    metadata: &[(String, String)],
+    view: &View,
+) -> Result<()> {
     match image_format(path)? {
         ImageFormat::Exr if layers.is_empty() => {
             write_atomically(path, |w| write_exr(path, w, film, metadata))
@@ -114,7 +131,7 @@ pub fn write_image_with_layers(
             write_atomically(path, |w| write_layered_exr(path, w, film, layers, metadata))
         }
         ImageFormat::Png if layers.is_empty() => {
-            write_atomically(path, |w| write_png(path, w, film, metadata))
+            write_atomically(path, |w| write_png(path, w, film, metadata, view))
         }
         ImageFormat::Png => Err(Error::file(
             path,
@@ -270,24 +287,12 @@ pub fn read_exr_channels(path: &Path) -> Result<Vec<(String, Vec<f32>)>> {
         .collect())
 }
 
-/// ACES-fitted tone curve (Narkowicz 2015) followed by the sRGB transfer function.
-pub fn tonemap(c: f32) -> u8 {
-    let c = c.max(0.0);
-    let (a, b, cc, d, e) = (2.51, 0.03, 2.43, 0.59, 0.14);
-    let t = ((c * (a * c + b)) / (c * (cc * c + d) + e)).clamp(0.0, 1.0);
-    let s = if t <= 0.0031308 {
-        12.92 * t
-    } else {
-        1.055 * t.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
-}
-
 fn write_png(
     path: &Path,
     w: &mut (impl Write + std::io::Seek),
     film: &Film,
     metadata: &[(String, String)],
+    view: &View,
 ) -> Result<()> {
     let failed = |e: png::EncodingError| Error::file(path, format!("cannot write PNG: {e}"));
     let mut encoder = png::Encoder::new(w, film.width, film.height);
@@ -299,7 +304,9 @@ fn write_png(
             .map_err(failed)?;
     }
     let mut writer = encoder.write_header().map_err(failed)?;
-    writer.write_image_data(&film.srgb8()).map_err(failed)?;
+    writer
+        .write_image_data(&film.srgb8_viewed(view))
+        .map_err(failed)?;
     writer.finish().map_err(failed)
 }
 

@@ -110,6 +110,8 @@ pub struct RenderArgs {
     pub(super) mpi: bool,
     #[command(flatten)]
     pub(super) frames: FrameArgs,
+    #[command(flatten)]
+    pub(super) display: crate::display_args::DisplayArgs,
 }
 
 #[derive(Clone, Debug)]

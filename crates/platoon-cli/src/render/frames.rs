@@ -41,6 +41,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 /// The frames of `run`.
 fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<()> {
     let speaks = setup.speaks();
+    let view = setup.view;
     let range = args
         .frames
         .or(args.mpi_frames)
@@ -91,7 +92,7 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
     if todo.is_empty() {
         eprintln!("every frame is done (--overwrite renders them again)");
         if let Some(v) = &args.video {
-            super::video::encode(v, &paths, args.fps)?;
+            super::video::encode(v, &paths, args.fps, &view)?;
         }
         return Ok(());
     }
@@ -125,7 +126,7 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
         bail!("{} of {} frame(s) failed", tally.failed, tally.rendered);
     }
     if let Some(v) = &args.video {
-        super::video::encode(v, &paths, args.fps)?;
+        super::video::encode(v, &paths, args.fps, &view)?;
     }
     Ok(())
 }
@@ -277,7 +278,8 @@ impl Frames {
         meta.push(("animation_frame".into(), frame.to_string()));
         meta.push(("animation_time".into(), time.to_string()));
         meta.push(("job".into(), job.of_frame(frame)));
-        outputs::write(&still.with_metadata(meta), path)?;
+        meta.push(outputs::view_entry(&self.setup.view));
+        outputs::write(&still.with_metadata(meta), path, &self.setup.view)?;
         Ok(())
     }
 }

@@ -49,7 +49,7 @@ impl Job {
         let settings = format!(
             "scene {scene}; environment {env}; camera {camera}, aperture {}, focus {}; {}x{}, \
              {} spp, time limit {}, max depth {}, seed {}{}; {}; kernel {}; {} sampling; {} fps; \
-             AOVs {}; denoiser {}; adaptive {adaptive}",
+             AOVs {}; denoiser {}; adaptive {adaptive}; view {}",
             o.aperture_radius,
             or(o.focus_distance, "auto"),
             p.width,
@@ -72,6 +72,7 @@ impl Job {
                 aovs.join(",")
             },
             format!("{:?}", setup.denoiser).to_lowercase(),
+            setup.view.describe(),
         );
         Job {
             settings,

@@ -4,17 +4,24 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use platoon::core::output::write_image_with_layers;
+use platoon::core::output::write_image_viewed;
+use platoon::core::view::View;
 use platoon::Still;
 
 /// Writes `still`'s image to `path` (and the raw one beside it), each with its metadata,
-/// atomically.
-pub fn write(still: &Still, path: &Path) -> Result<()> {
+/// atomically; a PNG's pixels under `view`.
+pub fn write(still: &Still, path: &Path, view: &View) -> Result<()> {
     if let Some(raw) = &still.raw {
-        write_image_with_layers(&noisy_path(path), raw, &still.layers, &still.raw_metadata)?;
+        let meta = &still.raw_metadata;
+        write_image_viewed(&noisy_path(path), raw, &still.layers, meta, view)?;
     }
-    write_image_with_layers(path, &still.image, &still.layers, &still.metadata)?;
+    write_image_viewed(path, &still.image, &still.layers, &still.metadata, view)?;
     Ok(())
+}
+
+/// The metadata entry saying how an image is shown (an EXR's too: what its PNG would be).
+pub fn view_entry(view: &View) -> (String, String) {
+    ("view".into(), view.describe())
 }
 
 /// Where the raw image of a denoised `path` goes: `NAME.noisy.EXT`.

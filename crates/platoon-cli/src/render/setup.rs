@@ -40,6 +40,8 @@ pub(super) struct Setup {
     /// When the command began (before the scene was read): what a render's time in all counts
     /// from.
     pub(super) started: std::time::Instant,
+    /// How a PNG or a video shows the image.
+    pub(super) view: platoon::core::view::View,
 }
 
 impl Setup {
@@ -102,7 +104,9 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         adaptive_min_spp,
         mpi,
         frames,
+        display,
     } = a;
+    let view = display.view()?;
     let mut aovs = aov.map(|l| l.0).unwrap_or_default();
     let adaptive = adaptive_threshold.map(|threshold| Adaptive {
         threshold,
@@ -176,6 +180,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     let placeholder = platoon::core::scene::camera::Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0);
     let setup = Setup {
         started,
+        view,
         scene: loaded,
         options,
         params: request.frame_params(placeholder),

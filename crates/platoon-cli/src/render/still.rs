@@ -33,11 +33,13 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         aovs,
         denoiser,
         batching,
+        view,
         ..
     } = setup;
     params.camera = prepared.camera;
     let rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
-    let meta = platoon::metadata(&prepared, &params, &rendered, sampling);
+    let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
+    meta.push(outputs::view_entry(&view));
     let still = Still::of(
         &mut tracers,
         &prepared.gpu,
@@ -51,7 +53,7 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
     if !speaks {
         return Ok(());
     }
-    outputs::write(&still, &out)?;
+    outputs::write(&still, &out, &view)?;
     let rendered = &still.rendered;
     let secs = rendered.wall_time.as_secs_f64();
     let spp = match rendered.batched.as_ref().and_then(|b| b.adaptive) {

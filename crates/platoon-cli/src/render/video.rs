@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{bail, Context as _, Result};
-use platoon::core::output::{read_exr, write_image};
+use platoon::core::output::{read_exr, write_image_viewed};
+use platoon::core::view::View;
 
 /// Refuses a video the run could not make, before rendering.
 pub fn check(video: &Path, farm_task: bool) -> Result<()> {
@@ -34,9 +35,9 @@ pub fn check(video: &Path, farm_task: bool) -> Result<()> {
     Ok(())
 }
 
-/// The frames' files (in order) encoded at `fps` to `video`; a warning and no video when
-/// ffmpeg is not installed.
-pub fn encode(video: &Path, frames: &[PathBuf], fps: f64) -> Result<()> {
+/// The frames' files (in order) encoded at `fps` to `video`, EXR frames shown under `view`
+/// (PNG frames are already); a warning and no video when ffmpeg is not installed.
+pub fn encode(video: &Path, frames: &[PathBuf], fps: f64, view: &View) -> Result<()> {
     if Command::new("ffmpeg").arg("-version").output().is_err() {
         eprintln!(
             "warning: ffmpeg is not installed (apt-get install ffmpeg): no video, the frames \
@@ -54,7 +55,7 @@ pub fn encode(video: &Path, frames: &[PathBuf], fps: f64) -> Result<()> {
             .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
         if is_exr {
             let (film, _) = read_exr(frame)?;
-            write_image(&png, &film, &[])?;
+            write_image_viewed(&png, &film, &[], &[], view)?;
         } else {
             std::fs::copy(frame, &png).with_context(|| format!("{}", frame.display()))?;
         }
