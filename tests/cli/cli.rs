@@ -1084,3 +1084,158 @@ fn a_png_is_the_exr_under_the_view_transform_and_exposure_asked_for() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_camera_given_by_position_look_at_and_fov_renders_from_there() {
+    // Issue 41, scene controls: the built-in box's own camera given by hand renders what the
+    // box's camera does (to the rounding of the two constructions); moved, another image.
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, flags: &[&str]| {
+        let out = dir.path().join(name);
+        let mut cli = Cli::new("render").spp(4).size(24, 24).out(&out);
+        for f in flags {
+            cli = cli.arg(f);
+        }
+        let o = cli.run();
+        assert!(o.status.success(), "{flags:?}: {}", stderr(&o));
+        platoon::core::output::read_exr(&out).unwrap().0
+    };
+    let own = render("own.exr", &[]);
+    let at = |from: &'static str| {
+        [
+            "--camera-position",
+            from,
+            "--look-at",
+            "2.775,2.775,0",
+            "--fov",
+            "39.3077",
+        ]
+    };
+    let given = render("given.exr", &at("2.775,2.775,-8"));
+    let moved = render("moved.exr", &at("-1,4,-6"));
+    let difference = |a: &platoon::core::output::Film, b: &platoon::core::output::Film| {
+        let d: f64 = a
+            .pixels
+            .iter()
+            .zip(&b.pixels)
+            .map(|(p, q)| (0..3).map(|k| (p[k] - q[k]).abs() as f64).sum::<f64>())
+            .sum();
+        d / a.mean().iter().sum::<f64>() / a.pixels.len() as f64
+    };
+    assert!(
+        difference(&own, &given) < 0.02,
+        "{}",
+        difference(&own, &given)
+    );
+    assert!(
+        difference(&own, &moved) > 0.2,
+        "{}",
+        difference(&own, &moved)
+    );
+    let out = dir.path().join("refused.exr");
+    let refused: [(&[&str], &str); 5] = [
+        (&["--look-at", "0,0,0"], "--camera-position"),
+        (&["--fov", "30"], "--camera-position"),
+        (
+            &[
+                "--camera",
+                "0",
+                "--camera-position",
+                "0,0,0",
+                "--look-at",
+                "1,1,1",
+            ],
+            "cannot be used with",
+        ),
+        (
+            &["--camera-position", "1,1,1", "--look-at", "1,1,1"],
+            "same point",
+        ),
+        (
+            &[
+                "--camera-position",
+                "0,0,0",
+                "--look-at",
+                "0,0,1",
+                "--fov",
+                "180",
+            ],
+            "--fov",
+        ),
+    ];
+    for (flags, says) in refused {
+        let mut cli = Cli::new("render").spp(1).size(8, 8).out(&out);
+        for f in flags {
+            cli = cli.arg(f);
+        }
+        let o = cli.run();
+        assert!(
+            !o.status.success() && stderr(&o).contains(says),
+            "{flags:?}: {}",
+            stderr(&o)
+        );
+        assert!(!out.exists(), "{flags:?} wrote an image");
+    }
+}
+
+#[test]
+fn the_environment_turns_and_scales_as_its_map_would() {
+    // Issue 41, scene controls: --env-rotation 90 renders what the map with its columns moved
+    // by a quarter renders, and --env-strength 2 twice the light, bit for bit.
+    use platoon::core::output::{read_exr, write_image, Film};
+    use platoon::core::scene::environment::EnvMap;
+    let dir = tempfile::tempdir().unwrap();
+    let sky = common::shared("envmaps/sunset.exr");
+    let map = EnvMap::load(&sky).unwrap();
+    let (w, h) = (map.width as usize, map.height as usize);
+    assert_eq!(w % 4, 0, "a quarter turn is whole columns");
+    // Turned counter-clockwise seen from above: column c shows what column c + w/4 did.
+    let turned = Film {
+        width: map.width,
+        height: map.height,
+        pixels: (0..w * h)
+            .map(|i| map.texels[(i / w) * w + (i % w + w / 4) % w])
+            .collect(),
+    };
+    let turned_path = dir.path().join("turned.exr");
+    write_image(&turned_path, &turned, &[]).unwrap();
+    let render = |name: &str, flags: &[&str]| {
+        let out = dir.path().join(name);
+        let mut cli = Cli::new("render")
+            .arg(common::shared("scenes/CesiumMan.glb"))
+            .spp(4)
+            .size(24, 24)
+            .out(&out);
+        for f in flags {
+            cli = cli.arg(f);
+        }
+        let o = cli.run();
+        assert!(o.status.success(), "{flags:?}: {}", stderr(&o));
+        read_exr(&out).unwrap().0.pixels
+    };
+    let sky = sky.to_str().unwrap();
+    let plain = render("plain.exr", &["--env", sky]);
+    let rotated = render("rotated.exr", &["--env", sky, "--env-rotation", "90"]);
+    let moved = render("moved.exr", &["--env", turned_path.to_str().unwrap()]);
+    assert!(
+        rotated == moved,
+        "--env-rotation 90 is not the map turned a quarter"
+    );
+    assert!(rotated != plain, "the rotation changed nothing");
+    let twice = render("twice.exr", &["--env", sky, "--env-strength", "2"]);
+    let doubled: Vec<[f32; 3]> = plain.iter().map(|p| p.map(|c| 2.0 * c)).collect();
+    assert!(twice == doubled, "--env-strength 2 is not twice the light");
+    for (flags, says) in [
+        (["--env-strength", "-1"], "--env-strength"),
+        (["--env-rotation", "nan"], "--env-rotation"),
+    ] {
+        let out = dir.path().join("refused.exr");
+        let o = Cli::new("render").flag(flags[0], flags[1]).out(&out).run();
+        assert!(
+            !o.status.success() && stderr(&o).contains(says),
+            "{flags:?}: {}",
+            stderr(&o)
+        );
+        assert!(!out.exists());
+    }
+}

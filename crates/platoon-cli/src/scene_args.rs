@@ -16,6 +16,13 @@ pub struct SceneArgs {
     /// Constant environment radiance, as R,G,B.
     #[arg(long, value_parser = parse_rgb)]
     pub env_color: Option<Vec3>,
+    /// A factor on the environment's radiance (Cycles' world strength).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub env_strength: f32,
+    /// Turns the environment map about +Y by this many degrees, counter-clockwise seen from
+    /// above (by whole texel columns).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub env_rotation: f32,
     /// Animation time in seconds.
     #[arg(long, default_value_t = 0.0)]
     pub time: f32,
@@ -48,10 +55,19 @@ impl SceneArgs {
             self.load()?,
             &platoon::PrepareOptions {
                 env: self.env_choice(),
+                env_light: self.env_light(),
                 time: self.time,
                 ..Default::default()
             },
         )
+    }
+
+    /// Its strength and rotation.
+    pub fn env_light(&self) -> platoon::EnvLight {
+        platoon::EnvLight {
+            strength: self.env_strength,
+            rotation: self.env_rotation,
+        }
     }
 
     /// The distant light the arguments ask for.
@@ -61,6 +77,19 @@ impl SceneArgs {
             (None, Some(c)) => EnvChoice::Color(c),
             _ => EnvChoice::Scene,
         }
+    }
+}
+
+/// A point or vector given as X,Y,Z.
+pub fn parse_xyz(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{s}: {e}"))?;
+    match v.as_slice() {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
+        _ => Err(format!("{s}: expected three finite numbers X,Y,Z")),
     }
 }
 

@@ -98,6 +98,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         },
         load: args.scene.load_options(),
         env: args.scene.env_choice(),
+        env_light: args.scene.env_light(),
         time: args.scene.time,
         width: w,
         height: h,

@@ -87,6 +87,10 @@ pub fn request(
             (None, None) => EnvChoice::Scene,
             (Some(_), Some(_)) => return Err(bad("env", "give env or env_color, not both")),
         },
+        env_light: platoon::EnvLight {
+            strength: take(k, "env_strength", "a factor")?.unwrap_or(1.0),
+            rotation: take(k, "env_rotation", "degrees")?.unwrap_or(0.0),
+        },
         time: take(k, "time", "seconds")?.unwrap_or(d.time),
         camera,
         aperture: take(k, "aperture", "a radius")?.unwrap_or(d.aperture),

@@ -51,6 +51,23 @@ def test_the_same_bits_on_three_tracers():
     assert np.array_equal(one.image, three.image)
 
 
+def test_the_environments_strength_and_rotation_equal_the_clis(tmp_path):
+    sky = Path(__file__).resolve().parents[3] / ".." / "shared" / "envmaps" / "sunset.exr"
+    man = sky.parent.parent / "scenes" / "CesiumMan.glb"
+    out = tmp_path / "cli.exr"
+    args = ["render", str(man), "--width", "24", "--height", "16", "--spp", "4", "--devices",
+            "lavapipe:1", "--env", str(sky), "--env-strength", "0.5", "--env-rotation", "45",
+            "--out", str(out)]
+    subprocess.run([str(cli()), *args], check=True, capture_output=True)
+    cli_image, _ = platoon.read_exr(out)
+    r = platoon.render(man, **SMALL, env=sky, env_strength=0.5, env_rotation=45)
+    assert np.array_equal(r.image, cli_image)
+    plain = platoon.render(man, **SMALL, env=sky)
+    assert not np.array_equal(r.image, plain.image)
+    with pytest.raises(ValueError, match="env_strength"):
+        platoon.render(**SMALL, env_strength=-1.0)
+
+
 @pytest.mark.parametrize("kwargs, error, says", [
     (dict(width=0), ValueError, "width: must be positive"),
     (dict(max_depth=0), ValueError, "max_depth"),

@@ -43,7 +43,8 @@ pub use metadata::{approximations, metadata, metadata_of, SceneFacts};
 pub use platoon_core as core;
 pub use platoon_tracer as tracer;
 pub use prepare::{
-    load_scene, load_scene_with, prepare, EnvChoice, PrepareOptions, Prepared, DEFAULT_SKY,
+    load_scene, load_scene_with, prepare, EnvChoice, EnvLight, PrepareOptions, Prepared,
+    DEFAULT_SKY,
 };
 pub use render::{
     render, render_bands, render_frame, whole_frame, BatchedStats, Rendered, Tracers,

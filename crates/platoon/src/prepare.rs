@@ -25,6 +25,50 @@ pub enum EnvChoice {
     Color(Vec3),
 }
 
+/// How the distant light is set: its strength (a factor on its radiance) and the map's
+/// rotation about +Y in degrees (`EnvMap::rotate`), as Cycles' world strength and mapping.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnvLight {
+    pub strength: f32,
+    pub rotation: f32,
+}
+
+impl Default for EnvLight {
+    fn default() -> Self {
+        EnvLight {
+            strength: 1.0,
+            rotation: 0.0,
+        }
+    }
+}
+
+impl EnvLight {
+    /// What is wrong with it, if anything: the option (`env_strength`, `env_rotation`) and
+    /// the problem.
+    pub fn check(&self) -> std::result::Result<(), (&'static str, String)> {
+        if !(self.strength.is_finite() && self.strength >= 0.0) {
+            let problem = format!("must be a finite number >= 0, not {}", self.strength);
+            return Err(("env_strength", problem));
+        }
+        if !self.rotation.is_finite() {
+            let problem = format!("must be a finite number of degrees, not {}", self.rotation);
+            return Err(("env_rotation", problem));
+        }
+        Ok(())
+    }
+
+    fn describe(&self) -> String {
+        let mut s = String::new();
+        if self.strength != 1.0 {
+            s += &format!(", strength {}", self.strength);
+        }
+        if self.rotation != 0.0 {
+            s += &format!(", rotated {} degrees", self.rotation);
+        }
+        s
+    }
+}
+
 /// Radiance of the uniform sky given to scenes that have no light at all.
 pub const DEFAULT_SKY: f32 = 1.0;
 
@@ -61,6 +105,8 @@ pub struct Prepared {
 #[derive(Clone, Debug)]
 pub struct PrepareOptions {
     pub env: EnvChoice,
+    /// The distant light's strength and rotation.
+    pub env_light: EnvLight,
     /// Animation time in seconds.
     pub time: f32,
     pub camera: Option<usize>,
@@ -75,6 +121,7 @@ impl Default for PrepareOptions {
     fn default() -> Self {
         PrepareOptions {
             env: EnvChoice::Scene,
+            env_light: EnvLight::default(),
             time: 0.0,
             camera: None,
             aperture_radius: 0.0,
@@ -86,7 +133,7 @@ impl Default for PrepareOptions {
 
 pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
     let start = Instant::now();
-    let (env_label, note) = light(&mut scene, &options.env)?;
+    let (env_label, note) = light(&mut scene, &options.env, &options.env_light)?;
     // Render space is centred near the camera (a floating origin), so a scene far from the
     // world origin keeps its precision; the first pose only finds where the camera is.
     if !options.time.is_finite() {
@@ -124,18 +171,32 @@ pub fn prepare(mut scene: Scene, options: &PrepareOptions) -> Result<Prepared> {
 
 /// Gives `scene` the distant light `env` chooses (a uniform sky when it has no light at all):
 /// the label the metadata gives it, and a note when platoon chose it.
-pub fn light(scene: &mut Scene, env: &EnvChoice) -> Result<(String, Option<String>)> {
+pub fn light(
+    scene: &mut Scene,
+    env: &EnvChoice,
+    env_light: &EnvLight,
+) -> Result<(String, Option<String>)> {
+    if let Err((option, problem)) = env_light.check() {
+        bail!("{option}: {problem}");
+    }
     let env_label = match env {
         EnvChoice::File(path) => {
-            scene.environment = Some(Environment::Map(EnvMap::load(path)?));
-            path.display().to_string()
+            let mut map = EnvMap::load(path)?;
+            map.rotate(env_light.rotation);
+            if env_light.strength != 1.0 {
+                for t in &mut map.texels {
+                    *t = t.map(|c| c * env_light.strength);
+                }
+            }
+            scene.environment = Some(Environment::Map(map));
+            format!("{}{}", path.display(), env_light.describe())
         }
         EnvChoice::Color(c) => {
             if c.min_element() < 0.0 || !c.is_finite() {
                 bail!("--env-color must be three finite non-negative numbers");
             }
-            scene.environment = Some(Environment::Constant(*c));
-            format!("constant {},{},{}", c.x, c.y, c.z)
+            scene.environment = Some(Environment::Constant(*c * env_light.strength));
+            format!("constant {},{},{}{}", c.x, c.y, c.z, env_light.describe())
         }
         EnvChoice::Scene => "none".into(),
     };

@@ -54,6 +54,23 @@ pub struct RenderArgs {
     /// has none.
     #[arg(long)]
     pub(super) camera: Option<String>,
+    /// A camera given instead of the scene's: where it stands, X,Y,Z in world space (with
+    /// --look-at; --fov, --aperture and --focus-distance apply to it).
+    #[arg(long, value_parser = crate::scene_args::parse_xyz, allow_hyphen_values = true,
+          requires = "look_at", conflicts_with = "camera")]
+    pub(super) camera_position: Option<glam::Vec3>,
+    /// The point the given camera looks at, X,Y,Z (+Y is up).
+    #[arg(long, value_parser = crate::scene_args::parse_xyz, allow_hyphen_values = true,
+          requires = "camera_position")]
+    pub(super) look_at: Option<glam::Vec3>,
+    /// The given camera's vertical field of view in degrees.
+    #[arg(
+        long,
+        default_value_t = 40.0,
+        allow_negative_numbers = true,
+        requires = "camera_position"
+    )]
+    pub(super) fov: f32,
     /// Thin-lens aperture radius in scene units (0: pinhole).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub(super) aperture: f32,

@@ -260,6 +260,7 @@ impl Frames {
                 tracers,
             )
         };
+        let camera = self.setup.camera.in_render_space(camera, facts.origin);
         let params = job.params(&self.setup, frame, camera);
         let rendered = tracers.render_batched(scene, &params, &self.setup.batching, progress)?;
         let mut meta = platoon::metadata_of(&facts, &params, &rendered, self.setup.sampling);

@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::UNIX_EPOCH;
 
 use platoon::core::frame::FrameParams;
-use platoon::EnvChoice;
+use platoon::{CameraChoice, EnvChoice};
 
 use super::args::FrameArgs;
 use super::outputs::noisy_path;
@@ -34,9 +34,28 @@ impl Job {
             EnvChoice::File(p) => file_stamp(p),
             EnvChoice::Color(c) => format!("colour {},{},{}", c.x, c.y, c.z),
         };
-        let camera = o
-            .camera
-            .map_or("the scene's".into(), |i| format!("number {i}"));
+        let env = format!(
+            "{env}, strength {}, rotation {}",
+            o.env_light.strength, o.env_light.rotation
+        );
+        let camera = match &setup.camera {
+            CameraChoice::Given(c) => {
+                let (p, f) = (c.position(), -c.camera_to_world.z_axis.truncate());
+                format!(
+                    "given at {},{},{} looking along {},{},{} over {} degrees",
+                    p.x,
+                    p.y,
+                    p.z,
+                    f.x,
+                    f.y,
+                    f.z,
+                    c.yfov.to_degrees()
+                )
+            }
+            _ => o
+                .camera
+                .map_or("the scene's".into(), |i| format!("number {i}")),
+        };
         let p = &setup.params;
         let aovs: Vec<&str> = setup.aovs.iter().map(|a| a.name()).collect();
         let adaptive = setup.batching.adaptive.map_or("off".into(), |a| {

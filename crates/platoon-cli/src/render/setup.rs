@@ -42,6 +42,30 @@ pub(super) struct Setup {
     pub(super) started: std::time::Instant,
     /// How a PNG or a video shows the image.
     pub(super) view: platoon::core::view::View,
+    /// The scene's camera, or one given (`--camera-position`, `--look-at`, `--fov`).
+    pub(super) camera: CameraChoice,
+}
+
+/// The camera `--camera-position`, `--look-at` and `--fov` give, with the lens flags.
+fn given_camera(
+    eye: Vec3,
+    target: Vec3,
+    fov: f32,
+    aperture: f32,
+    focus_distance: Option<f32>,
+) -> Result<platoon::core::scene::camera::Camera> {
+    if !(fov > 0.0 && fov < 180.0) {
+        bail!("--fov: a vertical field of view in degrees, above 0 and below 180, not {fov}");
+    }
+    if eye.distance(target) <= f32::EPSILON * eye.abs().max_element().max(1.0) {
+        bail!("--look-at: the same point as --camera-position ({eye}): no direction to look in");
+    }
+    let mut c = platoon::core::scene::camera::Camera::look_at(eye, target, fov.to_radians());
+    c.aperture_radius = aperture;
+    if let Some(f) = focus_distance {
+        c.focus_distance = f;
+    }
+    Ok(c)
 }
 
 impl Setup {
@@ -90,6 +114,9 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         max_depth,
         seed,
         camera,
+        camera_position,
+        look_at,
+        fov,
         aperture,
         focus_distance,
         devices,
@@ -127,10 +154,14 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         },
         load: scene.load_options(),
         env: scene.env_choice(),
+        env_light: scene.env_light(),
         time: scene.time,
-        camera: match camera {
-            None => CameraChoice::Scene(None),
-            Some(c) => match c.parse::<usize>() {
+        camera: match (camera, camera_position.zip(look_at)) {
+            (_, Some((eye, target))) => {
+                CameraChoice::Given(given_camera(eye, target, fov, aperture, focus_distance)?)
+            }
+            (None, None) => CameraChoice::Scene(None),
+            (Some(c), None) => match c.parse::<usize>() {
                 Ok(index) => CameraChoice::Scene(Some(index)),
                 Err(_) => CameraChoice::Named(c),
             },
@@ -181,6 +212,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     let setup = Setup {
         started,
         view,
+        camera: request.camera.clone(),
         scene: loaded,
         options,
         params: request.frame_params(placeholder),

@@ -34,9 +34,10 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         denoiser,
         batching,
         view,
+        camera,
         ..
     } = setup;
-    params.camera = prepared.camera;
+    params.camera = camera.in_render_space(prepared.camera, prepared.posed.origin);
     let rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
     let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
     meta.push(outputs::view_entry(&view));

@@ -116,6 +116,21 @@ impl EnvMap {
         })
     }
 
+    /// Turns the map about +Y by `degrees`, counter-clockwise seen from above (right-handed):
+    /// what was at azimuth phi (`direction_to_uv`'s, from -Z towards +X) is then at phi -
+    /// degrees. By whole columns of texels (a 2048-wide map's step is 0.18 degrees), so the
+    /// map's texels, and with them its sampling, are the unrotated map's moved.
+    pub fn rotate(&mut self, degrees: f32) {
+        let w = self.width as i64;
+        let shift = ((degrees as f64 / 360.0 * w as f64).round() as i64).rem_euclid(w) as usize;
+        if shift == 0 {
+            return;
+        }
+        for row in self.texels.chunks_exact_mut(self.width as usize) {
+            row.rotate_left(shift);
+        }
+    }
+
     pub fn distribution(&self) -> EnvDistribution {
         let (w, h) = (self.width as usize, self.height as usize);
         let mut conditional_cdf = Vec::with_capacity(h * (w + 1));

@@ -51,6 +51,8 @@ def render(
     time_limit: float | None = None,
     env: str | PathLike[str] | None = None,
     env_color: tuple[float, float, float] | None = None,
+    env_strength: float = 1.0,
+    env_rotation: float = 0.0,
     time: float = 0.0,
     camera: int | str | tuple[tuple[float, float, float], tuple[float, float, float], float] | None = None,
     aperture: float = 0.0,
@@ -66,7 +68,9 @@ def render(
 
     `devices`: "all", indices like "0,1", or "lavapipe:T1,T2" (software tracers of Ti
     threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
-    variance, sample-count. `denoise`: none, atrous, oidn. `camera`: a scene camera's index or
+    variance, sample-count. `denoise`: none, atrous, oidn. `env_strength` scales the
+    environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
+    seen from above). `camera`: a scene camera's index or
     name, or (eye, target, vertical fov in degrees) in world space. The method's options by
     name (`methods()`), e.g. method="igi", vpls=180.
     """

@@ -58,7 +58,7 @@ impl Animation {
     /// The scene lit and posed at `options.time`, as [`crate::prepare()`] would pose it, and
     /// flattened for the tracers ([`Animation::scene`]).
     pub fn new(mut scene: Scene, options: &PrepareOptions) -> Result<Animation> {
-        let (env_label, note) = light(&mut scene, &options.env)?;
+        let (env_label, note) = light(&mut scene, &options.env, &options.env_light)?;
         let time = finite(options.time)?;
         // Render space centred as prepare centres it: near the camera of the first frame.
         let mut origin = FloatingOrigin::default();

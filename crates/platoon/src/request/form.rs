@@ -44,6 +44,21 @@ pub enum CameraChoice {
     Given(Camera),
 }
 
+impl CameraChoice {
+    /// The camera that renders, in render space: the scene's as posed (`posed`), or a given
+    /// one moved by the prepared scene's floating `origin` (render space is centred on it).
+    pub fn in_render_space(&self, posed: Camera, origin: glam::DVec3) -> Camera {
+        match self {
+            CameraChoice::Scene(_) | CameraChoice::Named(_) => posed,
+            CameraChoice::Given(world) => {
+                let mut c = *world;
+                c.camera_to_world.w_axis -= origin.as_vec3().extend(0.0);
+                c
+            }
+        }
+    }
+}
+
 impl Default for CameraChoice {
     fn default() -> Self {
         CameraChoice::Scene(None)
@@ -58,6 +73,8 @@ pub struct Request {
     pub load: LoadOptions,
     /// The distant light (the scene's own by default).
     pub env: EnvChoice,
+    /// The distant light's strength and rotation.
+    pub env_light: crate::EnvLight,
     /// Animation time in seconds.
     pub time: f32,
     pub camera: CameraChoice,
@@ -96,6 +113,7 @@ impl Default for Request {
             scene: SceneSource::BuiltIn,
             load: LoadOptions::default(),
             env: EnvChoice::Scene,
+            env_light: Default::default(),
             time: 0.0,
             camera: CameraChoice::default(),
             aperture: 0.0,
@@ -140,6 +158,7 @@ impl Request {
         };
         Ok(PrepareOptions {
             env: self.env.clone(),
+            env_light: self.env_light,
             time: self.time,
             camera,
             aperture_radius: self.aperture,
@@ -183,16 +202,8 @@ impl Request {
 
     /// The camera that renders a scene prepared by `prepared` from this request.
     pub fn camera_in(&self, prepared: &crate::Prepared) -> Camera {
-        match &self.camera {
-            CameraChoice::Scene(_) | CameraChoice::Named(_) => prepared.camera,
-            CameraChoice::Given(world) => {
-                // Render space is centred on the prepared scene's floating origin.
-                let mut c = *world;
-                let shift = prepared.posed.origin.as_vec3();
-                c.camera_to_world.w_axis -= shift.extend(0.0);
-                c
-            }
-        }
+        self.camera
+            .in_render_space(prepared.camera, prepared.posed.origin)
     }
 }
 

@@ -37,7 +37,7 @@ impl Request {
     pub fn start_game(&self, target: Option<Duration>) -> Result<FrameDriver> {
         self.validate()?;
         let mut scene = self.load_scene()?;
-        crate::prepare::light(&mut scene, &self.env)?;
+        crate::prepare::light(&mut scene, &self.env, &self.env_light)?;
         for w in &scene.warnings {
             log::warn!("{w}");
         }

@@ -70,6 +70,9 @@ impl Request {
                 format!("must be a finite number of seconds, not {}", self.time),
             )?;
         }
+        if let Err((option, problem)) = self.env_light.check() {
+            refuse(option, problem)?;
+        }
         if !(self.aperture.is_finite() && self.aperture >= 0.0) {
             refuse(
                 "aperture",
