@@ -169,7 +169,13 @@ fn info_prints_counts_and_features() {
         "{text}"
     );
     let o = Cli::new("devices").run();
-    assert!(String::from_utf8_lossy(&o.stdout).contains("llvmpipe"));
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(said.contains("llvmpipe"), "{said}");
+    // The default (issue 41): with no GPU, lavapipe, and the listing says so.
+    assert!(
+        said.contains("rendering by default (--devices auto) on 0 (no GPU found: lavapipe)"),
+        "{said}"
+    );
 }
 
 #[test]

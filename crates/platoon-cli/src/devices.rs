@@ -7,11 +7,24 @@ pub fn run() -> Result<()> {
     if devices.is_empty() {
         bail!("no Vulkan devices found (install mesa-vulkan-drivers for lavapipe)");
     }
-    for d in devices {
+    for d in &devices {
         println!(
             "{}: {} ({}), driver {}, Vulkan {}",
             d.index, d.name, d.device_type, d.driver, d.api_version
         );
     }
+    let auto: Vec<String> = platoon::devices::auto_devices(&devices)
+        .iter()
+        .map(|i| i.to_string())
+        .collect();
+    let why = if devices.iter().any(|d| !d.cpu) {
+        "every GPU; lavapipe with --devices all or its index"
+    } else {
+        "no GPU found: lavapipe"
+    };
+    println!(
+        "rendering by default (--devices auto) on {} ({why})",
+        auto.join(",")
+    );
     Ok(())
 }

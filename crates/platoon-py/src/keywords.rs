@@ -67,7 +67,7 @@ pub fn request(
         }
         None => CameraChoice::Scene(None),
     };
-    let devices: String = take(k, "devices", "a device list")?.unwrap_or("0".into());
+    let devices: String = take(k, "devices", "a device list")?.unwrap_or("auto".into());
     let denoise: String = take(k, "denoise", "a denoiser's name")?.unwrap_or("none".into());
     let sampling: String = take(k, "sampling", "mis, bsdf or light")?.unwrap_or("mis".into());
     let adaptive: Option<f32> = take(k, "adaptive_threshold", "a noise threshold")?;

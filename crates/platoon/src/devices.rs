@@ -1,5 +1,6 @@
-//! Which tracers a render uses: `all`, a list of device indices, or `lavapipe:T1,T2,...` (one
-//! software tracer per entry, entry i with Ti llvmpipe threads in its own VkInstance).
+//! Which tracers a render uses: `auto` (every GPU, or lavapipe where there is none), `all`, a
+//! list of device indices, or `lavapipe:T1,T2,...` (one software tracer per entry, entry i with
+//! Ti llvmpipe threads in its own VkInstance).
 
 use std::fmt;
 use std::str::FromStr;
@@ -8,10 +9,14 @@ use anyhow::{bail, Context as _, Result};
 use platoon_core::balance::Balancer;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::renderer::Renderer;
-use platoon_tracer::{list_devices, Sampling, Tracer, TracerOptions};
+use platoon_tracer::{list_devices, DeviceInfo, Sampling, Tracer, TracerOptions};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum DeviceSpec {
+    /// Every device that is not a CPU implementation; the first CPU one (lavapipe) where there
+    /// is nothing else. A GPU is tens to hundreds of times lavapipe's speed: beside GPUs,
+    /// lavapipe's band would be a sliver (`all` takes it too).
+    Auto,
     All,
     Indices(Vec<usize>),
     Lavapipe(Vec<u32>),
@@ -24,7 +29,9 @@ impl FromStr for DeviceSpec {
             let v: Result<Vec<u32>, _> = text.split(',').map(|p| p.trim().parse::<u32>()).collect();
             v.map_err(|_| format!("{s}: expected comma-separated numbers"))
         };
-        if s == "all" {
+        if s == "auto" {
+            Ok(DeviceSpec::Auto)
+        } else if s == "all" {
             Ok(DeviceSpec::All)
         } else if let Some(rest) = s.strip_prefix("lavapipe:") {
             let threads = list(rest)?;
@@ -46,6 +53,7 @@ impl fmt::Display for DeviceSpec {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let join = |v: Vec<String>| v.join(",");
         match self {
+            DeviceSpec::Auto => write!(f, "auto"),
             DeviceSpec::All => write!(f, "all"),
             DeviceSpec::Indices(i) => {
                 write!(f, "{}", join(i.iter().map(|x| x.to_string()).collect()))
@@ -56,6 +64,17 @@ impl fmt::Display for DeviceSpec {
                 join(t.iter().map(|x| x.to_string()).collect())
             ),
         }
+    }
+}
+
+/// The indices `auto` takes among `devices`: every one that is not a CPU implementation, or
+/// the first (a CPU one) where all are.
+pub fn auto_devices(devices: &[DeviceInfo]) -> Vec<usize> {
+    let gpus: Vec<usize> = devices.iter().filter(|d| !d.cpu).map(|d| d.index).collect();
+    if gpus.is_empty() {
+        devices.iter().map(|d| d.index).take(1).collect()
+    } else {
+        gpus
     }
 }
 
@@ -76,6 +95,13 @@ pub fn tracer_options(
         ..Default::default()
     };
     Ok(match spec {
+        DeviceSpec::Auto => auto_devices(&devices)
+            .into_iter()
+            .map(|device| TracerOptions {
+                device,
+                ..base.clone()
+            })
+            .collect(),
         DeviceSpec::All => devices
             .iter()
             .map(|d| TracerOptions {
@@ -165,8 +191,42 @@ pub fn renderer(
 mod tests {
     use super::*;
 
+    fn device(index: usize, cpu: bool) -> DeviceInfo {
+        DeviceInfo {
+            index,
+            name: if cpu {
+                "llvmpipe".into()
+            } else {
+                "a GPU".into()
+            },
+            device_type: if cpu {
+                "CPU".into()
+            } else {
+                "discrete GPU".into()
+            },
+            driver: String::new(),
+            api_version: "1.3.0".into(),
+            max_storage_buffer_range: 1 << 27,
+            max_texel_buffer_elements: 1 << 27,
+            cpu,
+            mesa: None,
+        }
+    }
+
+    #[test]
+    fn auto_takes_every_gpu_and_lavapipe_only_alone() {
+        let lavapipe_first = [device(0, true), device(1, false), device(2, false)];
+        assert_eq!(auto_devices(&lavapipe_first), vec![1, 2]);
+        assert_eq!(auto_devices(&[device(0, false), device(1, true)]), vec![0]);
+        assert_eq!(auto_devices(&[device(0, true)]), vec![0]);
+        assert_eq!(auto_devices(&[device(0, true), device(1, true)]), vec![0]);
+        assert_eq!(auto_devices(&[]), Vec::<usize>::new());
+    }
+
     #[test]
     fn parses_every_form() {
+        assert_eq!("auto".parse::<DeviceSpec>().unwrap(), DeviceSpec::Auto);
+        assert_eq!("auto".parse::<DeviceSpec>().unwrap().to_string(), "auto");
         assert_eq!("all".parse::<DeviceSpec>().unwrap(), DeviceSpec::All);
         assert_eq!(
             "0,2".parse::<DeviceSpec>().unwrap(),

@@ -77,9 +77,10 @@ pub struct RenderArgs {
     /// Distance to the plane in focus (default: the scene centre).
     #[arg(long, allow_negative_numbers = true)]
     pub(super) focus_distance: Option<f32>,
-    /// Devices: `all`, indices like `0,1` (see `platoon devices`), or `lavapipe:T1,T2,...`
-    /// (one software tracer per entry, with Ti threads each).
-    #[arg(long, default_value = "0")]
+    /// Devices: `auto` (every GPU, or lavapipe where there is none), `all`, indices like `0,1`
+    /// (see `platoon devices`), or `lavapipe:T1,T2,...` (one software tracer per entry, with Ti
+    /// threads each).
+    #[arg(long, default_value = "auto")]
     pub(super) devices: DeviceSpec,
     /// How lines are split between devices: none, robin-hood, perfect, perfect-smooth,
     /// cycles, cost-aware.

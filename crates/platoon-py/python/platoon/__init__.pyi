@@ -43,7 +43,7 @@ def render(
     height: int = 512,
     spp: int = 64,
     method: str = "path",
-    devices: str = "0",
+    devices: str = "auto",
     aovs: list[str] | None = None,
     denoise: str = "none",
     seed: int = 0,
@@ -66,8 +66,8 @@ def render(
 ) -> Rendered:
     """Renders a glTF scene (the built-in Cornell box when None).
 
-    `devices`: "all", indices like "0,1", or "lavapipe:T1,T2" (software tracers of Ti
-    threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
+    `devices`: "auto" (every GPU, or lavapipe where there is none), "all", indices like "0,1",
+    or "lavapipe:T1,T2" (software tracers of Ti threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
     variance, sample-count. `denoise`: none, atrous, oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
     seen from above). `camera`: a scene camera's index or

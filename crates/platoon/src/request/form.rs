@@ -127,7 +127,7 @@ impl Default for Request {
             method: Method::PathTracing,
             kernel: PathKernel::Auto,
             sampling: Sampling::Mis,
-            devices: DeviceSpec::Indices(vec![0]),
+            devices: DeviceSpec::Auto,
             balancer: "cost-aware".into(),
             memory: MemoryPath::Auto,
             validation: false,
