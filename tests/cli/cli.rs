@@ -1245,3 +1245,45 @@ fn the_environment_turns_and_scales_as_its_map_would() {
         assert!(!out.exists());
     }
 }
+
+#[test]
+fn ctrl_c_writes_a_still_with_the_samples_so_far() {
+    // Issue 41, long stills: Ctrl-C ended the process and the image was lost; now the render
+    // stops after its current pass, writes what it has (the spp reached and the interruption
+    // in the metadata), and fails saying so.
+    common::init();
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("long.exr");
+    let child = Command::new(env!("CARGO_BIN_EXE_platoon"))
+        .args([
+            "render", "--spp", "1000000", "--width", "32", "--height", "32", "--out",
+        ])
+        .arg(&exr)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    let said = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && said.contains("interrupted (Ctrl-C)"),
+        "{said}"
+    );
+    let (film, meta) = platoon::core::output::read_exr(&exr).unwrap();
+    let spp: u32 = metadata_value(&meta, "spp").parse().unwrap();
+    assert!((1..1000000).contains(&spp), "spp {spp}");
+    assert!(metadata_value(&meta, "interrupted").contains("Ctrl-C"));
+    assert_eq!(film.count_non_finite(), 0);
+    assert!(film.mean()[0] > 0.01, "{:?}", film.mean());
+    assert!(!std::fs::read_dir(dir.path()).unwrap().any(|e| e
+        .unwrap()
+        .file_name()
+        .to_string_lossy()
+        .ends_with(".part")));
+}

@@ -71,7 +71,10 @@ fn worker() -> &'static Mutex<mpsc::Sender<Job>> {
         let (jobs, incoming) = mpsc::channel::<Job>();
         std::thread::spawn(move || {
             for (request, reply) in incoming {
-                let _ = reply.send(request.render(&mut |_| {}));
+                let result = request.render(&mut |_| {});
+                // A render interrupted by Ctrl-C (`wait`) ended early; the next one runs whole.
+                platoon::tracer::stop::clear();
+                let _ = reply.send(result);
             }
         });
         Mutex::new(jobs)
@@ -86,7 +89,15 @@ fn render_interruptibly(py: Python<'_>, request: platoon::Request) -> PyResult<p
         .map_err(|_| PlatoonError::new_err("the render thread failed earlier"))?
         .send((request, done))
         .map_err(|_| PlatoonError::new_err("the render thread has ended"))?;
-    wait(py, result)?.map_err(to_py)
+    match wait(py, result) {
+        Err(e) if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => {
+            // The devices stop after their current pass, not after the render's samples
+            // (the worker withdraws the request once the render has ended).
+            platoon::tracer::stop::request();
+            Err(e)
+        }
+        waited => waited?.map_err(to_py),
+    }
 }
 
 /// What another thread sends on `result`, waited for with the GIL released; Ctrl-C raises

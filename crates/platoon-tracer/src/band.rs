@@ -295,6 +295,9 @@ impl Tracer {
             let taken = end - begin;
             begin = end;
             progress(end);
+            if crate::stop::requested() {
+                break;
+            }
             let elapsed = wall.elapsed();
             let pass = elapsed - pass_start;
             pass_start = elapsed;

@@ -13,6 +13,7 @@ mod gpu;
 mod kernel;
 mod memory;
 mod method;
+pub mod stop;
 mod tracer;
 
 pub use commit::CommitStats;

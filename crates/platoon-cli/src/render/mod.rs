@@ -18,8 +18,28 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if a.frames.frames.is_some() || a.frames.mpi_frames.is_some() {
         return frames::run(a);
     }
+    // Before the scene is read: a Ctrl-C while loading stops the render after its first pass.
+    if !a.mpi {
+        stop_on_ctrl_c();
+    }
     setup::check_output(&a)?;
     let (setup, out, _) = setup::setup(a)?;
     let session = setup.session.clone();
     setup::on_every_rank(session, || still::still(setup, out))
+}
+
+/// Ctrl-C ends a still render after its current pass (its samples so far are written, as
+/// Cycles and Mitsuba do); a second Ctrl-C ends the process at once. (Over MPI ranks the
+/// default stays: a rank alone cannot stop the others' bands.)
+fn stop_on_ctrl_c() {
+    let installed = ctrlc::set_handler(|| {
+        if platoon::tracer::stop::requested() {
+            std::process::exit(130);
+        }
+        platoon::tracer::stop::request();
+        eprintln!("\ninterrupted: finishing the current pass (Ctrl-C again to quit at once)");
+    });
+    if let Err(e) = installed {
+        log::warn!("Ctrl-C will end the render without writing it: {e}");
+    }
 }

@@ -39,8 +39,12 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
     } = setup;
     params.camera = camera.in_render_space(prepared.camera, prepared.posed.origin);
     let rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
+    let interrupted = platoon::tracer::stop::requested();
     let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
     meta.push(outputs::view_entry(&view));
+    if interrupted {
+        meta.push(("interrupted".into(), "Ctrl-C: the samples so far".into()));
+    }
     let still = Still::of(
         &mut tracers,
         &prepared.gpu,
@@ -81,6 +85,13 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         started.elapsed().as_secs_f64()
     );
     report_method(rendered, &params.method);
+    if interrupted {
+        anyhow::bail!(
+            "interrupted (Ctrl-C): {} holds the {} samples a pixel rendered before it",
+            out.display(),
+            rendered.spp
+        );
+    }
     Ok(())
 }
 
