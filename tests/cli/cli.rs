@@ -1287,3 +1287,51 @@ fn ctrl_c_writes_a_still_with_the_samples_so_far() {
         .to_string_lossy()
         .ends_with(".part")));
 }
+
+#[test]
+fn an_exr_is_written_in_half_floats_and_the_compression_asked_for() {
+    // Issue 41, outputs: --exr-half and --exr-compression; the pixels read back as the float
+    // render's rounded to half, the file smaller, the metadata saying so; b44 without half is
+    // refused before rendering.
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, flags: &[&str]| {
+        let out = dir.path().join(name);
+        let mut cli = Cli::new("render").spp(2).size(32, 24).out(&out);
+        for f in flags {
+            cli = cli.arg(f);
+        }
+        let o = cli.run();
+        (o, out)
+    };
+    let (o, float) = render("float.exr", &["--exr-compression", "piz"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (o, half) = render("half.exr", &["--exr-half", "--exr-compression", "piz"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (f, _) = platoon::core::output::read_exr(&float).unwrap();
+    let (h, meta) = platoon::core::output::read_exr(&half).unwrap();
+    let rounded: Vec<[f32; 3]> = f
+        .pixels
+        .iter()
+        .map(|p| p.map(|c| exr::prelude::f16::from_f32(c).to_f32()))
+        .collect();
+    assert!(
+        h.pixels == rounded,
+        "the half EXR is not the float one rounded"
+    );
+    assert_eq!(metadata_value(&meta, "exr"), "half, piz");
+    let size = |p: &Path| std::fs::metadata(p).unwrap().len();
+    // (The header's metadata is a few kB of either file.)
+    assert!(
+        size(&half) < size(&float) * 8 / 10,
+        "{} {}",
+        size(&half),
+        size(&float)
+    );
+    let (o, refused) = render("b44.exr", &["--exr-compression", "b44"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("half floats only"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!refused.exists());
+}

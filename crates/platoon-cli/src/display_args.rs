@@ -2,6 +2,7 @@
 //! viewer's window (`platoon::core::view`). EXR output stays scene-linear.
 
 use anyhow::{bail, Result};
+use platoon::core::output::{ExrCompression, ExrOptions};
 use platoon::core::view::{View, ViewTransform};
 
 #[derive(clap::Args)]
@@ -14,9 +15,27 @@ pub struct DisplayArgs {
     /// Exposure in stops, applied before the view transform (EXR untouched).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
+    /// EXR samples as half floats (16 bits), not floats.
+    #[arg(long)]
+    pub exr_half: bool,
+    /// EXR compression: none, rle (the default), zips, zip, piz, pxr24 (lossy for floats), b44
+    /// (lossy, half only).
+    #[arg(long, default_value = "rle", value_parser = ExrCompression::parse)]
+    pub exr_compression: ExrCompression,
 }
 
 impl DisplayArgs {
+    /// The EXR's sample type and compression, checked.
+    pub fn exr(&self) -> Result<ExrOptions> {
+        let exr = ExrOptions {
+            half: self.exr_half,
+            compression: self.exr_compression,
+        };
+        exr.check()
+            .map_err(|e| anyhow::anyhow!("--exr-compression: {e} (add --exr-half)"))?;
+        Ok(exr)
+    }
+
     pub fn view(&self) -> Result<View> {
         if !(self.exposure.is_finite() && self.exposure.abs() <= 64.0) {
             bail!(

@@ -16,7 +16,7 @@ use platoon::core::balance;
 use platoon::core::denoise::Denoiser;
 use platoon::core::drive::Edit;
 use platoon::core::drive::{FrameDriver, GiUpdate};
-use platoon::core::output::{write_image_viewed, Film};
+use platoon::core::output::{write_image_as, Film, ImageOptions};
 use platoon::core::scene::camera::Camera;
 use platoon::core::view::View;
 use platoon::game::start;
@@ -89,6 +89,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
     })?;
     let (w, h) = args.size;
     let view = args.display.view()?;
+    let exr = args.display.exr()?;
     // The request holds the rules (the method's, the denoiser's...); the view adds the game
     // loop's own options.
     let request = platoon::Request {
@@ -162,7 +163,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
         p.x, p.y, p.z, app.frames
     );
     if let (Some(path), Some(film)) = (&args.screenshot, &app.last) {
-        write_image_viewed(path, film, &[], &[], &view)?;
+        let shown = ImageOptions { view, exr };
+        write_image_as(path, film, &[], &[], &shown)?;
         println!("last frame written to {}", path.display());
     }
     Ok(())

@@ -41,7 +41,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 /// The frames of `run`.
 fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<()> {
     let speaks = setup.speaks();
-    let view = setup.view;
+    let view = setup.image.view;
     let range = args
         .frames
         .or(args.mpi_frames)
@@ -279,8 +279,8 @@ impl Frames {
         meta.push(("animation_frame".into(), frame.to_string()));
         meta.push(("animation_time".into(), time.to_string()));
         meta.push(("job".into(), job.of_frame(frame)));
-        meta.push(outputs::view_entry(&self.setup.view));
-        outputs::write(&still.with_metadata(meta), path, &self.setup.view)?;
+        meta.extend(outputs::entries(&self.setup.image, path));
+        outputs::write(&still.with_metadata(meta), path, &self.setup.image)?;
         Ok(())
     }
 }

@@ -68,7 +68,7 @@ impl Job {
         let settings = format!(
             "scene {scene}; environment {env}; camera {camera}, aperture {}, focus {}; {}x{}, \
              {} spp, time limit {}, max depth {}, seed {}{}; {}; kernel {}; {} sampling; {} fps; \
-             AOVs {}; denoiser {}; adaptive {adaptive}; view {}",
+             AOVs {}; denoiser {}; adaptive {adaptive}; view {}; EXR {}",
             o.aperture_radius,
             or(o.focus_distance, "auto"),
             p.width,
@@ -91,7 +91,8 @@ impl Job {
                 aovs.join(",")
             },
             format!("{:?}", setup.denoiser).to_lowercase(),
-            setup.view.describe(),
+            setup.image.view.describe(),
+            setup.image.exr.describe(),
         );
         Job {
             settings,

@@ -4,24 +4,31 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use platoon::core::output::write_image_viewed;
-use platoon::core::view::View;
+use platoon::core::output::{write_image_as, ImageOptions};
 use platoon::Still;
 
 /// Writes `still`'s image to `path` (and the raw one beside it), each with its metadata,
 /// atomically; a PNG's pixels under `view`.
-pub fn write(still: &Still, path: &Path, view: &View) -> Result<()> {
+pub fn write(still: &Still, path: &Path, options: &ImageOptions) -> Result<()> {
     if let Some(raw) = &still.raw {
         let meta = &still.raw_metadata;
-        write_image_viewed(&noisy_path(path), raw, &still.layers, meta, view)?;
+        write_image_as(&noisy_path(path), raw, &still.layers, meta, options)?;
     }
-    write_image_viewed(path, &still.image, &still.layers, &still.metadata, view)?;
+    write_image_as(path, &still.image, &still.layers, &still.metadata, options)?;
     Ok(())
 }
 
-/// The metadata entry saying how an image is shown (an EXR's too: what its PNG would be).
-pub fn view_entry(view: &View) -> (String, String) {
-    ("view".into(), view.describe())
+/// The metadata entries saying how an image is shown (an EXR's too: what its PNG would be)
+/// and, for an EXR at `path`, how it is encoded.
+pub fn entries(options: &ImageOptions, path: &Path) -> Vec<(String, String)> {
+    let mut out = vec![("view".into(), options.view.describe())];
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+    {
+        out.push(("exr".into(), options.exr.describe()));
+    }
+    out
 }
 
 /// Where the raw image of a denoised `path` goes: `NAME.noisy.EXT`.

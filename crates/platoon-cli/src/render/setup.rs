@@ -41,7 +41,7 @@ pub(super) struct Setup {
     /// from.
     pub(super) started: std::time::Instant,
     /// How a PNG or a video shows the image.
-    pub(super) view: platoon::core::view::View,
+    pub(super) image: platoon::core::output::ImageOptions,
     /// The scene's camera, or one given (`--camera-position`, `--look-at`, `--fov`).
     pub(super) camera: CameraChoice,
 }
@@ -133,7 +133,10 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         frames,
         display,
     } = a;
-    let view = display.view()?;
+    let image = platoon::core::output::ImageOptions {
+        view: display.view()?,
+        exr: display.exr()?,
+    };
     let mut aovs = aov.map(|l| l.0).unwrap_or_default();
     let adaptive = adaptive_threshold.map(|threshold| Adaptive {
         threshold,
@@ -211,7 +214,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     let placeholder = platoon::core::scene::camera::Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0);
     let setup = Setup {
         started,
-        view,
+        image,
         camera: request.camera.clone(),
         scene: loaded,
         options,

@@ -33,7 +33,7 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         aovs,
         denoiser,
         batching,
-        view,
+        image,
         camera,
         ..
     } = setup;
@@ -41,7 +41,7 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
     let rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
     let interrupted = platoon::tracer::stop::requested();
     let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
-    meta.push(outputs::view_entry(&view));
+    meta.extend(outputs::entries(&image, &out));
     if interrupted {
         meta.push(("interrupted".into(), "Ctrl-C: the samples so far".into()));
     }
@@ -58,7 +58,7 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
     if !speaks {
         return Ok(());
     }
-    outputs::write(&still, &out, &view)?;
+    outputs::write(&still, &out, &image)?;
     let rendered = &still.rendered;
     let secs = rendered.wall_time.as_secs_f64();
     let spp = match rendered.batched.as_ref().and_then(|b| b.adaptive) {

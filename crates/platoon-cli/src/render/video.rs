@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{bail, Context as _, Result};
-use platoon::core::output::{read_exr, write_image_viewed};
+use platoon::core::output::{read_exr, write_image_as, ImageOptions};
 use platoon::core::view::View;
 
 /// Refuses a video the run could not make, before rendering.
@@ -55,7 +55,11 @@ pub fn encode(video: &Path, frames: &[PathBuf], fps: f64, view: &View) -> Result
             .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
         if is_exr {
             let (film, _) = read_exr(frame)?;
-            write_image_viewed(&png, &film, &[], &[], view)?;
+            let shown = ImageOptions {
+                view: *view,
+                ..Default::default()
+            };
+            write_image_as(&png, &film, &[], &[], &shown)?;
         } else {
             std::fs::copy(frame, &png).with_context(|| format!("{}", frame.display()))?;
         }

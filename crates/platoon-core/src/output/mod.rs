@@ -7,6 +7,18 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::view::View;
 
+mod exr_options;
+
+pub use exr_options::{ExrCompression, ExrOptions};
+
+/// How an image is written: the view its display-referred formats (PNG) show it through, the
+/// sample type and compression of an EXR.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImageOptions {
+    pub view: View,
+    pub exr: ExrOptions,
+}
+
 /// A rendered frame: linear RGB radiance, row-major from the top row.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
@@ -112,26 +124,26 @@ pub fn write_image_with_layers(
     layers: &[Layer],
     metadata: &[(String, String)],
 ) -> Result<()> {
-    write_image_viewed(path, film, layers, metadata, &View::default())
+    write_image_as(path, film, layers, metadata, &ImageOptions::default())
 }
 
-/// The same, a PNG's pixels made under `view` (an EXR stays scene-linear whatever the view).
-pub fn write_image_viewed(
+/// The same, written as `options` say: a PNG's pixels under their view (an EXR stays
+/// scene-linear whatever the view), an EXR's samples and compression.
+pub fn write_image_as(
     path: &Path,
     film: &Film,
     layers: &[Layer],
     metadata: &[(String, String)],
-    view: &View,
+    options: &ImageOptions,
 ) -> Result<()> {
+    let exr = &options.exr;
     match image_format(path)? {
-        ImageFormat::Exr if layers.is_empty() => {
-            write_atomically(path, |w| write_exr(path, w, film, metadata))
-        }
         ImageFormat::Exr => {
-            write_atomically(path, |w| write_layered_exr(path, w, film, layers, metadata))
+            exr.check().map_err(|e| Error::file(path, e))?;
+            write_atomically(path, |w| write_exr(path, w, film, layers, metadata, exr))
         }
         ImageFormat::Png if layers.is_empty() => {
-            write_atomically(path, |w| write_png(path, w, film, metadata, view))
+            write_atomically(path, |w| write_png(path, w, film, metadata, &options.view))
         }
         ImageFormat::Png => Err(Error::file(
             path,
@@ -193,26 +205,6 @@ pub fn check_image_path(path: &Path) -> Result<ImageFormat> {
     Ok(format)
 }
 
-fn write_exr(
-    path: &Path,
-    w: &mut (impl Write + std::io::Seek),
-    film: &Film,
-    metadata: &[(String, String)],
-) -> Result<()> {
-    use exr::prelude::*;
-    let width = film.width as usize;
-    let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
-        let p = film.pixels[y * width + x];
-        (p[0], p[1], p[2])
-    });
-    let mut image = Image::from_channels((width, film.height as usize), channels);
-    insert_metadata(&mut image.attributes.other, metadata);
-    image
-        .write()
-        .to_buffered(w)
-        .map_err(|e| crate::Error::file(path, format!("cannot write EXR: {e}")))
-}
-
 /// `metadata` as EXR string attributes, each key prefixed `platoon:`.
 fn insert_metadata(
     attributes: &mut std::collections::HashMap<exr::prelude::Text, exr::prelude::AttributeValue>,
@@ -227,18 +219,28 @@ fn insert_metadata(
     }
 }
 
-fn write_layered_exr(
+/// The beauty's R, G, B and `layers`' channels (`layer.channel`, as Cycles' multilayer files
+/// name them) as one EXR layer, in the sample type and compression of `exr`.
+fn write_exr(
     path: &Path,
     w: &mut (impl Write + std::io::Seek),
     film: &Film,
     layers: &[Layer],
     metadata: &[(String, String)],
+    exr: &ExrOptions,
 ) -> Result<()> {
     use exr::prelude::*;
+    let samples = |plane: Vec<f32>| {
+        if exr.half {
+            FlatSamples::F16(plane.into_iter().map(f16::from_f32).collect())
+        } else {
+            FlatSamples::F32(plane)
+        }
+    };
     let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
     for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
         let plane = film.pixels.iter().map(|p| p[c]).collect();
-        channels.push(AnyChannel::new(name, FlatSamples::F32(plane)));
+        channels.push(AnyChannel::new(name, samples(plane)));
     }
     for layer in layers {
         for (name, plane) in &layer.channels {
@@ -249,17 +251,14 @@ fn write_layered_exr(
                 ));
             }
             let full = format!("{}.{name}", layer.name);
-            channels.push(AnyChannel::new(
-                full.as_str(),
-                FlatSamples::F32(plane.clone()),
-            ));
+            channels.push(AnyChannel::new(full.as_str(), samples(plane.clone())));
         }
     }
     let size = (film.width as usize, film.height as usize);
     let layer = exr::image::Layer::new(
         size,
         LayerAttributes::default(),
-        Encoding::default(),
+        exr.encoding(),
         AnyChannels::sort(channels),
     );
     let mut image = Image::from_layer(layer);
