@@ -804,11 +804,12 @@ fn a_denoised_render_is_closer_to_the_converged_one_and_keeps_the_raw_beside_it(
     let dir = tempfile::tempdir().unwrap();
     let out = |name: &str| dir.path().join(name);
     let render = |spp: u32, extra: &[&str], path: &Path| {
-        let mut cli = Cli::new("render").spp(spp).size(48, 48).out(path);
-        for a in extra {
-            cli = cli.arg(a);
-        }
-        let o = cli.run();
+        let o = Cli::new("render")
+            .spp(spp)
+            .size(48, 48)
+            .out(path)
+            .args(extra)
+            .run();
         assert!(o.status.success(), "{}", stderr(&o));
         platoon::core::output::read_exr(path).unwrap()
     };
@@ -1003,17 +1004,7 @@ fn flags_that_would_do_nothing_are_refused_or_said() {
         (&["--variant", "red"], "no material variants"),
     ];
     for (flags, says) in refused {
-        let mut cli = Cli::new("render").spp(1).size(8, 8).out(&out);
-        for f in flags {
-            cli = cli.arg(f);
-        }
-        let o = cli.run();
-        assert!(
-            !o.status.success() && stderr(&o).contains(says),
-            "{flags:?}: {}",
-            stderr(&o)
-        );
-        assert!(!out.exists(), "{flags:?} wrote an image");
+        assert_refused(flags, says, &out);
     }
     // A negative number is a value refused as such (issue 41, defect 7: clap's tip to write
     // `-- -1`, which makes it a scene file).
@@ -1098,11 +1089,12 @@ fn a_camera_given_by_position_look_at_and_fov_renders_from_there() {
     let dir = tempfile::tempdir().unwrap();
     let render = |name: &str, flags: &[&str]| {
         let out = dir.path().join(name);
-        let mut cli = Cli::new("render").spp(4).size(24, 24).out(&out);
-        for f in flags {
-            cli = cli.arg(f);
-        }
-        let o = cli.run();
+        let o = Cli::new("render")
+            .spp(4)
+            .size(24, 24)
+            .out(&out)
+            .args(flags)
+            .run();
         assert!(o.status.success(), "{flags:?}: {}", stderr(&o));
         platoon::core::output::read_exr(&out).unwrap().0
     };
@@ -1170,17 +1162,7 @@ fn a_camera_given_by_position_look_at_and_fov_renders_from_there() {
         ),
     ];
     for (flags, says) in refused {
-        let mut cli = Cli::new("render").spp(1).size(8, 8).out(&out);
-        for f in flags {
-            cli = cli.arg(f);
-        }
-        let o = cli.run();
-        assert!(
-            !o.status.success() && stderr(&o).contains(says),
-            "{flags:?}: {}",
-            stderr(&o)
-        );
-        assert!(!out.exists(), "{flags:?} wrote an image");
+        assert_refused(flags, says, &out);
     }
 }
 
@@ -1207,15 +1189,13 @@ fn the_environment_turns_and_scales_as_its_map_would() {
     write_image(&turned_path, &turned, &[]).unwrap();
     let render = |name: &str, flags: &[&str]| {
         let out = dir.path().join(name);
-        let mut cli = Cli::new("render")
+        let o = Cli::new("render")
             .arg(common::shared("scenes/CesiumMan.glb"))
             .spp(4)
             .size(24, 24)
-            .out(&out);
-        for f in flags {
-            cli = cli.arg(f);
-        }
-        let o = cli.run();
+            .out(&out)
+            .args(flags)
+            .run();
         assert!(o.status.success(), "{flags:?}: {}", stderr(&o));
         read_exr(&out).unwrap().0.pixels
     };
@@ -1231,19 +1211,25 @@ fn the_environment_turns_and_scales_as_its_map_would() {
     let twice = render("twice.exr", &["--env", sky, "--env-strength", "2"]);
     let doubled: Vec<[f32; 3]> = plain.iter().map(|p| p.map(|c| 2.0 * c)).collect();
     assert!(twice == doubled, "--env-strength 2 is not twice the light");
-    for (flags, says) in [
-        (["--env-strength", "-1"], "--env-strength"),
-        (["--env-rotation", "nan"], "--env-rotation"),
-    ] {
-        let out = dir.path().join("refused.exr");
-        let o = Cli::new("render").flag(flags[0], flags[1]).out(&out).run();
-        assert!(
-            !o.status.success() && stderr(&o).contains(says),
-            "{flags:?}: {}",
-            stderr(&o)
-        );
-        assert!(!out.exists());
-    }
+    let out = dir.path().join("refused.exr");
+    assert_refused(&["--env-strength", "-1"], "--env-strength", &out);
+    assert_refused(&["--env-rotation", "nan"], "--env-rotation", &out);
+}
+
+/// `render` with `flags` fails saying `says`, and leaves no image at `out`.
+fn assert_refused(flags: &[&str], says: &str, out: &Path) {
+    let o = Cli::new("render")
+        .spp(1)
+        .size(8, 8)
+        .out(out)
+        .args(flags)
+        .run();
+    assert!(
+        !o.status.success() && stderr(&o).contains(says),
+        "{flags:?}: {}",
+        stderr(&o)
+    );
+    assert!(!out.exists(), "{flags:?} wrote an image");
 }
 
 #[test]
@@ -1296,11 +1282,12 @@ fn an_exr_is_written_in_half_floats_and_the_compression_asked_for() {
     let dir = tempfile::tempdir().unwrap();
     let render = |name: &str, flags: &[&str]| {
         let out = dir.path().join(name);
-        let mut cli = Cli::new("render").spp(2).size(32, 24).out(&out);
-        for f in flags {
-            cli = cli.arg(f);
-        }
-        let o = cli.run();
+        let o = Cli::new("render")
+            .spp(2)
+            .size(32, 24)
+            .out(&out)
+            .args(flags)
+            .run();
         (o, out)
     };
     let (o, float) = render("float.exr", &["--exr-compression", "piz"]);

@@ -90,11 +90,7 @@ fn a_rerun_skips_done_frames_and_redoes_a_damaged_one() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("box_###.png");
     let run = |extra: &[&str]| {
-        let mut cli = frames("1..3").out(&out);
-        for a in extra {
-            cli = cli.arg(a);
-        }
-        let o = cli.run();
+        let o = frames("1..3").out(&out).args(extra).run();
         assert!(o.status.success(), "{}", stderr(&o));
         stdout(&o)
     };
@@ -242,14 +238,12 @@ fn a_video_holds_every_frame_of_the_range_and_needs_ffmpeg() {
     let video = dir.path().join("box.mp4");
     // Odd sizes (H.264 wants even ones: padded) and a step: frames 0, 2, 4.
     let run = |extra: &[&str], path: Option<&str>| {
-        let mut cli = Cli::new("render")
+        let cli = Cli::new("render")
             .flag("--frames", "0..4:2")
             .spp(1)
             .size(15, 11)
-            .out(&out);
-        for a in extra {
-            cli = cli.arg(a);
-        }
+            .out(&out)
+            .args(extra);
         match path {
             Some(p) => cli.run_with_env(&[("PATH", Some(p))]),
             None => cli.run(),

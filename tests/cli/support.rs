@@ -26,6 +26,10 @@ impl Cli {
         self.args.push(a.as_ref().to_owned());
         self
     }
+    /// Arguments in order.
+    pub fn args(self, args: &[&str]) -> Cli {
+        args.iter().fold(self, |cli, a| cli.arg(a))
+    }
     pub fn flag(self, name: &str, value: impl AsRef<std::ffi::OsStr>) -> Cli {
         self.arg(name).arg(value)
     }

@@ -80,13 +80,17 @@ impl SceneArgs {
     }
 }
 
-/// A point or vector given as X,Y,Z.
-pub fn parse_xyz(s: &str) -> Result<Vec3, String> {
-    let v: Vec<f32> = s
-        .split(',')
+/// Comma-separated numbers.
+fn numbers(s: &str) -> Result<Vec<f32>, String> {
+    s.split(',')
         .map(|p| p.trim().parse::<f32>())
         .collect::<Result<_, _>>()
-        .map_err(|e| format!("{s}: {e}"))?;
+        .map_err(|e| format!("{s}: {e}"))
+}
+
+/// A point or vector given as X,Y,Z.
+pub fn parse_xyz(s: &str) -> Result<Vec3, String> {
+    let v = numbers(s)?;
     match v.as_slice() {
         [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
         _ => Err(format!("{s}: expected three finite numbers X,Y,Z")),
@@ -94,11 +98,7 @@ pub fn parse_xyz(s: &str) -> Result<Vec3, String> {
 }
 
 fn parse_rgb(s: &str) -> Result<Vec3, String> {
-    let v: Vec<f32> = s
-        .split(',')
-        .map(|p| p.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("{s}: {e}"))?;
+    let v = numbers(s)?;
     match v.as_slice() {
         [r, g, b] => Ok(Vec3::new(*r, *g, *b)),
         [c] => Ok(Vec3::splat(*c)),

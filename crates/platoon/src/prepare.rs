@@ -57,7 +57,8 @@ impl EnvLight {
         Ok(())
     }
 
-    fn describe(&self) -> String {
+    /// What differs from a plain light (", strength 2, rotated 90 degrees"; empty when nothing).
+    pub fn describe(&self) -> String {
         let mut s = String::new();
         if self.strength != 1.0 {
             s += &format!(", strength {}", self.strength);

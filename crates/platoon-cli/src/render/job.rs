@@ -34,10 +34,7 @@ impl Job {
             EnvChoice::File(p) => file_stamp(p),
             EnvChoice::Color(c) => format!("colour {},{},{}", c.x, c.y, c.z),
         };
-        let env = format!(
-            "{env}, strength {}, rotation {}",
-            o.env_light.strength, o.env_light.rotation
-        );
+        let env = format!("{env}{}", o.env_light.describe());
         let camera = match &setup.camera {
             CameraChoice::Given(c) => {
                 let (p, f) = (c.position(), -c.camera_to_world.z_axis.truncate());
