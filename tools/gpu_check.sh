@@ -1,45 +1,66 @@
 #!/bin/bash
-# platoon on a lent GPU machine (issue 39; docs/PERFORMANCE.md "On a GPU"): devices, the built-in
-# box at 1080p, each bench scene's rays/s at 1080p (megakernel and streaming), bench kernel,
-# bench scenes (platoon alone). Run by the session's device tool from the repository root, with
-# two ignored folders carried: .gl (Debian's libvulkan1 and glvnd packages, downloaded as the
-# tool's README says) and .devbin (a stripped release binary `platoon`, and shared/ with
-# scenes/CesiumMan.glb and envmaps/courtyard.exr). Writes gpu.log and cornell1080.png to $OUT.
+# platoon on a lent GPU machine (docs/PERFORMANCE.md "On a GPU"), run by the session's device
+# tool from the repository root with two ignored folders carried:
+# - .gl: Debian's libvulkan1 and glvnd packages, downloaded as the tool's README says;
+# - .devbin (made by tools/device_bundle.sh): platoon.xz (a stripped release binary, xz-compressed to fit the 64 MiB a call
+#   carries), lvp.tar.xz (Debian 12's lavapipe and every library it needs but glibc and
+#   libstdc++, from `ldd libvulkan_lvp.so`, under lib/, each given RUNPATH $ORIGIN by
+#   `patchelf --set-rpath` so that they find each other and the NVIDIA driver keeps the
+#   system's libraries), and shared/ with scenes/CesiumMan.glb
+#   and envmaps/courtyard.exr.
+# Measures: the devices; storage against texel buffers on the GPU (1080p, depth 8); bench
+# kernel; bench balance in real mode on the GPU beside lavapipe (Brigade's hybrid case); a
+# still on the GPU alone and on both. Writes gpu.log and balance.csv/png to $OUT.
 set -u
 for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-P=$PWD/.devbin/platoon
+mkdir -p /tmp/lvp && tar -C /tmp/lvp -xJf .devbin/lvp.tar.xz
+xz -dc .devbin/platoon.xz >/tmp/platoon && chmod +x /tmp/platoon
+P=/tmp/platoon
 export PLATOON_SHARED_DIR=$PWD/.devbin/shared
-log=$OUT/gpu.log
-exec > >(tee $log) 2>&1
-echo "== devices"
-if ! $P devices 2>&1 | grep -qi nvidia; then
-  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-  export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
-fi
+exec > >(tee $OUT/gpu.log) 2>&1
+NV=$(ls /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json /usr/share/vulkan/icd.d/nvidia_icd.json \
+  /etc/vulkan/icd.d/nvidia_icd.json 2>/dev/null | head -1)
+printf '{"file_format_version":"1.0.0","ICD":{"api_version":"1.1.230","library_path":"%s"}}\n' \
+  /tmp/lvp/lib/libvulkan_lvp.so >/tmp/lvp/lvp_icd.json
+export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+export VK_DRIVER_FILES=$NV:/tmp/lvp/lvp_icd.json
+echo "== devices (ICD $NV)"
 if ! $P devices; then
-  VK_LOADER_DEBUG=error,driver $P devices 2>&1 | tail -20
-  ldd /usr/local/nvidia/lib64/libGLX_nvidia.so.0 | grep -i 'not found'
+  VK_LOADER_DEBUG=error,driver $P devices 2>&1 | tail -30
   exit 1
 fi
+G=$($P devices | grep -v llvmpipe | grep -m1 -o '^[0-9]\+')
+L=$($P devices | grep llvmpipe | grep -m1 -o '^[0-9]\+')
+echo "GPU $G, lavapipe $L"
 nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm --format=csv
 nproc
-echo "== built-in box 1920x1080 256 spp"
-for k in mega spt; do timeout 60 $P render --width 1920 --height 1080 --spp 256 --kernel $k --out /tmp/box_$k.png; done
-cp /tmp/box_mega.png $OUT/cornell1080.png
-echo "== scenes"
-mkdir -p /tmp/bf
-timeout 90 $P bench scenes --scenes all --depths 1 --spp 1 --size 16 --repeat 1 --keep /tmp/bf > /dev/null 2>&1
-ls /tmp/bf/*.glb
-for s in cornell-48 spheres field room atrium; do
-  env=""; [ $s = atrium ] && env="--env-color 0.5,0.6,0.8"; [ $s = spheres ] && env="--env-color 0.25,0.3,0.4"
-  for d in 1 8; do for k in mega spt; do
-    [ $d = 1 ] && [ $k = spt ] && continue
-    echo "-- $s depth $d $k"
-    for r in 1 2; do timeout 60 $P render /tmp/bf/$s.glb $env --width 1920 --height 1080 --spp 64 --max-depth $d --kernel $k --out /tmp/$s.exr 2>&1 | grep -E 'samples/s|error|warning'; done
-  done; done
+r() { timeout 60 $P render "$@" 2>&1 | grep -E 'samples/s|rays/s|error|Error|warning'; }
+echo "== built-in box 1920x1080 256 spp, depth 8, GPU: storage vs texel buffers"
+for m in storage-buffers texel-buffers storage-buffers texel-buffers; do
+  echo "-- $m"; r --devices $G --width 1920 --height 1080 --spp 256 --memory $m --out /tmp/box.png
 done
-echo "== bench kernel"
-timeout 100 $P bench kernel --repeat 3 --shared .devbin/shared
-echo "== bench scenes (platoon alone, whole processes)"
-timeout 100 $P bench scenes --scenes all --depths 1,8 --spp 256 --size 512 --repeat 3 --mitsuba /nonexistent
+echo "== bench scenes at 1080p, depth 8, 64 spp, GPU"
+mkdir -p /tmp/bf
+timeout 120 $P bench scenes --scenes all --depths 1 --spp 1 --size 16 --repeat 1 --keep /tmp/bf \
+  --mitsuba /nonexistent >/dev/null 2>&1
+ls /tmp/bf/*.glb
+for s in cornell-48 field room atrium; do
+  env=""; [ $s = atrium ] && env="--env-color 0.5,0.6,0.8"
+  for m in storage-buffers texel-buffers storage-buffers texel-buffers; do
+    echo "-- $s $m"
+    r /tmp/bf/$s.glb $env --devices $G --width 1920 --height 1080 --spp 64 --max-depth 8 \
+      --memory $m --out /tmp/$s.exr
+  done
+done
+echo "== a still on the GPU alone, then GPU + lavapipe (room, 1080p, 256 spp)"
+for d in $G "$G,$L"; do
+  echo "-- devices $d"
+  /usr/bin/time -f "wall %e s" timeout 120 $P render /tmp/bf/room.glb --devices $d --width 1920 \
+    --height 1080 --spp 256 --out /tmp/room_$d.png 2>&1 | grep -E 'samples/s|rays/s|device|wall|rror'
+done
+echo "== bench kernel (GPU)"
+timeout 120 $P bench kernel --repeat 3 --device $G --shared .devbin/shared
+echo "== bench balance, real mode: GPU + lavapipe, GPU + two lavapipes"
+timeout 240 $P bench balance --mode real --devices2 $G,$L --devices3 $G,$L,$L --width 960 \
+  --height 540 --spp 2 --frames 64 --out $OUT
 echo "== done"
