@@ -71,7 +71,7 @@ pub fn tracer_reading(scene: &platoon::core::flatten::GpuScene, memory: MemoryPa
 /// must give the same bits: so every closed-form, estimator and feature test holds both kernels.
 pub fn render_with(tracer: &mut Tracer, params: &FrameParams) -> Film {
     let film = render_once(tracer, params);
-    let path_traced = params.method == platoon::core::Method::PathTracing
+    let path_traced = params.method.is_path_tracing()
         && params.output == platoon::core::frame::Output::Radiance
         && params.time_limit.is_none();
     if path_traced && params.kernel == PathKernel::Auto {

@@ -259,7 +259,7 @@ fn an_asynchronous_update_without_its_own_tracers_is_refused() {
         create_tracers(&"lavapipe:1".parse().unwrap(), &first, true, Sampling::Mis).unwrap();
     let mut options = DriverOptions::new(16, 16);
     options.method =
-        platoon::core::Method::Links(platoon::core::method::links::Links::new(Default::default()));
+        platoon::core::Method::new(platoon::core::method::links::Links::new(Default::default()));
     options.gi_update = platoon::core::drive::GiUpdate::Asynchronous;
     let e = FrameDriver::new(pipeline, &first, tracers, by_name("none").unwrap(), options)
         .err()
@@ -434,7 +434,7 @@ impl platoon::distributed::Session for ThreadRanks {
 /// moving every frame (commits and the film's sums sent to the ranks).
 #[test]
 fn the_game_loop_over_ranks_is_the_one_process_loop_bit_for_bit() {
-    game_over_ranks_and_alone(platoon::core::Method::PathTracing);
+    game_over_ranks_and_alone(platoon::core::Method::path_tracing());
 }
 
 /// A method from outside platoon's crates, registered at run time, goes over the ranks as the

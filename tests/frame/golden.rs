@@ -210,7 +210,7 @@ fn the_conference_room_by_igi_keeps_its_bits_with_every_option() {
     let mut renders = Vec::new();
     for (name, o) in options {
         let mut params = FrameParams::new(24, 16, 2, room.camera);
-        params.method = Method::Igi(o);
+        params.method = Method::new(o);
         renders.extend(one_and_three(&format!("room igi {name}"), &room, &params));
     }
     check(IGI, renders);

@@ -41,7 +41,7 @@ fn igi_indirect_light_converges_to_the_path_tracers_as_the_vpls_grow_in_number()
     params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
     let mut errors = Vec::new();
     for vpls in [12, 48, 192, 768] {
-        params.method = Method::Igi(IgiOptions::with_vpls(vpls));
+        params.method = Method::new(IgiOptions::with_vpls(vpls));
         let indirect = minus(&render_with(&mut tracer, &params), &direct);
         errors.push((vpls, rmse(&indirect, &reference), mean(&indirect)));
     }
@@ -101,7 +101,7 @@ fn each_igi_option_changes_the_kernel_only_when_enabled() {
     assert!(path.iter().all(|d| !d.contains("IGI")), "{path:?}");
     let with = |o: IgiOptions| {
         let mut p = params.clone();
-        p.method = Method::Igi(o);
+        p.method = Method::new(o);
         let d = tracer.kernel_defines(&p);
         let mut added: Vec<&str> = d.into_iter().filter(|d| !path.contains(d)).collect();
         added.sort();
@@ -153,7 +153,7 @@ fn each_igi_option_changes_the_kernel_only_when_enabled() {
         want.sort();
         assert_eq!(with(o), want, "{o:?}");
     }
-    params.method = Method::PathTracing;
+    params.method = Method::path_tracing();
     assert_eq!(tracer.kernel_defines(&params), path);
 }
 
@@ -166,7 +166,7 @@ fn igi_frames_are_bit_identical_for_one_and_three_tracers_with_every_option() {
     let mut one = tracer(&prepared, Sampling::Mis);
     for o in every_option() {
         let mut params = FrameParams::new(24, 20, 2, prepared.camera);
-        params.method = Method::Igi(o);
+        params.method = Method::new(o);
         let reference = render_with(&mut one, &params);
         assert!(mean(&reference) > 0.0, "{o:?}: black");
         let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
@@ -188,7 +188,7 @@ fn the_vpls_change_with_the_frame_and_the_seed_and_not_otherwise() {
     let prepared = cornell();
     let mut tracer = tracer(&prepared, Sampling::Mis);
     let mut params = FrameParams::new(16, 16, 1, prepared.camera);
-    params.method = Method::Igi(IgiOptions::with_vpls(12));
+    params.method = Method::new(IgiOptions::with_vpls(12));
     let a = render_with(&mut tracer, &params);
     assert!(render_with(&mut tracer, &params) == a);
     params.frame = 1;
@@ -294,10 +294,10 @@ fn every_light_kind_gives_the_path_tracers_indirect_light() {
         for frame in 0..frames {
             params.frame = frame;
             params.max_depth = 2;
-            params.method = Method::PathTracing;
+            params.method = Method::path_tracing();
             let direct = render_with(&mut tracer, &params);
             params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
-            params.method = Method::Igi(IgiOptions {
+            params.method = Method::new(IgiOptions {
                 paths: 4096,
                 bounces,
                 ..Default::default()
@@ -344,7 +344,7 @@ fn a_still_view_in_the_frame_driver_averages_over_vpl_sets() {
             create_tracers(&"lavapipe:1".parse().unwrap(), &first, true, Sampling::Mis).unwrap();
         let mut options = DriverOptions::new(16, 16);
         options.spp = s;
-        options.method = Method::Igi(igi);
+        options.method = Method::new(igi);
         let cost_aware = by_name("cost-aware").unwrap();
         let mut d = FrameDriver::new(pipeline, &first, tracers, cost_aware, options).unwrap();
         for _ in 0..k {
@@ -356,7 +356,7 @@ fn a_still_view_in_the_frame_driver_averages_over_vpl_sets() {
         // The same frames on one tracer, each continuing the last one's sums.
         let mut renderer = Renderer::new(offline, by_name("none").unwrap());
         let mut params = FrameParams::new(16, 16, s, camera);
-        params.method = Method::Igi(igi);
+        params.method = Method::new(igi);
         for i in 0..k {
             params.first_sample = i * s;
             let sums = renderer.render_frame(&params).unwrap().sums;

@@ -46,7 +46,7 @@ fn device_lists(
 ) -> (Vec<(String, String)>, Lists, Lhb) {
     let lhb = Lhb::prepared(o, g);
     let mut params = FrameParams::new(8, 8, 1, prepared.camera);
-    params.method = Method::Lhb(lhb.clone());
+    params.method = Method::new(lhb.clone());
     let band = tracer
         .render_span(&params, Span::lines(8, 0, 8), &mut |_| {})
         .expect("render");
@@ -230,7 +230,7 @@ fn lhb_indirect_light_converges_to_the_path_tracers_with_directions_and_resoluti
             variant: RasterVariant::Exact,
             ..options(set, r)
         };
-        params.method = Method::Lhb(Lhb::prepared(o, &prepared.gpu));
+        params.method = Method::new(Lhb::prepared(o, &prepared.gpu));
         params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
         let lit = render_with(&mut tracer, &params);
         // The same paths cut after the first vertex's direct light: the same random numbers,
@@ -273,7 +273,7 @@ fn lhb_frames_are_bit_identical_for_one_and_three_tracers() {
             ..options("ico80", 32)
         };
         let mut params = FrameParams::new(24, 20, 2, prepared.camera);
-        params.method = Method::Lhb(Lhb::prepared(o, &prepared.gpu));
+        params.method = Method::new(Lhb::prepared(o, &prepared.gpu));
         let reference = render_with(&mut one, &params);
         assert!(mean(&reference) > 0.0, "{o:?}: black");
         assert!(
@@ -325,7 +325,7 @@ fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
             assert_eq!(p.frame, tables.frame, "the frame moved");
         }
         let mut params = FrameParams::new(16, 16, 2, camera);
-        params.method = Method::Lhb(lhb.clone());
+        params.method = Method::new(lhb.clone());
         let band = kept
             .render_span(&params, Span::lines(16, 0, 16), &mut |_| {})
             .unwrap();
@@ -333,7 +333,7 @@ fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
         println!("step {step}: {built}");
         assert_eq!(report_line_lost(&band.method_report), 0);
         let image = render_with(&mut kept, &params);
-        params.method = Method::Lhb(Lhb {
+        params.method = Method::new(Lhb {
             options: LhbOptions { rebuild: true, ..o },
             ..lhb
         });
@@ -364,7 +364,7 @@ fn the_game_loop_prepares_each_generation_of_a_walk() {
     let spec: DeviceSpec = "lavapipe:1,1".parse().unwrap();
     let tracers = create_tracers(&spec, &first, true, Sampling::Mis).unwrap();
     let mut options = DriverOptions::new(16, 16);
-    options.method = Method::Lhb(Lhb::new(options_for_the_loop()));
+    options.method = Method::new(Lhb::new(options_for_the_loop()));
     options.gi_update = GiUpdate::Synchronous;
     let mut d = FrameDriver::with_update_tracers(
         pipeline,
@@ -396,7 +396,15 @@ fn the_game_loop_prepares_each_generation_of_a_walk() {
     assert!(gis.iter().all(|g| g.age == 0));
     let frames: Vec<_> = gis
         .iter()
-        .map(|g| g.method.lhb().unwrap().tables.clone().unwrap().frame)
+        .map(|g| {
+            g.method
+                .state::<Lhb>()
+                .unwrap()
+                .tables
+                .clone()
+                .unwrap()
+                .frame
+        })
         .collect();
     assert!(frames.iter().all(|f| *f == frames[0]), "the frame moved");
     for s in &stats {
@@ -453,7 +461,7 @@ fn the_devices_lookups_answer_as_the_cpus() {
         let tables = Lhb::prepared(o, g).tables.unwrap().with_queries(&queries);
         let eps = 1e-5 * tables.frame.radius;
         let mut params = FrameParams::new(64, 64, 1, prepared.camera);
-        params.method = Method::Lhb(Lhb {
+        params.method = Method::new(Lhb {
             options: o,
             tables: Some(std::sync::Arc::new(tables)),
             previous: None,

@@ -28,7 +28,7 @@ use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::tracer::{Sampling, Tracer};
 
 fn links(options: LinksOptions) -> Method {
-    Method::Links(Links::new(options))
+    Method::new(Links::new(options))
 }
 
 /// `params` solved on `tracer` (the facade's update), asserting the devices said nothing.
@@ -45,14 +45,14 @@ fn solved_in(tracer: &mut Tracer, g: &GpuScene, params: &FrameParams) -> FramePa
 
 /// Vertex links with `options` to be solved from `previous` (relit or revalidated).
 fn links_after(options: LinksOptions, previous: Option<Arc<Solution>>) -> Method {
-    Method::Links(Links {
+    Method::new(Links {
         previous,
         ..Links::new(options)
     })
 }
 
 fn solution(params: &FrameParams) -> &Arc<Solution> {
-    match params.method.links().and_then(|l| l.job.as_ref()) {
+    match params.method.state::<Links>().and_then(|l| l.job.as_ref()) {
         Some(Job::Render(s)) => s,
         _ => panic!("not a solved links frame"),
     }
@@ -578,7 +578,7 @@ fn walk_options() -> LinksOptions {
 /// The solution a frame was lit by.
 fn lit_by(s: &FrameStats) -> Arc<Solution> {
     let gi = s.gi.as_ref().expect("a links frame reports its lighting");
-    match gi.method.links().and_then(|l| l.job.as_ref()) {
+    match gi.method.state::<Links>().and_then(|l| l.job.as_ref()) {
         Some(Job::Render(s)) => s.clone(),
         _ => panic!("a frame lit by no solution"),
     }

@@ -76,7 +76,7 @@ fn it_renders_through_the_front_door_with_its_own_pass() {
         method,
         ..Default::default()
     };
-    let colour = small(platoon::core::Method::PathTracing)
+    let colour = small(platoon::core::Method::path_tracing())
         .render(&mut |_| {})
         .unwrap();
     let grey = small(toy::grey(1.0, false)).render(&mut |_| {}).unwrap();

@@ -104,7 +104,7 @@ impl Tracer {
                     "converged pixels need the accumulated sums, one flag per pixel".into(),
                 ));
             }
-            if params.method != platoon_core::Method::PathTracing {
+            if !params.method.is_path_tracing() {
                 return Err(crate::Error::Invalid(
                     "adaptive sampling (converged pixels) is the path tracer's".into(),
                 ));

@@ -214,7 +214,7 @@ mod tests {
         p.clamp_indirect = Some(1.5);
         p.deterministic_termination = true;
         p.single_diffuse_bounce = true;
-        p.method = platoon_core::Method::Igi(platoon_core::method::igi::IgiOptions {
+        p.method = platoon_core::Method::new(platoon_core::method::igi::IgiOptions {
             min_distance: 0.1,
             imperfect_visibility: true,
             downsample: 4,

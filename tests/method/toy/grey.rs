@@ -5,7 +5,7 @@
 //! frame's method, its sweep) and its unit (`Grey`: what the core asks of a method). Its device
 //! side is the path kernel's, which a method registered at run time gets.
 
-use std::sync::{Arc, Once};
+use std::sync::Once;
 
 use platoon::core::flatten::features::KernelOption;
 use platoon::core::frame::{Band, FrameParams};
@@ -13,11 +13,10 @@ use platoon::core::method::kind::MethodKind;
 use platoon::core::method::registry;
 use platoon::core::method::render_method::RenderMethod;
 use platoon::core::method::settings::{Setting, Settings, Value, ValueKind};
-use platoon::core::method::External;
 use platoon::core::Method;
 
 /// The frame's state of the method.
-#[derive(Debug)]
+#[derive(Debug, PartialEq)]
 pub struct Grey {
     pub strength: f32,
     /// Paths end at their second diffuse vertex: a kernel option of the method, a define of
@@ -99,17 +98,13 @@ impl MethodKind for GreyKind {
             return Err(format!("grey strength must be in 0..=1, not {strength}"));
         }
         let one_bounce = given.switch("one_bounce").unwrap_or(false);
-        Ok(Method::External(External {
-            name: "grey",
-            summary: format!("strength {strength}, one bounce {one_bounce}"),
-            state: Arc::new(Grey {
-                strength,
-                one_bounce,
-            }),
+        Ok(Method::new(Grey {
+            strength,
+            one_bounce,
         }))
     }
     fn settings_of(&self, method: &Method) -> Settings {
-        let g = self.unit_of(method).expect("a grey method");
+        let g = method.state::<Grey>().expect("a grey method");
         Settings(vec![
             ("strength", Value::Number(g.strength)),
             ("one_bounce", Value::Switch(g.one_bounce)),
@@ -120,18 +115,6 @@ impl MethodKind for GreyKind {
     }
     fn sweep(&self) -> &'static [&'static str] {
         &["mis", "grey=1", "grey=0.5", "grey=1+onebounce"]
-    }
-    fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod> {
-        self.unit_of(method).map(|g| g as &dyn RenderMethod)
-    }
-}
-
-impl GreyKind {
-    fn unit_of<'a>(&self, method: &'a Method) -> Option<&'a Grey> {
-        match method {
-            Method::External(e) => e.state::<Grey>(),
-            _ => None,
-        }
     }
 }
 

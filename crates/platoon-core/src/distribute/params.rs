@@ -208,7 +208,7 @@ mod tests {
         p.ris_mis = true;
         p.cut_last_paths = true;
         // Every IGI option away from its default: each must travel.
-        p.method = Method::Igi(IgiOptions {
+        p.method = Method::new(IgiOptions {
             paths: 7,
             bounces: 2,
             min_distance: 0.25,
@@ -257,7 +257,7 @@ mod tests {
             1,
             Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
         );
-        p.method = Method::Lhb(crate::method::lhb::Lhb::new(Default::default()));
+        p.method = Method::new(crate::method::lhb::Lhb::new(Default::default()));
         let e = put_params(&mut Writer::default(), &p, Span::new(0, 9)).unwrap_err();
         assert!(e.contains("--method path or igi"), "{e}");
     }

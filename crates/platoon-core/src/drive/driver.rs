@@ -91,7 +91,7 @@ impl DriverOptions {
             max_depth: DEFAULT_MAX_DEPTH,
             rr_depth: 3,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
-            method: crate::method::Method::PathTracing,
+            method: crate::method::Method::path_tracing(),
             queries: false,
             gi_update: GiUpdate::default(),
             denoise: Denoiser::None,

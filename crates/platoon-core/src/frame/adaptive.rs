@@ -48,7 +48,7 @@ impl Adaptive {
             return Err("adaptive sampling needs at least 2 samples per pixel".into());
         }
         // Converged pixels skip their samples in the path tracer's kernel alone.
-        if *method != crate::method::Method::PathTracing {
+        if !method.is_path_tracing() {
             return Err("adaptive sampling is the path tracer's (method path)".into());
         }
         Ok(())

@@ -10,7 +10,7 @@ use crate::method::Method;
 pub fn aov_pass_params(params: &FrameParams, pass: AovPass, spp: u32) -> FrameParams {
     let mut p = params.clone();
     p.output = Output::Aov(pass);
-    p.method = Method::PathTracing;
+    p.method = Method::path_tracing();
     p.spp = spp;
     p.rr_survival = 1.0;
     p.film = FilmState::default();

@@ -167,7 +167,7 @@ impl FrameParams {
             cut_last_paths: false,
             ris_candidates: None,
             ris_mis: false,
-            method: crate::method::Method::PathTracing,
+            method: crate::method::Method::path_tracing(),
             kernel: Default::default(),
             seed: 0,
             frame: 0,

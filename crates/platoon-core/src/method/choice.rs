@@ -1,79 +1,101 @@
-//! Which method renders a frame, with its options: plain data that `FrameParams` carries, naming
-//! each method's options and prepared state but none of their code (`registry` registers that).
+//! Which method renders a frame, with its options: the state `FrameParams` carries. It names no
+//! method: each unit makes its own (`Method::new` of its options) and reads them back
+//! (`Method::state`); `registry` lists the methods.
 
 use std::any::Any;
-use std::sync::Arc;
+use std::fmt;
+use std::sync::{Arc, LazyLock};
 
-use super::igi::IgiOptions;
-use super::lhb::Lhb;
-use super::links::Links;
+use super::path::PathTracing;
+use super::render_method::RenderMethod;
 
-/// How a frame is rendered: a method and its options.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum Method {
-    /// Path tracing (`path`): unbiased.
-    #[default]
-    PathTracing,
-    /// Instant global illumination (`igi`; biased, listed as an approximation).
-    Igi(IgiOptions),
-    /// Vertex links (`links`; biased, listed as approximations).
-    Links(Links),
-    /// Layered hit buffers (`lhb`; biased, listed as approximations).
-    Lhb(Lhb),
-    /// A method registered at run time (`registry::register`), from outside this crate.
-    External(External),
+/// A method's state in a frame: its options and what its preparation made, which renders
+/// (`RenderMethod`) and tells two frames' methods apart (`PartialEq`).
+pub trait MethodState: RenderMethod + Any + Send + Sync + fmt::Debug {
+    fn as_any(&self) -> &dyn Any;
+    /// Whether `other` is the same method with equal state.
+    fn same(&self, other: &dyn MethodState) -> bool;
 }
 
-/// A method registered at run time: its name, its state (a type of its kind's own, which
-/// `MethodKind::unit` reads back) and a summary of its settings, which tells two apart.
+impl<T: RenderMethod + Any + Send + Sync + fmt::Debug + PartialEq> MethodState for T {
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn same(&self, other: &dyn MethodState) -> bool {
+        other.as_any().downcast_ref::<T>() == Some(self)
+    }
+}
+
+/// How a frame is rendered: a method and its options. Cloning shares the state.
 #[derive(Clone)]
-pub struct External {
-    pub name: &'static str,
-    pub summary: String,
-    pub state: Arc<dyn Any + Send + Sync>,
-}
+pub struct Method(Arc<dyn MethodState>);
 
-impl External {
-    /// The state as its kind's type.
-    pub fn state<T: Any>(&self) -> Option<&T> {
-        self.state.downcast_ref()
-    }
-}
-
-impl PartialEq for External {
-    fn eq(&self, other: &External) -> bool {
-        self.name == other.name && self.summary == other.summary
-    }
-}
-
-impl std::fmt::Debug for External {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}({})", self.name, self.summary)
-    }
-}
+static PATH_TRACING: LazyLock<Method> = LazyLock::new(|| Method::new(PathTracing));
 
 impl Method {
-    /// IGI's options when the method is IGI.
-    pub fn igi(&self) -> Option<&IgiOptions> {
-        match self {
-            Method::Igi(o) => Some(o),
-            _ => None,
-        }
+    /// The method whose state is `state` (a unit's options: `IgiOptions`, `Links`...).
+    pub fn new<T: MethodState>(state: T) -> Method {
+        Method(Arc::new(state))
     }
 
-    /// Vertex links' options and job when the method is vertex links.
-    pub fn links(&self) -> Option<&Links> {
-        match self {
-            Method::Links(l) => Some(l),
-            _ => None,
-        }
+    /// Path tracing, the default and the reference.
+    pub fn path_tracing() -> Method {
+        PATH_TRACING.clone()
     }
 
-    /// Layered hit buffers' options and tables when the method is layered hit buffers.
-    pub fn lhb(&self) -> Option<&Lhb> {
-        match self {
-            Method::Lhb(l) => Some(l),
-            _ => None,
-        }
+    /// Whether this is plain path tracing.
+    pub fn is_path_tracing(&self) -> bool {
+        self.state::<PathTracing>().is_some()
+    }
+
+    /// The state as its unit's type, when the method is that unit's.
+    pub fn state<T: Any>(&self) -> Option<&T> {
+        self.0.as_any().downcast_ref()
+    }
+
+    /// The method's unit: what renders it.
+    pub fn unit(&self) -> &dyn RenderMethod {
+        &*self.0
+    }
+}
+
+impl Default for Method {
+    fn default() -> Method {
+        Method::path_tracing()
+    }
+}
+
+impl PartialEq for Method {
+    fn eq(&self, other: &Method) -> bool {
+        self.0.same(&*other.0)
+    }
+}
+
+impl fmt::Debug for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}({:?})", self.0.name(), self.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::igi::IgiOptions;
+
+    #[test]
+    fn methods_are_equal_when_their_units_and_states_are() {
+        let igi = |vpls| Method::new(IgiOptions::with_vpls(vpls));
+        assert_eq!(igi(30), igi(30));
+        assert_ne!(igi(30), igi(31));
+        assert_ne!(igi(30), Method::path_tracing());
+        assert_ne!(Method::path_tracing(), igi(30));
+        assert_eq!(Method::default(), Method::path_tracing());
+        assert!(Method::default().is_path_tracing() && !igi(30).is_path_tracing());
+        assert_eq!(
+            igi(30).state::<IgiOptions>(),
+            Some(&IgiOptions::with_vpls(30))
+        );
+        assert!(igi(30).state::<PathTracing>().is_none());
+        assert_eq!(igi(30).unit().name(), "igi");
     }
 }

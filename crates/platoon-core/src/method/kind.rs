@@ -2,7 +2,6 @@
 //! make the frame's `Method`, and what it asks of the layers above (whether it travels between
 //! ranks, the sweep it is compared in). One entry of `registry::KINDS` per method.
 
-use super::render_method::RenderMethod;
 use super::settings::{Setting, Settings};
 use super::Method;
 
@@ -37,12 +36,6 @@ pub trait MethodKind: Sync {
     /// Whether its frames can be sent to another rank, and if not why.
     fn travels(&self) -> Result<(), String> {
         Ok(())
-    }
-    /// What renders `method` (a `Method::External` of this kind): its state as the core's
-    /// unit. Only methods registered at run time have one; the built-in ones are
-    /// `Method::unit`'s arms.
-    fn unit<'a>(&self, _method: &'a Method) -> Option<&'a dyn RenderMethod> {
-        None
     }
 }
 

@@ -1,7 +1,7 @@
 //! Rendering methods. Each is one unit: a module here (its options, their validation, the
 //! approximations it lists in the output's metadata, its pass after assembly), a module of the
 //! tracer (its kernels and buffers on one device, `platoon-tracer/src/method/`), a shader folder
-//! and one line in each registry (`Method::unit` in `registry` here, the tracer's
+//! and one entry in each layer's registration (`registry::KINDS` here, the tracer's
 //! `method::passes_of`). docs/ARCHITECTURE.md, "Adding a rendering method", lists the files.
 //!
 //! - [`path`]: unidirectional path tracing, the default and the reference;
@@ -23,4 +23,4 @@ pub mod settings;
 pub mod technique;
 pub mod variant;
 
-pub use choice::{External, Method};
+pub use choice::{Method, MethodState};

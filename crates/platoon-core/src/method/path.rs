@@ -8,7 +8,8 @@ use crate::flatten::features::KernelOption;
 use crate::frame::FrameParams;
 use crate::method::render_method::RenderMethod;
 
-/// The path tracer (`Method::PathTracing`).
+/// The path tracer (`Method::path_tracing()`).
+#[derive(Debug, PartialEq)]
 pub struct PathTracing;
 
 impl RenderMethod for PathTracing {
@@ -54,7 +55,7 @@ impl crate::method::kind::MethodKind for PathKind {
         &self,
         _given: &crate::method::settings::Settings,
     ) -> Result<crate::method::Method, String> {
-        Ok(crate::method::Method::PathTracing)
+        Ok(crate::method::Method::path_tracing())
     }
     fn settings_of(&self, _method: &crate::method::Method) -> crate::method::settings::Settings {
         Default::default()

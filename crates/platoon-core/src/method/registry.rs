@@ -1,8 +1,8 @@
-//! The registration of every method: how it is chosen (`KINDS`, its settings and sweep) and
-//! what renders it (`Method::unit`). A new method of this crate adds its variant to `Method`, its
-//! entry here and its arm of `Method::unit`; a method from outside registers its kind at run time
-//! (`register`), its frames a `Method::External` and its device side the path kernel's (with
-//! its kernel options as defines) and its pass after assembly.
+//! The registration of every method: how it is chosen (`KINDS`: its name, settings and sweep;
+//! its frames carry its state as a `Method`, which renders it). A new method of this crate is
+//! one entry here (and one in the tracer's `method::passes_of` for its kernels); a method from
+//! outside registers its kind at run time (`register`), and its device side is the path
+//! kernel's (with its kernel options as defines) and its pass after assembly.
 
 use std::sync::RwLock;
 
@@ -10,8 +10,7 @@ use crate::method::igi::IgiKind;
 use crate::method::kind::MethodKind;
 use crate::method::lhb::LhbKind;
 use crate::method::links::LinksKind;
-use crate::method::path::{PathKind, PathTracing};
-use crate::method::render_method::RenderMethod;
+use crate::method::path::PathKind;
 use crate::method::Method;
 
 /// Every method, the default first.
@@ -60,19 +59,6 @@ pub fn names() -> String {
 }
 
 impl Method {
-    /// The method's unit: what renders it.
-    pub fn unit(&self) -> &dyn RenderMethod {
-        match self {
-            Method::PathTracing => &PathTracing,
-            Method::Igi(options) => options,
-            Method::Links(links) => links,
-            Method::Lhb(lhb) => lhb,
-            Method::External(e) => kind(e.name)
-                .and_then(|k| k.unit(self))
-                .expect("an external method's kind is registered and reads its state"),
-        }
-    }
-
     /// How it is chosen: its settings and what it asks of the layers above.
     pub fn kind(&self) -> &'static dyn MethodKind {
         kind(self.unit().name()).expect("every method is registered in KINDS")

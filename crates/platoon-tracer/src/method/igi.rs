@@ -45,7 +45,7 @@ pub(crate) struct IgiPasses {
 fn options(params: &FrameParams) -> IgiOptions {
     *params
         .method
-        .igi()
+        .state::<IgiOptions>()
         .expect("IGI's passes render IGI's frames")
 }
 

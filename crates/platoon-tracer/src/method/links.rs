@@ -41,7 +41,7 @@ pub(crate) struct LinksPasses {
 fn links(params: &FrameParams) -> &Links {
     params
         .method
-        .links()
+        .state::<Links>()
         .expect("vertex links' passes render vertex links' frames")
 }
 

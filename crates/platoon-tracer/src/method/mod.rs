@@ -17,15 +17,16 @@ use platoon_core::method::Method;
 
 pub(crate) use passes::{ensure, MethodPasses, Recorder};
 
-/// The device side of `method`: the registration of every method.
+/// The device side of `method`: the registration of every method's kernels, by the name its
+/// unit gives (`RenderMethod::name`).
 pub(crate) fn passes_of(method: &Method) -> Box<dyn MethodPasses> {
-    match method {
-        Method::PathTracing => Box::<path::PathPasses>::default(),
-        Method::Igi(_) => Box::<igi::IgiPasses>::default(),
-        Method::Links(_) => Box::<links::LinksPasses>::default(),
-        Method::Lhb(_) => Box::<lhb::LhbPasses>::default(),
-        // A method registered at run time renders with the path kernel (its kernel options
-        // as defines) and does its own work after assembly (`RenderMethod::finish`).
-        Method::External(_) => Box::<path::PathPasses>::default(),
+    match method.unit().name() {
+        "igi" => Box::<igi::IgiPasses>::default(),
+        "links" => Box::<links::LinksPasses>::default(),
+        "lhb" => Box::<lhb::LhbPasses>::default(),
+        // The path tracer, and a method registered at run time: it renders with the path
+        // kernel (its kernel options as defines) and does its own work after assembly
+        // (`RenderMethod::finish`).
+        _ => Box::<path::PathPasses>::default(),
     }
 }

@@ -124,7 +124,7 @@ impl Default for Request {
             time_limit: None,
             max_depth: None,
             seed: 0,
-            method: Method::PathTracing,
+            method: Method::path_tracing(),
             kernel: PathKernel::Auto,
             sampling: Sampling::Mis,
             devices: DeviceSpec::Auto,

@@ -92,10 +92,10 @@ impl MethodKind for IgiKind {
             o.min_distance = d;
         }
         o.validate()?;
-        Ok(Method::Igi(o))
+        Ok(Method::new(o))
     }
     fn settings_of(&self, method: &Method) -> Settings {
-        let o = method.igi().expect("an IGI method");
+        let o = method.state::<IgiOptions>().expect("an IGI method");
         Settings(vec![
             ("vpls", Value::Count(o.slots())),
             ("bounces", Value::Count(o.bounces)),

@@ -100,10 +100,13 @@ impl MethodKind for LhbKind {
             o.rebuild = on;
         }
         o.validate()?;
-        Ok(Method::Lhb(Lhb::new(o)))
+        Ok(Method::new(Lhb::new(o)))
     }
     fn settings_of(&self, method: &Method) -> Settings {
-        let o = &method.lhb().expect("a layered hit buffers method").options;
+        let o = &method
+            .state::<Lhb>()
+            .expect("a layered hit buffers method")
+            .options;
         Settings(vec![
             ("directions", Value::Word(o.directions.to_string())),
             ("resolution", Value::Count(o.resolution)),

@@ -73,7 +73,7 @@ impl RenderMethod for Lhb {
         if self.tables.is_some() {
             return Ok(None);
         }
-        Ok(Some(Method::Lhb(Lhb::prepared_after(
+        Ok(Some(Method::new(Lhb::prepared_after(
             self.options,
             g,
             self.previous.as_deref(),
@@ -86,7 +86,7 @@ impl RenderMethod for Lhb {
 
     /// A changed scene needs its own tables (its triangles), in this one's frame if it fits.
     fn renewal(&self) -> Option<Method> {
-        Some(Method::Lhb(Lhb {
+        Some(Method::new(Lhb {
             options: self.options,
             tables: None,
             previous: self.tables.clone().or_else(|| self.previous.clone()),

@@ -1,4 +1,4 @@
-//! Layered hit buffers as a frame carries them (`Method::Lhb`): the options and, once prepared,
+//! Layered hit buffers as a frame carries them (`Method::state::<Lhb>`): the options and, once prepared,
 //! the tables made from the scene.
 
 use std::sync::Arc;

@@ -88,10 +88,13 @@ impl MethodKind for LinksKind {
             o.fan_light = !at_vertex;
         }
         o.validate()?;
-        Ok(Method::Links(Links::new(o)))
+        Ok(Method::new(Links::new(o)))
     }
     fn settings_of(&self, method: &Method) -> Settings {
-        let o = &method.links().expect("a vertex links method").options;
+        let o = &method
+            .state::<Links>()
+            .expect("a vertex links method")
+            .options;
         Settings(vec![
             ("directions", Value::Count(o.directions)),
             ("bounces", Value::Count(o.bounces)),

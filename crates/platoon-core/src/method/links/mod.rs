@@ -124,7 +124,7 @@ impl RenderMethod for Links {
             return Ok(None);
         }
         let solution = solve::solve(g, &self.options, params, self.previous.as_deref(), run)?;
-        Ok(Some(Method::Links(Links {
+        Ok(Some(Method::new(Links {
             options: self.options,
             job: Some(Job::Render(Arc::new(solution))),
             previous: None,
@@ -141,7 +141,7 @@ impl RenderMethod for Links {
             Some(Job::Render(s)) => Some(s.clone()),
             _ => self.previous.clone(),
         };
-        Some(Method::Links(Links {
+        Some(Method::new(Links {
             options: self.options,
             job: None,
             previous,

@@ -66,7 +66,7 @@ pub fn solve(
     let n = elements.len();
     let mut device = |job: Job, width: u32, height: u32, spp: u32| {
         let mut p = params.clone();
-        p.method = Method::Links(Links {
+        p.method = Method::new(Links {
             options: *options,
             job: Some(job),
             previous: None,

@@ -75,7 +75,7 @@ pub fn measure(
     let path = tracer.render(&params, 0, size, &mut |_| {})?;
     let mut rows = Vec::new();
     for o in settings {
-        params.method = Method::Lhb(Lhb::prepared(*o, &prepared.gpu));
+        params.method = Method::new(Lhb::prepared(*o, &prepared.gpu));
         tracer.render(&params, 0, size, &mut |_| {})?;
         let band = tracer.render(&params, 0, size, &mut |_| {})?;
         let r = &band.method_report;
@@ -160,9 +160,9 @@ pub fn walk(
         let g = updater.flattened();
         let lhb = Lhb::prepared_after(options, g, previous.as_deref());
         previous = lhb.tables.clone();
-        params.method = Method::Lhb(lhb.clone());
+        params.method = Method::new(lhb.clone());
         let a = kept.render(&params, 0, size, &mut |_| {})?;
-        params.method = Method::Lhb(Lhb {
+        params.method = Method::new(Lhb {
             options: LhbOptions {
                 rebuild: true,
                 ..options
@@ -170,7 +170,7 @@ pub fn walk(
             ..lhb
         });
         let b = rebuilt.render(&params, 0, size, &mut |_| {})?;
-        params.method = Method::PathTracing;
+        params.method = Method::path_tracing();
         if step == 0 {
             path.render(&params, 0, size, &mut |_| {})?;
         }

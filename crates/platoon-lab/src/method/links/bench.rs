@@ -28,7 +28,7 @@ pub fn measure(s: &MethodScene, options: LinksOptions, size: u32, spp: u32) -> R
     let prepared = s.prepare()?;
     let mut tracer = Tracer::new(&TracerOptions::default(), &prepared.gpu)?;
     let mut params = FrameParams::new(size, size, spp, prepared.camera);
-    params.method = Method::Links(Links::new(options));
+    params.method = Method::new(Links::new(options));
     // Warm-up: every kernel compiled.
     let solved = platoon::method_update::on_tracer(&mut tracer, &prepared.gpu, &params)?;
     tracer.render(&solved, 0, size, &mut |_| {})?;
@@ -39,7 +39,7 @@ pub fn measure(s: &MethodScene, options: LinksOptions, size: u32, spp: u32) -> R
     let clock = Instant::now();
     tracer.render(&solved, 0, size, &mut |_| {})?;
     let frame = clock.elapsed();
-    let stats = match solved.method.links().and_then(|l| l.job.as_ref()) {
+    let stats = match solved.method.state::<Links>().and_then(|l| l.job.as_ref()) {
         Some(Job::Render(solution)) => solution.stats.clone(),
         _ => bail!("the update left no solution"),
     };

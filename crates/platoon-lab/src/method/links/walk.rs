@@ -50,14 +50,14 @@ pub fn walk(
     let params = FrameParams::new(16, 16, 1, camera);
     let solve = |tracer: &mut Tracer, g: &GpuScene, previous: Option<Arc<Solution>>| {
         let mut p = params.clone();
-        p.method = Method::Links(Links {
+        p.method = Method::new(Links {
             previous,
             ..Links::new(options)
         });
         let clock = Instant::now();
         let p = platoon::method_update::on_tracer(tracer, g, &p)?;
         let seconds = clock.elapsed().as_secs_f64();
-        match p.method.links().and_then(|l| l.job.as_ref()) {
+        match p.method.state::<Links>().and_then(|l| l.job.as_ref()) {
             Some(Job::Render(s)) => Ok((s.clone(), seconds)),
             _ => bail!("the update left no solution"),
         }
@@ -116,7 +116,7 @@ pub fn play(
     let (scene, node) = walk_in_a_room(character, cells)?;
     let camera = Camera::from_scene(&scene, &scene.pose(0.0), None).map_err(anyhow::Error::msg)?;
     let mut game = GameOptions::new(DriverOptions::new(size, size));
-    game.driver.method = Method::Links(Links::new(options));
+    game.driver.method = Method::new(Links::new(options));
     game.driver.gi_update = gi_update;
     let mut driver = start(scene, &game)?;
     let mut stats = Vec::new();

@@ -78,7 +78,7 @@ impl Default for LhbPasses {
 pub(super) fn lhb(params: &FrameParams) -> &Lhb {
     params
         .method
-        .lhb()
+        .state::<Lhb>()
         .expect("layered hit buffers' passes render their frames")
 }
 
