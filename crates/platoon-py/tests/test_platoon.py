@@ -190,3 +190,23 @@ def test_a_living_scenes_edits_reach_the_image():
                           plain)
     with pytest.raises(platoon.PlatoonError):
         game_image(lambda g: g.move(999, (0.0, 0.0, 0.0)))
+
+
+def test_a_living_scenes_frames_equal_the_rust_loops(tmp_path):
+    # crates/platoon/examples/scripted_game.rs runs this script through the facade's game loop
+    # (built by the suite beside the CLI) and writes its last frame's film.
+    example = cli().parent / "examples" / "scripted_game"
+    assert example.is_file(), f"the suite did not build {example}"
+    out = tmp_path / "last.f32"
+    subprocess.run([str(example), str(out)], check=True)
+    rust = np.fromfile(out, dtype="<f4").reshape(16, 24, 3)
+    g = platoon.Game(width=24, height=16, spp=2, devices="lavapipe:1,1")
+    prop = g.add_instance(0, (-0.3, 0.6, 0.0), scale=(0.3, 0.3, 0.3))
+    g.frame(CAMERA)
+    g.frame(CAMERA)
+    g.move(prop, (0.3, 0.6, 0.0), scale=(0.3, 0.3, 0.3))
+    g.frame(CAMERA)
+    g.frame(CAMERA)
+    last = g.finish()
+    assert last.frame == 3
+    assert np.array_equal(last.image, rust)
