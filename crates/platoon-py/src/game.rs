@@ -141,6 +141,8 @@ impl Game {
             for command in incoming {
                 match command {
                     Command::Frame(camera, reply) => {
+                        // A stop left by an interrupted render is not this frame's (`begin`).
+                        platoon::tracer::stop::clear();
                         let out = driver.frame(camera).map(|o| o.finished);
                         let _ = reply.send(out.map_err(anyhow::Error::new));
                     }

@@ -12,7 +12,8 @@ mod progressive;
 mod rendered;
 
 use std::path::PathBuf;
-use std::sync::{mpsc, Mutex, OnceLock};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc, Mutex, OnceLock};
 use std::time::Duration;
 
 use pyo3::create_exception;
@@ -57,11 +58,31 @@ fn render(
     Rendered::of(py, still)
 }
 
-/// A render asked of the worker, and where its result goes.
+/// A render asked of the worker, whether Ctrl-C withdrew it, and where its result goes.
 type Job = (
     platoon::Request,
+    Arc<AtomicBool>,
     mpsc::Sender<anyhow::Result<platoon::Still>>,
 );
+
+/// Whether a thread of this module should start a call's work: not when Ctrl-C withdrew the
+/// call before it began. A stop asked for earlier (`platoon::tracer::stop`, which every band
+/// reads) was an earlier call's, perhaps after that one had ended: it is withdrawn, so that
+/// only a Ctrl-C from now on stops this call.
+pub(crate) fn begin(withdrawn: &AtomicBool) -> bool {
+    if withdrawn.load(Ordering::SeqCst) {
+        return false;
+    }
+    platoon::tracer::stop::clear();
+    true
+}
+
+/// After Ctrl-C in a wait for `withdrawn`'s call: the call is withdrawn if it has not begun,
+/// and the devices stop after their current pass if it has.
+pub(crate) fn withdraw(withdrawn: &AtomicBool) {
+    withdrawn.store(true, Ordering::SeqCst);
+    platoon::tracer::stop::request();
+}
 
 /// The one thread that renders for this process: made once, so that renders do not each
 /// leave a thread's memory arena behind.
@@ -70,11 +91,10 @@ fn worker() -> &'static Mutex<mpsc::Sender<Job>> {
     WORKER.get_or_init(|| {
         let (jobs, incoming) = mpsc::channel::<Job>();
         std::thread::spawn(move || {
-            for (request, reply) in incoming {
-                let result = request.render(&mut |_| {});
-                // A render interrupted by Ctrl-C (`wait`) ended early; the next one runs whole.
-                platoon::tracer::stop::clear();
-                let _ = reply.send(result);
+            for (request, withdrawn, reply) in incoming {
+                if begin(&withdrawn) {
+                    let _ = reply.send(request.render(&mut |_| {}));
+                }
             }
         });
         Mutex::new(jobs)
@@ -84,16 +104,16 @@ fn worker() -> &'static Mutex<mpsc::Sender<Job>> {
 /// Renders on the worker thread with the GIL released, looking for Ctrl-C meanwhile.
 fn render_interruptibly(py: Python<'_>, request: platoon::Request) -> PyResult<platoon::Still> {
     let (done, result) = mpsc::channel();
+    let withdrawn = Arc::new(AtomicBool::new(false));
     worker()
         .lock()
         .map_err(|_| PlatoonError::new_err("the render thread failed earlier"))?
-        .send((request, done))
+        .send((request, withdrawn.clone(), done))
         .map_err(|_| PlatoonError::new_err("the render thread has ended"))?;
     match wait(py, result) {
         Err(e) if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => {
-            // The devices stop after their current pass, not after the render's samples
-            // (the worker withdraws the request once the render has ended).
-            platoon::tracer::stop::request();
+            // The devices stop after their current pass, not after the render's samples.
+            withdraw(&withdrawn);
             Err(e)
         }
         waited => waited?.map_err(to_py),

@@ -1,26 +1,34 @@
 //! `platoon.Renderer`: a render that goes on across calls. The scene is prepared and the
 //! tracers made once, on a thread of the renderer's own; each `render(spp)` adds samples to
-//! the film, which then holds the same bits as one render of all of them.
+//! the film, which then holds the same bits as one render of all of them. Ctrl-C raises
+//! KeyboardInterrupt at once and stops the devices after their current pass; the interrupted
+//! call's samples are not kept, so the film goes on as if it had not been made.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{mpsc, Mutex};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::{mpsc, Arc, Mutex};
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::rendered::Rendered;
-use crate::{keywords, to_py, wait, PlatoonError};
+use crate::{begin, keywords, to_py, wait, withdraw, PlatoonError};
 
-/// Samples to add, and where the still of all of them goes.
-type Add = (u32, mpsc::Sender<anyhow::Result<platoon::Still>>);
+/// Samples to add, whether Ctrl-C withdrew the call, and where the still of all of them goes.
+type Add = (
+    u32,
+    Arc<AtomicBool>,
+    mpsc::Sender<anyhow::Result<platoon::Still>>,
+);
 
 /// A progressive render: `Renderer(scene, **the arguments of render but spp)`, then
 /// `render(spp)` as often as wanted, each returning the image of every sample so far.
 #[pyclass(module = "platoon", name = "Renderer")]
 pub struct Renderer {
     jobs: Mutex<mpsc::Sender<Add>>,
-    spp: AtomicU32,
+    /// The film's samples a pixel, as the renderer's thread keeps them (also after a call
+    /// that Ctrl-C interrupted, whose samples may or may not have been in by then).
+    spp: Arc<AtomicU32>,
 }
 
 #[pymethods]
@@ -35,6 +43,8 @@ impl Renderer {
         let request = keywords::request(py, scene, kwargs, 1)?;
         let (jobs, incoming) = mpsc::channel::<Add>();
         let (ready, made) = mpsc::channel::<anyhow::Result<()>>();
+        let spp = Arc::new(AtomicU32::new(0));
+        let film_spp = spp.clone();
         std::thread::spawn(move || {
             let mut progressive = match platoon::Progressive::new(request) {
                 Ok(p) => p,
@@ -44,34 +54,45 @@ impl Renderer {
                 }
             };
             let _ = ready.send(Ok(()));
-            for (spp, reply) in incoming {
+            for (spp, withdrawn, reply) in incoming {
+                if !begin(&withdrawn) {
+                    continue;
+                }
                 let _ = reply.send(progressive.add(spp, &mut |_| {}));
+                film_spp.store(progressive.spp(), Ordering::SeqCst);
             }
         });
         wait(py, made)?.map_err(to_py)?;
         Ok(Renderer {
             jobs: Mutex::new(jobs),
-            spp: AtomicU32::new(0),
+            spp,
         })
     }
 
     /// Adds `spp` samples to every pixel and returns the still of all the samples so far
-    /// (`Rendered`, its `spp` the total).
+    /// (`Rendered`, its `spp` the total). Ctrl-C raises KeyboardInterrupt at once; the film
+    /// then keeps none of this call's samples.
     fn render(&self, py: Python<'_>, spp: u32) -> PyResult<Rendered> {
         let (done, result) = mpsc::channel();
+        let withdrawn = Arc::new(AtomicBool::new(false));
         self.jobs
             .lock()
             .map_err(|_| PlatoonError::new_err("the renderer failed earlier"))?
-            .send((spp, done))
+            .send((spp, withdrawn.clone(), done))
             .map_err(|_| PlatoonError::new_err("the renderer's thread has ended"))?;
-        let still = wait(py, result)?.map_err(to_py)?;
-        self.spp.store(still.rendered.spp, Ordering::Relaxed);
+        let still = match wait(py, result) {
+            Err(e) if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => {
+                withdraw(&withdrawn);
+                return Err(e);
+            }
+            waited => waited?.map_err(to_py)?,
+        };
         Rendered::of(py, still)
     }
 
     /// Samples per pixel so far.
     #[getter]
     fn spp(&self) -> u32 {
-        self.spp.load(Ordering::Relaxed)
+        self.spp.load(Ordering::SeqCst)
     }
 }

@@ -210,3 +210,30 @@ def test_a_living_scenes_frames_equal_the_rust_loops(tmp_path):
     last = g.finish()
     assert last.frame == 3
     assert np.array_equal(last.image, rust)
+
+
+def test_ctrl_c_in_a_renderer_keeps_none_of_the_calls_samples():
+    import signal
+    import sys
+    import time
+    code = ("import platoon, sys, numpy as np\n"
+            "r = platoon.Renderer(width=64, height=64, devices='lavapipe:1')\n"
+            "r.render(2)\n"
+            "print('rendering', flush=True)\n"
+            "try:\n"
+            "    r.render(100000)\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted', r.spp, flush=True)\n"
+            "    # The film goes on as if the interrupted call had not been made.\n"
+            "    after = r.render(2)\n"
+            "    whole = platoon.render(width=64, height=64, spp=4, devices='lavapipe:1')\n"
+            "    print('then', after.spp, np.array_equal(after.image, whole.image), flush=True)\n"
+            "    sys.exit(3)\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "rendering"
+    time.sleep(1.5)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 3 and "interrupted 2" in out and "then 4 True" in out, out
+    assert time.monotonic() - sent < 20, "Ctrl-C waited for the render"

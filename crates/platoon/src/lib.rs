@@ -49,4 +49,6 @@ pub use prepare::{
 pub use render::{
     render, render_bands, render_frame, whole_frame, BatchedStats, Rendered, Tracers,
 };
-pub use request::{CameraChoice, Progressive, Request, RequestError, SceneSource, Still};
+pub use request::{
+    CameraChoice, Interrupted, Progressive, Request, RequestError, SceneSource, Still,
+};

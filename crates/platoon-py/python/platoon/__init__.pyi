@@ -82,10 +82,11 @@ class Renderer:
 
     def __init__(self, scene: str | PathLike[str] | None = None, **kwargs: Any) -> None: ...
     def render(self, spp: int) -> Rendered:
-        """Adds `spp` samples to every pixel; the still of all the samples so far."""
+        """Adds `spp` samples to every pixel; the still of all the samples so far. Ctrl-C
+        raises KeyboardInterrupt at once and keeps none of this call's samples."""
     @property
     def spp(self) -> int:
-        """Samples per pixel so far."""
+        """Samples per pixel the film holds (also after an interrupted call)."""
 
 Vec3 = tuple[float, float, float]
 LookAt = tuple[Vec3, Vec3, float]

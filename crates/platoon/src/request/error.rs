@@ -1,4 +1,5 @@
-//! What is wrong with a request, naming the option (a `Request` field's name).
+//! What is wrong with a request, naming the option (a `Request` field's name); a render
+//! stopped before its end.
 
 use std::fmt;
 
@@ -16,3 +17,16 @@ impl fmt::Display for RequestError {
 }
 
 impl std::error::Error for RequestError {}
+
+/// A render stopped by a stop request (`platoon_tracer::stop`, Ctrl-C) whose samples were not
+/// kept (a progressive render's call).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interrupted;
+
+impl fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "interrupted: the samples of this call were not kept")
+    }
+}
+
+impl std::error::Error for Interrupted {}

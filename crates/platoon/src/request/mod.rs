@@ -27,7 +27,7 @@ mod progressive;
 pub mod still;
 mod validate;
 
-pub use error::RequestError;
+pub use error::{Interrupted, RequestError};
 pub use form::{CameraChoice, Request, SceneSource};
 pub use progressive::Progressive;
 pub use still::Still;

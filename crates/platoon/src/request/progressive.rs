@@ -1,6 +1,8 @@
 //! A render that goes on: the request's scene prepared and its tracers made once, each call
 //! adding samples to the film. The film continues its sums in sample order, so after any
-//! number of calls it holds the same bits as one render of all their samples.
+//! number of calls it holds the same bits as one render of all their samples. A call stopped
+//! early (`platoon_tracer::stop`, Ctrl-C) keeps none of its samples: its bands would hold
+//! uneven counts, which a film continued in sample order cannot take.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -9,7 +11,7 @@ use anyhow::Result;
 use platoon_core::frame::FrameParams;
 use platoon_core::output::Film;
 
-use super::error::RequestError;
+use super::error::{Interrupted, RequestError};
 use super::form::Request;
 use super::still::Still;
 use crate::{Prepared, Tracers};
@@ -81,7 +83,9 @@ impl Progressive {
         p
     }
 
-    /// Adds `spp` samples to every pixel; the still of all of them so far.
+    /// Adds `spp` samples to every pixel; the still of all of them so far. A stop asked for
+    /// while it renders (`platoon_tracer::stop::request`) ends it with [`Interrupted`] and
+    /// the film as it was.
     pub fn add(&mut self, spp: u32, progress: &mut dyn FnMut(u32)) -> Result<Still> {
         if spp == 0 {
             return Err(RequestError {
@@ -95,6 +99,9 @@ impl Progressive {
         more.first_sample = self.spp;
         more.film.accumulated = self.sums.clone();
         let mut rendered = self.tracers.render(&self.prepared.gpu, &more, progress)?;
+        if platoon_tracer::stop::requested() {
+            return Err(Interrupted.into());
+        }
         self.spp += spp;
         self.wall_time += rendered.wall_time;
         let inv = 1.0 / self.spp as f32;
