@@ -61,6 +61,12 @@ fn a_method_from_outside_is_registered_once_by_name() {
         fn sweep(&self) -> &'static [&'static str] {
             &[]
         }
+        fn unit<'a>(
+            &self,
+            _: &'a platoon::core::Method,
+        ) -> Option<&'a dyn platoon::core::method::render_method::RenderMethod> {
+            None
+        }
     }
     let e = registry::register(&Thief).unwrap_err();
     assert!(e.contains("--vpls of method igi"), "{e}");

@@ -80,6 +80,9 @@ const SETTINGS: &[Setting] = &[
 ];
 
 impl MethodKind for GreyKind {
+    fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod> {
+        method.state::<Grey>().map(|s| s as &dyn RenderMethod)
+    }
     fn name(&self) -> &'static str {
         "grey"
     }

@@ -1,23 +1,23 @@
 //! Which method renders a frame, with its options: the state `FrameParams` carries. It names no
 //! method: each unit makes its own (`Method::new` of its options) and reads them back
-//! (`Method::state`); `registry` lists the methods.
+//! (`Method::state`); `registry` lists the methods and finds the unit that renders a state
+//! (`Method::unit`), `path` gives the default. (This module imports neither, nor the frame:
+//! the frame carries a `Method`, whose units render frames.)
 
 use std::any::Any;
 use std::fmt;
-use std::sync::{Arc, LazyLock};
+use std::sync::Arc;
 
-use super::path::PathTracing;
-use super::render_method::RenderMethod;
-
-/// A method's state in a frame: its options and what its preparation made, which renders
-/// (`RenderMethod`) and tells two frames' methods apart (`PartialEq`).
-pub trait MethodState: RenderMethod + Any + Send + Sync + fmt::Debug {
+/// A method's state in a frame: its options and what its preparation made, which tells two
+/// frames' methods apart (`PartialEq`); its kind reads it back as what renders it
+/// (`MethodKind::unit`).
+pub trait MethodState: Any + Send + Sync + fmt::Debug {
     fn as_any(&self) -> &dyn Any;
     /// Whether `other` is the same method with equal state.
     fn same(&self, other: &dyn MethodState) -> bool;
 }
 
-impl<T: RenderMethod + Any + Send + Sync + fmt::Debug + PartialEq> MethodState for T {
+impl<T: Any + Send + Sync + fmt::Debug + PartialEq> MethodState for T {
     fn as_any(&self) -> &dyn Any {
         self
     }
@@ -30,38 +30,15 @@ impl<T: RenderMethod + Any + Send + Sync + fmt::Debug + PartialEq> MethodState f
 #[derive(Clone)]
 pub struct Method(Arc<dyn MethodState>);
 
-static PATH_TRACING: LazyLock<Method> = LazyLock::new(|| Method::new(PathTracing));
-
 impl Method {
     /// The method whose state is `state` (a unit's options: `IgiOptions`, `Links`...).
     pub fn new<T: MethodState>(state: T) -> Method {
         Method(Arc::new(state))
     }
 
-    /// Path tracing, the default and the reference.
-    pub fn path_tracing() -> Method {
-        PATH_TRACING.clone()
-    }
-
-    /// Whether this is plain path tracing.
-    pub fn is_path_tracing(&self) -> bool {
-        self.state::<PathTracing>().is_some()
-    }
-
     /// The state as its unit's type, when the method is that unit's.
     pub fn state<T: Any>(&self) -> Option<&T> {
         self.0.as_any().downcast_ref()
-    }
-
-    /// The method's unit: what renders it.
-    pub fn unit(&self) -> &dyn RenderMethod {
-        &*self.0
-    }
-}
-
-impl Default for Method {
-    fn default() -> Method {
-        Method::path_tracing()
     }
 }
 
@@ -73,7 +50,7 @@ impl PartialEq for Method {
 
 impl fmt::Debug for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}({:?})", self.0.name(), self.0)
+        write!(f, "{:?}", self.0)
     }
 }
 
@@ -81,6 +58,7 @@ impl fmt::Debug for Method {
 mod tests {
     use super::*;
     use crate::method::igi::IgiOptions;
+    use crate::method::path::PathTracing;
 
     #[test]
     fn methods_are_equal_when_their_units_and_states_are() {

@@ -4,13 +4,36 @@
 //! [`PathKernel`] (`path_kernel`), how its work is cut into kernels on a device (the same image
 //! either way).
 
+use std::sync::LazyLock;
+
 use crate::flatten::features::KernelOption;
 use crate::frame::FrameParams;
 use crate::method::render_method::RenderMethod;
+use crate::method::Method;
 
 /// The path tracer (`Method::path_tracing()`).
 #[derive(Debug, PartialEq)]
 pub struct PathTracing;
+
+static PATH_TRACING: LazyLock<Method> = LazyLock::new(|| Method::new(PathTracing));
+
+impl Method {
+    /// Path tracing, the default and the reference.
+    pub fn path_tracing() -> Method {
+        PATH_TRACING.clone()
+    }
+
+    /// Whether this is plain path tracing.
+    pub fn is_path_tracing(&self) -> bool {
+        self.state::<PathTracing>().is_some()
+    }
+}
+
+impl Default for Method {
+    fn default() -> Method {
+        Method::path_tracing()
+    }
+}
 
 impl RenderMethod for PathTracing {
     fn name(&self) -> &'static str {
@@ -39,6 +62,11 @@ pub use super::path_kernel::PathKernel;
 pub struct PathKind;
 
 impl crate::method::kind::MethodKind for PathKind {
+    fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod> {
+        method
+            .state::<PathTracing>()
+            .map(|s| s as &dyn RenderMethod)
+    }
     fn name(&self) -> &'static str {
         "path"
     }
@@ -55,7 +83,7 @@ impl crate::method::kind::MethodKind for PathKind {
         &self,
         _given: &crate::method::settings::Settings,
     ) -> Result<crate::method::Method, String> {
-        Ok(crate::method::Method::path_tracing())
+        Ok(Method::path_tracing())
     }
     fn settings_of(&self, _method: &crate::method::Method) -> crate::method::settings::Settings {
         Default::default()

@@ -11,6 +11,7 @@ use crate::method::kind::MethodKind;
 use crate::method::lhb::LhbKind;
 use crate::method::links::LinksKind;
 use crate::method::path::PathKind;
+use crate::method::render_method::RenderMethod;
 use crate::method::Method;
 
 /// Every method, the default first.
@@ -61,7 +62,21 @@ pub fn names() -> String {
 impl Method {
     /// How it is chosen: its settings and what it asks of the layers above.
     pub fn kind(&self) -> &'static dyn MethodKind {
-        kind(self.unit().name()).expect("every method is registered in KINDS")
+        self.kind_and_unit().0
+    }
+
+    /// The method's unit: what renders it.
+    pub fn unit(&self) -> &dyn RenderMethod {
+        self.kind_and_unit().1
+    }
+
+    fn kind_and_unit(&self) -> (&'static dyn MethodKind, &dyn RenderMethod) {
+        let of = |k: &'static dyn MethodKind| k.unit(self).map(|u| (k, u));
+        KINDS
+            .iter()
+            .find_map(|k| of(*k))
+            .or_else(|| all().into_iter().find_map(of))
+            .expect("a frame's method is of a registered kind")
     }
 
     /// Its settings, all of them.
