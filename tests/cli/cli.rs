@@ -1083,6 +1083,69 @@ fn a_png_is_the_exr_under_the_view_transform_and_exposure_asked_for() {
 }
 
 #[test]
+fn a_16_bit_tiff_png_and_a_jpeg_are_the_exr_under_the_view() {
+    // Issue 41, outputs: the same render as EXR and as 16-bit TIFF and PNG (their values the
+    // EXR's pixels through the view at 16 bits) and JPEG (close to the 8-bit encoding, with
+    // the render's metadata); bits a format cannot hold are refused before rendering.
+    use platoon::core::view::View;
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("box.exr");
+    let o = Cli::new("render").spp(2).size(16, 12).out(&exr).run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (film, _) = platoon::core::output::read_exr(&exr).unwrap();
+    let want16 = film.srgb16_viewed(&View::default());
+    for name in ["box.tif", "box.png"] {
+        let out = dir.path().join(name);
+        let o = Cli::new("render")
+            .spp(2)
+            .size(16, 12)
+            .flag("--bit-depth", "16")
+            .out(&out)
+            .run();
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let got = image::open(&out).unwrap().to_rgb16().into_raw();
+        assert!(
+            got == want16,
+            "{name}: not the EXR under the view at 16 bits"
+        );
+        let meta = platoon::core::output::read_metadata(&out).unwrap();
+        assert!(
+            meta.iter().any(|(k, _)| k == "platoon:spp"),
+            "{name}: {meta:?}"
+        );
+    }
+    let jpg = dir.path().join("box.jpg");
+    let o = Cli::new("render")
+        .spp(2)
+        .size(16, 12)
+        .flag("--jpeg-quality", "100")
+        .out(&jpg)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let got = image::open(&jpg).unwrap().to_rgb8().into_raw();
+    let want8 = film.srgb8_viewed(&View::default());
+    let worst = got.iter().zip(&want8).map(|(g, w)| g.abs_diff(*w)).max();
+    assert!(worst.is_some_and(|d| d <= 16), "JPEG off by {worst:?}");
+    assert!(platoon::core::output::read_metadata(&jpg)
+        .unwrap()
+        .iter()
+        .any(|(k, _)| k == "platoon:spp"));
+    for (out, flags, says) in [
+        ("x.jpg", ["--bit-depth", "16"], "--bit-depth"),
+        ("x.png", ["--jpeg-quality", "0"], "--jpeg-quality"),
+    ] {
+        let out = dir.path().join(out);
+        let o = Cli::new("render").args(&flags).out(&out).run();
+        assert!(
+            !o.status.success() && stderr(&o).contains(says),
+            "{}",
+            stderr(&o)
+        );
+        assert!(!out.exists());
+    }
+}
+
+#[test]
 fn a_camera_given_by_position_look_at_and_fov_renders_from_there() {
     // Issue 41, scene controls: the built-in box's own camera given by hand renders what the
     // box's camera does (to the rounding of the two constructions); moved, another image.

@@ -1,13 +1,14 @@
-//! How an image is shown: the view transform and exposure of a PNG, a video's frames and the
-//! viewer's window (`platoon::core::view`). EXR output stays scene-linear.
+//! How an image is shown: the view transform and exposure of a PNG, JPEG or TIFF, a video's
+//! frames and the viewer's window (`platoon::core::view`), their bits; an EXR's samples and
+//! compression (EXR output stays scene-linear).
 
 use anyhow::{bail, Result};
-use platoon::core::output::{ExrCompression, ExrOptions};
+use platoon::core::output::{DisplayOptions, ExrCompression, ExrOptions, ImageOptions};
 use platoon::core::view::{View, ViewTransform};
 
 #[derive(clap::Args)]
 pub struct DisplayArgs {
-    /// How radiance becomes the sRGB of a PNG, a video's frames and the viewer: standard
+    /// How radiance becomes the sRGB of a PNG, JPEG or TIFF, a video's frames and the viewer: standard
     /// (clipped), agx (Blender's default), pbr-neutral (Khronos PBR Neutral) or aces. An EXR
     /// stays scene-linear.
     #[arg(long, default_value = "aces", value_parser = ViewTransform::parse)]
@@ -22,6 +23,12 @@ pub struct DisplayArgs {
     /// (lossy, half only).
     #[arg(long, default_value = "rle", value_parser = ExrCompression::parse)]
     pub exr_compression: ExrCompression,
+    /// Bits a channel of a PNG or TIFF: 8 or 16.
+    #[arg(long, default_value_t = 8)]
+    pub bit_depth: u8,
+    /// A JPEG's quality, 1 (smallest) to 100 (best).
+    #[arg(long, default_value_t = 90)]
+    pub jpeg_quality: u8,
 }
 
 impl DisplayArgs {
@@ -34,6 +41,27 @@ impl DisplayArgs {
         exr.check()
             .map_err(|e| anyhow::anyhow!("--exr-compression: {e} (add --exr-half)"))?;
         Ok(exr)
+    }
+
+    /// How an image is written, checked for the format of `out`.
+    pub fn image(&self, out: &std::path::Path) -> Result<ImageOptions> {
+        let display = DisplayOptions {
+            bits: self.bit_depth,
+            jpeg_quality: self.jpeg_quality,
+        };
+        let format = platoon::core::output::ImageFormat::of(out)?;
+        display.check(&format).map_err(|e| {
+            let flag = match self.jpeg_quality {
+                1..=100 => "--bit-depth",
+                _ => "--jpeg-quality",
+            };
+            anyhow::anyhow!("{}: {flag}: {e}", out.display())
+        })?;
+        Ok(ImageOptions {
+            view: self.view()?,
+            exr: self.exr()?,
+            display,
+        })
     }
 
     pub fn view(&self) -> Result<View> {

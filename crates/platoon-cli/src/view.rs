@@ -16,7 +16,7 @@ use platoon::core::balance;
 use platoon::core::denoise::Denoiser;
 use platoon::core::drive::Edit;
 use platoon::core::drive::{FrameDriver, GiUpdate};
-use platoon::core::output::{write_image_as, Film, ImageOptions};
+use platoon::core::output::{write_image_as, Film};
 use platoon::core::scene::camera::Camera;
 use platoon::core::view::View;
 use platoon::game::start;
@@ -89,7 +89,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
     })?;
     let (w, h) = args.size;
     let view = args.display.view()?;
-    let exr = args.display.exr()?;
+    // The screenshot's format and bits, refused before the window opens.
+    let screenshot = match &args.screenshot {
+        Some(path) => Some((path, args.display.image(path)?)),
+        None => None,
+    };
     // The request holds the rules (the method's, the denoiser's...); the view adds the game
     // loop's own options.
     let request = platoon::Request {
@@ -162,8 +166,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         "camera at {:.4} {:.4} {:.4} after {} frames",
         p.x, p.y, p.z, app.frames
     );
-    if let (Some(path), Some(film)) = (&args.screenshot, &app.last) {
-        let shown = ImageOptions { view, exr };
+    if let (Some((path, shown)), Some(film)) = (screenshot, &app.last) {
         write_image_as(path, film, &[], &[], &shown)?;
         println!("last frame written to {}", path.display());
     }

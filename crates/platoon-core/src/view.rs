@@ -75,11 +75,21 @@ pub struct View {
 }
 
 impl View {
-    /// The 8-bit sRGB-encoded pixel of scene-linear `rgb`.
-    pub fn srgb8(&self, rgb: [f32; 3]) -> [u8; 3] {
+    /// The sRGB-encoded pixel of scene-linear `rgb`, each channel in [0, 1].
+    pub fn encoded(&self, rgb: [f32; 3]) -> [f32; 3] {
         let scale = self.exposure.exp2();
         let d = self.transform.apply(Vec3::from(rgb) * scale);
-        d.to_array().map(|v| (srgb_encode(v) * 255.0 + 0.5) as u8)
+        d.to_array().map(srgb_encode)
+    }
+
+    /// The 8-bit sRGB-encoded pixel of scene-linear `rgb`.
+    pub fn srgb8(&self, rgb: [f32; 3]) -> [u8; 3] {
+        self.encoded(rgb).map(|v| (v * 255.0 + 0.5) as u8)
+    }
+
+    /// The 16-bit sRGB-encoded pixel of scene-linear `rgb`.
+    pub fn srgb16(&self, rgb: [f32; 3]) -> [u16; 3] {
+        self.encoded(rgb).map(|v| (v * 65535.0 + 0.5) as u16)
     }
 
     /// What the image metadata says of it.

@@ -133,10 +133,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         frames,
         display,
     } = a;
-    let image = platoon::core::output::ImageOptions {
-        view: display.view()?,
-        exr: display.exr()?,
-    };
+    let image = display.image(&out)?;
     let mut aovs = aov.map(|l| l.0).unwrap_or_default();
     let adaptive = adaptive_threshold.map(|threshold| Adaptive {
         threshold,
@@ -234,6 +231,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
 /// Refuses an output the render could not write, before it starts.
 pub(super) fn check_output(a: &RenderArgs) -> Result<()> {
     let format = platoon::core::output::check_image_path(&a.out)?;
+    a.display.image(&a.out)?;
     if a.aov.is_some() && !matches!(format, platoon::core::output::ImageFormat::Exr) {
         bail!(
             "{}: AOVs are written as layers of an EXR: the output must end in .exr",

@@ -48,12 +48,17 @@ pub fn encode(video: &Path, frames: &[PathBuf], fps: f64, view: &View) -> Result
     let folder = video.parent().filter(|p| !p.as_os_str().is_empty());
     let work = tempfile::tempdir_in(folder.unwrap_or(Path::new(".")))?;
     // Numbered 0, 1, 2 ... whatever the range's step: ffmpeg's image sequence wants no gaps.
-    for (i, frame) in frames.iter().enumerate() {
-        let png = work.path().join(format!("{i:06}.png"));
-        let is_exr = frame
+    // EXR frames become PNGs under the view; the others go as they are (ffmpeg reads PNG,
+    // JPEG and TIFF).
+    let ext = match frames.first() {
+        Some(f) if !is_exr(f) => f
             .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-        if is_exr {
+            .map_or("png".into(), |e| e.to_string_lossy().to_ascii_lowercase()),
+        _ => "png".to_string(),
+    };
+    for (i, frame) in frames.iter().enumerate() {
+        let png = work.path().join(format!("{i:06}.{ext}"));
+        if ext == "png" && is_exr(frame) {
             let (film, _) = read_exr(frame)?;
             let shown = ImageOptions {
                 view: *view,
@@ -64,8 +69,8 @@ pub fn encode(video: &Path, frames: &[PathBuf], fps: f64, view: &View) -> Result
             std::fs::copy(frame, &png).with_context(|| format!("{}", frame.display()))?;
         }
     }
-    let ext = video.extension().expect("checked").to_string_lossy();
-    let encoded = work.path().join(format!("video.{ext}"));
+    let container = video.extension().expect("checked").to_string_lossy();
+    let encoded = work.path().join(format!("video.{container}"));
     let status = Command::new("ffmpeg")
         .args([
             "-loglevel",
@@ -75,7 +80,7 @@ pub fn encode(video: &Path, frames: &[PathBuf], fps: f64, view: &View) -> Result
             &fps.to_string(),
             "-i",
         ])
-        .arg(work.path().join("%06d.png"))
+        .arg(work.path().join(format!("%06d.{ext}")))
         // H.264's 4:2:0 needs even sizes.
         .args(["-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2"])
         .args(["-c:v", "libx264", "-pix_fmt", "yuv420p"])
@@ -88,4 +93,10 @@ pub fn encode(video: &Path, frames: &[PathBuf], fps: f64, view: &View) -> Result
     std::fs::rename(&encoded, video).with_context(|| format!("{}", video.display()))?;
     eprintln!("{}: {} frames at {fps} fps", video.display(), frames.len());
     Ok(())
+}
+
+fn is_exr(frame: &Path) -> bool {
+    frame
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
 }

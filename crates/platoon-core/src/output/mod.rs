@@ -1,5 +1,6 @@
-//! Image outputs: linear float EXR with render metadata, tone-mapped sRGB PNG. Both are written
-//! to a temporary file beside the target and renamed, so a failed write leaves no partial file.
+//! Image outputs: scene-linear EXR (`exr`), and sRGB under a view transform as PNG, JPEG or
+//! TIFF (`png`, `jpeg`, `tiff`), each with the render's metadata. All are written to a
+//! temporary file beside the target and renamed, so a failed write leaves no partial file.
 
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -7,16 +8,24 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::view::View;
 
+mod display;
+mod exr;
 mod exr_options;
+mod jpeg;
+mod png;
+mod tiff;
 
+pub use display::DisplayOptions;
+pub use exr::{read_exr, read_exr_channels};
 pub use exr_options::{ExrCompression, ExrOptions};
 
-/// How an image is written: the view its display-referred formats (PNG) show it through, the
-/// sample type and compression of an EXR.
+/// How an image is written: the view its display-referred formats (PNG, JPEG, TIFF) show it
+/// through and their bits, the sample type and compression of an EXR.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ImageOptions {
     pub view: View,
     pub exr: ExrOptions,
+    pub display: DisplayOptions,
 }
 
 /// A rendered frame: linear RGB radiance, row-major from the top row.
@@ -40,6 +49,11 @@ impl Film {
     /// The image as 8-bit sRGB under the default view, three bytes a pixel.
     pub fn srgb8(&self) -> Vec<u8> {
         self.srgb8_viewed(&View::default())
+    }
+
+    /// The image as 16-bit sRGB under `view`, three values a pixel.
+    pub fn srgb16_viewed(&self, view: &View) -> Vec<u16> {
+        self.pixels.iter().flat_map(|&p| view.srgb16(p)).collect()
     }
 
     /// The image as 8-bit sRGB under `view`, three bytes a pixel (a PNG's pixels).
@@ -136,40 +150,73 @@ pub fn write_image_as(
     metadata: &[(String, String)],
     options: &ImageOptions,
 ) -> Result<()> {
-    let exr = &options.exr;
-    match image_format(path)? {
-        ImageFormat::Exr => {
-            exr.check().map_err(|e| Error::file(path, e))?;
-            write_atomically(path, |w| write_exr(path, w, film, layers, metadata, exr))
-        }
-        ImageFormat::Png if layers.is_empty() => {
-            write_atomically(path, |w| write_png(path, w, film, metadata, &options.view))
-        }
-        ImageFormat::Png => Err(Error::file(
+    let (exr, display, view) = (&options.exr, &options.display, &options.view);
+    let format = image_format(path)?;
+    display.check(&format).map_err(|e| Error::file(path, e))?;
+    if !layers.is_empty() && !matches!(format, ImageFormat::Exr) {
+        return Err(Error::file(
             path,
             "AOVs are written as layers of an EXR: the output must end in .exr",
-        )),
+        ));
+    }
+    match format {
+        ImageFormat::Exr => {
+            exr.check().map_err(|e| Error::file(path, e))?;
+            write_atomically(path, |w| {
+                exr::write_exr(path, w, film, layers, metadata, exr)
+            })
+        }
+        ImageFormat::Png => write_atomically(path, |w| {
+            png::write_png(path, w, film, metadata, view, display.bits)
+        }),
+        ImageFormat::Jpeg => write_atomically(path, |w| {
+            jpeg::write_jpeg(path, w, film, metadata, view, display.jpeg_quality)
+        }),
+        ImageFormat::Tiff => write_atomically(path, |w| {
+            tiff::write_tiff(path, w, film, metadata, view, display.bits)
+        }),
     }
 }
 
+/// What an image path's extension names.
 pub enum ImageFormat {
+    /// Scene-linear floats.
     Exr,
+    /// sRGB under the view, 8 or 16 bits.
     Png,
+    /// sRGB under the view, 8 bits, lossy.
+    Jpeg,
+    /// sRGB under the view, 8 or 16 bits.
+    Tiff,
+}
+
+impl ImageFormat {
+    /// The format `path`'s extension names.
+    pub fn of(path: &Path) -> Result<ImageFormat> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        Ok(match ext.as_str() {
+            "exr" => ImageFormat::Exr,
+            "png" => ImageFormat::Png,
+            "jpg" | "jpeg" => ImageFormat::Jpeg,
+            "tif" | "tiff" => ImageFormat::Tiff,
+            _ => {
+                return Err(Error::file(
+                    path,
+                    "output must end in .exr, .png, .jpg or .tif",
+                ))
+            }
+        })
+    }
 }
 
 /// The format an image path names by its extension, in a folder that exists: what writing and
 /// reading an image need.
 pub fn image_format(path: &Path) -> Result<ImageFormat> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
-    let format = match ext.as_str() {
-        "exr" => ImageFormat::Exr,
-        "png" => ImageFormat::Png,
-        _ => return Err(Error::file(path, "output must end in .exr or .png")),
-    };
+    let format = ImageFormat::of(path)?;
     let dir = output_folder(path);
     if !dir.is_dir() {
         return Err(Error::file(
@@ -205,166 +252,18 @@ pub fn check_image_path(path: &Path) -> Result<ImageFormat> {
     Ok(format)
 }
 
-/// `metadata` as EXR string attributes, each key prefixed `platoon:`.
-fn insert_metadata(
-    attributes: &mut std::collections::HashMap<exr::prelude::Text, exr::prelude::AttributeValue>,
-    metadata: &[(String, String)],
-) {
-    use exr::prelude::*;
-    for (k, v) in metadata {
-        attributes.insert(
-            Text::from(format!("platoon:{k}").as_str()),
-            AttributeValue::Text(Text::from(v.as_str())),
-        );
-    }
-}
-
-/// The beauty's R, G, B and `layers`' channels (`layer.channel`, as Cycles' multilayer files
-/// name them) as one EXR layer, in the sample type and compression of `exr`.
-fn write_exr(
-    path: &Path,
-    w: &mut (impl Write + std::io::Seek),
-    film: &Film,
-    layers: &[Layer],
-    metadata: &[(String, String)],
-    exr: &ExrOptions,
-) -> Result<()> {
-    use exr::prelude::*;
-    let samples = |plane: Vec<f32>| {
-        if exr.half {
-            FlatSamples::F16(plane.into_iter().map(f16::from_f32).collect())
-        } else {
-            FlatSamples::F32(plane)
-        }
-    };
-    let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
-    for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
-        let plane = film.pixels.iter().map(|p| p[c]).collect();
-        channels.push(AnyChannel::new(name, samples(plane)));
-    }
-    for layer in layers {
-        for (name, plane) in &layer.channels {
-            if plane.len() != film.pixels.len() {
-                return Err(crate::Error::file(
-                    path,
-                    format!("layer {} has the wrong size", layer.name),
-                ));
-            }
-            let full = format!("{}.{name}", layer.name);
-            channels.push(AnyChannel::new(full.as_str(), samples(plane.clone())));
-        }
-    }
-    let size = (film.width as usize, film.height as usize);
-    let layer = exr::image::Layer::new(
-        size,
-        LayerAttributes::default(),
-        exr.encoding(),
-        AnyChannels::sort(channels),
-    );
-    let mut image = Image::from_layer(layer);
-    insert_metadata(&mut image.attributes.other, metadata);
-    image
-        .write()
-        .to_buffered(w)
-        .map_err(|e| crate::Error::file(path, format!("cannot write EXR: {e}")))
-}
-
-/// Every channel of an EXR's first layer by name (`R`, `albedo.R`, ...): tests and tools.
-pub fn read_exr_channels(path: &Path) -> Result<Vec<(String, Vec<f32>)>> {
-    use exr::prelude::*;
-    let image = read_all_flat_layers_from_file(path)
-        .map_err(|e| crate::Error::file(path, format!("cannot read EXR: {e}")))?;
-    let layer = image
-        .layer_data
-        .first()
-        .ok_or_else(|| crate::Error::file(path, "the EXR has no layer"))?;
-    Ok(layer
-        .channel_data
-        .list
-        .iter()
-        .map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect()))
-        .collect())
-}
-
-fn write_png(
-    path: &Path,
-    w: &mut (impl Write + std::io::Seek),
-    film: &Film,
-    metadata: &[(String, String)],
-    view: &View,
-) -> Result<()> {
-    let failed = |e: png::EncodingError| Error::file(path, format!("cannot write PNG: {e}"));
-    let mut encoder = png::Encoder::new(w, film.width, film.height);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    for (k, v) in metadata {
-        encoder
-            .add_itxt_chunk(format!("platoon:{k}"), v.clone())
-            .map_err(failed)?;
-    }
-    let mut writer = encoder.write_header().map_err(failed)?;
-    writer
-        .write_image_data(&film.srgb8_viewed(view))
-        .map_err(failed)?;
-    writer.finish().map_err(failed)
-}
-
 /// The `platoon:` metadata of an image written by [`write_image`], read through to its last
 /// pixel, so that a truncated or damaged file is an error (a render farm's resume redoes it).
 pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>> {
-    match image_format(path)? {
-        ImageFormat::Exr => Ok(read_exr(path)?.1),
-        ImageFormat::Png => {
-            let failed = |e: png::DecodingError| Error::file(path, format!("cannot read PNG: {e}"));
-            let file = std::fs::File::open(path)
-                .map_err(|e| Error::file(path, format!("cannot open: {e}")))?;
-            let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-                .read_info()
-                .map_err(failed)?;
-            let mut meta = Vec::new();
-            for chunk in &reader.info().utf8_text {
-                meta.push((chunk.keyword.clone(), chunk.get_text().map_err(failed)?));
-            }
-            let size = reader
-                .output_buffer_size()
-                .ok_or_else(|| Error::file(path, "PNG too large"))?;
-            let mut pixels = vec![0; size];
-            reader.next_frame(&mut pixels).map_err(failed)?;
-            reader.finish().map_err(failed)?;
-            meta.sort();
-            Ok(meta)
-        }
-    }
+    let mut meta = match image_format(path)? {
+        ImageFormat::Exr => read_exr(path)?.1,
+        ImageFormat::Png => png::read_png_metadata(path)?,
+        ImageFormat::Jpeg => jpeg::read_jpeg_metadata(path)?,
+        ImageFormat::Tiff => tiff::read_tiff_metadata(path)?,
+    };
+    meta.sort();
+    Ok(meta)
 }
 
-/// Reads an EXR written by [`write_image`] back (tests and tools).
-pub fn read_exr(path: &Path) -> Result<(Film, Vec<(String, String)>)> {
-    use exr::prelude::*;
-    let image = read_first_rgba_layer_from_file(
-        path,
-        |res, _| (res.width(), vec![[0.0f32; 3]; res.width() * res.height()]),
-        |(w, px), pos, (r, g, b, _a): (f32, f32, f32, f32)| px[pos.y() * *w + pos.x()] = [r, g, b],
-    )
-    .map_err(|e| crate::Error::file(path, format!("cannot read EXR: {e}")))?;
-    let size = image.layer_data.size;
-    // Custom attributes of a single-part file may come back as image or as layer attributes.
-    let mut meta: Vec<(String, String)> = image
-        .attributes
-        .other
-        .iter()
-        .chain(image.layer_data.attributes.other.iter())
-        .filter_map(|(k, v)| match v {
-            AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
-            _ => None,
-        })
-        .collect();
-    meta.sort();
-    Ok((
-        Film {
-            width: size.width() as u32,
-            height: size.height() as u32,
-            pixels: image.layer_data.channel_data.pixels.1,
-        },
-        meta,
-    ))
-}
+#[cfg(test)]
+mod tests;
