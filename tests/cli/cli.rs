@@ -253,10 +253,10 @@ fn bad_inputs_fail_cleanly() {
         .out(o)
         .fails_naming("sky.exr", &out);
 
-    let bad_out = d.join("out.jpg");
+    let bad_out = d.join("out.bmp");
     Cli::new("render")
         .out(&bad_out)
-        .fails_naming("out.jpg", &bad_out);
+        .fails_naming("out.bmp", &bad_out);
     let no_dir = d.join("missing-dir/out.png");
     Cli::new("render")
         .out(&no_dir)

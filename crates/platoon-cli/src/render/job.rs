@@ -65,7 +65,7 @@ impl Job {
         let settings = format!(
             "scene {scene}; environment {env}; camera {camera}, aperture {}, focus {}; {}x{}, \
              {} spp, time limit {}, max depth {}, seed {}{}; {}; kernel {}; {} sampling; {} fps; \
-             AOVs {}; denoiser {}; adaptive {adaptive}; view {}; EXR {}",
+             AOVs {}; denoiser {}; adaptive {adaptive}; view {}; EXR {}; {} bits, JPEG quality {}",
             o.aperture_radius,
             or(o.focus_distance, "auto"),
             p.width,
@@ -90,6 +90,8 @@ impl Job {
             format!("{:?}", setup.denoiser).to_lowercase(),
             setup.image.view.describe(),
             setup.image.exr.describe(),
+            setup.image.display.bits,
+            setup.image.display.jpeg_quality,
         );
         Job {
             settings,

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use platoon::core::output::{write_image_as, ImageOptions};
+use platoon::core::output::{write_image_as, ImageFormat, ImageOptions};
 use platoon::Still;
 
 /// Writes `still`'s image to `path` (and the raw one beside it), each with its metadata,
@@ -22,11 +22,10 @@ pub fn write(still: &Still, path: &Path, options: &ImageOptions) -> Result<()> {
 /// and, for an EXR at `path`, how it is encoded.
 pub fn entries(options: &ImageOptions, path: &Path) -> Vec<(String, String)> {
     let mut out = vec![("view".into(), options.view.describe())];
-    if path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
-    {
-        out.push(("exr".into(), options.exr.describe()));
+    match ImageFormat::of(path) {
+        Ok(ImageFormat::Exr) => out.push(("exr".into(), options.exr.describe())),
+        Ok(format) => out.push(("encoding".into(), options.display.describe(&format))),
+        Err(_) => {}
     }
     out
 }

@@ -20,6 +20,14 @@ impl Default for DisplayOptions {
 }
 
 impl DisplayOptions {
+    /// What the image metadata says of a file of `format` so written.
+    pub fn describe(&self, format: &super::ImageFormat) -> String {
+        match format {
+            super::ImageFormat::Jpeg => format!("8 bits, quality {}", self.jpeg_quality),
+            _ => format!("{} bits", self.bits),
+        }
+    }
+
     /// What is wrong with these options for `format`, if anything.
     pub fn check(&self, format: &super::ImageFormat) -> Result<(), String> {
         use super::ImageFormat::*;
