@@ -69,8 +69,10 @@ bool sides_agree(vec3 ng_wo, vec3 wi, float shading_cos_product) {
     return (dot(wi, ng_wo) > 0.0) == (shading_cos_product > 0.0);
 }
 
+#include "path/pixel_filter.glsl"
+
 Ray camera_ray(uvec2 pixel, inout Rng rng) {
-    vec2 jitter = rng_next2(rng);
+    vec2 jitter = pixel_position(rng_next2(rng));
     vec2 lens = rng_next2(rng);
     vec2 size = vec2(F.dims.xy);
     vec2 ndc = vec2(2.0 * (float(pixel.x) + jitter.x) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + jitter.y) / size.y);

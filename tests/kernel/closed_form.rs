@@ -211,3 +211,103 @@ fn lambertian_plane_under_uniform_sky_gives_albedo_times_sky() {
         );
     }
 }
+
+/// The share of a pixel filter's mass (its 1D formula, `PixelFilter::weight`) below `t` pixels
+/// from the centre, by the midpoint rule.
+fn filter_mass_below(filter: platoon::core::frame::PixelFilter, t: f64) -> f64 {
+    let n = 40_000;
+    let dx = 4.0 / n as f64;
+    let (mut below, mut all) = (0.0, 0.0);
+    for i in 0..n {
+        let x = -2.0 + (i as f64 + 0.5) * dx;
+        let w = filter.weight(x);
+        all += w;
+        if x < t {
+            below += w;
+        }
+    }
+    below / all
+}
+
+#[test]
+fn an_edge_seen_through_each_pixel_filter_is_the_filters_integral() {
+    // A glowing half-plane before a black sky, seen head on: its edge runs down the image a
+    // quarter of the way into column 8 of 16. With emitters only, a pixel is the share of its
+    // camera rays that leave left of the edge: the filter's mass below the edge's distance
+    // from the pixel's centre (the box: a quarter of column 8; the others blur across it).
+    use platoon::core::frame::PixelFilter;
+    let (w, h) = (16u32, 4u32);
+    let (yfov, edge_px) = (0.5f64, 8.25f64);
+    // Where the camera ray through that image position meets the plane z = -1.
+    let edge_x = (2.0 * edge_px / w as f64 - 1.0) * (yfov / 2.0).tan() * (w as f64 / h as f64);
+    let edge_x = edge_x as f32;
+    let half_plane = platoon_scenegen::quad_from([
+        [-10.0, -10.0, -1.0],
+        [edge_x, -10.0, -1.0],
+        [edge_x, 10.0, -1.0],
+        [-10.0, 10.0, -1.0],
+    ]);
+    let mut glow = lambertian("glow", Vec3::ZERO);
+    glow.emissive = Vec3::ONE;
+    let scene = scene_of(
+        vec![(mesh_from(&half_plane, 0), Vec3::ZERO, 1.0)],
+        vec![glow],
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, -1.0),
+        yfov as f32,
+    );
+    let prepared = prepare(scene, constant_env(0.0));
+    let mut profiles = Vec::new();
+    for filter in [
+        PixelFilter::Box,
+        PixelFilter::Gaussian,
+        PixelFilter::BlackmanHarris,
+    ] {
+        let mut params = FrameParams::new(w, h, 4096, prepared.camera);
+        params.max_depth = 1;
+        params.filter = filter;
+        let film = render(&prepared, &params, Sampling::Mis);
+        let mut profile = Vec::new();
+        for c in 0..w {
+            let got = (0..h)
+                .map(|r| film.pixels[(r * w + c) as usize][0] as f64)
+                .sum::<f64>()
+                / h as f64;
+            let want = filter_mass_below(filter, edge_px - (c as f64 + 0.5));
+            assert!(
+                (got - want).abs() < 0.015,
+                "{filter}: column {c} is {got}, the filter's integral {want}"
+            );
+            profile.push(got);
+        }
+        profiles.push(profile);
+    }
+    // The three differ where they should: in the edge's column.
+    assert!((profiles[1][8] - profiles[0][8]).abs() > 0.04);
+    assert!((profiles[2][8] - profiles[0][8]).abs() > 0.04);
+    assert!((profiles[2][8] - profiles[1][8]).abs() > 0.04);
+}
+
+#[test]
+fn every_pixel_filter_gives_the_same_bits_on_one_and_three_tracers() {
+    use platoon::core::frame::PixelFilter;
+    use platoon::devices::DeviceSpec;
+    for filter in [PixelFilter::Gaussian, PixelFilter::BlackmanHarris] {
+        let render = |tracers: Vec<u32>| {
+            let request = platoon::Request {
+                width: 24,
+                height: 16,
+                spp: 8,
+                filter,
+                devices: DeviceSpec::Lavapipe(tracers),
+                ..Default::default()
+            };
+            request.render(&mut |_| {}).unwrap().image
+        };
+        let (one, three) = (render(vec![1]), render(vec![1, 1, 1]));
+        assert!(
+            one.pixels == three.pixels,
+            "{filter}: the split changed the image"
+        );
+    }
+}

@@ -10,6 +10,7 @@ use pyo3::types::PyDict;
 
 use platoon::core::frame::adaptive::Adaptive;
 use platoon::core::frame::aov::Aov;
+use platoon::core::frame::PixelFilter;
 use platoon::core::method::registry;
 use platoon::core::method::settings::{Settings, Value, ValueKind};
 use platoon::core::scene::camera::Camera;
@@ -101,6 +102,10 @@ pub fn request(
         time_limit: Request::time_limit_secs(time_limit).map_err(|e| bad(e.option, e.problem))?,
         max_depth: take(k, "max_depth", "a whole number")?,
         seed: take(k, "seed", "a whole number")?.unwrap_or(d.seed),
+        filter: match take::<String>(k, "filter", "a pixel filter's name")? {
+            Some(name) => PixelFilter::parse(&name).map_err(|e| bad("filter", e))?,
+            None => d.filter,
+        },
         sampling: Sampling::by_name(&sampling)
             .ok_or_else(|| bad("sampling", "one of mis, bsdf, light"))?,
         devices: devices.parse().map_err(|e| bad("devices", e))?,

@@ -68,8 +68,21 @@ def test_the_environments_strength_and_rotation_equal_the_clis(tmp_path):
         platoon.render(**SMALL, env_strength=-1.0)
 
 
+def test_a_pixel_filter_equals_the_clis(tmp_path):
+    out = tmp_path / "cli.exr"
+    args = ["render", "--width", "24", "--height", "16", "--spp", "4", "--devices",
+            "lavapipe:1", "--filter", "blackman-harris", "--out", str(out)]
+    subprocess.run([str(cli()), *args], check=True, capture_output=True)
+    cli_image, meta = platoon.read_exr(out)
+    r = platoon.render(**SMALL, filter="blackman-harris")
+    assert np.array_equal(r.image, cli_image)
+    assert r.metadata["filter"].startswith("blackman-harris")
+    assert not np.array_equal(r.image, platoon.render(**SMALL).image)
+
+
 @pytest.mark.parametrize("kwargs, error, says", [
     (dict(width=0), ValueError, "width: must be positive"),
+    (dict(filter="mitchell"), ValueError, "filter: unknown pixel filter"),
     (dict(max_depth=0), ValueError, "max_depth"),
     (dict(method="photons"), ValueError, "unknown method"),
     (dict(vplz=30), ValueError, "vplz: not an argument of render"),

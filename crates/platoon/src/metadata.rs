@@ -68,6 +68,7 @@ pub fn metadata_of(
         ("seed".into(), params.seed.to_string()),
         ("frame".into(), params.frame.to_string()),
         ("max_depth".into(), params.max_depth.to_string()),
+        ("filter".into(), params.filter.describe()),
         ("russian_roulette_depth".into(), params.rr_depth.to_string()),
         // 1 means no path regeneration within a kernel pass (a trade-off knob).
         (

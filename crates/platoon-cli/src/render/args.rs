@@ -50,6 +50,11 @@ pub struct RenderArgs {
     pub(super) max_depth: Option<u32>,
     #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub(super) seed: u32,
+    /// The pixel filter: box (1 px), gaussian (sigma 0.5 px, cut at 1.5) or blackman-harris
+    /// (1.5 px, Cycles' default). Camera rays are drawn from it, so any split of the frame
+    /// gives the same image.
+    #[arg(long, default_value = "box", value_parser = platoon::core::frame::PixelFilter::parse)]
+    pub(super) filter: platoon::core::frame::PixelFilter,
     /// The scene camera by index (from 0) or name; the scene is framed from its bounds when it
     /// has none.
     #[arg(long)]

@@ -113,6 +113,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         height,
         max_depth,
         seed,
+        filter,
         camera,
         camera_position,
         look_at,
@@ -174,6 +175,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         time_limit,
         max_depth,
         seed,
+        filter,
         method: method.method()?,
         kernel: method.kernel,
         sampling: match sampling {

@@ -9,7 +9,7 @@ use std::time::Duration;
 use super::method_wire::{get_method, put_method};
 use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
 use crate::frame::aov::AovPass;
-use crate::frame::{FrameParams, Output, Span};
+use crate::frame::{FrameParams, Output, PixelFilter, Span};
 use crate::method::path_kernel::PathKernel;
 use crate::scene::camera::Camera;
 
@@ -55,6 +55,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         samples_per_pass,
         time_limit,
         camera,
+        filter,
         output,
     } = p;
     for v in [width, height, spp, max_depth, rr_depth] {
@@ -102,6 +103,11 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
     w.f32(*focus_distance);
     w.u8(orthographic.is_some() as u8);
     w.pod(&orthographic.unwrap_or_default());
+    w.u8(match filter {
+        PixelFilter::Box => 0,
+        PixelFilter::Gaussian => 1,
+        PixelFilter::BlackmanHarris => 2,
+    });
     w.u8(match output {
         Output::Radiance => 0,
         Output::PrimaryHit => 1,
@@ -166,6 +172,12 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
             some.then_some(xy)
         },
     };
+    p.filter = match r.u8()? {
+        0 => PixelFilter::Box,
+        1 => PixelFilter::Gaussian,
+        2 => PixelFilter::BlackmanHarris,
+        k => return Err(WireError(format!("unknown pixel filter {k}"))),
+    };
     p.output = match r.u8()? {
         0 => Output::Radiance,
         1 => Output::PrimaryHit,
@@ -221,6 +233,7 @@ mod tests {
         p.frame = 12;
         p.first_sample = 13;
         p.output = Output::Aov(AovPass::Normal);
+        p.filter = PixelFilter::BlackmanHarris;
         p.film.accumulated = Some(
             (0..20)
                 .map(|i| [i as f32, 0.5, -1.0])

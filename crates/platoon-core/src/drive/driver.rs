@@ -49,6 +49,8 @@ pub struct DriverOptions {
     /// Smallest weight of a frame in the film while objects move (see [`super::plan`]).
     pub blend_floor: f32,
     pub seed: u32,
+    /// The pixel filter every frame's camera rays are drawn from.
+    pub filter: crate::frame::PixelFilter,
     pub max_depth: u32,
     pub rr_depth: u32,
     pub samples_per_pass: u32,
@@ -72,6 +74,7 @@ impl DriverOptions {
     fn frame_params(&self, width: u32, height: u32, spp: u32, camera: Camera) -> FrameParams {
         let mut p = FrameParams::new(width, height, spp, camera);
         p.seed = self.seed;
+        p.filter = self.filter;
         p.max_depth = self.max_depth;
         p.rr_depth = self.rr_depth;
         p.samples_per_pass = self.samples_per_pass;
@@ -88,6 +91,7 @@ impl DriverOptions {
             below_one: BelowOneSample::default(),
             blend_floor: 0.2,
             seed: 0,
+            filter: crate::frame::PixelFilter::Box,
             max_depth: DEFAULT_MAX_DEPTH,
             rr_depth: 3,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,

@@ -9,12 +9,14 @@ pub mod aov_params;
 pub(crate) mod fakes;
 pub mod fault;
 mod film_state;
+mod pixel_filter;
 pub mod renderer;
 mod workers;
 
 use std::time::Duration;
 
 pub use film_state::FilmState;
+pub use pixel_filter::PixelFilter;
 
 use crate::output::Film;
 use crate::scene::camera::Camera;
@@ -97,6 +99,8 @@ pub struct FrameParams {
     /// device; bands cut at different times would break the bit-identity of device splits.
     pub time_limit: Option<Duration>,
     pub camera: Camera,
+    /// What a sample counts for its pixel by its offset (the camera rays' distribution).
+    pub filter: PixelFilter,
     pub output: Output,
 }
 
@@ -176,6 +180,7 @@ impl FrameParams {
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             time_limit: None,
             camera,
+            filter: PixelFilter::Box,
             output: Output::Radiance,
         }
     }

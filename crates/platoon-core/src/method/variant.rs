@@ -6,7 +6,7 @@ use std::fmt;
 
 use crate::flatten::features::{chosen, write_labels, SceneFeatures};
 use crate::frame::aov::AovPass;
-use crate::frame::{FrameParams, Output};
+use crate::frame::{FrameParams, Output, PixelFilter};
 
 /// The defines of one kernel variant, in a stable order, each with the label `platoon info` and
 /// the output's metadata show.
@@ -108,6 +108,16 @@ impl KernelVariant {
             ("last-paths-cut", "LAST_PATH_CUT", params.cut_last_paths),
             ("ris-lights", "LIGHT_SELECT_RIS", ris),
             ("ris-mis", "RIS_MIS", ris && params.ris_mis),
+            (
+                "gaussian-filter",
+                "PIXEL_FILTER_GAUSSIAN",
+                params.filter == PixelFilter::Gaussian,
+            ),
+            (
+                "blackman-harris-filter",
+                "PIXEL_FILTER_BLACKMAN_HARRIS",
+                params.filter == PixelFilter::BlackmanHarris,
+            ),
         ];
         let options = scene
             .options()

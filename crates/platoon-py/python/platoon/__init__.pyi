@@ -47,6 +47,7 @@ def render(
     aovs: list[str] | None = None,
     denoise: str = "none",
     seed: int = 0,
+    filter: str = "box",
     max_depth: int | None = None,
     time_limit: float | None = None,
     env: str | PathLike[str] | None = None,
@@ -70,7 +71,8 @@ def render(
     or "lavapipe:T1,T2" (software tracers of Ti threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
     variance, sample-count. `denoise`: none, atrous, oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
-    seen from above). `camera`: a scene camera's index or
+    seen from above). `filter`: the pixel filter, box, gaussian (sigma 0.5 px) or
+    blackman-harris (1.5 px). `camera`: a scene camera's index or
     name, or (eye, target, vertical fov in degrees) in world space. The method's options by
     name (`methods()`), e.g. method="igi", vpls=180.
     """

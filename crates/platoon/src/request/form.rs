@@ -8,7 +8,7 @@ use anyhow::Result;
 use platoon_core::denoise::Denoiser;
 use platoon_core::frame::adaptive::{Adaptive, Batching};
 use platoon_core::frame::aov::Aov;
-use platoon_core::frame::FrameParams;
+use platoon_core::frame::{FrameParams, PixelFilter};
 use platoon_core::method::path::PathKernel;
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::gltf_load::LoadOptions;
@@ -91,6 +91,8 @@ pub struct Request {
     /// Longest path in segments (1: emitters only); None: effectively unbounded.
     pub max_depth: Option<u32>,
     pub seed: u32,
+    /// How a sample counts for its pixel (the camera rays' distribution in the pixel).
+    pub filter: PixelFilter,
     pub method: Method,
     pub kernel: PathKernel,
     pub sampling: Sampling,
@@ -124,6 +126,7 @@ impl Default for Request {
             time_limit: None,
             max_depth: None,
             seed: 0,
+            filter: PixelFilter::Box,
             method: Method::path_tracing(),
             kernel: PathKernel::Auto,
             sampling: Sampling::Mis,
@@ -171,6 +174,7 @@ impl Request {
     pub fn frame_params(&self, camera: Camera) -> FrameParams {
         let mut params = FrameParams::new(self.width, self.height, self.spp, camera);
         params.seed = self.seed;
+        params.filter = self.filter;
         params.method = self.method.clone();
         params.kernel = self.kernel;
         if let Some(d) = self.max_depth {

@@ -18,6 +18,7 @@ impl Request {
         driver.spp = self.spp;
         driver.target = target;
         driver.seed = self.seed;
+        driver.filter = self.filter;
         if let Some(d) = self.max_depth {
             driver.max_depth = d;
         }
