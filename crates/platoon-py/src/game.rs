@@ -4,7 +4,7 @@
 //! reach the next frame's generation.
 
 use std::path::PathBuf;
-use std::sync::{mpsc, Mutex};
+use std::sync::mpsc;
 use std::time::Duration;
 
 use glam::{DVec3, Quat, Vec3};
@@ -15,7 +15,7 @@ use platoon::core::drive::{Edit, FinishedFrame};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::Placement;
 
-use crate::{arrays, keywords, to_py, wait, PlatoonError};
+use crate::{arrays, keywords, to_py, wait, DeviceThread, PlatoonError};
 
 type Reply<T> = mpsc::Sender<anyhow::Result<T>>;
 
@@ -29,7 +29,7 @@ enum Command {
 /// frame, 1 by default; target_ms: a frame time held by scaling them instead).
 #[pyclass(module = "platoon", name = "Game")]
 pub struct Game {
-    commands: Mutex<mpsc::Sender<Command>>,
+    commands: DeviceThread<Command>,
 }
 
 /// A finished frame: `image` (the film after it joined, float32 H x W x 3), `denoised` (with
@@ -107,6 +107,7 @@ impl Game {
     ) -> PyResult<T> {
         let (reply, result) = mpsc::channel();
         self.commands
+            .sender
             .lock()
             .map_err(|_| PlatoonError::new_err("the game failed earlier"))?
             .send(command(reply))
@@ -127,9 +128,8 @@ impl Game {
     ) -> PyResult<Game> {
         let request = keywords::request(py, scene, kwargs, 1)?;
         let target = target_ms.map(|ms| Duration::from_secs_f64(ms.max(0.0) * 1e-3));
-        let (commands, incoming) = mpsc::channel::<Command>();
         let (ready, started) = mpsc::channel::<anyhow::Result<()>>();
-        std::thread::spawn(move || {
+        let commands = DeviceThread::spawn(move |incoming: mpsc::Receiver<Command>| {
             let mut driver = match request.start_game(target) {
                 Ok(d) => d,
                 Err(e) => {
@@ -157,9 +157,7 @@ impl Game {
             }
         });
         wait(py, started)?.map_err(to_py)?;
-        Ok(Game {
-            commands: Mutex::new(commands),
-        })
+        Ok(Game { commands })
     }
 
     /// Renders this frame from `camera` ((eye, target, fov_degrees) in world space) while

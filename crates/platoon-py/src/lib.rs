@@ -208,3 +208,34 @@ fn _platoon(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PlatoonError", m.py().get_type::<PlatoonError>())?;
     Ok(())
 }
+
+/// A thread of this module that holds devices (a `Renderer`'s, a `Game`'s), ended and waited
+/// for when its owner goes: its tracers are destroyed before the interpreter exits, not while
+/// the process tears down the driver under them (a crash at exit otherwise).
+pub(crate) struct DeviceThread<T> {
+    pub(crate) sender: Mutex<mpsc::Sender<T>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl<T: Send + 'static> DeviceThread<T> {
+    /// `run` on a thread of its own, taking what `sender` sends until it goes.
+    pub(crate) fn spawn(run: impl FnOnce(mpsc::Receiver<T>) + Send + 'static) -> Self {
+        let (sender, incoming) = mpsc::channel();
+        DeviceThread {
+            sender: Mutex::new(sender),
+            thread: Some(std::thread::spawn(move || run(incoming))),
+        }
+    }
+}
+
+impl<T> Drop for DeviceThread<T> {
+    fn drop(&mut self) {
+        // The thread ends when its channel closes: replace the one sender with an unused one.
+        if let Ok(mut sender) = self.sender.lock() {
+            *sender = mpsc::channel().0;
+        }
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}

@@ -6,13 +6,13 @@
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
-use std::sync::{mpsc, Arc, Mutex};
+use std::sync::{mpsc, Arc};
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::rendered::Rendered;
-use crate::{begin, keywords, to_py, wait, withdraw, PlatoonError};
+use crate::{begin, keywords, to_py, wait, withdraw, DeviceThread, PlatoonError};
 
 /// Samples to add, whether Ctrl-C withdrew the call, and where the still of all of them goes.
 type Add = (
@@ -25,7 +25,7 @@ type Add = (
 /// `render(spp)` as often as wanted, each returning the image of every sample so far.
 #[pyclass(module = "platoon", name = "Renderer")]
 pub struct Renderer {
-    jobs: Mutex<mpsc::Sender<Add>>,
+    jobs: DeviceThread<Add>,
     /// The film's samples a pixel, as the renderer's thread keeps them (also after a call
     /// that Ctrl-C interrupted, whose samples may or may not have been in by then).
     spp: Arc<AtomicU32>,
@@ -41,11 +41,10 @@ impl Renderer {
         kwargs: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Renderer> {
         let request = keywords::request(py, scene, kwargs, 1)?;
-        let (jobs, incoming) = mpsc::channel::<Add>();
         let (ready, made) = mpsc::channel::<anyhow::Result<()>>();
         let spp = Arc::new(AtomicU32::new(0));
         let film_spp = spp.clone();
-        std::thread::spawn(move || {
+        let jobs = DeviceThread::spawn(move |incoming: mpsc::Receiver<Add>| {
             let mut progressive = match platoon::Progressive::new(request) {
                 Ok(p) => p,
                 Err(e) => {
@@ -58,15 +57,14 @@ impl Renderer {
                 if !begin(&withdrawn) {
                     continue;
                 }
-                let _ = reply.send(progressive.add(spp, &mut |_| {}));
+                let result = progressive.add(spp, &mut |_| {});
+                // Before the reply: the caller reads the count once it has the still.
                 film_spp.store(progressive.spp(), Ordering::SeqCst);
+                let _ = reply.send(result);
             }
         });
         wait(py, made)?.map_err(to_py)?;
-        Ok(Renderer {
-            jobs: Mutex::new(jobs),
-            spp,
-        })
+        Ok(Renderer { jobs, spp })
     }
 
     /// Adds `spp` samples to every pixel and returns the still of all the samples so far
@@ -76,6 +74,7 @@ impl Renderer {
         let (done, result) = mpsc::channel();
         let withdrawn = Arc::new(AtomicBool::new(false));
         self.jobs
+            .sender
             .lock()
             .map_err(|_| PlatoonError::new_err("the renderer failed earlier"))?
             .send((spp, withdrawn.clone(), done))
