@@ -21,16 +21,16 @@ impl Default for DisplayOptions {
 
 impl DisplayOptions {
     /// What the image metadata says of a file of `format` so written.
-    pub fn describe(&self, format: &super::ImageFormat) -> String {
+    pub fn describe(&self, format: &super::format::ImageFormat) -> String {
         match format {
-            super::ImageFormat::Jpeg => format!("8 bits, quality {}", self.jpeg_quality),
+            super::format::ImageFormat::Jpeg => format!("8 bits, quality {}", self.jpeg_quality),
             _ => format!("{} bits", self.bits),
         }
     }
 
     /// What is wrong with these options for `format`, if anything.
-    pub fn check(&self, format: &super::ImageFormat) -> Result<(), String> {
-        use super::ImageFormat::*;
+    pub fn check(&self, format: &super::format::ImageFormat) -> Result<(), String> {
+        use super::format::ImageFormat::*;
         if !(1..=100).contains(&self.jpeg_quality) {
             return Err(format!(
                 "JPEG quality runs from 1 to 100, not {}",

@@ -4,7 +4,8 @@
 use std::io::Write;
 use std::path::Path;
 
-use super::{ExrOptions, Film, Layer};
+use super::exr_options::ExrOptions;
+use super::film::{Film, Layer};
 use crate::error::Result;
 
 /// `metadata` as EXR string attributes, each key prefixed `platoon:`.

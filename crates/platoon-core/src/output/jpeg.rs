@@ -4,7 +4,7 @@
 use std::io::{Seek, Write};
 use std::path::Path;
 
-use super::Film;
+use super::film::Film;
 use crate::error::{Error, Result};
 use crate::view::View;
 

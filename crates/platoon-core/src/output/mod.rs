@@ -11,6 +11,8 @@ use crate::view::View;
 mod display;
 mod exr;
 mod exr_options;
+mod film;
+mod format;
 mod jpeg;
 mod png;
 mod tiff;
@@ -18,6 +20,8 @@ mod tiff;
 pub use display::DisplayOptions;
 pub use exr::{read_exr, read_exr_channels};
 pub use exr_options::{ExrCompression, ExrOptions};
+pub use film::{Film, Layer};
+pub use format::ImageFormat;
 
 /// How an image is written: the view its display-referred formats (PNG, JPEG, TIFF) show it
 /// through and their bits, the sample type and compression of an EXR.
@@ -26,47 +30,6 @@ pub struct ImageOptions {
     pub view: View,
     pub exr: ExrOptions,
     pub display: DisplayOptions,
-}
-
-/// A rendered frame: linear RGB radiance, row-major from the top row.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Film {
-    pub width: u32,
-    pub height: u32,
-    pub pixels: Vec<[f32; 3]>,
-}
-
-impl Film {
-    pub fn mean(&self) -> [f64; 3] {
-        let mut s = [0.0f64; 3];
-        for p in &self.pixels {
-            for k in 0..3 {
-                s[k] += p[k] as f64;
-            }
-        }
-        s.map(|v| v / self.pixels.len().max(1) as f64)
-    }
-    /// The image as 8-bit sRGB under the default view, three bytes a pixel.
-    pub fn srgb8(&self) -> Vec<u8> {
-        self.srgb8_viewed(&View::default())
-    }
-
-    /// The image as 16-bit sRGB under `view`, three values a pixel.
-    pub fn srgb16_viewed(&self, view: &View) -> Vec<u16> {
-        self.pixels.iter().flat_map(|&p| view.srgb16(p)).collect()
-    }
-
-    /// The image as 8-bit sRGB under `view`, three bytes a pixel (a PNG's pixels).
-    pub fn srgb8_viewed(&self, view: &View) -> Vec<u8> {
-        self.pixels.iter().flat_map(|&p| view.srgb8(p)).collect()
-    }
-
-    pub fn count_non_finite(&self) -> usize {
-        self.pixels
-            .iter()
-            .filter(|p| p.iter().any(|v| !v.is_finite()))
-            .count()
-    }
 }
 
 fn write_atomically(
@@ -99,29 +62,20 @@ fn write_atomically(
     Ok(())
 }
 
+/// Writes a file of `bytes` through a temporary file and a rename.
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomically(path, |w| {
+        w.write_all(bytes)
+            .map_err(|e| Error::file(path, format!("cannot write: {e}")))
+    })
+}
+
 /// Writes a text file (CSV, JSON) through a temporary file and a rename.
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
     write_atomically(path, |w| {
         w.write_all(text.as_bytes())
             .map_err(|e| Error::file(path, format!("cannot write: {e}")))
     })
-}
-
-/// A layer of an output image: named channels, each a plane of `width * height` values.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Layer {
-    pub name: String,
-    pub channels: Vec<(String, Vec<f32>)>,
-}
-
-impl Layer {
-    /// The channel `name` of the layer.
-    pub fn channel(&self, name: &str) -> Option<&[f32]> {
-        self.channels
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_slice())
-    }
 }
 
 /// Writes `film` as EXR or PNG according to the extension, with `metadata` (key, value) pairs
@@ -175,41 +129,6 @@ pub fn write_image_as(
         ImageFormat::Tiff => write_atomically(path, |w| {
             tiff::write_tiff(path, w, film, metadata, view, display.bits)
         }),
-    }
-}
-
-/// What an image path's extension names.
-pub enum ImageFormat {
-    /// Scene-linear floats.
-    Exr,
-    /// sRGB under the view, 8 or 16 bits.
-    Png,
-    /// sRGB under the view, 8 bits, lossy.
-    Jpeg,
-    /// sRGB under the view, 8 or 16 bits.
-    Tiff,
-}
-
-impl ImageFormat {
-    /// The format `path`'s extension names.
-    pub fn of(path: &Path) -> Result<ImageFormat> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .unwrap_or("")
-            .to_ascii_lowercase();
-        Ok(match ext.as_str() {
-            "exr" => ImageFormat::Exr,
-            "png" => ImageFormat::Png,
-            "jpg" | "jpeg" => ImageFormat::Jpeg,
-            "tif" | "tiff" => ImageFormat::Tiff,
-            _ => {
-                return Err(Error::file(
-                    path,
-                    "output must end in .exr, .png, .jpg or .tif",
-                ))
-            }
-        })
     }
 }
 

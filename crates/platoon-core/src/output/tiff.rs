@@ -7,7 +7,7 @@ use std::path::Path;
 use tiff::encoder::{colortype, TiffEncoder};
 use tiff::tags::Tag;
 
-use super::Film;
+use super::film::Film;
 use crate::error::{Error, Result};
 use crate::view::View;
 

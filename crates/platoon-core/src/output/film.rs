@@ -1,0 +1,61 @@
+//! What the writers write: a rendered frame (linear RGB radiance) and the layers beside it.
+
+use crate::view::View;
+
+/// A rendered frame: linear RGB radiance, row-major from the top row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl Film {
+    pub fn mean(&self) -> [f64; 3] {
+        let mut s = [0.0f64; 3];
+        for p in &self.pixels {
+            for k in 0..3 {
+                s[k] += p[k] as f64;
+            }
+        }
+        s.map(|v| v / self.pixels.len().max(1) as f64)
+    }
+    /// The image as 8-bit sRGB under the default view, three bytes a pixel.
+    pub fn srgb8(&self) -> Vec<u8> {
+        self.srgb8_viewed(&View::default())
+    }
+
+    /// The image as 16-bit sRGB under `view`, three values a pixel.
+    pub fn srgb16_viewed(&self, view: &View) -> Vec<u16> {
+        self.pixels.iter().flat_map(|&p| view.srgb16(p)).collect()
+    }
+
+    /// The image as 8-bit sRGB under `view`, three bytes a pixel (a PNG's pixels).
+    pub fn srgb8_viewed(&self, view: &View) -> Vec<u8> {
+        self.pixels.iter().flat_map(|&p| view.srgb8(p)).collect()
+    }
+
+    pub fn count_non_finite(&self) -> usize {
+        self.pixels
+            .iter()
+            .filter(|p| p.iter().any(|v| !v.is_finite()))
+            .count()
+    }
+}
+
+/// A layer of an output image: named channels, each a plane of `width * height` values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layer {
+    pub name: String,
+    pub channels: Vec<(String, Vec<f32>)>,
+}
+
+impl Layer {
+    /// The channel `name` of the layer.
+    pub fn channel(&self, name: &str) -> Option<&[f32]> {
+        self.channels
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+}
