@@ -1296,6 +1296,70 @@ fn assert_refused(flags: &[&str], says: &str, out: &Path) {
 }
 
 #[test]
+fn a_still_ended_short_resumes_from_its_checkpoint_bit_for_bit() {
+    // Issue 41: a render cut by --time-limit leaves OUT.checkpoint; the same command with
+    // --resume renders the rest, and the image is the uninterrupted render's, bit for bit.
+    let dir = tempfile::tempdir().unwrap();
+    let render = |out: &Path, flags: &[&str]| {
+        Cli::new("render")
+            .spp(24)
+            .size(16, 12)
+            .flag("--devices", "lavapipe:1")
+            .args(flags)
+            .out(out)
+            .run()
+    };
+    let whole = dir.path().join("whole.exr");
+    let o = render(&whole, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!dir.path().join("whole.exr.checkpoint").exists());
+    let cut = dir.path().join("cut.exr");
+    let checkpoint = dir.path().join("cut.exr.checkpoint");
+    let o = render(&cut, &["--time-limit", "0.000001"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        checkpoint.is_file() && stderr(&o).contains("--resume"),
+        "{}",
+        stderr(&o)
+    );
+    let spp_of = |p: &Path| {
+        let meta = platoon::core::output::read_metadata(p).unwrap();
+        meta.into_iter()
+            .find(|(k, _)| k == "platoon:spp")
+            .unwrap()
+            .1
+    };
+    assert_ne!(spp_of(&cut), "24");
+    // Other settings are refused, naming the checkpoint; the checkpoint stays.
+    let o = render(&cut, &["--resume", "--seed", "5"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("cut.exr.checkpoint"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(checkpoint.is_file());
+    let o = render(&cut, &["--resume"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!checkpoint.exists(), "a whole render keeps no checkpoint");
+    assert_eq!(spp_of(&cut), "24");
+    let (a, b) = (
+        platoon::core::output::read_exr(&whole).unwrap().0,
+        platoon::core::output::read_exr(&cut).unwrap().0,
+    );
+    assert!(
+        a.pixels == b.pixels,
+        "the resumed render differs from the whole one"
+    );
+    // Nothing to resume from: said.
+    let o = render(&dir.path().join("none.exr"), &["--resume"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("no checkpoint"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
 fn ctrl_c_writes_a_still_with_the_samples_so_far() {
     // Issue 41, long stills: Ctrl-C ended the process and the image was lost; now the render
     // stops after its current pass, writes what it has (the spp reached and the interruption

@@ -118,6 +118,51 @@ fn a_rerun_skips_done_frames_and_redoes_a_damaged_one() {
 }
 
 #[test]
+fn log_json_says_each_frame_and_a_still_as_one_json_object_a_line() {
+    // Issue 41: farm tools read one JSON object a line: each frame's fate, a skipped one on a
+    // rerun, a JPEG sequence too; a still's line at its end.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("box_##.jpg");
+    let run = || {
+        let o = frames("1..2").arg("--log-json").out(&out).run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o)
+            .lines()
+            .map(|l| {
+                serde_json::from_str::<serde_json::Value>(l).unwrap_or_else(|e| panic!("{l}: {e}"))
+            })
+            .collect::<Vec<_>>()
+    };
+    let first = run();
+    assert_eq!(first.len(), 2, "{first:?}");
+    for (line, f) in first.iter().zip(1..) {
+        assert_eq!(line["frame"], f);
+        assert_eq!(line["status"], "ok");
+        let file = line["file"].as_str().unwrap();
+        assert!(file.ends_with(&format!("box_0{f}.jpg")) && Path::new(file).is_file());
+        assert!(line["seconds"].as_f64().is_some_and(|s| s > 0.0));
+    }
+    let again = run();
+    assert!(again.iter().all(|l| l["status"] == "skipped"), "{again:?}");
+    let still = dir.path().join("still.png");
+    let o = Cli::new("render")
+        .spp(2)
+        .size(16, 8)
+        .arg("--log-json")
+        .out(&still)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let line: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(line["status"], "ok");
+    assert_eq!(line["spp"], 2.0);
+    assert_eq!(
+        (line["width"].as_u64(), line["height"].as_u64()),
+        (Some(16), Some(8))
+    );
+    assert!(line["file"].as_str().unwrap().ends_with("still.png"));
+}
+
+#[test]
 fn a_rerun_redoes_frames_whose_environment_map_or_raw_image_changed() {
     // Issue 41, defect 3: the job named the environment map by its path alone, and a denoised
     // frame whose raw image (NAME.noisy.EXT) was deleted still counted as done.

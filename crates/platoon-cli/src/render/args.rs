@@ -45,6 +45,15 @@ pub struct RenderArgs {
     pub(super) width: u32,
     #[arg(long, default_value_t = 512, allow_negative_numbers = true)]
     pub(super) height: u32,
+    /// Continue a still from its checkpoint (OUT.checkpoint, which a render ended short by
+    /// Ctrl-C or --time-limit on one device leaves): the same command with --resume renders
+    /// the samples left, the image the same bits as one uninterrupted render.
+    #[arg(long, conflicts_with = "sequence")]
+    pub(super) resume: bool,
+    /// Render at this percentage of --width and --height (Blender's resolution %): 25 for a
+    /// quick preview of the same framing.
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true)]
+    pub(super) resolution_percent: u32,
     /// Longest path in segments (1: emitters only, 2: direct light). Default: effectively unbounded.
     #[arg(long, allow_negative_numbers = true)]
     pub(super) max_depth: Option<u32>,
@@ -156,6 +165,11 @@ fn parse_balancer(s: &str) -> Result<String, String> {
 
 #[derive(clap::Args)]
 pub struct FrameArgs {
+    /// Say each frame on standard output as one JSON object a line (frame, status ok,
+    /// skipped or failed, file, seconds, rank, error), for farm tools; a still says itself so
+    /// at its end (status, file, seconds, spp, width, height, samples_per_second).
+    #[arg(long)]
+    pub log_json: bool,
     /// Render an animation: frames A..B[:STEP] (B included), frame F at animation time
     /// F / --fps seconds, to numbered files (`--out dir/shot_####.exr`: the last run of #
     /// takes the frame number; a name without # gets `_####`).

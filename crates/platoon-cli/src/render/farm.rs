@@ -11,12 +11,15 @@ use anyhow::Result;
 use platoon::animation::frame_path;
 use platoon::distributed::Session;
 
+use super::frame_log::FrameLog;
+
 /// Renders the frames of `todo` this rank is dealt with `render` (frame, its file), saying
 /// each one's fate; rank 0 returns every rank's (frames rendered, failed).
 pub(super) fn run(
     session: &Rc<dyn Session>,
     todo: Vec<i64>,
     out: &Path,
+    log: FrameLog,
     mut render: impl FnMut(i64, &Path) -> Result<()>,
 ) -> Result<(u64, u64)> {
     let rank = session.rank();
@@ -26,13 +29,12 @@ pub(super) fn run(
         let began = Instant::now();
         match render(f, &path) {
             Ok(()) => println!(
-                "frame {f}: ok, {} in {:.2} s (rank {rank})",
-                path.display(),
-                began.elapsed().as_secs_f64()
+                "{}",
+                log.ok(f, &path, began.elapsed().as_secs_f64(), Some(rank))
             ),
             Err(e) => {
                 failed += 1;
-                println!("frame {f}: failed on rank {rank}: {e:#}");
+                println!("{}", log.failed(f, &e, Some(rank)));
             }
         }
         rendered += 1;

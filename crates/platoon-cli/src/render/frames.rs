@@ -15,6 +15,7 @@ use platoon::Tracers;
 use super::args::{FrameArgs, RenderArgs};
 use platoon::Still;
 
+use super::frame_log::FrameLog;
 use super::job::Job;
 use super::outputs;
 use super::setup::{check_output, on_every_rank, setup, Setup};
@@ -69,12 +70,15 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
     };
     let paths: Vec<std::path::PathBuf> = frames.iter().map(|&f| frame_path(&out, f)).collect();
     let job = Job::new(&setup, &args);
+    let log = FrameLog {
+        json: args.log_json,
+    };
     let mut todo = Vec::new();
     for f in frames {
         let path = frame_path(&out, f);
         if !args.overwrite && job.done(&path, f) {
             if speaks {
-                println!("frame {f}: skipped, {} is done", path.display());
+                println!("{}", log.skipped(f, &path));
             }
         } else {
             todo.push(f);
@@ -105,12 +109,12 @@ fn animation(setup: Setup, out: std::path::PathBuf, args: FrameArgs) -> Result<(
             .session
             .clone()
             .expect("--mpi-frames joins the job");
-        let (rendered, failed) = super::farm::run(&session, todo, &out, |f, path| {
+        let (rendered, failed) = super::farm::run(&session, todo, &out, log, |f, path| {
             frames.render(&job, f, path, &mut |_| {})
         })?;
         Tally { rendered, failed }
     } else {
-        in_order(&mut frames, &job, &out, &todo)?
+        in_order(&mut frames, &job, &out, &todo, log)?
     };
     if !speaks {
         return Ok(());
@@ -139,7 +143,13 @@ struct Tally {
 
 /// Renders `todo` in order with a progress bar; over ranks every frame is split between them,
 /// and a rank failing one ends the job (it is out of step with the others).
-fn in_order(frames: &mut Frames, job: &Job, out: &Path, todo: &[i64]) -> Result<Tally> {
+fn in_order(
+    frames: &mut Frames,
+    job: &Job,
+    out: &Path,
+    todo: &[i64],
+    log: FrameLog,
+) -> Result<Tally> {
     let speaks = frames.speaks;
     let spp = frames.setup.params.spp as u64;
     let bar = if speaks {
@@ -169,14 +179,10 @@ fn in_order(frames: &mut Frames, job: &Job, out: &Path, todo: &[i64]) -> Result<
             continue;
         }
         bar.suspend(|| match result {
-            Ok(()) => println!(
-                "frame {f}: ok, {} in {:.2} s",
-                path.display(),
-                began.elapsed().as_secs_f64()
-            ),
+            Ok(()) => println!("{}", log.ok(f, &path, began.elapsed().as_secs_f64(), None)),
             Err(e) => {
                 failed += 1;
-                println!("frame {f}: failed: {e:#}");
+                println!("{}", log.failed(f, &e, None));
             }
         });
     }

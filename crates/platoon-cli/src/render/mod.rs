@@ -2,7 +2,9 @@
 //! `--frames`, an animation to numbered files ([`frames`]), optionally a video ([`video`]).
 
 mod args;
+mod checkpoint;
 mod farm;
+mod frame_log;
 mod frames;
 mod job;
 mod outputs;
@@ -23,9 +25,13 @@ pub fn run(a: RenderArgs) -> Result<()> {
         stop_on_ctrl_c();
     }
     setup::check_output(&a)?;
+    let log = frame_log::FrameLog {
+        json: a.frames.log_json,
+    };
+    let resume = a.resume;
     let (setup, out, _) = setup::setup(a)?;
     let session = setup.session.clone();
-    setup::on_every_rank(session, || still::still(setup, out))
+    setup::on_every_rank(session, || still::still(setup, out, log, resume))
 }
 
 /// Ctrl-C ends a still render after its current pass (its samples so far are written, as

@@ -111,6 +111,8 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         time_limit,
         width,
         height,
+        resolution_percent,
+        resume: _,
         max_depth,
         seed,
         filter,
@@ -148,6 +150,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         aovs.push(Aov::SampleCount);
     }
     let time_limit = Request::time_limit_secs(time_limit).map_err(as_flags)?;
+    let (width, height) = at_percent(width, height, resolution_percent)?;
     let request = Request {
         scene: match &scene.scene {
             Some(path) => SceneSource::File(path.clone()),
@@ -241,4 +244,33 @@ pub(super) fn check_output(a: &RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// `width` x `height` at `percent` (rounded, at least a pixel), as Blender's resolution %.
+fn at_percent(width: u32, height: u32, percent: u32) -> Result<(u32, u32)> {
+    if percent == 0 {
+        bail!("--resolution-percent must be positive");
+    }
+    let scale = |v: u32| {
+        let scaled = (v as u64 * percent as u64 + 50) / 100;
+        // A zero stays zero: the request refuses it naming --width or --height.
+        u32::try_from(if v == 0 { 0 } else { scaled.max(1) })
+    };
+    match (scale(width), scale(height)) {
+        (Ok(w), Ok(h)) => Ok((w, h)),
+        _ => bail!("--resolution-percent {percent}: {width}x{height} grows past what a size holds"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_percentage_scales_both_sides_rounded() {
+        assert_eq!(super::at_percent(1920, 1080, 25).unwrap(), (480, 270));
+        assert_eq!(super::at_percent(512, 511, 100).unwrap(), (512, 511));
+        assert_eq!(super::at_percent(3, 3, 10).unwrap(), (1, 1));
+        assert_eq!(super::at_percent(100, 0, 50).unwrap(), (50, 0));
+        assert!(super::at_percent(8, 8, 0).is_err());
+        assert!(super::at_percent(u32::MAX, 8, 200).is_err());
+    }
 }

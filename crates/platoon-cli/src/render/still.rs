@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use platoon::core::frame::adaptive::Batching;
 use platoon::core::frame::FrameParams;
@@ -10,11 +10,13 @@ use platoon::Tracers;
 
 use platoon::Still;
 
+use super::checkpoint;
+use super::frame_log::FrameLog;
 use super::outputs;
 use super::setup::Setup;
 
 /// The still render of `run`.
-pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
+pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> Result<()> {
     let speaks = setup.speaks();
     let prepared = platoon::prepare(setup.scene.clone(), &setup.options)?;
     if speaks {
@@ -38,13 +40,47 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         ..
     } = setup;
     params.camera = camera.in_render_space(prepared.camera, prepared.posed.origin);
-    let rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
+    let asked = params.spp;
+    let key = checkpoint::key(&params, prepared.gpu.content_hash(), sampling);
+    let plain = batching.adaptive.is_none() && !batching.variance;
+    let resumed = match resume {
+        true if !plain => bail!(
+            "--resume continues a plain render: not with --adaptive-threshold or the variance AOV"
+        ),
+        true => checkpoint::resume(&out, &mut params, &key)?,
+        false => 0,
+    };
+    let mut rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
+    if resumed > 0 {
+        // The sums hold the checkpoint's samples too: the image is of all of them.
+        rendered.spp += resumed;
+        let inv = 1.0 / rendered.spp as f32;
+        rendered.film.pixels = rendered.sums.iter().map(|s| s.map(|v| v * inv)).collect();
+        params.spp = asked;
+        params.first_sample = 0;
+        params.film.accumulated = None;
+    }
     let interrupted = platoon::tracer::stop::requested();
     let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
     meta.extend(outputs::entries(&image, &out));
     if interrupted {
         meta.push(("interrupted".into(), "Ctrl-C: the samples so far".into()));
     }
+    if resumed > 0 {
+        meta.push(("resumed".into(), format!("from {resumed} samples a pixel")));
+    }
+    let told = match (speaks, plain) {
+        (true, true) => checkpoint::keep(
+            &out,
+            key,
+            &params,
+            asked,
+            rendered.spp,
+            &rendered.sums,
+            tracers.count() == 1 && tracers.ranks() == 1,
+        )?,
+        _ => None,
+    };
     let still = Still::of(
         &mut tracers,
         &prepared.gpu,
@@ -85,6 +121,21 @@ pub(super) fn still(setup: Setup, out: PathBuf) -> Result<()> {
         started.elapsed().as_secs_f64()
     );
     report_method(rendered, &params.method);
+    if let Some(told) = told {
+        eprintln!("note: {told}");
+    }
+    let samples = params.width as f64 * params.height as f64 * rendered.mean_spp();
+    if let Some(line) = log.still(serde_json::json!({
+        "status": if interrupted { "interrupted" } else { "ok" },
+        "file": out,
+        "seconds": secs,
+        "spp": rendered.mean_spp(),
+        "width": params.width,
+        "height": params.height,
+        "samples_per_second": samples / secs,
+    })) {
+        println!("{line}");
+    }
     if interrupted {
         anyhow::bail!(
             "interrupted (Ctrl-C): {} holds the {} samples a pixel rendered before it",
