@@ -1350,10 +1350,16 @@ fn a_still_ended_short_resumes_from_its_checkpoint_bit_for_bit() {
         a.pixels == b.pixels,
         "the resumed render differs from the whole one"
     );
-    // Nothing to resume from: said.
+    // Nothing to resume from: said; over MPI ranks: refused.
     let o = render(&dir.path().join("none.exr"), &["--resume"]);
     assert!(
         !o.status.success() && stderr(&o).contains("no checkpoint"),
+        "{}",
+        stderr(&o)
+    );
+    let o = render(&cut, &["--resume", "--mpi"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("not with --mpi"),
         "{}",
         stderr(&o)
     );

@@ -277,6 +277,7 @@ fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
     let mut view = x.open(
         platoon()
             .args(["view", "--size", "24x16", "--devices", "lavapipe:1"])
+            .args(["--filter", "gaussian"])
             .args(["--denoise", "atrous", "--frames", "6", "--screenshot"])
             .arg(&shot),
     );

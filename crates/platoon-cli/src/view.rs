@@ -44,6 +44,9 @@ pub struct ViewArgs {
     /// Render size, WIDTHxHEIGHT; the window shows it scaled to its size.
     #[arg(long, default_value = "320x240", value_parser = crate::size_arg::parse_size)]
     size: (u32, u32),
+    /// The pixel filter: box, gaussian or blackman-harris (as `render --filter`).
+    #[arg(long, default_value = "box", value_parser = platoon::core::frame::PixelFilter::parse)]
+    filter: platoon::core::frame::PixelFilter,
     /// Frame time to hold, in milliseconds.
     #[arg(long, default_value_t = 50.0)]
     target_ms: f64,
@@ -108,6 +111,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         width: w,
         height: h,
         spp: 1,
+        filter: args.filter,
         method: args.method.method()?,
         devices: args
             .devices

@@ -24,6 +24,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if !a.mpi {
         stop_on_ctrl_c();
     }
+    if a.resume && a.mpi {
+        anyhow::bail!(
+            "--resume continues a render of one device (its checkpoint): not with --mpi, whose \
+             ranks' bands stop at different passes"
+        );
+    }
     setup::check_output(&a)?;
     let log = frame_log::FrameLog {
         json: a.frames.log_json,
