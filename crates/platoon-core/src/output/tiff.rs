@@ -22,27 +22,38 @@ pub(super) fn write_tiff(
     let failed = |e: tiff::TiffError| Error::file(path, format!("cannot write TIFF: {e}"));
     let mut encoder = TiffEncoder::new(w).map_err(failed)?;
     let description = ascii_json(metadata);
-    let (width, height) = (film.width, film.height);
-    if bits == 16 {
-        let mut image = encoder
-            .new_image::<colortype::RGB16>(width, height)
-            .map_err(failed)?;
-        image
-            .encoder()
-            .write_tag(Tag::ImageDescription, description.as_str())
-            .map_err(failed)?;
-        let data: Vec<u16> = film.srgb16_viewed(view);
-        image.write_data(&data).map_err(failed)
-    } else {
-        let mut image = encoder
-            .new_image::<colortype::RGB8>(width, height)
-            .map_err(failed)?;
-        image
-            .encoder()
-            .write_tag(Tag::ImageDescription, description.as_str())
-            .map_err(failed)?;
-        image.write_data(&film.srgb8_viewed(view)).map_err(failed)
-    }
+    let written = match bits {
+        16 => write_rgb::<_, colortype::RGB16>(
+            &mut encoder,
+            film,
+            &description,
+            &film.srgb16_viewed(view),
+        ),
+        _ => write_rgb::<_, colortype::RGB8>(
+            &mut encoder,
+            film,
+            &description,
+            &film.srgb8_viewed(view),
+        ),
+    };
+    written.map_err(failed)
+}
+
+/// One RGB image of `film`'s size, its samples `data`, described by `description`.
+fn write_rgb<W: Write + Seek, C: colortype::ColorType>(
+    encoder: &mut TiffEncoder<W>,
+    film: &Film,
+    description: &str,
+    data: &[C::Inner],
+) -> tiff::TiffResult<()>
+where
+    [C::Inner]: tiff::encoder::TiffValue,
+{
+    let mut image = encoder.new_image::<C>(film.width, film.height)?;
+    image
+        .encoder()
+        .write_tag(Tag::ImageDescription, description)?;
+    image.write_data(data)
 }
 
 /// `metadata` as a JSON object whose keys are prefixed `platoon:`, every character outside
