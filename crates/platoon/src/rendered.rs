@@ -52,6 +52,14 @@ pub struct BatchedStats {
 }
 
 impl Rendered {
+    /// The film made the mean of the sums over `spp` samples a pixel: what a render that
+    /// continued earlier sums (`FilmState::accumulated`) shows of all of them.
+    pub fn average_over(&mut self, spp: u32) {
+        self.spp = spp;
+        let inv = 1.0 / spp as f32;
+        self.film.pixels = self.sums.iter().map(|s| s.map(|v| v * inv)).collect();
+    }
+
     pub fn rays(&self) -> u64 {
         self.rays
     }

@@ -53,9 +53,7 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
     let mut rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
     if resumed > 0 {
         // The sums hold the checkpoint's samples too: the image is of all of them.
-        rendered.spp += resumed;
-        let inv = 1.0 / rendered.spp as f32;
-        rendered.film.pixels = rendered.sums.iter().map(|s| s.map(|v| v * inv)).collect();
+        rendered.average_over(rendered.spp + resumed);
         params.spp = asked;
         params.first_sample = 0;
         params.film.accumulated = None;

@@ -9,7 +9,6 @@ use std::time::Duration;
 
 use anyhow::Result;
 use platoon_core::frame::FrameParams;
-use platoon_core::output::Film;
 
 use super::error::{Interrupted, RequestError};
 use super::form::Request;
@@ -104,14 +103,8 @@ impl Progressive {
         }
         self.spp += spp;
         self.wall_time += rendered.wall_time;
-        let inv = 1.0 / self.spp as f32;
-        rendered.film = Film {
-            width: more.width,
-            height: more.height,
-            pixels: rendered.sums.iter().map(|s| s.map(|v| v * inv)).collect(),
-        };
+        rendered.average_over(self.spp);
         self.sums = Some(rendered.sums.clone().into());
-        rendered.spp = self.spp;
         rendered.wall_time = self.wall_time;
         let params = self.params();
         let meta = crate::metadata(
