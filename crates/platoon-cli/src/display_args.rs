@@ -50,13 +50,13 @@ impl DisplayArgs {
             jpeg_quality: self.jpeg_quality,
         };
         let format = platoon::core::output::ImageFormat::of(out)?;
-        display.check(&format).map_err(|e| {
-            let flag = match self.jpeg_quality {
-                1..=100 => "--bit-depth",
-                _ => "--jpeg-quality",
-            };
-            anyhow::anyhow!("{}: {flag}: {e}", out.display())
-        })?;
+        let refused = |flag: &str, e: String| anyhow::anyhow!("{}: {flag}: {e}", out.display());
+        display
+            .check_quality()
+            .map_err(|e| refused("--jpeg-quality", e))?;
+        display
+            .check_bits(&format)
+            .map_err(|e| refused("--bit-depth", e))?;
         Ok(ImageOptions {
             view: self.view()?,
             exr: self.exr()?,

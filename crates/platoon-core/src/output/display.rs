@@ -30,13 +30,21 @@ impl DisplayOptions {
 
     /// What is wrong with these options for `format`, if anything.
     pub fn check(&self, format: &super::format::ImageFormat) -> Result<(), String> {
-        use super::format::ImageFormat::*;
-        if !(1..=100).contains(&self.jpeg_quality) {
-            return Err(format!(
-                "JPEG quality runs from 1 to 100, not {}",
-                self.jpeg_quality
-            ));
+        self.check_quality()?;
+        self.check_bits(format)
+    }
+
+    /// What is wrong with the JPEG quality, if anything.
+    pub fn check_quality(&self) -> Result<(), String> {
+        match self.jpeg_quality {
+            1..=100 => Ok(()),
+            q => Err(format!("JPEG quality runs from 1 to 100, not {q}")),
         }
+    }
+
+    /// What is wrong with the bits for `format`, if anything.
+    pub fn check_bits(&self, format: &super::format::ImageFormat) -> Result<(), String> {
+        use super::format::ImageFormat::*;
         match (self.bits, format) {
             (8, _) => Ok(()),
             (16, Png | Tiff) => Ok(()),
