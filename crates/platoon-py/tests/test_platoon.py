@@ -130,10 +130,23 @@ def test_devices_and_methods_describe_themselves():
     assert list(m)[0] == "path" and "vpls" in m["igi"]
 
 
-def test_ctrl_c_returns_from_a_long_render_at_once():
+def interrupted(code):
+    """Runs `code` in a Python of its own, sends it SIGINT 1.5 s after it prints `rendering`,
+    and returns its exit status and output; it must end within 20 s of the signal."""
     import signal
     import sys
     import time
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "rendering"
+    time.sleep(1.5)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert time.monotonic() - sent < 20, "Ctrl-C waited for the render"
+    return p.returncode, out
+
+
+def test_ctrl_c_returns_from_a_long_render_at_once():
     code = ("import platoon, sys\n"
             "print('rendering', flush=True)\n"
             "try:\n"
@@ -145,14 +158,8 @@ def test_ctrl_c_returns_from_a_long_render_at_once():
             "    r = platoon.render(width=16, height=16, spp=4, devices='lavapipe:1')\n"
             "    print('then', r.spp, flush=True)\n"
             "    sys.exit(3)\n")
-    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
-    assert p.stdout.readline().strip() == "rendering"
-    time.sleep(1.5)
-    sent = time.monotonic()
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=60)
-    assert p.returncode == 3 and "interrupted" in out and "then 4" in out, out
-    assert time.monotonic() - sent < 20, "Ctrl-C waited for the render"
+    returncode, out = interrupted(code)
+    assert returncode == 3 and "interrupted" in out and "then 4" in out, out
 
 
 def test_a_renderer_continues_its_film_bit_for_bit():
@@ -226,9 +233,6 @@ def test_a_living_scenes_frames_equal_the_rust_loops(tmp_path):
 
 
 def test_ctrl_c_in_a_renderer_keeps_none_of_the_calls_samples():
-    import signal
-    import sys
-    import time
     code = ("import platoon, sys, numpy as np\n"
             "r = platoon.Renderer(width=64, height=64, devices='lavapipe:1')\n"
             "r.render(2)\n"
@@ -242,11 +246,5 @@ def test_ctrl_c_in_a_renderer_keeps_none_of_the_calls_samples():
             "    whole = platoon.render(width=64, height=64, spp=4, devices='lavapipe:1')\n"
             "    print('then', after.spp, np.array_equal(after.image, whole.image), flush=True)\n"
             "    sys.exit(3)\n")
-    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
-    assert p.stdout.readline().strip() == "rendering"
-    time.sleep(1.5)
-    sent = time.monotonic()
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=60)
-    assert p.returncode == 3 and "interrupted 2" in out and "then 4 True" in out, out
-    assert time.monotonic() - sent < 20, "Ctrl-C waited for the render"
+    returncode, out = interrupted(code)
+    assert returncode == 3 and "interrupted 2" in out and "then 4 True" in out, out
