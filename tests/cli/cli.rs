@@ -1029,16 +1029,22 @@ fn flags_that_would_do_nothing_are_refused_or_said() {
     );
 }
 
+/// The built-in box at 16 x 12, 2 spp, rendered to an EXR in `dir` and read back: what the
+/// display-referred outputs of the same render are held to.
+fn box_16x12_at_2_spp(dir: &Path) -> platoon::core::output::Film {
+    let exr = dir.join("box.exr");
+    let o = Cli::new("render").spp(2).size(16, 12).out(&exr).run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    platoon::core::output::read_exr(&exr).unwrap().0
+}
+
 #[test]
 fn a_png_is_the_exr_under_the_view_transform_and_exposure_asked_for() {
     // Issue 41, colour: the same render as scene-linear EXR and as PNG under each view; the
     // PNG's bytes are the EXR's pixels through platoon::core::view, and its metadata says so.
     use platoon::core::view::{View, ViewTransform};
     let dir = tempfile::tempdir().unwrap();
-    let exr = dir.path().join("box.exr");
-    let o = Cli::new("render").spp(2).size(16, 12).out(&exr).run();
-    assert!(o.status.success(), "{}", stderr(&o));
-    let (film, _) = platoon::core::output::read_exr(&exr).unwrap();
+    let film = box_16x12_at_2_spp(dir.path());
     let mut seen = Vec::new();
     for (name, exposure) in [
         ("standard", "1"),
@@ -1089,10 +1095,7 @@ fn a_16_bit_tiff_png_and_a_jpeg_are_the_exr_under_the_view() {
     // the render's metadata); bits a format cannot hold are refused before rendering.
     use platoon::core::view::View;
     let dir = tempfile::tempdir().unwrap();
-    let exr = dir.path().join("box.exr");
-    let o = Cli::new("render").spp(2).size(16, 12).out(&exr).run();
-    assert!(o.status.success(), "{}", stderr(&o));
-    let (film, _) = platoon::core::output::read_exr(&exr).unwrap();
+    let film = box_16x12_at_2_spp(dir.path());
     let want16 = film.srgb16_viewed(&View::default());
     for name in ["box.tif", "box.png"] {
         let out = dir.path().join(name);
