@@ -79,6 +79,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Gl
     uvec4 counts;      // lights, instances, top-level root item, env kind (0 none, 1 constant, 2 map)
     uvec4 params;      // max depth, frame, seed, russian-roulette start depth
     vec4 scene_sphere; // the scene's bounding sphere: centre, radius
+    uvec4 crop;        // the frame's first pixel in the camera's image, that image's size
 };
 
 layout(push_constant) uniform Push {
@@ -123,11 +124,12 @@ layout(std140, set = 0, binding = 16) uniform FrameBlock {
     uvec4 counts;
     uvec4 params;
     vec4 scene_sphere;
+    uvec4 crop;
 } frame_block;
 
 struct FrameConstants {
     vec4 cam_origin; vec4 cam_right; vec4 cam_up; vec4 cam_forward; vec4 env_color;
-    uvec4 dims; uvec4 counts; uvec4 params; vec4 scene_sphere;
+    uvec4 dims; uvec4 counts; uvec4 params; vec4 scene_sphere; uvec4 crop;
 };
 FrameConstants F;
 
@@ -141,6 +143,7 @@ void load_frame_constants() {
     F.counts = frame_block.counts;
     F.params = frame_block.params;
     F.scene_sphere = frame_block.scene_sphere;
+    F.crop = frame_block.crop;
 }
 
 const float PI = 3.14159265358979323846;
@@ -157,6 +160,10 @@ uint max_depth() { return F.params.x; }
 uint frame_index() { return F.params.y; }
 uint render_seed() { return F.params.z; }
 uint rr_depth() { return F.params.w; }
+// A frame pixel's place in the image the camera frames (a border render is a window of it,
+// FrameParams::crop): camera rays and random numbers are the image pixel's.
+uvec2 image_pixel(uvec2 pixel) { return pixel + F.crop.xy; }
+vec2 image_size() { return vec2(F.crop.zw); }
 
 // env_kind(): GpuEnvironment::kind (crates/platoon-core/src/flatten/layout.rs).
 const uint ENV_NONE = 0u;

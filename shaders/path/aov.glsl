@@ -10,7 +10,7 @@ const uint AOV_SPECULAR_CHAIN = 8u;
 
 #if defined(OUTPUT_AOV_ALBEDO) || defined(OUTPUT_AOV_NORMAL)
 vec3 aov_sample(uvec2 pixel, uint si, inout uint rays) {
-    Rng rng = rng_init(pixel, si, frame_index(), render_seed());
+    Rng rng = pixel_rng(pixel, si);
     Ray ray = camera_ray(pixel, rng);
     vec3 weight = vec3(1.0);
     for (uint vertex = 0u; vertex <= AOV_SPECULAR_CHAIN; vertex++) {
@@ -50,8 +50,7 @@ vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
     for (uint si = pc.sample_begin; si != pc.sample_end; si++) sum += aov_sample(pixel, si, rays);
     return sum;
 #else
-    vec2 size = vec2(F.dims.xy);
-    vec2 ndc = vec2(2.0 * (float(pixel.x) + 0.5) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + 0.5) / size.y);
+    vec2 ndc = pixel_ndc(pixel, vec2(0.5));
     vec3 dir = F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
     vec3 origin = F.cam_origin.xyz;
 #ifdef HAS_ORTHOGRAPHIC

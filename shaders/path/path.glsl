@@ -71,11 +71,24 @@ bool sides_agree(vec3 ng_wo, vec3 wi, float shading_cos_product) {
 
 #include "path/pixel_filter.glsl"
 
+// The random numbers of a frame pixel's sample: the image pixel's (a border render's window
+// draws what the whole image draws there).
+Rng pixel_rng(uvec2 pixel, uint sample_index) {
+    return rng_init(image_pixel(pixel), sample_index, frame_index(), render_seed());
+}
+
+// A frame pixel's point `offset` pixels from its top-left corner, in the normalised device
+// coordinates of the image the camera frames.
+vec2 pixel_ndc(uvec2 pixel, vec2 offset) {
+    vec2 p = vec2(image_pixel(pixel));
+    vec2 size = image_size();
+    return vec2(2.0 * (p.x + offset.x) / size.x - 1.0, 1.0 - 2.0 * (p.y + offset.y) / size.y);
+}
+
 Ray camera_ray(uvec2 pixel, inout Rng rng) {
     vec2 jitter = pixel_position(rng_next2(rng));
     vec2 lens = rng_next2(rng);
-    vec2 size = vec2(F.dims.xy);
-    vec2 ndc = vec2(2.0 * (float(pixel.x) + jitter.x) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + jitter.y) / size.y);
+    vec2 ndc = pixel_ndc(pixel, jitter);
     vec3 dir = F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
     vec3 origin = F.cam_origin.xyz;
 #ifdef HAS_ORTHOGRAPHIC
@@ -350,7 +363,7 @@ vec3 pixel_samples(uvec2 pixel, vec3 sum, inout uint rays, inout uint rejected) 
     // passes, or earlier frames of a converging view) one sample at a time, so the bits do not
     // depend on how the samples were cut into passes or frames.
     uint si = pc.sample_begin;
-    Rng rng = rng_init(pixel, si, frame_index(), render_seed());
+    Rng rng = pixel_rng(pixel, si);
     Path p = path_start(camera_ray(pixel, rng), si);
 #ifdef LAST_PATH_CUT
     bool done = false;
@@ -381,7 +394,7 @@ vec3 pixel_samples(uvec2 pixel, vec3 sum, inout uint rays, inout uint rejected) 
             break;
 #endif
         }
-        rng = rng_init(pixel, si, frame_index(), render_seed());
+        rng = pixel_rng(pixel, si);
         p = path_start(camera_ray(pixel, rng), si);
     }
     return sum;

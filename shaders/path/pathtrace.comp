@@ -50,8 +50,7 @@ void main() {
 #ifdef OUTPUT_PRIMARY_HIT
     // The first hit through the pixel centre (frame::Output::PrimaryHit; one sample per pixel):
     // what the CPU ray queries are checked against.
-    vec2 size = vec2(F.dims.xy);
-    vec2 ndc = vec2(2.0 * (float(pixel.x) + 0.5) / size.x - 1.0, 1.0 - 2.0 * (float(pixel.y) + 0.5) / size.y);
+    vec2 ndc = pixel_ndc(pixel, vec2(0.5));
     vec3 dir = normalize(F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz);
     Hit first;
     rays = 1u;

@@ -1458,3 +1458,41 @@ fn an_exr_is_written_in_half_floats_and_the_compression_asked_for() {
     );
     assert!(!refused.exists());
 }
+
+#[test]
+fn a_crop_writes_the_window_of_the_whole_render() {
+    // Issue 41, border render: the window's EXR holds the whole render's pixels there.
+    let dir = tempfile::tempdir().unwrap();
+    let whole = box_16x12_at_2_spp(dir.path());
+    let exr = dir.path().join("crop.exr");
+    let o = Cli::new("render")
+        .spp(2)
+        .size(16, 12)
+        .out(&exr)
+        .args(&["--crop", "4,2,8,6"])
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (crop, meta) = platoon::core::output::read_exr(&exr).unwrap();
+    assert_eq!((crop.width, crop.height), (8, 6));
+    let window: Vec<[f32; 3]> = (2..8)
+        .flat_map(|y| (4..12).map(move |x| y * 16 + x))
+        .map(|i| whole.pixels[i])
+        .collect();
+    assert!(
+        crop.pixels == window,
+        "the crop is not the whole render's window"
+    );
+    assert!(
+        meta.iter()
+            .any(|(k, v)| k == "platoon:crop" && v == "4,2,8,6 of 16 x 12"),
+        "{meta:?}"
+    );
+    // The window is in pixels of the image after --resolution-percent.
+    let out = dir.path().join("refused.exr");
+    assert_refused(
+        &["--crop", "4,2,8,6", "--resolution-percent", "50"],
+        "--crop: the window 4,2,8,6 reaches past the 4 x 4 image",
+        &out,
+    );
+    assert_refused(&["--crop", "4,2,8"], "X,Y,W,H", &out);
+}

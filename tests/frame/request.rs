@@ -106,6 +106,70 @@ fn a_camera_given_in_world_space_sees_what_the_scenes_camera_sees() {
     assert!(!close(&moved.image, &of_scene.image));
 }
 
+/// The window (x, y, w, h) of a `width`-wide image's pixels.
+fn window<T: Copy>(pixels: &[T], width: u32, (x, y, w, h): (u32, u32, u32, u32)) -> Vec<T> {
+    (y..y + h)
+        .flat_map(|r| (x..x + w).map(move |c| (r * width + c) as usize))
+        .map(|i| pixels[i])
+        .collect()
+}
+
+#[test]
+fn a_crop_is_the_whole_renders_pixels_there_on_any_split() {
+    use platoon::core::frame::Region;
+    use platoon::core::method::path::PathKernel;
+    // A thin lens, a wide filter and the AOVs: everything that reads the pixel's place.
+    let whole = Request {
+        aperture: 0.05,
+        filter: platoon::core::frame::PixelFilter::Gaussian,
+        aovs: vec![Aov::Albedo, Aov::Depth, Aov::InstanceId],
+        ..small()
+    };
+    let full = whole.render(&mut |_| {}).unwrap();
+    let region = (5, 3, 13, 9);
+    let crop = Some(Region {
+        x: region.0,
+        y: region.1,
+        width: region.2,
+        height: region.3,
+    });
+    for (devices, kernel) in [
+        (vec![1], PathKernel::Mega),
+        (vec![1, 1, 1], PathKernel::Mega),
+        (vec![1, 1, 1], PathKernel::Streaming),
+    ] {
+        let cropped = Request {
+            crop,
+            kernel,
+            devices: DeviceSpec::Lavapipe(devices.clone()),
+            ..whole.clone()
+        }
+        .render(&mut |_| {})
+        .unwrap();
+        let what = format!("{} tracers, {kernel:?}", devices.len());
+        assert_eq!(
+            (cropped.image.width, cropped.image.height),
+            (13, 9),
+            "{what}"
+        );
+        assert!(
+            cropped.image.pixels == window(&full.image.pixels, 24, region),
+            "{what}: the crop differs from the whole render's window"
+        );
+        for (a, b) in cropped.layers.iter().zip(&full.layers) {
+            for ((_, got), (_, want)) in a.channels.iter().zip(&b.channels) {
+                assert!(
+                    *got == window(want, 24, region),
+                    "{what}: the {} layer differs",
+                    a.name
+                );
+            }
+        }
+        let meta = cropped.metadata.iter().find(|(k, _)| k == "crop").unwrap();
+        assert_eq!(meta.1, "5,3,13,9 of 24 x 16");
+    }
+}
+
 #[test]
 fn every_rule_refuses_by_naming_its_option() {
     assert_eq!(small().validate(), Ok(()));
@@ -127,6 +191,14 @@ fn every_rule_refuses_by_naming_its_option() {
             "positive",
         ),
         (Request { spp: 0, ..small() }, "spp", "positive"),
+        (
+            Request {
+                crop: Some(platoon::core::frame::Region::parse("20,0,5,4").unwrap()),
+                ..small()
+            },
+            "crop",
+            "past the 24 x 16 image",
+        ),
         (
             Request {
                 width: 100_000,

@@ -10,7 +10,7 @@ use pyo3::types::PyDict;
 
 use platoon::core::frame::adaptive::Adaptive;
 use platoon::core::frame::aov::Aov;
-use platoon::core::frame::PixelFilter;
+use platoon::core::frame::{PixelFilter, Region};
 use platoon::core::method::registry;
 use platoon::core::method::settings::{Settings, Value, ValueKind};
 use platoon::core::scene::camera::Camera;
@@ -98,6 +98,14 @@ pub fn request(
         focus_distance: take(k, "focus_distance", "a distance")?,
         width: take(k, "width", "a whole number")?.unwrap_or(d.width),
         height: take(k, "height", "a whole number")?.unwrap_or(d.height),
+        crop: take::<(u32, u32, u32, u32)>(k, "crop", "(x, y, width, height)")?.map(
+            |(x, y, width, height)| Region {
+                x,
+                y,
+                width,
+                height,
+            },
+        ),
         spp: take(k, "spp", "a whole number")?.unwrap_or(default_spp),
         time_limit: Request::time_limit_secs(time_limit).map_err(|e| bad(e.option, e.problem))?,
         max_depth: take(k, "max_depth", "a whole number")?,

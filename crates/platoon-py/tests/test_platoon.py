@@ -80,7 +80,16 @@ def test_a_pixel_filter_equals_the_clis(tmp_path):
     assert not np.array_equal(r.image, platoon.render(**SMALL).image)
 
 
+def test_a_crop_is_the_whole_renders_window():
+    whole = platoon.render(**SMALL)
+    crop = platoon.render(**SMALL, crop=(5, 3, 13, 9))
+    assert crop.image.shape == (9, 13, 3)
+    assert np.array_equal(crop.image, whole.image[3:12, 5:18])
+    assert crop.metadata["crop"] == "5,3,13,9 of 24 x 16"
+
+
 @pytest.mark.parametrize("kwargs, error, says", [
+    (dict(crop=(20, 0, 5, 4)), ValueError, "crop: the window 20,0,5,4 reaches past"),
     (dict(width=0), ValueError, "width: must be positive"),
     (dict(filter="mitchell"), ValueError, "filter: unknown pixel filter"),
     (dict(max_depth=0), ValueError, "max_depth"),

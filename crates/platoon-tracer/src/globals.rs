@@ -42,6 +42,9 @@ pub(crate) struct Globals {
     pub params: [u32; 4],
     /// The scene's bounding sphere (centre, radius).
     pub scene_sphere: [f32; 4],
+    /// The frame's first pixel in the image its camera frames, and that image's size
+    /// (`FrameParams::crop`; the frame's own size without one).
+    pub crop: [u32; 4],
 }
 
 impl Globals {
@@ -81,13 +84,15 @@ impl Globals {
         g.stats = stats;
         g.method_buffers = method_buffers;
         let cam = &params.camera;
-        let b = cam.basis(params.width, params.height);
+        let crop = params.image_crop();
+        let b = cam.basis(crop.image_width, crop.image_height);
         g.cam_origin = b.origin.extend(cam.aperture_radius).to_array();
         g.cam_right = b.right.extend(b.tan_half_x).to_array();
         g.cam_up = b.up.extend(b.tan_half_y).to_array();
         g.cam_forward = b.forward.extend(cam.focus_distance).to_array();
         g.dims[0] = params.width;
         g.dims[1] = params.height;
+        g.crop = [crop.x, crop.y, crop.image_width, crop.image_height];
         g.params = [
             params.max_depth.max(1),
             params.frame,
@@ -125,6 +130,6 @@ pub(crate) struct Push {
     pub method: [u32; METHOD_WORDS],
 }
 
-const _: () = assert!(std::mem::size_of::<Globals>() == 176 + 9 * 16);
+const _: () = assert!(std::mem::size_of::<Globals>() == 176 + 10 * 16);
 // Must match the push-constant block of shaders/scene.glsl.
 const _: () = assert!(std::mem::size_of::<Push>() == 80);

@@ -65,6 +65,16 @@ pub fn metadata_of(
         ),
         ("width".into(), params.width.to_string()),
         ("height".into(), params.height.to_string()),
+        (
+            "crop".into(),
+            match params.crop {
+                Some(c) => format!(
+                    "{},{},{},{} of {} x {}",
+                    c.x, c.y, params.width, params.height, c.image_width, c.image_height
+                ),
+                None => "none".into(),
+            },
+        ),
         ("seed".into(), params.seed.to_string()),
         ("frame".into(), params.frame.to_string()),
         ("max_depth".into(), params.max_depth.to_string()),

@@ -61,7 +61,7 @@ void main() {
         sample_index = pc.sample_begin;
     }
     uvec2 pixel = uvec2(pixel_index % width, pixel_index / width);
-    Rng rng = rng_init(pixel, sample_index, frame_index(), render_seed());
+    Rng rng = pixel_rng(pixel, sample_index);
     Path p = path_start(camera_ray(pixel, rng), sample_index);
     store_path(i, p, SLOT_LIVE, pixel_index, rng, rays);
 }

@@ -54,6 +54,11 @@ pub struct RenderArgs {
     /// quick preview of the same framing.
     #[arg(long, default_value_t = 100, allow_negative_numbers = true)]
     pub(super) resolution_percent: u32,
+    /// A border render: only the window X,Y,W,H of the image (its top-left pixel and size, in
+    /// pixels of --width x --height after --resolution-percent); the output is W x H, its
+    /// pixels the same bits as the whole render's there (path tracing).
+    #[arg(long, value_parser = platoon::core::frame::Region::parse)]
+    pub(super) crop: Option<platoon::core::frame::Region>,
     /// Longest path in segments (1: emitters only, 2: direct light). Default: effectively unbounded.
     #[arg(long, allow_negative_numbers = true)]
     pub(super) max_depth: Option<u32>,

@@ -9,7 +9,7 @@ use std::time::Duration;
 use super::method_wire::{get_method, put_method};
 use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
 use crate::frame::aov::AovPass;
-use crate::frame::{FrameParams, Output, PixelFilter, Span};
+use crate::frame::{Crop, FrameParams, Output, PixelFilter, Span};
 use crate::method::path_kernel::PathKernel;
 use crate::scene::camera::Camera;
 
@@ -56,6 +56,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         time_limit,
         camera,
         filter,
+        crop,
         output,
     } = p;
     for v in [width, height, spp, max_depth, rr_depth] {
@@ -108,6 +109,16 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         PixelFilter::Gaussian => 1,
         PixelFilter::BlackmanHarris => 2,
     });
+    w.u8(crop.is_some() as u8);
+    let Crop {
+        x,
+        y,
+        image_width,
+        image_height,
+    } = p.image_crop();
+    for v in [x, y, image_width, image_height] {
+        w.u32(v);
+    }
     w.u8(match output {
         Output::Radiance => 0,
         Output::PrimaryHit => 1,
@@ -178,6 +189,14 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
         2 => PixelFilter::BlackmanHarris,
         k => return Err(WireError(format!("unknown pixel filter {k}"))),
     };
+    let cropped = flag(r)?;
+    let crop = Crop {
+        x: r.u32()?,
+        y: r.u32()?,
+        image_width: r.u32()?,
+        image_height: r.u32()?,
+    };
+    p.crop = cropped.then_some(crop);
     p.output = match r.u8()? {
         0 => Output::Radiance,
         1 => Output::PrimaryHit,
@@ -234,6 +253,12 @@ mod tests {
         p.first_sample = 13;
         p.output = Output::Aov(AovPass::Normal);
         p.filter = PixelFilter::BlackmanHarris;
+        p.crop = Some(Crop {
+            x: 2,
+            y: 3,
+            image_width: 9,
+            image_height: 8,
+        });
         p.film.accumulated = Some(
             (0..20)
                 .map(|i| [i as f32, 0.5, -1.0])

@@ -5,6 +5,7 @@
 pub mod adaptive;
 pub mod aov;
 pub mod aov_params;
+mod crop;
 #[cfg(test)]
 pub(crate) mod fakes;
 pub mod fault;
@@ -15,6 +16,7 @@ mod workers;
 
 use std::time::Duration;
 
+pub use crop::{Crop, Region};
 pub use film_state::FilmState;
 pub use pixel_filter::PixelFilter;
 
@@ -101,6 +103,9 @@ pub struct FrameParams {
     pub camera: Camera,
     /// What a sample counts for its pixel by its offset (the camera rays' distribution).
     pub filter: PixelFilter,
+    /// A border render: the frame's `width` x `height` pixels are a window of a larger image
+    /// (the camera frames that image). None: the frame is the whole image.
+    pub crop: Option<Crop>,
     pub output: Output,
 }
 
@@ -154,6 +159,16 @@ impl FrameParams {
         Ok(())
     }
 
+    /// The frame's placement in the image its camera frames (the whole image without a crop).
+    pub fn image_crop(&self) -> Crop {
+        self.crop.unwrap_or(Crop {
+            x: 0,
+            y: 0,
+            image_width: self.width,
+            image_height: self.height,
+        })
+    }
+
     pub fn new(width: u32, height: u32, spp: u32, camera: Camera) -> FrameParams {
         FrameParams {
             width,
@@ -181,6 +196,7 @@ impl FrameParams {
             time_limit: None,
             camera,
             filter: PixelFilter::Box,
+            crop: None,
             output: Output::Radiance,
         }
     }

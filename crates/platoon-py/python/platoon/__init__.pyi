@@ -48,6 +48,7 @@ def render(
     denoise: str = "none",
     seed: int = 0,
     filter: str = "box",
+    crop: tuple[int, int, int, int] | None = None,
     max_depth: int | None = None,
     time_limit: float | None = None,
     env: str | PathLike[str] | None = None,
@@ -72,7 +73,8 @@ def render(
     variance, sample-count. `denoise`: none, atrous, oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
     seen from above). `filter`: the pixel filter, box, gaussian (sigma 0.5 px) or
-    blackman-harris (1.5 px). `camera`: a scene camera's index or
+    blackman-harris (1.5 px). `crop`: a border render, the window (x, y, width, height) of
+    the image in its pixels, the same bits as the whole render's there. `camera`: a scene camera's index or
     name, or (eye, target, vertical fov in degrees) in world space. The method's options by
     name (`methods()`), e.g. method="igi", vpls=180.
     """

@@ -8,7 +8,7 @@ use anyhow::Result;
 use platoon_core::denoise::Denoiser;
 use platoon_core::frame::adaptive::{Adaptive, Batching};
 use platoon_core::frame::aov::Aov;
-use platoon_core::frame::{FrameParams, PixelFilter};
+use platoon_core::frame::{FrameParams, PixelFilter, Region};
 use platoon_core::method::path::PathKernel;
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::gltf_load::LoadOptions;
@@ -82,8 +82,12 @@ pub struct Request {
     pub aperture: f32,
     /// Distance to the plane in focus (None: the scene centre).
     pub focus_distance: Option<f32>,
+    /// The image's size (the camera frames it; a crop renders a window of it).
     pub width: u32,
     pub height: u32,
+    /// A border render: only this window of the image, whose pixels are the whole render's
+    /// there (the output is the window's size).
+    pub crop: Option<Region>,
     /// Samples per pixel (with a time limit, the most).
     pub spp: u32,
     /// Stop at the last complete pass within this time (one device only).
@@ -122,6 +126,7 @@ impl Default for Request {
             focus_distance: None,
             width: 512,
             height: 512,
+            crop: None,
             spp: 64,
             time_limit: None,
             max_depth: None,
@@ -173,6 +178,10 @@ impl Request {
     /// The frame's parameters, seen by `camera` (in render space).
     pub fn frame_params(&self, camera: Camera) -> FrameParams {
         let mut params = FrameParams::new(self.width, self.height, self.spp, camera);
+        if let Some(r) = self.crop {
+            (params.width, params.height) = (r.width, r.height);
+            params.crop = Some(r.crop_of(self.width, self.height));
+        }
         params.seed = self.seed;
         params.filter = self.filter;
         params.method = self.method.clone();

@@ -37,6 +37,13 @@ impl Request {
     /// Starts the game loop of this request (validated; its scene loaded and lit).
     pub fn start_game(&self, target: Option<Duration>) -> Result<FrameDriver> {
         self.validate()?;
+        if self.crop.is_some() {
+            return Err(super::error::RequestError {
+                option: "crop",
+                problem: "a game loop renders whole frames".into(),
+            }
+            .into());
+        }
         let mut scene = self.load_scene()?;
         crate::prepare::light(&mut scene, &self.env, &self.env_light)?;
         for w in &scene.warnings {

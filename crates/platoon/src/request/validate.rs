@@ -53,6 +53,11 @@ impl Request {
                 ),
             )?;
         }
+        if let Some(r) = &self.crop {
+            if let Err(e) = r.check(self.width, self.height) {
+                refuse("crop", e)?;
+            }
+        }
         if self.max_depth == Some(0) {
             refuse(
                 "max_depth",
