@@ -44,11 +44,23 @@ vec3 aov_sample(uvec2 pixel, uint si, inout uint rays) {
 }
 #endif
 
+// (instance + 1, material + 1, triangle + 1) of a hit.
+vec3 hit_ids(Hit hit) {
+    return vec3(float(hit.instance) + 1.0, float(surface_at(hit).material) + 1.0, float(hit.triangle) + 1.0);
+}
+
 // The pass's samples of one pixel, added onto `sum` (position and ids: one sample, written).
 vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
 #if defined(OUTPUT_AOV_ALBEDO) || defined(OUTPUT_AOV_NORMAL)
     for (uint si = pc.sample_begin; si != pc.sample_end; si++) sum += aov_sample(pixel, si, rays);
     return sum;
+#elif defined(OUTPUT_AOV_SAMPLE_IDS)
+    // The ids under one sample's camera ray (Cryptomatte's coverage, frame/cryptomatte.rs).
+    Rng rng = pixel_rng(pixel, pc.sample_begin);
+    Hit hit;
+    rays++;
+    if (!trace(camera_ray(pixel, rng), false, hit)) return vec3(0.0);
+    return hit_ids(hit);
 #else
     vec2 ndc = pixel_ndc(pixel, vec2(0.5));
     vec3 dir = F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
@@ -63,7 +75,7 @@ vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
 #ifdef OUTPUT_AOV_POSITION
     return surface_at(hit).position;
 #else
-    return vec3(float(hit.instance) + 1.0, float(surface_at(hit).material) + 1.0, float(hit.triangle) + 1.0);
+    return hit_ids(hit);
 #endif
 #endif
 }

@@ -1496,3 +1496,52 @@ fn a_crop_writes_the_window_of_the_whole_render() {
     );
     assert_refused(&["--crop", "4,2,8"], "X,Y,W,H", &out);
 }
+
+#[test]
+fn a_cryptomatte_is_written_as_the_specification_lays_it_out() {
+    // Issue 41: Cryptomatte's layers, full floats in a half-float EXR, its header under the
+    // layer name's key, every id in the manifest.
+    use platoon::core::frame::cryptomatte::{id_of, murmur3};
+    let dir = tempfile::tempdir().unwrap();
+    let exr = dir.path().join("crypto.exr");
+    let o = Cli::new("render")
+        .spp(2)
+        .size(16, 12)
+        .out(&exr)
+        .args(&["--aov", "crypto-material", "--exr-half"])
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (_, meta) = platoon::core::output::read_exr(&exr).unwrap();
+    let key = &format!("{:08x}", murmur3("CryptoMaterial"))[..7];
+    let attr = |k: &str| {
+        let k = format!("cryptomatte/{key}/{k}");
+        meta.iter().find(|(m, _)| *m == k).map(|(_, v)| v.clone())
+    };
+    assert_eq!(attr("name").as_deref(), Some("CryptoMaterial"), "{meta:?}");
+    assert_eq!(attr("hash").as_deref(), Some("MurmurHash3_32"));
+    assert_eq!(attr("conversion").as_deref(), Some("uint32_to_float32"));
+    let manifest: std::collections::BTreeMap<String, String> =
+        serde_json::from_str(&attr("manifest").unwrap()).unwrap();
+    let names: Vec<&str> = manifest.keys().map(String::as_str).collect();
+    assert_eq!(names, ["green", "light", "red", "white"]);
+    let channels = platoon::core::output::read_exr_channels(&exr).unwrap();
+    let channel = |n: &str| &channels.iter().find(|(c, _)| c == n).expect(n).1;
+    let ids = channel("CryptoMaterial00.R");
+    for (name, hex) in &manifest {
+        assert_eq!(*hex, format!("{:08x}", id_of(name).to_bits()));
+    }
+    // Every id covering a pixel is a manifest's, bit for bit (a half float would have lost
+    // its low bits); a pixel that sees no surface (out of the open box) has none.
+    let known: Vec<u32> = manifest.keys().map(|n| id_of(n).to_bits()).collect();
+    let coverage = channel("CryptoMaterial00.G");
+    for (id, c) in ids.iter().zip(coverage) {
+        assert!(
+            known.contains(&id.to_bits()) || (*id, *c) == (0.0, 0.0),
+            "id {id} covering {c}"
+        );
+    }
+    assert!(coverage.iter().filter(|&&c| c == 1.0).count() > 60);
+    for c in ["G", "B", "A"] {
+        assert_eq!(channel(&format!("CryptoMaterial02.{c}")).len(), 16 * 12);
+    }
+}

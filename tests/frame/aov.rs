@@ -10,7 +10,7 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3, Vec4};
 use platoon::core::frame::aov::{Aov, Layer, MISS_DEPTH};
-use platoon::core::frame::FrameParams;
+use platoon::core::frame::{cryptomatte, FrameParams};
 use platoon::core::scene::cornell::lambertian;
 use platoon::core::scene::{Material, Scene};
 use platoon::devices::{tracer_options, DeviceSpec};
@@ -163,7 +163,130 @@ fn every_layer_has_the_same_bits_on_one_tracer_and_on_three() {
     let three = layers_on("lavapipe:1,1,1", &prepared, &params, &Aov::ALL);
     // The kernel's layers (sample count and variance come from the beauty's batches:
     // tests/frame/adaptive.rs).
-    let kernel_layers = Aov::ALL.iter().filter(|a| !a.passes().is_empty()).count();
+    let kernel_layers: usize = (Aov::ALL.iter().filter(|a| !a.passes().is_empty()))
+        .map(|a| match a.cryptomatte() {
+            Some(_) => cryptomatte::DEPTH / 2,
+            None => 1,
+        })
+        .sum();
     assert_eq!(one.len(), kernel_layers);
     assert!(one == three, "the split changed a layer");
+}
+
+/// Three unit spheres side by side at x = -1.8, 0, 1.8, overlapping in view (nodes `mesh0` to
+/// `mesh2`, materials `m0` to `m2`), seen from the front.
+fn three_spheres() -> (Scene, [Vec3; 3]) {
+    let centres = [
+        Vec3::new(-1.8, 0.0, 0.0),
+        Vec3::ZERO,
+        Vec3::new(1.8, 0.0, 0.0),
+    ];
+    let meshes = (0..3)
+        .map(|i| {
+            (
+                mesh_from(&platoon_scenegen::uv_sphere(24, 32), i as u32),
+                centres[i],
+                1.0,
+            )
+        })
+        .collect();
+    let materials = (0..3)
+        .map(|i| lambertian(&format!("m{i}"), Vec3::splat(0.5)))
+        .collect();
+    let scene = scene_of(meshes, materials, Vec3::new(0.0, 0.0, 7.0), Vec3::ZERO, 0.8);
+    (scene, centres)
+}
+
+/// A Cryptomatte's ranks per pixel, decoded: (name, coverage), most coverage first.
+fn decode(layers: &[Layer], type_name: &str) -> Vec<Vec<(String, f32)>> {
+    let first = layer(layers, &format!("{type_name}00"));
+    let manifest = first
+        .attributes
+        .iter()
+        .find(|(k, _)| k.starts_with("cryptomatte/") && k.ends_with("/manifest"))
+        .map(|(_, v)| serde_json::from_str::<std::collections::HashMap<String, String>>(v))
+        .expect("a manifest")
+        .unwrap();
+    let key = &format!("{:08x}", cryptomatte::murmur3(type_name))[..7];
+    let name = (first.attributes.iter())
+        .find(|(k, _)| *k == format!("cryptomatte/{key}/name"))
+        .map(|(_, v)| v.as_str());
+    assert_eq!(
+        name,
+        Some(type_name),
+        "the header names the layer under its key"
+    );
+    let by_hex: std::collections::HashMap<&str, &str> = manifest
+        .iter()
+        .map(|(n, h)| (h.as_str(), n.as_str()))
+        .collect();
+    let pixels = first.channels[0].1.len();
+    (0..pixels)
+        .map(|i| {
+            let mut ranks = Vec::new();
+            for l in 0..cryptomatte::DEPTH / 2 {
+                let layer = layer(layers, &format!("{type_name}{l:02}"));
+                for (id, coverage) in [("R", "G"), ("B", "A")] {
+                    let c = layer.channel(coverage).unwrap()[i];
+                    if c > 0.0 {
+                        let hex = format!("{:08x}", layer.channel(id).unwrap()[i].to_bits());
+                        ranks.push((by_hex[hex.as_str()].to_string(), c));
+                    }
+                }
+            }
+            ranks
+        })
+        .collect()
+}
+
+#[test]
+fn a_cryptomatte_decoded_names_the_object_and_material_under_each_pixel() {
+    // The spheres merged into one mesh (a hit's node found by its triangle) and each an
+    // instance of its own (by its instance).
+    for merge_static in [true, false] {
+        let (scene, centres) = three_spheres();
+        let options = platoon::PrepareOptions {
+            env: constant_env(1.0),
+            merge_static,
+            ..Default::default()
+        };
+        let prepared = platoon::prepare(scene, &options).unwrap();
+        let merged = prepared.gpu.instances.len() == 1;
+        assert_eq!(merged, merge_static);
+        cryptomatte_names_each_pixel(&prepared, centres);
+    }
+}
+
+fn cryptomatte_names_each_pixel(prepared: &Prepared, centres: [Vec3; 3]) {
+    let (w, h) = (96, 32);
+    let params = FrameParams::new(w, h, 4, prepared.camera);
+    let aovs = [Aov::CryptoObject, Aov::CryptoMaterial, Aov::Position];
+    let layers = layers_on("0", prepared, &params, &aovs);
+    let objects = decode(&layers, "CryptoObject");
+    let materials = decode(&layers, "CryptoMaterial");
+    let position = layer(&layers, "position");
+    let mut whole = [0usize; 3];
+    let mut shared = 0;
+    for i in 0..(w * h) as usize {
+        let ranks = &objects[i];
+        let total: f32 = ranks.iter().map(|r| r.1).sum();
+        assert!(total <= 1.0 + 1e-6, "pixel {i}: coverage {total}");
+        assert!(ranks.windows(2).all(|r| r[0].1 >= r[1].1), "{ranks:?}");
+        shared += usize::from(ranks.len() > 1);
+        // The sphere under the pixel's centre, by its position: the one it lies on.
+        let p = Vec3::from(["X", "Y", "Z"].map(|c| position.channel(c).unwrap()[i]));
+        let Some(sphere) = (0..3).find(|&s| ((p - centres[s]).length() - 1.0).abs() < 0.02) else {
+            continue;
+        };
+        if ranks.first().map(|r| r.1) == Some(1.0) {
+            assert_eq!(ranks[0].0, format!("mesh{sphere}"), "pixel {i}");
+            assert_eq!(materials[i][0], (format!("m{sphere}"), 1.0), "pixel {i}");
+            whole[sphere] += 1;
+        }
+    }
+    assert!(
+        whole.iter().all(|&n| n > 20),
+        "pixels wholly on each sphere: {whole:?}"
+    );
+    assert!(shared > 0, "no pixel on an edge between two objects");
 }

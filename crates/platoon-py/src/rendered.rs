@@ -7,7 +7,8 @@ use crate::arrays;
 
 /// A rendered still. `image`: float32 H x W x 3, linear radiance (denoised when a denoiser was
 /// asked for; `raw` is then the render). `aovs`: {name: float32 H x W x C}. `metadata`: the
-/// entries platoon writes into its EXR files (scene, method, approximations, devices...).
+/// entries platoon writes into its EXR files (scene, method, approximations, devices...,
+/// Cryptomatte's `cryptomatte/KEY/manifest`).
 #[pyclass(frozen, module = "platoon", name = "Rendered")]
 pub struct Rendered {
     image: Py<PyAny>,
@@ -34,6 +35,9 @@ impl Rendered {
         for l in &still.layers {
             aovs.set_item(&l.name, arrays::layer(py, l, w, h)?)?;
         }
+        // The layers' header attributes too (Cryptomatte's manifests), as the EXR has them.
+        let mut metadata = still.metadata.clone();
+        metadata.extend(still.layers.iter().flat_map(|l| l.attributes.clone()));
         Ok(Rendered {
             image: arrays::image(py, &still.image)?,
             raw: still
@@ -42,7 +46,7 @@ impl Rendered {
                 .map(|f| arrays::image(py, f))
                 .transpose()?,
             aovs: aovs.unbind(),
-            metadata: arrays::metadata(py, &still.metadata)?.unbind(),
+            metadata: arrays::metadata(py, &metadata)?.unbind(),
             spp: still.rendered.spp,
             seconds: still.rendered.wall_time.as_secs_f64(),
             rays: still.rendered.rays,

@@ -88,6 +88,20 @@ def test_a_crop_is_the_whole_renders_window():
     assert crop.metadata["crop"] == "5,3,13,9 of 24 x 16"
 
 
+def test_a_cryptomatte_names_its_ids_in_the_metadata():
+    import json
+    import struct
+    r = platoon.render(**SMALL, aovs=["crypto-material"])
+    layer = r.aovs["CryptoMaterial00"]
+    assert layer.shape == (16, 24, 4) and sorted(r.aovs) == [
+        "CryptoMaterial00", "CryptoMaterial01", "CryptoMaterial02"]
+    [manifest] = [v for k, v in r.metadata.items() if k.endswith("/manifest")]
+    names = {h: n for n, h in json.loads(manifest).items()}
+    top = {names["%08x" % struct.unpack("<I", struct.pack("<f", v))[0]]
+           for v, c in zip(layer[..., 0].ravel(), layer[..., 1].ravel()) if c > 0}
+    assert {"white", "red", "green"} <= top <= {"white", "red", "green", "light"}
+
+
 @pytest.mark.parametrize("kwargs, error, says", [
     (dict(crop=(20, 0, 5, 4)), ValueError, "crop: the window 20,0,5,4 reaches past"),
     (dict(width=0), ValueError, "width: must be positive"),

@@ -5,7 +5,7 @@
 
 use anyhow::Result;
 use glam::DVec3;
-use platoon_core::flatten::GpuScene;
+use platoon_core::flatten::{GpuScene, HitNames};
 use platoon_core::frame::aov::{self, Aov, Layer};
 use platoon_core::frame::aov_params::aov_pass_params;
 use platoon_core::frame::FrameParams;
@@ -27,15 +27,18 @@ pub fn render_layers(
         params,
         aovs,
         origin,
+        &scene.hit_names,
     )
 }
 
-/// The same with each pass's frame rendered by `render` (a bare tracer's, for the lab).
+/// The same with each pass's frame rendered by `render` (a bare tracer's, for the lab), the
+/// ids Cryptomatte hashes named by `names`.
 pub fn render_layers_with(
     render: &mut dyn FnMut(&FrameParams) -> Result<Film>,
     params: &FrameParams,
     aovs: &[Aov],
     origin: DVec3,
+    names: &HitNames,
 ) -> Result<Vec<Layer>> {
     let mut films: Vec<(aov::AovPass, Film)> = Vec::new();
     for pass in aov::passes(aovs) {
@@ -49,7 +52,7 @@ pub fn render_layers_with(
             .map(|(_, f)| f.clone())
             .expect("every pass rendered")
     };
-    Ok(aov::layers(aovs, &film, &params.camera, origin))
+    Ok(aov::layers(aovs, &film, &params.camera, origin, names))
 }
 
 /// The layers of `aovs` that come from the beauty's batches (sample count, variance) of the

@@ -57,6 +57,7 @@ impl GBuffer {
             film,
             camera,
             DVec3::ZERO,
+            &Default::default(),
         );
         GBuffer {
             guides: Guides::from_layers(&layers).expect("albedo, normal and depth were asked"),

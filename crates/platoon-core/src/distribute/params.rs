@@ -128,7 +128,11 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         Output::Aov(AovPass::Normal) => 5,
         Output::Aov(AovPass::Position) => 6,
         Output::Aov(AovPass::Ids) => 7,
+        Output::Aov(AovPass::SampleIds(_)) => 8,
     });
+    if let Output::Aov(AovPass::SampleIds(sample)) = output {
+        w.u32(*sample);
+    }
     Ok(())
 }
 
@@ -206,6 +210,7 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
         5 => Output::Aov(AovPass::Normal),
         6 => Output::Aov(AovPass::Position),
         7 => Output::Aov(AovPass::Ids),
+        8 => Output::Aov(AovPass::SampleIds(r.u32()?)),
         k => return Err(WireError(format!("unknown output {k}"))),
     };
     Ok(p)
@@ -285,6 +290,12 @@ mod tests {
             Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
         );
         assert_eq!(round_trip(&plain, Span::new(0, 9)), plain);
+        // An output with a value of its own: the sample whose ids a pass holds.
+        let ids = FrameParams {
+            output: Output::Aov(AovPass::SampleIds(9)),
+            ..plain
+        };
+        assert_eq!(round_trip(&ids, Span::new(0, 9)), ids);
     }
 
     #[test]

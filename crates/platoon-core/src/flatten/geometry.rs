@@ -107,6 +107,8 @@ pub(super) fn write_mesh(
             u32::MAX
         };
     }
+    let triangles = g.triangles.len();
+    g.hit_names.set_mesh(mesh, tbase, &flat.order, triangles);
     write_corners(scene, mesh, &flat.order, r, g);
     let too_large = || {
         Error::Invalid(format!(

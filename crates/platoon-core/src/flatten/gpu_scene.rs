@@ -42,6 +42,8 @@ pub struct GpuScene {
     pub scene_center: [f32; 3],
     /// Where each posed mesh lives in the arrays (CPU side).
     pub regions: Vec<MeshRegion>,
+    /// What names the object and material of a hit (CPU side: Cryptomatte).
+    pub hit_names: super::HitNames,
 }
 
 /// Where one mesh lives in the global arrays (a CPU-side record: a deforming mesh is rewritten in

@@ -13,6 +13,7 @@ pub mod commit;
 pub mod features;
 mod geometry;
 mod gpu_scene;
+mod hit_names;
 pub mod instance_bvh;
 mod instances;
 pub mod layout;
@@ -36,6 +37,7 @@ use crate::scene::{Posed, Scene};
 use bvh::FlatBvh;
 pub use geometry::used_meshes;
 pub use gpu_scene::{GpuScene, MeshRegion};
+pub use hit_names::HitNames;
 
 impl GpuScene {
     /// A hash of everything the kernel reads (arrays, environment): two scenes with the same
@@ -91,6 +93,7 @@ impl GpuScene {
         let meshes = geometry::used_meshes(posed);
         geometry::bottom_level(scene, &meshes, mesh_bvhs, node_capacity, &mut g)?;
         g.set_materials(scene);
+        g.hit_names.set_names(scene);
         g.set_environment(environment);
         g.place(scene, posed, mesh_bvhs)?;
         Ok(g)

@@ -13,7 +13,7 @@ use std::sync::Arc;
 use glam::{DMat4, DVec3, Mat3, Mat4, Vec4};
 
 use crate::scene::animation::Property;
-use crate::scene::{Instance, Mesh, Posed, Scene};
+use crate::scene::{Instance, Mesh, MeshPart, Posed, Scene};
 
 /// A mesh instanced more than once stays instanced when its instances hold more triangles
 /// than this together: merging is for scenes written a node per object, not for forests.
@@ -157,14 +157,18 @@ impl StaticMerge {
 fn merge(scene: &Scene, instances: &[Instance], origin: DVec3) -> Mesh {
     let local: Vec<DMat4> = scene.nodes.iter().map(|n| n.local_matrix()).collect();
     let world = scene.world_matrices(&local);
-    let parts: Vec<(&Mesh, DMat4)> = instances
+    let parts: Vec<(&Mesh, DMat4, usize)> = instances
         .iter()
         .map(|i| {
             let mesh = &*scene.meshes[scene.nodes[i.node].mesh.expect("a mesh node")];
-            (mesh, world[i.node] * DMat4::from_translation(mesh.offset))
+            (
+                mesh,
+                world[i.node] * DMat4::from_translation(mesh.offset),
+                i.node,
+            )
         })
         .collect();
-    let any = |f: fn(&Mesh) -> bool| parts.iter().any(|(m, _)| f(m));
+    let any = |f: fn(&Mesh) -> bool| parts.iter().any(|(m, _, _)| f(m));
     let (normals, tangents, uvs) = (
         any(|m| !m.normals.is_empty()),
         any(|m| !m.tangents.is_empty()),
@@ -175,7 +179,11 @@ fn merge(scene: &Scene, instances: &[Instance], origin: DVec3) -> Mesh {
         name: "static geometry".into(),
         ..Default::default()
     };
-    for &(mesh, to_world) in &parts {
+    for &(mesh, to_world, node) in &parts {
+        out.parts.push(MeshPart {
+            node,
+            first_triangle: out.indices.len() as u32,
+        });
         let base = out.positions.len() as u32;
         let n = mesh.positions.len();
         let linear = to_world.as_mat4();

@@ -7,6 +7,8 @@
 //! the beauty, line by line, so it has the same bits whatever the split between devices.
 //! The sample count and variance come from the beauty's own batches (`frame::adaptive`).
 
+use super::cryptomatte;
+use crate::flatten::HitNames;
 use crate::output::Film;
 pub use crate::output::Layer;
 use crate::scene::camera::Camera;
@@ -22,7 +24,23 @@ pub enum AovPass {
     Position,
     /// (instance + 1, material + 1, triangle + 1) of that hit, 0 for a miss.
     Ids,
+    /// The same ids of the first hit of one sample's camera ray (that sample of the beauty's,
+    /// the pixel filter's and the lens' draws): Cryptomatte's coverage counts them.
+    SampleIds(u32),
 }
+
+const fn sample_id_passes() -> [AovPass; cryptomatte::SAMPLES as usize] {
+    let mut passes = [AovPass::Ids; cryptomatte::SAMPLES as usize];
+    let mut i = 0;
+    while i < passes.len() {
+        passes[i] = AovPass::SampleIds(i as u32);
+        i += 1;
+    }
+    passes
+}
+
+/// The passes Cryptomatte's coverage is counted from: the ids under each of its camera rays.
+pub const SAMPLE_ID_PASSES: [AovPass; cryptomatte::SAMPLES as usize] = sample_id_passes();
 
 /// Samples per pixel of the anti-aliased passes (albedo, normal): enough for a denoiser's
 /// guide at any beauty spp, and at most the beauty's.
@@ -33,7 +51,7 @@ impl AovPass {
     pub fn spp(self, spp: u32) -> u32 {
         match self {
             AovPass::Albedo | AovPass::Normal => spp.clamp(1, GUIDE_SAMPLES),
-            AovPass::Position | AovPass::Ids => 1,
+            AovPass::Position | AovPass::Ids | AovPass::SampleIds(_) => 1,
         }
     }
 }
@@ -52,10 +70,14 @@ pub enum Aov {
     Variance,
     /// The samples the pixel took (adaptive sampling's; the frame's spp without it).
     SampleCount,
+    /// Cryptomatte's object layers (`cryptomatte`): the nodes under each pixel by coverage.
+    CryptoObject,
+    /// ... and its material layers.
+    CryptoMaterial,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 9] = [
+    pub const ALL: [Aov; 11] = [
         Aov::Albedo,
         Aov::Normal,
         Aov::Depth,
@@ -65,6 +87,8 @@ impl Aov {
         Aov::PrimitiveId,
         Aov::Variance,
         Aov::SampleCount,
+        Aov::CryptoObject,
+        Aov::CryptoMaterial,
     ];
 
     /// Its name on the command line and as the EXR layer.
@@ -79,6 +103,28 @@ impl Aov {
             Aov::PrimitiveId => "primitive-id",
             Aov::Variance => "variance",
             Aov::SampleCount => "sample-count",
+            Aov::CryptoObject => "crypto-object",
+            Aov::CryptoMaterial => "crypto-material",
+        }
+    }
+
+    /// Whether `layer` is one of its layers (a Cryptomatte's are `CryptoObject00`, ...; the
+    /// others' are named as it is).
+    pub fn owns_layer(self, layer: &str) -> bool {
+        match self.cryptomatte() {
+            Some(kind) => layer
+                .strip_prefix(kind.type_name())
+                .is_some_and(|rank| rank.len() == 2 && rank.bytes().all(|b| b.is_ascii_digit())),
+            None => layer == self.name(),
+        }
+    }
+
+    /// The Cryptomatte it is, if it is one.
+    pub fn cryptomatte(self) -> Option<cryptomatte::Kind> {
+        match self {
+            Aov::CryptoObject => Some(cryptomatte::Kind::Object),
+            Aov::CryptoMaterial => Some(cryptomatte::Kind::Material),
+            _ => None,
         }
     }
 
@@ -90,6 +136,7 @@ impl Aov {
             Aov::Depth => &["Z"],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &["id"],
             Aov::SampleCount => &["N"],
+            Aov::CryptoObject | Aov::CryptoMaterial => &["R", "G", "B", "A"],
         }
     }
 
@@ -103,6 +150,7 @@ impl Aov {
             Aov::Position => &[AovPass::Position],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &[AovPass::Ids],
             Aov::Variance | Aov::SampleCount => &[],
+            Aov::CryptoObject | Aov::CryptoMaterial => &SAMPLE_ID_PASSES,
         }
     }
 
@@ -145,12 +193,13 @@ pub const MISS_DEPTH: f32 = f32::INFINITY;
 
 /// The layers of `aovs` from the films of their passes (`film(pass)`), for `camera` (depth:
 /// the distance along its view axis) and the render origin in world space (`origin`: position
-/// is written in world coordinates).
+/// is written in world coordinates); `names` names the ids Cryptomatte's layers hash.
 pub fn layers(
     aovs: &[Aov],
     film: &dyn Fn(AovPass) -> Film,
     camera: &Camera,
     origin: glam::DVec3,
+    names: &HitNames,
 ) -> Vec<Layer> {
     let films: Vec<(AovPass, Film)> = passes(aovs).into_iter().map(|p| (p, film(p))).collect();
     let of = |pass| &films.iter().find(|(p, _)| *p == pass).expect("rendered").1;
@@ -164,7 +213,11 @@ pub fn layers(
     let hit = |i: usize| of(AovPass::Ids).pixels[i][0] > 0.0;
     aovs.iter()
         .filter(|a| !a.passes().is_empty())
-        .map(|&aov| {
+        .flat_map(|&aov| {
+            if let Some(kind) = aov.cryptomatte() {
+                let films: Vec<&Film> = SAMPLE_ID_PASSES.iter().map(|&p| of(p)).collect();
+                return cryptomatte::layers(kind, &films, names);
+            }
             let planes: Vec<Vec<f32>> = match aov {
                 Aov::Albedo | Aov::Normal => {
                     let f = of(aov.passes()[0]);
@@ -197,8 +250,9 @@ pub fn layers(
                     vec![plane(of(AovPass::Ids), &|_, p| p[c])]
                 }
                 Aov::Variance | Aov::SampleCount => unreachable!("filtered out above"),
+                Aov::CryptoObject | Aov::CryptoMaterial => unreachable!("returned above"),
             };
-            layer(aov, planes)
+            vec![layer(aov, planes)]
         })
         .collect()
 }
@@ -212,6 +266,8 @@ fn layer(aov: Aov, planes: Vec<Vec<f32>>) -> Layer {
             .map(|c| c.to_string())
             .zip(planes)
             .collect(),
+        attributes: Vec::new(),
+        full_float: false,
     }
 }
 

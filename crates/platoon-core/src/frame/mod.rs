@@ -6,6 +6,7 @@ pub mod adaptive;
 pub mod aov;
 pub mod aov_params;
 mod crop;
+pub mod cryptomatte;
 #[cfg(test)]
 pub(crate) mod fakes;
 pub mod fault;

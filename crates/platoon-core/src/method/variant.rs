@@ -85,6 +85,11 @@ impl KernelVariant {
                 params.output == Output::Aov(AovPass::Ids),
             ),
             (
+                "aov-sample-ids",
+                "OUTPUT_AOV_SAMPLE_IDS",
+                matches!(params.output, Output::Aov(AovPass::SampleIds(_))),
+            ),
+            (
                 "clamp-indirect",
                 "CLAMP_INDIRECT",
                 params.clamp_indirect.is_some(),

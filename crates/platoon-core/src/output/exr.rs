@@ -8,6 +8,17 @@ use super::exr_options::ExrOptions;
 use super::film::{Film, Layer};
 use crate::error::Result;
 
+/// `s` as an EXR text: its UTF-8 bytes (what OpenEXR and Blender write; the `exr` crate's
+/// `Text::from` panics past Latin-1, a scene's path or an object's name can be anything).
+fn text(s: &str) -> exr::prelude::Text {
+    exr::prelude::Text::from_slice_unchecked(s.as_bytes())
+}
+
+/// An EXR text read back as UTF-8 (lossy where it is not).
+fn string(t: &exr::prelude::Text) -> String {
+    String::from_utf8_lossy(t.bytes()).into_owned()
+}
+
 /// `metadata` as EXR string attributes, each key prefixed `platoon:`.
 fn insert_metadata(
     attributes: &mut std::collections::HashMap<exr::prelude::Text, exr::prelude::AttributeValue>,
@@ -15,10 +26,7 @@ fn insert_metadata(
 ) {
     use exr::prelude::*;
     for (k, v) in metadata {
-        attributes.insert(
-            Text::from(format!("platoon:{k}").as_str()),
-            AttributeValue::Text(Text::from(v.as_str())),
-        );
+        attributes.insert(text(&format!("platoon:{k}")), AttributeValue::Text(text(v)));
     }
 }
 
@@ -33,8 +41,8 @@ pub(super) fn write_exr(
     exr: &ExrOptions,
 ) -> Result<()> {
     use exr::prelude::*;
-    let samples = |plane: Vec<f32>| {
-        if exr.half {
+    let samples = |plane: Vec<f32>, full_float: bool| {
+        if exr.half && !full_float {
             FlatSamples::F16(plane.into_iter().map(f16::from_f32).collect())
         } else {
             FlatSamples::F32(plane)
@@ -43,7 +51,7 @@ pub(super) fn write_exr(
     let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
     for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
         let plane = film.pixels.iter().map(|p| p[c]).collect();
-        channels.push(AnyChannel::new(name, samples(plane)));
+        channels.push(AnyChannel::new(name, samples(plane, false)));
     }
     for layer in layers {
         for (name, plane) in &layer.channels {
@@ -54,7 +62,10 @@ pub(super) fn write_exr(
                 ));
             }
             let full = format!("{}.{name}", layer.name);
-            channels.push(AnyChannel::new(full.as_str(), samples(plane.clone())));
+            channels.push(AnyChannel::new(
+                full.as_str(),
+                samples(plane.clone(), layer.full_float),
+            ));
         }
     }
     let size = (film.width as usize, film.height as usize);
@@ -66,6 +77,12 @@ pub(super) fn write_exr(
     );
     let mut image = Image::from_layer(layer);
     insert_metadata(&mut image.attributes.other, metadata);
+    for (k, v) in layers.iter().flat_map(|l| &l.attributes) {
+        image
+            .attributes
+            .other
+            .insert(text(k), AttributeValue::Text(text(v)));
+    }
     image
         .write()
         .to_buffered(w)
@@ -106,7 +123,7 @@ pub fn read_exr(path: &Path) -> Result<(Film, Vec<(String, String)>)> {
         .iter()
         .chain(image.layer_data.attributes.other.iter())
         .filter_map(|(k, v)| match v {
-            AttributeValue::Text(t) => Some((k.to_string(), t.to_string())),
+            AttributeValue::Text(t) => Some((string(k), string(t))),
             _ => None,
         })
         .collect();

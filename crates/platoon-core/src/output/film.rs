@@ -48,6 +48,11 @@ impl Film {
 pub struct Layer {
     pub name: String,
     pub channels: Vec<(String, Vec<f32>)>,
+    /// Header attributes the layer brings, written as they are (Cryptomatte's manifest).
+    pub attributes: Vec<(String, String)>,
+    /// Written as 32-bit floats whatever the file's sample type: values whose bits matter
+    /// (Cryptomatte's ids, hashes stored as floats).
+    pub full_float: bool,
 }
 
 impl Layer {

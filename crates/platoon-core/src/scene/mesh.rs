@@ -32,6 +32,25 @@ pub struct Mesh {
     /// exporter baked far from the origin (in f64, so they keep f32's precision), and every
     /// instance's transform puts it back (source position = position + offset).
     pub offset: DVec3,
+    /// The nodes a merged mesh was made of (`flatten::static_merge`), each with its first
+    /// triangle, in triangle order: what names the object a ray hit (Cryptomatte). Empty for a
+    /// mesh of the scene.
+    pub parts: Vec<MeshPart>,
+}
+
+/// A node's triangles in a merged mesh: from `first_triangle` to the next part's first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MeshPart {
+    pub node: usize,
+    pub first_triangle: u32,
+}
+
+impl Mesh {
+    /// The node whose part holds triangle `triangle` (a merged mesh's; None for a scene's).
+    pub fn part_node(&self, triangle: u32) -> Option<usize> {
+        let after = self.parts.partition_point(|p| p.first_triangle <= triangle);
+        after.checked_sub(1).map(|i| self.parts[i].node)
+    }
 }
 
 /// One morph target of a mesh (glTF 2.0, 3.7.2.2).
@@ -68,5 +87,26 @@ impl Mesh {
 
     pub fn triangle_count(&self) -> usize {
         self.indices.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_merged_meshs_triangles_belong_to_their_parts() {
+        let part = |node, first_triangle| MeshPart {
+            node,
+            first_triangle,
+        };
+        let mesh = Mesh {
+            parts: vec![part(4, 0), part(7, 3), part(2, 5)],
+            ..Default::default()
+        };
+        let nodes: Vec<_> = (0..7).map(|t| mesh.part_node(t)).collect();
+        let want = [4, 4, 4, 7, 7, 2, 2].map(Some);
+        assert_eq!(nodes, want);
+        assert_eq!(Mesh::default().part_node(0), None);
     }
 }

@@ -28,6 +28,7 @@ pub fn apply(
         params,
         &Denoiser::GUIDES,
         glam::DVec3::ZERO,
+        &Default::default(),
     )?;
     let guides = Guides::from_layers(&layers).expect("the guides were rendered");
     let clock = Instant::now();

@@ -70,7 +70,8 @@ def render(
 
     `devices`: "auto" (every GPU, or lavapipe where there is none), "all", indices like "0,1",
     or "lavapipe:T1,T2" (software tracers of Ti threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
-    variance, sample-count. `denoise`: none, atrous, oidn. `env_strength` scales the
+    variance, sample-count, crypto-object, crypto-material (layers CryptoObject00..02, the
+    manifest in `metadata`). `denoise`: none, atrous, oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
     seen from above). `filter`: the pixel filter, box, gaussian (sigma 0.5 px) or
     blackman-harris (1.5 px). `crop`: a border render, the window (x, y, width, height) of

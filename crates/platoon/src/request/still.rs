@@ -70,8 +70,8 @@ impl Still {
             }
         };
         layers.extend(crate::aov::batch_layers(&rendered, aovs)?);
-        layers.retain(|l| aovs.iter().any(|a| a.name() == l.name));
-        layers.sort_by_key(|l| aovs.iter().position(|a| a.name() == l.name));
+        layers.retain(|l| aovs.iter().any(|a| a.owns_layer(&l.name)));
+        layers.sort_by_key(|l| aovs.iter().position(|a| a.owns_layer(&l.name)));
         Ok(Still {
             image,
             raw,
