@@ -138,3 +138,15 @@ fn a_damaged_file_is_an_error_and_bits_the_format_cannot_hold_are_refused() {
         assert!(!path.exists());
     }
 }
+
+#[test]
+fn an_exrs_texts_past_latin_1_come_back_whole() {
+    // A scene's path or an object's name (Cryptomatte's manifest) can be any text.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("names.exr");
+    let meta = vec![("scene".to_string(), "シーン/木.glb".to_string())];
+    write_image(&path, &ramp(), &meta).unwrap();
+    let (_, back) = read_exr(&path).unwrap();
+    let want = ("platoon:scene".to_string(), "シーン/木.glb".to_string());
+    assert!(back.contains(&want), "{back:?}");
+}
