@@ -30,6 +30,43 @@
 
 const float MIN_ROUGHNESS = 0.01;
 
+// Light passes (crates/platoon-core/src/frame/light_pass.rs): the pass a kernel renders, by the
+// order of LightPass::ALL, and the BSDF's split into Cycles' parts for it: what of bsdf_eval's
+// value (or of a delta sample) is diffuse, glossy and transmission. Without a light pass the
+// macros are the plain sums, so the beauty keeps its bits.
+#if defined(LIGHT_PASS_DIFFUSE_DIRECT)
+#define LIGHT_PASS 0u
+#elif defined(LIGHT_PASS_DIFFUSE_INDIRECT)
+#define LIGHT_PASS 1u
+#elif defined(LIGHT_PASS_GLOSSY_DIRECT)
+#define LIGHT_PASS 2u
+#elif defined(LIGHT_PASS_GLOSSY_INDIRECT)
+#define LIGHT_PASS 3u
+#elif defined(LIGHT_PASS_TRANSMISSION_DIRECT)
+#define LIGHT_PASS 4u
+#elif defined(LIGHT_PASS_TRANSMISSION_INDIRECT)
+#define LIGHT_PASS 5u
+#elif defined(LIGHT_PASS_EMISSION)
+#define LIGHT_PASS 6u
+#elif defined(LIGHT_PASS_ENVIRONMENT)
+#define LIGHT_PASS 7u
+#endif
+const int PART_DIFFUSE = 0;
+const int PART_GLOSSY = 1;
+const int PART_TRANSMISSION = 2;
+#ifdef LIGHT_PASS
+vec3 eval_parts[3];
+#define EVAL_CLEAR() { eval_parts[0] = vec3(0.0); eval_parts[1] = vec3(0.0); eval_parts[2] = vec3(0.0); }
+#define EVAL_ADD(part, v) { vec3 v_ = (v); f += v_; eval_parts[part] += v_; }
+#define EVAL_SCALE(k) { float k_ = (k); f *= k_; eval_parts[0] *= k_; eval_parts[1] *= k_; eval_parts[2] *= k_; }
+#define DELTA_PART(part) { EVAL_CLEAR(); eval_parts[part] = vec3(1.0); }
+#else
+#define EVAL_CLEAR()
+#define EVAL_ADD(part, v) { f += (v); }
+#define EVAL_SCALE(k) { f *= (k); }
+#define DELTA_PART(part)
+#endif
+
 #ifdef HAS_SHEEN
 // KHR_materials_sheen's albedo table (crates/platoon-core/src/flatten/sheen_albedo.rs): f32 bits
 // at the start of the texel array of a scene with a sheen, rows of roughness
@@ -417,6 +454,7 @@ vec3 bsdf_diffuse(Bsdf b, vec3 wo, vec3 wi) {
 vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
     pdf = 0.0;
     vec3 f = vec3(0.0);
+    EVAL_CLEAR();
     if (wo.z == 0.0 || wi.z == 0.0) return f;
     // Opaque lobes shade both sides alike: mirror into wo's hemisphere.
     if (wo.z * wi.z > 0.0) {
@@ -426,16 +464,16 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         vec3 h = normalize(o + i);
         float oh = dot(o, h);
         vec3 fr = layer_fresnel(b, oh);
-        f += diffuse_reflectance(b, fr) * INV_PI * i.z;
+        EVAL_ADD(PART_DIFFUSE, diffuse_reflectance(b, fr) * INV_PI * i.z);
         pdf += b.p.x * diffuse_reflect_chance(b) * i.z * INV_PI;
         if (!b.delta) {
             float spec = spec_d(b, h) * spec_g2(b, o, i) / (4.0 * o.z);
-            f += (b.w.x * b.specular * fr + b.w.z * metal_fresnel(b, oh)) * spec;
+            EVAL_ADD(PART_GLOSSY, (b.w.x * b.specular * fr + b.w.z * metal_fresnel(b, oh)) * spec);
             pdf += (b.p.y + b.p.z) * spec_vndf_pdf(b, o, h) / (4.0 * oh);
         }
 #else
         // diffuse_reflectance with a specular layer of zero: w.x * (1 - 0) * base colour.
-        f += b.w.x * b.base_color * diffuse_reflected(b) * INV_PI * i.z;
+        EVAL_ADD(PART_DIFFUSE, b.w.x * b.base_color * diffuse_reflected(b) * INV_PI * i.z);
         pdf += b.p.x * diffuse_reflect_chance(b) * i.z * INV_PI;
 #endif
     }
@@ -449,7 +487,7 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         vec3 h = normalize(o + vec3(i.x, i.y, -i.z));
         layer = 1.0 - b.specular * max3(layer_fresnel(b, dot(o, h)));
 #endif
-        f += b.w.x * layer * b.dt * b.dt_color * INV_PI * abs(i.z);
+        EVAL_ADD(PART_DIFFUSE, b.w.x * layer * b.dt * b.dt_color * INV_PI * abs(i.z));
         pdf += b.p.x * b.q_transmit * abs(i.z) * INV_PI;
     }
 #endif
@@ -468,14 +506,14 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
                 float D = spec_d(b, h);
                 float G = spec_g2(b, wo, wi);
                 if (reflect) {
-                    f += b.w.y * D * G * F / (4.0 * abs(wo.z));
+                    EVAL_ADD(PART_GLOSSY, b.w.y * D * G * F / (4.0 * abs(wo.z)));
                     pdf += b.p.w * spec_vndf_pdf(b, wo, h) / (4.0 * abs(oh)) * chance;
                 } else {
                     float denom = ih + oh / etap;
                     denom *= denom;
                     // Radiance is compressed by 1/etap^2 on entering a denser medium.
                     vec3 ft = D * (1.0 - F) * G * abs(ih * oh / (denom * wo.z)) / (etap * etap);
-                    f += b.w.y * b.base_color * ft;
+                    EVAL_ADD(PART_TRANSMISSION, b.w.y * b.base_color * ft);
                     pdf += b.p.w * spec_vndf_pdf(b, wo, h) * abs(ih) / denom * (1.0 - chance);
                 }
             }
@@ -485,11 +523,11 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
 #ifdef HAS_SHEEN
     if (b.sheen_max > 0.0) {
         // Everything above is the base the sheen lies over.
-        f *= sheen_scale(b, wi);
+        EVAL_SCALE(sheen_scale(b, wi));
         if (wo.z * wi.z > 0.0) {
             vec3 o = wo.z < 0.0 ? -wo : wo;
             vec3 i = wo.z < 0.0 ? -wi : wi;
-            f += b.sheen_color * sheen_cos(b.sheen_roughness, o, i);
+            EVAL_ADD(PART_DIFFUSE, b.sheen_color * sheen_cos(b.sheen_roughness, o, i));
             pdf += b.p_sheen * 0.5 * INV_PI;
         }
     }
@@ -502,7 +540,7 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         if (oc.z > 0.0 && ic.z > 0.0) {
             vec3 h = normalize(oc + ic);
             float spec = ggx_d(b.coat_alpha, h.z) * ggx_g2(b.coat_alpha, oc, ic) / (4.0 * oc.z * ic.z);
-            f += vec3(b.coat * spec * abs(wi.z));
+            EVAL_ADD(PART_GLOSSY, vec3(b.coat * spec * abs(wi.z)));
             pdf += b.p_coat * ggx_vndf_pdf(b.coat_alpha, oc, h) / (4.0 * dot(oc, h));
         }
     }
@@ -530,6 +568,7 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
             bs.wi = i * side;
             bs.weight = vec3(b.coat / b.p_coat);
             bs.delta = true;
+            DELTA_PART(PART_GLOSSY);
             return true;
         }
         vec3 oc = coat_local(b, o);
@@ -573,6 +612,7 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
             bs.wi = vec3(-wo.x, -wo.y, wo.z);
             bs.weight = fr * sheen_scale(b, bs.wi);
             bs.delta = true;
+            DELTA_PART(PART_GLOSSY);
             return true;
         }
         vec3 h = spec_sample_vndf(b, o, u);
@@ -598,7 +638,7 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
 #ifdef HAS_IRIDESCENCE
             if (b.film > 0.0) tint = F / chance;
 #endif
-            if (b.delta) { bs.weight = vec3(b.w.y / b.p.w) * tint * sheen_scale(b, bs.wi); bs.delta = true; return true; }
+            if (b.delta) { bs.weight = vec3(b.w.y / b.p.w) * tint * sheen_scale(b, bs.wi); bs.delta = true; DELTA_PART(PART_GLOSSY); return true; }
         } else {
             float etap;
             if (!refract_dir(wo, h, b.ior, etap, bs.wi)) return false;
@@ -606,7 +646,7 @@ bool bsdf_sample_with(Bsdf b, vec3 wo, float ul, vec2 u, inout Rng rng, out Bsdf
 #ifdef HAS_IRIDESCENCE
             if (b.film > 0.0) tint = (1.0 - F) / (1.0 - chance);
 #endif
-            if (b.delta) { bs.weight = b.w.y * b.base_color * tint * sheen_scale(b, bs.wi) / (b.p.w * etap * etap); bs.delta = true; return true; }
+            if (b.delta) { bs.weight = b.w.y * b.base_color * tint * sheen_scale(b, bs.wi) / (b.p.w * etap * etap); bs.delta = true; DELTA_PART(PART_TRANSMISSION); return true; }
         }
 #else
         return false;

@@ -61,6 +61,24 @@ void add_light(inout vec3 L, vec3 c, uint depth) {
     L += clamped_light(c, depth);
 }
 
+#ifdef LIGHT_PASS
+// A light pass's kernel (crates/platoon-core/src/frame/light_pass.rs) keeps its share of each
+// light the path gathers, after the clamp, so that the passes sum to the beauty.
+const uint LP_EMISSION = 6u;
+const uint LP_ENVIRONMENT = 7u;
+bool direct_pass() { return LIGHT_PASS < LP_EMISSION && LIGHT_PASS % 2u == 0u; }
+bool indirect_pass() { return LIGHT_PASS < LP_EMISSION && LIGHT_PASS % 2u == 1u; }
+// The pass's part of the BSDF's last evaluation or delta sample (bsdf.glsl's eval_parts): the
+// mean of its RGB over the whole's, Cycles' pass weight.
+float part_share() {
+    if (LIGHT_PASS >= LP_EMISSION) return 0.0;
+    vec3 whole = eval_parts[0] + eval_parts[1] + eval_parts[2];
+    vec3 part = eval_parts[min(LIGHT_PASS / 2u, 2u)];  // (the emission and environment passes: above)
+    float total = whole.x + whole.y + whole.z;
+    return total > 0.0 ? (part.x + part.y + part.z) / total : 0.0;
+}
+#endif
+
 // Shading normals bend the hemispheres: a direction the shading frame calls reflection may cross
 // the geometric surface (and the reverse). Such a direction must carry no light, or light leaks
 // through closed smooth meshes (pbrt-v3's reflect/transmit test against the geometric normal).
@@ -122,10 +140,31 @@ struct Path {
 #ifdef HAS_DISPERSION
     float wavelength;   // nm, from the first dispersive surface on (0: the path is RGB)
 #endif
+#ifdef LIGHT_PASS
+    float pass_share;   // the light pass's part of the first vertex's BSDF sample
+#endif
 #ifdef PATH_HOOKS
     PathHook hook;
 #endif
 };
+
+#ifdef LIGHT_PASS
+// The light pass's share of light the path's ray found (emission, the environment): the camera
+// ray's finds are the emission and environment passes'; the first vertex's BSDF ray brings
+// direct light, later rays indirect, in the part of the first vertex's sample.
+float found_share(Path p, bool environment) {
+    if (p.depth == 0u) return float(LIGHT_PASS == (environment ? LP_ENVIRONMENT : LP_EMISSION));
+    return (p.depth == 1u ? direct_pass() : indirect_pass()) ? p.pass_share : 0.0;
+}
+// ... of next-event estimation's light at the path's vertex, the BSDF just evaluated toward it.
+float nee_share(Path p) {
+    if (p.depth == 0u) return direct_pass() ? part_share() : 0.0;
+    return indirect_pass() ? p.pass_share : 0.0;
+}
+#define FOUND_LIGHT(L, c, depth, p, environment) L += clamped_light(c, depth) * found_share(p, environment)
+#else
+#define FOUND_LIGHT(L, c, depth, p, environment) add_light(L, c, depth)
+#endif
 
 // Weight of emission the path's ray found (light_pdf: NEE's pdf of the same light).
 float path_emission_weight(Path p, float light_pdf) {
@@ -160,6 +199,9 @@ Path path_start(Ray ray, uint sample_index) {
 #endif
 #ifdef HAS_DISPERSION
     p.wavelength = 0.0;
+#endif
+#ifdef LIGHT_PASS
+    p.pass_share = 0.0;
 #endif
 #ifdef PATH_HOOKS
     hook_path_start(p.hook);
@@ -205,7 +247,7 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 #endif
     if (!found) {
         if (env_kind() != ENV_NONE)
-            add_light(p.L, p.throughput * env_radiance(p.ray.dir) * path_emission_weight(p, environment_light_pdf(p.ray.dir)), p.depth);
+            FOUND_LIGHT(p.L, p.throughput * env_radiance(p.ray.dir) * path_emission_weight(p, environment_light_pdf(p.ray.dir)), p.depth, p, true);
         return false;
     }
     Surface s = surface_at(hit);
@@ -214,14 +256,14 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
     // surface emits toward every viewer, and it reflects nothing. NEE never picks it, so a BSDF
     // ray that finds it takes it whole.
     if (s.unlit) {
-        add_light(p.L, p.throughput * s.base_color, p.depth);
+        FOUND_LIGHT(p.L, p.throughput * s.base_color, p.depth, p, false);
         return false;
     }
 #endif
 #ifdef HAS_EMISSIVE_TRIANGLES
     vec3 le = triangle_emission(s, p.ray.dir);
     if (any(greaterThan(le, vec3(0.0))))
-        add_light(p.L, p.throughput * le * path_emission_weight(p, triangle_light_pdf(hit, s.ng, p.ray.dir)), p.depth);
+        FOUND_LIGHT(p.L, p.throughput * le * path_emission_weight(p, triangle_light_pdf(hit, s.ng, p.ray.dir)), p.depth, p, false);
 #endif
 #ifdef PATH_HOOKS
     if (!hook_after_emission(p)) return false;
@@ -285,6 +327,9 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
                 through = transmittance(m, ls.infinite ? INF : distance(o, ls.target));
 #endif
                 shadow.light = clamped_light(p.throughput * through * f * ls.radiance * (w / ls.pdf), p.depth);
+#ifdef LIGHT_PASS
+                shadow.light *= nee_share(p);
+#endif
                 shadow.valid = true;
             }
         }
@@ -293,6 +338,9 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 
     BsdfSample bs;
     if (!bsdf_sample(bsdf, wo, rng, bs)) return false;
+#ifdef LIGHT_PASS
+    if (p.depth == 0u) p.pass_share = part_share();
+#endif
     vec3 wi = to_world(bs.wi, t, b, s.ns);
     if (!sides_agree(ng_wo, wi, bs.wi.z * wo.z)) return false;
 #ifdef SINGLE_DIFFUSE_BOUNCE

@@ -10,6 +10,7 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3, Vec4};
 use platoon::core::frame::aov::{Aov, Layer, MISS_DEPTH};
+use platoon::core::frame::light_pass::LightPass;
 use platoon::core::frame::{cryptomatte, FrameParams};
 use platoon::core::scene::cornell::lambertian;
 use platoon::core::scene::{Material, Scene};
@@ -289,4 +290,199 @@ fn cryptomatte_names_each_pixel(prepared: &Prepared, centres: [Vec3; 3]) {
         "pixels wholly on each sphere: {whole:?}"
     );
     assert!(shared > 0, "no pixel on an edge between two objects");
+}
+
+/// Spheres of every BSDF part over a Lambertian floor under a sky of 0.5, with a small emitter:
+/// glass (delta), rough glass, rough metal, a coated sheen, and a pane of rough glass, each part
+/// of the light passes lit.
+fn every_part() -> Scene {
+    let sphere = || mesh_from(&platoon_scenegen::uv_sphere(16, 24), 0);
+    let floor = platoon_scenegen::quad_from([
+        [-20.0, -1.0, -20.0],
+        [-20.0, -1.0, 20.0],
+        [20.0, -1.0, 20.0],
+        [20.0, -1.0, -20.0],
+    ]);
+    let material = |name: &str, m: Material| Material {
+        name: name.into(),
+        ..m
+    };
+    let glass = |roughness| Material {
+        transmission: 1.0,
+        metallic: 0.0,
+        roughness,
+        ior: 1.5,
+        ..Default::default()
+    };
+    let materials = vec![
+        lambertian("floor", Vec3::new(0.6, 0.5, 0.4)),
+        material("glass", glass(0.0)),
+        material("rough glass", glass(0.3)),
+        material(
+            "metal",
+            Material {
+                metallic: 1.0,
+                roughness: 0.4,
+                base_color: Vec4::new(0.9, 0.6, 0.3, 1.0),
+                ..Default::default()
+            },
+        ),
+        material(
+            "coated sheen",
+            Material {
+                clearcoat: 1.0,
+                clearcoat_roughness: 0.2,
+                sheen_color: Vec3::splat(0.6),
+                sheen_roughness: 0.5,
+                ..lambertian("", Vec3::new(0.2, 0.4, 0.7))
+            },
+        ),
+        material(
+            "lamp",
+            Material {
+                emissive: Vec3::splat(8.0),
+                ..lambertian("", Vec3::ZERO)
+            },
+        ),
+    ];
+    let pane = mesh_from(
+        &platoon_scenegen::quad_from([
+            [-0.6, -1.0, -2.5],
+            [-0.6, 0.2, -2.5],
+            [0.6, 0.2, -2.5],
+            [0.6, -1.0, -2.5],
+        ]),
+        2,
+    );
+    let placed = |m: u32, x: f32, z: f32, r: f32| {
+        let mut mesh = sphere();
+        mesh.triangle_materials.fill(m);
+        (mesh, Vec3::new(x, r - 1.0, z), r)
+    };
+    scene_of(
+        vec![
+            (mesh_from(&floor, 0), Vec3::ZERO, 1.0),
+            placed(1, -2.4, 0.0, 0.8),
+            placed(2, -0.8, 0.0, 0.8),
+            placed(3, 0.8, 0.0, 0.8),
+            placed(4, 2.4, 0.0, 0.8),
+            placed(5, 0.0, 2.0, 0.3),
+            // A pane of rough glass (a thin sheet): light through it is direct transmission.
+            (pane, Vec3::ZERO, 1.0),
+        ],
+        materials,
+        Vec3::new(0.0, 2.5, -7.0),
+        Vec3::new(0.0, -0.3, 0.0),
+        0.7,
+    )
+}
+
+#[test]
+fn the_light_passes_sum_to_the_beauty_and_each_holds_its_part() {
+    let request = platoon::Request {
+        scene: platoon::SceneSource::Scene(Box::new(every_part())),
+        env: constant_env(0.5),
+        width: 40,
+        height: 24,
+        spp: 8,
+        devices: DeviceSpec::Lavapipe(vec![1]),
+        aovs: Aov::parse_list("light").unwrap(),
+        ..Default::default()
+    };
+    let still = request.render(&mut |_| {}).unwrap();
+    let mut sum = vec![[0.0f64; 3]; still.image.pixels.len()];
+    for pass in LightPass::ALL {
+        let l = layer(&still.layers, pass.name());
+        let total: f64 = (0..3)
+            .map(|c| l.channels[c].1.iter().map(|&v| v as f64).sum::<f64>())
+            .sum();
+        assert!(total > 0.0, "{}: no light at all", pass.name());
+        for (c, (_, plane)) in l.channels.iter().enumerate() {
+            for (i, v) in plane.iter().enumerate() {
+                assert!(*v >= 0.0 && v.is_finite(), "{}: {v}", pass.name());
+                sum[i][c] += *v as f64;
+            }
+        }
+    }
+    let mut worst = 0.0f64;
+    for (i, p) in still.image.pixels.iter().enumerate() {
+        for c in 0..3 {
+            let (got, want) = (sum[i][c], p[c] as f64);
+            worst = worst.max((got - want).abs() / want.max(1.0));
+        }
+    }
+    assert!(
+        worst < 1e-5,
+        "the passes' sum is off the beauty by {worst:e}"
+    );
+    // The streaming kernels carry a path's share between their kernels: the same passes.
+    let streamed = platoon::Request {
+        kernel: platoon::core::method::path::PathKernel::Streaming,
+        ..request
+    }
+    .render(&mut |_| {})
+    .unwrap();
+    assert!(streamed.image.pixels == still.image.pixels);
+    assert!(
+        streamed.layers == still.layers,
+        "the streaming kernels' passes differ"
+    );
+}
+
+#[test]
+fn a_lambertian_plane_under_the_sky_has_direct_diffuse_light_alone() {
+    // Nothing the plane reflects comes back to it: no indirect light at all; its direct light
+    // is its albedo (a sky of 1); no glossy or transmitted light.
+    let albedo = Vec3::new(0.2, 0.5, 0.8);
+    let plane = platoon_scenegen::quad_from([
+        [-50.0, 0.0, -50.0],
+        [-50.0, 0.0, 50.0],
+        [50.0, 0.0, 50.0],
+        [50.0, 0.0, -50.0],
+    ]);
+    let prepared = under_unit_sky(
+        vec![(mesh_from(&plane, 0), Vec3::ZERO, 1.0)],
+        vec![lambertian("plane", albedo)],
+        Vec::new(),
+        Vec3::new(0.3, 4.0, 0.2),
+    );
+    let params = FrameParams::new(8, 8, 256, prepared.camera);
+    let aovs = Aov::parse_list("light").unwrap();
+    let layers = layers_on("0", &prepared, &params, &aovs);
+    for pass in LightPass::ALL {
+        let plane = &layer(&layers, pass.name()).channels;
+        let mean = |c: usize| plane[c].1.iter().map(|&v| v as f64).sum::<f64>() / 64.0;
+        for c in 0..3 {
+            let want = match pass {
+                LightPass::DiffuseDirect => albedo[c] as f64,
+                _ => 0.0,
+            };
+            let tolerance = if want > 0.0 { 0.02 } else { 0.0 };
+            assert!(
+                (mean(c) - want).abs() <= tolerance,
+                "{}: channel {c} is {}, not {want}",
+                pass.name(),
+                mean(c)
+            );
+        }
+    }
+}
+
+#[test]
+fn light_seen_in_a_mirror_is_glossy_whatever_it_met_after() {
+    // The camera sees a mirror reflecting a Lambertian wall the sky lights: the pass is the
+    // first vertex's part (glossy), indirect (the wall's light arrives at the second vertex).
+    let prepared = prepare(walls(true), constant_env(1.0));
+    let params = FrameParams::new(8, 6, 16, prepared.camera);
+    let aovs = Aov::parse_list("light").unwrap();
+    let layers = layers_on("0", &prepared, &params, &aovs);
+    for pass in LightPass::ALL {
+        let total: f64 = (layer(&layers, pass.name()).channels.iter())
+            .flat_map(|(_, plane)| plane.iter().map(|&v| v as f64))
+            .sum();
+        match pass {
+            LightPass::GlossyIndirect => assert!(total > 10.0, "glossy-indirect: {total}"),
+            _ => assert_eq!(total, 0.0, "{}", pass.name()),
+        }
+    }
 }

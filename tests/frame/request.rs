@@ -193,6 +193,24 @@ fn every_rule_refuses_by_naming_its_option() {
         (Request { spp: 0, ..small() }, "spp", "positive"),
         (
             Request {
+                aovs: Aov::parse_list("light").unwrap(),
+                method: igi.clone(),
+                ..small()
+            },
+            "aovs",
+            "method path",
+        ),
+        (
+            Request {
+                aovs: Aov::parse_list("emission").unwrap(),
+                adaptive,
+                ..small()
+            },
+            "aovs",
+            "adaptive",
+        ),
+        (
+            Request {
                 crop: Some(platoon::core::frame::Region::parse("20,0,5,4").unwrap()),
                 ..small()
             },

@@ -102,6 +102,14 @@ def test_a_cryptomatte_names_its_ids_in_the_metadata():
     assert {"white", "red", "green"} <= top <= {"white", "red", "green", "light"}
 
 
+def test_the_light_passes_sum_to_the_image():
+    r = platoon.render(**SMALL, aovs=["light"])
+    assert len(r.aovs) == 8
+    total = sum(r.aovs.values())
+    assert np.allclose(total, r.image, rtol=1e-5, atol=1e-6)
+    assert r.aovs["diffuse-direct"].mean() > 0 and r.aovs["emission"].mean() > 0
+
+
 @pytest.mark.parametrize("kwargs, error, says", [
     (dict(crop=(20, 0, 5, 4)), ValueError, "crop: the window 20,0,5,4 reaches past"),
     (dict(width=0), ValueError, "width: must be positive"),

@@ -33,6 +33,9 @@ struct SptSlot {
 #if defined(HAS_VOLUME) || defined(HAS_DISPERSION)
     vec4 medium;      // Path::medium, w: Path::wavelength
 #endif
+#ifdef LIGHT_PASS
+    vec4 pass;        // x: Path::pass_share (a light pass's kernel; StreamSlot has room for it)
+#endif
 };
 // The closest hit of the ray of live-queue entry k (32 bytes): (t, b1, b2, -), (instance,
 // triangle, found, -).
@@ -112,6 +115,9 @@ Path unpack_path(SptSlot s) {
 #ifdef HAS_DISPERSION
     p.wavelength = s.medium.w;
 #endif
+#ifdef LIGHT_PASS
+    p.pass_share = s.pass.x;
+#endif
     return p;
 }
 
@@ -127,6 +133,9 @@ void store_path(uint i, Path p, uint state, uint pixel, Rng rng, uint rays) {
                        , vec4(p.medium, 0.0)
 #elif defined(HAS_DISPERSION)
                        , vec4(vec3(0.0), p.wavelength)
+#endif
+#ifdef LIGHT_PASS
+                       , vec4(p.pass_share, 0.0, 0.0, 0.0)
 #endif
                        );
 }

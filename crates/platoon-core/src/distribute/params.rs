@@ -9,6 +9,7 @@ use std::time::Duration;
 use super::method_wire::{get_method, put_method};
 use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
 use crate::frame::aov::AovPass;
+use crate::frame::light_pass::LightPass;
 use crate::frame::{Crop, FrameParams, Output, PixelFilter, Span};
 use crate::method::path_kernel::PathKernel;
 use crate::scene::camera::Camera;
@@ -129,9 +130,12 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         Output::Aov(AovPass::Position) => 6,
         Output::Aov(AovPass::Ids) => 7,
         Output::Aov(AovPass::SampleIds(_)) => 8,
+        Output::Aov(AovPass::Light(_)) => 9,
     });
-    if let Output::Aov(AovPass::SampleIds(sample)) = output {
-        w.u32(*sample);
+    match output {
+        Output::Aov(AovPass::SampleIds(sample)) => w.u32(*sample),
+        Output::Aov(AovPass::Light(pass)) => w.u8(*pass as u8),
+        _ => {}
     }
     Ok(())
 }
@@ -211,6 +215,12 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
         6 => Output::Aov(AovPass::Position),
         7 => Output::Aov(AovPass::Ids),
         8 => Output::Aov(AovPass::SampleIds(r.u32()?)),
+        9 => {
+            let k = r.u8()? as usize;
+            let pass = *(LightPass::ALL.get(k))
+                .ok_or_else(|| WireError(format!("unknown light pass {k}")))?;
+            Output::Aov(AovPass::Light(pass))
+        }
         k => return Err(WireError(format!("unknown output {k}"))),
     };
     Ok(p)
@@ -296,6 +306,11 @@ mod tests {
             ..plain
         };
         assert_eq!(round_trip(&ids, Span::new(0, 9)), ids);
+        let light = FrameParams {
+            output: Output::Aov(AovPass::Light(LightPass::GlossyIndirect)),
+            ..ids
+        };
+        assert_eq!(round_trip(&light, Span::new(0, 9)), light);
     }
 
     #[test]

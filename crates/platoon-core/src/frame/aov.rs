@@ -8,6 +8,7 @@
 //! The sample count and variance come from the beauty's own batches (`frame::adaptive`).
 
 use super::cryptomatte;
+use super::light_pass::LightPass;
 use crate::flatten::HitNames;
 use crate::output::Film;
 pub use crate::output::Layer;
@@ -27,6 +28,8 @@ pub enum AovPass {
     /// The same ids of the first hit of one sample's camera ray (that sample of the beauty's,
     /// the pixel filter's and the lens' draws): Cryptomatte's coverage counts them.
     SampleIds(u32),
+    /// A light pass (`light_pass`): the beauty's samples, the light of the pass's kind alone.
+    Light(LightPass),
 }
 
 const fn sample_id_passes() -> [AovPass; cryptomatte::SAMPLES as usize] {
@@ -42,6 +45,18 @@ const fn sample_id_passes() -> [AovPass; cryptomatte::SAMPLES as usize] {
 /// The passes Cryptomatte's coverage is counted from: the ids under each of its camera rays.
 pub const SAMPLE_ID_PASSES: [AovPass; cryptomatte::SAMPLES as usize] = sample_id_passes();
 
+/// The kernel passes of the light passes, in `LightPass::ALL`'s order.
+const LIGHT_PASSES: [AovPass; 8] = [
+    AovPass::Light(LightPass::DiffuseDirect),
+    AovPass::Light(LightPass::DiffuseIndirect),
+    AovPass::Light(LightPass::GlossyDirect),
+    AovPass::Light(LightPass::GlossyIndirect),
+    AovPass::Light(LightPass::TransmissionDirect),
+    AovPass::Light(LightPass::TransmissionIndirect),
+    AovPass::Light(LightPass::Emission),
+    AovPass::Light(LightPass::Environment),
+];
+
 /// Samples per pixel of the anti-aliased passes (albedo, normal): enough for a denoiser's
 /// guide at any beauty spp, and at most the beauty's.
 pub const GUIDE_SAMPLES: u32 = 64;
@@ -51,6 +66,7 @@ impl AovPass {
     pub fn spp(self, spp: u32) -> u32 {
         match self {
             AovPass::Albedo | AovPass::Normal => spp.clamp(1, GUIDE_SAMPLES),
+            AovPass::Light(_) => spp,
             AovPass::Position | AovPass::Ids | AovPass::SampleIds(_) => 1,
         }
     }
@@ -74,10 +90,12 @@ pub enum Aov {
     CryptoObject,
     /// ... and its material layers.
     CryptoMaterial,
+    /// A light pass (`light_pass`); the eight sum to the beauty.
+    Light(LightPass),
 }
 
 impl Aov {
-    pub const ALL: [Aov; 11] = [
+    pub const ALL: [Aov; 19] = [
         Aov::Albedo,
         Aov::Normal,
         Aov::Depth,
@@ -89,7 +107,18 @@ impl Aov {
         Aov::SampleCount,
         Aov::CryptoObject,
         Aov::CryptoMaterial,
+        Aov::Light(LightPass::DiffuseDirect),
+        Aov::Light(LightPass::DiffuseIndirect),
+        Aov::Light(LightPass::GlossyDirect),
+        Aov::Light(LightPass::GlossyIndirect),
+        Aov::Light(LightPass::TransmissionDirect),
+        Aov::Light(LightPass::TransmissionIndirect),
+        Aov::Light(LightPass::Emission),
+        Aov::Light(LightPass::Environment),
     ];
+
+    /// The name `--aov` takes for every light pass at once.
+    pub const LIGHT_PASSES: &'static str = "light";
 
     /// Its name on the command line and as the EXR layer.
     pub fn name(self) -> &'static str {
@@ -105,6 +134,7 @@ impl Aov {
             Aov::SampleCount => "sample-count",
             Aov::CryptoObject => "crypto-object",
             Aov::CryptoMaterial => "crypto-material",
+            Aov::Light(pass) => pass.name(),
         }
     }
 
@@ -131,7 +161,7 @@ impl Aov {
     /// Its channels in the layer (`albedo.R`, ...).
     pub fn channels(self) -> &'static [&'static str] {
         match self {
-            Aov::Albedo | Aov::Variance => &["R", "G", "B"],
+            Aov::Albedo | Aov::Variance | Aov::Light(_) => &["R", "G", "B"],
             Aov::Normal | Aov::Position => &["X", "Y", "Z"],
             Aov::Depth => &["Z"],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &["id"],
@@ -151,29 +181,45 @@ impl Aov {
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &[AovPass::Ids],
             Aov::Variance | Aov::SampleCount => &[],
             Aov::CryptoObject | Aov::CryptoMaterial => &SAMPLE_ID_PASSES,
+            Aov::Light(pass) => std::slice::from_ref(&LIGHT_PASSES[pass as usize]),
         }
     }
 
-    /// A comma-separated list (`albedo,normal,depth`), each named once.
+    /// A comma-separated list (`albedo,normal,depth`), each named once; `light` names every
+    /// light pass.
     pub fn parse_list(s: &str) -> Result<Vec<Aov>, String> {
         let mut list = Vec::new();
         for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
-            let aov = Aov::ALL
-                .into_iter()
-                .find(|a| a.name() == name)
-                .ok_or_else(|| {
-                    let known: Vec<&str> = Aov::ALL.iter().map(|a| a.name()).collect();
-                    format!("unknown AOV {name:?}: one of {}", known.join(", "))
-                })?;
-            if list.contains(&aov) {
-                return Err(format!("AOV {name:?} is named twice"));
+            let named: Vec<Aov> = match name {
+                Aov::LIGHT_PASSES => LightPass::ALL.map(Aov::Light).to_vec(),
+                _ => vec![Aov::ALL
+                    .into_iter()
+                    .find(|a| a.name() == name)
+                    .ok_or_else(|| {
+                        let known: Vec<&str> = Aov::ALL.iter().map(|a| a.name()).collect();
+                        format!(
+                            "unknown AOV {name:?}: one of {}, or {} (every light pass)",
+                            known.join(", "),
+                            Aov::LIGHT_PASSES
+                        )
+                    })?],
+            };
+            for aov in named {
+                if list.contains(&aov) {
+                    return Err(format!("AOV {:?} is named twice", aov.name()));
+                }
+                list.push(aov);
             }
-            list.push(aov);
         }
         if list.is_empty() {
             return Err("no AOV named".into());
         }
         Ok(list)
+    }
+
+    /// Whether it is a light pass.
+    pub fn is_light(self) -> bool {
+        matches!(self, Aov::Light(_))
     }
 }
 
@@ -219,7 +265,7 @@ pub fn layers(
                 return cryptomatte::layers(kind, &films, names);
             }
             let planes: Vec<Vec<f32>> = match aov {
-                Aov::Albedo | Aov::Normal => {
+                Aov::Albedo | Aov::Normal | Aov::Light(_) => {
                     let f = of(aov.passes()[0]);
                     (0..3).map(|c| plane(f, &|_, p| p[c])).collect()
                 }
@@ -311,5 +357,11 @@ mod tests {
             .unwrap_err()
             .contains("primitive-id"));
         assert!(Aov::parse_list("").is_err());
+        let light = Aov::parse_list("albedo,light").unwrap();
+        assert_eq!(light.len(), 9);
+        assert_eq!(light[1], Aov::Light(LightPass::DiffuseDirect));
+        assert!(Aov::parse_list("light,emission")
+            .unwrap_err()
+            .contains("\"emission\" is named twice"));
     }
 }

@@ -12,7 +12,10 @@ pub fn aov_pass_params(params: &FrameParams, pass: AovPass, spp: u32) -> FramePa
     p.output = Output::Aov(pass);
     p.method = Method::path_tracing();
     p.spp = spp;
-    p.rr_survival = 1.0;
+    // A light pass keeps the beauty's roulette: its paths must be the beauty's.
+    if !matches!(pass, AovPass::Light(_)) {
+        p.rr_survival = 1.0;
+    }
     p.film = FilmState::default();
     p.time_limit = None;
     if let AovPass::SampleIds(sample) = pass {

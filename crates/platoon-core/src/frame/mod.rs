@@ -11,6 +11,7 @@ pub mod cryptomatte;
 pub(crate) mod fakes;
 pub mod fault;
 mod film_state;
+pub mod light_pass;
 mod pixel_filter;
 pub mod renderer;
 mod workers;

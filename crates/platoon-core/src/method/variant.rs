@@ -6,6 +6,7 @@ use std::fmt;
 
 use crate::flatten::features::{chosen, write_labels, SceneFeatures};
 use crate::frame::aov::AovPass;
+use crate::frame::light_pass::LightPass;
 use crate::frame::{FrameParams, Output, PixelFilter};
 
 /// The defines of one kernel variant, in a stable order, each with the label `platoon info` and
@@ -62,7 +63,7 @@ impl KernelVariant {
             (
                 "aov-output",
                 "OUTPUT_AOV",
-                matches!(params.output, Output::Aov(_)),
+                matches!(params.output, Output::Aov(p) if !matches!(p, AovPass::Light(_))),
             ),
             (
                 "aov-albedo",
@@ -128,6 +129,10 @@ impl KernelVariant {
             .options()
             .into_iter()
             .chain(render_options)
+            .chain(LightPass::ALL.map(|pass| {
+                let on = params.output == Output::Aov(AovPass::Light(pass));
+                (pass.label(), pass.define(), on)
+            }))
             .chain(params.method.unit().kernel_options());
         KernelVariant {
             entries: chosen(options),

@@ -71,7 +71,8 @@ def render(
     `devices`: "auto" (every GPU, or lavapipe where there is none), "all", indices like "0,1",
     or "lavapipe:T1,T2" (software tracers of Ti threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
     variance, sample-count, crypto-object, crypto-material (layers CryptoObject00..02, the
-    manifest in `metadata`). `denoise`: none, atrous, oidn. `env_strength` scales the
+    manifest in `metadata`), the light passes by name or "light" for all eight (they sum to
+    the image). `denoise`: none, atrous, oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
     seen from above). `filter`: the pixel filter, box, gaussian (sigma 0.5 px) or
     blackman-harris (1.5 px). `crop`: a border render, the window (x, y, width, height) of

@@ -4,6 +4,7 @@
 
 use std::time::Duration;
 
+use platoon_core::frame::aov::AovPass;
 use platoon_core::frame::{FrameParams, Output};
 use platoon_core::method::path::PathKernel;
 use platoon_core::{KernelVariant, SceneFeatures};
@@ -33,12 +34,19 @@ const CANARY_TURNS: u32 = 2;
 const STAT_CUT_SHORT: usize = 1;
 
 /// The kernel `params` render with on a CPU device (`cpu`) or a GPU: the tests' outputs (one
-/// sample through each pixel's centre) are the megakernel's.
+/// sample through each pixel's centre) and the AOVs are the megakernel's; the light passes,
+/// the beauty's paths, take the beauty's.
 pub fn path_kernel(params: &FrameParams, cpu: bool) -> PathKernel {
-    match params.output {
-        Output::Radiance => params.kernel.resolved(cpu),
-        _ => PathKernel::Mega,
+    if beauty_paths(params.output) {
+        params.kernel.resolved(cpu)
+    } else {
+        PathKernel::Mega
     }
+}
+
+/// Whether `output` follows the beauty's paths (the beauty, a light pass).
+fn beauty_paths(output: Output) -> bool {
+    matches!(output, Output::Radiance | Output::Aov(AovPass::Light(_)))
 }
 
 impl MethodPasses for PathPasses {
@@ -60,7 +68,7 @@ impl MethodPasses for PathPasses {
     /// sums untouched and streamed again: the image is the streaming kernels' (the same bits),
     /// and the tracer's later passes stream from the start.
     fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration> {
-        let radiance = rec.params.output == Output::Radiance;
+        let radiance = beauty_paths(rec.params.output);
         if path_kernel(rec.params, rec.gpu.ctx.info.cpu) == PathKernel::Streaming
             || (self.cut_short && radiance)
         {

@@ -28,10 +28,11 @@ pub(crate) const LISTED: &str = "path/stream/listed.comp";
 pub(crate) const KERNELS: [&str; 6] = [REGENERATE, COMPACT, QUEUE, EXTEND, SHADE, CONNECT];
 
 /// SptSlot, SptHit and SptShadow of shaders/path/stream/stream.glsl ("Must match GPU side"):
-/// here for their sizes.
+/// here for their sizes. A slot is allocated at its largest (a medium and a light pass's
+/// share); the kernels' stride is what their variant holds.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct StreamSlot([[u32; 4]; 6]);
+struct StreamSlot([[u32; 4]; 7]);
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct StreamHit([[u32; 4]; 2]);
@@ -56,7 +57,7 @@ struct StreamControl {
     listed: u32,
     _pad: [u32; 3],
 }
-const _: () = assert!(std::mem::size_of::<StreamSlot>() == 96);
+const _: () = assert!(std::mem::size_of::<StreamSlot>() == 112);
 const _: () = assert!(std::mem::size_of::<StreamHit>() == 32);
 const _: () = assert!(std::mem::size_of::<StreamShadow>() == 48);
 const _: () = assert!(std::mem::size_of::<StreamControl>() == 96);

@@ -129,6 +129,22 @@ impl Request {
                 "cannot end adaptive sampling or the variance AOV's batches early",
             )?;
         }
+        if self.aovs.iter().any(|a| a.is_light()) {
+            // Each pass renders the beauty's paths again: they sum to the beauty only when
+            // every pixel takes the same samples, traced by the path tracer.
+            let why = if !self.method.is_path_tracing() {
+                Some("the light passes split the path tracer's image: render with method path")
+            } else if self.adaptive.is_some() {
+                Some("the light passes take every pixel's samples: not with adaptive sampling")
+            } else if self.time_limit.is_some() {
+                Some("the light passes take every pixel's samples: not with a time limit")
+            } else {
+                None
+            };
+            if let Some(why) = why {
+                refuse("aovs", why)?;
+            }
+        }
         if self.aovs.contains(&Aov::Variance) && self.spp < 2 {
             refuse(
                 "aovs",
