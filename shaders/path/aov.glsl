@@ -1,9 +1,10 @@
 // The AOV passes (frame::Output::Aov, crates/platoon-core/src/frame/aov.rs): one of albedo,
-// normal, position or ids per pixel, chosen by OUTPUT_AOV_*. Albedo and normal follow Cycles'
-// denoising passes: the camera ray is followed through perfect specular vertices (mirrors, clear
-// glass; their sampled lobe's weight tints the albedo) to the first vertex that is not, and the
-// samples use the beauty's camera rays (the same random numbers), summed onto the buffer like
-// the beauty's. Position and ids: the first hit of the ray through the pixel centre.
+// normal, position, ids, one sample's ids or alpha per pixel, chosen by OUTPUT_AOV_*. Albedo
+// and normal follow Cycles' denoising passes: the camera ray is followed through perfect
+// specular vertices (mirrors, clear glass; their sampled lobe's weight tints the albedo) to the
+// first vertex that is not, and the samples use the beauty's camera rays (the same random
+// numbers), summed onto the buffer like the beauty's. Position and ids: the first hit of the
+// ray through the pixel centre.
 
 // Perfect specular vertices followed before a pixel's albedo or normal is given up (black).
 const uint AOV_SPECULAR_CHAIN = 8u;
@@ -53,6 +54,16 @@ vec3 hit_ids(Hit hit) {
 vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
 #if defined(OUTPUT_AOV_ALBEDO) || defined(OUTPUT_AOV_NORMAL)
     for (uint si = pc.sample_begin; si != pc.sample_end; si++) sum += aov_sample(pixel, si, rays);
+    return sum;
+#elif defined(OUTPUT_AOV_ALPHA)
+    // How many of the pass's camera rays (the beauty's) find a surface: a transparent film's
+    // alpha, over the samples.
+    for (uint si = pc.sample_begin; si != pc.sample_end; si++) {
+        Rng rng = pixel_rng(pixel, si);
+        Hit hit;
+        rays++;
+        if (trace(camera_ray(pixel, rng), false, hit)) sum += vec3(1.0);
+    }
     return sum;
 #elif defined(OUTPUT_AOV_SAMPLE_IDS)
     // The ids under one sample's camera ray (Cryptomatte's coverage, frame/cryptomatte.rs).

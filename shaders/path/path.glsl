@@ -246,6 +246,10 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
     p.throughput *= transmittance(p.medium, found ? hit.t : INF);
 #endif
     if (!found) {
+#ifdef FILM_TRANSPARENT
+        // A transparent film leaves the environment the camera sees out (alpha 0 there).
+        if (p.depth == 0u) return false;
+#endif
         if (env_kind() != ENV_NONE)
             FOUND_LIGHT(p.L, p.throughput * env_radiance(p.ray.dir) * path_emission_weight(p, environment_light_pdf(p.ray.dir)), p.depth, p, true);
         return false;

@@ -1545,3 +1545,34 @@ fn a_cryptomatte_is_written_as_the_specification_lays_it_out() {
         assert_eq!(channel(&format!("CryptoMaterial02.{c}")).len(), 16 * 12);
     }
 }
+
+#[test]
+fn a_transparent_film_writes_alpha_where_the_format_holds_one() {
+    // Issue 41, transparent film: the EXR's A, the PNG's fourth channel (straight), the
+    // corners of the open box (the sky) transparent, its back wall opaque; JPEG refused at once.
+    let dir = tempfile::tempdir().unwrap();
+    let (exr, png) = (dir.path().join("clear.exr"), dir.path().join("clear.png"));
+    for out in [&exr, &png] {
+        let o = Cli::new("render")
+            .spp(2)
+            .size(16, 12)
+            .out(out)
+            .args(&["--film-transparent"])
+            .run();
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let channels = platoon::core::output::read_exr_channels(&exr).unwrap();
+    let alpha = &channels
+        .iter()
+        .find(|(c, _)| c == "A")
+        .expect("an A channel")
+        .1;
+    let centre = 6 * 16 + 8;
+    assert_eq!((alpha[0], alpha[centre]), (0.0, 1.0), "{alpha:?}");
+    let decoded = image::open(&png).unwrap();
+    assert!(decoded.color().has_alpha(), "{:?}", decoded.color());
+    let rgba = decoded.to_rgba8();
+    assert_eq!((rgba.get_pixel(0, 0)[3], rgba.get_pixel(8, 6)[3]), (0, 255));
+    let jpg = dir.path().join("clear.jpg");
+    assert_refused(&["--film-transparent"], "no alpha channel", &jpg);
+}

@@ -443,3 +443,59 @@ fn a_camera_is_chosen_by_name() {
     assert_eq!(e.option, "camera");
     assert!(e.problem.contains("cornell, side"), "{e}");
 }
+
+#[test]
+fn a_transparent_film_leaves_the_sky_seen_directly_out_and_says_where() {
+    let sky = 0.7f32;
+    let request = |transparent_film, tracers: Vec<u32>| {
+        Request {
+            scene: SceneSource::Scene(Box::new(sphere_scene(
+                platoon::core::scene::cornell::lambertian("grey", glam::Vec3::splat(0.5)),
+            ))),
+            env: constant_env(sky),
+            transparent_film,
+            devices: DeviceSpec::Lavapipe(tracers),
+            ..small()
+        }
+        .render(&mut |_| {})
+        .unwrap()
+    };
+    let (opaque, clear) = (request(false, vec![1]), request(true, vec![1]));
+    assert!(opaque.alpha.is_none());
+    let alpha = clear.alpha.as_ref().expect("a transparent film's alpha");
+    let (mut covered, mut empty, mut edges) = (0, 0, 0);
+    for (i, &a) in alpha.iter().enumerate() {
+        let (o, c) = (opaque.image.pixels[i], clear.image.pixels[i]);
+        match a {
+            // Every camera ray found the sphere: the same paths, the same bits.
+            1.0 => {
+                assert_eq!(o, c, "pixel {i}");
+                covered += 1;
+            }
+            // Only sky: nothing left.
+            0.0 => {
+                assert_eq!(c, [0.0; 3], "pixel {i}");
+                empty += 1;
+            }
+            // The opaque film's pixel is the transparent one's plus the sky its misses saw.
+            _ => {
+                for k in 0..3 {
+                    let missing = o[k] - c[k];
+                    assert!(
+                        (missing - (1.0 - a) * sky).abs() < 1e-5,
+                        "pixel {i}: {missing}"
+                    );
+                }
+                edges += 1;
+            }
+        }
+    }
+    assert!(
+        covered > 20 && empty > 20 && edges > 5,
+        "{covered} {empty} {edges}"
+    );
+    let meta = clear.metadata.iter().find(|(k, _)| k == "film").unwrap();
+    assert!(meta.1.starts_with("transparent"), "{meta:?}");
+    let three = request(true, vec![1, 1, 1]);
+    assert!(three.alpha == clear.alpha && three.image == clear.image);
+}

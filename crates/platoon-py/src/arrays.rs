@@ -33,6 +33,15 @@ pub fn layer(py: Python<'_>, layer: &Layer, width: u32, height: u32) -> PyResult
         .unbind())
 }
 
+/// One value a pixel (a transparent film's alpha) as an H x W array.
+pub fn plane(py: Python<'_>, values: &[f32], width: u32, height: u32) -> PyResult<Py<PyAny>> {
+    let shape = [height as usize, width as usize];
+    Ok(PyArray1::from_vec(py, values.to_vec())
+        .reshape(shape)?
+        .into_any()
+        .unbind())
+}
+
 /// Metadata entries as a dict of strings.
 pub fn metadata<'py>(py: Python<'py>, meta: &[(String, String)]) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);

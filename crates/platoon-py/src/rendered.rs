@@ -12,6 +12,7 @@ use crate::arrays;
 #[pyclass(frozen, module = "platoon", name = "Rendered")]
 pub struct Rendered {
     image: Py<PyAny>,
+    alpha: Option<Py<PyAny>>,
     raw: Option<Py<PyAny>>,
     aovs: Py<PyDict>,
     metadata: Py<PyDict>,
@@ -40,6 +41,9 @@ impl Rendered {
         metadata.extend(still.layers.iter().flat_map(|l| l.attributes.clone()));
         Ok(Rendered {
             image: arrays::image(py, &still.image)?,
+            alpha: (still.alpha.as_ref())
+                .map(|a| arrays::plane(py, a, w, h))
+                .transpose()?,
             raw: still
                 .raw
                 .as_ref()
@@ -61,6 +65,13 @@ impl Rendered {
     #[getter]
     fn image(&self, py: Python<'_>) -> Py<PyAny> {
         self.image.clone_ref(py)
+    }
+
+    /// A transparent film's alpha, float32 H x W (the image premultiplied by it); None for
+    /// an opaque film.
+    #[getter]
+    fn alpha(&self, py: Python<'_>) -> Option<Py<PyAny>> {
+        self.alpha.as_ref().map(|a| a.clone_ref(py))
     }
 
     #[getter]

@@ -102,6 +102,13 @@ def test_a_cryptomatte_names_its_ids_in_the_metadata():
     assert {"white", "red", "green"} <= top <= {"white", "red", "green", "light"}
 
 
+def test_a_transparent_film_has_an_alpha_and_leaves_the_sky_out():
+    r = platoon.render(**SMALL, transparent_film=True)
+    assert r.alpha.shape == (16, 24) and r.alpha[0, 0] == 0.0 and r.alpha[8, 12] == 1.0
+    assert (r.image[r.alpha == 0.0] == 0.0).all()
+    assert platoon.render(**SMALL).alpha is None
+
+
 def test_the_light_passes_sum_to_the_image():
     r = platoon.render(**SMALL, aovs=["light"])
     assert len(r.aovs) == 8

@@ -55,6 +55,19 @@ pub fn render_layers_with(
     Ok(aov::layers(aovs, &film, &params.camera, origin, names))
 }
 
+/// A transparent film's alpha for the frame `params` (its `transparent_film` set) rendered at
+/// `spp`: the share of the beauty's camera rays of each pixel that find a surface.
+pub fn render_alpha(
+    tracers: &mut Tracers,
+    scene: &GpuScene,
+    params: &FrameParams,
+    spp: u32,
+) -> Result<Vec<f32>> {
+    let p = aov_pass_params(params, aov::AovPass::Alpha, spp);
+    let film = tracers.render(scene, &p, &mut |_| {})?.film;
+    Ok(film.pixels.iter().map(|p| p[0]).collect())
+}
+
 /// The layers of `aovs` that come from the beauty's batches (sample count, variance) of the
 /// frame `rendered`: a frame not rendered in batches took its `spp` in every pixel.
 pub fn batch_layers(rendered: &Rendered, aovs: &[Aov]) -> Result<Vec<Layer>> {

@@ -75,6 +75,13 @@ pub fn metadata_of(
                 None => "none".into(),
             },
         ),
+        (
+            "film".into(),
+            match params.transparent_film {
+                true => "transparent (alpha: the share of camera rays finding a surface)".into(),
+                false => "opaque".into(),
+            },
+        ),
         ("seed".into(), params.seed.to_string()),
         ("frame".into(), params.frame.to_string()),
         ("max_depth".into(), params.max_depth.to_string()),

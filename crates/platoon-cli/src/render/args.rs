@@ -59,6 +59,11 @@ pub struct RenderArgs {
     /// pixels the same bits as the whole render's there (path tracing).
     #[arg(long, value_parser = platoon::core::frame::Region::parse)]
     pub(super) crop: Option<platoon::core::frame::Region>,
+    /// A transparent film (Cycles' Film > Transparent): the environment the camera sees is
+    /// left out of the image, which gets an alpha channel (EXR: premultiplied; PNG and TIFF:
+    /// straight); it still lights the scene. Not for JPEG.
+    #[arg(long)]
+    pub(super) film_transparent: bool,
     /// Longest path in segments (1: emitters only, 2: direct light). Default: effectively unbounded.
     #[arg(long, allow_negative_numbers = true)]
     pub(super) max_depth: Option<u32>,

@@ -4,17 +4,19 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use platoon::core::output::{write_image_as, ImageFormat, ImageOptions};
+use platoon::core::output::{write_rgba_as, ImageFormat, ImageOptions};
 use platoon::Still;
 
-/// Writes `still`'s image to `path` (and the raw one beside it), each with its metadata,
-/// atomically; a PNG's pixels under `view`.
+/// Writes `still`'s image to `path` (and the raw one beside it), each with its metadata and a
+/// transparent film's alpha, atomically; a PNG's pixels under `view`.
 pub fn write(still: &Still, path: &Path, options: &ImageOptions) -> Result<()> {
+    let alpha = still.alpha.as_deref();
     if let Some(raw) = &still.raw {
-        let meta = &still.raw_metadata;
-        write_image_as(&noisy_path(path), raw, &still.layers, meta, options)?;
+        let (meta, layers) = (&still.raw_metadata, &still.layers);
+        write_rgba_as(&noisy_path(path), raw, alpha, layers, meta, options)?;
     }
-    write_image_as(path, &still.image, &still.layers, &still.metadata, options)?;
+    let (meta, layers) = (&still.metadata, &still.layers);
+    write_rgba_as(path, &still.image, alpha, layers, meta, options)?;
     Ok(())
 }
 

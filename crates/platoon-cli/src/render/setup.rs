@@ -113,6 +113,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         height,
         resolution_percent,
         crop,
+        film_transparent,
         resume: _,
         max_depth,
         seed,
@@ -138,6 +139,12 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         display,
     } = a;
     let image = display.image(&out)?;
+    if film_transparent && matches!(image_format(&out)?, ImageFormat::Jpeg) {
+        bail!(
+            "--film-transparent: {} is a JPEG, which has no alpha channel: write PNG, TIFF or EXR",
+            out.display()
+        );
+    }
     let mut aovs = aov.map(|l| l.0).unwrap_or_default();
     let adaptive = adaptive_threshold.map(|threshold| Adaptive {
         threshold,
@@ -181,6 +188,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         max_depth,
         seed,
         filter,
+        transparent_film: film_transparent,
         method: method.method()?,
         kernel: method.kernel,
         sampling: match sampling {

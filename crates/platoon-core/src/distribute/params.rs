@@ -58,6 +58,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         camera,
         filter,
         crop,
+        transparent_film,
         output,
     } = p;
     for v in [width, height, spp, max_depth, rr_depth] {
@@ -131,12 +132,14 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         Output::Aov(AovPass::Ids) => 7,
         Output::Aov(AovPass::SampleIds(_)) => 8,
         Output::Aov(AovPass::Light(_)) => 9,
+        Output::Aov(AovPass::Alpha) => 10,
     });
     match output {
         Output::Aov(AovPass::SampleIds(sample)) => w.u32(*sample),
         Output::Aov(AovPass::Light(pass)) => w.u8(*pass as u8),
         _ => {}
     }
+    w.u8(*transparent_film as u8);
     Ok(())
 }
 
@@ -221,8 +224,10 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
                 .ok_or_else(|| WireError(format!("unknown light pass {k}")))?;
             Output::Aov(AovPass::Light(pass))
         }
+        10 => Output::Aov(AovPass::Alpha),
         k => return Err(WireError(format!("unknown output {k}"))),
     };
+    p.transparent_film = flag(r)?;
     Ok(p)
 }
 
@@ -253,6 +258,7 @@ mod tests {
         p.ris_candidates = Some(4);
         p.ris_mis = true;
         p.cut_last_paths = true;
+        p.transparent_film = true;
         // Every IGI option away from its default: each must travel.
         p.method = Method::new(IgiOptions {
             paths: 7,

@@ -30,6 +30,8 @@ pub enum AovPass {
     SampleIds(u32),
     /// A light pass (`light_pass`): the beauty's samples, the light of the pass's kind alone.
     Light(LightPass),
+    /// The share of the beauty's camera rays that find a surface: a transparent film's alpha.
+    Alpha,
 }
 
 const fn sample_id_passes() -> [AovPass; cryptomatte::SAMPLES as usize] {
@@ -66,7 +68,7 @@ impl AovPass {
     pub fn spp(self, spp: u32) -> u32 {
         match self {
             AovPass::Albedo | AovPass::Normal => spp.clamp(1, GUIDE_SAMPLES),
-            AovPass::Light(_) => spp,
+            AovPass::Light(_) | AovPass::Alpha => spp,
             AovPass::Position | AovPass::Ids | AovPass::SampleIds(_) => 1,
         }
     }

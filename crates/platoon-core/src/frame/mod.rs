@@ -108,6 +108,10 @@ pub struct FrameParams {
     /// A border render: the frame's `width` x `height` pixels are a window of a larger image
     /// (the camera frames that image). None: the frame is the whole image.
     pub crop: Option<Crop>,
+    /// A transparent film (Cycles' Film > Transparent): the environment the camera sees is
+    /// left out of the image (alpha 0 there, the `AovPass::Alpha` pass); it still lights the
+    /// scene. Compiled in only when set.
+    pub transparent_film: bool,
     pub output: Output,
 }
 
@@ -199,6 +203,7 @@ impl FrameParams {
             camera,
             filter: PixelFilter::Box,
             crop: None,
+            transparent_film: false,
             output: Output::Radiance,
         }
     }

@@ -91,6 +91,16 @@ impl KernelVariant {
                 matches!(params.output, Output::Aov(AovPass::SampleIds(_))),
             ),
             (
+                "aov-alpha",
+                "OUTPUT_AOV_ALPHA",
+                params.output == Output::Aov(AovPass::Alpha),
+            ),
+            (
+                "transparent-film",
+                "FILM_TRANSPARENT",
+                params.transparent_film,
+            ),
+            (
                 "clamp-indirect",
                 "CLAMP_INDIRECT",
                 params.clamp_indirect.is_some(),

@@ -30,12 +30,13 @@ fn insert_metadata(
     }
 }
 
-/// The beauty's R, G, B and `layers`' channels (`layer.channel`, as Cycles' multilayer files
+/// The beauty's R, G, B (and A, given `alpha`) and `layers`' channels (`layer.channel`, as Cycles' multilayer files
 /// name them) as one EXR layer, in the sample type and compression of `exr`.
 pub(super) fn write_exr(
     path: &Path,
     w: &mut (impl Write + std::io::Seek),
     film: &Film,
+    alpha: Option<&[f32]>,
     layers: &[Layer],
     metadata: &[(String, String)],
     exr: &ExrOptions,
@@ -52,6 +53,9 @@ pub(super) fn write_exr(
     for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
         let plane = film.pixels.iter().map(|p| p[c]).collect();
         channels.push(AnyChannel::new(name, samples(plane, false)));
+    }
+    if let Some(a) = alpha {
+        channels.push(AnyChannel::new("A", samples(a.to_vec(), false)));
     }
     for layer in layers {
         for (name, plane) in &layer.channels {

@@ -35,6 +35,18 @@ impl Film {
         self.pixels.iter().flat_map(|&p| view.srgb8(p)).collect()
     }
 
+    /// The colour with `alpha` divided back out (straight alpha, what PNG and TIFF hold): the
+    /// film's colour is premultiplied by its coverage. Black where nothing covers the pixel.
+    pub fn unpremultiplied(&self, alpha: &[f32]) -> Film {
+        let pixels = (self.pixels.iter().zip(alpha))
+            .map(|(p, &a)| match a > 0.0 {
+                true => p.map(|c| c / a),
+                false => [0.0; 3],
+            })
+            .collect();
+        Film { pixels, ..*self }
+    }
+
     pub fn count_non_finite(&self) -> usize {
         self.pixels
             .iter()
@@ -63,4 +75,19 @@ impl Layer {
             .find(|(n, _)| n == name)
             .map(|(_, v)| v.as_slice())
     }
+}
+
+/// Display samples of three channels a pixel (`rgb`) with a fourth, the alpha `alpha` at the
+/// same bits (`max`: the largest sample, 255 or 65535).
+pub(super) fn with_alpha<T: Copy + TryFrom<u32>>(rgb: &[T], alpha: &[f32], max: u32) -> Vec<T> {
+    let a = |v: f32| -> T {
+        let q = (v.clamp(0.0, 1.0) * max as f32).round() as u32;
+        T::try_from(q.min(max))
+            .ok()
+            .expect("within the sample's range")
+    };
+    rgb.chunks(3)
+        .zip(alpha)
+        .flat_map(|(c, &v)| [c[0], c[1], c[2], a(v)])
+        .collect()
 }

@@ -104,9 +104,30 @@ pub fn write_image_as(
     metadata: &[(String, String)],
     options: &ImageOptions,
 ) -> Result<()> {
+    write_rgba_as(path, film, None, layers, metadata, options)
+}
+
+/// The same with an alpha channel when `alpha` is given (a transparent film's, the colour
+/// premultiplied by it): an EXR's `A` (premultiplied, as OpenEXR's convention is), a PNG's or
+/// a TIFF's fourth channel (straight: the colour is divided by it before the view). JPEG has
+/// none: refused.
+pub fn write_rgba_as(
+    path: &Path,
+    film: &Film,
+    alpha: Option<&[f32]>,
+    layers: &[Layer],
+    metadata: &[(String, String)],
+    options: &ImageOptions,
+) -> Result<()> {
     let (exr, display, view) = (&options.exr, &options.display, &options.view);
     let format = image_format(path)?;
     display.check(&format).map_err(|e| Error::file(path, e))?;
+    if alpha.is_some() && matches!(format, ImageFormat::Jpeg) {
+        return Err(Error::file(
+            path,
+            "a JPEG has no alpha channel for a transparent film: write PNG, TIFF or EXR",
+        ));
+    }
     if !layers.is_empty() && !matches!(format, ImageFormat::Exr) {
         return Err(Error::file(
             path,
@@ -117,17 +138,17 @@ pub fn write_image_as(
         ImageFormat::Exr => {
             exr.check().map_err(|e| Error::file(path, e))?;
             write_atomically(path, |w| {
-                exr::write_exr(path, w, film, layers, metadata, exr)
+                exr::write_exr(path, w, film, alpha, layers, metadata, exr)
             })
         }
         ImageFormat::Png => write_atomically(path, |w| {
-            png::write_png(path, w, film, metadata, view, display.bits)
+            png::write_png(path, w, film, alpha, metadata, view, display.bits)
         }),
         ImageFormat::Jpeg => write_atomically(path, |w| {
             jpeg::write_jpeg(path, w, film, metadata, view, display.jpeg_quality)
         }),
         ImageFormat::Tiff => write_atomically(path, |w| {
-            tiff::write_tiff(path, w, film, metadata, view, display.bits)
+            tiff::write_tiff(path, w, film, alpha, metadata, view, display.bits)
         }),
     }
 }

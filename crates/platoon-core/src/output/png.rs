@@ -1,10 +1,10 @@
-//! PNG outputs: 8 or 16 bits a channel, sRGB under the view, metadata as iTXt chunks (the
-//! image crate writes none).
+//! PNG outputs: 8 or 16 bits a channel, sRGB under the view (with a straight alpha for a
+//! transparent film), metadata as iTXt chunks (the image crate writes none).
 
 use std::io::{Seek, Write};
 use std::path::Path;
 
-use super::film::Film;
+use super::film::{with_alpha, Film};
 use crate::error::{Error, Result};
 use crate::view::View;
 
@@ -12,13 +12,17 @@ pub(super) fn write_png(
     path: &Path,
     w: &mut (impl Write + Seek),
     film: &Film,
+    alpha: Option<&[f32]>,
     metadata: &[(String, String)],
     view: &View,
     bits: u8,
 ) -> Result<()> {
     let failed = |e: png::EncodingError| Error::file(path, format!("cannot write PNG: {e}"));
     let mut encoder = png::Encoder::new(w, film.width, film.height);
-    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_color(match alpha {
+        Some(_) => png::ColorType::Rgba,
+        None => png::ColorType::Rgb,
+    });
     encoder.set_depth(match bits {
         16 => png::BitDepth::Sixteen,
         _ => png::BitDepth::Eight,
@@ -29,14 +33,27 @@ pub(super) fn write_png(
             .map_err(failed)?;
     }
     let mut writer = encoder.write_header().map_err(failed)?;
+    let shown = match alpha {
+        Some(a) => &film.unpremultiplied(a),
+        None => film,
+    };
     let data = match bits {
         // PNG's samples are big-endian.
-        16 => film
-            .srgb16_viewed(view)
-            .iter()
-            .flat_map(|v| v.to_be_bytes())
-            .collect(),
-        _ => film.srgb8_viewed(view),
+        16 => {
+            let rgb = shown.srgb16_viewed(view);
+            let samples = match alpha {
+                Some(a) => with_alpha(&rgb, a, u16::MAX as u32),
+                None => rgb,
+            };
+            samples.iter().flat_map(|v| v.to_be_bytes()).collect()
+        }
+        _ => {
+            let rgb = shown.srgb8_viewed(view);
+            match alpha {
+                Some(a) => with_alpha(&rgb, a, u8::MAX as u32),
+                None => rgb,
+            }
+        }
     };
     writer.write_image_data(&data).map_err(failed)?;
     writer.finish().map_err(failed)

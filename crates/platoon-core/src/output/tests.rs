@@ -150,3 +150,42 @@ fn an_exrs_texts_past_latin_1_come_back_whole() {
     let want = ("platoon:scene".to_string(), "シーン/木.glb".to_string());
     assert!(back.contains(&want), "{back:?}");
 }
+
+#[test]
+fn a_png_and_a_tiff_hold_straight_alpha_and_an_exr_premultiplied() {
+    // A pixel half covered by a surface of 0.2: its premultiplied colour is 0.1.
+    let film = Film {
+        width: 2,
+        height: 1,
+        pixels: vec![[0.1; 3], [0.0; 3]],
+    };
+    let alpha = [0.5, 0.0];
+    let dir = tempfile::tempdir().unwrap();
+    let options = ImageOptions::default();
+    let shown = options.view.srgb8([0.2; 3]);
+    for name in ["a.png", "a.tiff"] {
+        let path = dir.path().join(name);
+        write_rgba_as(&path, &film, Some(&alpha), &[], &[], &options).unwrap();
+        let rgba = ::image::open(&path).unwrap().to_rgba8();
+        assert_eq!(
+            rgba.get_pixel(0, 0).0,
+            [shown[0], shown[1], shown[2], 128],
+            "{name}"
+        );
+        assert_eq!(rgba.get_pixel(1, 0).0, [0, 0, 0, 0], "{name}");
+    }
+    let path = dir.path().join("a.exr");
+    write_rgba_as(&path, &film, Some(&alpha), &[], &[], &options).unwrap();
+    let channels = read_exr_channels(&path).unwrap();
+    let channel = |n: &str| channels.iter().find(|(c, _)| c == n).unwrap().1.clone();
+    assert_eq!(
+        (channel("R"), channel("A")),
+        (vec![0.1, 0.0], vec![0.5, 0.0])
+    );
+    let jpeg = dir.path().join("a.jpg");
+    let refused = write_rgba_as(&jpeg, &film, Some(&alpha), &[], &[], &options);
+    assert!(refused
+        .unwrap_err()
+        .to_string()
+        .contains("no alpha channel"));
+}

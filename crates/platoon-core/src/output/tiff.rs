@@ -7,7 +7,7 @@ use std::path::Path;
 use tiff::encoder::{colortype, TiffEncoder};
 use tiff::tags::Tag;
 
-use super::film::Film;
+use super::film::{with_alpha, Film};
 use crate::error::{Error, Result};
 use crate::view::View;
 
@@ -15,6 +15,7 @@ pub(super) fn write_tiff(
     path: &Path,
     w: &mut (impl Write + Seek),
     film: &Film,
+    alpha: Option<&[f32]>,
     metadata: &[(String, String)],
     view: &View,
     bits: u8,
@@ -22,24 +23,29 @@ pub(super) fn write_tiff(
     let failed = |e: tiff::TiffError| Error::file(path, format!("cannot write TIFF: {e}"));
     let mut encoder = TiffEncoder::new(w).map_err(failed)?;
     let description = ascii_json(metadata);
-    let written = match bits {
-        16 => write_rgb::<_, colortype::RGB16>(
-            &mut encoder,
-            film,
-            &description,
-            &film.srgb16_viewed(view),
-        ),
-        _ => write_rgb::<_, colortype::RGB8>(
-            &mut encoder,
-            film,
-            &description,
-            &film.srgb8_viewed(view),
-        ),
+    let d = &description;
+    let written = match (bits, alpha) {
+        (16, None) => {
+            write_rgb::<_, colortype::RGB16>(&mut encoder, film, d, &film.srgb16_viewed(view))
+        }
+        (16, Some(a)) => {
+            let rgb = film.unpremultiplied(a).srgb16_viewed(view);
+            let data = with_alpha(&rgb, a, u16::MAX as u32);
+            write_rgb::<_, colortype::RGBA16>(&mut encoder, film, d, &data)
+        }
+        (_, None) => {
+            write_rgb::<_, colortype::RGB8>(&mut encoder, film, d, &film.srgb8_viewed(view))
+        }
+        (_, Some(a)) => {
+            let rgb = film.unpremultiplied(a).srgb8_viewed(view);
+            let data = with_alpha(&rgb, a, u8::MAX as u32);
+            write_rgb::<_, colortype::RGBA8>(&mut encoder, film, d, &data)
+        }
     };
     written.map_err(failed)
 }
 
-/// One RGB image of `film`'s size, its samples `data`, described by `description`.
+/// One RGB or RGBA image of `film`'s size, its samples `data`, described by `description`.
 fn write_rgb<W: Write + Seek, C: colortype::ColorType>(
     encoder: &mut TiffEncoder<W>,
     film: &Film,

@@ -16,6 +16,9 @@ class Rendered:
     def image(self) -> npt.NDArray[np.float32]:
         """Linear radiance, H x W x 3 (denoised when a denoiser was asked for)."""
     @property
+    def alpha(self) -> npt.NDArray[np.float32] | None:
+        """A transparent film's coverage, H x W (the image is premultiplied by it)."""
+    @property
     def raw(self) -> npt.NDArray[np.float32] | None:
         """The render before the denoiser, when one ran."""
     @property
@@ -49,6 +52,7 @@ def render(
     seed: int = 0,
     filter: str = "box",
     crop: tuple[int, int, int, int] | None = None,
+    transparent_film: bool = False,
     max_depth: int | None = None,
     time_limit: float | None = None,
     env: str | PathLike[str] | None = None,
@@ -75,7 +79,8 @@ def render(
     the image). `denoise`: none, atrous, oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
     seen from above). `filter`: the pixel filter, box, gaussian (sigma 0.5 px) or
-    blackman-harris (1.5 px). `crop`: a border render, the window (x, y, width, height) of
+    blackman-harris (1.5 px). `transparent_film`: the environment seen directly left out, `Rendered.alpha` the
+    coverage (the image premultiplied by it). `crop`: a border render, the window (x, y, width, height) of
     the image in its pixels, the same bits as the whole render's there. `camera`: a scene camera's index or
     name, or (eye, target, vertical fov in degrees) in world space. The method's options by
     name (`methods()`), e.g. method="igi", vpls=180.

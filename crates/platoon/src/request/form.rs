@@ -97,6 +97,9 @@ pub struct Request {
     pub seed: u32,
     /// How a sample counts for its pixel (the camera rays' distribution in the pixel).
     pub filter: PixelFilter,
+    /// A transparent film: the environment the camera sees is left out, the image gets an
+    /// alpha channel (`Still::alpha`).
+    pub transparent_film: bool,
     pub method: Method,
     pub kernel: PathKernel,
     pub sampling: Sampling,
@@ -132,6 +135,7 @@ impl Default for Request {
             max_depth: None,
             seed: 0,
             filter: PixelFilter::Box,
+            transparent_film: false,
             method: Method::path_tracing(),
             kernel: PathKernel::Auto,
             sampling: Sampling::Mis,
@@ -184,6 +188,7 @@ impl Request {
         }
         params.seed = self.seed;
         params.filter = self.filter;
+        params.transparent_film = self.transparent_film;
         params.method = self.method.clone();
         params.kernel = self.kernel;
         if let Some(d) = self.max_depth {

@@ -37,12 +37,17 @@ impl Request {
     /// Starts the game loop of this request (validated; its scene loaded and lit).
     pub fn start_game(&self, target: Option<Duration>) -> Result<FrameDriver> {
         self.validate()?;
-        if self.crop.is_some() {
-            return Err(super::error::RequestError {
-                option: "crop",
-                problem: "a game loop renders whole frames".into(),
+        for (option, set) in [
+            ("crop", self.crop.is_some()),
+            ("transparent_film", self.transparent_film),
+        ] {
+            if set {
+                return Err(super::error::RequestError {
+                    option,
+                    problem: "a game loop renders whole, opaque frames".into(),
+                }
+                .into());
             }
-            .into());
         }
         let mut scene = self.load_scene()?;
         crate::prepare::light(&mut scene, &self.env, &self.env_light)?;

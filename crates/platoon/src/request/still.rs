@@ -18,6 +18,8 @@ use crate::{Rendered, Tracers};
 pub struct Still {
     /// The image: denoised when a denoiser was asked for (then `raw` is the render).
     pub image: Film,
+    /// A transparent film's alpha per pixel (the image's colour is premultiplied by it).
+    pub alpha: Option<Vec<f32>>,
     pub raw: Option<Film>,
     /// The AOV layers asked for, in the order asked.
     pub layers: Vec<Layer>,
@@ -57,6 +59,15 @@ impl Still {
         } else {
             crate::aov::render_layers(tracers, scene, params, &wanted, origin)?
         };
+        let alpha = match params.transparent_film {
+            true => Some(crate::aov::render_alpha(
+                tracers,
+                scene,
+                params,
+                rendered.spp,
+            )?),
+            false => None,
+        };
         let (image, raw) = match denoiser {
             Denoiser::None => (rendered.film.clone(), None),
             _ => {
@@ -74,6 +85,7 @@ impl Still {
         layers.sort_by_key(|l| aovs.iter().position(|a| a.owns_layer(&l.name)));
         Ok(Still {
             image,
+            alpha,
             raw,
             layers,
             metadata: Vec::new(),
