@@ -205,6 +205,27 @@ fn a_rerun_redoes_frames_whose_environment_map_or_raw_image_changed() {
     for debug in ["Some(", "None", "File(", "\"", "["] {
         assert!(!job.contains(debug), "{debug} in {job}");
     }
+    // The pixel filter, a crop and a transparent film make other images too.
+    for flags in [
+        &["--filter", "gaussian"][..],
+        &["--filter", "gaussian", "--crop", "0,0,8,8"],
+        &[
+            "--filter",
+            "gaussian",
+            "--crop",
+            "0,0,8,8",
+            "--film-transparent",
+        ],
+    ] {
+        let o = frames("1..2")
+            .flag("--env", &env)
+            .flag("--denoise", "atrous")
+            .args(flags)
+            .out(&out)
+            .run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(stdout(&o).matches(": ok").count(), 2, "{flags:?}");
+    }
 }
 
 #[test]

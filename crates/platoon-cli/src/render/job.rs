@@ -64,7 +64,8 @@ impl Job {
         });
         let settings = format!(
             "scene {scene}; environment {env}; camera {camera}, aperture {}, focus {}; {}x{}, \
-             {} spp, time limit {}, max depth {}, seed {}{}; {}; kernel {}; {} sampling; {} fps; \
+             {} spp, time limit {}, max depth {}, seed {}{}, filter {}, crop {}, film {}; {}; \
+             kernel {}; {} sampling; {} fps; \
              AOVs {}; denoiser {}; adaptive {adaptive}; view {}; EXR {}; {} bits, JPEG quality {}",
             o.aperture_radius,
             or(o.focus_distance, "auto"),
@@ -78,6 +79,16 @@ impl Job {
             p.max_depth,
             p.seed,
             if args.animated_seed { " + frame" } else { "" },
+            p.filter.describe(),
+            p.crop.map_or("none".into(), |c| format!(
+                "{},{},{},{} of {}x{}",
+                c.x, c.y, p.width, p.height, c.image_width, c.image_height
+            )),
+            if p.transparent_film {
+                "transparent"
+            } else {
+                "opaque"
+            },
             p.method.unit().describe(),
             format!("{:?}", p.kernel).to_lowercase(),
             setup.sampling,

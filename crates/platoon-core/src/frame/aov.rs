@@ -47,17 +47,18 @@ const fn sample_id_passes() -> [AovPass; cryptomatte::SAMPLES as usize] {
 /// The passes Cryptomatte's coverage is counted from: the ids under each of its camera rays.
 pub const SAMPLE_ID_PASSES: [AovPass; cryptomatte::SAMPLES as usize] = sample_id_passes();
 
+const fn light_passes() -> [AovPass; LightPass::ALL.len()] {
+    let mut passes = [AovPass::Alpha; LightPass::ALL.len()];
+    let mut i = 0;
+    while i < passes.len() {
+        passes[i] = AovPass::Light(LightPass::ALL[i]);
+        i += 1;
+    }
+    passes
+}
+
 /// The kernel passes of the light passes, in `LightPass::ALL`'s order.
-const LIGHT_PASSES: [AovPass; 8] = [
-    AovPass::Light(LightPass::DiffuseDirect),
-    AovPass::Light(LightPass::DiffuseIndirect),
-    AovPass::Light(LightPass::GlossyDirect),
-    AovPass::Light(LightPass::GlossyIndirect),
-    AovPass::Light(LightPass::TransmissionDirect),
-    AovPass::Light(LightPass::TransmissionIndirect),
-    AovPass::Light(LightPass::Emission),
-    AovPass::Light(LightPass::Environment),
-];
+const LIGHT_PASSES: [AovPass; LightPass::ALL.len()] = light_passes();
 
 /// Samples per pixel of the anti-aliased passes (albedo, normal): enough for a denoiser's
 /// guide at any beauty spp, and at most the beauty's.
@@ -193,7 +194,7 @@ impl Aov {
         let mut list = Vec::new();
         for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
             let named: Vec<Aov> = match name {
-                Aov::LIGHT_PASSES => LightPass::ALL.map(Aov::Light).to_vec(),
+                Aov::LIGHT_PASSES => Aov::ALL.into_iter().filter(|a| a.is_light()).collect(),
                 _ => vec![Aov::ALL
                     .into_iter()
                     .find(|a| a.name() == name)
