@@ -10,7 +10,7 @@ mod support;
 use std::path::Path;
 
 use common::shared;
-use platoon::core::output::read_exr;
+use platoon::core::output::{read_exr, read_exr_channels};
 use support::*;
 
 fn stdout(o: &std::process::Output) -> String {
@@ -345,4 +345,37 @@ fn a_video_holds_every_frame_of_the_range_and_needs_ffmpeg() {
         None,
     );
     assert!(!o.status.success() && stderr(&o).contains("--task-index"));
+}
+
+#[test]
+fn a_walking_figures_frames_carry_its_motion_and_a_still_box_none() {
+    // Motion vectors through the CLI: CesiumMan's skinned walk moves between frames (measured
+    // over 1/fps), the built-in box's still scene and camera do not move at all.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("man_#.exr");
+    let o = frames("3..3")
+        .arg(shared("scenes/CesiumMan.glb").to_str().unwrap())
+        .flag("--aov", "motion")
+        .flag("--fps", "12")
+        .out(&out)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let channels = read_exr_channels(&dir.path().join("man_3.exr")).unwrap();
+    let x = &channels.iter().find(|(c, _)| c == "motion.X").unwrap().1;
+    let moving = x.iter().filter(|v| v.abs() > 0.05).count();
+    assert!(moving > 10, "{moving} pixels moved");
+    assert!(x.iter().all(|v| v.is_finite()));
+    let still = dir.path().join("box.exr");
+    let o = Cli::new("render")
+        .spp(1)
+        .size(16, 12)
+        .flag("--aov", "motion")
+        .out(&still)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let channels = read_exr_channels(&still).unwrap();
+    for c in ["motion.X", "motion.Y"] {
+        let plane = &channels.iter().find(|(n, _)| n == c).unwrap().1;
+        assert!(plane.iter().all(|&v| v == 0.0), "{c}: {plane:?}");
+    }
 }

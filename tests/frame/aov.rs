@@ -20,11 +20,20 @@ use platoon::{Prepared, Tracers};
 
 const COLOUR: Vec3 = Vec3::new(0.2, 0.5, 0.8);
 
+/// The layers of `aovs` on `devices`; motion vectors against the frame before seen from 0.05
+/// to the left.
 fn layers_on(devices: &str, prepared: &Prepared, params: &FrameParams, aovs: &[Aov]) -> Vec<Layer> {
     let spec: DeviceSpec = devices.parse().unwrap();
     let options = tracer_options(&spec, false, Sampling::Mis).unwrap();
     let mut tracers = Tracers::new(&options, "cost-aware", &prepared.gpu).unwrap();
-    platoon::aov::render_layers(&mut tracers, &prepared.gpu, params, aovs, DVec3::ZERO).unwrap()
+    let mut camera = params.camera;
+    camera.camera_to_world.w_axis.x -= 0.05;
+    let previous = platoon::core::frame::motion::PreviousFrame {
+        posed: prepared.scene.pose_around(0.0, prepared.posed.origin),
+        camera,
+    };
+    let (gpu, previous) = (&prepared.gpu, Some(&previous));
+    platoon::aov::render_layers(&mut tracers, gpu, params, aovs, DVec3::ZERO, previous).unwrap()
 }
 
 fn layer<'a>(layers: &'a [Layer], name: &str) -> &'a Layer {
@@ -485,4 +494,176 @@ fn light_seen_in_a_mirror_is_glossy_whatever_it_met_after() {
             _ => assert_eq!(total, 0.0, "{}", pass.name()),
         }
     }
+}
+
+/// A wall of half-size 1 at z = 0 facing a camera 4 away (fov 0.8 rad), node 0, under a sky; with
+/// `channel` animating it (it is then an instance of its own, not merged).
+fn wall_seen_from_4(channel: Option<platoon::core::scene::animation::Channel>) -> Scene {
+    use platoon::core::scene::animation::Animation;
+    let mut scene = scene_of(
+        vec![(wall(0.0, 1.0, 1.0, 0), Vec3::ZERO, 1.0)],
+        vec![lambertian("wall", Vec3::splat(0.5))],
+        Vec3::new(0.0, 0.0, 4.0),
+        Vec3::ZERO,
+        0.8,
+    );
+    if let Some(c) = channel {
+        scene.animations.push(Animation {
+            name: "move".into(),
+            channels: vec![c],
+        });
+    }
+    scene
+}
+
+/// Skins the wall of `scene` (node 0, every vertex wholly) to a new bone node at the origin;
+/// returns the bone's node.
+fn scene_bone(scene: &mut Scene) -> usize {
+    use platoon::core::scene::{Node, Skin};
+    let mut mesh = (*scene.meshes[0]).clone();
+    let n = mesh.positions.len();
+    mesh.joints = vec![[0; 4]; n];
+    mesh.weights = vec![glam::Vec4::X; n];
+    scene.meshes[0] = std::sync::Arc::new(mesh);
+    scene.nodes.push(Node::new("bone"));
+    let bone = scene.nodes.len() - 1;
+    scene.skins.push(Skin {
+        name: "skin".into(),
+        joints: vec![bone],
+        inverse_bind_matrices: vec![glam::Mat4::IDENTITY],
+    });
+    scene.nodes[0].skin = Some(0);
+    bone
+}
+
+/// The motion layer's (x, y) at each pixel that sees the wall, with the pixel's position.
+fn motion_on_wall(layers: &[Layer]) -> Vec<(Vec3, [f32; 2])> {
+    let (motion, position) = (layer(layers, "motion"), layer(layers, "position"));
+    let hit = &layer(layers, "instance-id").channels[0].1;
+    (0..hit.len())
+        .filter(|&i| hit[i] > 0.0)
+        .map(|i| {
+            let p = Vec3::from(["X", "Y", "Z"].map(|c| position.channel(c).unwrap()[i]));
+            let m = ["X", "Y"].map(|c| motion.channel(c).unwrap()[i]);
+            (p, m)
+        })
+        .collect()
+}
+
+/// Pixels across a unit of the wall's plane, 4 away, on a `width`-wide image of fov 0.8 rad.
+fn pixels_per_unit(width: u32, height: u32) -> f32 {
+    let tan_half_x = (0.4f32).tan() * width as f32 / height as f32;
+    width as f32 / (2.0 * 4.0 * tan_half_x)
+}
+
+#[test]
+fn motion_vectors_of_a_camera_moving_sideways_are_its_shift_everywhere() {
+    // A still wall (merged static geometry), the camera 0.05 to the right of where it was
+    // (`layers_on`'s frame before): every point moved 0.05 units' worth of pixels to the left.
+    let prepared = prepare(wall_seen_from_4(None), constant_env(1.0));
+    let (w, h) = (32, 24);
+    let params = FrameParams::new(w, h, 1, prepared.camera);
+    let aovs = [Aov::Motion, Aov::Position, Aov::InstanceId];
+    let layers = layers_on("0", &prepared, &params, &aovs);
+    let want = -0.05 * pixels_per_unit(w, h);
+    let seen = motion_on_wall(&layers);
+    assert!(seen.len() > 100);
+    for (p, [x, y]) in seen {
+        assert!(
+            (x - want).abs() < 1e-3 && y.abs() < 1e-3,
+            "at {p}: ({x}, {y}), not {want}"
+        );
+    }
+}
+
+#[test]
+fn motion_vectors_of_a_moving_and_a_turning_object_follow_their_animation() {
+    use platoon::core::scene::animation::{Channel, Interpolation, Property};
+    let (w, h) = (32, 24);
+    let request = |channel: Channel| platoon::Request {
+        scene: platoon::SceneSource::Scene(Box::new(wall_seen_from_4(Some(channel)))),
+        env: constant_env(1.0),
+        width: w,
+        height: h,
+        spp: 1,
+        time: 0.5,
+        frame_interval: 0.1,
+        devices: DeviceSpec::Lavapipe(vec![1]),
+        aovs: vec![Aov::Motion, Aov::Position, Aov::InstanceId],
+        ..Default::default()
+    };
+    let render = |channel: Channel| request(channel).render(&mut |_| {}).unwrap();
+    // Moving right one unit a second: 0.1 units since the frame before.
+    let moving_channel = || Channel {
+        node: 0,
+        property: Property::Translation,
+        interpolation: Interpolation::Linear,
+        times: vec![0.0, 1.0],
+        values: vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+    };
+    let moving = render(moving_channel());
+    let want = 0.1 * pixels_per_unit(w, h);
+    let seen = motion_on_wall(&moving.layers);
+    assert!(seen.len() > 100);
+    for (p, [x, y]) in seen {
+        assert!(
+            (x - want).abs() < 1e-3 && y.abs() < 1e-3,
+            "at {p}: ({x}, {y}), not {want}"
+        );
+    }
+    // The same move by a bone skinning the wall (its node still): the vertices' previous pose.
+    let mut skinned = wall_seen_from_4(None);
+    let bone = scene_bone(&mut skinned);
+    skinned
+        .animations
+        .push(platoon::core::scene::animation::Animation {
+            name: "bone".into(),
+            channels: vec![Channel {
+                node: bone,
+                ..moving_channel()
+            }],
+        });
+    let skinned = platoon::Request {
+        scene: platoon::SceneSource::Scene(Box::new(skinned)),
+        ..request(moving_channel())
+    }
+    .render(&mut |_| {})
+    .unwrap();
+    let seen = motion_on_wall(&skinned.layers);
+    assert!(seen.len() > 100);
+    for (p, [x, y]) in seen {
+        assert!(
+            (x - want).abs() < 1e-3 && y.abs() < 1e-3,
+            "skinned, at {p}: ({x}, {y})"
+        );
+    }
+    // Turning about the view axis, a quarter turn a second: 9 degrees since the frame before;
+    // each point came from where the turn back puts it, as the camera sees both.
+    let quarter = glam::Quat::from_rotation_z(std::f32::consts::FRAC_PI_2);
+    let turning = render(Channel {
+        node: 0,
+        property: Property::Rotation,
+        interpolation: Interpolation::Linear,
+        times: vec![0.0, 1.0],
+        values: [glam::Quat::IDENTITY, quarter]
+            .iter()
+            .flat_map(|q| q.to_array())
+            .collect(),
+    });
+    let camera = platoon::core::scene::camera::Camera::look_at(Vec3::Z * 4.0, Vec3::ZERO, 0.8);
+    let back = glam::Quat::from_rotation_z(-9f32.to_radians());
+    let seen = motion_on_wall(&turning.layers);
+    assert!(seen.len() > 100);
+    let mut largest = 0.0f32;
+    for (p, [x, y]) in seen {
+        let now = camera.project(p, w, h).unwrap();
+        let then = camera.project(back * p, w, h).unwrap();
+        let want = now - then;
+        assert!(
+            (x - want.x).abs() < 2e-3 && (y - want.y).abs() < 2e-3,
+            "at {p}: ({x}, {y}), not {want}"
+        );
+        largest = largest.max(want.length());
+    }
+    assert!(largest > 1.0, "the turn moved nothing far: {largest}");
 }

@@ -93,6 +93,7 @@ pub fn request(
             rotation: take(k, "env_rotation", "degrees")?.unwrap_or(0.0),
         },
         time: take(k, "time", "seconds")?.unwrap_or(d.time),
+        frame_interval: take(k, "frame_interval", "seconds")?.unwrap_or(d.frame_interval),
         camera,
         aperture: take(k, "aperture", "a radius")?.unwrap_or(d.aperture),
         focus_distance: take(k, "focus_distance", "a distance")?,

@@ -5,41 +5,52 @@
 
 use anyhow::Result;
 use glam::DVec3;
-use platoon_core::flatten::{GpuScene, HitNames};
+use platoon_core::flatten::GpuScene;
 use platoon_core::frame::aov::{self, Aov, Layer};
 use platoon_core::frame::aov_params::aov_pass_params;
+use platoon_core::frame::motion::PreviousFrame;
 use platoon_core::frame::FrameParams;
 use platoon_core::output::Film;
 
 use crate::{Rendered, Tracers};
 
 /// The layers of `aovs` for the frame `params` renders (its camera, samples and seed) of
-/// `scene`, whose render space is centred on the world point `origin`.
+/// `scene`, whose render space is centred on the world point `origin`; motion vectors measure
+/// against `previous`, the frame before.
 pub fn render_layers(
     tracers: &mut Tracers,
     scene: &GpuScene,
     params: &FrameParams,
     aovs: &[Aov],
     origin: DVec3,
+    previous: Option<&PreviousFrame>,
 ) -> Result<Vec<Layer>> {
+    let context = aov::Context {
+        scene: Some(scene),
+        previous,
+        crop: params.image_crop(),
+    };
     render_layers_with(
         &mut |p| Ok(tracers.render(scene, p, &mut |_| {})?.film),
         params,
         aovs,
         origin,
-        &scene.hit_names,
+        &context,
     )
 }
 
 /// The same with each pass's frame rendered by `render` (a bare tracer's, for the lab), the
-/// ids Cryptomatte hashes named by `names`.
+/// layers that read more than films reading `context`.
 pub fn render_layers_with(
     render: &mut dyn FnMut(&FrameParams) -> Result<Film>,
     params: &FrameParams,
     aovs: &[Aov],
     origin: DVec3,
-    names: &HitNames,
+    context: &aov::Context,
 ) -> Result<Vec<Layer>> {
+    if aovs.contains(&Aov::Motion) && (context.previous.is_none() || context.scene.is_none()) {
+        anyhow::bail!("motion vectors need the frame before and the flattened scene");
+    }
     let mut films: Vec<(aov::AovPass, Film)> = Vec::new();
     for pass in aov::passes(aovs) {
         let p = aov_pass_params(params, pass, pass.spp(params.spp));
@@ -52,7 +63,7 @@ pub fn render_layers_with(
             .map(|(_, f)| f.clone())
             .expect("every pass rendered")
     };
-    Ok(aov::layers(aovs, &film, &params.camera, origin, names))
+    Ok(aov::layers(aovs, &film, &params.camera, origin, context))
 }
 
 /// A transparent film's alpha for the frame `params` (its `transparent_film` set) rendered at

@@ -34,6 +34,7 @@ pub mod distributed;
 pub mod game;
 pub mod metadata;
 pub mod method_update;
+pub mod motion;
 pub mod prepare;
 pub mod render;
 mod rendered;
@@ -50,5 +51,5 @@ pub use render::{
     render, render_bands, render_frame, whole_frame, BatchedStats, Rendered, Tracers,
 };
 pub use request::{
-    CameraChoice, Interrupted, Progressive, Request, RequestError, SceneSource, Still,
+    CameraChoice, FrameScene, Interrupted, Progressive, Request, RequestError, SceneSource, Still,
 };

@@ -130,7 +130,8 @@ pub struct RenderArgs {
     /// sample-count, crypto-object, crypto-material (Cryptomatte's layers and manifest), the
     /// light passes diffuse-direct, diffuse-indirect, glossy-direct, glossy-indirect,
     /// transmission-direct, transmission-indirect, emission, environment (summing to the
-    /// beauty), or light for all eight.
+    /// beauty), or light for all eight; motion (pixels moved since the frame before: 1/fps
+    /// earlier in a sequence, 1/24 s for a still).
     #[arg(long, value_parser = parse_aovs)]
     pub(super) aov: Option<AovList>,
     /// Denoise the image after assembly, guided by its albedo, normal and depth: none, atrous

@@ -13,7 +13,7 @@ use platoon::animation::{frame_path, task_index, Animation};
 use platoon::Tracers;
 
 use super::args::{FrameArgs, RenderArgs};
-use platoon::Still;
+use platoon::{FrameScene, Still};
 
 use super::frame_log::FrameLog;
 use super::job::Job;
@@ -270,15 +270,14 @@ impl Frames {
         let params = job.params(&self.setup, frame, camera);
         let rendered = tracers.render_batched(scene, &params, &self.setup.batching, progress)?;
         let mut meta = platoon::metadata_of(&facts, &params, &rendered, self.setup.sampling);
-        let still = Still::of(
-            tracers,
-            scene,
-            &params,
-            rendered,
-            aovs,
-            denoiser,
-            facts.origin,
-        )?;
+        let interval = job.frame_interval();
+        let previous = self.setup.previous_frame(time, interval, facts.origin)?;
+        let scene = FrameScene {
+            gpu: scene,
+            origin: facts.origin,
+            previous: previous.as_ref(),
+        };
+        let still = Still::of(tracers, &scene, &params, rendered, aovs, denoiser)?;
         if !self.writes {
             return Ok(());
         }

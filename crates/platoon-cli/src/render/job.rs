@@ -120,6 +120,11 @@ impl Job {
         (frame as f64 / self.fps) as f32
     }
 
+    /// Seconds from one frame to the next (what motion vectors measure over).
+    pub(super) fn frame_interval(&self) -> f32 {
+        (1.0 / self.fps) as f32
+    }
+
     /// Whether `path` holds frame `frame` of this job, whole, and so does its raw image when
     /// the frame is denoised.
     pub(super) fn done(&self, path: &Path, frame: i64) -> bool {

@@ -10,6 +10,7 @@ use glam::Vec3;
 use platoon::core::denoise::Denoiser;
 use platoon::core::frame::adaptive::{Adaptive, Batching};
 use platoon::core::frame::aov::Aov;
+use platoon::core::frame::motion::PreviousFrame;
 use platoon::core::frame::FrameParams;
 use platoon::core::output::{image_format, ImageFormat};
 use platoon::distributed::Session;
@@ -82,6 +83,23 @@ impl Setup {
     /// Whether this process writes and reports (rank 0 of a job, or a process alone).
     pub(super) fn speaks(&self) -> bool {
         self.session.as_ref().is_none_or(|s| s.rank() == 0)
+    }
+
+    /// The frame `interval` seconds before `time`, in the render space around `origin`, when
+    /// motion vectors are asked for.
+    pub(super) fn previous_frame(
+        &self,
+        time: f32,
+        interval: f32,
+        origin: glam::DVec3,
+    ) -> Result<Option<PreviousFrame>> {
+        if !self.aovs.contains(&Aov::Motion) {
+            return Ok(None);
+        }
+        let (scene, options, camera) = (&self.scene, &self.options, &self.camera);
+        let previous =
+            platoon::motion::previous_frame(scene, options, camera, time - interval, origin)?;
+        Ok(Some(previous))
     }
 }
 
@@ -168,6 +186,8 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         env: scene.env_choice(),
         env_light: scene.env_light(),
         time: scene.time,
+        // A sequence's frames measure motion over their own interval (`Job::frame_interval`).
+        frame_interval: platoon::request::DEFAULT_FRAME_INTERVAL,
         camera: match (camera, camera_position.zip(look_at)) {
             (_, Some((eye, target))) => {
                 CameraChoice::Given(given_camera(eye, target, fov, aperture, focus_distance)?)

@@ -8,7 +8,7 @@ use platoon::core::frame::adaptive::Batching;
 use platoon::core::frame::FrameParams;
 use platoon::Tracers;
 
-use platoon::Still;
+use platoon::{FrameScene, Still};
 
 use super::checkpoint;
 use super::frame_log::FrameLog;
@@ -28,6 +28,9 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         }
     }
     let mut tracers = setup.tracers(&prepared.gpu)?;
+    let time = setup.options.time;
+    let interval = platoon::request::DEFAULT_FRAME_INTERVAL;
+    let previous = setup.previous_frame(time, interval, prepared.posed.origin)?;
     let Setup {
         started,
         mut params,
@@ -79,16 +82,13 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         )?,
         _ => None,
     };
-    let still = Still::of(
-        &mut tracers,
-        &prepared.gpu,
-        &params,
-        rendered,
-        &aovs,
-        denoiser,
-        prepared.posed.origin,
-    )?
-    .with_metadata(meta);
+    let scene = FrameScene {
+        gpu: &prepared.gpu,
+        origin: prepared.posed.origin,
+        previous: previous.as_ref(),
+    };
+    let still =
+        Still::of(&mut tracers, &scene, &params, rendered, &aovs, denoiser)?.with_metadata(meta);
     if !speaks {
         return Ok(());
     }

@@ -57,7 +57,7 @@ impl GBuffer {
             film,
             camera,
             DVec3::ZERO,
-            &Default::default(),
+            &aov::Context::films_only(1, 1),
         );
         GBuffer {
             guides: Guides::from_layers(&layers).expect("albedo, normal and depth were asked"),

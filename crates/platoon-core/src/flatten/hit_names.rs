@@ -11,6 +11,9 @@ use crate::scene::{Mesh, Scene};
 pub struct HitNames {
     /// The node of each instance, in top-level leaf order ([`MERGED_NODE`] for a merged mesh's).
     pub instance_nodes: Vec<usize>,
+    /// The posed mesh (and so the region) of each instance, in the same order: what motion
+    /// vectors find a hit triangle's vertices by.
+    pub instance_meshes: Vec<usize>,
     /// The node of each triangle (global leaf order) of a merged mesh, `u32::MAX` for the
     /// others; empty when no mesh is merged.
     pub triangle_nodes: Vec<u32>,

@@ -30,9 +30,11 @@ pub(super) fn add(
 ) -> Vec<f64> {
     let mut power: Vec<f64> = Vec::new();
     g.hit_names.instance_nodes.clear();
+    g.hit_names.instance_meshes.clear();
     for (new_index, &orig) in tlas.order.iter().enumerate() {
         let inst = live[orig as usize];
         g.hit_names.instance_nodes.push(inst.node);
+        g.hit_names.instance_meshes.push(inst.mesh);
         let region = g.regions[inst.mesh];
         let tb = region.triangle_base as usize;
         let tri_count = mesh_bvhs[inst.mesh].order.len();

@@ -9,7 +9,9 @@
 
 use super::cryptomatte;
 use super::light_pass::LightPass;
-use crate::flatten::HitNames;
+use super::motion::{self, PreviousFrame};
+use super::Crop;
+use crate::flatten::{GpuScene, HitNames};
 use crate::output::Film;
 pub use crate::output::Layer;
 use crate::scene::camera::Camera;
@@ -95,10 +97,13 @@ pub enum Aov {
     CryptoMaterial,
     /// A light pass (`light_pass`); the eight sum to the beauty.
     Light(LightPass),
+    /// How far the surface at the pixel's centre moved on the image since the frame before
+    /// (`motion`), in pixels.
+    Motion,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 19] = [
+    pub const ALL: [Aov; 20] = [
         Aov::Albedo,
         Aov::Normal,
         Aov::Depth,
@@ -110,6 +115,7 @@ impl Aov {
         Aov::SampleCount,
         Aov::CryptoObject,
         Aov::CryptoMaterial,
+        Aov::Motion,
         Aov::Light(LightPass::DiffuseDirect),
         Aov::Light(LightPass::DiffuseIndirect),
         Aov::Light(LightPass::GlossyDirect),
@@ -138,6 +144,7 @@ impl Aov {
             Aov::CryptoObject => "crypto-object",
             Aov::CryptoMaterial => "crypto-material",
             Aov::Light(pass) => pass.name(),
+            Aov::Motion => "motion",
         }
     }
 
@@ -170,6 +177,7 @@ impl Aov {
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &["id"],
             Aov::SampleCount => &["N"],
             Aov::CryptoObject | Aov::CryptoMaterial => &["R", "G", "B", "A"],
+            Aov::Motion => &["X", "Y"],
         }
     }
 
@@ -179,7 +187,7 @@ impl Aov {
             Aov::Albedo => &[AovPass::Albedo],
             Aov::Normal => &[AovPass::Normal],
             // A miss is told by the ids (position 0 could be a hit).
-            Aov::Depth => &[AovPass::Position, AovPass::Ids],
+            Aov::Depth | Aov::Motion => &[AovPass::Position, AovPass::Ids],
             Aov::Position => &[AovPass::Position],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &[AovPass::Ids],
             Aov::Variance | Aov::SampleCount => &[],
@@ -240,15 +248,42 @@ pub fn passes(aovs: &[Aov]) -> Vec<AovPass> {
 /// Depth of a pixel that sees no surface: nothing there, infinitely far.
 pub const MISS_DEPTH: f32 = f32::INFINITY;
 
+/// What the layers read beyond their passes' films: the flattened scene the frame was rendered
+/// from (Cryptomatte's names, the triangles motion vectors follow), the frame before (motion)
+/// and where the frame lies in its camera's image.
+#[derive(Clone, Copy)]
+pub struct Context<'a> {
+    pub scene: Option<&'a GpuScene>,
+    pub previous: Option<&'a PreviousFrame>,
+    pub crop: Crop,
+}
+
+impl Context<'_> {
+    /// Nothing beyond the films (the layers that need more are not asked for), for a frame of
+    /// `width` x `height`.
+    pub fn films_only(width: u32, height: u32) -> Context<'static> {
+        Context {
+            scene: None,
+            previous: None,
+            crop: Crop {
+                x: 0,
+                y: 0,
+                image_width: width,
+                image_height: height,
+            },
+        }
+    }
+}
+
 /// The layers of `aovs` from the films of their passes (`film(pass)`), for `camera` (depth:
 /// the distance along its view axis) and the render origin in world space (`origin`: position
-/// is written in world coordinates); `names` names the ids Cryptomatte's layers hash.
+/// is written in world coordinates), with what `context` gives the layers that read more.
 pub fn layers(
     aovs: &[Aov],
     film: &dyn Fn(AovPass) -> Film,
     camera: &Camera,
     origin: glam::DVec3,
-    names: &HitNames,
+    context: &Context,
 ) -> Vec<Layer> {
     let films: Vec<(AovPass, Film)> = passes(aovs).into_iter().map(|p| (p, film(p))).collect();
     let of = |pass| &films.iter().find(|(p, _)| *p == pass).expect("rendered").1;
@@ -265,7 +300,23 @@ pub fn layers(
         .flat_map(|&aov| {
             if let Some(kind) = aov.cryptomatte() {
                 let films: Vec<&Film> = SAMPLE_ID_PASSES.iter().map(|&p| of(p)).collect();
-                return cryptomatte::layers(kind, &films, names);
+                let names = context.scene.map(|g| &g.hit_names);
+                return cryptomatte::layers(kind, &films, names.unwrap_or(&HitNames::default()));
+            }
+            if aov == Aov::Motion {
+                let previous = context
+                    .previous
+                    .expect("motion vectors need the frame before");
+                let scene = context.scene.expect("... and the flattened scene");
+                let (position, ids) = (of(AovPass::Position), of(AovPass::Ids));
+                return vec![motion::layer(
+                    position,
+                    ids,
+                    scene,
+                    camera,
+                    context.crop,
+                    previous,
+                )];
             }
             let planes: Vec<Vec<f32>> = match aov {
                 Aov::Albedo | Aov::Normal | Aov::Light(_) => {
@@ -299,7 +350,9 @@ pub fn layers(
                     vec![plane(of(AovPass::Ids), &|_, p| p[c])]
                 }
                 Aov::Variance | Aov::SampleCount => unreachable!("filtered out above"),
-                Aov::CryptoObject | Aov::CryptoMaterial => unreachable!("returned above"),
+                Aov::CryptoObject | Aov::CryptoMaterial | Aov::Motion => {
+                    unreachable!("returned above")
+                }
             };
             vec![layer(aov, planes)]
         })

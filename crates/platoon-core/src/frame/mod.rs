@@ -12,6 +12,7 @@ pub(crate) mod fakes;
 pub mod fault;
 mod film_state;
 pub mod light_pass;
+pub mod motion;
 mod pixel_filter;
 pub mod renderer;
 mod workers;

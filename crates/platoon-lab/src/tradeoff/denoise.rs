@@ -28,7 +28,7 @@ pub fn apply(
         params,
         &Denoiser::GUIDES,
         glam::DVec3::ZERO,
-        &Default::default(),
+        &platoon::core::frame::aov::Context::films_only(params.width, params.height),
     )?;
     let guides = Guides::from_layers(&layers).expect("the guides were rendered");
     let clock = Instant::now();

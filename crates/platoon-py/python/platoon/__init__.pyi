@@ -60,6 +60,7 @@ def render(
     env_strength: float = 1.0,
     env_rotation: float = 0.0,
     time: float = 0.0,
+    frame_interval: float = 1 / 24,
     camera: int | str | tuple[tuple[float, float, float], tuple[float, float, float], float] | None = None,
     aperture: float = 0.0,
     focus_distance: float | None = None,
@@ -76,7 +77,7 @@ def render(
     or "lavapipe:T1,T2" (software tracers of Ti threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
     variance, sample-count, crypto-object, crypto-material (layers CryptoObject00..02, the
     manifest in `metadata`), the light passes by name or "light" for all eight (they sum to
-    the image). `denoise`: none, atrous, oidn. `env_strength` scales the
+    the image), motion (pixels moved since the frame `frame_interval` seconds before). `denoise`: none, atrous, oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
     seen from above). `filter`: the pixel filter, box, gaussian (sigma 0.5 px) or
     blackman-harris (1.5 px). `transparent_film`: the environment seen directly left out, `Rendered.alpha` the

@@ -20,6 +20,10 @@ use super::error::RequestError;
 use crate::devices::DeviceSpec;
 use crate::{EnvChoice, PrepareOptions};
 
+/// Seconds from the frame before to a still (24 frames a second): what its motion vectors
+/// measure over.
+pub const DEFAULT_FRAME_INTERVAL: f32 = 1.0 / 24.0;
+
 /// Where the scene comes from.
 #[derive(Clone, Debug, Default)]
 pub enum SceneSource {
@@ -77,6 +81,9 @@ pub struct Request {
     pub env_light: crate::EnvLight,
     /// Animation time in seconds.
     pub time: f32,
+    /// Seconds from the frame before to this one: what motion vectors measure over (an
+    /// animation's 1 / fps; 1/24 by default).
+    pub frame_interval: f32,
     pub camera: CameraChoice,
     /// Thin-lens aperture radius in scene units (0: a pinhole).
     pub aperture: f32,
@@ -124,6 +131,7 @@ impl Default for Request {
             env: EnvChoice::Scene,
             env_light: Default::default(),
             time: 0.0,
+            frame_interval: DEFAULT_FRAME_INTERVAL,
             camera: CameraChoice::default(),
             aperture: 0.0,
             focus_distance: None,

@@ -28,6 +28,6 @@ pub mod still;
 mod validate;
 
 pub use error::{Interrupted, RequestError};
-pub use form::{CameraChoice, Request, SceneSource};
+pub use form::{CameraChoice, Request, SceneSource, DEFAULT_FRAME_INTERVAL};
 pub use progressive::Progressive;
-pub use still::Still;
+pub use still::{FrameScene, Still};

@@ -12,7 +12,7 @@ use platoon_core::frame::FrameParams;
 
 use super::error::{Interrupted, RequestError};
 use super::form::Request;
-use super::still::Still;
+use super::still::{FrameScene, Still};
 use crate::{Prepared, Tracers};
 
 pub struct Progressive {
@@ -113,14 +113,20 @@ impl Progressive {
             &rendered,
             self.request.sampling.name(),
         );
+        let options = self.request.prepare_options(&self.prepared.scene)?;
+        let previous = self.request.previous_frame(&self.prepared, &options)?;
+        let scene = FrameScene {
+            gpu: &self.prepared.gpu,
+            origin: self.prepared.posed.origin,
+            previous: previous.as_ref(),
+        };
         let still = Still::of(
             &mut self.tracers,
-            &self.prepared.gpu,
+            &scene,
             &params,
             rendered,
             &self.request.aovs,
             self.request.denoiser,
-            self.prepared.posed.origin,
         )?;
         Ok(still.with_metadata(meta))
     }

@@ -8,11 +8,12 @@ use glam::DVec3;
 use platoon_core::denoise::{Denoiser, Guides};
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::aov::{Aov, Layer};
+use platoon_core::frame::motion::PreviousFrame;
 use platoon_core::frame::FrameParams;
 use platoon_core::output::Film;
 
 use super::form::Request;
-use crate::{Rendered, Tracers};
+use crate::{PrepareOptions, Prepared, Rendered, Tracers};
 
 /// A rendered frame's outputs.
 pub struct Still {
@@ -32,20 +33,34 @@ pub struct Still {
     aovs: Vec<Aov>,
 }
 
+/// The scene a frame was rendered from, as its outputs read it: flattened (`gpu`), its render
+/// space centred on the world point `origin`, and the frame before (motion vectors; None when
+/// not asked for).
+#[derive(Clone, Copy)]
+pub struct FrameScene<'a> {
+    pub gpu: &'a GpuScene,
+    pub origin: DVec3,
+    pub previous: Option<&'a PreviousFrame>,
+}
+
 impl Still {
     /// The outputs of `rendered`, the frame `params` of `scene` on `tracers`: the AOVs `aovs`
     /// and the denoiser's guides rendered on the same tracers (so their bits do not depend on
-    /// the split), and the image denoised. `origin`: the world point render space is centred
-    /// on. The metadata is empty until `with_metadata`.
+    /// the split), and the image denoised. The metadata is empty until `with_metadata`.
     pub fn of(
         tracers: &mut Tracers,
-        scene: &GpuScene,
+        scene: &FrameScene,
         params: &FrameParams,
         rendered: Rendered,
         aovs: &[Aov],
         denoiser: Denoiser,
-        origin: DVec3,
     ) -> Result<Still> {
+        let FrameScene {
+            gpu,
+            origin,
+            previous,
+        } = *scene;
+        let scene = gpu;
         let mut wanted = aovs.to_vec();
         if denoiser != Denoiser::None {
             for g in Denoiser::GUIDES {
@@ -57,7 +72,7 @@ impl Still {
         let mut layers = if wanted.is_empty() {
             Vec::new()
         } else {
-            crate::aov::render_layers(tracers, scene, params, &wanted, origin)?
+            crate::aov::render_layers(tracers, scene, params, &wanted, origin, previous)?
         };
         let alpha = match params.transparent_film {
             true => Some(crate::aov::render_alpha(
@@ -121,6 +136,25 @@ impl Still {
 }
 
 impl Request {
+    /// The frame `frame_interval` before this one, when motion vectors are asked for.
+    pub fn previous_frame(
+        &self,
+        prepared: &Prepared,
+        options: &PrepareOptions,
+    ) -> Result<Option<PreviousFrame>> {
+        if !self.aovs.contains(&Aov::Motion) {
+            return Ok(None);
+        }
+        let previous = crate::motion::previous_frame(
+            &prepared.scene,
+            options,
+            &self.camera,
+            self.time - self.frame_interval,
+            prepared.posed.origin,
+        )?;
+        Ok(Some(previous))
+    }
+
     /// Renders the request as a still in this process, on its devices: validated, the scene
     /// loaded and prepared (its warnings and notes logged), the frame rendered in the batches
     /// its outputs need, its AOVs and denoiser run; `progress` hears the samples done (one
@@ -128,8 +162,8 @@ impl Request {
     pub fn render(&self, progress: &mut dyn FnMut(u32)) -> Result<Still> {
         self.validate()?;
         let scene = self.load_scene()?;
-        let options = self.prepare_options(&scene)?;
-        let prepared = crate::prepare(scene, &options)?;
+        let options_of_scene = self.prepare_options(&scene)?;
+        let prepared = crate::prepare(scene, &options_of_scene)?;
         for w in &prepared.scene.warnings {
             log::warn!("{w}");
         }
@@ -142,14 +176,19 @@ impl Request {
         let rendered =
             tracers.render_batched(&prepared.gpu, &params, &self.batching(), progress)?;
         let meta = crate::metadata(&prepared, &params, &rendered, self.sampling.name());
+        let previous = self.previous_frame(&prepared, &options_of_scene)?;
+        let scene = FrameScene {
+            gpu: &prepared.gpu,
+            origin: prepared.posed.origin,
+            previous: previous.as_ref(),
+        };
         let still = Still::of(
             &mut tracers,
-            &prepared.gpu,
+            &scene,
             &params,
             rendered,
             &self.aovs,
             self.denoiser,
-            prepared.posed.origin,
         )?;
         Ok(still.with_metadata(meta))
     }

@@ -69,6 +69,15 @@ impl Request {
                 refuse("time_limit", "must be a positive number of seconds")?;
             }
         }
+        if !(self.frame_interval.is_finite() && self.frame_interval > 0.0) {
+            refuse(
+                "frame_interval",
+                format!(
+                    "must be a positive number of seconds, not {}",
+                    self.frame_interval
+                ),
+            )?;
+        }
         if !(self.time.is_finite()) {
             refuse(
                 "time",
