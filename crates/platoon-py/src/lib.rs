@@ -6,6 +6,7 @@
 //! argument; other failures raise `platoon.PlatoonError` naming the file and the problem.
 
 mod arrays;
+mod display;
 mod game;
 mod keywords;
 mod progressive;
@@ -201,6 +202,7 @@ fn _platoon(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(devices, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
     m.add_function(wrap_pyfunction!(read_exr, m)?)?;
+    m.add_function(wrap_pyfunction!(display::display, m)?)?;
     m.add_class::<Rendered>()?;
     m.add_class::<progressive::Renderer>()?;
     m.add_class::<game::Game>()?;

@@ -102,6 +102,21 @@ def test_a_cryptomatte_names_its_ids_in_the_metadata():
     assert {"white", "red", "green"} <= top <= {"white", "red", "green", "light"}
 
 
+def test_display_pixels_are_the_srgb_encoding_under_the_view():
+    grey = np.full((1, 2, 3), 0.5, dtype=np.float32)
+    # The standard view is the sRGB curve alone: 0.5 encodes to 0.7354, 188 of 255.
+    assert (platoon.display(grey, view_transform="standard") == 188).all()
+    # A stop up is twice the light: 1.0, the curve's top.
+    assert (platoon.display(grey, view_transform="standard", exposure=1.0) == 255).all()
+    assert abs(int(platoon.display(grey, view_transform="standard", bits=16)[0, 0, 0]) - 48192) <= 1
+    shown = platoon.display(platoon.render(**SMALL).image, view_transform="agx")
+    assert shown.dtype == np.uint8 and shown.shape == (16, 24, 3) and shown.max() > 0
+    for kwargs, says in [(dict(view_transform="filmic"), "view_transform"),
+                         (dict(bits=12), "bits"), (dict(exposure=float("nan")), "exposure")]:
+        with pytest.raises(ValueError, match=says):
+            platoon.display(grey, **kwargs)
+
+
 def test_a_transparent_film_has_an_alpha_and_leaves_the_sky_out():
     r = platoon.render(**SMALL, transparent_film=True)
     assert r.alpha.shape == (16, 24) and r.alpha[0, 0] == 0.0 and r.alpha[8, 12] == 1.0

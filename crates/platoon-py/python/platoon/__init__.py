@@ -10,7 +10,9 @@
 ({name: float32 H x W x C}), `.metadata` (what platoon writes into its EXR files). Bad
 arguments raise ValueError naming the argument; a scene or device that fails raises
 PlatoonError naming the file and the problem. `devices()` lists the Vulkan devices,
-`methods()` the rendering methods and the options each takes as keyword arguments.
+`methods()` the rendering methods and the options each takes as keyword arguments;
+`display(image, view_transform="aces", exposure=0.0, bits=8)` gives the sRGB pixels platoon's
+PNG of an image holds.
 `Renderer(scene, **the same arguments)` keeps its tracers: each `.render(spp)` adds samples
 to the film (the same bits as one render of all of them). `Game(scene, target_ms=None,
 **the same arguments)` is the game loop over a living scene: `frame((eye, target, fov))`
@@ -25,6 +27,7 @@ from ._platoon import (
     Rendered,
     Renderer,
     devices,
+    display,
     methods,
     read_exr,
     render,
@@ -37,6 +40,7 @@ __all__ = [
     "Rendered",
     "Renderer",
     "devices",
+    "display",
     "methods",
     "read_exr",
     "render",

@@ -160,3 +160,12 @@ def methods() -> dict[str, dict[str, str]]:
 
 def read_exr(path: str | PathLike[str]) -> tuple[npt.NDArray[np.float32], dict[str, str]]:
     """An EXR's first RGB(A) layer (H x W x 3) and its metadata."""
+
+def display(
+    image: npt.NDArray[np.float32],
+    view_transform: str = "aces",
+    exposure: float = 0.0,
+    bits: int = 8,
+) -> npt.NDArray[np.uint8] | npt.NDArray[np.uint16]:
+    """A linear H x W x 3 image as sRGB display pixels under a view transform (standard,
+    agx, pbr-neutral, aces) after `exposure` stops: the values platoon's PNG of it holds."""
