@@ -55,6 +55,33 @@ vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
 #if defined(OUTPUT_AOV_ALBEDO) || defined(OUTPUT_AOV_NORMAL)
     for (uint si = pc.sample_begin; si != pc.sample_end; si++) sum += aov_sample(pixel, si, rays);
     return sum;
+#elif defined(OUTPUT_AOV_AO)
+    // Ambient occlusion at the first hit of each of the pass's camera rays (the beauty's): a
+    // cosine-distributed ray about the shading normal toward the camera, unoccluded within
+    // ao_distance() counts 1; a camera ray that sees no surface counts 1 (nothing occludes it).
+    for (uint si = pc.sample_begin; si != pc.sample_end; si++) {
+        Rng rng = pixel_rng(pixel, si);
+        Ray ray = camera_ray(pixel, rng);
+        Hit hit;
+        rays++;
+        if (!trace(ray, false, hit)) {
+            sum += vec3(1.0);
+            continue;
+        }
+        Surface s = surface_at(hit);
+        vec3 n = dot(s.ns, ray.dir) > 0.0 ? -s.ns : s.ns;
+        vec3 ng = dot(s.ng, ray.dir) > 0.0 ? -s.ng : s.ng;
+        vec3 t, b;
+        make_frame(n, t, b);
+        vec3 wi = to_world(sample_cosine_hemisphere(rng_next2(rng)), t, b, n);
+        // A direction the shading normal bends below the surface is occluded by it.
+        if (dot(wi, ng) <= 0.0) continue;
+        Hit blocker;
+        rays++;
+        if (!trace(Ray(offset_ray(s.position, ng, s.magnitude), wi, ao_distance()), true, blocker))
+            sum += vec3(1.0);
+    }
+    return sum;
 #elif defined(OUTPUT_AOV_ALPHA)
     // How many of the pass's camera rays (the beauty's) find a surface: a transparent film's
     // alpha, over the samples.

@@ -111,6 +111,7 @@ pub fn request(
         time_limit: Request::time_limit_secs(time_limit).map_err(|e| bad(e.option, e.problem))?,
         max_depth: take(k, "max_depth", "a whole number")?,
         seed: take(k, "seed", "a whole number")?.unwrap_or(d.seed),
+        ao_distance: take(k, "ao_distance", "a distance")?.unwrap_or(d.ao_distance),
         transparent_film: take(k, "transparent_film", "True or False")?
             .unwrap_or(d.transparent_film),
         filter: match take::<String>(k, "filter", "a pixel filter's name")? {

@@ -82,6 +82,7 @@ pub fn metadata_of(
                 false => "opaque".into(),
             },
         ),
+        ("ao_distance".into(), params.ao_distance.to_string()),
         ("seed".into(), params.seed.to_string()),
         ("frame".into(), params.frame.to_string()),
         ("max_depth".into(), params.max_depth.to_string()),

@@ -59,6 +59,10 @@ pub struct RenderArgs {
     /// pixels the same bits as the whole render's there (path tracing).
     #[arg(long, value_parser = platoon::core::frame::Region::parse)]
     pub(super) crop: Option<platoon::core::frame::Region>,
+    /// How far the ao AOV (ambient occlusion) looks for occluders, in scene units (Cycles'
+    /// world AO distance).
+    #[arg(long, default_value_t = platoon::core::frame::DEFAULT_AO_DISTANCE, allow_negative_numbers = true)]
+    pub(super) ao_distance: f32,
     /// A transparent film (Cycles' Film > Transparent): the environment the camera sees is
     /// left out of the image, which gets an alpha channel (EXR: premultiplied; PNG and TIFF:
     /// straight); it still lights the scene. Not for JPEG.
@@ -131,7 +135,7 @@ pub struct RenderArgs {
     /// light passes diffuse-direct, diffuse-indirect, glossy-direct, glossy-indirect,
     /// transmission-direct, transmission-indirect, emission, environment (summing to the
     /// beauty), or light for all eight; motion (pixels moved since the frame before: 1/fps
-    /// earlier in a sequence, 1/24 s for a still).
+    /// earlier in a sequence, 1/24 s for a still); ao (ambient occlusion, --ao-distance).
     #[arg(long, value_parser = parse_aovs)]
     pub(super) aov: Option<AovList>,
     /// Denoise the image after assembly, guided by its albedo, normal and depth: none, atrous

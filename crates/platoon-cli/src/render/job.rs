@@ -64,7 +64,8 @@ impl Job {
         });
         let settings = format!(
             "scene {scene}; environment {env}; camera {camera}, aperture {}, focus {}; {}x{}, \
-             {} spp, time limit {}, max depth {}, seed {}{}, filter {}, crop {}, film {}; {}; \
+             {} spp, time limit {}, max depth {}, seed {}{}, filter {}, crop {}, film {}, AO \
+             distance {}; {}; \
              kernel {}; {} sampling; {} fps; \
              AOVs {}; denoiser {}; adaptive {adaptive}; view {}; EXR {}; {} bits, JPEG quality {}",
             o.aperture_radius,
@@ -89,6 +90,7 @@ impl Job {
             } else {
                 "opaque"
             },
+            p.ao_distance,
             p.method.unit().describe(),
             format!("{:?}", p.kernel).to_lowercase(),
             setup.sampling,

@@ -132,6 +132,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         resolution_percent,
         crop,
         film_transparent,
+        ao_distance,
         resume: _,
         max_depth,
         seed,
@@ -209,6 +210,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         seed,
         filter,
         transparent_film: film_transparent,
+        ao_distance,
         method: method.method()?,
         kernel: method.kernel,
         sampling: match sampling {

@@ -59,6 +59,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         filter,
         crop,
         transparent_film,
+        ao_distance,
         output,
     } = p;
     for v in [width, height, spp, max_depth, rr_depth] {
@@ -133,6 +134,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         Output::Aov(AovPass::SampleIds(_)) => 8,
         Output::Aov(AovPass::Light(_)) => 9,
         Output::Aov(AovPass::Alpha) => 10,
+        Output::Aov(AovPass::Ao) => 11,
     });
     match output {
         Output::Aov(AovPass::SampleIds(sample)) => w.u32(*sample),
@@ -140,6 +142,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         _ => {}
     }
     w.u8(*transparent_film as u8);
+    w.f32(*ao_distance);
     Ok(())
 }
 
@@ -225,9 +228,11 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
             Output::Aov(AovPass::Light(pass))
         }
         10 => Output::Aov(AovPass::Alpha),
+        11 => Output::Aov(AovPass::Ao),
         k => return Err(WireError(format!("unknown output {k}"))),
     };
     p.transparent_film = flag(r)?;
+    p.ao_distance = r.f32()?;
     Ok(p)
 }
 
@@ -259,6 +264,7 @@ mod tests {
         p.ris_mis = true;
         p.cut_last_paths = true;
         p.transparent_film = true;
+        p.ao_distance = 2.5;
         // Every IGI option away from its default: each must travel.
         p.method = Method::new(IgiOptions {
             paths: 7,

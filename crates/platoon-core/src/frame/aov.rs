@@ -34,6 +34,9 @@ pub enum AovPass {
     Light(LightPass),
     /// The share of the beauty's camera rays that find a surface: a transparent film's alpha.
     Alpha,
+    /// Ambient occlusion at the first hit of the beauty's camera rays: the share of
+    /// cosine-distributed rays from it that meet nothing within `FrameParams::ao_distance`.
+    Ao,
 }
 
 const fn sample_id_passes() -> [AovPass; cryptomatte::SAMPLES as usize] {
@@ -70,7 +73,7 @@ impl AovPass {
     /// Samples per pixel the pass takes when the beauty takes `spp`.
     pub fn spp(self, spp: u32) -> u32 {
         match self {
-            AovPass::Albedo | AovPass::Normal => spp.clamp(1, GUIDE_SAMPLES),
+            AovPass::Albedo | AovPass::Normal | AovPass::Ao => spp.clamp(1, GUIDE_SAMPLES),
             AovPass::Light(_) | AovPass::Alpha => spp,
             AovPass::Position | AovPass::Ids | AovPass::SampleIds(_) => 1,
         }
@@ -100,10 +103,12 @@ pub enum Aov {
     /// How far the surface at the pixel's centre moved on the image since the frame before
     /// (`motion`), in pixels.
     Motion,
+    /// Ambient occlusion (Cycles' AO pass): 1 where nothing near occludes the surface.
+    Ao,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 20] = [
+    pub const ALL: [Aov; 21] = [
         Aov::Albedo,
         Aov::Normal,
         Aov::Depth,
@@ -116,6 +121,7 @@ impl Aov {
         Aov::CryptoObject,
         Aov::CryptoMaterial,
         Aov::Motion,
+        Aov::Ao,
         Aov::Light(LightPass::DiffuseDirect),
         Aov::Light(LightPass::DiffuseIndirect),
         Aov::Light(LightPass::GlossyDirect),
@@ -145,6 +151,7 @@ impl Aov {
             Aov::CryptoMaterial => "crypto-material",
             Aov::Light(pass) => pass.name(),
             Aov::Motion => "motion",
+            Aov::Ao => "ao",
         }
     }
 
@@ -171,7 +178,7 @@ impl Aov {
     /// Its channels in the layer (`albedo.R`, ...).
     pub fn channels(self) -> &'static [&'static str] {
         match self {
-            Aov::Albedo | Aov::Variance | Aov::Light(_) => &["R", "G", "B"],
+            Aov::Albedo | Aov::Variance | Aov::Light(_) | Aov::Ao => &["R", "G", "B"],
             Aov::Normal | Aov::Position => &["X", "Y", "Z"],
             Aov::Depth => &["Z"],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &["id"],
@@ -193,6 +200,7 @@ impl Aov {
             Aov::Variance | Aov::SampleCount => &[],
             Aov::CryptoObject | Aov::CryptoMaterial => &SAMPLE_ID_PASSES,
             Aov::Light(pass) => std::slice::from_ref(&LIGHT_PASSES[pass as usize]),
+            Aov::Ao => &[AovPass::Ao],
         }
     }
 
@@ -319,7 +327,7 @@ pub fn layers(
                 )];
             }
             let planes: Vec<Vec<f32>> = match aov {
-                Aov::Albedo | Aov::Normal | Aov::Light(_) => {
+                Aov::Albedo | Aov::Normal | Aov::Light(_) | Aov::Ao => {
                     let f = of(aov.passes()[0]);
                     (0..3).map(|c| plane(f, &|_, p| p[c])).collect()
                 }

@@ -39,6 +39,9 @@ pub const DEFAULT_MAX_DEPTH: u32 = 1024;
 /// The path depth Russian roulette starts at.
 pub const DEFAULT_RR_DEPTH: u32 = 3;
 
+/// The ambient-occlusion pass's distance by default: Cycles' (10 m).
+pub const DEFAULT_AO_DISTANCE: f32 = 10.0;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameParams {
     pub width: u32,
@@ -113,6 +116,9 @@ pub struct FrameParams {
     /// left out of the image (alpha 0 there, the `AovPass::Alpha` pass); it still lights the
     /// scene. Compiled in only when set.
     pub transparent_film: bool,
+    /// How far the ambient-occlusion pass (`AovPass::Ao`) looks for what occludes a point,
+    /// in scene units (Cycles' world AO distance).
+    pub ao_distance: f32,
     pub output: Output,
 }
 
@@ -205,6 +211,7 @@ impl FrameParams {
             filter: PixelFilter::Box,
             crop: None,
             transparent_film: false,
+            ao_distance: DEFAULT_AO_DISTANCE,
             output: Output::Radiance,
         }
     }

@@ -96,6 +96,11 @@ impl KernelVariant {
                 params.output == Output::Aov(AovPass::Alpha),
             ),
             (
+                "aov-ao",
+                "OUTPUT_AOV_AO",
+                params.output == Output::Aov(AovPass::Ao),
+            ),
+            (
                 "transparent-film",
                 "FILM_TRANSPARENT",
                 params.transparent_film,

@@ -53,6 +53,7 @@ def render(
     filter: str = "box",
     crop: tuple[int, int, int, int] | None = None,
     transparent_film: bool = False,
+    ao_distance: float = 10.0,
     max_depth: int | None = None,
     time_limit: float | None = None,
     env: str | PathLike[str] | None = None,
@@ -77,7 +78,8 @@ def render(
     or "lavapipe:T1,T2" (software tracers of Ti threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
     variance, sample-count, crypto-object, crypto-material (layers CryptoObject00..02, the
     manifest in `metadata`), the light passes by name or "light" for all eight (they sum to
-    the image), motion (pixels moved since the frame `frame_interval` seconds before). `denoise`: none, atrous, oidn. `env_strength` scales the
+    the image), motion (pixels moved since the frame `frame_interval` seconds before), ao (ambient
+    occlusion within `ao_distance`). `denoise`: none, atrous, oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
     seen from above). `filter`: the pixel filter, box, gaussian (sigma 0.5 px) or
     blackman-harris (1.5 px). `transparent_film`: the environment seen directly left out, `Rendered.alpha` the

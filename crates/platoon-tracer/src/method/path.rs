@@ -57,9 +57,11 @@ impl MethodPasses for PathPasses {
         }
     }
 
-    fn push_words(&self, _params: &FrameParams) -> [u32; METHOD_WORDS] {
+    fn push_words(&self, params: &FrameParams) -> [u32; METHOD_WORDS] {
         let mut words = [0; METHOD_WORDS];
         words[0] = CANARY_TURNS;
+        // The ambient-occlusion pass's distance (path.glsl's ao_distance).
+        words[1] = params.ao_distance.to_bits();
         words
     }
 

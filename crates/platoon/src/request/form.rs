@@ -107,6 +107,8 @@ pub struct Request {
     /// A transparent film: the environment the camera sees is left out, the image gets an
     /// alpha channel (`Still::alpha`).
     pub transparent_film: bool,
+    /// How far the ambient-occlusion AOV looks for occluders, in scene units.
+    pub ao_distance: f32,
     pub method: Method,
     pub kernel: PathKernel,
     pub sampling: Sampling,
@@ -144,6 +146,7 @@ impl Default for Request {
             seed: 0,
             filter: PixelFilter::Box,
             transparent_film: false,
+            ao_distance: platoon_core::frame::DEFAULT_AO_DISTANCE,
             method: Method::path_tracing(),
             kernel: PathKernel::Auto,
             sampling: Sampling::Mis,
@@ -197,6 +200,7 @@ impl Request {
         params.seed = self.seed;
         params.filter = self.filter;
         params.transparent_film = self.transparent_film;
+        params.ao_distance = self.ao_distance;
         params.method = self.method.clone();
         params.kernel = self.kernel;
         if let Some(d) = self.max_depth {

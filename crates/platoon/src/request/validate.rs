@@ -69,6 +69,12 @@ impl Request {
                 refuse("time_limit", "must be a positive number of seconds")?;
             }
         }
+        if !(self.ao_distance.is_finite() && self.ao_distance > 0.0) {
+            refuse(
+                "ao_distance",
+                format!("must be a positive distance, not {}", self.ao_distance),
+            )?;
+        }
         if !(self.frame_interval.is_finite() && self.frame_interval > 0.0) {
             refuse(
                 "frame_interval",
