@@ -304,7 +304,9 @@ impl StreamPasses {
         list_words.method[CELLS] = list;
         list_words.method[LIST] = 0;
         let mut time = rec.gpu.timed(|d, cb| unsafe {
-            d.cmd_fill_buffer(cb, slot_buffer, 0, slots as u64 * 80, 0);
+            // Whole slots whatever the variant's stride (80 bytes, 96 with a medium, 112 with a
+            // light pass's share): a slot left as a pass ended must not seem to hold a path.
+            d.cmd_fill_buffer(cb, slot_buffer, 0, vk::WHOLE_SIZE, 0);
             d.cmd_fill_buffer(cb, control, 0, vk::WHOLE_SIZE, 0);
             let barrier = vk::MemoryBarrier::default()
                 .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
