@@ -267,6 +267,37 @@ fn a_cryptomatte_decoded_names_the_object_and_material_under_each_pixel() {
     }
 }
 
+#[test]
+fn a_cryptomatte_asset_is_the_topmost_ancestor_of_the_object() {
+    // The first two spheres under a node `pair`: their asset is the pair, the third's itself.
+    let (mut scene, centres) = three_spheres();
+    for n in &mut scene.nodes {
+        n.parent = n.parent.map(|p| p + 1);
+    }
+    scene
+        .nodes
+        .insert(0, platoon::core::scene::Node::new("pair"));
+    scene.nodes[1].parent = Some(0);
+    scene.nodes[2].parent = Some(0);
+    let prepared = prepare(scene, constant_env(1.0));
+    let params = FrameParams::new(96, 32, 4, prepared.camera);
+    let aovs = [Aov::CryptoAsset, Aov::Position];
+    let layers = layers_on("0", &prepared, &params, &aovs);
+    let assets = decode(&layers, "CryptoAsset");
+    let position = layer(&layers, "position");
+    let mut seen = [0usize; 3];
+    for (i, ranks) in assets.iter().enumerate() {
+        let p = Vec3::from(["X", "Y", "Z"].map(|c| position.channel(c).unwrap()[i]));
+        let on = (0..3).find(|&s| ((p - centres[s]).length() - 1.0).abs() < 0.02);
+        if let (Some(sphere), Some((name, 1.0))) = (on, ranks.first()) {
+            let want = if sphere < 2 { "pair" } else { "mesh2" };
+            assert_eq!(name, want, "pixel {i}");
+            seen[sphere] += 1;
+        }
+    }
+    assert!(seen.iter().all(|&n| n > 20), "{seen:?}");
+}
+
 fn cryptomatte_names_each_pixel(prepared: &Prepared, centres: [Vec3; 3]) {
     let (w, h) = (96, 32);
     let params = FrameParams::new(w, h, 4, prepared.camera);

@@ -131,11 +131,12 @@ pub struct RenderArgs {
     /// AOVs written as layers of the EXR beside the beauty, comma-separated: albedo, normal
     /// (Cycles' denoising conventions), depth, position, instance-id, material-id,
     /// primitive-id, variance (of each pixel's mean, from batches of its samples),
-    /// sample-count, crypto-object, crypto-material (Cryptomatte's layers and manifest), the
-    /// light passes diffuse-direct, diffuse-indirect, glossy-direct, glossy-indirect,
-    /// transmission-direct, transmission-indirect, emission, environment (summing to the
-    /// beauty), or light for all eight; motion (pixels moved since the frame before: 1/fps
-    /// earlier in a sequence, 1/24 s for a still); ao (ambient occlusion, --ao-distance).
+    /// sample-count, crypto-object, crypto-material, crypto-asset (Cryptomatte's layers and
+    /// manifest), the light passes diffuse-direct, diffuse-indirect, glossy-direct,
+    /// glossy-indirect, transmission-direct, transmission-indirect, emission, environment
+    /// (summing to the beauty), or light for all eight; motion (pixels moved since the frame
+    /// before: 1/fps earlier in a sequence, 1/24 s for a still); ao (ambient occlusion,
+    /// --ao-distance).
     #[arg(long, value_parser = parse_aovs)]
     pub(super) aov: Option<AovList>,
     /// Denoise the image after assembly, guided by its albedo, normal and depth: none, atrous

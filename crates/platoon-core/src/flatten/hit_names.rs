@@ -19,6 +19,8 @@ pub struct HitNames {
     pub triangle_nodes: Vec<u32>,
     /// Each node's name as Cryptomatte lists it (`node N` for an unnamed one).
     pub node_names: Vec<String>,
+    /// Each node's topmost ancestor (itself for a root): its asset.
+    pub node_roots: Vec<usize>,
     /// Each material's name (`material N` for an unnamed one).
     pub material_names: Vec<String>,
 }
@@ -37,6 +39,12 @@ impl HitNames {
         self.node_names = (scene.nodes.iter().enumerate())
             .map(|(i, n)| named(&n.name, "node", i))
             .collect();
+        // A parent comes before its children (the scene's order), so its root is known.
+        self.node_roots.clear();
+        for (i, n) in scene.nodes.iter().enumerate() {
+            let root = n.parent.and_then(|p| self.node_roots.get(p).copied());
+            self.node_roots.push(root.unwrap_or(i));
+        }
         self.material_names = (scene.materials.iter().enumerate())
             .map(|(i, m)| named(&m.name, "material", i))
             .collect();
@@ -74,6 +82,13 @@ impl HitNames {
     pub fn object(&self, instance: u32, triangle: u32) -> Option<&str> {
         let node = self.node(instance, triangle)?;
         self.node_names.get(node).map(String::as_str)
+    }
+
+    /// The name of the asset (the object's topmost ancestor) a ray hit.
+    pub fn asset(&self, instance: u32, triangle: u32) -> Option<&str> {
+        let node = self.node(instance, triangle)?;
+        let root = *self.node_roots.get(node)?;
+        self.node_names.get(root).map(String::as_str)
     }
 
     /// The name of material `material`.

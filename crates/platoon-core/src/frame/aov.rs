@@ -96,8 +96,10 @@ pub enum Aov {
     SampleCount,
     /// Cryptomatte's object layers (`cryptomatte`): the nodes under each pixel by coverage.
     CryptoObject,
-    /// ... and its material layers.
+    /// ... its material layers.
     CryptoMaterial,
+    /// ... and its asset layers (an object's topmost ancestor in the node tree).
+    CryptoAsset,
     /// A light pass (`light_pass`); the eight sum to the beauty.
     Light(LightPass),
     /// How far the surface at the pixel's centre moved on the image since the frame before
@@ -108,7 +110,7 @@ pub enum Aov {
 }
 
 impl Aov {
-    pub const ALL: [Aov; 21] = [
+    pub const ALL: [Aov; 22] = [
         Aov::Albedo,
         Aov::Normal,
         Aov::Depth,
@@ -120,6 +122,7 @@ impl Aov {
         Aov::SampleCount,
         Aov::CryptoObject,
         Aov::CryptoMaterial,
+        Aov::CryptoAsset,
         Aov::Motion,
         Aov::Ao,
         Aov::Light(LightPass::DiffuseDirect),
@@ -149,6 +152,7 @@ impl Aov {
             Aov::SampleCount => "sample-count",
             Aov::CryptoObject => "crypto-object",
             Aov::CryptoMaterial => "crypto-material",
+            Aov::CryptoAsset => "crypto-asset",
             Aov::Light(pass) => pass.name(),
             Aov::Motion => "motion",
             Aov::Ao => "ao",
@@ -171,6 +175,7 @@ impl Aov {
         match self {
             Aov::CryptoObject => Some(cryptomatte::Kind::Object),
             Aov::CryptoMaterial => Some(cryptomatte::Kind::Material),
+            Aov::CryptoAsset => Some(cryptomatte::Kind::Asset),
             _ => None,
         }
     }
@@ -183,7 +188,7 @@ impl Aov {
             Aov::Depth => &["Z"],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &["id"],
             Aov::SampleCount => &["N"],
-            Aov::CryptoObject | Aov::CryptoMaterial => &["R", "G", "B", "A"],
+            Aov::CryptoObject | Aov::CryptoMaterial | Aov::CryptoAsset => &["R", "G", "B", "A"],
             Aov::Motion => &["X", "Y"],
         }
     }
@@ -198,7 +203,7 @@ impl Aov {
             Aov::Position => &[AovPass::Position],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &[AovPass::Ids],
             Aov::Variance | Aov::SampleCount => &[],
-            Aov::CryptoObject | Aov::CryptoMaterial => &SAMPLE_ID_PASSES,
+            Aov::CryptoObject | Aov::CryptoMaterial | Aov::CryptoAsset => &SAMPLE_ID_PASSES,
             Aov::Light(pass) => std::slice::from_ref(&LIGHT_PASSES[pass as usize]),
             Aov::Ao => &[AovPass::Ao],
         }
@@ -358,7 +363,7 @@ pub fn layers(
                     vec![plane(of(AovPass::Ids), &|_, p| p[c])]
                 }
                 Aov::Variance | Aov::SampleCount => unreachable!("filtered out above"),
-                Aov::CryptoObject | Aov::CryptoMaterial | Aov::Motion => {
+                Aov::CryptoObject | Aov::CryptoMaterial | Aov::CryptoAsset | Aov::Motion => {
                     unreachable!("returned above")
                 }
             };

@@ -21,6 +21,8 @@ pub const DEPTH: usize = 6;
 pub enum Kind {
     Object,
     Material,
+    /// An object's topmost ancestor (Cycles' asset: the root of its parenting).
+    Asset,
 }
 
 impl Kind {
@@ -29,6 +31,7 @@ impl Kind {
         match self {
             Kind::Object => "CryptoObject",
             Kind::Material => "CryptoMaterial",
+            Kind::Asset => "CryptoAsset",
         }
     }
 }
@@ -71,6 +74,7 @@ pub fn layers(kind: Kind, films: &[&Film], names: &HitNames) -> Vec<Layer> {
                 let name = match kind {
                     Kind::Object => names.object(instance as u32 - 1, triangle as u32 - 1),
                     Kind::Material => names.material(material as u32 - 1),
+                    Kind::Asset => names.asset(instance as u32 - 1, triangle as u32 - 1),
                 };
                 let Some(name) = name else { continue };
                 let id = id_of(name);

@@ -76,8 +76,8 @@ def render(
 
     `devices`: "auto" (every GPU, or lavapipe where there is none), "all", indices like "0,1",
     or "lavapipe:T1,T2" (software tracers of Ti threads). `aovs`: albedo, normal, depth, position, instance-id, material-id, primitive-id,
-    variance, sample-count, crypto-object, crypto-material (layers CryptoObject00..02, the
-    manifest in `metadata`), the light passes by name or "light" for all eight (they sum to
+    variance, sample-count, crypto-object, crypto-material, crypto-asset (layers
+    CryptoObject00..02, the manifest in `metadata`), the light passes by name or "light" for all eight (they sum to
     the image), motion (pixels moved since the frame `frame_interval` seconds before), ao (ambient
     occlusion within `ao_distance`). `denoise`: none, atrous, oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
