@@ -54,7 +54,18 @@ const float MIN_ROUGHNESS = 0.01;
 const int PART_DIFFUSE = 0;
 const int PART_GLOSSY = 1;
 const int PART_TRANSMISSION = 2;
-#ifdef LIGHT_PASS
+// A colour AOV's part (frame/light_pass.rs BsdfPart, shaders/path/aov.glsl) splits alike.
+#if defined(OUTPUT_AOV_COLOR_DIFFUSE)
+#define COLOR_PART PART_DIFFUSE
+#elif defined(OUTPUT_AOV_COLOR_GLOSSY)
+#define COLOR_PART PART_GLOSSY
+#elif defined(OUTPUT_AOV_COLOR_TRANSMISSION)
+#define COLOR_PART PART_TRANSMISSION
+#endif
+#if defined(LIGHT_PASS) || defined(COLOR_PART)
+#define BSDF_PARTS
+#endif
+#ifdef BSDF_PARTS
 vec3 eval_parts[3];
 #define EVAL_CLEAR() { eval_parts[0] = vec3(0.0); eval_parts[1] = vec3(0.0); eval_parts[2] = vec3(0.0); }
 #define EVAL_ADD(part, v) { vec3 v_ = (v); f += v_; eval_parts[part] += v_; }
@@ -65,6 +76,17 @@ vec3 eval_parts[3];
 #define EVAL_ADD(part, v) { f += (v); }
 #define EVAL_SCALE(k) { f *= (k); }
 #define DELTA_PART(part)
+#endif
+
+#ifdef BSDF_PARTS
+// Of the BSDF's last evaluation or delta sample, part `part`'s share: the mean of its RGB over
+// the whole's (Cycles' pass weight).
+float share_of_part(int part) {
+    vec3 whole = eval_parts[0] + eval_parts[1] + eval_parts[2];
+    vec3 p = eval_parts[part];
+    float total = whole.x + whole.y + whole.z;
+    return total > 0.0 ? (p.x + p.y + p.z) / total : 0.0;
+}
 #endif
 
 #ifdef HAS_SHEEN

@@ -82,6 +82,24 @@ vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
             sum += vec3(1.0);
     }
     return sum;
+#elif defined(COLOR_PART)
+    // A BSDF part's colour (Cycles' DiffCol, GlossCol, TransCol): at the first hit of each of
+    // the pass's camera rays, the BSDF's sampled weight times the part's share of it, whose
+    // mean is the part's directional albedo (a Lambertian surface's: its colour exactly).
+    for (uint si = pc.sample_begin; si != pc.sample_end; si++) {
+        Rng rng = pixel_rng(pixel, si);
+        Ray ray = camera_ray(pixel, rng);
+        Hit hit;
+        rays++;
+        if (!trace(ray, false, hit)) continue;
+        Surface s = surface_at(hit);
+        vec3 t, b;
+        make_frame(s.ns, t, b);
+        vec3 wo = to_local(-ray.dir, t, b, s.ns);
+        BsdfSample bs;
+        if (bsdf_sample(make_bsdf(s, wo), wo, rng, bs)) sum += bs.weight * share_of_part(COLOR_PART);
+    }
+    return sum;
 #elif defined(OUTPUT_AOV_ALPHA)
     // How many of the pass's camera rays (the beauty's) find a surface: a transparent film's
     // alpha, over the samples.

@@ -70,14 +70,11 @@ const uint LP_EMISSION = 6u;
 const uint LP_ENVIRONMENT = 7u;
 bool direct_pass() { return LIGHT_PASS < LP_EMISSION && LIGHT_PASS % 2u == 0u; }
 bool indirect_pass() { return LIGHT_PASS < LP_EMISSION && LIGHT_PASS % 2u == 1u; }
-// The pass's part of the BSDF's last evaluation or delta sample (bsdf.glsl's eval_parts): the
-// mean of its RGB over the whole's, Cycles' pass weight.
+// The pass's part of the BSDF's last evaluation or delta sample (bsdf.glsl's share_of_part).
 float part_share() {
     if (LIGHT_PASS >= LP_EMISSION) return 0.0;
-    vec3 whole = eval_parts[0] + eval_parts[1] + eval_parts[2];
-    vec3 part = eval_parts[min(LIGHT_PASS / 2u, 2u)];  // (the emission and environment passes: above)
-    float total = whole.x + whole.y + whole.z;
-    return total > 0.0 ? (part.x + part.y + part.z) / total : 0.0;
+    // (min: the emission and environment passes returned above.)
+    return share_of_part(int(min(LIGHT_PASS / 2u, 2u)));
 }
 #endif
 

@@ -770,3 +770,33 @@ fn ambient_occlusion_holds_its_closed_forms_beside_a_wall_and_under_a_ceiling() 
         "AO under the ceiling {mean}, not 0.25"
     );
 }
+
+#[test]
+fn the_colour_aovs_are_a_lambertian_walls_colour_and_a_white_mirrors_one() {
+    // A Lambertian wall's every sampled weight is its colour: diffuse-color is it exactly; a
+    // white metal mirror reflects all (Schlick's F with f0 = 1): glossy-color 1.
+    use platoon::core::frame::light_pass::BsdfPart;
+    let colors: Vec<Aov> = BsdfPart::ALL.map(Aov::Color).to_vec();
+    for mirror in [false, true] {
+        let prepared = prepare(walls(mirror), constant_env(1.0));
+        let params = FrameParams::new(8, 6, 16, prepared.camera);
+        let layers = layers_on("0", &prepared, &params, &colors);
+        for part in BsdfPart::ALL {
+            let l = layer(&layers, part.color_name());
+            let want = match (part, mirror) {
+                (BsdfPart::Diffuse, false) => COLOUR.to_array(),
+                (BsdfPart::Glossy, true) => [1.0; 3],
+                _ => [0.0; 3],
+            };
+            for (c, w) in ["R", "G", "B"].iter().zip(want) {
+                for v in l.channel(c).unwrap() {
+                    let what = part.color_name();
+                    assert!(
+                        (v - w).abs() < 1e-5,
+                        "mirror {mirror}: {what}.{c} = {v}, not {w}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -136,7 +136,8 @@ pub struct RenderArgs {
     /// glossy-indirect, transmission-direct, transmission-indirect, emission, environment
     /// (summing to the beauty), or light for all eight; motion (pixels moved since the frame
     /// before: 1/fps earlier in a sequence, 1/24 s for a still); ao (ambient occlusion,
-    /// --ao-distance).
+    /// --ao-distance); diffuse-color, glossy-color, transmission-color (the BSDF parts'
+    /// colours).
     #[arg(long, value_parser = parse_aovs)]
     pub(super) aov: Option<AovList>,
     /// Denoise the image after assembly, guided by its albedo, normal and depth: none, atrous

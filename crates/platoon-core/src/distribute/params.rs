@@ -9,7 +9,7 @@ use std::time::Duration;
 use super::method_wire::{get_method, put_method};
 use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
 use crate::frame::aov::AovPass;
-use crate::frame::light_pass::LightPass;
+use crate::frame::light_pass::{BsdfPart, LightPass};
 use crate::frame::{Crop, FrameParams, Output, PixelFilter, Span};
 use crate::method::path_kernel::PathKernel;
 use crate::scene::camera::Camera;
@@ -135,10 +135,12 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         Output::Aov(AovPass::Light(_)) => 9,
         Output::Aov(AovPass::Alpha) => 10,
         Output::Aov(AovPass::Ao) => 11,
+        Output::Aov(AovPass::Color(_)) => 12,
     });
     match output {
         Output::Aov(AovPass::SampleIds(sample)) => w.u32(*sample),
         Output::Aov(AovPass::Light(pass)) => w.u8(*pass as u8),
+        Output::Aov(AovPass::Color(part)) => w.u8(*part as u8),
         _ => {}
     }
     w.u8(*transparent_film as u8);
@@ -229,6 +231,12 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
         }
         10 => Output::Aov(AovPass::Alpha),
         11 => Output::Aov(AovPass::Ao),
+        12 => {
+            let k = r.u8()? as usize;
+            let part = *(BsdfPart::ALL.get(k))
+                .ok_or_else(|| WireError(format!("unknown BSDF part {k}")))?;
+            Output::Aov(AovPass::Color(part))
+        }
         k => return Err(WireError(format!("unknown output {k}"))),
     };
     p.transparent_film = flag(r)?;
@@ -323,6 +331,11 @@ mod tests {
             ..ids
         };
         assert_eq!(round_trip(&light, Span::new(0, 9)), light);
+        let color = FrameParams {
+            output: Output::Aov(AovPass::Color(BsdfPart::Transmission)),
+            ..light
+        };
+        assert_eq!(round_trip(&color, Span::new(0, 9)), color);
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! The sample count and variance come from the beauty's own batches (`frame::adaptive`).
 
 use super::cryptomatte;
-use super::light_pass::LightPass;
+use super::light_pass::{BsdfPart, LightPass};
 use super::motion::{self, PreviousFrame};
 use super::Crop;
 use crate::flatten::{GpuScene, HitNames};
@@ -37,6 +37,9 @@ pub enum AovPass {
     /// Ambient occlusion at the first hit of the beauty's camera rays: the share of
     /// cosine-distributed rays from it that meet nothing within `FrameParams::ao_distance`.
     Ao,
+    /// A BSDF part's colour at the first hit of the beauty's camera rays: the sampled weight
+    /// times the part's share of it (its directional albedo; Cycles' colour passes).
+    Color(BsdfPart),
 }
 
 const fn sample_id_passes() -> [AovPass; cryptomatte::SAMPLES as usize] {
@@ -62,6 +65,13 @@ const fn light_passes() -> [AovPass; LightPass::ALL.len()] {
     passes
 }
 
+/// The kernel passes of the colour AOVs, in `BsdfPart::ALL`'s order.
+const COLOR_PASSES: [AovPass; 3] = [
+    AovPass::Color(BsdfPart::Diffuse),
+    AovPass::Color(BsdfPart::Glossy),
+    AovPass::Color(BsdfPart::Transmission),
+];
+
 /// The kernel passes of the light passes, in `LightPass::ALL`'s order.
 const LIGHT_PASSES: [AovPass; LightPass::ALL.len()] = light_passes();
 
@@ -73,7 +83,9 @@ impl AovPass {
     /// Samples per pixel the pass takes when the beauty takes `spp`.
     pub fn spp(self, spp: u32) -> u32 {
         match self {
-            AovPass::Albedo | AovPass::Normal | AovPass::Ao => spp.clamp(1, GUIDE_SAMPLES),
+            AovPass::Albedo | AovPass::Normal | AovPass::Ao | AovPass::Color(_) => {
+                spp.clamp(1, GUIDE_SAMPLES)
+            }
             AovPass::Light(_) | AovPass::Alpha => spp,
             AovPass::Position | AovPass::Ids | AovPass::SampleIds(_) => 1,
         }
@@ -107,10 +119,12 @@ pub enum Aov {
     Motion,
     /// Ambient occlusion (Cycles' AO pass): 1 where nothing near occludes the surface.
     Ao,
+    /// A BSDF part's colour (Cycles' DiffCol, GlossCol, TransCol).
+    Color(BsdfPart),
 }
 
 impl Aov {
-    pub const ALL: [Aov; 22] = [
+    pub const ALL: [Aov; 25] = [
         Aov::Albedo,
         Aov::Normal,
         Aov::Depth,
@@ -125,6 +139,9 @@ impl Aov {
         Aov::CryptoAsset,
         Aov::Motion,
         Aov::Ao,
+        Aov::Color(BsdfPart::Diffuse),
+        Aov::Color(BsdfPart::Glossy),
+        Aov::Color(BsdfPart::Transmission),
         Aov::Light(LightPass::DiffuseDirect),
         Aov::Light(LightPass::DiffuseIndirect),
         Aov::Light(LightPass::GlossyDirect),
@@ -156,6 +173,7 @@ impl Aov {
             Aov::Light(pass) => pass.name(),
             Aov::Motion => "motion",
             Aov::Ao => "ao",
+            Aov::Color(part) => part.color_name(),
         }
     }
 
@@ -183,7 +201,9 @@ impl Aov {
     /// Its channels in the layer (`albedo.R`, ...).
     pub fn channels(self) -> &'static [&'static str] {
         match self {
-            Aov::Albedo | Aov::Variance | Aov::Light(_) | Aov::Ao => &["R", "G", "B"],
+            Aov::Albedo | Aov::Variance | Aov::Light(_) | Aov::Ao | Aov::Color(_) => {
+                &["R", "G", "B"]
+            }
             Aov::Normal | Aov::Position => &["X", "Y", "Z"],
             Aov::Depth => &["Z"],
             Aov::InstanceId | Aov::MaterialId | Aov::PrimitiveId => &["id"],
@@ -206,6 +226,7 @@ impl Aov {
             Aov::CryptoObject | Aov::CryptoMaterial | Aov::CryptoAsset => &SAMPLE_ID_PASSES,
             Aov::Light(pass) => std::slice::from_ref(&LIGHT_PASSES[pass as usize]),
             Aov::Ao => &[AovPass::Ao],
+            Aov::Color(part) => std::slice::from_ref(&COLOR_PASSES[part as usize]),
         }
     }
 
@@ -332,7 +353,7 @@ pub fn layers(
                 )];
             }
             let planes: Vec<Vec<f32>> = match aov {
-                Aov::Albedo | Aov::Normal | Aov::Light(_) | Aov::Ao => {
+                Aov::Albedo | Aov::Normal | Aov::Light(_) | Aov::Ao | Aov::Color(_) => {
                     let f = of(aov.passes()[0]);
                     (0..3).map(|c| plane(f, &|_, p| p[c])).collect()
                 }

@@ -79,3 +79,42 @@ impl LightPass {
         }
     }
 }
+
+/// A part of the BSDF as the light passes split it (and the colour AOVs weigh it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BsdfPart {
+    Diffuse,
+    Glossy,
+    Transmission,
+}
+
+impl BsdfPart {
+    pub const ALL: [BsdfPart; 3] = [BsdfPart::Diffuse, BsdfPart::Glossy, BsdfPart::Transmission];
+
+    /// Its colour AOV's name (Cycles' DiffCol, GlossCol, TransCol).
+    pub fn color_name(self) -> &'static str {
+        match self {
+            BsdfPart::Diffuse => "diffuse-color",
+            BsdfPart::Glossy => "glossy-color",
+            BsdfPart::Transmission => "transmission-color",
+        }
+    }
+
+    /// The kernel's define of its colour pass (`shaders/path/aov.glsl`).
+    pub fn color_define(self) -> &'static str {
+        match self {
+            BsdfPart::Diffuse => "OUTPUT_AOV_COLOR_DIFFUSE",
+            BsdfPart::Glossy => "OUTPUT_AOV_COLOR_GLOSSY",
+            BsdfPart::Transmission => "OUTPUT_AOV_COLOR_TRANSMISSION",
+        }
+    }
+
+    /// ... and its label in the kernel variant.
+    pub fn color_label(self) -> &'static str {
+        match self {
+            BsdfPart::Diffuse => "aov-diffuse-color",
+            BsdfPart::Glossy => "aov-glossy-color",
+            BsdfPart::Transmission => "aov-transmission-color",
+        }
+    }
+}

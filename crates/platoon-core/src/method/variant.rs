@@ -6,7 +6,7 @@ use std::fmt;
 
 use crate::flatten::features::{chosen, write_labels, SceneFeatures};
 use crate::frame::aov::AovPass;
-use crate::frame::light_pass::LightPass;
+use crate::frame::light_pass::{BsdfPart, LightPass};
 use crate::frame::{FrameParams, Output, PixelFilter};
 
 /// The defines of one kernel variant, in a stable order, each with the label `platoon info` and
@@ -147,6 +147,10 @@ impl KernelVariant {
             .chain(LightPass::ALL.map(|pass| {
                 let on = params.output == Output::Aov(AovPass::Light(pass));
                 (pass.label(), pass.define(), on)
+            }))
+            .chain(BsdfPart::ALL.map(|part| {
+                let on = params.output == Output::Aov(AovPass::Color(part));
+                (part.color_label(), part.color_define(), on)
             }))
             .chain(params.method.unit().kernel_options());
         KernelVariant {
