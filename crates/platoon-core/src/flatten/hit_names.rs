@@ -1,8 +1,10 @@
 //! What names the object and the material a ray hit, from the ids the kernel reports (the
 //! instance in top-level leaf order, the triangle in the global leaf order, the material):
-//! the scene node of each instance, of each triangle of a merged mesh (whose one instance
-//! stands for many nodes), and the nodes' and materials' names. CPU side only: what
-//! Cryptomatte's manifests are written from.
+//! the scene node and posed mesh of each instance, the node of each triangle of a merged mesh
+//! (whose one instance stands for many nodes), the nodes' roots and the nodes' and materials'
+//! names. CPU side only: what Cryptomatte's manifests are written from and motion vectors
+//! follow a hit back by. Set when a scene is flattened; a living scene's nodes added later
+//! are not named (the game loop writes no AOVs).
 
 use super::static_merge::MERGED_NODE;
 use crate::scene::{Mesh, Scene};
