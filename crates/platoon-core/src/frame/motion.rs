@@ -7,6 +7,8 @@
 //! previous transform, into the previous camera. Geometry merged because it never moves stays
 //! put; a pixel that sees no surface has no motion (0).
 
+use std::collections::HashMap;
+
 use glam::{Mat4, Vec3, Vec4};
 
 use super::Crop;
@@ -14,7 +16,7 @@ use crate::flatten::static_merge::MERGED_NODE;
 use crate::flatten::GpuScene;
 use crate::output::{Film, Layer};
 use crate::scene::camera::Camera;
-use crate::scene::Posed;
+use crate::scene::{Instance, Posed};
 
 /// The frame before: the scene posed then (around the same render-space origin) and its camera.
 #[derive(Clone, Debug)]
@@ -35,6 +37,11 @@ pub fn layer(
     previous: &PreviousFrame,
 ) -> Layer {
     let (w, h) = (crop.image_width, crop.image_height);
+    // Each node's instance in the previous pose, found once rather than per pixel.
+    let mut then: HashMap<usize, &Instance> = HashMap::new();
+    for i in &previous.posed.instances {
+        then.entry(i.node).or_insert(i);
+    }
     let mut planes = [
         vec![0.0f32; ids.pixels.len()],
         vec![0.0f32; ids.pixels.len()],
@@ -45,7 +52,7 @@ pub fn layer(
         }
         let now = Vec3::from(position.pixels[i]);
         let (instance, triangle) = (id[0] as u32 - 1, id[2] as u32 - 1);
-        let Some(before) = position_before(now, instance, triangle, gpu, previous) else {
+        let Some(before) = position_before(now, instance, triangle, gpu, previous, &then) else {
             continue;
         };
         // Where the hit is now is its own projection (the pixel's centre, to rounding): the
@@ -69,13 +76,15 @@ pub fn layer(
     }
 }
 
-/// Where the point `now` (render space) on `triangle` of `instance` was in the frame before.
+/// Where the point `now` (render space) on `triangle` of `instance` was in the frame before,
+/// whose instances by node are `instances_then`.
 fn position_before(
     now: Vec3,
     instance: u32,
     triangle: u32,
     gpu: &GpuScene,
     previous: &PreviousFrame,
+    instances_then: &HashMap<usize, &Instance>,
 ) -> Option<Vec3> {
     let names = &gpu.hit_names;
     let node = *names.instance_nodes.get(instance as usize)?;
@@ -96,7 +105,7 @@ fn position_before(
     let corners = gpu.triangles.get(triangle as usize)?.v;
     let at = |v: u32| Vec3::from_slice(&gpu.vertices[v as usize].position_u[..3]);
     let b = barycentric(p, corners.map(at));
-    let then = previous.posed.instances.iter().find(|i| i.node == node)?;
+    let then = *instances_then.get(&node)?;
     let mesh_then = previous.posed.meshes.get(then.mesh)?;
     let vertex = |v: u32| mesh_then.positions.get((v - base) as usize).copied();
     let [a, c, d] = [
