@@ -61,7 +61,8 @@ pub fn id_hex(id: f32) -> String {
 /// named by `names`: `{type}00` to `{type}02`, the first carrying the header's attributes.
 pub fn layers(kind: Kind, films: &[&Film], names: &HitNames) -> Vec<Layer> {
     let pixels = films[0].pixels.len();
-    let mut manifest: BTreeMap<String, String> = BTreeMap::new();
+    // Each name's id, hashed once (a pixel's 16 rays mostly meet the same few names).
+    let mut ids: BTreeMap<&str, f32> = BTreeMap::new();
     // Per pixel, (id, rays) ranked by rays, then by the id's bits: DEPTH at most.
     let ranked: Vec<Vec<(f32, u32)>> = (0..pixels)
         .map(|i| {
@@ -77,10 +78,7 @@ pub fn layers(kind: Kind, films: &[&Film], names: &HitNames) -> Vec<Layer> {
                     Kind::Asset => names.asset(instance as u32 - 1, triangle as u32 - 1),
                 };
                 let Some(name) = name else { continue };
-                let id = id_of(name);
-                manifest
-                    .entry(name.to_string())
-                    .or_insert_with(|| id_hex(id));
+                let id = *ids.entry(name).or_insert_with(|| id_of(name));
                 match seen.iter_mut().find(|(s, _)| s.to_bits() == id.to_bits()) {
                     Some((_, n)) => *n += 1,
                     None => seen.push((id, 1)),
@@ -94,6 +92,7 @@ pub fn layers(kind: Kind, films: &[&Film], names: &HitNames) -> Vec<Layer> {
     let rays = films.len() as f32;
     let type_name = kind.type_name();
     let key = &format!("{:08x}", murmur3(type_name))[..7];
+    let manifest: BTreeMap<&str, String> = ids.iter().map(|(&n, &id)| (n, id_hex(id))).collect();
     let manifest = serde_json::to_string(&manifest).expect("names serialise");
     (0..DEPTH / 2)
         .map(|l| {
