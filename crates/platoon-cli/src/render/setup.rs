@@ -93,13 +93,9 @@ impl Setup {
         interval: f32,
         origin: glam::DVec3,
     ) -> Result<Option<PreviousFrame>> {
-        if !self.aovs.contains(&Aov::Motion) {
-            return Ok(None);
-        }
         let (scene, options, camera) = (&self.scene, &self.options, &self.camera);
-        let previous =
-            platoon::motion::previous_frame(scene, options, camera, time - interval, origin)?;
-        Ok(Some(previous))
+        let times = (time, interval);
+        platoon::motion::previous_frame_for(&self.aovs, scene, options, camera, times, origin)
     }
 }
 

@@ -113,8 +113,7 @@ impl Progressive {
             &rendered,
             self.request.sampling.name(),
         );
-        let options = self.request.prepare_options(&self.prepared.scene)?;
-        let previous = self.request.previous_frame(&self.prepared, &options)?;
+        let previous = self.request.previous_frame(&self.prepared)?;
         let scene = FrameScene {
             gpu: &self.prepared.gpu,
             origin: self.prepared.posed.origin,

@@ -13,7 +13,7 @@ use platoon_core::frame::FrameParams;
 use platoon_core::output::Film;
 
 use super::form::Request;
-use crate::{PrepareOptions, Prepared, Rendered, Tracers};
+use crate::{Prepared, Rendered, Tracers};
 
 /// A rendered frame's outputs.
 pub struct Still {
@@ -136,23 +136,20 @@ impl Still {
 }
 
 impl Request {
-    /// The frame `frame_interval` before this one, when motion vectors are asked for.
-    pub fn previous_frame(
-        &self,
-        prepared: &Prepared,
-        options: &PrepareOptions,
-    ) -> Result<Option<PreviousFrame>> {
+    /// The frame `frame_interval` before this one of `prepared`, when motion vectors are asked
+    /// for (its preparation's options are made again only then).
+    pub fn previous_frame(&self, prepared: &Prepared) -> Result<Option<PreviousFrame>> {
         if !self.aovs.contains(&Aov::Motion) {
             return Ok(None);
         }
-        let previous = crate::motion::previous_frame(
+        crate::motion::previous_frame_for(
+            &self.aovs,
             &prepared.scene,
-            options,
+            &self.prepare_options(&prepared.scene)?,
             &self.camera,
-            self.time - self.frame_interval,
+            (self.time, self.frame_interval),
             prepared.posed.origin,
-        )?;
-        Ok(Some(previous))
+        )
     }
 
     /// Renders the request as a still in this process, on its devices: validated, the scene
@@ -162,8 +159,8 @@ impl Request {
     pub fn render(&self, progress: &mut dyn FnMut(u32)) -> Result<Still> {
         self.validate()?;
         let scene = self.load_scene()?;
-        let options_of_scene = self.prepare_options(&scene)?;
-        let prepared = crate::prepare(scene, &options_of_scene)?;
+        let options = self.prepare_options(&scene)?;
+        let prepared = crate::prepare(scene, &options)?;
         for w in &prepared.scene.warnings {
             log::warn!("{w}");
         }
@@ -176,7 +173,7 @@ impl Request {
         let rendered =
             tracers.render_batched(&prepared.gpu, &params, &self.batching(), progress)?;
         let meta = crate::metadata(&prepared, &params, &rendered, self.sampling.name());
-        let previous = self.previous_frame(&prepared, &options_of_scene)?;
+        let previous = self.previous_frame(&prepared)?;
         let scene = FrameScene {
             gpu: &prepared.gpu,
             origin: prepared.posed.origin,
