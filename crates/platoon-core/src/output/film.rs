@@ -77,9 +77,34 @@ impl Layer {
     }
 }
 
+impl Film {
+    /// Its 8-bit display samples under `view`: RGB, or given a transparent film's `alpha` RGBA
+    /// of straight alpha (the colour divided by it first): what a PNG or TIFF holds.
+    pub(super) fn display8(&self, alpha: Option<&[f32]>, view: &View) -> Vec<u8> {
+        self.display(alpha, u8::MAX as u32, |f| f.srgb8_viewed(view))
+    }
+
+    /// ... its 16-bit ones.
+    pub(super) fn display16(&self, alpha: Option<&[f32]>, view: &View) -> Vec<u16> {
+        self.display(alpha, u16::MAX as u32, |f| f.srgb16_viewed(view))
+    }
+
+    fn display<T: Copy + TryFrom<u32>>(
+        &self,
+        alpha: Option<&[f32]>,
+        max: u32,
+        rgb: impl Fn(&Film) -> Vec<T>,
+    ) -> Vec<T> {
+        match alpha {
+            None => rgb(self),
+            Some(a) => with_alpha(&rgb(&self.unpremultiplied(a)), a, max),
+        }
+    }
+}
+
 /// Display samples of three channels a pixel (`rgb`) with a fourth, the alpha `alpha` at the
 /// same bits (`max`: the largest sample, 255 or 65535).
-pub(super) fn with_alpha<T: Copy + TryFrom<u32>>(rgb: &[T], alpha: &[f32], max: u32) -> Vec<T> {
+fn with_alpha<T: Copy + TryFrom<u32>>(rgb: &[T], alpha: &[f32], max: u32) -> Vec<T> {
     let a = |v: f32| -> T {
         let q = (v.clamp(0.0, 1.0) * max as f32).round() as u32;
         T::try_from(q.min(max))

@@ -4,7 +4,7 @@
 use std::io::{Seek, Write};
 use std::path::Path;
 
-use super::film::{with_alpha, Film};
+use super::film::Film;
 use crate::error::{Error, Result};
 use crate::view::View;
 
@@ -33,27 +33,12 @@ pub(super) fn write_png(
             .map_err(failed)?;
     }
     let mut writer = encoder.write_header().map_err(failed)?;
-    let shown = match alpha {
-        Some(a) => &film.unpremultiplied(a),
-        None => film,
-    };
     let data = match bits {
         // PNG's samples are big-endian.
-        16 => {
-            let rgb = shown.srgb16_viewed(view);
-            let samples = match alpha {
-                Some(a) => with_alpha(&rgb, a, u16::MAX as u32),
-                None => rgb,
-            };
-            samples.iter().flat_map(|v| v.to_be_bytes()).collect()
-        }
-        _ => {
-            let rgb = shown.srgb8_viewed(view);
-            match alpha {
-                Some(a) => with_alpha(&rgb, a, u8::MAX as u32),
-                None => rgb,
-            }
-        }
+        16 => (film.display16(alpha, view).iter())
+            .flat_map(|v| v.to_be_bytes())
+            .collect(),
+        _ => film.display8(alpha, view),
     };
     writer.write_image_data(&data).map_err(failed)?;
     writer.finish().map_err(failed)

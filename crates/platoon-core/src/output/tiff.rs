@@ -7,7 +7,7 @@ use std::path::Path;
 use tiff::encoder::{colortype, TiffEncoder};
 use tiff::tags::Tag;
 
-use super::film::{with_alpha, Film};
+use super::film::Film;
 use crate::error::{Error, Result};
 use crate::view::View;
 
@@ -24,23 +24,12 @@ pub(super) fn write_tiff(
     let mut encoder = TiffEncoder::new(w).map_err(failed)?;
     let description = ascii_json(metadata);
     let d = &description;
-    let written = match (bits, alpha) {
-        (16, None) => {
-            write_rgb::<_, colortype::RGB16>(&mut encoder, film, d, &film.srgb16_viewed(view))
-        }
-        (16, Some(a)) => {
-            let rgb = film.unpremultiplied(a).srgb16_viewed(view);
-            let data = with_alpha(&rgb, a, u16::MAX as u32);
-            write_rgb::<_, colortype::RGBA16>(&mut encoder, film, d, &data)
-        }
-        (_, None) => {
-            write_rgb::<_, colortype::RGB8>(&mut encoder, film, d, &film.srgb8_viewed(view))
-        }
-        (_, Some(a)) => {
-            let rgb = film.unpremultiplied(a).srgb8_viewed(view);
-            let data = with_alpha(&rgb, a, u8::MAX as u32);
-            write_rgb::<_, colortype::RGBA8>(&mut encoder, film, d, &data)
-        }
+    let (e, rgba) = (&mut encoder, alpha.is_some());
+    let written = match (bits, rgba) {
+        (16, false) => write_rgb::<_, colortype::RGB16>(e, film, d, &film.display16(alpha, view)),
+        (16, true) => write_rgb::<_, colortype::RGBA16>(e, film, d, &film.display16(alpha, view)),
+        (_, false) => write_rgb::<_, colortype::RGB8>(e, film, d, &film.display8(alpha, view)),
+        (_, true) => write_rgb::<_, colortype::RGBA8>(e, film, d, &film.display8(alpha, view)),
     };
     written.map_err(failed)
 }
