@@ -80,6 +80,28 @@ const LIGHT_PASSES: [AovPass; LightPass::ALL.len()] = light_passes();
 pub const GUIDE_SAMPLES: u32 = 64;
 
 impl AovPass {
+    /// Its label in the kernel variant and the define that selects its code
+    /// (`method::variant`; `shaders/path/aov.glsl`, a light pass's in `shaders/path/path.glsl`).
+    pub fn kernel_option(self) -> (&'static str, &'static str) {
+        match self {
+            AovPass::Albedo => ("aov-albedo", "OUTPUT_AOV_ALBEDO"),
+            AovPass::Normal => ("aov-normal", "OUTPUT_AOV_NORMAL"),
+            AovPass::Position => ("aov-position", "OUTPUT_AOV_POSITION"),
+            AovPass::Ids => ("aov-ids", "OUTPUT_AOV_IDS"),
+            AovPass::SampleIds(_) => ("aov-sample-ids", "OUTPUT_AOV_SAMPLE_IDS"),
+            AovPass::Light(pass) => (pass.label(), pass.define()),
+            AovPass::Alpha => ("aov-alpha", "OUTPUT_AOV_ALPHA"),
+            AovPass::Ao => ("aov-ao", "OUTPUT_AOV_AO"),
+            AovPass::Color(part) => (part.color_label(), part.color_define()),
+        }
+    }
+
+    /// Whether the AOV kernel (`aov_pixel`) renders it: a light pass runs the beauty's own
+    /// path loop.
+    pub fn in_aov_kernel(self) -> bool {
+        !matches!(self, AovPass::Light(_))
+    }
+
     /// Samples per pixel the pass takes when the beauty takes `spp`.
     pub fn spp(self, spp: u32) -> u32 {
         match self {

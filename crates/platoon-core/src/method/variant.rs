@@ -5,8 +5,6 @@
 use std::fmt;
 
 use crate::flatten::features::{chosen, write_labels, SceneFeatures};
-use crate::frame::aov::AovPass;
-use crate::frame::light_pass::{BsdfPart, LightPass};
 use crate::frame::{FrameParams, Output, PixelFilter};
 
 /// The defines of one kernel variant, in a stable order, each with the label `platoon info` and
@@ -30,6 +28,10 @@ impl KernelVariant {
             scene
         };
         let orthographic = params.camera.orthographic.is_some();
+        let aov_pass = match params.output {
+            Output::Aov(pass) => Some(pass),
+            _ => None,
+        };
         let ris = params.ris_candidates.is_some();
         let render_options = [
             // An orthographic camera has no lens.
@@ -63,42 +65,7 @@ impl KernelVariant {
             (
                 "aov-output",
                 "OUTPUT_AOV",
-                matches!(params.output, Output::Aov(p) if !matches!(p, AovPass::Light(_))),
-            ),
-            (
-                "aov-albedo",
-                "OUTPUT_AOV_ALBEDO",
-                params.output == Output::Aov(AovPass::Albedo),
-            ),
-            (
-                "aov-normal",
-                "OUTPUT_AOV_NORMAL",
-                params.output == Output::Aov(AovPass::Normal),
-            ),
-            (
-                "aov-position",
-                "OUTPUT_AOV_POSITION",
-                params.output == Output::Aov(AovPass::Position),
-            ),
-            (
-                "aov-ids",
-                "OUTPUT_AOV_IDS",
-                params.output == Output::Aov(AovPass::Ids),
-            ),
-            (
-                "aov-sample-ids",
-                "OUTPUT_AOV_SAMPLE_IDS",
-                matches!(params.output, Output::Aov(AovPass::SampleIds(_))),
-            ),
-            (
-                "aov-alpha",
-                "OUTPUT_AOV_ALPHA",
-                params.output == Output::Aov(AovPass::Alpha),
-            ),
-            (
-                "aov-ao",
-                "OUTPUT_AOV_AO",
-                params.output == Output::Aov(AovPass::Ao),
+                matches!(params.output, Output::Aov(p) if p.in_aov_kernel()),
             ),
             (
                 "transparent-film",
@@ -144,13 +111,9 @@ impl KernelVariant {
             .options()
             .into_iter()
             .chain(render_options)
-            .chain(LightPass::ALL.map(|pass| {
-                let on = params.output == Output::Aov(AovPass::Light(pass));
-                (pass.label(), pass.define(), on)
-            }))
-            .chain(BsdfPart::ALL.map(|part| {
-                let on = params.output == Output::Aov(AovPass::Color(part));
-                (part.color_label(), part.color_define(), on)
+            .chain(aov_pass.map(|pass| {
+                let (label, define) = pass.kernel_option();
+                (label, define, true)
             }))
             .chain(params.method.unit().kernel_options());
         KernelVariant {
