@@ -50,6 +50,15 @@ vec3 hit_ids(Hit hit) {
     return vec3(float(hit.instance) + 1.0, float(surface_at(hit).material) + 1.0, float(hit.triangle) + 1.0);
 }
 
+// The first hit of sample `si`'s camera ray, the beauty's (its random numbers go on in `rng`
+// for what the pass draws next); false when the ray sees no surface.
+bool first_hit(uvec2 pixel, uint si, out Rng rng, out Ray ray, out Hit hit, inout uint rays) {
+    rng = pixel_rng(pixel, si);
+    ray = camera_ray(pixel, rng);
+    rays++;
+    return trace(ray, false, hit);
+}
+
 // The pass's samples of one pixel, added onto `sum` (position and ids: one sample, written).
 vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
 #if defined(OUTPUT_AOV_ALBEDO) || defined(OUTPUT_AOV_NORMAL)
@@ -60,11 +69,10 @@ vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
     // cosine-distributed ray about the shading normal toward the camera, unoccluded within
     // ao_distance() counts 1; a camera ray that sees no surface counts 1 (nothing occludes it).
     for (uint si = pc.sample_begin; si != pc.sample_end; si++) {
-        Rng rng = pixel_rng(pixel, si);
-        Ray ray = camera_ray(pixel, rng);
+        Rng rng;
+        Ray ray;
         Hit hit;
-        rays++;
-        if (!trace(ray, false, hit)) {
+        if (!first_hit(pixel, si, rng, ray, hit, rays)) {
             sum += vec3(1.0);
             continue;
         }
@@ -87,11 +95,10 @@ vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
     // the pass's camera rays, the BSDF's sampled weight times the part's share of it, whose
     // mean is the part's directional albedo (a Lambertian surface's: its colour exactly).
     for (uint si = pc.sample_begin; si != pc.sample_end; si++) {
-        Rng rng = pixel_rng(pixel, si);
-        Ray ray = camera_ray(pixel, rng);
+        Rng rng;
+        Ray ray;
         Hit hit;
-        rays++;
-        if (!trace(ray, false, hit)) continue;
+        if (!first_hit(pixel, si, rng, ray, hit, rays)) continue;
         Surface s = surface_at(hit);
         vec3 t, b;
         make_frame(s.ns, t, b);
@@ -104,19 +111,18 @@ vec3 aov_pixel(uvec2 pixel, vec3 sum, inout uint rays) {
     // How many of the pass's camera rays (the beauty's) find a surface: a transparent film's
     // alpha, over the samples.
     for (uint si = pc.sample_begin; si != pc.sample_end; si++) {
-        Rng rng = pixel_rng(pixel, si);
+        Rng rng;
+        Ray ray;
         Hit hit;
-        rays++;
-        if (trace(camera_ray(pixel, rng), false, hit)) sum += vec3(1.0);
+        if (first_hit(pixel, si, rng, ray, hit, rays)) sum += vec3(1.0);
     }
     return sum;
 #elif defined(OUTPUT_AOV_SAMPLE_IDS)
     // The ids under one sample's camera ray (Cryptomatte's coverage, frame/cryptomatte.rs).
-    Rng rng = pixel_rng(pixel, pc.sample_begin);
+    Rng rng;
+    Ray ray;
     Hit hit;
-    rays++;
-    if (!trace(camera_ray(pixel, rng), false, hit)) return vec3(0.0);
-    return hit_ids(hit);
+    return first_hit(pixel, pc.sample_begin, rng, ray, hit, rays) ? hit_ids(hit) : vec3(0.0);
 #else
     vec2 ndc = pixel_ndc(pixel, vec2(0.5));
     vec3 dir = F.cam_forward.xyz + ndc.x * F.cam_right.w * F.cam_right.xyz + ndc.y * F.cam_up.w * F.cam_up.xyz;
