@@ -699,47 +699,65 @@ fn motion_vectors_of_a_moving_and_a_turning_object_follow_their_animation() {
     assert!(largest > 1.0, "the turn moved nothing far: {largest}");
 }
 
-#[test]
-fn ambient_occlusion_holds_its_closed_forms_beside_a_wall_and_under_a_ceiling() {
-    // A floor point 0.3 from a wall 100 high: every direction toward the wall meets it, half of
-    // the cosine-weighted hemisphere; within a distance of 0.1 nothing is met at all.
+/// The ao layer (its one channel) of 8 x 8 pixels 0.05 wide, seen straight down from
+/// `height` over the point (`x`, 0, 0) of a floor at y = 0 with `other` beside it, within
+/// `distance`.
+fn ao_over_floor(
+    other: platoon_scenegen::MeshData,
+    x: f32,
+    height: f32,
+    distance: f32,
+) -> Vec<f32> {
     let floor = platoon_scenegen::quad_from([
         [-50.0, 0.0, -50.0],
         [-50.0, 0.0, 50.0],
         [50.0, 0.0, 50.0],
         [50.0, 0.0, -50.0],
     ]);
-    let wall = platoon_scenegen::quad_from([
-        [0.0, 0.0, -50.0],
-        [0.0, 100.0, -50.0],
-        [0.0, 100.0, 50.0],
-        [0.0, 0.0, 50.0],
-    ]);
     let mut scene = scene_of(
         vec![
             (mesh_from(&floor, 0), Vec3::ZERO, 1.0),
-            (mesh_from(&wall, 0), Vec3::ZERO, 1.0),
+            (mesh_from(&other, 0), Vec3::ZERO, 1.0),
         ],
         vec![lambertian("grey", Vec3::splat(0.5))],
-        Vec3::new(-0.3, 4.0, 0.0),
-        Vec3::new(-0.3, 0.0, 0.0),
+        Vec3::new(x, height, 0.0),
+        Vec3::new(x, 0.0, 0.0),
         0.5,
     );
     scene.cameras[0].orthographic = Some([0.05, 0.05]);
     let prepared = prepare(scene, constant_env(1.0));
-    let ao = |distance: f32| {
-        let mut params = FrameParams::new(8, 8, 64, prepared.camera);
-        params.ao_distance = distance;
-        let layers = layers_on("0", &prepared, &params, &[Aov::Ao]);
-        layer(&layers, "ao").channels[0].1.clone()
+    let mut params = FrameParams::new(8, 8, 64, prepared.camera);
+    params.ao_distance = distance;
+    let layers = layers_on("0", &prepared, &params, &[Aov::Ao]);
+    layer(&layers, "ao").channels[0].1.clone()
+}
+
+fn mean_of(plane: &[f32]) -> f64 {
+    plane.iter().map(|&v| v as f64).sum::<f64>() / plane.len() as f64
+}
+
+#[test]
+fn ambient_occlusion_holds_its_closed_forms_beside_a_wall_and_under_a_ceiling() {
+    // A floor point 0.3 from a wall 100 high: every direction toward the wall meets it, half of
+    // the cosine-weighted hemisphere; within a distance of 0.1 nothing is met at all.
+    let wall = || {
+        platoon_scenegen::quad_from([
+            [0.0, 0.0, -50.0],
+            [0.0, 100.0, -50.0],
+            [0.0, 100.0, 50.0],
+            [0.0, 0.0, 50.0],
+        ])
     };
-    let near = ao(1000.0);
-    let mean = near.iter().map(|&v| v as f64).sum::<f64>() / near.len() as f64;
+    let mean = mean_of(&ao_over_floor(wall(), -0.3, 4.0, 1000.0));
     assert!(
         (mean - 0.5).abs() < 0.03,
         "AO beside the wall {mean}, not 0.5"
     );
-    assert!(ao(0.1).iter().all(|&v| v == 1.0), "occluded out of reach");
+    let out_of_reach = ao_over_floor(wall(), -0.3, 4.0, 0.1);
+    assert!(
+        out_of_reach.iter().all(|&v| v == 1.0),
+        "occluded out of reach"
+    );
     // Under a ceiling 0.5 up, AO within 1 counts the rays whose path to the ceiling is longer
     // than 1: cos(theta) < 0.5, of cosine-weighted probability 0.5^2 = 0.25 (uniform: 0.5).
     let ceiling = platoon_scenegen::quad_from([
@@ -748,23 +766,7 @@ fn ambient_occlusion_holds_its_closed_forms_beside_a_wall_and_under_a_ceiling() 
         [50.0, 0.5, 50.0],
         [-50.0, 0.5, 50.0],
     ]);
-    let mut scene = scene_of(
-        vec![
-            (mesh_from(&floor, 0), Vec3::ZERO, 1.0),
-            (mesh_from(&ceiling, 0), Vec3::ZERO, 1.0),
-        ],
-        vec![lambertian("grey", Vec3::splat(0.5))],
-        Vec3::new(-20.0, 0.4, 0.0),
-        Vec3::new(-20.0, 0.0, 0.0),
-        0.5,
-    );
-    scene.cameras[0].orthographic = Some([0.05, 0.05]);
-    let prepared = prepare(scene, constant_env(1.0));
-    let mut params = FrameParams::new(8, 8, 64, prepared.camera);
-    params.ao_distance = 1.0;
-    let under = layers_on("0", &prepared, &params, &[Aov::Ao]);
-    let under = &layer(&under, "ao").channels[0].1;
-    let mean = under.iter().map(|&v| v as f64).sum::<f64>() / under.len() as f64;
+    let mean = mean_of(&ao_over_floor(ceiling, -20.0, 0.4, 1.0));
     assert!(
         (mean - 0.25).abs() < 0.03,
         "AO under the ceiling {mean}, not 0.25"
