@@ -1,5 +1,7 @@
 // Two-level BVH traversal with a watertight ray/triangle test (Woop, Benthin, Wald 2013).
 
+#extension GL_KHR_shader_subgroup_vote : require
+
 struct Ray { vec3 origin; vec3 dir; float tmax; };
 struct Hit { float t; float b1; float b2; uint instance; uint triangle; };
 
@@ -106,6 +108,16 @@ float intersect_aabb(RayTri r, vec3 bmin, vec3 bmax, float tmax) {
 const uint ITEM_COUNT_MASK = 15u;
 const uint ITEM_INDEX_SHIFT = 4u;
 
+// Traversal stacks push by writing the top slot whatever the lane does, and count the entry
+// only when it is one: `stack[sp] = item; sp += push ? 1 : 0;`. llvmpipe stores to a per-lane
+// index under the lanes' mask one lane at a time, as a load, a branch on the lane's bit and a
+// store; under `if (push)` that branch is taken at random and mispredicted, a quarter of the
+// conference room's time (docs/PERFORMANCE.md). Outside it only the loop's mask guards the
+// store, whose bits change less often (traverse_blas keeps even that one steady). So a stack
+// holds one slot past its capacity, which a push onto a full stack writes and does not count.
+#define STACK_PUSH(stack, sp, capacity, value, push) \
+    { stack[sp] = (value); sp += ((push) && sp < (capacity)) ? 1 : 0; }
+
 // Tests both children of n; returns how many are hit before tmax, with the nearer one's item in
 // `near`.
 int order_children(RayTri r, BvhNode n, float tmax, out uint near, out uint far) {
@@ -155,22 +167,29 @@ bool alpha_tested_hit(Hit hit) {
 // candidate put the texture fetch in this loop, where llvmpipe runs it at every step for all
 // lanes: twice the time of the atrium with its leaves (docs/PERFORMANCE.md).
 bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit hit) {
-    uint stack[64];
+    uint stack[64 + 1];
     int sp = 0;
     uint item = root;
     bool found = false;
     bool done = false;
     while (!done) {
-        while (!done && (item & ITEM_COUNT_MASK) == 0u) {
+        // The group loops while any lane descends, and a lane that does not keeps its state by
+        // `descending` rather than by the loop's mask: so the push's store is guarded by the
+        // mask the group entered with, which llvmpipe's branches predict (STACK_PUSH). A lane
+        // not descending tests node 0, which exists where any lane descends.
+        while (subgroupAny(!done && (item & ITEM_COUNT_MASK) == 0u)) {
+            bool descending = !done && (item & ITEM_COUNT_MASK) == 0u;
             uint near, far;
-            int hits = order_children(r, blas_at(item >> ITEM_INDEX_SHIFT), hit.t, near, far);
-            if (hits > 0) {
-                if (hits == 2 && sp < 64) stack[sp++] = far;
-                item = near;
-            } else if (sp > 0) {
-                item = stack[--sp];
-            } else {
-                done = true;
+            int hits = order_children(r, blas_at(descending ? item >> ITEM_INDEX_SHIFT : 0u), hit.t, near, far);
+            STACK_PUSH(stack, sp, 64, far, descending && hits == 2);
+            if (descending) {
+                if (hits > 0) {
+                    item = near;
+                } else if (sp > 0) {
+                    item = stack[--sp];
+                } else {
+                    done = true;
+                }
             }
         }
         while (!done && (item & ITEM_COUNT_MASK) != 0u) {

@@ -10,7 +10,7 @@ bool trace_levels(Ray ray, bool any_hit, out Hit hit) {
     hit = Hit(ray.tmax, 0.0, 0.0, 0u, 0u);
     if (instance_count() == 0u) return false;
     RayTri world = ray_tri_setup(ray.origin, ray.dir);
-    uint stack[32];
+    uint stack[32 + 1];
     int sp = 0;
     uint item = tlas_root();  // the root: inner node 0, or the one instance's leaf
     bool found = false;
@@ -34,8 +34,8 @@ bool trace_levels(Ray ray, bool any_hit, out Hit hit) {
         } else {
             uint near, far;
             int hits = order_children(world, tlas_at(index), hit.t, near, far);
+            STACK_PUSH(stack, sp, 32, far, hits == 2);
             if (hits > 0) {
-                if (hits == 2 && sp < 32) stack[sp++] = far;
                 item = near;
                 continue;
             }

@@ -23,7 +23,7 @@ bool leaf_boxes_block(RayTri r, uint root, uint instance, bool any_hit, inout Hi
         // A bottom level that is one leaf has no box of its own in the tree: its triangles.
         return traverse_blas(r, root, instance, any_hit, hit);
     }
-    uint stack[64];
+    uint stack[64 + 1];
     int sp = 0;
     uint index = root >> ITEM_INDEX_SHIFT;
     while (true) {
@@ -32,16 +32,14 @@ bool leaf_boxes_block(RayTri r, uint root, uint instance, bool any_hit, inout Hi
         vec3 lo[2] = vec3[2](n.min0, n.min1);
         vec3 hi[2] = vec3[2](n.max0, n.max1);
         for (int c = 0; c < 2; ++c) {
-            if ((items[c] & ITEM_COUNT_MASK) != 0u) {
-                if (passes_through(r, lo[c], hi[c], tmax)) {
+            bool leaf = (items[c] & ITEM_COUNT_MASK) != 0u;
+            if (leaf && passes_through(r, lo[c], hi[c], tmax)) {
 #ifdef HAS_ALPHA_TEST
-                    hit.triangle = NO_TRIANGLE;  // a box, which no alpha lets light through
+                hit.triangle = NO_TRIANGLE;  // a box, which no alpha lets light through
 #endif
-                    return true;
-                }
-            } else if (intersect_aabb(r, lo[c], hi[c], tmax) != INF && sp < 64) {
-                stack[sp++] = items[c] >> ITEM_INDEX_SHIFT;
+                return true;
             }
+            STACK_PUSH(stack, sp, 64, items[c] >> ITEM_INDEX_SHIFT, !leaf && intersect_aabb(r, lo[c], hi[c], tmax) != INF);
         }
         if (sp == 0) return false;
         index = stack[--sp];
