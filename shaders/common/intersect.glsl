@@ -172,11 +172,12 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
     uint item = root;
     bool found = false;
     bool done = false;
-    while (!done) {
-        // The group loops while any lane descends, and a lane that does not keeps its state by
-        // `descending` rather than by the loop's mask: so the push's store is guarded by the
-        // mask the group entered with, which llvmpipe's branches predict (STACK_PUSH). A lane
-        // not descending tests node 0, which exists where any lane descends.
+    // The group loops while any lane traverses, and descends while any lane descends; a lane
+    // that does not keeps its state by `done` and `descending` rather than by the loops' masks,
+    // and an any-hit search ends by `done`, not a return: so the push's store is guarded by the
+    // mask the group entered with, which llvmpipe's branches predict (STACK_PUSH). A lane not
+    // descending tests node 0, which exists where any lane descends.
+    while (subgroupAny(!done)) {
         while (subgroupAny(!done && (item & ITEM_COUNT_MASK) == 0u)) {
             bool descending = !done && (item & ITEM_COUNT_MASK) == 0u;
             uint near, far;
@@ -205,9 +206,9 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
                 hit = Hit(t, b1, b2, instance, index);
                 found = true;
 #ifdef HAS_ALPHA_TEST
-                if (any_hit && p0.w != CORNER_ALPHA_TESTED) return true;
+                if (any_hit && p0.w != CORNER_ALPHA_TESTED) done = true;
 #else
-                if (any_hit) return true;
+                if (any_hit) done = true;
 #endif
             }
             if (count > 1u) {

@@ -31,14 +31,16 @@ bool trace_levels(Ray ray, bool any_hit, out Hit hit) {
 #endif
                 }
             }
-        } else {
-            uint near, far;
-            int hits = order_children(world, tlas_at(index), hit.t, near, far);
-            STACK_PUSH(stack, sp, 32, far, hits == 2);
-            if (hits > 0) {
-                item = near;
-                continue;
-            }
+        }
+        uint near = 0u, far = 0u;
+        int hits = 0;
+        if (count == 0u) hits = order_children(world, tlas_at(index), hit.t, near, far);
+        // Outside that branch, so that the push's store is guarded by the loop's mask alone
+        // (STACK_PUSH).
+        STACK_PUSH(stack, sp, 32, far, hits == 2);
+        if (hits > 0) {
+            item = near;
+            continue;
         }
         if (sp == 0) break;
         item = stack[--sp];
