@@ -634,14 +634,18 @@ fn motion_vectors_of_a_moving_and_a_turning_object_follow_their_animation() {
     };
     let moving = render(moving_channel());
     let want = 0.1 * pixels_per_unit(w, h);
-    let seen = motion_on_wall(&moving.layers);
-    assert!(seen.len() > 100);
-    for (p, [x, y]) in seen {
-        assert!(
-            (x - want).abs() < 1e-3 && y.abs() < 1e-3,
-            "at {p}: ({x}, {y}), not {want}"
-        );
-    }
+    // Every pixel of the wall moved `want` pixels right.
+    let assert_moved_right = |layers: &[Layer], what: &str| {
+        let seen = motion_on_wall(layers);
+        assert!(seen.len() > 100);
+        for (p, [x, y]) in seen {
+            assert!(
+                (x - want).abs() < 1e-3 && y.abs() < 1e-3,
+                "{what}at {p}: ({x}, {y}), not {want}"
+            );
+        }
+    };
+    assert_moved_right(&moving.layers, "");
     // The same move by a bone skinning the wall (its node still): the vertices' previous pose.
     let mut skinned = wall_seen_from_4(None);
     let bone = scene_bone(&mut skinned);
@@ -660,14 +664,7 @@ fn motion_vectors_of_a_moving_and_a_turning_object_follow_their_animation() {
     }
     .render(&mut |_| {})
     .unwrap();
-    let seen = motion_on_wall(&skinned.layers);
-    assert!(seen.len() > 100);
-    for (p, [x, y]) in seen {
-        assert!(
-            (x - want).abs() < 1e-3 && y.abs() < 1e-3,
-            "skinned, at {p}: ({x}, {y})"
-        );
-    }
+    assert_moved_right(&skinned.layers, "skinned, ");
     // Turning about the view axis, a quarter turn a second: 9 degrees since the frame before;
     // each point came from where the turn back puts it, as the camera sees both.
     let quarter = glam::Quat::from_rotation_z(std::f32::consts::FRAC_PI_2);
