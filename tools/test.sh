@@ -42,6 +42,9 @@ else
     echo "the Python module did not build"
     status=1
 fi
+# The Bevy plugin (crates/platoon-bevy, outside the workspace: Bevy is a large build that the
+# workspace's own tests do not need): a headless Bevy app rendering through it on lavapipe.
+cargo test --manifest-path crates/platoon-bevy/Cargo.toml "$@" 2>&1 | tee -a "$log" || status=$?
 awk '/^test result:/ { p += $4; f += $6; s += $8 }
      END { printf "platoon: %d passed, %d failed, %d skipped\n", p, f, s }' "$log"
 exit "$status"

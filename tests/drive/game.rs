@@ -199,6 +199,38 @@ fn a_moving_camera_restarts_and_moving_objects_keep_the_floor() {
 }
 
 #[test]
+fn with_restart_on_change_a_moved_object_restarts_the_film_and_the_still_view_sums_again() {
+    let mut options = DriverOptions::new(W, H);
+    options.spp = 2;
+    options.restart_on_change = true;
+    let (mut d, camera, _) = driver("lavapipe:1", options);
+    let prop = add_prop(&mut d);
+    // The prop arrives with frame 0's edits (rendered by frame 1) and moves once at frame 4
+    // (rendered by frame 5); the camera never moves.
+    let (stats, _) = run(
+        &mut d,
+        9,
+        |_| camera,
+        |d, f| {
+            if f == 4 {
+                move_prop(d, prop, 1);
+            }
+        },
+    );
+    let joins: Vec<Join> = stats.iter().map(|s| s.plan.join).collect();
+    let restarts: Vec<usize> = (0..joins.len())
+        .filter(|&f| joins[f] == Join::Restart)
+        .collect();
+    assert_eq!(restarts, [0, 1, 5], "{joins:?}");
+    assert!(
+        joins.iter().all(|j| !matches!(j, Join::Blend { .. })),
+        "{joins:?}"
+    );
+    // Exact sums again after the change: four still frames of 2 samples.
+    assert_eq!(stats[8].film_samples, Some(8), "{joins:?}");
+}
+
+#[test]
 fn below_one_sample_the_driver_scales_roulette_and_resolution_into_one_film() {
     // A target no lavapipe frame of 64x64 can meet: the scaler goes below one sample a frame
     // through both options.

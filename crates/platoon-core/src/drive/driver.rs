@@ -66,6 +66,10 @@ pub struct DriverOptions {
     /// Denoise each frame with its history reprojected (`denoise::temporal`), beside the raw
     /// film ([`FinishedFrame::denoised`]); none by default.
     pub denoise: Denoiser,
+    /// A change of the scene restarts the film, as a moved camera does (an editor's viewport:
+    /// the still view that follows converges to exact sums), instead of blending the new
+    /// samples in (a game's: moving objects keep the history). Off by default.
+    pub restart_on_change: bool,
 }
 
 impl DriverOptions {
@@ -99,6 +103,7 @@ impl DriverOptions {
             queries: false,
             gi_update: GiUpdate::default(),
             denoise: Denoiser::None,
+            restart_on_change: false,
         }
     }
 }
@@ -386,7 +391,7 @@ impl FrameDriver {
         }
         let gi_arrived = self.follow_asynchronously(generation.as_ref(), camera)?;
         let motion = Motion {
-            camera: self.last_camera != Some(camera),
+            camera: self.last_camera != Some(camera) || (changed && self.options.restart_on_change),
             // A new result of the asynchronous update joins the film as moving objects do.
             scene: changed || gi_arrived,
         };

@@ -25,7 +25,7 @@ pub fn texture_image(t: &gltf::Texture, images: usize) -> Check<usize> {
                 .ok_or("EXT_texture_webp's source is not an image index")
         })
         .transpose()?;
-    let index = match (webp, t.source()) {
+    let index = match (webp, own_image(t)) {
         (Some(w), _) => w as usize,
         (None, Some(image)) => image.index(),
         (None, None) => return Err(format!("texture {} has no image", t.index())),
@@ -39,12 +39,21 @@ pub fn texture_image(t: &gltf::Texture, images: usize) -> Check<usize> {
     Ok(index)
 }
 
+/// The texture's own image (glTF's `source`), absent only where the loader takes textures
+/// without one (the feature `gltf-textures-without-source`).
+fn own_image<'a>(t: &gltf::Texture<'a>) -> Option<gltf::Image<'a>> {
+    #[cfg(feature = "gltf-textures-without-source")]
+    return t.source();
+    #[cfg(not(feature = "gltf-textures-without-source"))]
+    return Some(t.source());
+}
+
 pub fn texture(t: &gltf::Texture, image: &Rgba8) -> Texture {
     let sampler = t.sampler();
     Texture {
         name: t
             .name()
-            .or(t.source().and_then(|s| s.name()))
+            .or(own_image(t).and_then(|s| s.name()))
             .unwrap_or("")
             .to_string(),
         width: image.width,

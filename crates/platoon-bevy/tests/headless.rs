@@ -1,0 +1,372 @@
+//! A headless Bevy app (no window, no GPU backend) rendering through PlatoonPlugin on lavapipe:
+//! a glTF scene loaded by Bevy's asset server converges to platoon's own render of the file,
+//! the plugin's film is the bits platoon renders from the same scene data, 1 and 3 tracers
+//! give the same bits, and moving, adding and despawning entities shows in the image.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use bevy::prelude::*;
+use bevy::render::settings::WgpuSettings;
+use bevy::render::RenderPlugin;
+use bevy::window::ExitCondition;
+use platoon::core::drive::DriverOptions;
+use platoon::core::output::Film;
+use platoon::core::scene::camera::Camera as PCamera;
+use platoon::devices::DeviceSpec;
+use platoon::game::GameOptions;
+use platoon_bevy::{PlatoonOutput, PlatoonPlugin, PlatoonScene, PlatoonSettings, PlatoonStats};
+
+const W: u32 = 48;
+const H: u32 = 36;
+
+fn scenes() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes")
+}
+
+fn settings(tracers: &str, spp: u32, converge_at: u32) -> PlatoonSettings {
+    std::env::set_var(
+        "VK_DRIVER_FILES",
+        "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json",
+    );
+    let mut driver = DriverOptions::new(W, H);
+    driver.spp = spp;
+    let mut game = GameOptions::new(driver);
+    game.devices = tracers.parse::<DeviceSpec>().unwrap();
+    PlatoonSettings {
+        game,
+        converge_at: Some(converge_at),
+        ..PlatoonSettings::new(W, H)
+    }
+}
+
+fn app(settings: PlatoonSettings) -> App {
+    let mut app = App::new();
+    app.add_plugins(
+        DefaultPlugins
+            .build()
+            .disable::<bevy::winit::WinitPlugin>()
+            .set(WindowPlugin {
+                primary_window: None,
+                exit_condition: ExitCondition::DontExit,
+                close_when_requested: false,
+                ..default()
+            })
+            .set(RenderPlugin {
+                render_creation: WgpuSettings {
+                    backends: None,
+                    ..default()
+                }
+                .into(),
+                ..default()
+            })
+            .set(AssetPlugin {
+                file_path: scenes().to_string_lossy().into(),
+                ..default()
+            }),
+    )
+    .insert_resource(settings)
+    .add_plugins(PlatoonPlugin);
+    // What App::run does before its first update: plugins finish (the glTF loader is
+    // registered there).
+    while app.plugins_state() == bevy::app::PluginsState::Adding {
+        bevy::tasks::tick_global_task_pools_on_main_thread();
+    }
+    app.finish();
+    app.cleanup();
+    app
+}
+
+/// Updates the app until `done` holds of its stats (a minute at most).
+fn run_until(app: &mut App, what: &str, done: impl Fn(&mut App) -> bool) {
+    let start = Instant::now();
+    loop {
+        app.update();
+        if done(app) {
+            return;
+        }
+        let stats = app.world().resource::<PlatoonStats>();
+        assert!(stats.errors.is_empty(), "{:?}", stats.errors);
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "waited two minutes for {what}: {stats:?}"
+        );
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+/// Runs until the newest build's film holds `spp` samples a pixel; returns the film.
+fn converged(app: &mut App, spp: u32) -> Film {
+    run_until(app, "a converged film", |app| {
+        let s = app.world().resource::<PlatoonStats>();
+        s.converged && s.film_samples == Some(spp)
+    });
+    let out = app.world().resource::<PlatoonOutput>();
+    (**out.film.as_ref().unwrap()).clone()
+}
+
+fn camera_at(eye: Vec3, target: Vec3) -> impl Bundle {
+    (
+        Camera3d::default(),
+        Projection::Perspective(PerspectiveProjection {
+            fov: 0.7,
+            ..default()
+        }),
+        Transform::from_translation(eye).looking_at(target, Vec3::Y),
+    )
+}
+
+/// A still of a file from ../shared/scenes: loaded by Bevy's asset server and mirrored, seen
+/// in three-quarter view (the camera's world transform returned).
+fn file_app(file: &'static str, tracers: &str, spp: u32) -> (App, GlobalTransform) {
+    let mut app = app(settings(tracers, 4, spp));
+    let scene = platoon::load_scene(Some(&scenes().join(file))).unwrap();
+    let meshes = scene.nodes.iter().filter(|n| n.mesh.is_some()).count();
+    let (lo, hi) = scene.pose(0.0).bounds();
+    let (c, size) = ((lo + hi) * 0.5, (hi - lo).length());
+    let target = Vec3::new(c.x, c.y, c.z);
+    let eye = target + Vec3::new(0.5, 0.4, 1.0) * size * 0.9;
+    app.add_systems(
+        Startup,
+        move |mut commands: Commands, assets: Res<AssetServer>| {
+            commands.spawn(bevy::world_serialization::WorldAssetRoot(
+                assets.load(GltfAssetLabel::Scene(0).from_asset(file)),
+            ));
+            commands.spawn(camera_at(eye, target));
+        },
+    );
+    // Until the file's meshes are in the world with their assets (a glTF mesh node is one
+    // entity a primitive).
+    run_until(&mut app, "the file's meshes", |app| {
+        let world = app.world_mut();
+        let mut q = world.query::<&Mesh3d>();
+        let handles: Vec<_> = q.iter(world).map(|m| m.0.id()).collect();
+        let loaded = world.resource::<Assets<Mesh>>();
+        handles.len() >= meshes && handles.iter().all(|h| loaded.contains(*h))
+    });
+    let mut q = app
+        .world_mut()
+        .query_filtered::<&GlobalTransform, With<Camera3d>>();
+    let t = *q.single(app.world()).unwrap();
+    (app, t)
+}
+
+/// The camera a Bevy camera's transform (fov 0.7) converts to.
+fn camera_of(t: &GlobalTransform) -> PCamera {
+    PCamera {
+        camera_to_world: glam::Mat4::from_cols_array(&t.to_matrix().to_cols_array()),
+        yfov: 0.7,
+        ..PCamera::look_at(glam::Vec3::ZERO, -glam::Vec3::Z, 0.7)
+    }
+}
+
+/// platoon's own render of `scene` (its default sky) from `camera`, 256 samples a pixel.
+fn own_render(scene: platoon::core::Scene, camera: PCamera) -> Film {
+    let prepared = platoon::prepare(scene, &platoon::PrepareOptions::default()).unwrap();
+    let options = platoon::devices::tracer_options(
+        &"lavapipe:1".parse().unwrap(),
+        false,
+        platoon::tracer::Sampling::Mis,
+    )
+    .unwrap();
+    let mut params = platoon::core::frame::FrameParams::new(W, H, 256, camera);
+    params.seed = 99;
+    platoon::render(&prepared, &options[0], &params, &mut |_| {})
+        .unwrap()
+        .film
+}
+
+/// Means within 1%, blocks of 12 x 12 pixels within 3% (the plugin's film has 16 samples a
+/// pixel, platoon's 256 of other random numbers).
+fn assert_close(film: &Film, own: &Film) {
+    let (a, b) = (film.mean(), own.mean());
+    for k in 0..3 {
+        assert!(
+            (a[k] - b[k]).abs() < 0.01 * b[k],
+            "means {a:?} against {b:?}"
+        );
+    }
+    let (ba, bb) = (block_means(film, 12), block_means(own, 12));
+    for (i, (x, y)) in ba.iter().zip(&bb).enumerate() {
+        assert!(
+            (x - y).abs() < 0.03 * y.max(0.05),
+            "block {i}: {x} against {y}"
+        );
+    }
+}
+
+fn block_means(film: &Film, block: u32) -> Vec<f64> {
+    let mut out = Vec::new();
+    for by in (0..film.height).step_by(block as usize) {
+        for bx in (0..film.width).step_by(block as usize) {
+            let mut sum = 0.0;
+            let mut n = 0.0;
+            for y in by..(by + block).min(film.height) {
+                for x in bx..(bx + block).min(film.width) {
+                    let p = film.pixels[(y * film.width + x) as usize];
+                    sum += (p[0] + p[1] + p[2]) as f64 / 3.0;
+                    n += 1.0;
+                }
+            }
+            out.push(sum / n);
+        }
+    }
+    out
+}
+
+#[test]
+fn a_gltf_scene_through_bevy_renders_what_platoon_renders_of_the_file() {
+    // RetroUFO: 77 meshes under a node hierarchy, seven materials.
+    let (mut app, t) = file_app("RetroUFO.glb", "lavapipe:1", 16);
+    let film = converged(&mut app, 16);
+    let stats = app.world().resource::<PlatoonStats>().clone();
+    assert!(stats.warnings.is_empty(), "{:?}", stats.warnings);
+    let scene = platoon::load_scene(Some(&scenes().join("RetroUFO.glb"))).unwrap();
+    assert_close(&film, &own_render(scene, camera_of(&t)));
+}
+
+#[test]
+fn a_skinned_textured_character_through_bevy_renders_what_platoon_renders_at_rest() {
+    // CesiumMan: a skin of 19 joints, a base colour texture, a rotated root. Bevy spawns it
+    // in its nodes' rest transforms (no animation player): platoon's file without its walk.
+    let (mut app, t) = file_app("CesiumMan.glb", "lavapipe:1", 16);
+    let film = converged(&mut app, 16);
+    let mut scene = platoon::load_scene(Some(&scenes().join("CesiumMan.glb"))).unwrap();
+    scene.animations.clear();
+    let built = app.world().resource::<PlatoonScene>().0.clone().unwrap();
+    assert_eq!((built.skins.len(), built.textures.len()), (1, 1));
+    assert_close(&film, &own_render(scene, camera_of(&t)));
+}
+
+#[test]
+fn the_plugins_film_is_platoons_render_of_the_same_scene_data_on_one_tracer_and_three() {
+    let (mut one, t) = file_app("RetroUFO.glb", "lavapipe:1", 16);
+    let film = converged(&mut one, 16);
+    let (mut three, _) = file_app("RetroUFO.glb", "lavapipe:1,1,1", 16);
+    assert_eq!(film, converged(&mut three, 16), "1 and 3 tracers");
+
+    // The scene the mirror built, rendered by platoon's own frame driver: the same bits.
+    let scene = one.world().resource::<PlatoonScene>().0.clone().unwrap();
+    let s = settings("lavapipe:1", 4, 16);
+    let mut scene = (*scene).clone();
+    platoon::prepare::light(&mut scene, &s.environment, &Default::default()).unwrap();
+    let mut driver = platoon::game::start(scene, &s.game).unwrap();
+    for _ in 0..4 {
+        driver.frame(camera_of(&t)).unwrap();
+    }
+    let own = driver.finish().unwrap().unwrap();
+    assert_eq!(own.stats.film_samples, Some(16));
+    assert_eq!(film, own.film);
+}
+
+#[derive(Resource)]
+struct Cube(Entity, Handle<Mesh>, Handle<StandardMaterial>);
+
+/// A red cube on a grey floor under the default sky, seen from the front.
+fn cube_app() -> App {
+    let mut app = app(settings("lavapipe:1", 4, 8));
+    app.add_systems(
+        Startup,
+        |mut commands: Commands,
+         mut meshes: ResMut<Assets<Mesh>>,
+         mut materials: ResMut<Assets<StandardMaterial>>| {
+            let floor = meshes.add(Plane3d::default().mesh().size(8.0, 8.0));
+            let grey = materials.add(StandardMaterial::from(Color::srgb(0.5, 0.5, 0.5)));
+            commands.spawn((Mesh3d(floor), MeshMaterial3d(grey)));
+            let cube = meshes.add(Cuboid::new(0.6, 0.6, 0.6));
+            let red = materials.add(StandardMaterial {
+                base_color: Color::srgb(0.9, 0.05, 0.05),
+                perceptual_roughness: 0.8,
+                ..default()
+            });
+            let e = commands
+                .spawn((
+                    Mesh3d(cube.clone()),
+                    MeshMaterial3d(red.clone()),
+                    Transform::from_xyz(-0.8, 0.3, 0.0),
+                ))
+                .id();
+            commands.insert_resource(Cube(e, cube, red));
+            commands.spawn(camera_at(
+                Vec3::new(0.0, 1.5, 4.0),
+                Vec3::new(0.0, 0.3, 0.0),
+            ));
+        },
+    );
+    app
+}
+
+/// The red pixels of a film: how many, and their mean column.
+fn red(film: &Film) -> (usize, f64) {
+    let mut n = 0;
+    let mut x_sum = 0.0;
+    for (i, p) in film.pixels.iter().enumerate() {
+        if p[0] > 0.15 && p[0] > 3.0 * p[1] {
+            n += 1;
+            x_sum += (i as u32 % film.width) as f64;
+        }
+    }
+    (n, x_sum / n.max(1) as f64)
+}
+
+#[test]
+fn moving_adding_and_despawning_entities_shows_in_the_image() {
+    let mut app = cube_app();
+    let first = converged(&mut app, 8);
+    let (n0, x0) = red(&first);
+    assert!(n0 > 20, "the cube is seen: {n0} red pixels");
+    let builds = app.world().resource::<PlatoonStats>().rebuilds;
+
+    // Moved right: its pixels move right, by an edit (no rebuild).
+    let cube = app.world().resource::<Cube>().0;
+    app.world_mut()
+        .get_mut::<Transform>(cube)
+        .unwrap()
+        .translation
+        .x = 0.8;
+    app.update();
+    let moved = converged(&mut app, 8);
+    let (n1, x1) = red(&moved);
+    assert!(
+        x1 > x0 + 8.0,
+        "the cube moved right: column {x0:.1} -> {x1:.1}"
+    );
+    assert!(
+        (n1 as f64 - n0 as f64).abs() < 0.3 * n0 as f64,
+        "{n0} -> {n1}"
+    );
+
+    // A second cube of the same mesh and material: an added instance.
+    let (mesh, material) = {
+        let c = app.world().resource::<Cube>();
+        (c.1.clone(), c.2.clone())
+    };
+    let second = app
+        .world_mut()
+        .spawn((
+            Mesh3d(mesh),
+            MeshMaterial3d(material),
+            Transform::from_xyz(-0.8, 0.3, 0.0),
+        ))
+        .id();
+    app.update();
+    let two = converged(&mut app, 8);
+    let (n2, _) = red(&two);
+    assert!(
+        n2 as f64 > 1.6 * n0 as f64,
+        "two cubes: {n0} -> {n2} red pixels"
+    );
+
+    // Despawned: one cube again, where it was moved to.
+    app.world_mut().despawn(second);
+    app.update();
+    let one = converged(&mut app, 8);
+    let (n3, x3) = red(&one);
+    assert!((n3 as f64 - n1 as f64).abs() <= 2.0, "{n1} -> {n3}");
+    assert!((x3 - x1).abs() < 1.0, "{x1} -> {x3}");
+    assert_eq!(
+        app.world().resource::<PlatoonStats>().rebuilds,
+        builds,
+        "moved, added and despawned by edits"
+    );
+}
