@@ -31,6 +31,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use bevy::asset::RenderAssetUsages;
+use bevy::camera::visibility::VisibilitySystems;
 use bevy::image::Image;
 use bevy::prelude::*;
 use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat};
@@ -151,7 +152,8 @@ impl Plugin for PlatoonPlugin {
                 PostUpdate,
                 (follow_world, show_frame)
                     .chain()
-                    .after(TransformSystems::Propagate),
+                    .after(TransformSystems::Propagate)
+                    .after(VisibilitySystems::VisibilityPropagate),
             );
     }
 }
@@ -227,7 +229,7 @@ fn follow_world(
     };
     let o = &settings.game.driver;
     let camera = convert::camera(transform, projection, o.width, o.height);
-    let (scene, edits) = match state.mirror.follow(&view, &modified, meshes_modified) {
+    let (scene, edits) = match state.mirror.follow(&view, &modified, &meshes_modified) {
         Change::Rebuilt(scene) => {
             stats.rebuilds += 1;
             built.0 = Some(Arc::new((*scene).clone()));

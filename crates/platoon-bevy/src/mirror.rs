@@ -82,8 +82,8 @@ pub struct AssetChanges<'w, 's> {
 }
 
 impl AssetChanges<'_, '_> {
-    /// The materials modified, and whether a mesh was.
-    pub fn take(&mut self) -> (HashSet<AssetId<StandardMaterial>>, bool) {
+    /// The materials and meshes modified.
+    pub fn take(&mut self) -> (HashSet<AssetId<StandardMaterial>>, HashSet<AssetId<Mesh>>) {
         let materials = self
             .materials
             .read()
@@ -95,7 +95,11 @@ impl AssetChanges<'_, '_> {
         let meshes = self
             .meshes
             .read()
-            .any(|e| matches!(e, AssetEvent::Modified { .. }));
+            .filter_map(|e| match e {
+                AssetEvent::Modified { id } => Some(*id),
+                _ => None,
+            })
+            .collect();
         (materials, meshes)
     }
 }
@@ -159,17 +163,19 @@ pub struct Mirror {
 }
 
 impl Mirror {
-    /// Follows the world: a new scene when its structure changed, else the edits since the
-    /// last call. `modified` are the materials whose assets changed.
+    /// Follows the world: a new scene when its structure changed (or a mesh it holds), else
+    /// the edits since the last call. `modified` are the materials and meshes whose assets
+    /// changed ([`AssetChanges::take`]).
     pub fn follow(
         &mut self,
         view: &WorldView,
         modified: &HashSet<AssetId<StandardMaterial>>,
-        meshes_modified: bool,
+        meshes_modified: &HashSet<AssetId<Mesh>>,
     ) -> Change {
         let objects = self.objects(view);
         let lights = self.light_entities(view);
-        if !self.built || meshes_modified || self.structure_changed(&objects, &lights, view) {
+        let mesh_changed = self.meshes.keys().any(|k| meshes_modified.contains(&k.0));
+        if !self.built || mesh_changed || self.structure_changed(&objects, &lights, view) {
             return Change::Rebuilt(Box::new(self.build(view, &objects, &lights)));
         }
         let mut edits = Vec::new();

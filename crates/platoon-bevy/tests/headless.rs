@@ -370,3 +370,145 @@ fn moving_adding_and_despawning_entities_shows_in_the_image() {
         "moved, added and despawned by edits"
     );
 }
+
+/// Runs until the film has converged, and returns the mean radiance of its central 4 x 4
+/// pixels.
+fn centre(app: &mut App, spp: u32) -> f64 {
+    let film = converged(app, spp);
+    let mut sum = 0.0;
+    for y in H / 2 - 2..H / 2 + 2 {
+        for x in W / 2 - 2..W / 2 + 2 {
+            let p = film.pixels[(y * W + x) as usize];
+            sum += (p[0] + p[1] + p[2]) as f64 / 3.0;
+        }
+    }
+    sum / 16.0
+}
+
+/// A Lambertian floor of albedo 0.5 (no specular: reflectance 0) seen from straight above,
+/// lit by `light` alone (no sky).
+fn lit_floor(light: impl Bundle) -> App {
+    let mut s = settings("lavapipe:1", 4, 8);
+    s.environment = platoon::prepare::EnvChoice::Color(glam::Vec3::ZERO);
+    let mut app = app(s);
+    let light = std::sync::Mutex::new(Some(light));
+    app.add_systems(
+        Startup,
+        move |mut commands: Commands,
+              mut meshes: ResMut<Assets<Mesh>>,
+              mut materials: ResMut<Assets<StandardMaterial>>| {
+            let floor = meshes.add(Plane3d::default().mesh().size(20.0, 20.0));
+            let albedo = materials.add(StandardMaterial {
+                base_color: Color::linear_rgb(0.5, 0.5, 0.5),
+                reflectance: 0.0,
+                ..default()
+            });
+            commands.spawn((Mesh3d(floor), MeshMaterial3d(albedo)));
+            commands.spawn(light.lock().unwrap().take().unwrap());
+            commands.spawn((
+                Camera3d::default(),
+                Projection::Perspective(PerspectiveProjection {
+                    fov: 0.2,
+                    ..default()
+                }),
+                Transform::from_xyz(0.0, 3.0, 0.0).looking_at(Vec3::ZERO, Vec3::Z),
+            ));
+        },
+    );
+    app
+}
+
+#[test]
+fn bevys_light_units_reach_platoon_as_the_same_light() {
+    // Lambertian radiance albedo / pi * E under irradiance E = 10 (0.5 / pi * 10 = 1.5915).
+    let want = 0.5 / std::f64::consts::PI * 10.0;
+    // A point light 2 above: 40 cd, which Bevy gives as luminous power (4 pi 40 lm): E = I / h^2.
+    let point = PointLight {
+        intensity: 4.0 * std::f32::consts::PI * 40.0,
+        range: 100.0,
+        ..default()
+    };
+    let got = centre(
+        &mut lit_floor((point, Transform::from_xyz(0.0, 2.0, 0.0))),
+        8,
+    );
+    assert!(
+        (got - want).abs() < 0.02 * want,
+        "point light: {got} against {want}"
+    );
+    // The sun straight down at 10 lux.
+    let sun = DirectionalLight {
+        illuminance: 10.0,
+        ..default()
+    };
+    let down = Transform::from_xyz(0.0, 5.0, 0.0).looking_at(Vec3::ZERO, Vec3::Z);
+    let got = centre(&mut lit_floor((sun, down)), 8);
+    assert!(
+        (got - want).abs() < 0.02 * want,
+        "directional light: {got} against {want}"
+    );
+}
+
+#[test]
+fn a_character_bevy_animates_renders_as_platoon_poses_its_file() {
+    // CesiumMan's walk played by Bevy's animation player, held at 0.5 s: its joints reach
+    // platoon as edits, and the skin renders as platoon's own animation of the file at 0.5 s.
+    let (mut app, t) = file_app("CesiumMan.glb", "lavapipe:1", 16);
+    let builds = app.world().resource::<PlatoonStats>().rebuilds;
+    let clip = app
+        .world()
+        .resource::<AssetServer>()
+        .load(GltfAssetLabel::Animation(0).from_asset("CesiumMan.glb"));
+    app.add_systems(
+        Update,
+        move |mut commands: Commands,
+              mut players: Query<(Entity, &mut AnimationPlayer), Added<AnimationPlayer>>,
+              mut graphs: ResMut<Assets<AnimationGraph>>| {
+            for (entity, mut player) in &mut players {
+                let (graph, index) = AnimationGraph::from_clip(clip.clone());
+                player.play(index).seek_to(0.5).pause();
+                commands
+                    .entity(entity)
+                    .insert(AnimationGraphHandle(graphs.add(graph)));
+            }
+        },
+    );
+    // Until the pose has been applied (the clip loads with the file; a few frames).
+    run_until(&mut app, "the walk's pose", |app| {
+        let world = app.world_mut();
+        let mut q = world.query::<&AnimationPlayer>();
+        q.iter(world)
+            .any(|p| p.playing_animations().any(|(_, a)| a.seek_time() == 0.5))
+    });
+    for _ in 0..10 {
+        app.update();
+    }
+    let film = converged(&mut app, 16);
+    let scene = platoon::load_scene(Some(&scenes().join("CesiumMan.glb"))).unwrap();
+    let prepared_at = |time| {
+        let options = platoon::PrepareOptions {
+            time,
+            ..Default::default()
+        };
+        platoon::prepare(scene.clone(), &options).unwrap()
+    };
+    let own = |time| {
+        let options = platoon::devices::tracer_options(
+            &"lavapipe:1".parse().unwrap(),
+            false,
+            platoon::tracer::Sampling::Mis,
+        )
+        .unwrap();
+        let mut params = platoon::core::frame::FrameParams::new(W, H, 256, camera_of(&t));
+        params.seed = 99;
+        platoon::render(&prepared_at(time), &options[0], &params, &mut |_| {})
+            .unwrap()
+            .film
+    };
+    let stats = app.world().resource::<PlatoonStats>();
+    assert_eq!(
+        stats.rebuilds, builds,
+        "the joints moved by edits: {stats:?}"
+    );
+    assert_close(&film, &own(0.5));
+}
