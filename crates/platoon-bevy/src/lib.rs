@@ -133,6 +133,12 @@ impl PlatoonOutput {
     }
 }
 
+/// Marks the camera platoon renders from, active or not (an app that shows only platoon's
+/// image keeps its 3D camera inactive, so that Bevy's rasteriser does not draw it too).
+/// Without one: the active 3D camera drawn last.
+#[derive(Component, Clone, Copy, Debug, Default)]
+pub struct PlatoonCamera;
+
 /// The platoon scene last built from the world (before the edits since): what the render
 /// thread started from, for a game's own use (CPU ray queries, saving it, comparing renders).
 #[derive(Resource, Clone, Default)]
@@ -198,7 +204,7 @@ fn follow_world(
     mut state: ResMut<PluginState>,
     settings: Res<PlatoonSettings>,
     view: WorldView,
-    cameras: Query<(&Camera, &GlobalTransform, &Projection), With<Camera3d>>,
+    cameras: Query<(&Camera, &GlobalTransform, &Projection, Has<PlatoonCamera>), With<Camera3d>>,
     mut changes: AssetChanges,
     mut stats: ResMut<PlatoonStats>,
     mut built: ResMut<PlatoonScene>,
@@ -219,12 +225,14 @@ fn follow_world(
         state.camera = None;
     }
     let (modified, meshes_modified) = changes.take();
-    // The active 3D camera drawn last (the highest order) is the one the player sees.
-    let Some((_, transform, projection)) = cameras
-        .iter()
-        .filter(|(c, ..)| c.is_active)
-        .max_by_key(|(c, ..)| c.order)
-    else {
+    // The marked camera, else the active 3D camera drawn last (the one the player sees).
+    let marked = cameras.iter().find(|(.., marked)| *marked);
+    let Some((_, transform, projection, _)) = marked.or_else(|| {
+        cameras
+            .iter()
+            .filter(|(c, ..)| c.is_active)
+            .max_by_key(|(c, ..)| c.order)
+    }) else {
         return;
     };
     let o = &settings.game.driver;
