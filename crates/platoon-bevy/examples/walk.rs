@@ -8,8 +8,8 @@
 //!     [--devices lavapipe:1,1] [--size 320x180] [--target-ms 60] [--frames N]
 //! ```
 //! W/S: forward and back, A/D: turn, Q/E: down and up. `--frames N` quits after N frames of
-//! platoon (what the window test uses). The window's title says the frames, samples a pixel,
-//! frame time and idle share.
+//! platoon (what the window test uses). The window's title says platoon's frames, samples a
+//! pixel, frame time and idle share, and the game's own frame time.
 
 use std::time::Duration;
 
@@ -235,19 +235,25 @@ fn fly(
 fn title_and_exit(
     stats: Res<PlatoonStats>,
     args: Res<Args>,
+    time: Res<Time>,
+    mut game_ms: Local<f64>,
     mut windows: Query<&mut Window>,
     mut exit: MessageWriter<AppExit>,
 ) {
+    // The game's own frame time, smoothed: what the player's input and animation run at,
+    // whatever the path tracer's frames cost.
+    *game_ms = 0.9 * *game_ms + 0.1 * time.delta_secs_f64() * 1e3;
     if !stats.is_changed() {
         return;
     }
     for mut w in &mut windows {
         w.title = format!(
-            "platoon walk: {} frames, {} spp, {:.0} ms, idle {:.1}%",
+            "platoon walk: {} frames, {} spp, {:.0} ms, idle {:.1}%; game {:.1} ms",
             stats.frames,
             stats.spp,
             stats.frame_ms,
-            100.0 * stats.idle
+            100.0 * stats.idle,
+            *game_ms
         );
     }
     for e in &stats.errors {
