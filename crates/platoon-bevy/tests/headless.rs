@@ -364,11 +364,30 @@ fn moving_adding_and_despawning_entities_shows_in_the_image() {
     let (n3, x3) = red(&one);
     assert!((n3 as f64 - n1 as f64).abs() <= 2.0, "{n1} -> {n3}");
     assert!((x3 - x1).abs() < 1.0, "{x1} -> {x3}");
+
+    // Its material turned blue: no red left, and the film written where the app asks.
+    let material = app.world().resource::<Cube>().2.clone();
+    app.world_mut()
+        .resource_mut::<Assets<StandardMaterial>>()
+        .get_mut(&material)
+        .unwrap()
+        .base_color = Color::srgb(0.05, 0.05, 0.9);
+    app.update();
+    let blue = converged(&mut app, 8);
+    assert_eq!(red(&blue).0, 0, "the material changed");
     assert_eq!(
         app.world().resource::<PlatoonStats>().rebuilds,
         builds,
-        "moved, added and despawned by edits"
+        "moved, added, despawned and recoloured by edits"
     );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("frame.exr");
+    app.world()
+        .resource::<PlatoonOutput>()
+        .write(&path)
+        .unwrap();
+    let (read, _) = platoon::core::output::read_exr(&path).unwrap();
+    assert_eq!(read, blue);
 }
 
 /// Runs until the film has converged, and returns the mean radiance of its central 4 x 4
@@ -428,14 +447,25 @@ fn bevys_light_units_reach_platoon_as_the_same_light() {
         range: 100.0,
         ..default()
     };
-    let got = centre(
-        &mut lit_floor((point, Transform::from_xyz(0.0, 2.0, 0.0))),
-        8,
-    );
+    let mut app = lit_floor((point, Transform::from_xyz(0.0, 2.0, 0.0)));
+    let got = centre(&mut app, 8);
     assert!(
         (got - want).abs() < 0.02 * want,
         "point light: {got} against {want}"
     );
+    // Raised to 4 by an edit: a quarter of the irradiance.
+    let mut q = app
+        .world_mut()
+        .query_filtered::<&mut Transform, With<PointLight>>();
+    q.single_mut(app.world_mut()).unwrap().translation.y = 4.0;
+    app.update();
+    let got = centre(&mut app, 8);
+    let quarter = want / 4.0;
+    assert!(
+        (got - quarter).abs() < 0.02 * quarter,
+        "raised: {got} against {quarter}"
+    );
+    assert_eq!(app.world().resource::<PlatoonStats>().rebuilds, 1);
     // The sun straight down at 10 lux.
     let sun = DirectionalLight {
         illuminance: 10.0,
