@@ -38,7 +38,6 @@ use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat};
 use bevy::transform::TransformSystems;
 use platoon::core::drive::DriverOptions;
 use platoon::core::output::Film;
-use platoon::devices::DeviceSpec;
 use platoon::game::GameOptions;
 use platoon::prepare::EnvChoice;
 
@@ -72,12 +71,6 @@ impl PlatoonSettings {
             converge_at: None,
         }
     }
-
-    /// The same on the devices of `spec` ("lavapipe:1,1", "0,1", "all").
-    pub fn on(mut self, spec: DeviceSpec) -> PlatoonSettings {
-        self.game.devices = spec;
-        self
-    }
 }
 
 impl Default for PlatoonSettings {
@@ -86,7 +79,8 @@ impl Default for PlatoonSettings {
     }
 }
 
-/// What the path tracer did (a resource, updated as frames arrive).
+/// What the path tracer did since its render thread (re)started (a resource, updated as
+/// frames arrive).
 #[derive(Resource, Clone, Debug, Default)]
 pub struct PlatoonStats {
     /// Frames finished since the render thread started.
@@ -223,6 +217,7 @@ fn follow_world(
         state.mirror = Mirror::default();
         state.sent = 0;
         state.camera = None;
+        *stats = PlatoonStats::default();
     }
     let (modified, meshes_modified) = changes.take();
     // The marked camera, else the active 3D camera drawn last (the one the player sees).

@@ -152,6 +152,8 @@ pub enum Change {
 pub struct Mirror {
     built: bool,
     meshes: HashMap<MeshKey, usize>,
+    /// Meshes platoon cannot render (said in a warning): their entities are left out.
+    unrenderable: HashSet<MeshKey>,
     materials: HashMap<AssetId<StandardMaterial>, usize>,
     textures: HashMap<AssetId<Image>, u32>,
     instances: HashMap<Entity, Instance>,
@@ -172,7 +174,11 @@ impl Mirror {
         modified: &HashSet<AssetId<StandardMaterial>>,
         meshes_modified: &HashSet<AssetId<Mesh>>,
     ) -> Change {
-        let objects = self.objects(view);
+        let mut objects = self.objects(view);
+        objects.retain(|o| {
+            let key = (o.mesh, o.material, o.skin.is_some());
+            !self.unrenderable.contains(&key)
+        });
         let lights = self.light_entities(view);
         let mesh_changed = self.meshes.keys().any(|k| meshes_modified.contains(&k.0));
         if !self.built || mesh_changed || self.structure_changed(&objects, &lights, view) {
@@ -355,10 +361,13 @@ impl Mirror {
         objects: &[Object],
         lights: &[(Entity, PunctualLight, Placement)],
     ) -> Scene {
+        // What was said and what cannot render stay known: neither is worth a rebuild.
         let warnings = std::mem::take(&mut self.warnings);
+        let unrenderable = std::mem::take(&mut self.unrenderable);
         *self = Mirror {
             built: true,
             warnings,
+            unrenderable,
             ..Mirror::default()
         };
         let mut scene = Scene::default();
@@ -379,18 +388,24 @@ impl Mirror {
                         .meshes
                         .get(o.mesh)
                         .expect("loaded, as objects() checked");
-                    convert::mesh(
+                    let converted = convert::mesh(
                         bevy_mesh,
                         &o.name,
                         material as u32,
                         needs_tangents,
                         &mut self.warnings,
-                    )
-                    .map(|m| {
-                        scene.meshes.push(Arc::new(m));
-                        self.meshes.insert(key, scene.meshes.len() - 1);
-                        scene.meshes.len() - 1
-                    })
+                    );
+                    match converted {
+                        Some(m) => {
+                            scene.meshes.push(Arc::new(m));
+                            self.meshes.insert(key, scene.meshes.len() - 1);
+                            Some(scene.meshes.len() - 1)
+                        }
+                        None => {
+                            self.unrenderable.insert(key);
+                            None
+                        }
+                    }
                 }
             };
             let Some(mesh) = mesh else { continue };
