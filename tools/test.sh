@@ -31,6 +31,9 @@ rm -f "$log.oidn"
 # The Python module (crates/platoon-py, outside the workspace): built into a virtual
 # environment by tools/python.sh, its tests under pytest against the CLI built above. pytest's
 # summary joins the total as one more "test result" line.
+# The examples the Python module's tests run beside it (scripted_game): `cargo test
+# --all-targets` builds examples as tests, under hashed names only.
+cargo build --workspace --examples 2>&1 | tee -a "$log" || status=$?
 if python=$(tools/python.sh); then
     PLATOON_CLI=$CARGO_TARGET_DIR/debug/platoon "$python" -m pytest crates/platoon-py/tests -q \
         -p no:cacheprovider 2>&1 | tee "$log.py" || status=$?
