@@ -3,7 +3,7 @@
 
 use std::f32::consts::PI;
 
-use bevy::asset::AssetId;
+use bevy::asset::{AssetId, Handle};
 use bevy::camera::Projection;
 use bevy::color::{Color, ColorToComponents, LinearRgba};
 use bevy::image::{Image, ImageAddressMode, ImageFilterMode, ImageSampler};
@@ -275,6 +275,18 @@ pub fn material(
         unlit: m.unlit,
         ..Material::default()
     }
+}
+
+/// The images a StandardMaterial shows that [`material`] mirrors.
+pub fn texture_handles(m: &StandardMaterial) -> impl Iterator<Item = &Handle<Image>> {
+    [
+        &m.base_color_texture,
+        &m.metallic_roughness_texture,
+        &m.normal_map_texture,
+        &m.emissive_texture,
+    ]
+    .into_iter()
+    .flatten()
 }
 
 /// KHR_texture_transform's matrix rows from Bevy's UV transform (u' = a u + b v + c).

@@ -181,7 +181,24 @@ impl Mirror {
         });
         let lights = self.light_entities(view);
         let mesh_changed = self.meshes.keys().any(|k| meshes_modified.contains(&k.0));
-        if !self.built || mesh_changed || self.structure_changed(&objects, &lights, view) {
+        // A modified material showing an image platoon has no texture of needs a new scene
+        // (textures are not edited in).
+        let new_texture = self
+            .materials
+            .keys()
+            .filter(|id| modified.contains(id))
+            .any(|&id| {
+                view.materials.get(id).is_some_and(|m| {
+                    convert::texture_handles(m).any(|h| {
+                        view.images.contains(h.id()) && !self.textures.contains_key(&h.id())
+                    })
+                })
+            });
+        if !self.built
+            || mesh_changed
+            || new_texture
+            || self.structure_changed(&objects, &lights, view)
+        {
             return Change::Rebuilt(Box::new(self.build(view, &objects, &lights)));
         }
         let mut edits = Vec::new();

@@ -375,10 +375,50 @@ fn moving_adding_and_despawning_entities_shows_in_the_image() {
     app.update();
     let blue = converged(&mut app, 8);
     assert_eq!(red(&blue).0, 0, "the material changed");
+    // Then given a texture (pure green) platoon has not seen: built anew, the cube green.
+    let green = Image::new_fill(
+        bevy::render::render_resource::Extent3d {
+            width: 2,
+            height: 2,
+            depth_or_array_layers: 1,
+        },
+        bevy::render::render_resource::TextureDimension::D2,
+        &[0, 255, 0, 255],
+        bevy::render::render_resource::TextureFormat::Rgba8UnormSrgb,
+        bevy::asset::RenderAssetUsages::default(),
+    );
+    let green = app.world_mut().resource_mut::<Assets<Image>>().add(green);
+    {
+        let mut materials = app.world_mut().resource_mut::<Assets<StandardMaterial>>();
+        let mut m = materials.get_mut(&material).unwrap();
+        m.base_color = Color::WHITE;
+        m.base_color_texture = Some(green.clone());
+    }
+    app.update();
+    let textured = converged(&mut app, 8);
+    let greens = textured
+        .pixels
+        .iter()
+        .filter(|p| p[1] > 0.15 && p[1] > 3.0 * p[0])
+        .count();
+    assert!(
+        greens as f64 > 0.8 * n1 as f64,
+        "the cube green: {greens} pixels ({n1} were red)"
+    );
+    let rebuilt = app.world().resource::<PlatoonStats>().rebuilds;
+    assert_eq!(rebuilt, builds + 1, "a new texture: built anew");
+    {
+        let mut materials = app.world_mut().resource_mut::<Assets<StandardMaterial>>();
+        let mut m = materials.get_mut(&material).unwrap();
+        m.base_color = Color::srgb(0.05, 0.05, 0.9);
+        m.base_color_texture = None;
+    }
+    app.update();
+    let blue = converged(&mut app, 8);
     assert_eq!(
         app.world().resource::<PlatoonStats>().rebuilds,
-        builds,
-        "moved, added, despawned and recoloured by edits"
+        builds + 1,
+        "moved, added, despawned and recoloured by edits (but the texture)"
     );
     // A mesh platoon cannot trace (lines): said once, built once, left out.
     let lines = Mesh::new(
@@ -405,7 +445,7 @@ fn moving_adding_and_despawning_entities_shows_in_the_image() {
         "the lines add nothing: {a:?} against {b:?}"
     );
     let stats = app.world().resource::<PlatoonStats>();
-    assert_eq!(stats.rebuilds, builds + 1, "built once with the lines");
+    assert_eq!(stats.rebuilds, builds + 2, "built once with the lines");
     assert_eq!(
         stats
             .warnings
