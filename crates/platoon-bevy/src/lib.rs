@@ -23,6 +23,7 @@
 //! What is mirrored and what is not: docs/BEVY.md.
 
 mod convert;
+mod environment;
 mod mirror;
 mod render_thread;
 mod warnings;
@@ -33,6 +34,7 @@ use std::sync::Arc;
 use bevy::asset::RenderAssetUsages;
 use bevy::camera::visibility::VisibilitySystems;
 use bevy::image::Image;
+use bevy::light::EnvironmentMapLight;
 use bevy::prelude::*;
 use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat};
 use bevy::transform::TransformSystems;
@@ -193,12 +195,21 @@ fn blank(width: u32, height: u32) -> Image {
     )
 }
 
+/// A 3D camera's components the plugin reads.
+type CameraItem = (
+    &'static Camera,
+    &'static GlobalTransform,
+    &'static Projection,
+    Has<PlatoonCamera>,
+    Option<&'static EnvironmentMapLight>,
+);
+
 /// Sends the render thread what changed in the world this frame and the camera.
 fn follow_world(
     mut state: ResMut<PluginState>,
     settings: Res<PlatoonSettings>,
     view: WorldView,
-    cameras: Query<(&Camera, &GlobalTransform, &Projection, Has<PlatoonCamera>), With<Camera3d>>,
+    cameras: Query<CameraItem, With<Camera3d>>,
     mut changes: AssetChanges,
     mut stats: ResMut<PlatoonStats>,
     mut built: ResMut<PlatoonScene>,
@@ -221,8 +232,8 @@ fn follow_world(
     }
     let (modified, meshes_modified) = changes.take();
     // The marked camera, else the active 3D camera drawn last (the one the player sees).
-    let marked = cameras.iter().find(|(.., marked)| *marked);
-    let Some((_, transform, projection, _)) = marked.or_else(|| {
+    let marked = cameras.iter().find(|(.., marked, _)| *marked);
+    let Some((_, transform, projection, _, env_light)) = marked.or_else(|| {
         cameras
             .iter()
             .filter(|(c, ..)| c.is_active)
@@ -232,7 +243,14 @@ fn follow_world(
     };
     let o = &settings.game.driver;
     let camera = convert::camera(transform, projection, o.width, o.height);
-    let (scene, edits) = match state.mirror.follow(&view, &modified, &meshes_modified) {
+    // The camera's environment map light is the distant light unless the settings choose one.
+    let environment = env_light
+        .filter(|_| matches!(settings.environment, EnvChoice::Scene))
+        .map(|e| (e.specular_map.id(), e.intensity, e.rotation));
+    let (scene, edits) = match state
+        .mirror
+        .follow(&view, &modified, &meshes_modified, environment)
+    {
         Change::Rebuilt(scene) => {
             stats.rebuilds += 1;
             built.0 = Some(Arc::new((*scene).clone()));

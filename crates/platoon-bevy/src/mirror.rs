@@ -17,6 +17,7 @@ use bevy::pbr::{MeshMaterial3d, StandardMaterial};
 use bevy::prelude::{Entity, GlobalTransform, MessageReader, Name, Query, Res};
 use glam::Mat4;
 use platoon::core::drive::Edit;
+use platoon::core::scene::environment::Environment;
 use platoon::core::scene::{Node, Placement, PunctualLight, Scene, Skin};
 
 use crate::convert;
@@ -139,6 +140,10 @@ struct Light {
     placement: Placement,
 }
 
+/// The environment map light of the camera rendered: its specular cubemap, intensity and
+/// rotation (None: platoon's own distant light).
+pub type EnvironmentKey = Option<(AssetId<Image>, f32, bevy::math::Quat)>;
+
 /// What changed since the last frame.
 pub enum Change {
     /// A scene built anew: the structure changed (or it is the first).
@@ -161,6 +166,7 @@ pub struct Mirror {
     joints: HashMap<Entity, (usize, Placement)>,
     /// Nodes so far (the next added instance's node: the updater numbers them the same way).
     nodes: usize,
+    environment: EnvironmentKey,
     pub warnings: Warnings,
 }
 
@@ -173,6 +179,7 @@ impl Mirror {
         view: &WorldView,
         modified: &HashSet<AssetId<StandardMaterial>>,
         meshes_modified: &HashSet<AssetId<Mesh>>,
+        environment: EnvironmentKey,
     ) -> Change {
         let mut objects = self.objects(view);
         objects.retain(|o| {
@@ -194,12 +201,29 @@ impl Mirror {
                     })
                 })
             });
+        // A new distant light changes the kernel's features (a map or not): built anew.
         if !self.built
             || mesh_changed
             || new_texture
+            || environment != self.environment
             || self.structure_changed(&objects, &lights, view)
         {
-            return Change::Rebuilt(Box::new(self.build(view, &objects, &lights)));
+            let mut scene = self.build(view, &objects, &lights);
+            self.environment = environment;
+            if let Some((image, intensity, rotation)) = environment {
+                let map = view
+                    .images
+                    .get(image)
+                    .ok_or_else(|| "not loaded".to_string())
+                    .and_then(|cube| crate::environment::equirect(cube, intensity, rotation));
+                match map {
+                    Ok(map) => scene.environment = Some(Environment::Map(map)),
+                    Err(why) => self.warnings.once(format!(
+                        "the camera's environment map light is not mirrored: {why}"
+                    )),
+                }
+            }
+            return Change::Rebuilt(Box::new(scene));
         }
         let mut edits = Vec::new();
         // Materials first: an instance added below may show one.

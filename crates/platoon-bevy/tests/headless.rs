@@ -625,3 +625,79 @@ fn a_character_bevy_animates_renders_as_platoon_poses_its_file() {
     );
     assert_close(&film, &own(0.5));
 }
+
+#[test]
+fn the_cameras_environment_map_light_is_the_sky_platoon_sees() {
+    // A cubemap of six colours (+X red, -X green, +Y blue, -Y yellow, +Z magenta, -Z cyan) at
+    // intensity 2: looking along a world axis shows the face Bevy's shader samples there
+    // (environment_map.wgsl mirrors z: looking along -Z samples +Z).
+    let faces: [[f32; 4]; 6] = [
+        [1.0, 0.0, 0.0, 1.0],
+        [0.0, 1.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0, 1.0],
+        [1.0, 1.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0, 1.0],
+    ];
+    let looks: [(Vec3, usize); 6] = [
+        (-Vec3::Z, 4),
+        (Vec3::Z, 5),
+        (Vec3::X, 0),
+        (-Vec3::X, 1),
+        (Vec3::Y, 2),
+        (-Vec3::Y, 3),
+    ];
+    for (look, face) in looks {
+        let mut app = app(settings("lavapipe:1", 4, 4));
+        app.add_systems(
+            Startup,
+            move |mut commands: Commands, mut images: ResMut<Assets<Image>>| {
+                let mut cube = Image::new(
+                    bevy::render::render_resource::Extent3d {
+                        width: 1,
+                        height: 1,
+                        depth_or_array_layers: 6,
+                    },
+                    bevy::render::render_resource::TextureDimension::D2,
+                    faces
+                        .iter()
+                        .flatten()
+                        .flat_map(|c| c.to_le_bytes())
+                        .collect(),
+                    bevy::render::render_resource::TextureFormat::Rgba32Float,
+                    bevy::asset::RenderAssetUsages::default(),
+                );
+                cube.texture_view_descriptor =
+                    Some(bevy::render::render_resource::TextureViewDescriptor {
+                        dimension: Some(bevy::render::render_resource::TextureViewDimension::Cube),
+                        ..default()
+                    });
+                let cube = images.add(cube);
+                commands.spawn((
+                    Camera3d::default(),
+                    Projection::Perspective(PerspectiveProjection {
+                        fov: 0.2,
+                        ..default()
+                    }),
+                    Transform::default()
+                        .looking_to(look, if look.y.abs() > 0.5 { Vec3::Z } else { Vec3::Y }),
+                    bevy::light::EnvironmentMapLight {
+                        diffuse_map: cube.clone(),
+                        specular_map: cube,
+                        intensity: 2.0,
+                        ..default()
+                    },
+                ));
+            },
+        );
+        let film = converged(&mut app, 4);
+        let p = film.pixels[(H / 2 * W + W / 2) as usize];
+        let want = faces[face];
+        for k in 0..3 {
+            assert!(
+                (p[k] - 2.0 * want[k]).abs() < 1e-3,
+                "looking along {look}: {p:?}, not face {face} {want:?} x 2"
+            );
+        }
+    }
+}
