@@ -4,117 +4,20 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "../common/xvfb.rs"]
+mod xvfb;
 
-use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use xvfb::{wait_for, Xvfb};
 
 fn platoon() -> Command {
     common::init();
     Command::new(env!("CARGO_BIN_EXE_platoon"))
 }
 
-fn tool(name: &str) -> PathBuf {
-    let path = Path::new("/usr/bin").join(name);
-    assert!(
-        path.exists(),
-        "{name} is missing: run tools/install-deps.sh"
-    );
-    path
-}
-
-/// An X server of its own, its screen mirrored to a file, killed on drop.
-struct Xvfb {
-    child: Child,
-    display: String,
-    _dir: tempfile::TempDir,
-    screen: PathBuf,
-}
-
 impl Xvfb {
-    /// Takes the first free display number (a server that exits before its socket appears lost
-    /// the number to another process: the next one is tried) and returns once a client gets
-    /// in. `-noreset`: by default the server resets when its last client leaves, and a viewer
-    /// opened during the reset finds no server ("Failed to open connection to X server": the
-    /// test's windows failed so in 3 suite runs of 7, and in 1 run of 6 under load).
-    fn start() -> Xvfb {
-        let xvfb = tool("Xvfb");
-        for n in 90..200 {
-            if Path::new(&format!("/tmp/.X{n}-lock")).exists() {
-                continue;
-            }
-            let dir = tempfile::tempdir().unwrap();
-            let mut child = Command::new(&xvfb)
-                .arg(format!(":{n}"))
-                .args([
-                    "-screen",
-                    "0",
-                    "320x240x24",
-                    "-br",
-                    "-noreset",
-                    "-nolisten",
-                    "tcp",
-                    "-fbdir",
-                ])
-                .arg(dir.path())
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .spawn()
-                .unwrap();
-            let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
-            let ours = wait_for(Duration::from_secs(20), || {
-                if child.try_wait().unwrap().is_some() {
-                    return Some(false);
-                }
-                socket.exists().then_some(true)
-            });
-            if ours {
-                let x = Xvfb {
-                    child,
-                    display: format!(":{n}"),
-                    screen: dir.path().join("Xvfb_screen0"),
-                    _dir: dir,
-                };
-                // The socket appears before the server takes clients: wait for one to get in.
-                wait_for(Duration::from_secs(20), || x.answers().then_some(()));
-                return x;
-            }
-        }
-        panic!("no free X display number in :90..:199");
-    }
-
-    /// A client can connect and ask the server something.
-    fn answers(&self) -> bool {
-        Command::new(tool("xdotool"))
-            .arg("getdisplaygeometry")
-            .env("DISPLAY", &self.display)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .status()
-            .is_ok_and(|s| s.success())
-    }
-
-    fn xdotool(&self, args: &[&str]) -> String {
-        let o = Command::new(tool("xdotool"))
-            .args(args)
-            .env("DISPLAY", &self.display)
-            .output()
-            .unwrap();
-        String::from_utf8_lossy(&o.stdout).trim().to_string()
-    }
-
-    /// Pixels of the screen that are not black (the root window is black with -br).
-    fn lit_pixels(&self) -> usize {
-        let xwd = std::fs::read(&self.screen).unwrap();
-        let field = |i: usize| u32::from_be_bytes(xwd[4 * i..4 * i + 4].try_into().unwrap());
-        let (header, bits, ncolors) = (field(0) as usize, field(11), field(19) as usize);
-        assert_eq!(bits, 32, "a 24-bit screen is stored 32 bits a pixel");
-        xwd[header + 12 * ncolors..]
-            .chunks_exact(4)
-            .filter(|p| p.iter().any(|&c| c > 8))
-            .count()
-    }
-
     /// `view`, a `platoon view` command, started on this display.
     fn open(&self, view: &mut Command) -> Child {
         view.env("DISPLAY", &self.display)
@@ -138,27 +41,6 @@ impl Xvfb {
                 .contains(title)
                 .then_some(id)
         })
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        // SIGTERM, so the server removes its lock file and socket (SIGKILL leaves them).
-        let _ = Command::new("kill")
-            .arg(self.child.id().to_string())
-            .status();
-        let _ = self.child.wait();
-    }
-}
-
-fn wait_for<T>(limit: Duration, mut f: impl FnMut() -> Option<T>) -> T {
-    let start = Instant::now();
-    loop {
-        if let Some(v) = f() {
-            return v;
-        }
-        assert!(start.elapsed() < limit, "timed out after {limit:?}");
-        std::thread::sleep(Duration::from_millis(100));
     }
 }
 
@@ -206,7 +88,7 @@ fn the_viewer_refuses_a_denoiser_the_build_lacks() {
 
 #[test]
 fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
-    let x = Xvfb::start();
+    let x = Xvfb::start(90..200, "320x240x24");
     let black = x.lit_pixels();
     let mut view = x.open(
         platoon()
