@@ -6,7 +6,7 @@
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
-use bevy::asset::{AssetEvent, AssetId, Assets};
+use bevy::asset::{Asset, AssetEvent, AssetId, Assets};
 use bevy::camera::visibility::InheritedVisibility;
 use bevy::ecs::system::SystemParam;
 use bevy::image::Image;
@@ -85,24 +85,19 @@ pub struct AssetChanges<'w, 's> {
 impl AssetChanges<'_, '_> {
     /// The materials and meshes modified.
     pub fn take(&mut self) -> (HashSet<AssetId<StandardMaterial>>, HashSet<AssetId<Mesh>>) {
-        let materials = self
-            .materials
-            .read()
-            .filter_map(|e| match e {
-                AssetEvent::Modified { id } => Some(*id),
-                _ => None,
-            })
-            .collect();
-        let meshes = self
-            .meshes
-            .read()
-            .filter_map(|e| match e {
-                AssetEvent::Modified { id } => Some(*id),
-                _ => None,
-            })
-            .collect();
-        (materials, meshes)
+        (modified(&mut self.materials), modified(&mut self.meshes))
     }
+}
+
+/// The assets of the events not yet read that were modified.
+fn modified<A: Asset>(events: &mut MessageReader<AssetEvent<A>>) -> HashSet<AssetId<A>> {
+    events
+        .read()
+        .filter_map(|e| match e {
+            AssetEvent::Modified { id } => Some(*id),
+            _ => None,
+        })
+        .collect()
 }
 
 /// A mesh entity as the mirror sees it this frame (only those whose assets are loaded).
