@@ -12,14 +12,20 @@
 //! moves every sample weighs the same (the film's exact average), and while anything moves the
 //! history counts at most `MOVING_HISTORY_FRAMES` frames, so the new samples weigh at least 1/5
 //! (SVGF's alpha = 0.2) and a moving light or object drags at most a few frames behind.
-//! Object motion has no motion vectors: a moved object's pixels are rejected by the position
-//! test, or (sliding along its own surface) kept and updated at that rate.
+//! Moving objects: where the frame knows where each pixel's hit was in the frame before
+//! ([`GBuffer::before`], the hit carried back through its triangle: the motion
+//! vectors' own arithmetic), that point is projected instead, and the tests compare it and the
+//! normal turned as its surface turned with the previous hits, so a moving, turning or
+//! deforming object keeps its history. Without it a moved
+//! object's pixels are rejected by the position test, or (sliding along its own surface) kept
+//! and updated at the moving rate.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Quat, Vec3};
 use rayon::prelude::*;
 
 use super::{Denoiser, Guides};
 use crate::frame::aov::{self, Aov, AovPass};
+use crate::frame::hit_geometry::Before;
 use crate::output::Film;
 use crate::scene::camera::Camera;
 
@@ -37,8 +43,14 @@ pub struct GBuffer {
     pub guides: Guides,
     /// The first hit through the pixel centre, in render space (0 for a miss).
     pub position: Vec<[f32; 3]>,
-    /// Its instance + 1; 0 for a miss.
+    /// What names its object: its instance + 1 (or a key that outlives the instances' order:
+    /// `HitGeometry::object_key`); 0 for a miss.
     pub instance: Vec<f32>,
+    /// Where each pixel's hit was in the frame before (render space then) and how its surface
+    /// turned since, when the scene moved: None for a miss or a surface that frame lacked (no
+    /// history). None as a whole: the scene stood still, or its motion is unknown (reprojected
+    /// by the camera alone).
+    pub before: Option<Vec<Option<Before>>>,
 }
 
 impl GBuffer {
@@ -63,6 +75,7 @@ impl GBuffer {
             guides: Guides::from_layers(&layers).expect("albedo, normal and depth were asked"),
             position: film(AovPass::Position).pixels,
             instance: film(AovPass::Ids).pixels.iter().map(|p| p[0]).collect(),
+            before: None,
         }
     }
 }
@@ -190,8 +203,16 @@ fn reproject(
 ) -> Option<([f32; 3], f32)> {
     let (x, y) = ((i % w as usize) as u32, (i / w as usize) as u32);
     let hit = new.instance[i] > 0.0;
+    // Where the hit was then: carried back with the scene's motion where it is known.
+    let then = match &new.before {
+        Some(before) if hit => before[i]?,
+        _ => Before {
+            position: Vec3::from(new.position[i]),
+            turn: Quat::IDENTITY,
+        },
+    };
     let at = if hit {
-        old.camera.project(Vec3::from(new.position[i]), w, h)?
+        old.camera.project(then.position, w, h)?
     } else if camera.orthographic.is_some() || old.camera.orthographic.is_some() {
         // Parallel rays see the environment in one direction from every pixel.
         glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5)
@@ -215,7 +236,7 @@ fn reproject(
         }
         let weight = (1.0 - (fx - tx).abs()) * (1.0 - (fy - ty).abs());
         let j = ty as usize * w as usize + tx as usize;
-        if weight <= 0.0 || !same_surface(new, i, &old.geometry, j) {
+        if weight <= 0.0 || !same_surface(new, i, then, &old.geometry, j) {
             continue;
         }
         for (s, c) in sum.iter_mut().zip(old.colour[j]) {
@@ -228,8 +249,9 @@ fn reproject(
     (weights > 1e-3).then(|| (sum.map(|v| v / weights), samples / weights))
 }
 
-/// Whether pixel `j` of the old frame saw the surface pixel `i` of the new one sees.
-fn same_surface(new: &GBuffer, i: usize, old: &GBuffer, j: usize) -> bool {
+/// Whether pixel `j` of the old frame saw the surface pixel `i` of the new one sees, which was
+/// where `then` says in the old frame.
+fn same_surface(new: &GBuffer, i: usize, then: Before, old: &GBuffer, j: usize) -> bool {
     if new.instance[i] != old.instance[j] {
         return false;
     }
@@ -237,13 +259,13 @@ fn same_surface(new: &GBuffer, i: usize, old: &GBuffer, j: usize) -> bool {
         return true;
     }
     let (ni, nj) = (
-        Vec3::from(new.guides.normal[i]).normalize_or_zero(),
+        then.turn * Vec3::from(new.guides.normal[i]).normalize_or_zero(),
         Vec3::from(old.guides.normal[j]).normalize_or_zero(),
     );
     if ni != Vec3::ZERO && nj != Vec3::ZERO && ni.dot(nj) < NORMAL_COS {
         return false;
     }
-    let off = Vec3::from(old.position[j]) - Vec3::from(new.position[i]);
+    let off = Vec3::from(old.position[j]) - then.position;
     let plane = if ni == Vec3::ZERO {
         off.length()
     } else {
@@ -282,6 +304,7 @@ mod tests {
             },
             position: Vec::new(),
             instance: Vec::new(),
+            before: None,
         };
         for y in 0..H {
             for x in 0..W {
@@ -351,6 +374,72 @@ mod tests {
             assert!((o[0] - (want[0] + 0.5)).abs() < 0.02, "{o:?} vs {want:?}");
         }
         assert!(kept as f32 >= 0.7 * (W * H) as f32, "{kept}");
+    }
+
+    /// A strip of the plane z = 0 (instance 1) moving right by 0.4 a frame over the back
+    /// plane, its stripes moving with it, the camera still: the history of (frame 1, truth)
+    /// and (frame 2, truth + 1) of each pixel, with the strip's motion known or not.
+    fn moving_strip(known: bool) -> (Film, Film, GBuffer) {
+        let eye = Vec3::new(0.0, 0.0, 5.0);
+        let frame_at = |shift: f32| {
+            let on = move |p: Vec3| (p.x - shift).abs() < 1.5;
+            let radiance = move |p: Vec3| {
+                if p.z > -1.0 {
+                    stripes(p - Vec3::X * shift)
+                } else {
+                    1.0
+                }
+            };
+            view(eye, &radiance, &on)
+        };
+        let mut t = Temporal::new(Denoiser::None);
+        let (a, g, camera) = frame_at(0.0);
+        t.filter(&a, 1, g, camera, true).unwrap();
+        let (mut b, mut g, camera) = frame_at(0.4);
+        let truth = b.clone();
+        b.pixels.iter_mut().for_each(|p| *p = p.map(|v| v + 1.0));
+        if known {
+            let before = g.position.iter().zip(&g.instance);
+            let moved = |p: &[f32; 3], id: f32| Before {
+                position: Vec3::from(*p) - Vec3::X * if id == 1.0 { 0.4 } else { 0.0 },
+                turn: Quat::IDENTITY,
+            };
+            g.before = Some(before.map(|(p, &id)| Some(moved(p, id))).collect());
+        }
+        let out = t.filter(&b, 1, g.clone(), camera, true).unwrap();
+        (out.film, truth, g)
+    }
+
+    #[test]
+    fn a_moving_object_keeps_its_history_where_its_motion_is_known() {
+        let (out, truth, g) = moving_strip(true);
+        let (mut strip, mut revealed) = (0, 0);
+        for (i, (o, want)) in out.pixels.iter().zip(&truth.pixels).enumerate() {
+            let p = Vec3::from(g.position[i]);
+            if g.instance[i] == 1.0 && (p.x - 0.4).abs() < 1.3 {
+                strip += 1;
+                // Its own point a frame ago: the mean of the truth and truth + 1.
+                assert!(
+                    (o[0] - (want[0] + 0.5)).abs() < 0.02,
+                    "{i}: {o:?} vs {want:?}"
+                );
+            }
+            // The back plane where the strip stood in front of it a frame ago: started over.
+            let before = p * (5.0 / 9.0) + Vec3::new(0.0, 0.0, 5.0) * (4.0 / 9.0);
+            if g.instance[i] == 2.0 && before.x.abs() < 1.4 {
+                revealed += 1;
+                assert_eq!(o[0], want[0] + 1.0, "{i}: a history it never had");
+            }
+        }
+        assert!(strip > 200 && revealed > 10, "{strip} {revealed}");
+        // The same frames without the motion: the strip's pixels take the history of the
+        // world point they show now, which showed another part of the stripes.
+        let (out, truth, g) = moving_strip(false);
+        let wrong = (0..out.pixels.len())
+            .filter(|&i| g.instance[i] == 1.0)
+            .filter(|&i| (out.pixels[i][0] - (truth.pixels[i][0] + 0.5)).abs() > 0.05)
+            .count();
+        assert!(wrong > 100, "{wrong}");
     }
 
     #[test]

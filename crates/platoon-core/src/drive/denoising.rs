@@ -1,10 +1,13 @@
 //! Denoising a game's frames on the render thread ([`DriverOptions::denoise`]): the frame's own
-//! samples, its geometry from the AOV kernel passes (rendered again only when something moved),
-//! and the denoiser's temporal history (`denoise::temporal`). The film stays the raw,
-//! unbiased one; the denoised image comes beside it.
+//! samples, its geometry from the AOV kernel passes (rendered again only when something moved)
+//! with where each hit was in the frame before when the scene moved (its hit geometry then and
+//! now, `frame::hit_geometry`: moving objects keep their history), and the denoiser's temporal
+//! history (`denoise::temporal`). The film stays the raw, unbiased one; the denoised image
+//! comes beside it.
 //!
 //! [`DriverOptions::denoise`]: super::DriverOptions::denoise
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::accumulation::upscale;
@@ -12,7 +15,10 @@ use super::plan::FramePlan;
 use crate::denoise::temporal::{GBuffer, Temporal};
 use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
+use crate::frame::aov::AovPass;
 use crate::frame::aov_params::aov_pass_params;
+use crate::frame::hit_geometry::HitGeometry;
+use crate::frame::motion::hits_before;
 use crate::frame::renderer::{Renderer, TracerFailure};
 use crate::frame::{BandTracer, FrameParams};
 use crate::output::Film;
@@ -36,6 +42,8 @@ pub(super) struct FrameDenoiser {
     temporal: Temporal,
     /// The last frame's geometry, kept while nothing moves.
     geometry: Option<GBuffer>,
+    /// The scene's hit geometry as the last frame had it.
+    hits: Arc<HitGeometry>,
 }
 
 /// A frame as the denoiser sees it: what it rendered and how it joined the film.
@@ -49,13 +57,17 @@ pub(super) struct RenderedFrame<'a> {
     pub film_size: (u32, u32),
     /// The camera or the scene changed since the previous frame.
     pub moved: bool,
+    /// The scene's new hit geometry, when the scene changed.
+    pub hits: Option<Arc<HitGeometry>>,
 }
 
 impl FrameDenoiser {
-    pub fn new(denoiser: Denoiser) -> FrameDenoiser {
+    /// `first`: the hit geometry of the scene the first frame renders.
+    pub fn new(denoiser: Denoiser, first: HitGeometry) -> FrameDenoiser {
         FrameDenoiser {
             temporal: Temporal::new(denoiser),
             geometry: None,
+            hits: Arc::new(first),
         }
     }
 
@@ -68,6 +80,11 @@ impl FrameDenoiser {
     ) -> Result<(Film, DenoiseStats)> {
         let (w, h) = frame.film_size;
         let start = Instant::now();
+        // The scene moved: hits are carried back from its geometry now to the one before.
+        let before = frame
+            .hits
+            .clone()
+            .map(|now| std::mem::replace(&mut self.hits, now));
         let kept = self
             .geometry
             .take()
@@ -75,7 +92,7 @@ impl FrameDenoiser {
         let (geometry, guides) = match kept {
             Some(g) => (g, None),
             None => (
-                render_geometry(renderer, frame.params, (w, h), failures)?,
+                render_geometry(renderer, frame.params, (w, h), &self.hits, before, failures)?,
                 Some(start.elapsed()),
             ),
         };
@@ -134,11 +151,17 @@ fn own_mean(frame: &RenderedFrame) -> Film {
 const GUIDE_SPP: u32 = 1;
 
 /// The geometry of the frame `params` renders, at the film's size: the AOV kernel passes, on
-/// the same tracers, in the beauty's bands and without the balancer learning from them.
+/// the same tracers, in the beauty's bands and without the balancer learning from them. Its
+/// surfaces are named by object (`hits`: the scene's hit geometry now), not by instance, so
+/// that a history outlives a change of the instances' order (an object added, or split out of
+/// the merged static geometry when it starts to move); where `before` (the hit geometry of
+/// the frame before) says the scene moved, with where each hit was then.
 fn render_geometry<T: BandTracer + Send + 'static>(
     renderer: &mut Renderer<T>,
     params: &FrameParams,
     (width, height): (u32, u32),
+    hits: &HitGeometry,
+    before: Option<Arc<HitGeometry>>,
     failures: &mut Vec<TracerFailure>,
 ) -> Result<GBuffer> {
     let mut films = Vec::new();
@@ -159,5 +182,18 @@ fn render_geometry<T: BandTracer + Send + 'static>(
             .map(|(_, f)| f.clone())
             .expect("every pass rendered")
     };
-    Ok(GBuffer::from_passes(&film, &params.camera))
+    let mut geometry = GBuffer::from_passes(&film, &params.camera);
+    let ids = film(AovPass::Ids);
+    for (key, id) in geometry.instance.iter_mut().zip(&ids.pixels) {
+        *key = if id[0] == 0.0 {
+            0.0
+        } else {
+            hits.object_key(id[0] as u32 - 1)
+        };
+    }
+    if let Some(before) = before {
+        let position = film(AovPass::Position);
+        geometry.before = Some(hits_before(&position, &ids, hits, &before));
+    }
+    Ok(geometry)
 }

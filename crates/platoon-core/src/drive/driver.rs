@@ -29,6 +29,7 @@ use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
 use crate::flatten::commit::Commit;
 use crate::flatten::GpuScene;
+use crate::frame::hit_geometry::HitGeometry;
 use crate::frame::renderer::{Renderer, TracerFailure, TracerStats};
 use crate::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
 use crate::output::Film;
@@ -186,6 +187,9 @@ struct FrameJob {
     /// synchronous preparation reads it, its flattened scene.
     generation: u64,
     scene: Option<Arc<GpuScene>>,
+    /// What carries its hits back to the frame before, when the scene changed and the frame
+    /// is denoised.
+    hits: Option<Arc<HitGeometry>>,
     /// The lighting the game thread chose for the frame (asynchronous preparation).
     gi: Option<GiStats>,
     update: UpdateTimes,
@@ -278,10 +282,13 @@ impl FrameDriver {
         if prepares {
             pipeline.keep_scenes();
         }
+        if options.denoise != Denoiser::None {
+            pipeline.keep_hit_geometry();
+        }
         let renderer = Renderer::new(tracers, balancer);
         let film = Accumulation::new(options.width, options.height);
-        let denoiser =
-            (options.denoise != Denoiser::None).then(|| FrameDenoiser::new(options.denoise));
+        let denoiser = (options.denoise != Denoiser::None)
+            .then(|| FrameDenoiser::new(options.denoise, HitGeometry::of_flattened(first)));
         // One frame queued at most: the game is never more than a frame ahead.
         let (jobs, inbox) = mpsc::sync_channel::<Job>(1);
         let (outbox, done) = mpsc::sync_channel(1);
@@ -415,16 +422,17 @@ impl FrameDriver {
             params.method = p.method.clone();
             GiStats::of(p, self.generation, gi_arrived)
         });
-        let (commit, update, scene) = match generation {
-            Some(g) if !g.commit.is_empty() => (Some(g.commit), g.times, g.scene),
-            Some(g) => (None, g.times, None),
-            None => (None, UpdateTimes::default(), None),
+        let (commit, update, scene, hits) = match generation {
+            Some(g) if !g.commit.is_empty() => (Some(g.commit), g.times, g.scene, g.hits),
+            Some(g) => (None, g.times, None, None),
+            None => (None, UpdateTimes::default(), None, None),
         };
         self.send(Job::Frame(Box::new(FrameJob {
             frame: self.frame,
             commit,
             generation: self.generation,
             scene: if self.worker.is_none() { scene } else { None },
+            hits,
             gi,
             update,
             params,
@@ -556,6 +564,7 @@ fn render_one<T: BandTracer + Send + 'static>(
         commit,
         generation,
         scene,
+        hits,
         mut gi,
         update,
         mut params,
@@ -604,6 +613,7 @@ fn render_one<T: BandTracer + Send + 'static>(
                 before: params.film.accumulated.as_deref(),
                 film_size: film.size(),
                 moved,
+                hits,
             };
             let (image, stats) = d.denoise(renderer, frame, &mut failures)?;
             (Some(image), Some(stats))

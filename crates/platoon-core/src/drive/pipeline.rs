@@ -17,6 +17,7 @@ use super::edit::{Edit, Structure};
 use super::{Generation, Updater};
 use crate::error::{Error, Result};
 use crate::flatten::GpuScene;
+use crate::frame::hit_geometry::HitGeometry;
 use crate::scene::Scene;
 
 /// The updater's threads: how many, and the cores they may run on (empty: any). See
@@ -36,13 +37,20 @@ impl Default for UpdaterThreads {
     }
 }
 
+/// What a generation that changes the scene carries besides its commit.
+#[derive(Clone, Copy, Debug, Default)]
+struct Keep {
+    scenes: bool,
+    hit_geometry: bool,
+}
+
 pub struct Pipeline {
     /// What edits are checked against on the game thread.
     structure: Structure,
     pending: Vec<Edit>,
-    to_updater: Option<SyncSender<(Vec<Edit>, bool)>>,
-    /// Whether each generation carries a snapshot of its flattened scene (`keep_scenes`).
-    snapshots: bool,
+    to_updater: Option<SyncSender<(Vec<Edit>, Keep)>>,
+    /// What each generation that changes the scene carries besides its commit.
+    keep: Keep,
     from_updater: Receiver<Result<Generation>>,
     in_flight: bool,
     ready: VecDeque<Generation>,
@@ -96,7 +104,7 @@ impl Pipeline {
         let structure = Structure::of(&scene);
         let mut updater = pool.install(|| Updater::new(scene, time, origin))?;
         let first = Arc::new(updater.flattened().clone());
-        let (to_updater, edits) = mpsc::sync_channel::<(Vec<Edit>, bool)>(1);
+        let (to_updater, edits) = mpsc::sync_channel::<(Vec<Edit>, Keep)>(1);
         let (done, from_updater) = mpsc::sync_channel::<Result<Generation>>(1);
         let worker = std::thread::Builder::new()
             .name("platoon updater".into())
@@ -105,12 +113,18 @@ impl Pipeline {
                 // that built it, with no hand-back to this one (a wake-up fewer between the
                 // update's end and the game thread's take).
                 pool.install(move || {
-                    while let Ok((batch, snapshot)) = edits.recv() {
+                    while let Ok((batch, keep)) = edits.recv() {
                         let g = apply(&mut updater, batch)
                             .and_then(|()| updater.update())
                             .map(|mut g| {
-                                if snapshot && !g.commit.is_empty() {
-                                    g.scene = Some(Arc::new(updater.flattened().clone()));
+                                if !g.commit.is_empty() {
+                                    let now = updater.flattened();
+                                    if keep.scenes {
+                                        g.scene = Some(Arc::new(now.clone()));
+                                    }
+                                    if keep.hit_geometry {
+                                        g.hits = Some(Arc::new(HitGeometry::of_flattened(now)));
+                                    }
                                 }
                                 g
                             });
@@ -125,7 +139,7 @@ impl Pipeline {
             structure,
             pending: Vec::new(),
             to_updater: Some(to_updater),
-            snapshots: false,
+            keep: Keep::default(),
             from_updater,
             in_flight: false,
             ready: VecDeque::new(),
@@ -149,7 +163,14 @@ impl Pipeline {
     /// its flattened scene (`Generation::scene`): what a method's preparation on the CPU reads
     /// (vertex links' elements). A copy of the scene per generation.
     pub fn keep_scenes(&mut self) {
-        self.snapshots = true;
+        self.keep.scenes = true;
+    }
+
+    /// From the next submit on, each generation that changes the scene carries what carries
+    /// its hits back to the frame before (`Generation::hits`): what the denoiser's
+    /// reprojection of moving objects reads. A few bytes per vertex and triangle.
+    pub fn keep_hit_geometry(&mut self) {
+        self.keep.hit_geometry = true;
     }
 
     /// Hands the edits made since the last submit to the updater, which starts building the
@@ -164,7 +185,7 @@ impl Pipeline {
         self.to_updater
             .as_ref()
             .expect("open until drop")
-            .send((batch, self.snapshots))
+            .send((batch, self.keep))
             .map_err(|_| Error::Invalid("the updater thread has stopped".into()))?;
         self.in_flight = true;
         self.blocked.push(start.elapsed());

@@ -21,6 +21,7 @@ use crate::flatten::commit::Commit;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
 use crate::flatten::static_merge::{StaticMerge, MERGED_NODE};
 use crate::flatten::{used_meshes, GpuScene, MeshRegion};
+use crate::frame::hit_geometry::HitGeometry;
 use crate::scene::floating_origin::FloatingOrigin;
 use crate::scene::{Mesh, Node, Posed, Scene};
 
@@ -62,6 +63,9 @@ pub struct Generation {
     /// The generation's flattened scene, when the pipeline keeps them (`Pipeline::keep_scenes`)
     /// and the scene changed.
     pub scene: Option<Arc<GpuScene>>,
+    /// What carries the generation's hits back to the frame before, when the pipeline keeps
+    /// it (`Pipeline::keep_hit_geometry`) and the scene changed.
+    pub hits: Option<Arc<HitGeometry>>,
 }
 
 pub struct Updater {
@@ -241,6 +245,7 @@ impl Updater {
                 refitted: 0,
                 rebuilt: 0,
                 scene: None,
+                hits: None,
             });
         }
         let mut times = UpdateTimes::default();
@@ -335,6 +340,7 @@ impl Updater {
             refitted: levels.refitted,
             rebuilt: levels.rebuilt,
             scene: None,
+            hits: None,
         })
     }
 

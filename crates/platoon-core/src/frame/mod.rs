@@ -11,6 +11,7 @@ pub mod cryptomatte;
 pub(crate) mod fakes;
 pub mod fault;
 mod film_state;
+pub mod hit_geometry;
 pub mod light_pass;
 pub mod motion;
 mod pixel_filter;
