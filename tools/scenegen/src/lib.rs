@@ -8,6 +8,7 @@ use serde_json::{json, Value};
 pub mod adversarial;
 pub mod atrium;
 pub mod bench;
+pub mod many_lights;
 pub mod materials;
 pub mod twins;
 

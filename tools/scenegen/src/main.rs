@@ -1,6 +1,7 @@
 //! `platoon-scenegen OUT.glb [--grid N] [--unique]`: writes the benchmark sphere field.
 //! `platoon-scenegen OUT.glb --glossy-glass`: the trade-off tool's glossy-and-glass scene.
 //! `platoon-scenegen OUT.glb --conference-room`: the IGI scene (a room lit by point lights).
+//! `platoon-scenegen OUT.glb --many-lights`: a hall lit by 128 emissive panels and 48 sconces.
 //! `platoon-scenegen OUT.glb --cornell-nodes | --cornell-cut N | --spheres | --atrium`: the bench
 //! scenes as exporters write them (the Cornell box a node per object, with every face cut into
 //! N x N quads; five spheres of glTF materials, textured ground; a Sponza-sized courtyard).
@@ -20,6 +21,7 @@ fn main() -> ExitCode {
     let mut unique = false;
     let mut glossy_glass = false;
     let mut conference_room = false;
+    let mut many_lights = false;
     let mut cornell_nodes = false;
     let mut cornell_cut = None;
     let mut atrium = false;
@@ -61,6 +63,7 @@ fn main() -> ExitCode {
             "--unique" => unique = true,
             "--glossy-glass" => glossy_glass = true,
             "--conference-room" => conference_room = true,
+            "--many-lights" => many_lights = true,
             "--cornell-nodes" => cornell_nodes = true,
             "--spheres" => spheres = true,
             "--atrium" => atrium = true,
@@ -87,13 +90,15 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let Some(out) = out else {
-        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --cornell-nodes | --cornell-cut N | --spheres | --atrium | --clearcoat | --diffuse-transmission | --sheen | --volume | --iridescence | --anisotropy | --dispersion]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
+        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --many-lights | --cornell-nodes | --cornell-cut N | --spheres | --atrium | --clearcoat | --diffuse-transmission | --sheen | --volume | --iridescence | --anisotropy | --dispersion]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
         return ExitCode::FAILURE;
     };
     let scene = if glossy_glass {
         platoon_scenegen::glossy_glass()
     } else if conference_room {
         platoon_scenegen::conference_room()
+    } else if many_lights {
+        platoon_scenegen::many_lights::many_lights()
     } else if cornell_nodes {
         platoon_scenegen::bench::cornell_nodes()
     } else if let Some(cells) = cornell_cut {
