@@ -87,6 +87,9 @@ bool sides_agree(vec3 ng_wo, vec3 wi, float shading_cos_product) {
 }
 
 #include "path/pixel_filter.glsl"
+#ifdef RIS_CONTRIBUTION
+#include "path/resampled_light.glsl"
+#endif
 
 // The random numbers of a frame pixel's sample: the image pixel's (a border render's window
 // draws what the whole image draws there).
@@ -311,7 +314,11 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 #ifndef SAMPLING_BSDF
     if (!bsdf_all_delta(bsdf)) {
         LightSample ls;
+#ifdef RIS_CONTRIBUTION
+        if (sample_light_toward(s.position, bsdf, wo, t, b, s.ns, ng_wo, rng, ls)) {
+#else
         if (sample_light(s.position, rng, ls)) {
+#endif
             float pdf;
             vec3 wi_local = to_local(ls.wi, t, b, s.ns);
             vec3 f = bsdf_eval(bsdf, wo, wi_local, pdf);

@@ -25,7 +25,7 @@ pub struct TradeoffArgs {
     spp_list: Vec<u32>,
     /// Techniques: mis, bsdf, light, max-depth=N, rr-depth=N, rr-survival=PERCENT,
     /// rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, generic-kernel, ris=M,
-    /// mis-ris=M, dpt, spt (the streaming kernels: Bikker's RR/SPT), nop (the last path of a
+    /// mis-ris=M, resampled-light=M, dpt, spt (the streaming kernels: Bikker's RR/SPT), nop (the last path of a
     /// pass cut where its SIMD group stopped: biased), single-bounce, no-textures,
     /// no-normal-maps, opaque, env-mean, denoise=atrous (the filter after assembly, guides and
     /// filter timed), adaptive=T (adaptive sampling at noise threshold T; the spp is each

@@ -69,6 +69,15 @@ pub struct ViewArgs {
     /// earlier frames' reprojected into the view before the filter; biased, the title says so.
     #[arg(long, default_value = "none")]
     denoise: Denoiser,
+    /// Next-event estimation resamples this many candidate lights toward their unshadowed
+    /// contribution (unbiased; for scenes of many lights).
+    #[arg(long)]
+    resampled_light: Option<u32>,
+    /// A game's real-time settings: resampled direct light over 8 candidates and the a-trous
+    /// denoiser over the history (moving objects keep theirs), unless --resampled-light or
+    /// --denoise say otherwise. Biased by the denoiser; the title says so.
+    #[arg(long)]
+    realtime: bool,
     /// Close after this many frames (for scripts and tests).
     #[arg(long)]
     frames: Option<u32>,
@@ -79,7 +88,17 @@ pub struct ViewArgs {
     display: crate::display_args::DisplayArgs,
 }
 
-pub fn run(args: ViewArgs) -> Result<()> {
+/// Candidate lights of `--realtime`'s resampled direct light: most of the gain in the
+/// many-light hall (tests/kernel/estimators.rs) for a few evaluations of the BSDF.
+const REALTIME_CANDIDATES: u32 = 8;
+
+pub fn run(mut args: ViewArgs) -> Result<()> {
+    if args.realtime {
+        args.resampled_light = args.resampled_light.or(Some(REALTIME_CANDIDATES));
+        if args.denoise == Denoiser::None {
+            args.denoise = Denoiser::Atrous;
+        }
+    }
     args.denoise
         .available()
         .map_err(|e| anyhow!("--denoise: {e}"))?;
@@ -118,6 +137,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
             .parse()
             .map_err(|e: String| anyhow!("--devices: {e}"))?,
         denoiser: args.denoise,
+        resampled_light: args.resampled_light,
         ..Default::default()
     };
     request.validate().map_err(crate::request_flags::as_flags)?;

@@ -82,10 +82,13 @@ impl Tracer {
                 "resampled light selection needs at least one candidate".into(),
             ));
         }
-        if params.ris_candidates.is_some() && self.features.punctual_lights {
+        if params.ris_candidates.is_some()
+            && !params.ris_contribution
+            && self.features.punctual_lights
+        {
             return Err(crate::Error::Invalid(
-                "resampled light selection weighs lights in solid angle: the scene's punctual \
-                 lights have no such density"
+                "resampled light selection by emitted luminance weighs lights in solid angle: \
+                 the scene's punctual lights have no such density (weigh by contribution)"
                     .into(),
             ));
         }

@@ -104,8 +104,15 @@ pub fn metadata_of(
         (
             "light_selection".into(),
             match (params.ris_candidates, params.uniform_light_selection) {
-                (Some(m), _) if params.ris_mis => format!("MIS+RIS over {m} candidates"),
-                (Some(m), _) => format!("RIS over {m} candidates"),
+                (Some(m), _) => format!(
+                    "{} over {m} candidates{}",
+                    if params.ris_mis { "MIS+RIS" } else { "RIS" },
+                    if params.ris_contribution {
+                        " weighed by contribution"
+                    } else {
+                        ""
+                    }
+                ),
                 (None, true) => "uniform".into(),
                 (None, false) => "power".into(),
             },
@@ -265,6 +272,7 @@ mod tests {
         q.uniform_light_selection = true;
         q.ris_candidates = Some(4);
         q.ris_mis = true;
+        q.ris_contribution = true;
         assert_eq!(approximations(&q), plain);
     }
 }

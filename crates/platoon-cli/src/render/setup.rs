@@ -131,6 +131,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         ao_distance,
         resume: _,
         max_depth,
+        resampled_light,
         seed,
         filter,
         camera,
@@ -226,6 +227,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         aovs,
         denoiser: denoise,
         adaptive,
+        resampled_light,
     };
     request.validate().map_err(as_flags)?;
     if mpi && time_limit.is_some() {

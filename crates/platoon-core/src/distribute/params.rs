@@ -47,6 +47,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         cut_last_paths,
         ris_candidates,
         ris_mis,
+        ris_contribution,
         method,
         kernel,
         seed,
@@ -75,6 +76,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         single_diffuse_bounce,
         cut_last_paths,
         ris_mis,
+        ris_contribution,
     ] {
         w.u8(*b as u8);
     }
@@ -163,6 +165,7 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
     p.single_diffuse_bounce = flag(r)?;
     p.cut_last_paths = flag(r)?;
     p.ris_mis = flag(r)?;
+    p.ris_contribution = flag(r)?;
     let some = flag(r)?;
     let m = r.u32()?;
     p.ris_candidates = some.then_some(m);
@@ -270,6 +273,7 @@ mod tests {
         p.clamp_indirect = Some(9.0);
         p.ris_candidates = Some(4);
         p.ris_mis = true;
+        p.ris_contribution = true;
         p.cut_last_paths = true;
         p.transparent_film = true;
         p.ao_distance = 2.5;

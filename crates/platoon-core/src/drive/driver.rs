@@ -71,6 +71,9 @@ pub struct DriverOptions {
     /// the still view that follows converges to exact sums), instead of blending the new
     /// samples in (a game's: moving objects keep the history). Off by default.
     pub restart_on_change: bool,
+    /// Next-event estimation resamples this many candidate lights toward their unshadowed
+    /// contribution ([`FrameParams::set_resampled_light`]); None: one drawn by power.
+    pub resampled_light: Option<u32>,
 }
 
 impl DriverOptions {
@@ -84,6 +87,7 @@ impl DriverOptions {
         p.rr_depth = self.rr_depth;
         p.samples_per_pass = self.samples_per_pass;
         p.method = self.method.clone();
+        p.set_resampled_light(self.resampled_light);
         p
     }
 
@@ -101,6 +105,7 @@ impl DriverOptions {
             rr_depth: 3,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             method: crate::method::Method::path_tracing(),
+            resampled_light: None,
             queries: false,
             gi_update: GiUpdate::default(),
             denoise: Denoiser::None,

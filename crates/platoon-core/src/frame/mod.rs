@@ -89,6 +89,11 @@ pub struct FrameParams {
     /// With `ris_candidates`: combine the RIS light sample with BSDF sampling by MIS, weighing
     /// with the kept candidate's own pdf (Bikker's MIS+RIS; still unbiased).
     pub ris_mis: bool,
+    /// With `ris_candidates`: weigh each candidate by its unshadowed contribution at the
+    /// shading point (the BSDF's f cos times its radiance) instead of its emitted luminance:
+    /// ReSTIR DI's target (Bitterli et al. 2020), without reuse yet; still unbiased, and
+    /// punctual lights may take part.
+    pub ris_contribution: bool,
     /// The rendering method and its options (`crate::method`; path tracing by default).
     pub method: crate::method::Method,
     /// How the path tracer's work is cut into kernels (the same image either way).
@@ -159,6 +164,17 @@ impl Output {
 }
 
 impl FrameParams {
+    /// Resampled direct light over `candidates` lights (None: one light drawn by power): RIS
+    /// toward each candidate's unshadowed contribution, combined with BSDF sampling by MIS
+    /// (`ris_candidates`, `ris_mis`, `ris_contribution`).
+    pub fn set_resampled_light(&mut self, candidates: Option<u32>) {
+        if let Some(m) = candidates {
+            self.ris_candidates = Some(m);
+            self.ris_mis = true;
+            self.ris_contribution = true;
+        }
+    }
+
     /// Whether the frame may be split between `devices`: a time limit cuts one device's
     /// frame only (bands cut at different times would break the image's independence from
     /// the split).
@@ -200,6 +216,7 @@ impl FrameParams {
             cut_last_paths: false,
             ris_candidates: None,
             ris_mis: false,
+            ris_contribution: false,
             method: crate::method::Method::path_tracing(),
             kernel: Default::default(),
             seed: 0,

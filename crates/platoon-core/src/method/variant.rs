@@ -97,6 +97,11 @@ impl KernelVariant {
             ("ris-lights", "LIGHT_SELECT_RIS", ris),
             ("ris-mis", "RIS_MIS", ris && params.ris_mis),
             (
+                "ris-contribution",
+                "RIS_CONTRIBUTION",
+                ris && params.ris_contribution,
+            ),
+            (
                 "gaussian-filter",
                 "PIXEL_FILTER_GAUSSIAN",
                 params.filter == PixelFilter::Gaussian,

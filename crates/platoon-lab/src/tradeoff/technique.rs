@@ -43,6 +43,10 @@ pub enum Technique {
     Ris(u32),
     /// The same combined with BSDF sampling by MIS (Bikker's MIS+RIS; unbiased).
     MisRis(u32),
+    /// Resampled direct light: M candidates weighed by their unshadowed contribution (the
+    /// BSDF's f cos times radiance: ReSTIR DI's target, no reuse), combined with BSDF sampling
+    /// by MIS; unbiased, punctual lights too.
+    ResampledLight(u32),
     /// Bikker's deterministic path termination instead of Russian roulette (biased).
     DeterministicTermination,
     /// Paths end at their second non-delta vertex (biased).
@@ -124,10 +128,11 @@ impl Technique {
             "uniform-lights" => Technique::UniformLights,
             "generic-kernel" => Technique::GenericKernel,
             "dpt" => Technique::DeterministicTermination,
-            "ris" | "mis-ris" => match number("ris (candidates)")? {
+            "ris" | "mis-ris" | "resampled-light" => match number("ris (candidates)")? {
                 0 => bail!("technique {s:?}: RIS needs at least one candidate"),
                 m if name == "ris" => Technique::Ris(m),
-                m => Technique::MisRis(m),
+                m if name == "mis-ris" => Technique::MisRis(m),
+                m => Technique::ResampledLight(m),
             },
             "single-bounce" => Technique::SingleDiffuseBounce,
             "spt" => Technique::Streaming,
@@ -152,7 +157,7 @@ impl Technique {
             _ => bail!(
                 "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
                  rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
-                 generic-kernel, ris=M, mis-ris=M, dpt, single-bounce, spt, nop, no-textures, \
+                 generic-kernel, ris=M, mis-ris=M, resampled-light=M, dpt, single-bounce, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
                  env-mean, no-clearcoat, no-diffuse-transmission, no-sheen, no-volume, \
                  no-iridescence, no-anisotropy, no-dispersion, denoise=atrous, denoise=oidn, \
@@ -216,6 +221,7 @@ impl Technique {
                 params.ris_candidates = Some(m);
                 params.ris_mis = true;
             }
+            Technique::ResampledLight(m) => params.set_resampled_light(Some(m)),
             Technique::SingleDiffuseBounce => params.single_diffuse_bounce = true,
             Technique::Streaming => {
                 params.kernel = platoon_core::method::path::PathKernel::Streaming
@@ -251,6 +257,7 @@ impl fmt::Display for Technique {
             Technique::DeterministicTermination => write!(f, "dpt"),
             Technique::Ris(m) => write!(f, "ris={m}"),
             Technique::MisRis(m) => write!(f, "mis-ris={m}"),
+            Technique::ResampledLight(m) => write!(f, "resampled-light={m}"),
             Technique::SingleDiffuseBounce => write!(f, "single-bounce"),
             Technique::Streaming => write!(f, "spt"),
             Technique::CutLastPaths => write!(f, "nop"),
@@ -286,6 +293,7 @@ mod tests {
             Technique::CutLastPaths,
             Technique::Ris(8),
             Technique::MisRis(4),
+            Technique::ResampledLight(8),
             Technique::Without(Effect::Textures),
             Technique::Without(Effect::EnvironmentMap),
             Technique::Without(Effect::Clearcoat),

@@ -122,6 +122,10 @@ pub struct Request {
     pub aovs: Vec<Aov>,
     /// A denoiser run after assembly (biased).
     pub denoiser: Denoiser,
+    /// The path tracer's next-event estimation resamples this many candidate lights toward
+    /// their unshadowed contribution (ReSTIR DI's candidates, without reuse; unbiased): for
+    /// scenes of many lights. None: one light drawn by power.
+    pub resampled_light: Option<u32>,
     pub adaptive: Option<Adaptive>,
 }
 
@@ -143,6 +147,7 @@ impl Default for Request {
             spp: 64,
             time_limit: None,
             max_depth: None,
+            resampled_light: None,
             seed: 0,
             filter: PixelFilter::Box,
             transparent_film: false,
@@ -206,6 +211,7 @@ impl Request {
         if let Some(d) = self.max_depth {
             params.max_depth = d;
         }
+        params.set_resampled_light(self.resampled_light);
         params.time_limit = self.time_limit;
         params
     }

@@ -24,6 +24,7 @@ impl Request {
         }
         driver.method = self.method.clone();
         driver.denoise = self.denoiser;
+        driver.resampled_light = self.resampled_light;
         GameOptions {
             driver,
             devices: self.devices.clone(),

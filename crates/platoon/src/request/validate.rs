@@ -58,6 +58,21 @@ impl Request {
                 refuse("crop", e)?;
             }
         }
+        if self.resampled_light == Some(0) {
+            refuse(
+                "resampled_light",
+                "resampling needs at least one candidate light",
+            )?;
+        }
+        if self.resampled_light.is_some() && self.method.unit().name() != "path" {
+            refuse(
+                "resampled_light",
+                format!(
+                    "resamples the path tracer's light; {} gathers its light its own way",
+                    self.method.unit().name()
+                ),
+            )?;
+        }
         if self.max_depth == Some(0) {
             refuse(
                 "max_depth",
