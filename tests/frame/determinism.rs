@@ -88,6 +88,48 @@ fn any_band_split_gives_the_same_bits() {
     }
 }
 
+/// Resampled direct light (issue 43) among the many-light hall's panels and sconces: a
+/// pixel's candidates are its own random numbers, so any split gives the same bits, on both
+/// path kernels.
+#[test]
+fn resampled_direct_light_gives_the_same_bits_for_any_split() {
+    let prepared = prepare(
+        load_generated(&platoon_scenegen::many_lights::many_lights()),
+        platoon::EnvChoice::Scene,
+    );
+    let mut tracer = tracer(&prepared, Sampling::Mis);
+    for kernel in [PathKernel::Mega, PathKernel::Streaming] {
+        let mut params = FrameParams::new(24, 16, 2, prepared.camera);
+        params.kernel = kernel;
+        params.set_resampled_light(Some(8));
+        let whole =
+            platoon::render_bands(&mut tracer, &params, &[Span::lines(24, 0, 16)], &mut |_| {})
+                .unwrap();
+        let split = platoon::render_bands(
+            &mut tracer,
+            &params,
+            &line_bands(24, &proportional(16, &[1.0, 2.0, 1.0])),
+            &mut |_| {},
+        )
+        .unwrap();
+        assert!(
+            whole.film == split.film,
+            "{kernel:?}: 3 bands differ from one"
+        );
+        assert_eq!(whole.film.count_non_finite(), 0);
+        // It is the resampling kernel: another image than one light drawn by power.
+        params.ris_candidates = None;
+        let plain =
+            platoon::render_bands(&mut tracer, &params, &[Span::lines(24, 0, 16)], &mut |_| {})
+                .unwrap();
+        assert!(
+            plain.film != whole.film,
+            "{kernel:?}: resampling changed nothing"
+        );
+    }
+    assert_no_validation_messages(&tracer);
+}
+
 #[test]
 fn interleaved_passes_give_the_contiguous_image() {
     let prepared = cesium();

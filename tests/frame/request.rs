@@ -288,7 +288,7 @@ fn every_rule_refuses_by_naming_its_option() {
         (
             Request {
                 adaptive,
-                method: igi,
+                method: igi.clone(),
                 ..small()
             },
             "adaptive",
@@ -311,6 +311,23 @@ fn every_rule_refuses_by_naming_its_option() {
             },
             "aovs",
             "2 samples",
+        ),
+        (
+            Request {
+                resampled_light: Some(0),
+                ..small()
+            },
+            "resampled_light",
+            "at least one candidate",
+        ),
+        (
+            Request {
+                resampled_light: Some(8),
+                method: igi.clone(),
+                ..small()
+            },
+            "resampled_light",
+            "igi gathers its light",
         ),
     ];
     for (request, option, says) in cases {
