@@ -88,16 +88,11 @@ pub struct ViewArgs {
     display: crate::display_args::DisplayArgs,
 }
 
-/// Candidate lights of `--realtime`'s resampled direct light: most of the gain in the
-/// many-light hall (tests/kernel/estimators.rs) for a few evaluations of the BSDF.
-const REALTIME_CANDIDATES: u32 = 8;
-
 pub fn run(mut args: ViewArgs) -> Result<()> {
     if args.realtime {
-        args.resampled_light = args.resampled_light.or(Some(REALTIME_CANDIDATES));
-        if args.denoise == Denoiser::None {
-            args.denoise = Denoiser::Atrous;
-        }
+        // The game loop's rule, on the flags before the request validates them.
+        (args.resampled_light, args.denoise) =
+            platoon::core::drive::realtime(args.resampled_light, args.denoise);
     }
     args.denoise
         .available()

@@ -5,11 +5,13 @@
 //! ```sh
 //! cargo run --release -p platoon-game --example game -- [--frames 240] [--target-ms 50] \
 //!     [--size 160x120] [--devices lavapipe:1,1] [--out game-out] [--character CesiumMan.glb] \
-//!     [--denoise atrous]
+//!     [--denoise atrous] [--resampled-light 8] [--realtime]
 //! ```
 //!
 //! With `--denoise` the frames written are denoised with their history (the CSV's denoise_ms
-//! says what it cost).
+//! says what it cost). `--resampled-light M` resamples next-event estimation from M candidate
+//! lights; `--realtime` is a game's setting of both (8 candidates, a-trous) where the flags
+//! leave them open.
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -26,6 +28,8 @@ fn main() -> Result<()> {
     let mut out = PathBuf::from("game-out");
     let mut validation = false;
     let mut denoise = platoon::core::denoise::Denoiser::None;
+    let mut resampled_light = None;
+    let mut realtime = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = || args.next().with_context(|| format!("{a} needs a value"));
@@ -43,6 +47,8 @@ fn main() -> Result<()> {
             "--out" => out = value()?.into(),
             "--validation" => validation = true,
             "--denoise" => denoise = value()?.parse().map_err(anyhow::Error::msg)?,
+            "--resampled-light" => resampled_light = Some(value()?.parse()?),
+            "--realtime" => realtime = true,
             other => anyhow::bail!("unknown argument {other:?}"),
         }
     }
@@ -53,6 +59,17 @@ fn main() -> Result<()> {
     game.devices = devices.parse().map_err(anyhow::Error::msg)?;
     game.validation = validation;
     game.driver.denoise = denoise;
+    game.driver.resampled_light = resampled_light;
+    if realtime {
+        game.driver.realtime();
+    }
+    if game.driver.resampled_light == Some(0) {
+        anyhow::bail!("--resampled-light needs at least one candidate light");
+    }
+    game.driver
+        .denoise
+        .available()
+        .map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
     let played = play(
         &PlayOptions {
             game,

@@ -38,6 +38,15 @@ pub struct GameArgs {
     /// `--features oidn`): its cost joins the frame time the loop holds.
     #[arg(long, default_value = "none")]
     pub denoise: Denoiser,
+    /// Next-event estimation resamples this many candidate lights toward their unshadowed
+    /// contribution (unbiased).
+    #[arg(long)]
+    pub resampled_light: Option<u32>,
+    /// A game's real-time settings: resampled direct light over 8 candidates and the a-trous
+    /// denoiser, unless --resampled-light or --denoise say otherwise (`platoon bench realtime`
+    /// measures their error at equal time).
+    #[arg(long)]
+    pub realtime: bool,
     /// Print one JSON object after the text.
     #[arg(long)]
     pub json: bool,
@@ -124,10 +133,22 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     };
     game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
     game.driver.denoise = o.denoise;
+    game.driver.resampled_light = o.resampled_light;
+    if o.realtime {
+        game.driver.realtime();
+    }
+    if game.driver.resampled_light == Some(0) {
+        bail!("--resampled-light needs at least one candidate light");
+    }
     game.ranks = ranks.clone();
-    o.denoise
+    game.driver
+        .denoise
         .available()
         .map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
+    let techniques = Techniques {
+        denoise: game.driver.denoise,
+        resampled_light: game.driver.resampled_light,
+    };
     eprintln!(
         "playing {} frames of the game at {}x{} on {}, holding {} ms a frame",
         o.frames, width, height, o.devices, o.target_ms
@@ -144,7 +165,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     let csv = o.out.join("game.csv");
     platoon_game::play::write_csv(&csv, &played.records)?;
     let comm = ranks.map(|r| communication(r.0.size(), s.frames));
-    println!("{}", text(o, &s));
+    println!("{}", text(o, &techniques, &s));
     if let Some(c) = &comm {
         println!(
             "over {} ranks: {:.0} bytes a frame to the other ranks, {:.0} back, {:.2} ms a frame \
@@ -158,7 +179,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     }
     println!("per-frame numbers in {}", csv.display());
     if o.json {
-        let mut j = json(o, &s);
+        let mut j = json(o, &techniques, &s);
         if let Some(c) = &comm {
             j["mpi"] = serde_json::json!({
                 "ranks": c.ranks,
@@ -236,13 +257,19 @@ pub fn summarize(records: &[FrameRecord], target_ms: f64) -> Summary {
     }
 }
 
-fn text(o: &GameArgs, s: &Summary) -> String {
+/// What the game rendered with beyond plain path tracing.
+struct Techniques {
+    denoise: Denoiser,
+    resampled_light: Option<u32>,
+}
+
+fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
     format!(
         "game bench: {} frames at {}x{} on {}, target {:.1} ms\n\
          settled after {} frames; then frame time median {:.2} ms, p99 {:.2} ms \
          (render thread {:.2} ms), {:.1}% of frames within +-10% of the target\n\
          samples per frame (median) {}, update {:.2} ms a frame of which {:.1}% hidden behind \
-         rendering, tracers idle {:.2}% (median){}",
+         rendering, tracers idle {:.2}% (median){}{}",
         s.frames,
         o.size.0,
         o.size.1,
@@ -257,7 +284,11 @@ fn text(o: &GameArgs, s: &Summary) -> String {
         s.update_ms_median,
         100.0 * s.update_hidden_fraction,
         s.idle_percent_median,
-        match o.denoise {
+        match t.resampled_light {
+            Some(m) => format!("\ndirect light resampled from {m} candidate lights"),
+            None => String::new(),
+        },
+        match t.denoise {
             Denoiser::None => String::new(),
             d => format!(
                 "\ndenoised ({}) with reprojected history: {:.2} ms a frame (median, in the \
@@ -269,7 +300,7 @@ fn text(o: &GameArgs, s: &Summary) -> String {
     )
 }
 
-fn json(o: &GameArgs, s: &Summary) -> serde_json::Value {
+fn json(o: &GameArgs, t: &Techniques, s: &Summary) -> serde_json::Value {
     serde_json::json!({
         "target_ms": o.target_ms,
         "frames": s.frames,
@@ -285,7 +316,8 @@ fn json(o: &GameArgs, s: &Summary) -> serde_json::Value {
         "update_ms_median": s.update_ms_median,
         "update_hidden_fraction": s.update_hidden_fraction,
         "idle_percent_median": s.idle_percent_median,
-        "denoise": o.denoise.name(),
+        "denoise": t.denoise.name(),
+        "resampled_light": t.resampled_light,
         "denoise_ms_median": s.denoise_ms_median,
     })
 }

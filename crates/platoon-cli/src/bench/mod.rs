@@ -6,6 +6,7 @@ mod dynamic;
 mod game;
 mod game_costs;
 mod kernel;
+mod realtime;
 mod scenes;
 
 use anyhow::{Context as _, Result};
@@ -26,6 +27,9 @@ pub enum BenchMode {
     Game(game::GameArgs),
     /// The line balancers compared over an orbiting camera (Brigade's Table 16 for platoon).
     Balance(balance::BalanceArgs),
+    /// A game's image at its frame budget: each real-time technique (the denoiser, resampled
+    /// direct light, both) against converged renders of the same frames.
+    Realtime(realtime::RealtimeArgs),
     /// Each rendering method's own bench (platoon-lab's `method`).
     #[command(flatten)]
     Method(platoon_lab::method::MethodBench),
@@ -38,6 +42,7 @@ pub fn run(mode: BenchMode) -> Result<()> {
         BenchMode::Dynamic(a) => dynamic::run(&a).context("bench dynamic failed"),
         BenchMode::Game(a) => game::run(&a).context("bench game failed"),
         BenchMode::Balance(a) => balance::run(a),
+        BenchMode::Realtime(a) => realtime::run(&a).context("bench realtime failed"),
         BenchMode::Method(m) => m.run(),
     }
 }

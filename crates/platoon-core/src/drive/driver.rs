@@ -76,7 +76,28 @@ pub struct DriverOptions {
     pub resampled_light: Option<u32>,
 }
 
+/// Candidate lights of a game's resampled direct light ([`DriverOptions::realtime`]): most of
+/// the gain in the many-light hall (tests/kernel/estimators.rs) for a few evaluations of the BSDF.
+pub const REALTIME_CANDIDATES: u32 = 8;
+
+/// [`DriverOptions::realtime`]'s rule on a resampled-light and a denoiser setting (for front
+/// ends that validate them before any driver exists).
+pub fn realtime(resampled_light: Option<u32>, denoise: Denoiser) -> (Option<u32>, Denoiser) {
+    let denoise = match denoise {
+        Denoiser::None => Denoiser::Atrous,
+        d => d,
+    };
+    (resampled_light.or(Some(REALTIME_CANDIDATES)), denoise)
+}
+
 impl DriverOptions {
+    /// A game's real-time settings where these options leave them open: resampled direct light
+    /// over [`REALTIME_CANDIDATES`] lights and the à-trous denoiser over the history (biased by
+    /// the denoiser, reported as such).
+    pub fn realtime(&mut self) {
+        (self.resampled_light, self.denoise) = realtime(self.resampled_light, self.denoise);
+    }
+
     /// A frame's params of `width` x `height` at `spp` from `camera` with these options' seed,
     /// depths, samples per pass and method (what every frame and a method's preparation share).
     fn frame_params(&self, width: u32, height: u32, spp: u32, camera: Camera) -> FrameParams {

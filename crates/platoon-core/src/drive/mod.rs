@@ -22,7 +22,10 @@ pub mod updater;
 pub mod walk;
 
 pub use denoising::DenoiseStats;
-pub use driver::{DriverOptions, FinishedFrame, FrameDriver, FrameOutput, FrameStats};
+pub use driver::{
+    realtime, DriverOptions, FinishedFrame, FrameDriver, FrameOutput, FrameStats,
+    REALTIME_CANDIDATES,
+};
 pub use edit::Edit;
 pub use gi::{GiStats, GiUpdate};
 pub use pipeline::{Pipeline, UpdaterThreads};

@@ -1,0 +1,368 @@
+//! `platoon bench realtime` (issue 43): a game's image at its frame budget, technique by
+//! technique, against converged renders of the same frames. The game loop (platoon's frame
+//! driver, its frame time held by the workload scaler) plays a scripted scene: the many-light
+//! hall by default with CesiumMan walking in it, the camera gliding sideways, each frame at its
+//! own animation time (a fixed step, not the wall clock, so that every technique plays the same
+//! frames). The last frames are measured: what the game shows (the denoised frame where a
+//! denoiser runs, else the film) against a still render of that frame's scene and camera at many
+//! samples, by relative MSE and LDR-FLIP (`tradeoff::metrics`).
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+use anyhow::{bail, Context as _, Result};
+use glam::{DVec3, Mat4};
+use platoon::devices::{create_tracers, DeviceSpec};
+use platoon_core::denoise::Denoiser;
+use platoon_core::drive::{DriverOptions, Edit, FinishedFrame, Updater, REALTIME_CANDIDATES};
+use platoon_core::frame::renderer::Renderer;
+use platoon_core::frame::FrameParams;
+use platoon_core::measure::median;
+use platoon_core::output::Film;
+use platoon_core::scene::camera::Camera;
+use platoon_core::scene::{Placement, Scene};
+use platoon_tracer::Sampling;
+
+use crate::tradeoff::metrics;
+
+/// What the game renders with: platoon's real-time techniques, alone and together.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Technique {
+    /// Path tracing with NEE by power and MIS, the film as it is.
+    Plain,
+    /// The same denoised by à-trous over the reprojected history.
+    Denoised,
+    /// Resampled direct light over a game's [`REALTIME_CANDIDATES`] lights.
+    Resampled,
+    /// Both.
+    Combined,
+}
+
+impl Technique {
+    pub const ALL: [Technique; 4] = [
+        Technique::Plain,
+        Technique::Denoised,
+        Technique::Resampled,
+        Technique::Combined,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Technique::Plain => "plain",
+            Technique::Denoised => "atrous",
+            Technique::Resampled => "resampled",
+            Technique::Combined => "resampled+atrous",
+        }
+    }
+
+    pub fn parse(s: &str) -> Result<Technique> {
+        Technique::ALL
+            .into_iter()
+            .find(|t| t.name() == s)
+            .with_context(|| {
+                let names: Vec<_> = Technique::ALL.iter().map(|t| t.name()).collect();
+                format!("unknown technique {s:?}: one of {}", names.join(", "))
+            })
+    }
+
+    fn apply(self, driver: &mut DriverOptions) {
+        if matches!(self, Technique::Denoised | Technique::Combined) {
+            driver.denoise = Denoiser::Atrous;
+        }
+        if matches!(self, Technique::Resampled | Technique::Combined) {
+            driver.resampled_light = Some(REALTIME_CANDIDATES);
+        }
+    }
+}
+
+/// The bench's settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// A glTF scene; None: the many-light hall (`platoon-scenegen --many-lights`).
+    pub scene: Option<PathBuf>,
+    /// A skinned, animated glTF walking in the scene; None: none.
+    pub character: Option<PathBuf>,
+    pub width: u32,
+    pub height: u32,
+    /// The frame time the game holds.
+    pub target_ms: f64,
+    /// Frames played; the last `measured` are measured.
+    pub frames: u32,
+    pub measured: u32,
+    /// Samples per pixel of each measured frame's reference.
+    pub reference_spp: u32,
+    pub devices: String,
+    pub techniques: Vec<Technique>,
+    /// How far the camera glides sideways a frame, in scene units.
+    pub camera_step: f32,
+    /// Each technique plays this many times, with other random numbers (seeds 0, 1...): two
+    /// or more measure its bias.
+    pub repeat: u32,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            scene: None,
+            character: Some(crate::shared::path("scenes/CesiumMan.glb")),
+            width: 160,
+            height: 90,
+            target_ms: 100.0,
+            frames: 24,
+            measured: 4,
+            reference_spp: 256,
+            devices: "auto".into(),
+            techniques: Technique::ALL.to_vec(),
+            camera_step: 0.03,
+            repeat: 2,
+        }
+    }
+}
+
+/// One technique's measure.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub technique: Technique,
+    pub frame_ms_median: f64,
+    pub spp_median: f64,
+    /// Over the measured frames' pixels and channels (and the plays).
+    pub relmse: f64,
+    pub flip: f64,
+    /// The relative squared bias (`metrics::relative_squared_bias` over the plays, averaged
+    /// over the measured frames): what is left of `relmse` once the noise is averaged away,
+    /// the reference's own noise included; None with one play.
+    pub bias: Option<f64>,
+}
+
+/// Animation time of frame `f`: a fixed step of the target frame time.
+fn time_of(o: &Options, f: u32) -> f32 {
+    f as f32 * (o.target_ms * 1e-3) as f32
+}
+
+/// The scene the bench plays and the camera path's start.
+pub fn scene(o: &Options) -> Result<(Scene, Camera)> {
+    let mut scene = match &o.scene {
+        Some(path) => platoon::load_scene(Some(path))?,
+        None => {
+            let dir = tempfile::tempdir()?;
+            let path = dir.path().join("many-lights.glb");
+            let hall = platoon_scenegen::many_lights::many_lights();
+            std::fs::write(&path, platoon_scenegen::to_glb(&hall))?;
+            platoon::load_scene(Some(&path))?
+        }
+    };
+    let camera = Camera::from_scene(&scene, &scene.pose(0.0), None)
+        .map_err(|e| anyhow::anyhow!("the camera path's start: {e}"))?;
+    if let Some(path) = &o.character {
+        let character = platoon::load_scene(Some(path))
+            .with_context(|| format!("{}: the walking character", path.display()))?;
+        // Three units ahead of the camera, on the floor below it.
+        let ahead = camera.position() + camera.basis(1, 1).forward * 3.0;
+        let at = DVec3::new(ahead.x as f64, 0.0, ahead.z as f64);
+        scene.append(&character, Placement::at(at))?;
+    }
+    Ok((scene, camera))
+}
+
+/// Frame `f`'s camera: `start` moved sideways by `step` a frame.
+fn camera_of(start: Camera, step: f32, f: u32) -> Camera {
+    let right = start.basis(1, 1).right.normalize_or_zero();
+    let mut c = start;
+    c.camera_to_world = Mat4::from_translation(right * step * f as f32) * start.camera_to_world;
+    c
+}
+
+/// The still render of frame `f` at the reference's samples: its scene at its time, its camera.
+fn reference(o: &Options, scene: &Scene, start: Camera, f: u32) -> Result<Film> {
+    let updater = Updater::new(scene.clone(), time_of(o, f), DVec3::ZERO)?;
+    let spec: DeviceSpec = o.devices.parse().map_err(anyhow::Error::msg)?;
+    let tracers = create_tracers(&spec, updater.flattened(), false, Sampling::Mis)?;
+    let mut renderer = Renderer::new(
+        tracers,
+        platoon_core::balance::by_name("cost-aware").unwrap(),
+    );
+    let mut params = FrameParams::new(
+        o.width,
+        o.height,
+        o.reference_spp,
+        camera_of(start, o.camera_step, f),
+    );
+    // Other random numbers than any game frame's.
+    params.seed = 0x5eed_0000 + f;
+    Ok(renderer.render_frame(&params)?.film)
+}
+
+/// Plays the game with `technique` and `seed`; the finished frames by index.
+fn play(
+    o: &Options,
+    scene: &Scene,
+    start: Camera,
+    technique: Technique,
+    seed: u32,
+) -> Result<Vec<FinishedFrame>> {
+    let mut driver = DriverOptions::new(o.width, o.height);
+    driver.seed = seed;
+    driver.target = Some(std::time::Duration::from_secs_f64(o.target_ms * 1e-3));
+    technique.apply(&mut driver);
+    let mut options = platoon::game::GameOptions::new(driver);
+    options.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
+    let mut d = platoon::game::start(scene.clone(), &options)?;
+    let mut done = Vec::new();
+    for f in 0..o.frames {
+        // An edit made before frame f's call is rendered by frame f + 1.
+        d.scene().push(Edit::Time(time_of(o, f + 1)))?;
+        done.extend(d.frame(camera_of(start, o.camera_step, f))?.finished);
+    }
+    done.extend(d.finish()?);
+    Ok(done)
+}
+
+/// Runs the bench: one row per technique, in `o.techniques`' order.
+pub fn run(o: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Row>> {
+    if o.repeat == 0 {
+        bail!("play each technique once at least");
+    }
+    if o.measured == 0 || o.measured > o.frames {
+        bail!(
+            "measure between 1 and the {} frames played, not {}",
+            o.frames,
+            o.measured
+        );
+    }
+    o.devices
+        .parse::<DeviceSpec>()
+        .map_err(|e| anyhow::anyhow!("devices: {e}"))?;
+    let (scene, start) = scene(o)?;
+    let first = o.frames - o.measured;
+    let mut references: HashMap<u32, Film> = HashMap::new();
+    for f in first..o.frames {
+        progress(&format!(
+            "reference of frame {f} at {} spp",
+            o.reference_spp
+        ));
+        references.insert(f, reference(o, &scene, start, f)?);
+    }
+    let mut rows = Vec::new();
+    for &technique in &o.techniques {
+        let mut shown: Vec<Vec<Film>> = vec![Vec::new(); o.measured as usize];
+        let (mut busy, mut spp) = (Vec::new(), Vec::new());
+        for seed in 0..o.repeat {
+            progress(&format!(
+                "playing {} frames with {} (seed {seed})",
+                o.frames,
+                technique.name()
+            ));
+            let frames = play(o, &scene, start, technique, seed)?;
+            let settled = &frames[frames.len() / 2..];
+            busy.extend(settled.iter().map(|f| f.stats.busy.as_secs_f64() * 1e3));
+            spp.extend(settled.iter().map(|f| f.stats.plan.spp as f64));
+            let measured: Vec<FinishedFrame> = frames
+                .into_iter()
+                .filter(|f| f.stats.frame >= first)
+                .collect();
+            if measured.len() != o.measured as usize {
+                bail!(
+                    "{}: {} of the {} measured frames finished",
+                    technique.name(),
+                    measured.len(),
+                    o.measured
+                );
+            }
+            for f in measured {
+                let k = (f.stats.frame - first) as usize;
+                shown[k].push(f.denoised.unwrap_or(f.film));
+            }
+        }
+        let (mut relmse, mut flip, mut bias) = (0.0, 0.0, 0.0);
+        let plays = (o.measured * o.repeat) as f64;
+        for (k, films) in shown.iter().enumerate() {
+            let reference = &references[&(first + k as u32)];
+            for film in films {
+                let e = metrics::errors(film, reference);
+                relmse += e.relmse / plays;
+                flip += e.flip / plays;
+            }
+            if o.repeat >= 2 {
+                let films: Vec<&Film> = films.iter().collect();
+                bias += metrics::relative_squared_bias(&films, reference) / o.measured as f64;
+            }
+        }
+        rows.push(Row {
+            technique,
+            frame_ms_median: median(busy),
+            spp_median: median(spp),
+            relmse,
+            flip,
+            bias: (o.repeat >= 2).then_some(bias),
+        });
+    }
+    Ok(rows)
+}
+
+/// The rows as a table, with each technique's relative MSE over the first row's.
+pub fn text(o: &Options, rows: &[Row]) -> String {
+    let mut s = format!(
+        "{}x{} at {} ms a frame, {} frames played {} time(s), the last {} against {} spp \
+         references\n\
+         technique          frame ms   spp   relative MSE   x first   LDR-FLIP   squared bias\n",
+        o.width, o.height, o.target_ms, o.frames, o.repeat, o.measured, o.reference_spp
+    );
+    let base = rows.first().map_or(1.0, |r| r.relmse);
+    for r in rows {
+        s += &format!(
+            "{:<18} {:>8.1} {:>5.1} {:>14.4} {:>9.2} {:>10.4} {:>14}\n",
+            r.technique.name(),
+            r.frame_ms_median,
+            r.spp_median,
+            r.relmse,
+            base / r.relmse.max(f64::MIN_POSITIVE),
+            r.flip,
+            r.bias.map_or("-".into(), |b| format!("{b:.4}"))
+        );
+    }
+    s
+}
+
+/// The rows as one JSON object.
+pub fn json(rows: &[Row]) -> String {
+    let rows: Vec<_> = rows
+        .iter()
+        .map(|r| {
+            serde_json::json!({
+                "technique": r.technique.name(),
+                "frame_ms_median": r.frame_ms_median,
+                "spp_median": r.spp_median,
+                "relmse": r.relmse,
+                "flip": r.flip,
+                "relative_squared_bias": r.bias,
+            })
+        })
+        .collect();
+    serde_json::json!({ "rows": rows }).to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn technique_names_parse_back_and_an_unknown_one_lists_them() {
+        for t in Technique::ALL {
+            assert_eq!(Technique::parse(t.name()).unwrap(), t);
+        }
+        let e = Technique::parse("restir").unwrap_err().to_string();
+        assert!(e.contains("resampled+atrous"), "{e}");
+    }
+
+    #[test]
+    fn the_camera_glides_sideways_by_its_step_a_frame() {
+        let start = Camera::look_at(Vec3::ZERO, -Vec3::Z, 1.0);
+        let c = camera_of(start, 0.5, 4);
+        assert!(
+            (c.position() - Vec3::X * 2.0).length() < 1e-5,
+            "{}",
+            c.position()
+        );
+    }
+}
