@@ -90,6 +90,9 @@ bool sides_agree(vec3 ng_wo, vec3 wi, float shading_cos_product) {
 #ifdef RIS_CONTRIBUTION
 #include "path/resampled_light.glsl"
 #endif
+#if defined(WORLD_CACHE) || defined(WORLD_CACHE_TRAIN)
+#include "path/world_cache.glsl"
+#endif
 
 // The random numbers of a frame pixel's sample: the image pixel's (a border render's window
 // draws what the whole image draws there).
@@ -147,6 +150,13 @@ struct Path {
 #endif
 #ifdef PATH_HOOKS
     PathHook hook;
+#endif
+#ifdef WORLD_CACHE_TRAIN
+    // The second vertex's cell (0: the path did not go on from one), and the light and
+    // throughput the path had there (after its emission): what it gathers after is the cell's.
+    uint cache_key;
+    vec3 cache_light;
+    vec3 cache_throughput;
 #endif
 };
 
@@ -207,6 +217,11 @@ Path path_start(Ray ray, uint sample_index) {
 #endif
 #ifdef PATH_HOOKS
     hook_path_start(p.hook);
+#endif
+#ifdef WORLD_CACHE_TRAIN
+    p.cache_key = 0u;
+    p.cache_light = vec3(0.0);
+    p.cache_throughput = vec3(0.0);
 #endif
     return p;
 }
@@ -276,6 +291,26 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 #endif
     // depth + 1 segments so far; the next vertex would make depth + 2 (Mitsuba's max_depth).
     if (p.depth + 1u >= max_depth()) return false;
+#if defined(WORLD_CACHE) || defined(WORLD_CACHE_TRAIN)
+    // The second vertex, where a path would go on: the world cache's (path/world_cache.glsl).
+    if (p.depth == 1u) {
+        uint key = cache_key(s.position, dot(s.ng, p.ray.dir) < 0.0 ? s.ng : -s.ng);
+#ifdef WORLD_CACHE
+        vec3 cached;
+        if (cache_lookup(key, cached)) {
+            // Light reflected at the second vertex: indirect for the light passes.
+            Path after = p;
+            after.depth = 2u;
+            FOUND_LIGHT(p.L, p.throughput * cached, 2u, after, false);
+            return false;
+        }
+#else
+        p.cache_key = key;
+        p.cache_light = p.L;
+        p.cache_throughput = p.throughput;
+#endif
+    }
+#endif
 #ifdef CAMERA_RAYS_ONLY
     // Max depth 1 compiles the bounce away: llvmpipe runs every instruction of a loop body under
     // a lane mask whichever way its branches go, so code skipped at run time still costs.

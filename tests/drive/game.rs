@@ -16,7 +16,7 @@ use platoon::core::distribute::Collective as _;
 use platoon::core::drive::plan::Join;
 use platoon::core::drive::scaling::BelowOneSample;
 use platoon::core::drive::Edit;
-use platoon::core::drive::{DriverOptions, FrameDriver, FrameStats, Pipeline};
+use platoon::core::drive::{DriverOptions, FinishedFrame, FrameDriver, FrameStats, Pipeline};
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::{FrameParams, Output};
 use platoon::core::output::Film;
@@ -408,7 +408,14 @@ fn denoised_frames_of_a_panning_view_reuse_their_history_with_the_same_bits_for_
     let film = |pass| passes.iter().find(|(p, _)| *p == pass).unwrap().1.clone();
     let geometry = GBuffer::from_passes(&film, &camera);
     let alone = Temporal::new(Denoiser::Atrous)
-        .filter(&moving.film, spp, geometry, camera, true)
+        .filter(
+            &moving.film,
+            spp,
+            geometry,
+            camera,
+            true,
+            &mut platoon::core::denoise::NoDevice,
+        )
         .unwrap()
         .film;
     let denoised = moving.denoised.clone().unwrap();
@@ -460,24 +467,27 @@ fn spin_cube(d: &mut FrameDriver, cube: usize, f: u32) {
 /// Motion vectors in the game loop (issue 43): a cube spinning under a still camera keeps its
 /// denoised history (each hit carried back through its triangle to where the cube had it a
 /// frame before), and 1 and 3 tracers denoise it to the same bits.
+/// `frames` frames of the spinning cube denoised by `denoiser` on the tracers of `spec`.
+fn spinning(spec: &str, denoiser: Denoiser, frames: u32) -> Vec<FinishedFrame> {
+    let mut options = DriverOptions::new(W, H);
+    options.spp = 1;
+    options.denoise = denoiser;
+    let (scene, camera, cube) = cornell_with_cube();
+    let (mut d, camera, _) = driver_of(scene, spec, options, camera);
+    let mut done = Vec::new();
+    for f in 0..frames {
+        spin_cube(&mut d, cube, f);
+        done.extend(d.frame(camera).unwrap().finished);
+    }
+    done.extend(d.finish().unwrap());
+    done
+}
+
 #[test]
 fn a_spinning_object_keeps_its_denoised_history_with_the_same_bits_for_any_split() {
-    let frames = 8u32;
-    let mut runs = Vec::new();
-    for spec in ["lavapipe:1", "lavapipe:1,1,1"] {
-        let mut options = DriverOptions::new(W, H);
-        options.spp = 1;
-        options.denoise = Denoiser::Atrous;
-        let (scene, camera, cube) = cornell_with_cube();
-        let (mut d, camera, _) = driver_of(scene, spec, options, camera);
-        let mut done = Vec::new();
-        for f in 0..frames {
-            spin_cube(&mut d, cube, f);
-            done.extend(d.frame(camera).unwrap().finished);
-        }
-        done.extend(d.finish().unwrap());
-        runs.push(done);
-    }
+    let runs: Vec<_> = ["lavapipe:1", "lavapipe:1,1,1"]
+        .map(|spec| spinning(spec, Denoiser::Atrous, 8))
+        .into();
     for (a, b) in runs[0].iter().zip(&runs[1]) {
         assert!(a.stats.failures.is_empty(), "{:?}", a.stats.failures);
         assert!(
@@ -501,6 +511,36 @@ fn a_spinning_object_keeps_its_denoised_history_with_the_same_bits_for_any_split
     assert!(reused[1] > 0.8, "{reused:?}");
     for (f, r) in reused.iter().enumerate().skip(2) {
         assert!(*r > 0.9, "frame {f}: {reused:?}");
+    }
+}
+
+#[test]
+fn the_device_denoiser_in_the_game_loop_is_the_cpu_one_with_the_same_bits_for_any_split() {
+    let cpu = spinning("lavapipe:1", Denoiser::Atrous, 4);
+    let runs: Vec<_> = ["lavapipe:1", "lavapipe:1,1,1"]
+        .map(|spec| spinning(spec, Denoiser::AtrousDevice, 4))
+        .into();
+    for ((a, b), c) in runs[0].iter().zip(&runs[1]).zip(&cpu) {
+        assert!(a.stats.failures.is_empty(), "{:?}", a.stats.failures);
+        let f = a.stats.frame;
+        assert!(a.film == c.film, "frame {f}: the raw films differ");
+        assert!(
+            a.denoised == b.denoised,
+            "frame {f}: 1 and 3 tracers denoised differently"
+        );
+        let (device, cpu) = (a.denoised.as_ref().unwrap(), c.denoised.as_ref().unwrap());
+        assert_eq!(device.count_non_finite(), 0);
+        let worst = device
+            .pixels
+            .iter()
+            .zip(&cpu.pixels)
+            .flat_map(|(d, c)| (0..3).map(move |k| (d[k] - c[k]).abs() / c[k].abs().max(1e-2)))
+            .fold(0.0f32, f32::max);
+        assert!(worst < 2e-3, "frame {f}: device vs CPU differ by {worst}");
+        assert_eq!(
+            a.stats.denoise.as_ref().unwrap().denoiser,
+            Denoiser::AtrousDevice
+        );
     }
 }
 

@@ -329,11 +329,44 @@ fn every_rule_refuses_by_naming_its_option() {
             "resampled_light",
             "igi gathers its light",
         ),
+        (
+            Request {
+                world_cache: Some(Default::default()),
+                method: igi.clone(),
+                ..small()
+            },
+            "world_cache",
+            "igi gathers its light",
+        ),
+        (
+            Request {
+                world_cache: Some(platoon::core::frame::world_cache::WorldCacheOptions {
+                    train_stride: 0,
+                    ..Default::default()
+                }),
+                ..small()
+            },
+            "world_cache",
+            "training stride",
+        ),
     ];
     for (request, option, says) in cases {
         let e = request.validate().unwrap_err();
         assert_eq!(e.option, option, "{e}");
         assert!(e.problem.contains(says), "{e}");
+    }
+    // The world cache learns over a game's frames: a still and a progressive render refuse it.
+    let cached = Request {
+        world_cache: Some(Default::default()),
+        ..small()
+    };
+    cached.validate().unwrap();
+    for e in [
+        cached.render(&mut |_| {}).err().unwrap(),
+        platoon::Progressive::new(cached.clone()).err().unwrap(),
+    ] {
+        let e = e.to_string();
+        assert!(e.contains("world_cache") && e.contains("game loop"), "{e}");
     }
     // A rule that needs the devices: a time limit cuts one device's frame only.
     let e = Request {

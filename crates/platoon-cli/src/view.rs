@@ -64,8 +64,9 @@ pub struct ViewArgs {
     /// so).
     #[arg(long)]
     resolution_scaling: bool,
-    /// Show each frame denoised: none, atrous (the edge-avoiding a-trous filter) or oidn (Intel
-    /// Open Image Denoise, in a build with `--features oidn`). The frame's samples join the
+    /// Show each frame denoised: none, atrous (the edge-avoiding a-trous filter), atrous-device
+    /// (the same on the first device) or oidn (Intel Open Image Denoise, in a build with
+    /// `--features oidn`). The frame's samples join the
     /// earlier frames' reprojected into the view before the filter; biased, the title says so.
     #[arg(long, default_value = "none")]
     denoise: Denoiser,
@@ -78,6 +79,10 @@ pub struct ViewArgs {
     /// --denoise say otherwise. Biased by the denoiser; the title says so.
     #[arg(long)]
     realtime: bool,
+    /// The path tracer's bounces after the first read a world cache trained as the frames go
+    /// (hashed cells in world space; biased, the title says so).
+    #[arg(long)]
+    world_cache: bool,
     /// Close after this many frames (for scripts and tests).
     #[arg(long)]
     frames: Option<u32>,
@@ -133,6 +138,7 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
             .map_err(|e: String| anyhow!("--devices: {e}"))?,
         denoiser: args.denoise,
         resampled_light: args.resampled_light,
+        world_cache: args.world_cache.then(Default::default),
         ..Default::default()
     };
     request.validate().map_err(crate::request_flags::as_flags)?;
@@ -332,6 +338,9 @@ impl Viewer {
             }
             if let Some(gi) = &s.gi {
                 below += &format!(", lighting {} generations old", gi.age);
+            }
+            if let Some(c) = &s.world_cache {
+                below += &format!(", world cache ({} cells)", c.cells);
             }
             if let Some(d) = &s.denoise {
                 below += &format!(

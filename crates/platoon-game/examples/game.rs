@@ -5,13 +5,14 @@
 //! ```sh
 //! cargo run --release -p platoon-game --example game -- [--frames 240] [--target-ms 50] \
 //!     [--size 160x120] [--devices lavapipe:1,1] [--out game-out] [--character CesiumMan.glb] \
-//!     [--denoise atrous] [--resampled-light 8] [--realtime]
+//!     [--denoise atrous] [--resampled-light 8] [--world-cache] [--realtime]
 //! ```
 //!
 //! With `--denoise` the frames written are denoised with their history (the CSV's denoise_ms
 //! says what it cost). `--resampled-light M` resamples next-event estimation from M candidate
-//! lights; `--realtime` is a game's setting of both (8 candidates, a-trous) where the flags
-//! leave them open.
+//! lights; `--world-cache` has the bounces after the first read a world cache trained as the
+//! frames go; `--realtime` is a game's setting of resampled light and the denoiser (8
+//! candidates, a-trous) where the flags leave them open.
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -30,6 +31,7 @@ fn main() -> Result<()> {
     let mut denoise = platoon::core::denoise::Denoiser::None;
     let mut resampled_light = None;
     let mut realtime = false;
+    let mut world_cache = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = || args.next().with_context(|| format!("{a} needs a value"));
@@ -49,6 +51,7 @@ fn main() -> Result<()> {
             "--denoise" => denoise = value()?.parse().map_err(anyhow::Error::msg)?,
             "--resampled-light" => resampled_light = Some(value()?.parse()?),
             "--realtime" => realtime = true,
+            "--world-cache" => world_cache = true,
             other => anyhow::bail!("unknown argument {other:?}"),
         }
     }
@@ -60,6 +63,7 @@ fn main() -> Result<()> {
     game.validation = validation;
     game.driver.denoise = denoise;
     game.driver.resampled_light = resampled_light;
+    game.driver.world_cache = world_cache.then(Default::default);
     if realtime {
         game.driver.realtime();
     }

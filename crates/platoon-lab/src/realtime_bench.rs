@@ -25,52 +25,106 @@ use platoon_tracer::Sampling;
 
 use crate::tradeoff::metrics;
 
-/// What the game renders with: platoon's real-time techniques, alone and together.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Technique {
-    /// Path tracing with NEE by power and MIS, the film as it is.
-    Plain,
-    /// The same denoised by à-trous over the reprojected history.
-    Denoised,
+/// What the game renders with: path tracing with NEE by power and MIS, and platoon's real-time
+/// techniques on top, alone and together (named by their parts joined with `+`: `plain`,
+/// `atrous`, `resampled+world-cache+atrous`...).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Technique {
     /// Resampled direct light over a game's [`REALTIME_CANDIDATES`] lights.
-    Resampled,
-    /// Both.
-    Combined,
+    pub resampled: bool,
+    /// The world cache for the bounces after the first (default settings).
+    pub world_cache: bool,
+    /// The à-trous denoiser over the reprojected history.
+    pub atrous: bool,
 }
 
+/// The parts' names, in the order a name lists them.
+const PARTS: [&str; 3] = ["resampled", "world-cache", "atrous"];
+
 impl Technique {
-    pub const ALL: [Technique; 4] = [
-        Technique::Plain,
-        Technique::Denoised,
-        Technique::Resampled,
-        Technique::Combined,
+    pub const PLAIN: Technique = Technique {
+        resampled: false,
+        world_cache: false,
+        atrous: false,
+    };
+    pub const ATROUS: Technique = Technique {
+        atrous: true,
+        ..Technique::PLAIN
+    };
+    pub const RESAMPLED: Technique = Technique {
+        resampled: true,
+        ..Technique::PLAIN
+    };
+    pub const WORLD_CACHE: Technique = Technique {
+        world_cache: true,
+        ..Technique::PLAIN
+    };
+    pub const RESAMPLED_ATROUS: Technique = Technique {
+        resampled: true,
+        atrous: true,
+        ..Technique::PLAIN
+    };
+    pub const ALL_ON: Technique = Technique {
+        resampled: true,
+        world_cache: true,
+        atrous: true,
+    };
+    /// The bench's default list: plain first (what the others are compared with).
+    pub const DEFAULT: [Technique; 6] = [
+        Technique::PLAIN,
+        Technique::ATROUS,
+        Technique::RESAMPLED,
+        Technique::WORLD_CACHE,
+        Technique::RESAMPLED_ATROUS,
+        Technique::ALL_ON,
     ];
 
-    pub fn name(self) -> &'static str {
-        match self {
-            Technique::Plain => "plain",
-            Technique::Denoised => "atrous",
-            Technique::Resampled => "resampled",
-            Technique::Combined => "resampled+atrous",
+    fn parts(self) -> [bool; 3] {
+        [self.resampled, self.world_cache, self.atrous]
+    }
+
+    pub fn name(self) -> String {
+        let on: Vec<&str> = PARTS
+            .iter()
+            .zip(self.parts())
+            .filter(|p| p.1)
+            .map(|p| *p.0)
+            .collect();
+        if on.is_empty() {
+            "plain".into()
+        } else {
+            on.join("+")
         }
     }
 
     pub fn parse(s: &str) -> Result<Technique> {
-        Technique::ALL
-            .into_iter()
-            .find(|t| t.name() == s)
-            .with_context(|| {
-                let names: Vec<_> = Technique::ALL.iter().map(|t| t.name()).collect();
-                format!("unknown technique {s:?}: one of {}", names.join(", "))
-            })
+        if s == "plain" {
+            return Ok(Technique::PLAIN);
+        }
+        let mut t = Technique::PLAIN;
+        for part in s.split('+') {
+            match part {
+                "resampled" => t.resampled = true,
+                "world-cache" => t.world_cache = true,
+                "atrous" => t.atrous = true,
+                _ => bail!(
+                    "unknown technique {s:?}: plain, or parts of {} joined by +",
+                    PARTS.join(", ")
+                ),
+            }
+        }
+        Ok(t)
     }
 
     fn apply(self, driver: &mut DriverOptions) {
-        if matches!(self, Technique::Denoised | Technique::Combined) {
+        if self.atrous {
             driver.denoise = Denoiser::Atrous;
         }
-        if matches!(self, Technique::Resampled | Technique::Combined) {
+        if self.resampled {
             driver.resampled_light = Some(REALTIME_CANDIDATES);
+        }
+        if self.world_cache {
+            driver.world_cache = Some(Default::default());
         }
     }
 }
@@ -112,7 +166,7 @@ impl Default for Options {
             measured: 4,
             reference_spp: 256,
             devices: "auto".into(),
-            techniques: Technique::ALL.to_vec(),
+            techniques: Technique::DEFAULT.to_vec(),
             camera_step: 0.03,
             repeat: 2,
         }
@@ -348,11 +402,16 @@ mod tests {
 
     #[test]
     fn technique_names_parse_back_and_an_unknown_one_lists_them() {
-        for t in Technique::ALL {
-            assert_eq!(Technique::parse(t.name()).unwrap(), t);
+        for t in Technique::DEFAULT {
+            assert_eq!(Technique::parse(&t.name()).unwrap(), t);
         }
+        assert_eq!(Technique::ALL_ON.name(), "resampled+world-cache+atrous");
+        assert_eq!(
+            Technique::parse("atrous+resampled").unwrap(),
+            Technique::RESAMPLED_ATROUS
+        );
         let e = Technique::parse("restir").unwrap_err().to_string();
-        assert!(e.contains("resampled+atrous"), "{e}");
+        assert!(e.contains("world-cache"), "{e}");
     }
 
     #[test]

@@ -92,6 +92,20 @@ impl Tracer {
                     .into(),
             ));
         }
+        if params.world_cache.is_some() && !params.method.is_path_tracing() {
+            return Err(crate::Error::Invalid(
+                "the world cache is the path tracer's: another method was chosen".into(),
+            ));
+        }
+        if params.world_cache.as_ref().is_some_and(|t| {
+            !t.slots.len().is_power_of_two() || t.cell_size.is_nan() || t.cell_size <= 0.0
+        }) {
+            return Err(crate::Error::Invalid(
+                "the world cache's table must hold a power of two of slots and cells of a \
+                 positive size"
+                    .into(),
+            ));
+        }
         if params
             .clamp_indirect
             .is_some_and(|c| c.is_nan() || c <= 0.0)
@@ -362,5 +376,14 @@ impl BandTracer for Tracer {
     }
     fn messages(&self) -> Vec<String> {
         self.validation_messages()
+    }
+    fn filter_atrous(
+        &mut self,
+        film: &platoon_core::output::Film,
+        guides: &platoon_core::denoise::Guides,
+    ) -> std::result::Result<platoon_core::output::Film, TracerError> {
+        self.filter_atrous_timed(film, guides)
+            .map(|(film, _)| film)
+            .map_err(|e| Box::new(e) as TracerError)
     }
 }

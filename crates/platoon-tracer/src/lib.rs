@@ -8,6 +8,7 @@ mod buffer;
 mod commit;
 mod context;
 mod dispatch;
+mod filter;
 mod globals;
 mod gpu;
 mod kernel;

@@ -54,6 +54,8 @@ pub struct Tracer {
     pub(crate) features: SceneFeatures,
     pub(crate) sampling: Sampling,
     pub(crate) memory: MemoryPath,
+    /// The device denoiser's planes (filter.rs), made on its first frame.
+    pub(crate) filter_planes: Option<GpuBuffer>,
 }
 
 // Vulkan handles are used from one thread at a time; the tracer moves to its own thread.
@@ -84,6 +86,7 @@ impl Tracer {
             features: scene.features,
             sampling: options.sampling,
             memory: options.memory,
+            filter_planes: None,
         };
         tracer.upload_scene(scene)?;
         tracer.bind_scene_arrays()?;
@@ -270,6 +273,9 @@ impl Drop for Tracer {
     fn drop(&mut self) {
         let _ = self.gpu.wait_idle();
         self.destroy_frame_buffers();
+        if let Some(mut b) = self.filter_planes.take() {
+            self.gpu.destroy_buffer(&mut b);
+        }
         for m in self.methods.values_mut() {
             m.destroy(&mut self.gpu);
         }

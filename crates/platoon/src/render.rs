@@ -174,6 +174,24 @@ impl Tracers {
     }
 }
 
+/// A device denoiser runs on the first tracer of this process (rank 0's, over ranks).
+impl platoon_core::denoise::DeviceFilter for Tracers {
+    fn atrous(
+        &mut self,
+        film: &platoon_core::output::Film,
+        guides: &platoon_core::denoise::Guides,
+    ) -> std::result::Result<platoon_core::output::Film, String> {
+        match self {
+            Tracers::One(t) => t
+                .filter_atrous_timed(film, guides)
+                .map(|(film, _)| film)
+                .map_err(|e| format!("filtering the frame on its device: {e}")),
+            Tracers::Many(r) => r.filter_atrous(film, guides),
+            Tracers::Ranks(r) => r.local().filter_atrous(film, guides),
+        }
+    }
+}
+
 impl Tracers {
     /// Tracers for `options` (one per entry) holding `scene`; `balancer` splits the lines
     /// when there are several (a name of `platoon_core::balance::NAMES`).

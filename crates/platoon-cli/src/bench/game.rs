@@ -34,8 +34,8 @@ pub struct GameArgs {
     /// The skinned, animated glTF the game's characters are.
     #[arg(long, default_value_os_t = platoon_lab::shared::path("scenes/CesiumMan.glb"))]
     pub character: std::path::PathBuf,
-    /// Denoise every frame with its reprojected history (none, atrous, or oidn in a build with
-    /// `--features oidn`): its cost joins the frame time the loop holds.
+    /// Denoise every frame with its reprojected history (none, atrous, atrous-device on the
+    /// first device, or oidn in a build with `--features oidn`): its cost joins the frame time the loop holds.
     #[arg(long, default_value = "none")]
     pub denoise: Denoiser,
     /// Next-event estimation resamples this many candidate lights toward their unshadowed
@@ -47,6 +47,10 @@ pub struct GameArgs {
     /// measures their error at equal time).
     #[arg(long)]
     pub realtime: bool,
+    /// The path tracer's bounces after the first read a world cache trained as the frames go
+    /// (biased).
+    #[arg(long)]
+    pub world_cache: bool,
     /// Print one JSON object after the text.
     #[arg(long)]
     pub json: bool,
@@ -134,6 +138,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
     game.driver.denoise = o.denoise;
     game.driver.resampled_light = o.resampled_light;
+    game.driver.world_cache = o.world_cache.then(Default::default);
     if o.realtime {
         game.driver.realtime();
     }
@@ -148,6 +153,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     let techniques = Techniques {
         denoise: game.driver.denoise,
         resampled_light: game.driver.resampled_light,
+        world_cache: game.driver.world_cache.is_some(),
     };
     eprintln!(
         "playing {} frames of the game at {}x{} on {}, holding {} ms a frame",
@@ -261,6 +267,7 @@ pub fn summarize(records: &[FrameRecord], target_ms: f64) -> Summary {
 struct Techniques {
     denoise: Denoiser,
     resampled_light: Option<u32>,
+    world_cache: bool,
 }
 
 fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
@@ -269,7 +276,7 @@ fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
          settled after {} frames; then frame time median {:.2} ms, p99 {:.2} ms \
          (render thread {:.2} ms), {:.1}% of frames within +-10% of the target\n\
          samples per frame (median) {}, update {:.2} ms a frame of which {:.1}% hidden behind \
-         rendering, tracers idle {:.2}% (median){}{}",
+         rendering, tracers idle {:.2}% (median){}{}{}",
         s.frames,
         o.size.0,
         o.size.1,
@@ -284,6 +291,11 @@ fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
         s.update_ms_median,
         100.0 * s.update_hidden_fraction,
         s.idle_percent_median,
+        if t.world_cache {
+            "\nthe bounces after the first read the world cache"
+        } else {
+            ""
+        },
         match t.resampled_light {
             Some(m) => format!("\ndirect light resampled from {m} candidate lights"),
             None => String::new(),
@@ -318,6 +330,7 @@ fn json(o: &GameArgs, t: &Techniques, s: &Summary) -> serde_json::Value {
         "idle_percent_median": s.idle_percent_median,
         "denoise": t.denoise.name(),
         "resampled_light": t.resampled_light,
+        "world_cache": t.world_cache,
         "denoise_ms_median": s.denoise_ms_median,
     })
 }

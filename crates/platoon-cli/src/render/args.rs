@@ -146,7 +146,7 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_aovs)]
     pub(super) aov: Option<AovList>,
     /// Denoise the image after assembly, guided by its albedo, normal and depth: none, atrous
-    /// (the edge-avoiding a-trous filter) or oidn (Intel Open Image Denoise, in a build with
+    /// (the edge-avoiding a-trous filter), atrous-device (the same on the first device) or oidn (Intel Open Image Denoise, in a build with
     /// `--features oidn`); biased. The raw image is written beside it as NAME.noisy.EXT.
     #[arg(long, default_value = "none")]
     pub(super) denoise: Denoiser,

@@ -228,6 +228,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         denoiser: denoise,
         adaptive,
         resampled_light,
+        world_cache: None,
     };
     request.validate().map_err(as_flags)?;
     if mpi && time_limit.is_some() {

@@ -22,6 +22,8 @@ pub enum Denoiser {
     None,
     /// The edge-avoiding à-trous wavelet filter ([`atrous`]).
     Atrous,
+    /// The same filter on a tracer's device (shaders/denoise/atrous.comp), after assembly.
+    AtrousDevice,
     /// Intel Open Image Denoise's ray-tracing filter (`oidn`, with the cargo feature `oidn`).
     Oidn,
 }
@@ -29,19 +31,27 @@ pub enum Denoiser {
 impl std::str::FromStr for Denoiser {
     type Err = String;
     fn from_str(s: &str) -> Result<Denoiser, String> {
-        [Denoiser::None, Denoiser::Atrous, Denoiser::Oidn]
+        Denoiser::ALL
             .into_iter()
             .find(|d| d.name() == s)
-            .ok_or_else(|| format!("unknown denoiser {s:?}: none, atrous or oidn"))
+            .ok_or_else(|| format!("unknown denoiser {s:?}: none, atrous, atrous-device or oidn"))
     }
 }
 
 impl Denoiser {
+    pub const ALL: [Denoiser; 4] = [
+        Denoiser::None,
+        Denoiser::Atrous,
+        Denoiser::AtrousDevice,
+        Denoiser::Oidn,
+    ];
+
     /// Its name on the command line.
     pub fn name(self) -> &'static str {
         match self {
             Denoiser::None => "none",
             Denoiser::Atrous => "atrous",
+            Denoiser::AtrousDevice => "atrous-device",
             Denoiser::Oidn => "oidn",
         }
     }
@@ -53,6 +63,10 @@ impl Denoiser {
             Denoiser::Atrous => Some(
                 "denoised by the edge-avoiding a-trous filter (Dammertz et al. 2010; 5 \
                  iterations, guided by albedo, normal and depth)",
+            ),
+            Denoiser::AtrousDevice => Some(
+                "denoised by the edge-avoiding a-trous filter (Dammertz et al. 2010; 5 \
+                 iterations, guided by albedo, normal and depth) on the first tracer's device",
             ),
             Denoiser::Oidn => Some(
                 "denoised by Intel Open Image Denoise (the RT filter, HDR, guided by albedo and \
@@ -77,18 +91,50 @@ impl Denoiser {
     /// The AOVs it is guided by.
     pub const GUIDES: [Aov; 3] = [Aov::Albedo, Aov::Normal, Aov::Depth];
 
-    /// `film` denoised with `guides` (`film` itself when off); an error when the denoiser is
-    /// not in this build (`available`) or fails.
+    /// `film` denoised with `guides` (`film` itself when off), the device's filters on
+    /// `device`; an error when the denoiser is not in this build (`available`) or fails.
+    pub fn apply_on(
+        self,
+        film: &Film,
+        guides: &Guides,
+        device: &mut dyn DeviceFilter,
+    ) -> Result<Film, String> {
+        match self {
+            Denoiser::AtrousDevice => device.atrous(film, guides),
+            d => d.apply(film, guides),
+        }
+    }
+
+    /// `film` denoised with `guides` on the CPU (`film` itself when off); an error when the
+    /// denoiser is not in this build (`available`), runs on a device (`apply_on`) or fails.
     pub fn apply(self, film: &Film, guides: &Guides) -> Result<Film, String> {
         self.available()?;
         match self {
             Denoiser::None => Ok(film.clone()),
             Denoiser::Atrous => Ok(atrous::filter(film, guides)),
+            Denoiser::AtrousDevice => {
+                Err("the device a-trous filter runs on a tracer: no device was given".into())
+            }
             #[cfg(feature = "oidn")]
             Denoiser::Oidn => oidn::filter(film, guides),
             #[cfg(not(feature = "oidn"))]
             Denoiser::Oidn => unreachable!("refused by available()"),
         }
+    }
+}
+
+/// What runs a denoiser's kernels: a tracer's device (the renderer's first live tracer).
+pub trait DeviceFilter {
+    /// `film` filtered by the à-trous kernel with `guides`.
+    fn atrous(&mut self, film: &Film, guides: &Guides) -> Result<Film, String>;
+}
+
+/// No device: a device denoiser is refused.
+pub struct NoDevice;
+
+impl DeviceFilter for NoDevice {
+    fn atrous(&mut self, _: &Film, _: &Guides) -> Result<Film, String> {
+        Err("the device a-trous filter runs on a tracer: no device was given".into())
     }
 }
 

@@ -23,7 +23,7 @@
 use glam::{DVec3, Quat, Vec3};
 use rayon::prelude::*;
 
-use super::{Denoiser, Guides};
+use super::{Denoiser, DeviceFilter, Guides};
 use crate::frame::aov::{self, Aov, AovPass};
 use crate::frame::hit_geometry::Before;
 use crate::output::Film;
@@ -124,7 +124,7 @@ impl Temporal {
     /// Joins the frame's own estimate `frame` (the mean of its `spp` new samples a pixel) of
     /// the view from `camera`, whose geometry is `geometry`, to the history and returns the
     /// history denoised. `moved`: whether the camera or the scene changed since the previous
-    /// frame.
+    /// frame. A device denoiser runs on `device`.
     pub fn filter(
         &mut self,
         frame: &Film,
@@ -132,6 +132,7 @@ impl Temporal {
         geometry: GBuffer,
         camera: Camera,
         moved: bool,
+        device: &mut dyn DeviceFilter,
     ) -> Result<TemporalFrame, String> {
         let (w, h) = (frame.width, frame.height);
         let n = frame.pixels.len();
@@ -173,7 +174,9 @@ impl Temporal {
             height: h,
             pixels: colour,
         };
-        let film = self.denoiser.apply(&accumulated, &geometry.guides)?;
+        let film = self
+            .denoiser
+            .apply_on(&accumulated, &geometry.guides, device)?;
         let mean_samples = samples.iter().sum::<f32>() / n.max(1) as f32;
         self.history = Some(History {
             camera,
@@ -277,6 +280,7 @@ fn same_surface(new: &GBuffer, i: usize, then: Before, old: &GBuffer, j: usize) 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::denoise::NoDevice;
 
     const W: u32 = 48;
     const H: u32 = 32;
@@ -340,7 +344,10 @@ mod tests {
         for (spp, value) in [(1, 2.0), (3, 6.0), (4, 1.0), (1, 12.0)] {
             let (mut frame, g, camera) = view(eye, &|_| value, &|_| true);
             frame.pixels.iter_mut().for_each(|p| *p = [value; 3]);
-            last = Some(t.filter(&frame, spp, g, camera, false).unwrap());
+            last = Some(
+                t.filter(&frame, spp, g, camera, false, &mut NoDevice)
+                    .unwrap(),
+            );
         }
         let last = last.unwrap();
         assert_eq!(last.reused, 1.0);
@@ -355,14 +362,14 @@ mod tests {
         let mut t = Temporal::new(Denoiser::None);
         let all = |_: Vec3| true;
         let (a, g, camera) = view(Vec3::new(0.0, 0.0, 5.0), &stripes, &all);
-        t.filter(&a, 1, g, camera, true).unwrap();
+        t.filter(&a, 1, g, camera, true, &mut NoDevice).unwrap();
         // The second view, moved sideways and closer, is the truth plus 1: a pixel that found
         // its history right is the mean of the truth and truth + 1 (equal samples).
         let eye = Vec3::new(0.6, -0.3, 4.2);
         let (mut b, g, camera) = view(eye, &stripes, &all);
         let truth = b.clone();
         b.pixels.iter_mut().for_each(|p| *p = p.map(|v| v + 1.0));
-        let out = t.filter(&b, 1, g, camera, true).unwrap();
+        let out = t.filter(&b, 1, g, camera, true, &mut NoDevice).unwrap();
         assert!(out.reused > 0.7, "{}", out.reused);
         let mut kept = 0;
         for (o, want) in out.film.pixels.iter().zip(&truth.pixels) {
@@ -394,7 +401,7 @@ mod tests {
         };
         let mut t = Temporal::new(Denoiser::None);
         let (a, g, camera) = frame_at(0.0);
-        t.filter(&a, 1, g, camera, true).unwrap();
+        t.filter(&a, 1, g, camera, true, &mut NoDevice).unwrap();
         let (mut b, mut g, camera) = frame_at(0.4);
         let truth = b.clone();
         b.pixels.iter_mut().for_each(|p| *p = p.map(|v| v + 1.0));
@@ -406,7 +413,9 @@ mod tests {
             };
             g.before = Some(before.map(|(p, &id)| Some(moved(p, id))).collect());
         }
-        let out = t.filter(&b, 1, g.clone(), camera, true).unwrap();
+        let out = t
+            .filter(&b, 1, g.clone(), camera, true, &mut NoDevice)
+            .unwrap();
         (out.film, truth, g)
     }
 
@@ -449,7 +458,7 @@ mod tests {
         // The front plane covers x < 0, then x < -1: the strip between shows the back plane,
         // which the front plane hid in the first frame.
         let (a, g, camera) = view(eye, &|_| 4.0, &|p| p.x < 0.0);
-        t.filter(&a, 1, g, camera, true).unwrap();
+        t.filter(&a, 1, g, camera, true, &mut NoDevice).unwrap();
         let (b, mut g, camera) = view(eye, &|_| 2.0, &|p| p.x < -1.0);
         // Another object in the back plane's place where x > 2 (coplanar: only its instance
         // tells it apart).
@@ -458,7 +467,9 @@ mod tests {
                 g.instance[i] = 3.0;
             }
         }
-        let out = t.filter(&b, 1, g.clone(), camera, true).unwrap();
+        let out = t
+            .filter(&b, 1, g.clone(), camera, true, &mut NoDevice)
+            .unwrap();
         let mut revealed = 0;
         for (i, o) in out.film.pixels.iter().enumerate() {
             let p = Vec3::from(g.position[i]);
@@ -484,7 +495,7 @@ mod tests {
         for k in 0..4 {
             let eye = Vec3::new(0.2 * k as f32, 0.0, 5.0 - 0.3 * k as f32);
             let (frame, g, camera) = view(eye, &|_| 0.7, &|p| p.x < 0.5);
-            let out = t.filter(&frame, 2, g, camera, true).unwrap();
+            let out = t.filter(&frame, 2, g, camera, true, &mut NoDevice).unwrap();
             for p in &out.film.pixels {
                 assert!((p[0] - 0.7).abs() < 1e-5, "frame {k}: {p:?}");
             }

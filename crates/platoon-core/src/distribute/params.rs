@@ -10,6 +10,7 @@ use super::method_wire::{get_method, put_method};
 use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
 use crate::frame::aov::AovPass;
 use crate::frame::light_pass::{BsdfPart, LightPass};
+use crate::frame::world_cache::CacheTable;
 use crate::frame::{Crop, FrameParams, Output, PixelFilter, Span};
 use crate::method::path_kernel::PathKernel;
 use crate::scene::camera::Camera;
@@ -48,6 +49,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         ris_candidates,
         ris_mis,
         ris_contribution,
+        world_cache,
         method,
         kernel,
         seed,
@@ -82,6 +84,12 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
     }
     w.u8(ris_candidates.is_some() as u8);
     w.u32(ris_candidates.unwrap_or(0));
+    w.u8(world_cache.is_some() as u8);
+    if let Some(c) = world_cache {
+        w.f32(c.cell_size);
+        w.u32(c.train_stride);
+        w.pod(bytemuck::cast_slice::<[f32; 4], f32>(&c.slots));
+    }
     put_method(w, method)?;
     w.u8(match kernel {
         PathKernel::Auto => 0,
@@ -169,6 +177,23 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
     let some = flag(r)?;
     let m = r.u32()?;
     p.ris_candidates = some.then_some(m);
+    if flag(r)? {
+        let cell_size = r.f32()?;
+        let train_stride = r.u32()?;
+        let flat: Vec<f32> = r.pod()?;
+        let slots: Vec<[f32; 4]> = flat
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect();
+        if !slots.len().is_power_of_two() {
+            return Err(WireError("the world cache's table".into()));
+        }
+        p.world_cache = Some(std::sync::Arc::new(CacheTable {
+            cell_size,
+            train_stride,
+            slots,
+        }));
+    }
     p.method = get_method(r)?;
     p.kernel = match r.u8()? {
         0 => PathKernel::Auto,
@@ -287,6 +312,13 @@ mod tests {
             interleave: [2, 3],
         });
         p.kernel = PathKernel::Streaming;
+        p.world_cache = Some(std::sync::Arc::new(CacheTable {
+            cell_size: 0.5,
+            train_stride: 3,
+            slots: (0..4)
+                .map(|i| [f32::from_bits(i * 257 + 1), 0.5, 1.5, 2.5])
+                .collect(),
+        }));
         p.seed = 11;
         p.frame = 12;
         p.first_sample = 13;

@@ -147,6 +147,12 @@ pub fn fingerprint(params: &FrameParams) -> u64 {
     p.film.accumulated = None;
     p.film.converged = None;
     let mut h = std::collections::hash_map::DefaultHasher::new();
+    // The world cache's table by its bits: formatting a megabyte each frame would cost more
+    // than the frame.
+    if let Some(c) = p.world_cache.take() {
+        (c.cell_size.to_bits(), c.train_stride).hash(&mut h);
+        bytemuck::cast_slice::<[f32; 4], u32>(&c.slots).hash(&mut h);
+    }
     std::fmt::write(&mut HashWriter(&mut h), format_args!("{p:?}")).expect("hashing");
     h.finish()
 }

@@ -107,6 +107,7 @@ impl FrameDenoiser {
                 geometry,
                 frame.params.camera,
                 frame.moved,
+                renderer,
             )
             .map_err(|e| Error::Invalid(format!("denoising the frame: {e}")))?;
         Ok((

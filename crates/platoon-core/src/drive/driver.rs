@@ -31,6 +31,7 @@ use crate::flatten::commit::Commit;
 use crate::flatten::GpuScene;
 use crate::frame::hit_geometry::HitGeometry;
 use crate::frame::renderer::{Renderer, TracerFailure, TracerStats};
+use crate::frame::world_cache::{CacheUpdate, WorldCache, WorldCacheOptions};
 use crate::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
 use crate::output::Film;
 use crate::scene::camera::Camera;
@@ -74,6 +75,9 @@ pub struct DriverOptions {
     /// Next-event estimation resamples this many candidate lights toward their unshadowed
     /// contribution ([`FrameParams::set_resampled_light`]); None: one drawn by power.
     pub resampled_light: Option<u32>,
+    /// The path tracer's bounces after the first read a world cache trained as the frames go
+    /// (`frame::world_cache`; biased); None by default.
+    pub world_cache: Option<WorldCacheOptions>,
 }
 
 /// Candidate lights of a game's resampled direct light ([`DriverOptions::realtime`]): most of
@@ -127,6 +131,7 @@ impl DriverOptions {
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             method: crate::method::Method::path_tracing(),
             resampled_light: None,
+            world_cache: None,
             queries: false,
             gi_update: GiUpdate::default(),
             denoise: Denoiser::None,
@@ -168,6 +173,8 @@ pub struct FrameStats {
     pub gi: Option<GiStats>,
     /// What denoising the frame did and cost ([`DriverOptions::denoise`]).
     pub denoise: Option<DenoiseStats>,
+    /// What the frame's training paths did to the world cache ([`DriverOptions::world_cache`]).
+    pub world_cache: Option<CacheUpdate>,
 }
 
 impl FrameStats {
@@ -315,13 +322,24 @@ impl FrameDriver {
         let film = Accumulation::new(options.width, options.height);
         let denoiser = (options.denoise != Denoiser::None)
             .then(|| FrameDenoiser::new(options.denoise, HitGeometry::of_flattened(first)));
+        let cache = match options.world_cache {
+            Some(o) => {
+                if !options.method.is_path_tracing() {
+                    return Err(Error::Invalid(
+                        "the world cache is the path tracer's: another method was chosen".into(),
+                    ));
+                }
+                Some(WorldCache::new(o, first.header().scene_sphere[3]).map_err(Error::Invalid)?)
+            }
+            None => None,
+        };
         // One frame queued at most: the game is never more than a frame ahead.
         let (jobs, inbox) = mpsc::sync_channel::<Job>(1);
         let (outbox, done) = mpsc::sync_channel(1);
         let scene = first_scene.clone();
         let render = std::thread::Builder::new()
             .name("platoon render".into())
-            .spawn(move || render_loop(renderer, film, denoiser, scene, inbox, outbox))
+            .spawn(move || render_loop(renderer, film, denoiser, cache, scene, inbox, outbox))
             .map_err(|e| Error::Invalid(format!("starting the render thread: {e}")))?;
         Ok(FrameDriver {
             pipeline,
@@ -554,6 +572,7 @@ fn render_loop<T: BandTracer + Send + 'static>(
     mut renderer: Renderer<T>,
     mut film: Accumulation,
     mut denoiser: Option<FrameDenoiser>,
+    mut cache: Option<WorldCache>,
     scene: Arc<GpuScene>,
     inbox: Receiver<Job>,
     outbox: SyncSender<Result<FinishedFrame>>,
@@ -568,9 +587,14 @@ fn render_loop<T: BandTracer + Send + 'static>(
                 renderer.set_balancer(b);
                 continue;
             }
-            Job::Frame(job) => {
-                render_one(&mut renderer, &mut film, denoiser.as_mut(), &mut sync, *job)
-            }
+            Job::Frame(job) => render_one(
+                &mut renderer,
+                &mut film,
+                denoiser.as_mut(),
+                cache.as_mut(),
+                &mut sync,
+                *job,
+            ),
         };
         if outbox.send(result).is_err() {
             return;
@@ -582,6 +606,7 @@ fn render_one<T: BandTracer + Send + 'static>(
     renderer: &mut Renderer<T>,
     film: &mut Accumulation,
     denoiser: Option<&mut FrameDenoiser>,
+    cache: Option<&mut WorldCache>,
     sync: &mut Synchronous,
     job: FrameJob,
 ) -> Result<FinishedFrame> {
@@ -625,11 +650,14 @@ fn render_one<T: BandTracer + Send + 'static>(
     }
     let render_start = Instant::now();
     params.film.accumulated = film.continued(plan.join);
-    let rendered = renderer
+    params.world_cache = cache.as_ref().map(|c| c.table());
+    let mut rendered = renderer
         .render_frame_planned(&params, plan.rebalance)
         .map_err(failed)?;
     let render = render_start.elapsed();
-    failures.extend(rendered.failures);
+    failures.extend(std::mem::take(&mut rendered.failures));
+    // The records of every band, in pixel order: the same cache for any split.
+    let world_cache = cache.map(|c| c.update(&rendered.per_pixel, frame));
     let (denoised, denoise) = match denoiser {
         Some(d) => {
             let frame = RenderedFrame {
@@ -678,6 +706,7 @@ fn render_one<T: BandTracer + Send + 'static>(
             device_messages: renderer.with_tracers(|t| t.messages()).concat(),
             gi,
             denoise,
+            world_cache,
         },
     })
 }

@@ -17,6 +17,7 @@ pub mod motion;
 mod pixel_filter;
 pub mod renderer;
 mod workers;
+pub mod world_cache;
 
 use std::time::Duration;
 
@@ -94,6 +95,9 @@ pub struct FrameParams {
     /// ReSTIR DI's target (Bitterli et al. 2020), without reuse yet; still unbiased, and
     /// punctual lights may take part.
     pub ris_contribution: bool,
+    /// The world cache the path tracer's bounces after the first read, and its training
+    /// pattern (`world_cache`; biased). None: paths go on. Compiled in only when set.
+    pub world_cache: Option<std::sync::Arc<world_cache::CacheTable>>,
     /// The rendering method and its options (`crate::method`; path tracing by default).
     pub method: crate::method::Method,
     /// How the path tracer's work is cut into kernels (the same image either way).
@@ -217,6 +221,7 @@ impl FrameParams {
             ris_candidates: None,
             ris_mis: false,
             ris_contribution: false,
+            world_cache: None,
             method: crate::method::Method::path_tracing(),
             kernel: Default::default(),
             seed: 0,
@@ -343,6 +348,15 @@ pub trait BandTracer {
     /// tracers without one.
     fn messages(&self) -> Vec<String> {
         Vec::new()
+    }
+    /// A whole frame filtered by the à-trous kernel on this tracer's device
+    /// (`Denoiser::AtrousDevice`); tracers without one refuse.
+    fn filter_atrous(
+        &mut self,
+        _film: &Film,
+        _guides: &crate::denoise::Guides,
+    ) -> Result<Film, TracerError> {
+        Err("this tracer has no device to filter a frame on".into())
     }
 }
 

@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 
 use super::workers::Worker;
 use crate::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use crate::denoise::{DeviceFilter, Guides};
 use crate::flatten::commit::Commit;
 use crate::frame::{assemble, gather_sums, Band, BandTracer, FrameParams, Span, TracerError};
 use crate::output::Film;
@@ -103,6 +104,12 @@ fn run_bands<T: BandTracer + Send + 'static>(
         .collect()
 }
 
+impl<T: BandTracer + Send + 'static> DeviceFilter for Renderer<T> {
+    fn atrous(&mut self, film: &Film, guides: &Guides) -> Result<Film, String> {
+        self.filter_atrous(film, guides)
+    }
+}
+
 impl<T: BandTracer + Send + 'static> Renderer<T> {
     pub fn new(tracers: Vec<T>, balancer: Box<dyn Balancer>) -> Renderer<T> {
         Renderer {
@@ -150,6 +157,21 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             .iter()
             .filter_map(|(_, w)| w.lock().map(|mut t| f(&mut t)))
             .collect()
+    }
+
+    /// `film` filtered by the à-trous kernel on the first surviving tracer's device: one device
+    /// filters the whole assembled frame, so the image does not depend on the split.
+    pub fn filter_atrous(&self, film: &Film, guides: &Guides) -> Result<Film, String> {
+        let (index, worker) = self
+            .tracers
+            .first()
+            .ok_or("no tracer left to filter the frame on")?;
+        let mut tracer = worker
+            .lock()
+            .ok_or_else(|| format!("tracer {index} panicked"))?;
+        tracer
+            .filter_atrous(film, guides)
+            .map_err(|e| format!("filtering the frame on tracer {index}: {e}"))
     }
 
     /// Gives every tracer the next generation of the scene (`commit`: what changed since the

@@ -101,6 +101,16 @@ impl KernelVariant {
                 "RIS_CONTRIBUTION",
                 ris && params.ris_contribution,
             ),
+            // The beauty's paths read it (a light pass's too, so that the passes sum to it).
+            (
+                "world-cache",
+                "WORLD_CACHE",
+                params.world_cache.is_some()
+                    && matches!(
+                        params.output,
+                        Output::Radiance | Output::Aov(crate::frame::aov::AovPass::Light(_))
+                    ),
+            ),
             (
                 "gaussian-filter",
                 "PIXEL_FILTER_GAUSSIAN",

@@ -79,7 +79,7 @@ def render(
     variance, sample-count, crypto-object, crypto-material, crypto-asset (layers
     CryptoObject00..02, the manifest in `metadata`), the light passes by name or "light" for all eight (they sum to
     the image), motion (pixels moved since the frame `frame_interval` seconds before), ao (ambient
-    occlusion within `ao_distance`), diffuse-color, glossy-color, transmission-color. `denoise`: none, atrous, oidn. `env_strength` scales the
+    occlusion within `ao_distance`), diffuse-color, glossy-color, transmission-color. `denoise`: none, atrous, atrous-device (on the first device), oidn. `env_strength` scales the
     environment's radiance, `env_rotation` turns its map about +Y (degrees, counter-clockwise
     seen from above). `filter`: the pixel filter, box, gaussian (sigma 0.5 px) or
     blackman-harris (1.5 px). `transparent_film`: the environment seen directly left out, `Rendered.alpha` the

@@ -10,6 +10,7 @@ mod links;
 mod passes;
 mod path;
 mod stream;
+mod world_cache;
 
 pub use path::{kernel_label, kernel_spirv, path_kernel};
 

@@ -5,11 +5,12 @@
 use std::time::Duration;
 
 use platoon_core::frame::aov::AovPass;
-use platoon_core::frame::{FrameParams, Output};
+use platoon_core::frame::{FrameParams, Output, Span};
 use platoon_core::method::path::PathKernel;
 use platoon_core::{KernelVariant, SceneFeatures};
 
 use super::stream::{self, StreamPasses};
+use super::world_cache::{self, WorldCachePasses};
 use super::{MethodPasses, Recorder};
 use crate::dispatch::{record_dispatch, record_to_host};
 use crate::globals::{Push, METHOD_WORDS};
@@ -26,6 +27,8 @@ pub(crate) struct PathPasses {
     /// (Passes of a render resemble each other: one cut short predicts the next, and a pass
     /// that streams from the start costs less than a megakernel pass streamed again.)
     cut_short: bool,
+    /// The world cache's table, training paths and records (FrameParams::world_cache).
+    cache: WorldCachePasses,
 }
 
 /// Turns of the megakernel's loop-limit canary (path.glsl's loop_canary, push word 0).
@@ -51,10 +54,15 @@ fn beauty_paths(output: Output) -> bool {
 
 impl MethodPasses for PathPasses {
     fn kernels(&self, params: &FrameParams, cpu: bool) -> &'static [&'static str] {
-        match path_kernel(params, cpu) {
-            PathKernel::Streaming => &stream::KERNELS,
+        match (path_kernel(params, cpu), world_cache::trains(params)) {
+            (PathKernel::Streaming, _) => &stream::KERNELS,
+            (_, true) => &[PATHTRACE, world_cache::TRAIN],
             _ => &[PATHTRACE],
         }
+    }
+
+    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 3]> {
+        self.cache.prepare(gpu, params)
     }
 
     fn push_words(&self, params: &FrameParams) -> [u32; METHOD_WORDS] {
@@ -62,7 +70,16 @@ impl MethodPasses for PathPasses {
         words[0] = CANARY_TURNS;
         // The ambient-occlusion pass's distance (path.glsl's ao_distance).
         words[1] = params.ao_distance.to_bits();
+        WorldCachePasses::push_words(params, &mut words);
         words
+    }
+
+    fn begin_band(&mut self, rec: &mut Recorder, push: &Push) -> Result<Duration> {
+        self.cache.train(rec, push)
+    }
+
+    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
+        self.cache.records(params, span)
     }
 
     /// A megakernel pass, or a streaming one. Where the device cut megakernel invocations
@@ -94,6 +111,7 @@ impl MethodPasses for PathPasses {
 
     fn destroy(&mut self, gpu: &mut Gpu) {
         self.stream.destroy(gpu);
+        self.cache.destroy(gpu);
     }
 }
 

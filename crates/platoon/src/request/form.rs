@@ -126,6 +126,10 @@ pub struct Request {
     /// their unshadowed contribution (ReSTIR DI's candidates, without reuse; unbiased): for
     /// scenes of many lights. None: one light drawn by power.
     pub resampled_light: Option<u32>,
+    /// A game loop's path tracer reads a world cache for the bounces after the first, trained
+    /// as the frames go (biased; `platoon_core::frame::world_cache`). A still has no frames to
+    /// train it: refused there.
+    pub world_cache: Option<platoon_core::frame::world_cache::WorldCacheOptions>,
     pub adaptive: Option<Adaptive>,
 }
 
@@ -148,6 +152,7 @@ impl Default for Request {
             time_limit: None,
             max_depth: None,
             resampled_light: None,
+            world_cache: None,
             seed: 0,
             filter: PixelFilter::Box,
             transparent_film: false,

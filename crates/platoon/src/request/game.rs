@@ -25,6 +25,7 @@ impl Request {
         driver.method = self.method.clone();
         driver.denoise = self.denoiser;
         driver.resampled_light = self.resampled_light;
+        driver.world_cache = self.world_cache;
         GameOptions {
             driver,
             devices: self.devices.clone(),

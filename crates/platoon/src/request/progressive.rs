@@ -36,6 +36,7 @@ impl Progressive {
             ..request
         };
         request.validate()?;
+        request.refuse_world_cache()?;
         for (option, set) in [
             ("adaptive", request.adaptive.is_some()),
             ("aovs", request.batching().variance),

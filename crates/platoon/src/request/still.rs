@@ -89,7 +89,7 @@ impl Still {
                 let guides = Guides::from_layers(&layers).expect("the guides were rendered");
                 (
                     denoiser
-                        .apply(&rendered.film, &guides)
+                        .apply_on(&rendered.film, &guides, tracers)
                         .map_err(anyhow::Error::msg)?,
                     Some(rendered.film.clone()),
                 )
@@ -158,6 +158,7 @@ impl Request {
     /// device; several render on their own threads).
     pub fn render(&self, progress: &mut dyn FnMut(u32)) -> Result<Still> {
         self.validate()?;
+        self.refuse_world_cache()?;
         let scene = self.load_scene()?;
         let options = self.prepare_options(&scene)?;
         let prepared = crate::prepare(scene, &options)?;

@@ -73,6 +73,20 @@ impl Request {
                 ),
             )?;
         }
+        if let Some(c) = &self.world_cache {
+            if let Err(e) = c.validate() {
+                refuse("world_cache", e)?;
+            }
+            if self.method.unit().name() != "path" {
+                refuse(
+                    "world_cache",
+                    format!(
+                        "caches the path tracer's bounces; {} gathers its light its own way",
+                        self.method.unit().name()
+                    ),
+                )?;
+            }
+        }
         if self.max_depth == Some(0) {
             refuse(
                 "max_depth",
@@ -180,6 +194,19 @@ impl Request {
                 "aovs",
                 "the variance AOV needs at least 2 samples per pixel",
             )?;
+        }
+        Ok(())
+    }
+
+    /// A still or a progressive render has no frames to train a world cache with.
+    pub fn refuse_world_cache(&self) -> Result<(), RequestError> {
+        if self.world_cache.is_some() {
+            return Err(RequestError {
+                option: "world_cache",
+                problem: "the cache learns over a game loop's frames (view, the game): a still \
+                          has none to train it"
+                    .into(),
+            });
         }
         Ok(())
     }
