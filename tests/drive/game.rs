@@ -590,18 +590,31 @@ impl platoon::distributed::Session for ThreadRanks {
 /// moving every frame (commits and the film's sums sent to the ranks).
 #[test]
 fn the_game_loop_over_ranks_is_the_one_process_loop_bit_for_bit() {
-    game_over_ranks_and_alone(platoon::core::Method::path_tracing());
+    game_over_ranks_and_alone(platoon::core::Method::path_tracing(), |_| {});
+}
+
+/// ... with resampled light and the world cache (its table sent to the ranks with each frame,
+/// their records back with their bands): the cache the one process trains, the same film.
+#[test]
+fn the_game_loop_over_ranks_trains_the_one_process_world_cache() {
+    game_over_ranks_and_alone(platoon::core::Method::path_tracing(), |d| {
+        d.resampled_light = Some(4);
+        d.world_cache = Some(platoon::core::frame::world_cache::WorldCacheOptions {
+            resolution: 16,
+            ..Default::default()
+        });
+    });
 }
 
 /// A method from outside platoon's crates, registered at run time, goes over the ranks as the
 /// built-in ones do: by its name and settings (distribute/ names no method).
 #[test]
 fn a_method_registered_at_run_time_renders_over_the_ranks_as_alone() {
-    game_over_ranks_and_alone(toy::grey(0.5, true));
+    game_over_ranks_and_alone(toy::grey(0.5, true), |_| {});
 }
 
 /// The same game played by one process and by three thread ranks with `method`: the same film.
-fn game_over_ranks_and_alone(method: platoon::core::Method) {
+fn game_over_ranks_and_alone(method: platoon::core::Method, configure: fn(&mut DriverOptions)) {
     init();
     let play = |ranks: Option<platoon::distributed::Ranks>, devices: &str| {
         let (scene, camera) = cornell();
@@ -610,6 +623,7 @@ fn game_over_ranks_and_alone(method: platoon::core::Method) {
         driver.spp = 2;
         driver.samples_per_pass = 2;
         driver.blend_floor = 0.25;
+        configure(&mut driver);
         let mut options = platoon::game::GameOptions::new(driver);
         options.devices = devices.parse().unwrap();
         options.validation = true;

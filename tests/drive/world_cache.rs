@@ -26,6 +26,18 @@ fn play(
     options: DriverOptions,
     frames: u32,
 ) -> Vec<FinishedFrame> {
+    play_with(scene, spec, "cost-aware", options, frames, |_| camera)
+}
+
+/// ... under `balancer`, frame f seen from `camera_of(f)`.
+fn play_with(
+    scene: platoon::core::Scene,
+    spec: &str,
+    balancer: &str,
+    options: DriverOptions,
+    frames: u32,
+    camera_of: impl Fn(u32) -> Camera,
+) -> Vec<FinishedFrame> {
     init();
     let (pipeline, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
     let tracers = create_tracers(&spec.parse().unwrap(), &first, true, Sampling::Mis).unwrap();
@@ -33,13 +45,13 @@ fn play(
         pipeline,
         &first,
         tracers,
-        by_name("cost-aware").unwrap(),
+        by_name(balancer).unwrap(),
         options,
     )
     .unwrap();
     let mut done = Vec::new();
-    for _ in 0..frames {
-        done.extend(d.frame(camera).unwrap().finished);
+    for f in 0..frames {
+        done.extend(d.frame(camera_of(f)).unwrap().finished);
     }
     done.extend(d.finish().unwrap());
     for f in &done {
@@ -252,4 +264,52 @@ fn the_cache_bias_in_the_cornell_box_is_bounded_and_its_noise_lower() {
         rmse(cf, &reference) < 1.1 * rmse(pf, &reference),
         "the cache added noise"
     );
+}
+
+#[test]
+fn every_technique_at_once_gives_the_same_bits_on_one_and_three_tracers_under_every_balancer() {
+    // Resampled light, the world cache and the device denoiser, the camera moving: what a
+    // game runs with `--realtime --world-cache --denoise atrous-device`.
+    let mut options = DriverOptions::new(24, 24);
+    options.resampled_light = Some(8);
+    options.world_cache = Some(cache_options(16, 2));
+    options.denoise = platoon::core::denoise::Denoiser::AtrousDevice;
+    let (scene, camera) = cornell();
+    let moving = |f: u32| {
+        let mut c = camera;
+        c.camera_to_world =
+            glam::Mat4::from_translation(Vec3::X * 0.01 * f as f32) * camera.camera_to_world;
+        c
+    };
+    let one = play_with(
+        scene.clone(),
+        "lavapipe:1",
+        "none",
+        options.clone(),
+        4,
+        moving,
+    );
+    for balancer in platoon::core::balance::NAMES {
+        let three = play_with(
+            scene.clone(),
+            "lavapipe:1,1,1",
+            balancer,
+            options.clone(),
+            4,
+            moving,
+        );
+        for (a, b) in one.iter().zip(&three) {
+            let f = a.stats.frame;
+            assert!(a.film == b.film, "{balancer}, frame {f}: the films differ");
+            assert!(
+                a.denoised == b.denoised,
+                "{balancer}, frame {f}: denoised differently"
+            );
+            assert_eq!(
+                a.stats.world_cache, b.stats.world_cache,
+                "{balancer}, frame {f}"
+            );
+        }
+    }
+    assert!(one.last().unwrap().stats.world_cache.unwrap().cells > 0);
 }
