@@ -822,6 +822,17 @@ fn a_denoised_render_is_closer_to_the_converged_one_and_keeps_the_raw_beside_it(
     );
     assert!(metadata_value(&meta, "approximations").contains("a-trous"));
     assert_eq!(metadata_value(&meta, "denoiser"), "atrous");
+    // The same filter on the device: the CPU's image to float rounding, named in the metadata.
+    let (on_device, meta) = render(8, &["--denoise", "atrous-device"], &out("dd.exr"));
+    assert_eq!(metadata_value(&meta, "denoiser"), "atrous-device");
+    for (d, c) in on_device.pixels.iter().zip(&denoised.pixels) {
+        for k in 0..3 {
+            assert!(
+                (d[k] - c[k]).abs() <= 2e-3 * c[k].abs().max(1e-2),
+                "device {d:?} against CPU {c:?}"
+            );
+        }
+    }
     let (reference, _) = render(512, &[], &out("reference.exr"));
     // On the displayed range (radiance clamped at 1): the emitter's own pixels, 20 times
     // brighter, would otherwise outweigh the whole noisy room.

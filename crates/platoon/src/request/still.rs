@@ -120,10 +120,7 @@ impl Still {
         }
         self.raw_metadata = meta.clone();
         if let Some(d) = self.denoiser.describe() {
-            meta.push((
-                "denoiser".into(),
-                format!("{:?}", self.denoiser).to_lowercase(),
-            ));
+            meta.push(("denoiser".into(), self.denoiser.name().into()));
             for (k, v) in &mut meta {
                 if k == "approximations" {
                     *v = format!("{v}; {d}");
