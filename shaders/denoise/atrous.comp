@@ -2,15 +2,16 @@
 // The edge-avoiding a-trous filter on the device: the same arithmetic as the CPU reference,
 // crates/platoon-core/src/denoise/atrous.rs (its comment says why each weight), in three
 // passes over planes of one buffer (method buffer 0), each plane a vec4 per pixel:
-//   0: colour (rgb, w the variance), the source of odd iterations' output
+//   0: colour (rgb, w the variance; uploaded: the history's estimate, negative where it has
+//      none), the source of odd iterations' output
 //   1: colour, as plane 0 (the filter ping-pongs between them)
 //   2: albedo (rgb), w = depth (infinite where the pixel sees no surface)
 //   3: normal (xyz), w = the depth gradient (written by stage 0)
 //   4: x = luminance, y = ln(1 + luminance), z = the standard deviation (stage 1's)
 // Push words: 0 the stage, 1 the hole (pixels), 2 width, 3 height, 4 the source plane, 5 the
 // destination plane. Stages:
-//   0: once: the depth gradient, and plane 1 = the frame's colour (plane 0) with the variance
-//      of its luminance in each 3 x 3 window;
+//   0: once: the depth gradient, and plane 1 = the frame's colour (plane 0) with the history's
+//      variance, or where it has none the variance of its luminance in the 3 x 3 window;
 //   1: per iteration: luminance, log luminance and the 3 x 3 blurred variance's square root;
 //   2: per iteration: the 5 x 5 taps, holes of push word 1.
 // Whole vec4s are read through the buffer reference (scene.glsl: lavapipe 22.3 miscompiles a
@@ -65,7 +66,8 @@ void setup(uint p, uint x, uint y) {
     mean /= float(n);
     float variance = 0.0;
     for (uint i = 0u; i < n; ++i) variance += (values[i] - mean) * (values[i] - mean);
-    set_plane(1u, p, vec4(plane(0u, p).rgb, variance / float(n)));
+    vec4 own = plane(0u, p);
+    set_plane(1u, p, vec4(own.rgb, own.w >= 0.0 ? own.w : variance / float(n)));
 }
 
 void prefilter(uint p, uint x, uint y, uint source) {

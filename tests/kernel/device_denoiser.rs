@@ -48,6 +48,7 @@ fn two_faces(w: u32, h: u32, left: f32, right: f32, noise: f32) -> (Film, Guides
             albedo,
             normal,
             depth,
+            variance: None,
         },
     )
 }

@@ -32,7 +32,11 @@ impl Tracer {
         guides: &Guides,
     ) -> Result<(Film, Duration)> {
         let n = film.width as usize * film.height as usize;
-        if guides.albedo.len() != n || guides.normal.len() != n || guides.depth.len() != n {
+        if guides.albedo.len() != n
+            || guides.normal.len() != n
+            || guides.depth.len() != n
+            || guides.variance.as_ref().is_some_and(|v| v.len() != n)
+        {
             return Err(crate::Error::Invalid(format!(
                 "the denoiser's guides hold {} pixels, the frame {}x{}",
                 guides.depth.len(),
@@ -56,10 +60,16 @@ impl Tracer {
             .as_ref()
             .expect("ensured just above")
             .buffer;
+        // The history's variance where it has one; negative: the kernel's window estimates it.
+        let given = |i: usize| match &guides.variance {
+            Some(v) if !v[i].is_nan() => v[i],
+            _ => -1.0,
+        };
         let colour: Vec<[f32; 4]> = film
             .pixels
             .iter()
-            .map(|c| [c[0], c[1], c[2], 0.0])
+            .enumerate()
+            .map(|(i, c)| [c[0], c[1], c[2], given(i)])
             .collect();
         let albedo: Vec<[f32; 4]> = (0..n)
             .map(|i| {

@@ -33,6 +33,15 @@ pub fn filter(film: &Film, guides: &Guides) -> Film {
     let mut colour = film.pixels.clone();
     let gradient = depth_gradient(&guides.depth, w, h);
     let mut variance = spatial_variance(&colour, w, h);
+    // The history's estimate where it has one (SVGF): a shadow's or a texture's edge is not
+    // noise, which the window's estimate takes it for.
+    if let Some(given) = &guides.variance {
+        for (v, g) in variance.iter_mut().zip(given) {
+            if !g.is_nan() {
+                *v = *g;
+            }
+        }
+    }
     for i in 0..ITERATIONS {
         let step = 1usize << i;
         let sd: Vec<f32> = blurred(&variance, w, h).iter().map(|v| v.sqrt()).collect();

@@ -9,6 +9,10 @@ pub struct Guides {
     pub normal: Vec<[f32; 3]>,
     /// Along the view axis; infinite where the pixel sees no surface.
     pub depth: Vec<f32>,
+    /// The variance of each pixel's luminance as the image holds it, from its history's
+    /// moments (SVGF's temporal estimate, `denoise::temporal`); NaN where the history is too
+    /// short, and None for a single frame: the filter estimates those in a 3 x 3 window.
+    pub variance: Option<Vec<f32>>,
 }
 
 impl Guides {
@@ -28,6 +32,7 @@ impl Guides {
                 .find(|l| l.name == "depth")?
                 .channel("Z")?
                 .to_vec(),
+            variance: None,
         })
     }
 }

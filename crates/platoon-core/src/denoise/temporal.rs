@@ -89,8 +89,22 @@ struct History {
     colour: Vec<[f32; 3]>,
     /// Samples behind each pixel of it.
     samples: Vec<f32>,
+    /// The mean of each pixel's frame luminance and of its square, weighed as the colour.
+    moments: Vec<[f32; 2]>,
     geometry: GBuffer,
 }
+
+/// What a pixel's history holds: its mean radiance, the samples behind it, its moments.
+#[derive(Clone, Copy, Debug)]
+struct Past {
+    colour: [f32; 3],
+    samples: f32,
+    moments: [f32; 2],
+}
+
+/// A history shorter than this many frames leaves the variance to the filter's window (SVGF's
+/// rule: two moments of a few frames are no estimate).
+const MOMENT_FRAMES: f32 = 4.0;
 
 /// A denoised frame of the stream.
 #[derive(Clone, Debug)]
@@ -142,48 +156,69 @@ impl Temporal {
         } else {
             f32::INFINITY
         };
-        let prior: Vec<Option<([f32; 3], f32)>> = match &self.history {
+        let prior: Vec<Option<Past>> = match &self.history {
             Some(old) if (old.width, old.height) == (w, h) => (0..n)
                 .into_par_iter()
                 .map(|i| {
                     if moved {
                         reproject(old, &geometry, &camera, i, w, h)
                     } else {
-                        Some((old.colour[i], old.samples[i]))
+                        Some(Past {
+                            colour: old.colour[i],
+                            samples: old.samples[i],
+                            moments: old.moments[i],
+                        })
                     }
                 })
                 .collect(),
             _ => vec![None; n],
         };
         let reused = prior.iter().filter(|p| p.is_some()).count() as f32 / n.max(1) as f32;
-        let (colour, samples): (Vec<[f32; 3]>, Vec<f32>) = frame
+        let now: Vec<Past> = frame
             .pixels
             .iter()
             .zip(&prior)
-            .map(|(x, prior)| match *prior {
-                Some((c, before)) => {
-                    let total = before.min(cap) + s;
-                    let a = s / total;
-                    (std::array::from_fn(|k| c[k] + (x[k] - c[k]) * a), total)
+            .map(|(x, prior)| {
+                let l = luminance(*x);
+                match *prior {
+                    Some(p) => {
+                        let total = p.samples.min(cap) + s;
+                        let a = s / total;
+                        Past {
+                            colour: std::array::from_fn(|k| p.colour[k] + (x[k] - p.colour[k]) * a),
+                            samples: total,
+                            moments: [
+                                p.moments[0] + (l - p.moments[0]) * a,
+                                p.moments[1] + (l * l - p.moments[1]) * a,
+                            ],
+                        }
+                    }
+                    None => Past {
+                        colour: *x,
+                        samples: s,
+                        moments: [l, l * l],
+                    },
                 }
-                None => (*x, s),
             })
-            .unzip();
+            .collect();
         let accumulated = Film {
             width: w,
             height: h,
-            pixels: colour,
+            pixels: now.iter().map(|p| p.colour).collect(),
         };
+        let mut geometry = geometry;
+        geometry.guides.variance = Some(now.iter().map(|p| variance_of(p, s)).collect());
         let film = self
             .denoiser
             .apply_on(&accumulated, &geometry.guides, device)?;
-        let mean_samples = samples.iter().sum::<f32>() / n.max(1) as f32;
+        let mean_samples = now.iter().map(|p| p.samples).sum::<f32>() / n.max(1) as f32;
         self.history = Some(History {
             camera,
             width: w,
             height: h,
             colour: accumulated.pixels,
-            samples,
+            samples: now.iter().map(|p| p.samples).collect(),
+            moments: now.iter().map(|p| p.moments).collect(),
             geometry,
         });
         Ok(TemporalFrame {
@@ -194,8 +229,24 @@ impl Temporal {
     }
 }
 
+/// The variance of the luminance of a pixel's accumulated radiance `p`, from its moments: that
+/// of one frame's mean (of `spp` samples) over the frames behind it; NaN under
+/// [`MOMENT_FRAMES`] frames.
+fn variance_of(p: &Past, spp: f32) -> f32 {
+    let frames = p.samples / spp;
+    if frames < MOMENT_FRAMES {
+        return f32::NAN;
+    }
+    (p.moments[1] - p.moments[0] * p.moments[0]).max(0.0) / frames
+}
+
+fn luminance(c: [f32; 3]) -> f32 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
 /// The history of pixel `i` of the new frame, read from where its first hit was in the old
-/// one: the mean radiance and the samples behind it, or None when the old frame did not see it.
+/// one: the mean radiance, the samples and the moments behind it, or None when the old frame
+/// did not see it.
 fn reproject(
     old: &History,
     new: &GBuffer,
@@ -203,7 +254,7 @@ fn reproject(
     i: usize,
     w: u32,
     h: u32,
-) -> Option<([f32; 3], f32)> {
+) -> Option<Past> {
     let (x, y) = ((i % w as usize) as u32, (i / w as usize) as u32);
     let hit = new.instance[i] > 0.0;
     // Where the hit was then: carried back with the scene's motion where it is known.
@@ -228,6 +279,7 @@ fn reproject(
     let (fx, fy) = (at.x - 0.5, at.y - 0.5);
     let (x0, y0) = (fx.floor(), fy.floor());
     let (mut sum, mut samples, mut weights) = ([0.0f32; 3], 0.0f32, 0.0f32);
+    let mut moments = [0.0f32; 2];
     for (tx, ty) in [
         (x0, y0),
         (x0 + 1.0, y0),
@@ -246,10 +298,17 @@ fn reproject(
             *s += c * weight;
         }
         samples += old.samples[j] * weight;
+        for (m, o) in moments.iter_mut().zip(old.moments[j]) {
+            *m += o * weight;
+        }
         weights += weight;
     }
     // A sliver of a tap is not history enough to keep.
-    (weights > 1e-3).then(|| (sum.map(|v| v / weights), samples / weights))
+    (weights > 1e-3).then(|| Past {
+        colour: sum.map(|v| v / weights),
+        samples: samples / weights,
+        moments: moments.map(|m| m / weights),
+    })
 }
 
 /// Whether pixel `j` of the old frame saw the surface pixel `i` of the new one sees, which was
@@ -305,6 +364,7 @@ mod tests {
                 albedo: Vec::new(),
                 normal: Vec::new(),
                 depth: Vec::new(),
+                variance: None,
             },
             position: Vec::new(),
             instance: Vec::new(),
@@ -332,6 +392,61 @@ mod tests {
 
     fn stripes(p: Vec3) -> f32 {
         1.0 + 0.5 * (1.3 * p.x).sin() * (0.7 * p.y).cos()
+    }
+
+    #[test]
+    fn the_history_s_variance_keeps_a_shadow_edge_the_window_s_blurs() {
+        // One plane, a shadow's edge across it (0.2 left of x = 0, 1.0 right), each frame's
+        // pixels off by up to +-0.15 (an LCG's): SVGF's point. The window's variance takes the
+        // edge for noise and the filter blurs it; the history's knows the noise alone.
+        let eye = Vec3::new(0.0, 0.0, 5.0);
+        let truth = |p: Vec3| if p.x < 0.0 { 0.2 } else { 1.0 };
+        let mut state = 99u32;
+        let mut noise = move || {
+            state = state.wrapping_mul(1664525).wrapping_add(1013904223);
+            ((state >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.3
+        };
+        let mut t = Temporal::new(Denoiser::Atrous);
+        let (mut sum, mut out) = (vec![[0.0f32; 3]; (W * H) as usize], None);
+        let frames = 12;
+        for _ in 0..frames {
+            let (mut frame, g, camera) = view(eye, &truth, &|_| true);
+            for (p, s) in frame.pixels.iter_mut().zip(&mut sum) {
+                *p = [p[0] + noise(); 3];
+                s.iter_mut()
+                    .zip(*p)
+                    .for_each(|(s, v)| *s += v / frames as f32);
+            }
+            out = Some(
+                t.filter(&frame, 1, g, camera, false, &mut NoDevice)
+                    .unwrap(),
+            );
+        }
+        let (_, g, _) = view(eye, &truth, &|_| true);
+        let accumulated = Film {
+            width: W,
+            height: H,
+            pixels: sum,
+        };
+        let windowed = super::super::atrous::filter(&accumulated, &g.guides);
+        let (still, _, _) = view(eye, &truth, &|_| true);
+        // The error of the two columns either side of the edge.
+        let edge_error = |f: &Film| {
+            let (mut e, mut n) = (0.0, 0);
+            for i in 0..f.pixels.len() {
+                let (x, w) = ((i % W as usize) as i32, W as i32);
+                if (x - w / 2).abs() <= 1 || x == w / 2 - 2 {
+                    e += (f.pixels[i][0] - still.pixels[i][0]).abs();
+                    n += 1;
+                }
+            }
+            e / n as f32
+        };
+        let (moments, window) = (edge_error(&out.unwrap().film), edge_error(&windowed));
+        assert!(
+            moments < 0.5 * window,
+            "edge error with the history's variance {moments}, the window's {window}"
+        );
     }
 
     #[test]

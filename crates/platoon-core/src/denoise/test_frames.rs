@@ -15,6 +15,7 @@ pub fn two_faces(w: usize, h: usize, left: f32, right: f32, noise: f32) -> (Film
         })
         .collect();
     let guides = Guides {
+        variance: None,
         albedo: vec![[0.5; 3]; n],
         normal: (0..n)
             .map(|i| {
