@@ -479,6 +479,17 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     }
     let held = json["held_fraction"].as_f64().unwrap();
     assert!((0.0..=1.0).contains(&held));
+    // The error at that frame time: the last 4 frames against still renders of them.
+    let error = &json["error"];
+    assert_eq!(error["frames"], 4, "{json}");
+    assert_eq!(error["reference_spp"], 256, "{json}");
+    let (relmse, flip) = (
+        error["relmse"].as_f64().unwrap(),
+        error["flip"].as_f64().unwrap(),
+    );
+    assert!(relmse > 0.0 && relmse.is_finite(), "{json}");
+    assert!(flip > 0.0 && flip < 1.0, "{json}");
+    assert!(out.contains("relative MSE"), "{out}");
     let csv = std::fs::read_to_string(dir.path().join("game.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8);
     for bad in [["--target-ms", "0"], ["--size", "0x5"]] {

@@ -129,6 +129,46 @@ fn still_frames_of_the_driver_are_bit_for_bit_one_offline_render() {
     );
 }
 
+/// A finished frame carries what renders it again (`DriverOptions::keep_frame_scenes`, what
+/// `bench game` measures its error with): a frame that restarted (the camera moved) while a
+/// prop walked is one render of its generation's scene from its camera, bit for bit.
+#[test]
+fn a_finished_frame_keeps_the_scene_and_camera_that_render_it_again() {
+    let mut options = DriverOptions::new(W, H);
+    options.spp = 2;
+    options.keep_frame_scenes = true;
+    let (mut d, camera, _) = driver("lavapipe:1", options);
+    let prop = add_prop(&mut d);
+    let mut done = Vec::new();
+    for f in 0..5 {
+        move_prop(&mut d, prop, f);
+        let mut c = camera;
+        c.camera_to_world =
+            glam::Mat4::from_translation(Vec3::X * 0.01 * f as f32) * camera.camera_to_world;
+        done.extend(d.frame(c).unwrap().finished);
+    }
+    done.extend(d.finish().unwrap());
+    let last = done.last().unwrap();
+    assert_eq!(last.stats.plan.join, Join::Restart);
+    let scene = last.scene.as_ref().expect("the frame's scene");
+    let first = done.first().unwrap().scene.as_ref().unwrap();
+    assert!(
+        scene.instances.len() > first.instances.len() || !std::sync::Arc::ptr_eq(scene, first),
+        "the last frame kept the first generation"
+    );
+    let tracers =
+        create_tracers(&"lavapipe:1".parse().unwrap(), scene, true, Sampling::Mis).unwrap();
+    let mut renderer = Renderer::new(tracers, by_name("none").unwrap());
+    let mut params = FrameParams::new(W, H, 2, last.camera);
+    params.frame = last.stats.frame;
+    let again = renderer.render_frame(&params).unwrap().film;
+    assert!(
+        again == last.film,
+        "frame {} rendered again from its scene and camera differs",
+        last.stats.frame
+    );
+}
+
 /// The prop both living-scene tests add: a copy of mesh 0 above the floor.
 fn add_prop(d: &mut FrameDriver) -> usize {
     d.scene()

@@ -26,6 +26,7 @@ fn the_game_plays_a_few_frames_and_writes_its_outputs() {
             game,
             frames,
             out: Some(out.path().to_path_buf()),
+            keep_last: 0,
         },
         false,
     )

@@ -79,6 +79,7 @@ fn main() -> Result<()> {
             game,
             frames,
             out: Some(out.clone()),
+            keep_last: 0,
         },
         true,
     )?;

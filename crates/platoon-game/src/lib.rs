@@ -10,4 +10,4 @@ pub mod play;
 pub mod world;
 
 pub use game::{Game, GameOptions, Step};
-pub use play::{play, FrameRecord, PlayOptions, Played};
+pub use play::{play, FrameRecord, KeptFrame, PlayOptions, Played};

@@ -52,6 +52,18 @@ pub struct PlayOptions {
     pub frames: u32,
     /// Where to write frames/, game.csv and the preview (None: nothing written).
     pub out: Option<PathBuf>,
+    /// The last frames kept with their scenes and cameras ([`Played::kept`]), to be rendered
+    /// still and measured against (0: none; the driver then keeps no scenes).
+    pub keep_last: u32,
+}
+
+/// A frame as the player saw it, with what renders it again: its generation's flattened scene
+/// and its camera (render space).
+pub struct KeptFrame {
+    pub frame: u32,
+    pub shown: Film,
+    pub scene: std::sync::Arc<platoon::core::flatten::GpuScene>,
+    pub camera: platoon::core::scene::camera::Camera,
 }
 
 pub struct Played {
@@ -61,11 +73,15 @@ pub struct Played {
     pub preview: Option<PathBuf>,
     /// Every message of the devices' validation layers.
     pub device_messages: Vec<String>,
+    /// The last `PlayOptions::keep_last` frames, oldest first.
+    pub kept: Vec<KeptFrame>,
 }
 
 /// Plays `o.frames` frames, with a progress line per second on stderr when `progress`.
 pub fn play(o: &PlayOptions, progress: bool) -> Result<Played> {
-    let mut game = Game::start(&o.game)?;
+    let mut options = o.game.clone();
+    options.driver.keep_frame_scenes |= o.keep_last > 0;
+    let mut game = Game::start(&options)?;
     let frames_dir = o.out.as_ref().map(|d| d.join("frames"));
     if let Some(d) = &frames_dir {
         std::fs::create_dir_all(d).with_context(|| format!("creating {}", d.display()))?;
@@ -74,6 +90,7 @@ pub fn play(o: &PlayOptions, progress: bool) -> Result<Played> {
     let mut started: Vec<(Instant, Step)> = Vec::new();
     let mut films: Vec<Film> = Vec::new();
     let mut messages = Vec::new();
+    let mut kept = std::collections::VecDeque::new();
     let mut keep = |done: FinishedFrame, records: &mut Vec<FrameRecord>| -> Result<()> {
         records.push(record(&done));
         messages = done.stats.device_messages.clone();
@@ -82,6 +99,17 @@ pub fn play(o: &PlayOptions, progress: bool) -> Result<Played> {
         if let Some(d) = &frames_dir {
             let path = d.join(format!("frame_{:04}.png", done.stats.frame));
             write_image(&path, &shown, &[])?;
+        }
+        if let (Some(scene), true) = (done.scene, o.keep_last > 0) {
+            kept.push_back(KeptFrame {
+                frame: done.stats.frame,
+                shown: shown.clone(),
+                scene,
+                camera: done.camera,
+            });
+            if kept.len() > o.keep_last as usize {
+                kept.pop_front();
+            }
         }
         films.push(shown);
         Ok(())
@@ -130,6 +158,7 @@ pub fn play(o: &PlayOptions, progress: bool) -> Result<Played> {
         last: films.pop(),
         preview,
         device_messages: messages,
+        kept: kept.into(),
     })
 }
 

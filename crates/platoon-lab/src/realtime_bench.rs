@@ -132,8 +132,7 @@ impl Technique {
 /// The bench's settings.
 #[derive(Clone, Debug)]
 pub struct Options {
-    /// A glTF scene; None: the many-light hall (`platoon-scenegen --many-lights`).
-    pub scene: Option<PathBuf>,
+    pub scene: BenchScene,
     /// A skinned, animated glTF walking in the scene; None: none.
     pub character: Option<PathBuf>,
     pub width: u32,
@@ -157,7 +156,7 @@ pub struct Options {
 impl Default for Options {
     fn default() -> Self {
         Options {
-            scene: None,
+            scene: BenchScene::Hall,
             character: Some(crate::shared::path("scenes/CesiumMan.glb")),
             width: 160,
             height: 90,
@@ -193,11 +192,34 @@ fn time_of(o: &Options, f: u32) -> f32 {
     f as f32 * (o.target_ms * 1e-3) as f32
 }
 
+/// The scene a bench plays.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BenchScene {
+    /// The many-light hall (`platoon-scenegen --many-lights`).
+    Hall,
+    /// The built-in Cornell box.
+    Cornell,
+    /// A glTF file.
+    File(PathBuf),
+}
+
+impl BenchScene {
+    /// `hall`, `cornell`, or a glTF file's path.
+    pub fn parse(s: &str) -> BenchScene {
+        match s {
+            "hall" => BenchScene::Hall,
+            "cornell" => BenchScene::Cornell,
+            path => BenchScene::File(path.into()),
+        }
+    }
+}
+
 /// The scene the bench plays and the camera path's start.
 pub fn scene(o: &Options) -> Result<(Scene, Camera)> {
     let mut scene = match &o.scene {
-        Some(path) => platoon::load_scene(Some(path))?,
-        None => {
+        BenchScene::File(path) => platoon::load_scene(Some(path))?,
+        BenchScene::Cornell => platoon::load_scene(None)?,
+        BenchScene::Hall => {
             let dir = tempfile::tempdir()?;
             let path = dir.path().join("many-lights.glb");
             let hall = platoon_scenegen::many_lights::many_lights();
@@ -210,10 +232,20 @@ pub fn scene(o: &Options) -> Result<(Scene, Camera)> {
     if let Some(path) = &o.character {
         let character = platoon::load_scene(Some(path))
             .with_context(|| format!("{}: the walking character", path.display()))?;
-        // Three units ahead of the camera, on the floor below it.
-        let ahead = camera.position() + camera.basis(1, 1).forward * 3.0;
-        let at = DVec3::new(ahead.x as f64, 0.0, ahead.z as f64);
-        scene.append(&character, Placement::at(at))?;
+        // On the floor (the scene's lowest point), ahead of the camera: three units, or half
+        // the way to the scene's centre in a smaller one; at most 0.6 of the scene's height.
+        let (lo, hi) = scene.pose(0.0).bounds();
+        let (clo, chi) = character.pose(0.0).bounds();
+        let centre = (lo + hi) * 0.5;
+        let reach = (0.5 * (centre - camera.position()).length()).min(3.0);
+        let ahead = camera.position() + camera.basis(1, 1).forward * reach;
+        let scale = (0.6 * (hi.y - lo.y) / (chi.y - clo.y).max(1e-6)).min(1.0);
+        let placement = Placement {
+            translation: DVec3::new(ahead.x as f64, lo.y as f64, ahead.z as f64),
+            rotation: glam::Quat::IDENTITY,
+            scale: glam::Vec3::splat(scale),
+        };
+        scene.append(&character, placement)?;
     }
     Ok((scene, camera))
 }

@@ -51,6 +51,13 @@ pub struct GameArgs {
     /// (biased).
     #[arg(long)]
     pub world_cache: bool,
+    /// The last frames measured against still renders of the same frames (their scene, their
+    /// camera): the error at the frame time the loop held.
+    #[arg(long, default_value_t = 4)]
+    pub measure: u32,
+    /// Samples per pixel of those still renders (0: no error measured).
+    #[arg(long, default_value_t = 256)]
+    pub reference_spp: u32,
     /// Print one JSON object after the text.
     #[arg(long)]
     pub json: bool,
@@ -164,14 +171,23 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
             game,
             frames: o.frames,
             out: None,
+            keep_last: if o.reference_spp > 0 { o.measure } else { 0 },
         },
         true,
     )?;
     let s = summarize(&played.records, o.target_ms);
+    let error = super::game_error::measure(&played.kept, &o.devices, o.reference_spp)?;
     let csv = o.out.join("game.csv");
     platoon_game::play::write_csv(&csv, &played.records)?;
     let comm = ranks.map(|r| communication(r.0.size(), s.frames));
     println!("{}", text(o, &techniques, &s));
+    if let Some(e) = &error {
+        println!(
+            "error at this frame time: the last {} frames as shown against {} spp still \
+             renders of them: relative MSE {:.4}, LDR-FLIP {:.4}",
+            e.frames, e.reference_spp, e.relmse, e.flip
+        );
+    }
     if let Some(c) = &comm {
         println!(
             "over {} ranks: {:.0} bytes a frame to the other ranks, {:.0} back, {:.2} ms a frame \
@@ -186,6 +202,14 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     println!("per-frame numbers in {}", csv.display());
     if o.json {
         let mut j = json(o, &techniques, &s);
+        if let Some(e) = &error {
+            j["error"] = serde_json::json!({
+                "frames": e.frames,
+                "reference_spp": e.reference_spp,
+                "relmse": e.relmse,
+                "flip": e.flip,
+            });
+        }
         if let Some(c) = &comm {
             j["mpi"] = serde_json::json!({
                 "ranks": c.ranks,

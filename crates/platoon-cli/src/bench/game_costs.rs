@@ -44,6 +44,7 @@ pub fn record(character: &Path, dir: &Path) -> Result<()> {
             game,
             frames: frames as u32,
             out: None,
+            keep_last: 0,
         },
         true,
     )?;

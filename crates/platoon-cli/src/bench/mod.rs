@@ -5,6 +5,7 @@ mod balance;
 mod dynamic;
 mod game;
 mod game_costs;
+mod game_error;
 mod kernel;
 mod realtime;
 mod scenes;

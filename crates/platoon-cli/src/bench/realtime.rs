@@ -7,9 +7,10 @@ use platoon_lab::realtime_bench as rb;
 /// `platoon bench realtime`'s settings.
 #[derive(clap::Args)]
 pub struct RealtimeArgs {
-    /// The glTF scene the game plays; default: the many-light hall (128 emissive panels and 48
-    /// point lights, `platoon-scenegen --many-lights`).
-    scene: Option<std::path::PathBuf>,
+    /// The scene the game plays: hall (the many-light hall: 128 emissive panels and 48 point
+    /// lights, `platoon-scenegen --many-lights`), cornell (the built-in box), or a glTF file.
+    #[arg(default_value = "hall")]
+    scene: String,
     /// The skinned, animated glTF walking in front of the camera.
     #[arg(long, default_value_os_t = platoon_lab::shared::path("scenes/CesiumMan.glb"))]
     character: std::path::PathBuf,
@@ -64,7 +65,7 @@ pub fn run(a: &RealtimeArgs) -> Result<()> {
         );
     }
     let options = rb::Options {
-        scene: a.scene.clone(),
+        scene: rb::BenchScene::parse(&a.scene),
         character: (!a.no_character).then(|| a.character.clone()),
         width: a.size.0,
         height: a.size.1,

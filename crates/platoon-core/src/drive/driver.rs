@@ -19,21 +19,21 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use super::accumulation::Accumulation;
-use super::denoising::{DenoiseStats, FrameDenoiser, RenderedFrame};
-use super::gi::{self, GiStats, GiUpdate, PreparedMethod, Worker, WorkerJob};
-use super::plan::{FramePlan, Join, Motion, Planner};
+use super::denoising::FrameDenoiser;
+use super::finished::{FinishedFrame, FrameOutput};
+use super::gi::{GiStats, GiUpdate, PreparedMethod, Worker, WorkerJob};
+use super::plan::{Join, Motion, Planner};
+use super::render_thread::{render_loop, FrameJob, Job, Synchronous};
 use super::scaling::{BelowOneSample, Workload, WorkloadScaler};
 use super::{Pipeline, QueryScene, UpdateTimes};
 use crate::balance::Balancer;
 use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
-use crate::flatten::commit::Commit;
 use crate::flatten::GpuScene;
 use crate::frame::hit_geometry::HitGeometry;
-use crate::frame::renderer::{Renderer, TracerFailure, TracerStats};
-use crate::frame::world_cache::{CacheUpdate, WorldCache, WorldCacheOptions};
+use crate::frame::renderer::Renderer;
+use crate::frame::world_cache::{WorldCache, WorldCacheOptions};
 use crate::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
-use crate::output::Film;
 use crate::scene::camera::Camera;
 
 /// How the driver renders.
@@ -78,6 +78,10 @@ pub struct DriverOptions {
     /// The path tracer's bounces after the first read a world cache trained as the frames go
     /// (`frame::world_cache`; biased); None by default.
     pub world_cache: Option<WorldCacheOptions>,
+    /// Each finished frame carries its generation's flattened scene
+    /// ([`FinishedFrame::scene`]): what a still render of the same frame needs, to measure the
+    /// game's error against (`bench game`). A copy of the scene per changed generation.
+    pub keep_frame_scenes: bool,
 }
 
 /// Candidate lights of a game's resampled direct light ([`DriverOptions::realtime`]): most of
@@ -132,109 +136,13 @@ impl DriverOptions {
             method: crate::method::Method::path_tracing(),
             resampled_light: None,
             world_cache: None,
+            keep_frame_scenes: false,
             queries: false,
             gi_update: GiUpdate::default(),
             denoise: Denoiser::None,
             restart_on_change: false,
         }
     }
-}
-
-/// What one frame was and cost.
-#[derive(Clone, Debug)]
-pub struct FrameStats {
-    /// The game frame (counting calls from 0).
-    pub frame: u32,
-    pub plan: FramePlan,
-    /// The weight f of this frame's samples in the film.
-    pub weight: f32,
-    /// Samples per pixel behind the film when it holds exact sums (None after a blend).
-    pub film_samples: Option<u32>,
-    /// The render thread's whole time for the frame: commit, a synchronous preparation
-    /// (`gi`), render, film.
-    pub busy: Duration,
-    pub render: Duration,
-    /// Applying the scene's commit on the tracers.
-    pub commit: Duration,
-    /// Bytes each tracer took from the commit.
-    pub commit_bytes: u64,
-    /// The updater's times for the generation this frame rendered (zero if none was new).
-    pub update: UpdateTimes,
-    pub idle_fraction: f64,
-    pub tracers: Vec<TracerStats>,
-    /// Rays traced in each line: the frame's cost map as the balancer saw it.
-    pub line_rays: Vec<u64>,
-    pub failures: Vec<TracerFailure>,
-    pub rejected_samples: u64,
-    /// Every warning and error the devices have reported so far (validation layer).
-    pub device_messages: Vec<String>,
-    /// What the frame's lighting was prepared on, for a method with a preparation (vertex
-    /// links).
-    pub gi: Option<GiStats>,
-    /// What denoising the frame did and cost ([`DriverOptions::denoise`]).
-    pub denoise: Option<DenoiseStats>,
-    /// What the frame's training paths did to the world cache ([`DriverOptions::world_cache`]).
-    pub world_cache: Option<CacheUpdate>,
-}
-
-impl FrameStats {
-    /// Seconds each line took, when one tracer rendered the whole frame: its band's time spread
-    /// over the lines in proportion to their rays (what `bench balance` replays). None with
-    /// several tracers, whose times are in different devices' units.
-    pub fn line_seconds(&self) -> Option<Vec<f64>> {
-        let [tracer] = self.tracers.as_slice() else {
-            return None;
-        };
-        let rays = self.line_rays.iter().sum::<u64>().max(1) as f64;
-        let seconds = tracer.wall_time.as_secs_f64();
-        Some(
-            self.line_rays
-                .iter()
-                .map(|&r| r as f64 / rays * seconds)
-                .collect(),
-        )
-    }
-}
-
-pub struct FinishedFrame {
-    /// The film after this frame joined it (linear radiance).
-    pub film: Film,
-    /// The frame denoised with its history, when [`DriverOptions::denoise`] asks.
-    pub denoised: Option<Film>,
-    pub stats: FrameStats,
-}
-
-/// What the game gets back from a call.
-pub struct FrameOutput {
-    /// The previous call's frame (None on the first call).
-    pub finished: Option<FinishedFrame>,
-    /// The time this call waited: for the previous frame to finish, and on the updater.
-    pub waited_render: Duration,
-    pub waited_update: Duration,
-}
-
-struct FrameJob {
-    frame: u32,
-    commit: Option<Arc<Commit>>,
-    /// The scene's generation (counting the ones that changed it) and, when it is new and a
-    /// synchronous preparation reads it, its flattened scene.
-    generation: u64,
-    scene: Option<Arc<GpuScene>>,
-    /// What carries its hits back to the frame before, when the scene changed and the frame
-    /// is denoised.
-    hits: Option<Arc<HitGeometry>>,
-    /// The lighting the game thread chose for the frame (asynchronous preparation).
-    gi: Option<GiStats>,
-    update: UpdateTimes,
-    params: FrameParams,
-    plan: FramePlan,
-    /// The camera or the scene changed since the previous frame.
-    moved: bool,
-}
-
-enum Job {
-    Frame(Box<FrameJob>),
-    Balancer(Box<dyn Balancer>),
 }
 
 pub struct FrameDriver {
@@ -312,7 +220,7 @@ impl FrameDriver {
             }
             _ => None,
         };
-        if prepares {
+        if prepares || options.keep_frame_scenes {
             pipeline.keep_scenes();
         }
         if options.denoise != Denoiser::None {
@@ -336,10 +244,14 @@ impl FrameDriver {
         // One frame queued at most: the game is never more than a frame ahead.
         let (jobs, inbox) = mpsc::sync_channel::<Job>(1);
         let (outbox, done) = mpsc::sync_channel(1);
-        let scene = first_scene.clone();
+        let sync = Synchronous {
+            scene: first_scene.clone(),
+            prepared: None,
+            keep_frame_scenes: options.keep_frame_scenes,
+        };
         let render = std::thread::Builder::new()
             .name("platoon render".into())
-            .spawn(move || render_loop(renderer, film, denoiser, cache, scene, inbox, outbox))
+            .spawn(move || render_loop(renderer, film, denoiser, cache, sync, inbox, outbox))
             .map_err(|e| Error::Invalid(format!("starting the render thread: {e}")))?;
         Ok(FrameDriver {
             pipeline,
@@ -559,156 +471,6 @@ impl Drop for FrameDriver {
             let _ = render.join();
         }
     }
-}
-
-/// What the render thread keeps for a method's synchronous preparation: the newest scene
-/// and the last result.
-struct Synchronous {
-    scene: Arc<GpuScene>,
-    prepared: Option<PreparedMethod>,
-}
-
-fn render_loop<T: BandTracer + Send + 'static>(
-    mut renderer: Renderer<T>,
-    mut film: Accumulation,
-    mut denoiser: Option<FrameDenoiser>,
-    mut cache: Option<WorldCache>,
-    scene: Arc<GpuScene>,
-    inbox: Receiver<Job>,
-    outbox: SyncSender<Result<FinishedFrame>>,
-) {
-    let mut sync = Synchronous {
-        scene,
-        prepared: None,
-    };
-    for job in inbox {
-        let result = match job {
-            Job::Balancer(b) => {
-                renderer.set_balancer(b);
-                continue;
-            }
-            Job::Frame(job) => render_one(
-                &mut renderer,
-                &mut film,
-                denoiser.as_mut(),
-                cache.as_mut(),
-                &mut sync,
-                *job,
-            ),
-        };
-        if outbox.send(result).is_err() {
-            return;
-        }
-    }
-}
-
-fn render_one<T: BandTracer + Send + 'static>(
-    renderer: &mut Renderer<T>,
-    film: &mut Accumulation,
-    denoiser: Option<&mut FrameDenoiser>,
-    cache: Option<&mut WorldCache>,
-    sync: &mut Synchronous,
-    job: FrameJob,
-) -> Result<FinishedFrame> {
-    let FrameJob {
-        frame,
-        commit,
-        generation,
-        scene,
-        hits,
-        mut gi,
-        update,
-        mut params,
-        plan,
-        moved,
-    } = job;
-    let start = Instant::now();
-    let failed = |e: crate::frame::renderer::RenderError| Error::Invalid(e.to_string());
-    let mut failures = Vec::new();
-    let commit_bytes = match &commit {
-        Some(c) => {
-            let before = renderer.failures().len();
-            let uploaded = renderer.apply_commit(c, frame).map_err(failed)?;
-            failures.extend_from_slice(&renderer.failures()[before..]);
-            uploaded.first().map_or(0, |u| u.1)
-        }
-        None => 0,
-    };
-    let commit_time = start.elapsed();
-    if let Some(scene) = scene {
-        sync.scene = scene;
-    }
-    if !params.method.unit().ready() {
-        gi = Some(gi::prepare_synchronously(
-            renderer,
-            &mut sync.prepared,
-            &sync.scene,
-            generation,
-            &mut params,
-            &mut failures,
-        )?);
-    }
-    let render_start = Instant::now();
-    params.film.accumulated = film.continued(plan.join);
-    params.world_cache = cache.as_ref().map(|c| c.table());
-    let mut rendered = renderer
-        .render_frame_planned(&params, plan.rebalance)
-        .map_err(failed)?;
-    let render = render_start.elapsed();
-    failures.extend(std::mem::take(&mut rendered.failures));
-    // The records of every band, in pixel order: the same cache for any split.
-    let world_cache = cache.map(|c| c.update(&rendered.per_pixel, frame));
-    let (denoised, denoise) = match denoiser {
-        Some(d) => {
-            let frame = RenderedFrame {
-                params: &params,
-                plan: &plan,
-                sums: &rendered.sums,
-                before: params.film.accumulated.as_deref(),
-                film_size: film.size(),
-                moved,
-                hits,
-            };
-            let (image, stats) = d.denoise(renderer, frame, &mut failures)?;
-            (Some(image), Some(stats))
-        }
-        None => (None, None),
-    };
-    if plan.resolution < 1.0 {
-        film.join_upscaled(
-            plan.join,
-            &rendered.sums,
-            (params.width, params.height),
-            plan.spp,
-        );
-    } else {
-        film.join(plan.join, rendered.sums, plan.spp);
-    }
-    let film_now = film.film();
-    Ok(FinishedFrame {
-        film: film_now,
-        denoised,
-        stats: FrameStats {
-            frame,
-            weight: plan.join.weight(plan.frames_joined),
-            plan,
-            film_samples: film.samples(),
-            busy: start.elapsed(),
-            render,
-            commit: commit_time,
-            commit_bytes,
-            update,
-            idle_fraction: rendered.idle_fraction,
-            tracers: rendered.tracers,
-            line_rays: rendered.line_rays,
-            failures,
-            rejected_samples: rendered.rejected_samples,
-            device_messages: renderer.with_tracers(|t| t.messages()).concat(),
-            gi,
-            denoise,
-            world_cache,
-        },
-    })
 }
 
 fn scaler(target: Duration, spp: u32, below_one: BelowOneSample) -> WorkloadScaler {

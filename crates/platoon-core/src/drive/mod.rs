@@ -12,21 +12,21 @@ pub mod accumulation;
 pub mod denoising;
 pub mod driver;
 pub mod edit;
+mod finished;
 pub mod gi;
 pub mod pipeline;
 pub mod plan;
 pub mod queries;
+mod render_thread;
 pub mod scaling;
 pub mod threads;
 pub mod updater;
 pub mod walk;
 
 pub use denoising::DenoiseStats;
-pub use driver::{
-    realtime, DriverOptions, FinishedFrame, FrameDriver, FrameOutput, FrameStats,
-    REALTIME_CANDIDATES,
-};
+pub use driver::{realtime, DriverOptions, FrameDriver, REALTIME_CANDIDATES};
 pub use edit::Edit;
+pub use finished::{FinishedFrame, FrameOutput, FrameStats};
 pub use gi::{GiStats, GiUpdate};
 pub use pipeline::{Pipeline, UpdaterThreads};
 pub use queries::{QueryHit, QueryScene};
