@@ -5,7 +5,6 @@
 
 use std::time::Duration;
 
-use ash::vk;
 use gpu_allocator::MemoryLocation;
 use platoon_core::denoise::Guides;
 use platoon_core::output::Film;
@@ -124,19 +123,8 @@ impl Tracer {
             for push in &stages {
                 record_dispatch(d, cb, kernel, push, (groups, 1));
             }
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(vk::AccessFlags::TRANSFER_READ);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
         })?;
+        // read_buffer's copy waits for the kernels' writes (record_copy_to_host's barrier).
         let bytes = self.gpu.read_buffer(buffer, last * plane, plane)?;
         let out: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
         Ok((
