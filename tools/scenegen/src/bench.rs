@@ -21,6 +21,14 @@ pub fn facing(d: [f32; 3]) -> [f32; 4] {
     [q[0] / n, q[1] / n, 0.0, q[3] / n]
 }
 
+/// The rotation (x, y, z, w) of a camera turned `yaw` degrees about +Y, then tilted `pitch`
+/// degrees about its own x (negative: down).
+pub fn turned(yaw: f32, pitch: f32) -> [f32; 4] {
+    let (sy, cy) = (yaw.to_radians() / 2.0).sin_cos();
+    let (sx, cx) = (pitch.to_radians() / 2.0).sin_cos();
+    [cy * sx, sy * cx, -sy * sx, cy * cx]
+}
+
 /// A Lambertian glTF material (dielectric with KHR_materials_specular's factor 0), as
 /// platoon's built-in Cornell box has.
 fn lambertian(name: &str, albedo: [f32; 3]) -> Value {

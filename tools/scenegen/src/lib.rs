@@ -759,9 +759,7 @@ pub fn conference_room() -> SceneData {
     let mut camera = NodeData::new();
     camera.translation = [-5.3, 1.7, 3.4];
     // Looking along the room towards its far corner: turned about y, tilted down a little.
-    let (sy, cy) = (-50.0f32.to_radians() / 2.0).sin_cos();
-    let (sx, cx) = (-12.0f32.to_radians() / 2.0).sin_cos();
-    camera.rotation = [cy * sx, sy * cx, -sy * sx, cy * cx];
+    camera.rotation = bench::turned(-50.0, -12.0);
     camera.camera_yfov = Some(1.0);
     nodes.push(camera);
     SceneData {

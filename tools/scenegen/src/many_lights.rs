@@ -138,9 +138,7 @@ pub fn many_lights() -> SceneData {
     let mut camera = NodeData::new();
     camera.translation = [-7.6, 1.7, 1.2];
     // Down the hall between the columns: turned about y, tilted down a little.
-    let (sy, cy) = (-78.0f32.to_radians() / 2.0).sin_cos();
-    let (sx, cx) = (-10.0f32.to_radians() / 2.0).sin_cos();
-    camera.rotation = [cy * sx, sy * cx, -sy * sx, cy * cx];
+    camera.rotation = crate::bench::turned(-78.0, -10.0);
     camera.camera_yfov = Some(1.0);
     nodes.push(camera);
     SceneData {
