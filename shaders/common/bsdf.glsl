@@ -443,6 +443,15 @@ bool bsdf_all_delta(Bsdf b) {
     return b.delta && b.p.x == 0.0;
 }
 
+// Whether light through the surface reaches the other side by a lobe that is not a delta (rough
+// glass, diffuse transmission): where a light sample may count behind the surface.
+bool bsdf_transmits(Bsdf b) {
+#ifdef HAS_DIFFUSE_TRANSMISSION
+    if (b.dt > 0.0) return true;
+#endif
+    return b.w.y > 0.0 && !b.delta;
+}
+
 // The share of the diffuse lobe reflected (the rest is transmitted) and the chance that it
 // samples the reflected side.
 float diffuse_reflected(Bsdf b) {

@@ -12,6 +12,11 @@ struct LightSample {
     // weight uses too, so the two weights still sum to one: unbiased).
     float mis_pdf;
     bool delta;
+    // The sample's light, the numbers that placed it there and the light's pick probability:
+    // what names the sample from any shading point (light reuse).
+    uint light;
+    vec2 u;
+    float pick;
 };
 
 // Probability of NEE picking light l: its share of the lights' power, or with
@@ -79,20 +84,17 @@ float environment_light_pdf(vec3 dir) {
     return light_pick(l) * env_pdf(dir);
 }
 
-bool sample_one_light(vec3 p, inout Rng rng, out LightSample ls) {
-    float ul = rng_next(rng);
-    vec2 u = rng_next2(rng);
+// The sample the numbers u place on light `index`, seen from p: a pure function of (index, u)
+// and p, so that light reuse (path/light_reuse.glsl) can look at one sample from many points.
+bool light_sample_at(uint index, vec2 u, vec3 p, out LightSample ls) {
     ls.pdf = 0.0;
     ls.delta = false;
     ls.infinite = false;
-    uint n = light_count();
-    if (n == 0u) return false;
-#ifdef LIGHT_SELECT_UNIFORM
-    Light l = light_at(min(uint(ul * float(n)), n - 1u));
-#else
-    Light l = light_at(search_cdf(CDF_LIGHTS, 0u, n, ul));
-#endif
+    ls.light = index;
+    ls.u = u;
+    Light l = light_at(index);
     float pmf = light_pick(l);
+    ls.pick = pmf;
     uint kind = l.ids.x;
 #ifdef HAS_EMISSIVE_TRIANGLES
     if (kind == LIGHT_TRIANGLE) {
@@ -157,6 +159,20 @@ bool sample_one_light(vec3 p, inout Rng rng, out LightSample ls) {
         return ls.pdf > 0.0;
     }
     return false;
+}
+
+bool sample_one_light(vec3 p, inout Rng rng, out LightSample ls) {
+    float ul = rng_next(rng);
+    vec2 u = rng_next2(rng);
+    ls.pdf = 0.0;
+    uint n = light_count();
+    if (n == 0u) return false;
+#ifdef LIGHT_SELECT_UNIFORM
+    uint index = min(uint(ul * float(n)), n - 1u);
+#else
+    uint index = search_cdf(CDF_LIGHTS, 0u, n, ul);
+#endif
+    return light_sample_at(index, u, p, ls);
 }
 
 #ifdef LIGHT_SELECT_RIS

@@ -68,8 +68,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Gl
     uint64_t method_buffer0;
     uint64_t method_buffer1;
     uint64_t method_buffer2;
-    VertexExtras vertex_extras;
-    uint64_t pad_addresses;
+    uint64_t method_buffer3;
+    VertexExtras vertex_extras;  // (an even count of addresses: the camera starts a vec4)
     vec4 cam_origin;   // xyz, lens radius
     vec4 cam_right;    // unit right, w = tan(fov_y/2) * aspect
     vec4 cam_up;       // unit up, w = tan(fov_y/2)

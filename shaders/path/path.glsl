@@ -89,6 +89,9 @@ bool sides_agree(vec3 ng_wo, vec3 wi, float shading_cos_product) {
 #include "path/pixel_filter.glsl"
 #ifdef RIS_CONTRIBUTION
 #include "path/resampled_light.glsl"
+#ifdef LIGHT_REUSE
+#include "path/light_reuse.glsl"
+#endif
 #endif
 #if defined(WORLD_CACHE) || defined(WORLD_CACHE_TRAIN)
 #include "path/world_cache.glsl"
@@ -258,6 +261,10 @@ struct ShadowRay {
 // still to be added then.
 bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay shadow) {
     shadow.valid = false;
+#ifdef LIGHT_REUSE
+    // Overwritten where the first vertex takes a light sample.
+    if (reuse_here(p.depth, p.sample_index)) reuse_clear();
+#endif
 #ifdef HAS_VOLUME
     // What the medium absorbed along the segment just traced (before the light found at its end).
     p.throughput *= transmittance(p.medium, found ? hit.t : INF);
@@ -349,7 +356,11 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 #ifndef SAMPLING_BSDF
     if (!bsdf_all_delta(bsdf)) {
         LightSample ls;
-#ifdef RIS_CONTRIBUTION
+#if defined(LIGHT_REUSE)
+        bool reused = reuse_here(p.depth, p.sample_index);
+        if (reused ? reuse_light(s, t, b, bsdf, wo, ng_wo, rng, ls)
+                   : sample_light_toward(s.position, bsdf, wo, t, b, s.ns, ng_wo, rng, ls)) {
+#elif defined(RIS_CONTRIBUTION)
         if (sample_light_toward(s.position, bsdf, wo, t, b, s.ns, ng_wo, rng, ls)) {
 #else
         if (sample_light(s.position, rng, ls)) {
@@ -456,6 +467,9 @@ vec3 pixel_samples(uvec2 pixel, vec3 sum, inout uint rays, inout uint rejected) 
     // passes, or earlier frames of a converging view) one sample at a time, so the bits do not
     // depend on how the samples were cut into passes or frames.
     uint si = pc.sample_begin;
+#ifdef LIGHT_REUSE
+    reuse_pixel = pixel.y * F.dims.x + pixel.x;
+#endif
     Rng rng = pixel_rng(pixel, si);
     Path p = path_start(camera_ray(pixel, rng), si);
 #ifdef LAST_PATH_CUT

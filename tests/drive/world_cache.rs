@@ -5,11 +5,13 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "../common/play.rs"]
+mod play;
 
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
-use platoon::core::drive::{DriverOptions, FinishedFrame, FrameDriver, Pipeline};
+use platoon::core::drive::{DriverOptions, FinishedFrame, Pipeline};
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::world_cache::WorldCacheOptions;
 use platoon::core::frame::FrameParams;
@@ -17,81 +19,7 @@ use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;
 use platoon::devices::create_tracers;
 use platoon::tracer::Sampling;
-
-/// Plays `frames` still frames of `scene` from `camera` on the tracers of `spec`.
-fn play(
-    scene: platoon::core::Scene,
-    camera: Camera,
-    spec: &str,
-    options: DriverOptions,
-    frames: u32,
-) -> Vec<FinishedFrame> {
-    play_with(scene, spec, "cost-aware", options, frames, |_| camera)
-}
-
-/// ... under `balancer`, frame f seen from `camera_of(f)`.
-fn play_with(
-    scene: platoon::core::Scene,
-    spec: &str,
-    balancer: &str,
-    options: DriverOptions,
-    frames: u32,
-    camera_of: impl Fn(u32) -> Camera,
-) -> Vec<FinishedFrame> {
-    init();
-    let (pipeline, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
-    let tracers = create_tracers(&spec.parse().unwrap(), &first, true, Sampling::Mis).unwrap();
-    let mut d = FrameDriver::new(
-        pipeline,
-        &first,
-        tracers,
-        by_name(balancer).unwrap(),
-        options,
-    )
-    .unwrap();
-    let mut done = Vec::new();
-    for f in 0..frames {
-        done.extend(d.frame(camera_of(f)).unwrap().finished);
-    }
-    done.extend(d.finish().unwrap());
-    for f in &done {
-        assert!(f.stats.failures.is_empty(), "{:?}", f.stats.failures);
-        assert!(
-            f.stats.device_messages.is_empty(),
-            "{:?}",
-            f.stats.device_messages
-        );
-    }
-    done
-}
-
-/// Each frame's own estimate, from the still view's film before and after it (exact sums).
-fn own_frames(run: &[FinishedFrame]) -> Vec<Film> {
-    let mut out = Vec::new();
-    let (mut before, mut n0) = (None::<&Film>, 0u32);
-    for f in run {
-        let n = f.stats.film_samples.expect("a still view sums");
-        let pixels = f
-            .film
-            .pixels
-            .iter()
-            .enumerate()
-            .map(|(i, p)| {
-                std::array::from_fn(|k| {
-                    let earlier = before.map_or(0.0, |b| b.pixels[i][k] * n0 as f32);
-                    (p[k] * n as f32 - earlier) / (n - n0) as f32
-                })
-            })
-            .collect();
-        out.push(Film {
-            width: f.film.width,
-            height: f.film.height,
-            pixels,
-        });
-        (before, n0) = (Some(&f.film), n);
-    }
-    out
-}
+use play::{own_frames, play, play_with};
 
 fn cache_options(resolution: u32, train_stride: u32) -> WorldCacheOptions {
     WorldCacheOptions {
@@ -268,10 +196,12 @@ fn the_cache_bias_in_the_cornell_box_is_bounded_and_its_noise_lower() {
 
 #[test]
 fn every_technique_at_once_gives_the_same_bits_on_one_and_three_tracers_under_every_balancer() {
-    // Resampled light, the world cache and the device denoiser, the camera moving: what a
-    // game runs with `--realtime --world-cache --denoise atrous-device`.
+    // Resampled light reusing reservoirs, the world cache and the device denoiser, the camera
+    // moving: what a game runs with `--realtime --light-reuse --world-cache --denoise
+    // atrous-device`.
     let mut options = DriverOptions::new(24, 24);
     options.resampled_light = Some(8);
+    options.light_reuse = Some(Default::default());
     options.world_cache = Some(cache_options(16, 2));
     options.denoise = platoon::core::denoise::Denoiser::AtrousDevice;
     let (scene, camera) = cornell();
@@ -307,6 +237,10 @@ fn every_technique_at_once_gives_the_same_bits_on_one_and_three_tracers_under_ev
             );
             assert_eq!(
                 a.stats.world_cache, b.stats.world_cache,
+                "{balancer}, frame {f}"
+            );
+            assert_eq!(
+                a.stats.light_reuse, b.stats.light_reuse,
                 "{balancer}, frame {f}"
             );
         }

@@ -349,6 +349,26 @@ fn every_rule_refuses_by_naming_its_option() {
             "world_cache",
             "training stride",
         ),
+        (
+            Request {
+                light_reuse: Some(Default::default()),
+                ..small()
+            },
+            "light_reuse",
+            "set resampled_light",
+        ),
+        (
+            Request {
+                light_reuse: Some(platoon::core::frame::light_reuse::LightReuse {
+                    history: 0,
+                    ..Default::default()
+                }),
+                resampled_light: Some(8),
+                ..small()
+            },
+            "light_reuse",
+            "history",
+        ),
     ];
     for (request, option, says) in cases {
         let e = request.validate().unwrap_err();
@@ -368,6 +388,15 @@ fn every_rule_refuses_by_naming_its_option() {
         let e = e.to_string();
         assert!(e.contains("world_cache") && e.contains("game loop"), "{e}");
     }
+    // ... nor has a still a previous frame's reservoirs to reuse.
+    let reusing = Request {
+        resampled_light: Some(8),
+        light_reuse: Some(Default::default()),
+        ..small()
+    };
+    reusing.validate().unwrap();
+    let e = reusing.render(&mut |_| {}).err().unwrap().to_string();
+    assert!(e.contains("light_reuse") && e.contains("game loop"), "{e}");
     // A rule that needs the devices: a time limit cuts one device's frame only.
     let e = Request {
         time_limit: Some(Duration::from_secs(1)),

@@ -83,6 +83,12 @@ pub struct ViewArgs {
     /// (hashed cells in world space; biased, the title says so).
     #[arg(long)]
     world_cache: bool,
+    /// Resampled light reuses the previous frame's reservoirs where each pixel's surface was
+    /// and around it (ReSTIR DI's temporal and spatial reuse): unbiased (the default), or
+    /// biased (a little cheaper, darker where a neighbour cannot see the light; the title
+    /// says so). Needs --resampled-light or --realtime.
+    #[arg(long, num_args = 0..=1, default_missing_value = "unbiased")]
+    light_reuse: Option<platoon::core::frame::light_reuse::LightReuse>,
     /// Close after this many frames (for scripts and tests).
     #[arg(long)]
     frames: Option<u32>,
@@ -139,6 +145,7 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
         denoiser: args.denoise,
         resampled_light: args.resampled_light,
         world_cache: args.world_cache.then(Default::default),
+        light_reuse: args.light_reuse,
         ..Default::default()
     };
     request.validate().map_err(crate::request_flags::as_flags)?;
@@ -341,6 +348,9 @@ impl Viewer {
             }
             if let Some(c) = &s.world_cache {
                 below += &format!(", world cache ({} cells)", c.cells);
+            }
+            if let Some(r) = &self.driver.options().light_reuse {
+                below += &format!(", {}", r.label());
             }
             if let Some(d) = &s.denoise {
                 below += &format!(

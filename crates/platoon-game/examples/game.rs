@@ -5,12 +5,14 @@
 //! ```sh
 //! cargo run --release -p platoon-game --example game -- [--frames 240] [--target-ms 50] \
 //!     [--size 160x120] [--devices lavapipe:1,1] [--out game-out] [--character CesiumMan.glb] \
-//!     [--denoise atrous] [--resampled-light 8] [--world-cache] [--realtime]
+//!     [--denoise atrous] [--resampled-light 8] [--light-reuse unbiased] [--world-cache] \
+//!     [--realtime]
 //! ```
 //!
 //! With `--denoise` the frames written are denoised with their history (the CSV's denoise_ms
 //! says what it cost). `--resampled-light M` resamples next-event estimation from M candidate
-//! lights; `--world-cache` has the bounces after the first read a world cache trained as the
+//! lights, and `--light-reuse unbiased|biased` reuses the previous frame's reservoirs (ReSTIR
+//! DI's temporal and spatial reuse); `--world-cache` has the bounces after the first read a world cache trained as the
 //! frames go; `--realtime` is a game's setting of resampled light and the denoiser (8
 //! candidates, a-trous) where the flags leave them open.
 
@@ -32,6 +34,7 @@ fn main() -> Result<()> {
     let mut resampled_light = None;
     let mut realtime = false;
     let mut world_cache = false;
+    let mut light_reuse = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = || args.next().with_context(|| format!("{a} needs a value"));
@@ -52,6 +55,7 @@ fn main() -> Result<()> {
             "--resampled-light" => resampled_light = Some(value()?.parse()?),
             "--realtime" => realtime = true,
             "--world-cache" => world_cache = true,
+            "--light-reuse" => light_reuse = Some(value()?.parse().map_err(anyhow::Error::msg)?),
             other => anyhow::bail!("unknown argument {other:?}"),
         }
     }
@@ -64,6 +68,7 @@ fn main() -> Result<()> {
     game.driver.denoise = denoise;
     game.driver.resampled_light = resampled_light;
     game.driver.world_cache = world_cache.then(Default::default);
+    game.driver.light_reuse = light_reuse;
     if realtime {
         game.driver.realtime();
     }

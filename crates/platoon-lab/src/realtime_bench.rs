@@ -32,6 +32,9 @@ use crate::tradeoff::metrics;
 pub struct Technique {
     /// Resampled direct light over a game's [`REALTIME_CANDIDATES`] lights.
     pub resampled: bool,
+    /// ... reusing the previous frame's reservoirs around each pixel (ReSTIR DI's temporal and
+    /// spatial reuse, unbiased; implies `resampled`).
+    pub reuse: bool,
     /// The world cache for the bounces after the first (default settings).
     pub world_cache: bool,
     /// The à-trous denoiser over the reprojected history.
@@ -39,11 +42,12 @@ pub struct Technique {
 }
 
 /// The parts' names, in the order a name lists them.
-const PARTS: [&str; 3] = ["resampled", "world-cache", "atrous"];
+const PARTS: [&str; 4] = ["resampled", "reuse", "world-cache", "atrous"];
 
 impl Technique {
     pub const PLAIN: Technique = Technique {
         resampled: false,
+        reuse: false,
         world_cache: false,
         atrous: false,
     };
@@ -66,21 +70,44 @@ impl Technique {
     };
     pub const ALL_ON: Technique = Technique {
         resampled: true,
+        reuse: false,
         world_cache: true,
         atrous: true,
     };
+    pub const REUSE: Technique = Technique {
+        resampled: true,
+        reuse: true,
+        ..Technique::PLAIN
+    };
+    pub const REUSE_ATROUS: Technique = Technique {
+        atrous: true,
+        ..Technique::REUSE
+    };
+    pub const REUSE_ALL_ON: Technique = Technique {
+        reuse: true,
+        ..Technique::ALL_ON
+    };
     /// The bench's default list: plain first (what the others are compared with).
-    pub const DEFAULT: [Technique; 6] = [
+    pub const DEFAULT: [Technique; 9] = [
         Technique::PLAIN,
         Technique::ATROUS,
         Technique::RESAMPLED,
+        Technique::REUSE,
         Technique::WORLD_CACHE,
         Technique::RESAMPLED_ATROUS,
+        Technique::REUSE_ATROUS,
         Technique::ALL_ON,
+        Technique::REUSE_ALL_ON,
     ];
 
-    fn parts(self) -> [bool; 3] {
-        [self.resampled, self.world_cache, self.atrous]
+    /// The parts a name lists (reuse stands for resampling too).
+    fn parts(self) -> [bool; 4] {
+        [
+            self.resampled && !self.reuse,
+            self.reuse,
+            self.world_cache,
+            self.atrous,
+        ]
     }
 
     pub fn name(self) -> String {
@@ -105,6 +132,7 @@ impl Technique {
         for part in s.split('+') {
             match part {
                 "resampled" => t.resampled = true,
+                "reuse" => (t.resampled, t.reuse) = (true, true),
                 "world-cache" => t.world_cache = true,
                 "atrous" => t.atrous = true,
                 _ => bail!(
@@ -122,6 +150,9 @@ impl Technique {
         }
         if self.resampled {
             driver.resampled_light = Some(REALTIME_CANDIDATES);
+        }
+        if self.reuse {
+            driver.light_reuse = Some(Default::default());
         }
         if self.world_cache {
             driver.world_cache = Some(Default::default());

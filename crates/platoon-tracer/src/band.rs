@@ -97,6 +97,23 @@ impl Tracer {
                 "the world cache is the path tracer's: another method was chosen".into(),
             ));
         }
+        if let Some(h) = &params.light_reuse {
+            if !params.method.is_path_tracing() || !params.ris_contribution {
+                return Err(crate::Error::Invalid(
+                    "light reuse resamples the path tracer's direct light: it needs resampled \
+                     light (by contribution) and the path tracer"
+                        .into(),
+                ));
+            }
+            if params.crop.is_some() {
+                return Err(crate::Error::Invalid(
+                    "light reuse finds the previous frame's reservoirs in the whole image: \
+                     a border render has none"
+                        .into(),
+                ));
+            }
+            h.options.validate().map_err(crate::Error::Invalid)?;
+        }
         if params.world_cache.as_ref().is_some_and(|t| {
             !t.slots.len().is_power_of_two() || t.cell_size.is_nan() || t.cell_size <= 0.0
         }) {

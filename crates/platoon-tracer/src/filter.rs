@@ -90,7 +90,7 @@ impl Tracer {
         // The scene's addresses stay; method buffer 0 names the planes. A band rewrites the
         // block before its own passes.
         let mut g: Globals = self.scene.globals;
-        g.method_buffers = [address, 0, 0];
+        g.method_buffers = [address, 0, 0, 0];
         self.globals_buffer.mapped()[..std::mem::size_of::<Globals>()]
             .copy_from_slice(bytemuck::bytes_of(&g));
         let scene = self

@@ -27,11 +27,9 @@ pub(crate) struct Globals {
     pub stats: u64,
     /// The rendering method's buffers (`MethodPasses::prepare`; IGI's VPLs, per-pixel texels and
     /// gathering vertices), 0 where a method has none.
-    pub method_buffers: [u64; 3],
+    pub method_buffers: [u64; 4],
     /// COLOR_0 and TEXCOORD_1 (an empty array when the scene has neither).
     pub vertex_extras: u64,
-    /// Pads the addresses to a whole vec4 before the camera.
-    pub _pad: u64,
     pub cam_origin: [f32; 4],
     pub cam_right: [f32; 4],
     pub cam_up: [f32; 4],
@@ -77,7 +75,7 @@ impl Globals {
         params: &FrameParams,
         accum: u64,
         stats: u64,
-        method_buffers: [u64; 3],
+        method_buffers: [u64; 4],
     ) -> Globals {
         let mut g = *self;
         g.accum = accum;

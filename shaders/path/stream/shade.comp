@@ -28,6 +28,9 @@ void main() {
     Path p = unpack_path(s);
     Rng rng = Rng(s.info.w);
     ShadowRay shadow;
+#ifdef LIGHT_REUSE
+    reuse_pixel = s.info.y;
+#endif
     bool going = path_shade(p, h.ids.z != 0u, Hit(h.tb.x, h.tb.y, h.tb.z, h.ids.x, h.ids.y), rng, shadow);
     // The ray extend.comp traced counts here.
     store_path(i, p, going ? SLOT_LIVE : SLOT_ENDED, s.info.y, rng, floatBitsToUint(s.L.w) + 1u);

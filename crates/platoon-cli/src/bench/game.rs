@@ -51,6 +51,10 @@ pub struct GameArgs {
     /// (biased).
     #[arg(long)]
     pub world_cache: bool,
+    /// Resampled light reuses the previous frame's reservoirs (ReSTIR DI's temporal and
+    /// spatial reuse): unbiased (the default) or biased.
+    #[arg(long, num_args = 0..=1, default_missing_value = "unbiased")]
+    pub light_reuse: Option<platoon::core::frame::light_reuse::LightReuse>,
     /// The last frames measured against still renders of the same frames (their scene, their
     /// camera): the error at the frame time the loop held.
     #[arg(long, default_value_t = 4)]
@@ -146,6 +150,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     game.driver.denoise = o.denoise;
     game.driver.resampled_light = o.resampled_light;
     game.driver.world_cache = o.world_cache.then(Default::default);
+    game.driver.light_reuse = o.light_reuse;
     if o.realtime {
         game.driver.realtime();
     }
@@ -161,6 +166,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
         denoise: game.driver.denoise,
         resampled_light: game.driver.resampled_light,
         world_cache: game.driver.world_cache.is_some(),
+        light_reuse: game.driver.light_reuse,
     };
     eprintln!(
         "playing {} frames of the game at {}x{} on {}, holding {} ms a frame",
@@ -292,6 +298,7 @@ struct Techniques {
     denoise: Denoiser,
     resampled_light: Option<u32>,
     world_cache: bool,
+    light_reuse: Option<platoon::core::frame::light_reuse::LightReuse>,
 }
 
 fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
@@ -300,7 +307,7 @@ fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
          settled after {} frames; then frame time median {:.2} ms, p99 {:.2} ms \
          (render thread {:.2} ms), {:.1}% of frames within +-10% of the target\n\
          samples per frame (median) {}, update {:.2} ms a frame of which {:.1}% hidden behind \
-         rendering, tracers idle {:.2}% (median){}{}{}",
+         rendering, tracers idle {:.2}% (median){}{}{}{}",
         s.frames,
         o.size.0,
         o.size.1,
@@ -322,6 +329,13 @@ fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
         },
         match t.resampled_light {
             Some(m) => format!("\ndirect light resampled from {m} candidate lights"),
+            None => String::new(),
+        },
+        match t.light_reuse {
+            Some(r) => format!(
+                "\n... reusing the previous frame's reservoirs ({})",
+                r.label()
+            ),
             None => String::new(),
         },
         match t.denoise {
@@ -355,6 +369,7 @@ fn json(o: &GameArgs, t: &Techniques, s: &Summary) -> serde_json::Value {
         "denoise": t.denoise.name(),
         "resampled_light": t.resampled_light,
         "world_cache": t.world_cache,
+        "light_reuse": t.light_reuse.map(|r| r.label()),
         "denoise_ms_median": s.denoise_ms_median,
     })
 }

@@ -35,12 +35,13 @@ pub struct RealtimeArgs {
     /// The devices (see `platoon devices`).
     #[arg(long, default_value = "auto")]
     devices: String,
-    /// Techniques, comma-separated: plain, or parts of resampled, world-cache and atrous joined
-    /// by + (the first is what the others' error is compared with).
+    /// Techniques, comma-separated: plain, or parts of resampled, reuse (resampled light
+    /// reusing the previous frame's reservoirs), world-cache and atrous joined by + (the first
+    /// is what the others' error is compared with).
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "plain,atrous,resampled,world-cache,resampled+atrous,resampled+world-cache+atrous"
+        default_value = "plain,atrous,resampled,reuse,world-cache,resampled+atrous,reuse+atrous,resampled+world-cache+atrous,reuse+world-cache+atrous"
     )]
     techniques: Vec<String>,
     /// Each technique plays this many times with other random numbers: two or more measure

@@ -229,6 +229,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         adaptive,
         resampled_light,
         world_cache: None,
+        light_reuse: None,
     };
     request.validate().map_err(as_flags)?;
     if mpi && time_limit.is_some() {

@@ -10,6 +10,7 @@ use super::method_wire::{get_method, put_method};
 use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
 use crate::frame::aov::AovPass;
 use crate::frame::light_pass::{BsdfPart, LightPass};
+use crate::frame::light_reuse::{LightReuse, ReservoirHistory};
 use crate::frame::world_cache::CacheTable;
 use crate::frame::{Crop, FrameParams, Output, PixelFilter, Span};
 use crate::method::path_kernel::PathKernel;
@@ -28,6 +29,94 @@ fn get_opt_f32(r: &mut Reader) -> Result<Option<f32>, WireError> {
 
 fn flag(r: &mut Reader) -> Result<bool, WireError> {
     Ok(r.u8()? != 0)
+}
+
+fn put_camera(w: &mut Writer, camera: &Camera) {
+    let Camera {
+        camera_to_world,
+        yfov,
+        aperture_radius,
+        focus_distance,
+        orthographic,
+    } = camera;
+    w.pod(&camera_to_world.to_cols_array());
+    w.f32(*yfov);
+    w.f32(*aperture_radius);
+    w.f32(*focus_distance);
+    w.u8(orthographic.is_some() as u8);
+    w.pod(&orthographic.unwrap_or_default());
+}
+
+fn get_camera(r: &mut Reader) -> Result<Camera, WireError> {
+    let cols: Vec<f32> = r.pod()?;
+    let cols: [f32; 16] = cols
+        .try_into()
+        .map_err(|_| WireError("the camera's matrix".into()))?;
+    Ok(Camera {
+        camera_to_world: glam::Mat4::from_cols_array(&cols),
+        yfov: r.f32()?,
+        aperture_radius: r.f32()?,
+        focus_distance: r.f32()?,
+        orthographic: {
+            let some = flag(r)?;
+            let xy: Vec<f32> = r.pod()?;
+            let xy: [f32; 2] = xy
+                .try_into()
+                .map_err(|_| WireError("the orthographic size".into()))?;
+            some.then_some(xy)
+        },
+    })
+}
+
+/// The reuse's settings and the previous frame's reservoirs (every rank reads the whole
+/// image's: the reuse finds them by reprojection, anywhere).
+fn put_light_reuse(w: &mut Writer, h: &ReservoirHistory) {
+    let ReservoirHistory {
+        options,
+        camera,
+        width,
+        height,
+        records,
+    } = h;
+    let LightReuse {
+        unbiased,
+        neighbours,
+        radius,
+        history,
+    } = options;
+    w.u8(*unbiased as u8);
+    w.u32(*neighbours);
+    w.f32(*radius);
+    w.u32(*history);
+    put_camera(w, camera);
+    w.u32(*width);
+    w.u32(*height);
+    w.pod(bytemuck::cast_slice::<[f32; 4], f32>(records));
+}
+
+fn get_light_reuse(r: &mut Reader) -> Result<ReservoirHistory, WireError> {
+    let options = LightReuse {
+        unbiased: flag(r)?,
+        neighbours: r.u32()?,
+        radius: r.f32()?,
+        history: r.u32()?,
+    };
+    let camera = get_camera(r)?;
+    let (width, height) = (r.u32()?, r.u32()?);
+    let flat: Vec<f32> = r.pod()?;
+    if !flat.len().is_multiple_of(4) {
+        return Err(WireError("the light reuse's reservoirs".into()));
+    }
+    Ok(ReservoirHistory {
+        options,
+        camera,
+        width,
+        height,
+        records: flat
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect(),
+    })
 }
 
 /// `p` for a rank rendering `span`: everything, with the sums and mask of the span only.
@@ -50,6 +139,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         ris_mis,
         ris_contribution,
         world_cache,
+        light_reuse,
         method,
         kernel,
         seed,
@@ -90,6 +180,10 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         w.u32(c.train_stride);
         w.pod(bytemuck::cast_slice::<[f32; 4], f32>(&c.slots));
     }
+    w.u8(light_reuse.is_some() as u8);
+    if let Some(h) = light_reuse {
+        put_light_reuse(w, h);
+    }
     put_method(w, method)?;
     w.u8(match kernel {
         PathKernel::Auto => 0,
@@ -104,19 +198,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
     put_film_span(w, p, span);
     w.u8(time_limit.is_some() as u8);
     w.duration(time_limit.unwrap_or_default());
-    let Camera {
-        camera_to_world,
-        yfov,
-        aperture_radius,
-        focus_distance,
-        orthographic,
-    } = camera;
-    w.pod(&camera_to_world.to_cols_array());
-    w.f32(*yfov);
-    w.f32(*aperture_radius);
-    w.f32(*focus_distance);
-    w.u8(orthographic.is_some() as u8);
-    w.pod(&orthographic.unwrap_or_default());
+    put_camera(w, camera);
     w.u8(match filter {
         PixelFilter::Box => 0,
         PixelFilter::Gaussian => 1,
@@ -194,6 +276,9 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
             slots,
         }));
     }
+    if flag(r)? {
+        p.light_reuse = Some(std::sync::Arc::new(get_light_reuse(r)?));
+    }
     p.method = get_method(r)?;
     p.kernel = match r.u8()? {
         0 => PathKernel::Auto,
@@ -209,24 +294,7 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
     let some = flag(r)?;
     let limit: Duration = r.duration()?;
     p.time_limit = some.then_some(limit);
-    let cols: Vec<f32> = r.pod()?;
-    let cols: [f32; 16] = cols
-        .try_into()
-        .map_err(|_| WireError("the camera's matrix".into()))?;
-    p.camera = Camera {
-        camera_to_world: glam::Mat4::from_cols_array(&cols),
-        yfov: r.f32()?,
-        aperture_radius: r.f32()?,
-        focus_distance: r.f32()?,
-        orthographic: {
-            let some = flag(r)?;
-            let xy: Vec<f32> = r.pod()?;
-            let xy: [f32; 2] = xy
-                .try_into()
-                .map_err(|_| WireError("the orthographic size".into()))?;
-            some.then_some(xy)
-        },
-    };
+    p.camera = get_camera(r)?;
     p.filter = match r.u8()? {
         0 => PixelFilter::Box,
         1 => PixelFilter::Gaussian,
@@ -318,6 +386,20 @@ mod tests {
             slots: (0..4)
                 .map(|i| [f32::from_bits(i * 257 + 1), 0.5, 1.5, 2.5])
                 .collect(),
+        }));
+        let mut camera = p.camera;
+        camera.yfov = 0.75;
+        p.light_reuse = Some(std::sync::Arc::new(ReservoirHistory {
+            options: LightReuse {
+                unbiased: false,
+                neighbours: 5,
+                radius: 7.5,
+                history: 9,
+            },
+            camera,
+            width: 2,
+            height: 1,
+            records: (0..6).map(|i| [i as f32, 0.5, -1.5, 2.5]).collect(),
         }));
         p.seed = 11;
         p.frame = 12;

@@ -153,6 +153,10 @@ pub fn fingerprint(params: &FrameParams) -> u64 {
         (c.cell_size.to_bits(), c.train_stride).hash(&mut h);
         bytemuck::cast_slice::<[f32; 4], u32>(&c.slots).hash(&mut h);
     }
+    if let Some(l) = p.light_reuse.take() {
+        format!("{:?} {:?} {} {}", l.options, l.camera, l.width, l.height).hash(&mut h);
+        bytemuck::cast_slice::<[f32; 4], u32>(&l.records).hash(&mut h);
+    }
     std::fmt::write(&mut HashWriter(&mut h), format_args!("{p:?}")).expect("hashing");
     h.finish()
 }

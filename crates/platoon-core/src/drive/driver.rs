@@ -23,7 +23,7 @@ use super::denoising::FrameDenoiser;
 use super::finished::{FinishedFrame, FrameOutput};
 use super::gi::{GiStats, GiUpdate, PreparedMethod, Worker, WorkerJob};
 use super::plan::{Join, Motion, Planner};
-use super::render_thread::{render_loop, FrameJob, Job, Synchronous};
+use super::render_thread::{render_loop, FrameJob, Job, Learned, Synchronous};
 use super::scaling::{BelowOneSample, Workload, WorkloadScaler};
 use super::{Pipeline, QueryScene, UpdateTimes};
 use crate::balance::Balancer;
@@ -31,6 +31,7 @@ use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
 use crate::flatten::GpuScene;
 use crate::frame::hit_geometry::HitGeometry;
+use crate::frame::light_reuse::{LightReuse, LightReuseState};
 use crate::frame::renderer::Renderer;
 use crate::frame::world_cache::{WorldCache, WorldCacheOptions};
 use crate::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
@@ -78,6 +79,10 @@ pub struct DriverOptions {
     /// The path tracer's bounces after the first read a world cache trained as the frames go
     /// (`frame::world_cache`; biased); None by default.
     pub world_cache: Option<WorldCacheOptions>,
+    /// With `resampled_light`: the first vertex's light sample reuses the previous frame's
+    /// reservoirs where its surface was and around it (`frame::light_reuse`, ReSTIR DI's
+    /// temporal and spatial reuse); None by default.
+    pub light_reuse: Option<LightReuse>,
     /// Each finished frame carries its generation's flattened scene
     /// ([`FinishedFrame::scene`]): what a still render of the same frame needs, to measure the
     /// game's error against (`bench game`). A copy of the scene per changed generation.
@@ -136,6 +141,7 @@ impl DriverOptions {
             method: crate::method::Method::path_tracing(),
             resampled_light: None,
             world_cache: None,
+            light_reuse: None,
             keep_frame_scenes: false,
             queries: false,
             gi_update: GiUpdate::default(),
@@ -241,6 +247,21 @@ impl FrameDriver {
             }
             None => None,
         };
+        let reuse = match options.light_reuse {
+            Some(o) => {
+                if options.resampled_light.is_none() || !options.method.is_path_tracing() {
+                    return Err(Error::Invalid(
+                        "light reuse resamples the path tracer's direct light: it needs \
+                         resampled light and the path tracer"
+                            .into(),
+                    ));
+                }
+                o.validate().map_err(Error::Invalid)?;
+                Some(LightReuseState::new(o))
+            }
+            None => None,
+        };
+        let learned = Learned { cache, reuse };
         // One frame queued at most: the game is never more than a frame ahead.
         let (jobs, inbox) = mpsc::sync_channel::<Job>(1);
         let (outbox, done) = mpsc::sync_channel(1);
@@ -251,7 +272,7 @@ impl FrameDriver {
         };
         let render = std::thread::Builder::new()
             .name("platoon render".into())
-            .spawn(move || render_loop(renderer, film, denoiser, cache, sync, inbox, outbox))
+            .spawn(move || render_loop(renderer, film, denoiser, learned, sync, inbox, outbox))
             .map_err(|e| Error::Invalid(format!("starting the render thread: {e}")))?;
         Ok(FrameDriver {
             pipeline,

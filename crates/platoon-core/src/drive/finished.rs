@@ -9,6 +9,7 @@ use super::gi::GiStats;
 use super::plan::FramePlan;
 use super::UpdateTimes;
 use crate::flatten::GpuScene;
+use crate::frame::light_reuse::ReuseStats;
 use crate::frame::renderer::{TracerFailure, TracerStats};
 use crate::frame::world_cache::CacheUpdate;
 use crate::output::Film;
@@ -49,6 +50,8 @@ pub struct FrameStats {
     pub denoise: Option<DenoiseStats>,
     /// What the frame's training paths did to the world cache ([`DriverOptions::world_cache`]).
     pub world_cache: Option<CacheUpdate>,
+    /// What the frame's reservoirs hold ([`DriverOptions::light_reuse`]).
+    pub light_reuse: Option<ReuseStats>,
 }
 
 impl FrameStats {

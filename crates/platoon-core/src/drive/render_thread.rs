@@ -17,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::flatten::commit::Commit;
 use crate::flatten::GpuScene;
 use crate::frame::hit_geometry::HitGeometry;
+use crate::frame::light_reuse::{split_per_pixel, LightReuseState};
 use crate::frame::renderer::Renderer;
 use crate::frame::world_cache::WorldCache;
 use crate::frame::{BandTracer, FrameParams};
@@ -55,11 +56,18 @@ pub(super) struct Synchronous {
     pub keep_frame_scenes: bool,
 }
 
+/// What the frames learn for the frames after them: the world cache and light reuse's
+/// reservoirs (each when asked for).
+pub(super) struct Learned {
+    pub cache: Option<WorldCache>,
+    pub reuse: Option<LightReuseState>,
+}
+
 pub(super) fn render_loop<T: BandTracer + Send + 'static>(
     mut renderer: Renderer<T>,
     mut film: Accumulation,
     mut denoiser: Option<FrameDenoiser>,
-    mut cache: Option<WorldCache>,
+    mut learned: Learned,
     mut sync: Synchronous,
     inbox: Receiver<Job>,
     outbox: SyncSender<Result<FinishedFrame>>,
@@ -74,7 +82,7 @@ pub(super) fn render_loop<T: BandTracer + Send + 'static>(
                 &mut renderer,
                 &mut film,
                 denoiser.as_mut(),
-                cache.as_mut(),
+                &mut learned,
                 &mut sync,
                 *job,
             ),
@@ -89,7 +97,7 @@ fn render_one<T: BandTracer + Send + 'static>(
     renderer: &mut Renderer<T>,
     film: &mut Accumulation,
     denoiser: Option<&mut FrameDenoiser>,
-    cache: Option<&mut WorldCache>,
+    learned: &mut Learned,
     sync: &mut Synchronous,
     job: FrameJob,
 ) -> Result<FinishedFrame> {
@@ -133,14 +141,27 @@ fn render_one<T: BandTracer + Send + 'static>(
     }
     let render_start = Instant::now();
     params.film.accumulated = film.continued(plan.join);
-    params.world_cache = cache.as_ref().map(|c| c.table());
+    params.world_cache = learned.cache.as_ref().map(|c| c.table());
+    if let Some(reuse) = &mut learned.reuse {
+        let lights = commit.as_ref().map(|c| c.header.lights as usize);
+        params.light_reuse = Some(reuse.history(lights));
+    }
     let mut rendered = renderer
         .render_frame_planned(&params, plan.rebalance)
         .map_err(failed)?;
     let render = render_start.elapsed();
     failures.extend(std::mem::take(&mut rendered.failures));
-    // The records of every band, in pixel order: the same cache for any split.
-    let world_cache = cache.map(|c| c.update(&rendered.per_pixel, frame));
+    // The records of every band, in pixel order: the same cache and reservoirs for any split.
+    let (records, reservoirs) = split_per_pixel(
+        std::mem::take(&mut rendered.per_pixel),
+        learned.cache.is_some(),
+        learned.reuse.is_some(),
+    );
+    let world_cache = learned.cache.as_mut().map(|c| c.update(&records, frame));
+    let light_reuse = learned
+        .reuse
+        .as_mut()
+        .map(|r| r.keep(reservoirs, params.camera, params.width, params.height));
     let (denoised, denoise) = match denoiser {
         Some(d) => {
             let frame = RenderedFrame {
@@ -192,6 +213,7 @@ fn render_one<T: BandTracer + Send + 'static>(
             gi,
             denoise,
             world_cache,
+            light_reuse,
         },
     })
 }

@@ -13,6 +13,7 @@ pub mod fault;
 mod film_state;
 pub mod hit_geometry;
 pub mod light_pass;
+pub mod light_reuse;
 pub mod motion;
 mod pixel_filter;
 pub mod renderer;
@@ -98,6 +99,10 @@ pub struct FrameParams {
     /// The world cache the path tracer's bounces after the first read, and its training
     /// pattern (`world_cache`; biased). None: paths go on. Compiled in only when set.
     pub world_cache: Option<std::sync::Arc<world_cache::CacheTable>>,
+    /// With `ris_contribution`: the first vertex's light sample reuses the previous frame's
+    /// reservoirs around the pixel's reprojection (`light_reuse`; ReSTIR DI's temporal and
+    /// spatial reuse; unbiased unless its options say otherwise). Compiled in only when set.
+    pub light_reuse: Option<std::sync::Arc<light_reuse::ReservoirHistory>>,
     /// The rendering method and its options (`crate::method`; path tracing by default).
     pub method: crate::method::Method,
     /// How the path tracer's work is cut into kernels (the same image either way).
@@ -222,6 +227,7 @@ impl FrameParams {
             ris_mis: false,
             ris_contribution: false,
             world_cache: None,
+            light_reuse: None,
             method: crate::method::Method::path_tracing(),
             kernel: Default::default(),
             seed: 0,

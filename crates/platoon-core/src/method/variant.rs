@@ -33,6 +33,11 @@ impl KernelVariant {
             _ => None,
         };
         let ris = params.ris_candidates.is_some();
+        let reuse = params
+            .light_reuse
+            .as_ref()
+            .filter(|_| ris && params.ris_contribution && params.output == Output::Radiance)
+            .map(|h| h.options);
         let render_options = [
             // An orthographic camera has no lens.
             (
@@ -110,6 +115,13 @@ impl KernelVariant {
                         params.output,
                         Output::Radiance | Output::Aov(crate::frame::aov::AovPass::Light(_))
                     ),
+            ),
+            // The beauty's first vertices only: the reservoirs it leaves are the next frame's.
+            ("light-reuse", "LIGHT_REUSE", reuse.is_some()),
+            (
+                "light-reuse-biased",
+                "LIGHT_REUSE_BIASED",
+                reuse.is_some_and(|o| !o.unbiased),
             ),
             (
                 "gaussian-filter",

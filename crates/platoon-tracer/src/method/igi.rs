@@ -55,7 +55,7 @@ impl MethodPasses for IgiPasses {
     }
 
     /// The VPL, texel and vertex buffers (Globals' method buffers 0, 1 and 2).
-    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 3]> {
+    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 4]> {
         let o = options(params);
         let pixels = params.width as u64 * params.height as u64;
         let vpls = ensure(
@@ -83,7 +83,7 @@ impl MethodPasses for IgiPasses {
             pixels * VERTEX_BYTES,
             MemoryLocation::GpuOnly,
         )?;
-        Ok([vpls, texels, vertices])
+        Ok([vpls, texels, vertices, 0])
     }
 
     /// Paths, bounces, minimum distance, downsampling, the interleaving tile; the gather

@@ -121,7 +121,7 @@ impl MethodPasses for LinksPasses {
 
     /// Shooting and lighting: elements, directions, the per-pixel output; image frames:
     /// irradiance and the element table.
-    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 3]> {
+    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 4]> {
         let job = job(params);
         let fresh = !self.uploaded.as_ref().is_some_and(|old| same_job(old, job));
         let address = |b: &Option<GpuBuffer>| b.as_ref().map_or(0, |b| b.address);
@@ -141,7 +141,7 @@ impl MethodPasses for LinksPasses {
                 MemoryLocation::GpuToCpu,
             )?,
         };
-        Ok([first, second, output])
+        Ok([first, second, output, 0])
     }
 
     /// The frame's element count (shooting, lighting) and whether they are single rays; or the

@@ -6,6 +6,7 @@
 
 mod igi;
 mod lhb;
+mod light_reuse;
 mod links;
 mod passes;
 mod path;

@@ -56,7 +56,7 @@ impl Recorder<'_> {
 
     /// Points the next submissions' method buffers at `buffers` (a method that grew one while
     /// recording: layered hit buffers' queue and lists).
-    pub fn set_method_buffers(&mut self, buffers: [u64; 3]) {
+    pub fn set_method_buffers(&mut self, buffers: [u64; 4]) {
         self.globals_block.method_buffers = buffers;
         self.globals.mapped()[..std::mem::size_of::<Globals>()]
             .copy_from_slice(bytemuck::bytes_of(&self.globals_block));
@@ -72,8 +72,8 @@ pub(crate) trait MethodPasses {
     fn kernels(&self, params: &FrameParams, cpu: bool) -> &'static [&'static str];
     /// Makes or grows the buffers its kernels read for `params`; returns their addresses
     /// (Globals' method buffers; 0 where unused).
-    fn prepare(&mut self, _gpu: &mut Gpu, _params: &FrameParams) -> Result<[u64; 3]> {
-        Ok([0; 3])
+    fn prepare(&mut self, _gpu: &mut Gpu, _params: &FrameParams) -> Result<[u64; 4]> {
+        Ok([0; 4])
     }
     /// Its push-constant words for `params`.
     fn push_words(&self, _params: &FrameParams) -> [u32; METHOD_WORDS] {

@@ -5,10 +5,12 @@
 use std::time::Duration;
 
 use platoon_core::frame::aov::AovPass;
+use platoon_core::frame::light_reuse::RECORD_VEC4S;
 use platoon_core::frame::{FrameParams, Output, Span};
 use platoon_core::method::path::PathKernel;
 use platoon_core::{KernelVariant, SceneFeatures};
 
+use super::light_reuse::LightReusePasses;
 use super::stream::{self, StreamPasses};
 use super::world_cache::{self, WorldCachePasses};
 use super::{MethodPasses, Recorder};
@@ -29,6 +31,8 @@ pub(crate) struct PathPasses {
     cut_short: bool,
     /// The world cache's table, training paths and records (FrameParams::world_cache).
     cache: WorldCachePasses,
+    /// Light reuse's history and reservoirs (FrameParams::light_reuse).
+    reuse: LightReusePasses,
 }
 
 /// Turns of the megakernel's loop-limit canary (path.glsl's loop_canary, push word 0).
@@ -61,8 +65,10 @@ impl MethodPasses for PathPasses {
         }
     }
 
-    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 3]> {
-        self.cache.prepare(gpu, params)
+    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 4]> {
+        let mut buffers = self.cache.prepare(gpu, params)?;
+        [buffers[2], buffers[3]] = self.reuse.prepare(gpu, params)?;
+        Ok(buffers)
     }
 
     fn push_words(&self, params: &FrameParams) -> [u32; METHOD_WORDS] {
@@ -78,8 +84,22 @@ impl MethodPasses for PathPasses {
         self.cache.train(rec, push)
     }
 
+    /// Per pixel, its world cache record then its reservoir (`light_reuse::split_per_pixel`).
     fn per_pixel(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
-        self.cache.records(params, span)
+        let records = self.cache.records(params, span);
+        let reservoirs = self.reuse.reservoirs(params, span);
+        if records.is_empty() || reservoirs.is_empty() {
+            return if records.is_empty() {
+                reservoirs
+            } else {
+                records
+            };
+        }
+        records
+            .iter()
+            .zip(reservoirs.chunks_exact(RECORD_VEC4S))
+            .flat_map(|(r, v)| std::iter::once(*r).chain(v.iter().copied()))
+            .collect()
     }
 
     /// A megakernel pass, or a streaming one. Where the device cut megakernel invocations
@@ -112,6 +132,7 @@ impl MethodPasses for PathPasses {
     fn destroy(&mut self, gpu: &mut Gpu) {
         self.stream.destroy(gpu);
         self.cache.destroy(gpu);
+        self.reuse.destroy(gpu);
     }
 }
 

@@ -34,9 +34,9 @@ pub(crate) fn trains(params: &FrameParams) -> bool {
 
 impl WorldCachePasses {
     /// Uploads the frame's table and sizes the records; the method buffers' addresses.
-    pub fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 3]> {
+    pub fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 4]> {
         let Some(table) = &params.world_cache else {
-            return Ok([0; 3]);
+            return Ok([0; 4]);
         };
         let bytes: &[u8] = bytemuck::cast_slice(&table.slots);
         let fresh = !self
@@ -67,7 +67,7 @@ impl WorldCachePasses {
             pixels.max(1) * 16,
             MemoryLocation::GpuToCpu,
         )?;
-        Ok([table_address, records, 0])
+        Ok([table_address, records, 0, 0])
     }
 
     /// The kernels' push words 2-4 (world_cache.glsl).

@@ -130,6 +130,11 @@ pub struct Request {
     /// as the frames go (biased; `platoon_core::frame::world_cache`). A still has no frames to
     /// train it: refused there.
     pub world_cache: Option<platoon_core::frame::world_cache::WorldCacheOptions>,
+    /// With `resampled_light`, a game loop's first vertices reuse the previous frame's
+    /// reservoirs where their surface was and around it (ReSTIR DI's temporal and spatial
+    /// reuse; unbiased unless its options say otherwise; `platoon_core::frame::light_reuse`).
+    /// A still has no previous frame: refused there.
+    pub light_reuse: Option<platoon_core::frame::light_reuse::LightReuse>,
     pub adaptive: Option<Adaptive>,
 }
 
@@ -153,6 +158,7 @@ impl Default for Request {
             max_depth: None,
             resampled_light: None,
             world_cache: None,
+            light_reuse: None,
             seed: 0,
             filter: PixelFilter::Box,
             transparent_film: false,

@@ -26,6 +26,7 @@ impl Request {
         driver.denoise = self.denoiser;
         driver.resampled_light = self.resampled_light;
         driver.world_cache = self.world_cache;
+        driver.light_reuse = self.light_reuse;
         GameOptions {
             driver,
             devices: self.devices.clone(),

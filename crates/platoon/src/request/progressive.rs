@@ -36,7 +36,7 @@ impl Progressive {
             ..request
         };
         request.validate()?;
-        request.refuse_world_cache()?;
+        request.refuse_frame_to_frame()?;
         for (option, set) in [
             ("adaptive", request.adaptive.is_some()),
             ("aovs", request.batching().variance),

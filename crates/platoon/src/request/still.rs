@@ -155,7 +155,7 @@ impl Request {
     /// device; several render on their own threads).
     pub fn render(&self, progress: &mut dyn FnMut(u32)) -> Result<Still> {
         self.validate()?;
-        self.refuse_world_cache()?;
+        self.refuse_frame_to_frame()?;
         let scene = self.load_scene()?;
         let options = self.prepare_options(&scene)?;
         let prepared = crate::prepare(scene, &options)?;

@@ -87,6 +87,18 @@ impl Request {
                 )?;
             }
         }
+        if let Some(o) = &self.light_reuse {
+            if let Err(e) = o.validate() {
+                refuse("light_reuse", e)?;
+            }
+            if self.resampled_light.is_none() {
+                refuse(
+                    "light_reuse",
+                    "reuses resampled light's reservoirs: set resampled_light (8 candidates \
+                     are a game's choice)",
+                )?;
+            }
+        }
         if self.max_depth == Some(0) {
             refuse(
                 "max_depth",
@@ -198,13 +210,22 @@ impl Request {
         Ok(())
     }
 
-    /// A still or a progressive render has no frames to train a world cache with.
-    pub fn refuse_world_cache(&self) -> Result<(), RequestError> {
+    /// A still or a progressive render has no frames to train a world cache with, nor a
+    /// previous frame's reservoirs to reuse.
+    pub fn refuse_frame_to_frame(&self) -> Result<(), RequestError> {
         if self.world_cache.is_some() {
             return Err(RequestError {
                 option: "world_cache",
                 problem: "the cache learns over a game loop's frames (view, the game): a still \
                           has none to train it"
+                    .into(),
+            });
+        }
+        if self.light_reuse.is_some() {
+            return Err(RequestError {
+                option: "light_reuse",
+                problem: "reuses the previous frame's reservoirs over a game loop's frames \
+                          (view, the game): a still has none"
                     .into(),
             });
         }

@@ -30,9 +30,9 @@ use crate::gpu::Gpu;
 use crate::Result;
 
 impl LhbPasses {
-    fn addresses(&self) -> [u64; 3] {
+    fn addresses(&self) -> [u64; 4] {
         let a = |b: &Option<GpuBuffer>| b.as_ref().map_or(0, |b| b.address);
-        [a(&self.tables), a(&self.work), a(&self.layers)]
+        [a(&self.tables), a(&self.work), a(&self.layers), 0]
     }
 
     /// The work words with room for the queue.
@@ -73,7 +73,7 @@ impl MethodPasses for LhbPasses {
     }
 
     /// The tables (uploaded when the frame names others); work and layers are the build's.
-    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 3]> {
+    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 4]> {
         let t = tables(params);
         if !self.uploaded.as_ref().is_some_and(|u| Arc::ptr_eq(u, t)) {
             let bytes: &[u8] = bytemuck::cast_slice(&t.words);

@@ -1,0 +1,314 @@
+//! Reuse of resampled direct light between pixels and frames (issue 43; ReSTIR DI, Bitterli et
+//! al. 2020): each pixel's first vertex keeps a reservoir (one light sample, its unbiased
+//! contribution weight W and the candidates M it stands for), and the next frame combines its
+//! fresh candidates with the reservoir where the same surface was the frame before (temporal)
+//! and with a few of that frame's reservoirs around it (spatial), then shades the one sample
+//! kept with one shadow ray (shaders/path/light_reuse.glsl).
+//!
+//! Both kinds of reuse read the previous frame's reservoirs of the whole image (RTXDI's fused
+//! spatiotemporal resampling), so the reuse never crosses a band border of this frame: every
+//! device reads the same history and the image is the same bits for any split. The bands leave
+//! their reservoirs per pixel (`Band::per_pixel`), joined in pixel order into the next frame's
+//! [`ReservoirHistory`] (`FrameParams::light_reuse`, and over the wire with the frame).
+//!
+//! A sample is (light, u): the light's index and the two numbers that placed it on the light,
+//! the same sample from any shading point; its target at a pixel is the unshadowed luminance of
+//! f cos Le in that measure. Unbiased by default: the combined weight divides by the candidates
+//! of the sources whose own target is positive at the sample kept (Bitterli's 1/Z); the biased
+//! setting divides by all of them (darker where a neighbour cannot see the light: an explicit,
+//! reported option).
+
+use std::sync::Arc;
+
+use crate::scene::camera::Camera;
+
+/// The reuse's settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightReuse {
+    /// Bitterli's unbiased combination (1/Z over the sources that could have drawn the sample);
+    /// false: 1/M over all of them (biased, a little cheaper).
+    pub unbiased: bool,
+    /// Reservoirs of the previous frame taken from around the pixel's reprojection.
+    pub neighbours: u32,
+    /// ... within this many pixels.
+    pub radius: f32,
+    /// A reservoir stands for at most this many times the pixel's fresh candidates (temporal
+    /// reuse's cap: a history that long forgets what moved at that pace).
+    pub history: u32,
+}
+
+impl Default for LightReuse {
+    fn default() -> Self {
+        LightReuse {
+            unbiased: true,
+            neighbours: 3,
+            // Neighbours within a few pixels measured a darker image (2%, 2.5 sigma of the
+            // paired test in tests/drive/light_reuse.rs); from 30 pixels, none.
+            radius: 30.0,
+            history: 20,
+        }
+    }
+}
+
+impl LightReuse {
+    pub fn validate(&self) -> Result<(), String> {
+        if self.history == 0 {
+            return Err("light reuse needs a history of at least 1".into());
+        }
+        if self.neighbours > 16 {
+            return Err(format!(
+                "light reuse takes at most 16 neighbours, not {}",
+                self.neighbours
+            ));
+        }
+        if !(self.radius.is_finite() && self.radius >= 1.0 && self.radius <= 256.0) {
+            return Err(format!(
+                "light reuse's radius is 1 to 256 pixels, not {}",
+                self.radius
+            ));
+        }
+        Ok(())
+    }
+
+    /// The kernel option's label (the metadata's list of approximations names the biased one).
+    pub fn label(&self) -> &'static str {
+        if self.unbiased {
+            "light-reuse"
+        } else {
+            "light-reuse-biased"
+        }
+    }
+}
+
+impl std::str::FromStr for LightReuse {
+    type Err = String;
+
+    /// A mode's name: `unbiased` (the default settings) or `biased` (1/M over all sources).
+    fn from_str(s: &str) -> Result<LightReuse, String> {
+        match s {
+            "unbiased" => Ok(LightReuse::default()),
+            "biased" => Ok(LightReuse {
+                unbiased: false,
+                ..LightReuse::default()
+            }),
+            _ => Err(format!("light reuse is unbiased or biased, not {s:?}")),
+        }
+    }
+}
+
+/// vec4s a pixel's reservoir takes (light_reuse.glsl's record): the surface point and the
+/// light, the sample's numbers with W and M, the surface's normals.
+pub const RECORD_VEC4S: usize = 3;
+
+/// What a frame's kernels read: the settings and the previous frame's reservoirs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReservoirHistory {
+    pub options: LightReuse,
+    /// The previous frame's camera and size (its reservoirs are found by reprojection); empty
+    /// records: no history (the first frame, or after the lights changed).
+    pub camera: Camera,
+    pub width: u32,
+    pub height: u32,
+    /// [`RECORD_VEC4S`] a pixel, in pixel order.
+    pub records: Vec<[f32; 4]>,
+}
+
+impl ReservoirHistory {
+    /// No history yet: the frame's reservoirs are its fresh candidates'.
+    pub fn empty(options: LightReuse) -> ReservoirHistory {
+        ReservoirHistory {
+            options,
+            // (Unread: nothing to reproject into.)
+            camera: Camera {
+                camera_to_world: glam::Mat4::IDENTITY,
+                yfov: 1.0,
+                aperture_radius: 0.0,
+                focus_distance: 1.0,
+                orthographic: None,
+            },
+            width: 0,
+            height: 0,
+            records: Vec::new(),
+        }
+    }
+
+    /// Whether it holds a frame's reservoirs.
+    pub fn has_frame(&self) -> bool {
+        self.width > 0 && self.records.len() == self.pixels() * RECORD_VEC4S
+    }
+
+    fn pixels(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+}
+
+/// The reuse across a stream of frames: the history the next frame reads.
+#[derive(Clone, Debug)]
+pub struct LightReuseState {
+    history: Arc<ReservoirHistory>,
+    /// The light count the history's samples index (a scene whose lights changed starts over;
+    /// None: not known yet).
+    lights: Option<usize>,
+}
+
+impl LightReuseState {
+    pub fn new(options: LightReuse) -> LightReuseState {
+        LightReuseState {
+            history: Arc::new(ReservoirHistory::empty(options)),
+            lights: None,
+        }
+    }
+
+    /// The history for a frame whose scene has `lights` lights (None: as the last frame's):
+    /// none when their number changed (a sample names its light by index).
+    pub fn history(&mut self, lights: Option<usize>) -> Arc<ReservoirHistory> {
+        if let Some(n) = lights {
+            if self.lights.is_some_and(|m| m != n) && self.history.has_frame() {
+                self.history = Arc::new(ReservoirHistory::empty(self.history.options));
+            }
+            self.lights = Some(n);
+        }
+        Arc::clone(&self.history)
+    }
+
+    /// Keeps the reservoirs a frame of `camera`, `width` x `height`, left (in pixel order) for
+    /// the next; records of another length (a frame that rendered no beauty) leave no history.
+    pub fn keep(
+        &mut self,
+        records: Vec<[f32; 4]>,
+        camera: Camera,
+        width: u32,
+        height: u32,
+    ) -> ReuseStats {
+        let mut h = ReservoirHistory {
+            options: self.history.options,
+            camera,
+            width,
+            height,
+            records,
+        };
+        if !h.has_frame() {
+            h = ReservoirHistory::empty(h.options);
+        }
+        let stats = ReuseStats::of(&h.records);
+        self.history = Arc::new(h);
+        stats
+    }
+}
+
+/// What a frame's reservoirs hold.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReuseStats {
+    /// Pixels whose reservoir kept a light sample.
+    pub samples: u32,
+    /// The mean candidates a kept sample stands for (M, capped by the history).
+    pub mean_candidates: f32,
+}
+
+impl ReuseStats {
+    fn of(records: &[[f32; 4]]) -> ReuseStats {
+        let (mut samples, mut m) = (0u32, 0.0f64);
+        for r in records.chunks_exact(RECORD_VEC4S) {
+            // (light + 1) x 2 + transmits: a sample from 2 on.
+            if r[0][3] >= 2.0 {
+                samples += 1;
+                m += r[1][3] as f64;
+            }
+        }
+        ReuseStats {
+            samples,
+            mean_candidates: if samples > 0 {
+                (m / samples as f64) as f32
+            } else {
+                0.0
+            },
+        }
+    }
+}
+
+/// What the path tracer's bands leave per pixel, one after the other in each pixel: the world
+/// cache's training record (when `cache`) then the reservoir (when `reuse`). Split back into
+/// the two, each in pixel order.
+pub fn split_per_pixel(
+    per_pixel: Vec<[f32; 4]>,
+    cache: bool,
+    reuse: bool,
+) -> (Vec<[f32; 4]>, Vec<[f32; 4]>) {
+    match (cache, reuse) {
+        (true, true) => {
+            let stride = 1 + RECORD_VEC4S;
+            let mut records = Vec::with_capacity(per_pixel.len() / stride);
+            let mut reservoirs = Vec::with_capacity(per_pixel.len() / stride * RECORD_VEC4S);
+            for pixel in per_pixel.chunks_exact(stride) {
+                records.push(pixel[0]);
+                reservoirs.extend_from_slice(&pixel[1..]);
+            }
+            (records, reservoirs)
+        }
+        (false, true) => (Vec::new(), per_pixel),
+        _ => (per_pixel, Vec::new()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn per_pixel_data_splits_into_cache_records_and_reservoirs_in_pixel_order() {
+        let per_pixel: Vec<[f32; 4]> = (0..8).map(|i| [i as f32; 4]).collect();
+        let (records, reservoirs) = split_per_pixel(per_pixel.clone(), true, true);
+        assert_eq!(records, vec![[0.0; 4], [4.0; 4]]);
+        assert_eq!(
+            reservoirs,
+            vec![[1.0; 4], [2.0; 4], [3.0; 4], [5.0; 4], [6.0; 4], [7.0; 4]]
+        );
+        assert_eq!(
+            split_per_pixel(per_pixel.clone(), false, true),
+            (Vec::new(), per_pixel.clone())
+        );
+        assert_eq!(
+            split_per_pixel(per_pixel.clone(), true, false),
+            (per_pixel, Vec::new())
+        );
+    }
+
+    #[test]
+    fn the_history_starts_over_when_the_lights_change_or_a_frame_left_none() {
+        let camera = Camera {
+            camera_to_world: glam::Mat4::IDENTITY,
+            yfov: 1.0,
+            aperture_radius: 0.0,
+            focus_distance: 1.0,
+            orthographic: None,
+        };
+        let mut s = LightReuseState::new(LightReuse::default());
+        assert!(!s.history(Some(3)).has_frame());
+        s.keep(vec![[1.0; 4]; 2 * 3 * RECORD_VEC4S], camera, 2, 3);
+        assert!(s.history(None).has_frame());
+        assert!(s.history(Some(3)).has_frame(), "the same lights");
+        assert!(!s.history(Some(4)).has_frame(), "the lights changed");
+        s.keep(vec![[1.0; 4]; 5], camera, 2, 3);
+        assert!(!s.history(None).has_frame(), "a frame without reservoirs");
+    }
+
+    #[test]
+    fn bad_settings_are_refused() {
+        let ok = LightReuse::default();
+        assert!(ok.validate().is_ok());
+        for bad in [
+            LightReuse { history: 0, ..ok },
+            LightReuse {
+                neighbours: 17,
+                ..ok
+            },
+            LightReuse { radius: 0.5, ..ok },
+            LightReuse {
+                radius: f32::NAN,
+                ..ok
+            },
+        ] {
+            assert!(bad.validate().is_err(), "{bad:?}");
+        }
+    }
+}
