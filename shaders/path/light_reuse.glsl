@@ -18,6 +18,9 @@
 // could have drawn y, and a neighbour whose own target at its sample was small weighs as little.
 // The biased setting weighs by M_i over the sum of M_j (Bitterli's 1/M: no g evaluated; darker
 // where a neighbour cannot see a light the pixel sees).
+// The reused sample takes the whole of the first vertex's direct light: the BSDF ray from there
+// adds no light NEE could have sampled (path.glsl), as in RTXDI; MIS against BSDF sampling would
+// weigh with the power's pdf, far below the reservoir's density.
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ReuseHistory {
     uvec4 size;       // the history's width and height (0: none), the frame's first sample, neighbours
@@ -193,10 +196,11 @@ bool reuse_light(Surface s, vec3 t, vec3 b, Bsdf bsdf, vec3 wo, vec3 ng_wo, inou
     // Source 0: the fresh candidates, as path/resampled_light.glsl draws them, as a reservoir.
     uint m = max(pc.ris_candidates, 1u);
     Reservoir sources[REUSE_MAX_SOURCES];
-    uint pixels[REUSE_MAX_SOURCES];
+    ReuseSurface surfaces[REUSE_MAX_SOURCES];
     float wfresh = 0.0;
     float fresh_target = 0.0;
     sources[0] = Reservoir(0u, vec2(0.0), 0.0, float(m));
+    surfaces[0] = q.surface;
     for (uint j = 0u; j < m; j++) {
         LightSample c;
         bool ok = sample_one_light(s.position, rng, c) && c.pdf > 0.0;
@@ -241,7 +245,7 @@ bool reuse_light(Surface s, vec3 t, vec3 b, Bsdf bsdf, vec3 wo, vec3 ng_wo, inou
             if (!(sr.M > 0.0) || !reuse_similar(q, src)) continue;
             sr.M = min(sr.M, cap);
             mtotal += sr.M;
-            pixels[count] = hp;
+            surfaces[count] = src;
             sources[count++] = sr;
         }
     }
@@ -263,14 +267,7 @@ bool reuse_light(Surface s, vec3 t, vec3 b, Bsdf bsdf, vec3 wo, vec3 ng_wo, inou
         float own = 0.0;
         float all_ = 0.0;
         for (uint j = 0u; j < count; j++) {
-            ReuseSurface sj;
-            if (j == 0u) {
-                sj = q.surface;
-            } else {
-                Reservoir unused;
-                reuse_read(pixels[j], sj, unused);
-            }
-            float g = sources[j].M * reuse_proxy(sj, c.light, c.u);
+            float g = sources[j].M * reuse_proxy(surfaces[j], c.light, c.u);
             all_ += g;
             if (j == i) own = g;
         }

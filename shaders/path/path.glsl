@@ -183,6 +183,12 @@ float nee_share(Path p) {
 
 // Weight of emission the path's ray found (light_pdf: NEE's pdf of the same light).
 float path_emission_weight(Path p, float light_pdf) {
+#ifdef LIGHT_REUSE
+    // The reused light sample takes the whole of the first vertex's direct light: far better
+    // than one drawn by power, it would lose to BSDF rays in an MIS weighed with the power's pdf.
+    if (!p.after_delta && p.depth == 1u && reuse_here(0u, p.sample_index))
+        return light_pdf > 0.0 ? 0.0 : 1.0;
+#endif
 #ifndef SAMPLING_BSDF
     if (PATH_NEE_ALONE(p) && !p.after_delta) return light_pdf > 0.0 ? 0.0 : 1.0;
 #endif
@@ -374,7 +380,11 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
 #if defined(SAMPLING_LIGHT) || (defined(LIGHT_SELECT_RIS) && !defined(RIS_MIS))
                 float w = 1.0;
 #else
-                float w = (ls.delta || last_diffuse || PATH_NEE_ALONE(p)) ? 1.0 : power_heuristic(ls.mis_pdf, pdf);
+                bool alone = ls.delta || last_diffuse || PATH_NEE_ALONE(p);
+#ifdef LIGHT_REUSE
+                alone = alone || reused;
+#endif
+                float w = alone ? 1.0 : power_heuristic(ls.mis_pdf, pdf);
 #endif
                 vec3 through = vec3(1.0);
 #ifdef HAS_VOLUME
