@@ -230,6 +230,9 @@ pub enum BenchScene {
     Hall,
     /// The built-in Cornell box.
     Cornell,
+    /// CesiumMan's walk (the character, not appended again): the character walking its
+    /// animation on a ground under a sky and a low sun, as the game's world has.
+    Walk,
     /// A glTF file.
     File(PathBuf),
 }
@@ -240,6 +243,7 @@ impl BenchScene {
         match s {
             "hall" => BenchScene::Hall,
             "cornell" => BenchScene::Cornell,
+            "walk" => BenchScene::Walk,
             path => BenchScene::File(path.into()),
         }
     }
@@ -247,7 +251,11 @@ impl BenchScene {
 
 /// The scene the bench plays and the camera path's start.
 pub fn scene(o: &Options) -> Result<(Scene, Camera)> {
+    if o.scene == BenchScene::Walk {
+        return walk(o);
+    }
     let mut scene = match &o.scene {
+        BenchScene::Walk => unreachable!("played above"),
         BenchScene::File(path) => platoon::load_scene(Some(path))?,
         BenchScene::Cornell => platoon::load_scene(None)?,
         BenchScene::Hall => {
@@ -279,6 +287,39 @@ pub fn scene(o: &Options) -> Result<(Scene, Camera)> {
         scene.append(&character, placement)?;
     }
     Ok((scene, camera))
+}
+
+/// CesiumMan's walk: the character (`o.character`) on the ground of
+/// `platoon_scenegen::bench::walk_ground`, under a blue sky, seen from the front and a little
+/// above, two heights away.
+fn walk(o: &Options) -> Result<(Scene, Camera)> {
+    let path = o
+        .character
+        .as_ref()
+        .context("the walk needs its character (--character)")?;
+    let character = platoon::load_scene(Some(path))
+        .with_context(|| format!("{}: the walking character", path.display()))?;
+    let (lo, hi) = character.pose(0.0).bounds();
+    let height = (hi.y - lo.y).max(1e-3);
+    let dir = tempfile::tempdir()?;
+    let ground = dir.path().join("walk-ground.glb");
+    let data = platoon_scenegen::bench::walk_ground(3.0 * height);
+    std::fs::write(&ground, platoon_scenegen::to_glb(&data))?;
+    let mut scene = platoon::load_scene(Some(&ground))?;
+    scene.environment = Some(platoon_core::scene::environment::Environment::Constant(
+        glam::Vec3::new(0.35, 0.45, 0.6),
+    ));
+    scene.append(
+        &character,
+        Placement {
+            translation: DVec3::new(0.0, -lo.y as f64, 0.0),
+            rotation: glam::Quat::IDENTITY,
+            scale: glam::Vec3::ONE,
+        },
+    )?;
+    let centre = glam::Vec3::new((lo.x + hi.x) * 0.5, 0.5 * height, (lo.z + hi.z) * 0.5);
+    let eye = centre + glam::Vec3::new(0.6 * height, 0.4 * height, 2.0 * height);
+    Ok((scene, Camera::look_at(eye, centre, 0.8)))
 }
 
 /// Frame `f`'s camera: `start` moved sideways by `step` a frame.

@@ -8,7 +8,8 @@ use platoon_lab::realtime_bench as rb;
 #[derive(clap::Args)]
 pub struct RealtimeArgs {
     /// The scene the game plays: hall (the many-light hall: 128 emissive panels and 48 point
-    /// lights, `platoon-scenegen --many-lights`), cornell (the built-in box), or a glTF file.
+    /// lights, `platoon-scenegen --many-lights`), cornell (the built-in box), walk (the
+    /// character walking on a ground under a sky and a low sun), or a glTF file.
     #[arg(default_value = "hall")]
     scene: String,
     /// The skinned, animated glTF walking in front of the camera.
