@@ -140,18 +140,19 @@ fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
     let _ = view.kill();
     let _ = view.wait();
 
-    // A game's real-time settings with the world cache, denoised on the device with the
-    // history reprojected: the title says both, and the frame shown (written on closing,
+    // A game's real-time settings with the world cache and light reuse, denoised on the device
+    // with the history reprojected: the title says all three, and the frame shown (written on closing,
     // denoised on the CPU) is finite and lit.
     let mut view = x.open(
         platoon()
             .args(["view", "--size", "24x16", "--devices", "lavapipe:1"])
-            .args(["--realtime", "--world-cache", "--denoise", "atrous-device"])
+            .args(["--realtime", "--world-cache", "--light-reuse"])
+            .args(["--denoise", "atrous-device"])
             .args(["--frames", "3000"]),
     );
     x.window_titled(
         &mut view,
-        "cells), denoised (atrous-device, history",
+        "cells), light-reuse, denoised (atrous-device, history",
         "the real-time viewer",
     );
     let _ = view.kill();
