@@ -98,13 +98,11 @@ impl Tracer {
             ));
         }
         if let Some(h) = &params.light_reuse {
-            if !params.method.is_path_tracing() || !params.ris_contribution {
-                return Err(crate::Error::Invalid(
-                    "light reuse resamples the path tracer's direct light: it needs resampled \
-                     light (by contribution) and the path tracer"
-                        .into(),
-                ));
-            }
+            platoon_core::frame::light_reuse::check_context(
+                params.ris_candidates.is_some() && params.ris_contribution,
+                params.method.is_path_tracing(),
+            )
+            .map_err(crate::Error::Invalid)?;
             if params.crop.is_some() {
                 return Err(crate::Error::Invalid(
                     "light reuse finds the previous frame's reservoirs in the whole image: \

@@ -218,6 +218,29 @@ pub fn spheres() -> SceneData {
     }
 }
 
+/// The ground a character walks on in `platoon bench realtime walk`: a grey quad `half` units
+/// from its centre each way under a low sun from the side (long shadows), as the game's world
+/// has (crates/platoon-game/src/world.rs); the sky is the environment the bench adds.
+pub fn walk_ground(half: f32) -> SceneData {
+    let g = half;
+    let ground = quad_from([[-g, 0.0, g], [g, 0.0, g], [g, 0.0, -g], [-g, 0.0, -g]]);
+    let materials = vec![json!({"name": "ground",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.45, 0.45, 0.45, 1], "metallicFactor": 0, "roughnessFactor": 0.9}})];
+    let sun = NodeData {
+        rotation: turned(40.0, -43.0),
+        light: Some(0),
+        ..NodeData::new()
+    };
+    SceneData {
+        meshes: vec![(ground, 0)],
+        materials,
+        nodes: vec![NodeData::mesh(0, [0.0; 3], 1.0), sun],
+        lights: vec![json!({"type": "directional", "color": [1.0, 0.92, 0.8], "intensity": 2.5})],
+        extensions_used: vec!["KHR_lights_punctual".into()],
+        images: Vec::new(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -276,28 +299,5 @@ mod tests {
         let q = facing([0.0, 0.0, 1.0]);
         let up = glam::Quat::from_xyzw(q[0], q[1], q[2], q[3]) * glam::Vec3::Y;
         assert!((up - glam::Vec3::Y).length() < 1e-6);
-    }
-}
-
-/// The ground a character walks on in `platoon bench realtime walk`: a grey quad `half` units
-/// from its centre each way under a low sun from the side (long shadows), as the game's world
-/// has (crates/platoon-game/src/world.rs); the sky is the environment the bench adds.
-pub fn walk_ground(half: f32) -> SceneData {
-    let g = half;
-    let ground = quad_from([[-g, 0.0, g], [g, 0.0, g], [g, 0.0, -g], [-g, 0.0, -g]]);
-    let materials = vec![json!({"name": "ground",
-        "pbrMetallicRoughness": {"baseColorFactor": [0.45, 0.45, 0.45, 1], "metallicFactor": 0, "roughnessFactor": 0.9}})];
-    let sun = NodeData {
-        rotation: turned(40.0, -43.0),
-        light: Some(0),
-        ..NodeData::new()
-    };
-    SceneData {
-        meshes: vec![(ground, 0)],
-        materials,
-        nodes: vec![NodeData::mesh(0, [0.0; 3], 1.0), sun],
-        lights: vec![json!({"type": "directional", "color": [1.0, 0.92, 0.8], "intensity": 2.5})],
-        extensions_used: vec!["KHR_lights_punctual".into()],
-        images: Vec::new(),
     }
 }

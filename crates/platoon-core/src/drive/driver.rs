@@ -31,7 +31,7 @@ use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
 use crate::flatten::GpuScene;
 use crate::frame::hit_geometry::HitGeometry;
-use crate::frame::light_reuse::{LightReuse, LightReuseState};
+use crate::frame::light_reuse::{check_context, LightReuse, LightReuseState};
 use crate::frame::renderer::Renderer;
 use crate::frame::world_cache::{WorldCache, WorldCacheOptions};
 use crate::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
@@ -249,14 +249,12 @@ impl FrameDriver {
         };
         let reuse = match options.light_reuse {
             Some(o) => {
-                if options.resampled_light.is_none() || !options.method.is_path_tracing() {
-                    return Err(Error::Invalid(
-                        "light reuse resamples the path tracer's direct light: it needs \
-                         resampled light and the path tracer"
-                            .into(),
-                    ));
-                }
-                o.validate().map_err(Error::Invalid)?;
+                check_context(
+                    options.resampled_light.is_some(),
+                    options.method.is_path_tracing(),
+                )
+                .and_then(|()| o.validate())
+                .map_err(Error::Invalid)?;
                 Some(LightReuseState::new(o))
             }
             None => None,

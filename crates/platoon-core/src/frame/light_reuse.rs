@@ -96,6 +96,20 @@ impl std::str::FromStr for LightReuse {
     }
 }
 
+/// Whether light reuse can run: it resamples the path tracer's resampled light (one rule for the
+/// frame driver and the tracer).
+pub fn check_context(resampled_light: bool, path_tracing: bool) -> Result<(), String> {
+    if resampled_light && path_tracing {
+        Ok(())
+    } else {
+        Err(
+            "light reuse resamples the path tracer's direct light: it needs resampled light \
+             (by contribution) and the path tracer"
+                .into(),
+        )
+    }
+}
+
 /// vec4s a pixel's reservoir takes (light_reuse.glsl's record): the surface point and the
 /// light, the sample's numbers with W and M, the surface's normals.
 pub const RECORD_VEC4S: usize = 3;

@@ -184,6 +184,17 @@ impl FrameParams {
         }
     }
 
+    /// The history the frame's first vertices reuse light from, where they do: the beauty's,
+    /// with resampled light by contribution (what compiles LIGHT_REUSE in and what the tracer
+    /// prepares its buffers for: one rule).
+    pub fn reused_light(&self) -> Option<&std::sync::Arc<light_reuse::ReservoirHistory>> {
+        self.light_reuse.as_ref().filter(|_| {
+            self.ris_candidates.is_some()
+                && self.ris_contribution
+                && self.output == Output::Radiance
+        })
+    }
+
     /// Whether the frame may be split between `devices`: a time limit cuts one device's
     /// frame only (bands cut at different times would break the image's independence from
     /// the split).

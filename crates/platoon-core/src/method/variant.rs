@@ -33,11 +33,7 @@ impl KernelVariant {
             _ => None,
         };
         let ris = params.ris_candidates.is_some();
-        let reuse = params
-            .light_reuse
-            .as_ref()
-            .filter(|_| ris && params.ris_contribution && params.output == Output::Radiance)
-            .map(|h| h.options);
+        let reuse = params.reused_light().map(|h| h.options);
         let render_options = [
             // An orthographic camera has no lens.
             (

@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use gpu_allocator::MemoryLocation;
 use platoon_core::frame::light_reuse::{ReservoirHistory, RECORD_VEC4S};
-use platoon_core::frame::{FrameParams, Output, Span};
+use platoon_core::frame::{FrameParams, Span};
 
 use super::ensure;
 use crate::buffer::GpuBuffer;
@@ -24,15 +24,6 @@ pub(crate) struct LightReusePasses {
     reservoirs: Option<GpuBuffer>,
     /// The history (and first sample) the buffer holds: uploaded once a frame.
     uploaded: Option<(Arc<ReservoirHistory>, u32)>,
-}
-
-/// Whether the frame's first vertices reuse light and leave reservoirs: the beauty's, with
-/// resampled light by contribution (the kernel variant's rule).
-pub(crate) fn reuses(params: &FrameParams) -> bool {
-    params.light_reuse.is_some()
-        && params.ris_candidates.is_some()
-        && params.ris_contribution
-        && params.output == Output::Radiance
 }
 
 /// The history block light_reuse.glsl reads (its ReuseHistory): sizes and settings, the
@@ -70,7 +61,7 @@ fn history_block(h: &ReservoirHistory, params: &FrameParams) -> Vec<u8> {
 impl LightReusePasses {
     /// Uploads the frame's history and sizes the reservoirs; the two buffers' addresses.
     pub fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 2]> {
-        let Some(history) = params.light_reuse.as_ref().filter(|_| reuses(params)) else {
+        let Some(history) = params.reused_light() else {
             return Ok([0; 2]);
         };
         let fresh = !self
@@ -104,7 +95,7 @@ impl LightReusePasses {
 
     /// The span's reservoirs (after the band's last submission), [`RECORD_VEC4S`] a pixel.
     pub fn reservoirs(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
-        if !reuses(params) {
+        if params.reused_light().is_none() {
             return Vec::new();
         }
         let Some(b) = self.reservoirs.as_mut() else {
