@@ -13,10 +13,12 @@
 //!
 //! A sample is (light, u): the light's index and the two numbers that placed it on the light,
 //! the same sample from any shading point; its target at a pixel is the unshadowed luminance of
-//! f cos Le in that measure. Unbiased by default: the combined weight divides by the candidates
-//! of the sources whose own target is positive at the sample kept (Bitterli's 1/Z); the biased
-//! setting divides by all of them (darker where a neighbour cannot see the light: an explicit,
-//! reported option).
+//! f cos Le in that measure. Unbiased by default: each source's resampling weight carries a
+//! balance-heuristic MIS weight over stand-in targets (a Lambertian surface at each source's
+//! stored point and normals; generalised RIS, Lin et al. 2022), which sum to one wherever a
+//! source could have drawn the sample; the biased setting weighs by the candidates M alone
+//! (Bitterli's 1/M: darker where a neighbour cannot see a light the pixel sees; an explicit
+//! option, named in the view's title and the benches' output).
 
 use std::sync::Arc;
 
@@ -25,8 +27,9 @@ use crate::scene::camera::Camera;
 /// The reuse's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightReuse {
-    /// Bitterli's unbiased combination (1/Z over the sources that could have drawn the sample);
-    /// false: 1/M over all of them (biased, a little cheaper).
+    /// The balance heuristic over the sources' stand-in targets (unbiased); false: weights by
+    /// the candidates M alone (1/M, biased; no stand-ins evaluated, but in the many-light hall
+    /// its fireflies made it no better at equal time: docs/REALTIME.md).
     pub unbiased: bool,
     /// Reservoirs of the previous frame taken from around the pixel's reprojection.
     pub neighbours: u32,
@@ -70,7 +73,7 @@ impl LightReuse {
         Ok(())
     }
 
-    /// The kernel option's label (the metadata's list of approximations names the biased one).
+    /// The kernel option's label (the view's title and `bench game` name the biased one).
     pub fn label(&self) -> &'static str {
         if self.unbiased {
             "light-reuse"
