@@ -623,12 +623,14 @@ fn the_game_loop_over_ranks_is_the_one_process_loop_bit_for_bit() {
     game_over_ranks_and_alone(platoon::core::Method::path_tracing(), |_| {});
 }
 
-/// ... with resampled light and the world cache (its table sent to the ranks with each frame,
-/// their records back with their bands): the cache the one process trains, the same film.
+/// ... with resampled light reusing reservoirs and the world cache (its table and the previous
+/// frame's reservoirs sent to the ranks with each frame, their records and reservoirs back with
+/// their bands): the cache the one process trains, the same film.
 #[test]
 fn the_game_loop_over_ranks_trains_the_one_process_world_cache() {
     game_over_ranks_and_alone(platoon::core::Method::path_tracing(), |d| {
         d.resampled_light = Some(4);
+        d.light_reuse = Some(Default::default());
         d.world_cache = Some(platoon::core::frame::world_cache::WorldCacheOptions {
             resolution: 16,
             ..Default::default()
