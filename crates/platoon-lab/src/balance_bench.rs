@@ -148,13 +148,7 @@ pub struct Cell {
 
 /// The outdoor scene: the 103k-triangle sphere field under a constant sky.
 pub fn outdoor_scene() -> Result<Prepared> {
-    let dir = tempfile::tempdir()?;
-    let path = dir.path().join("field.glb");
-    std::fs::write(
-        &path,
-        platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, false)),
-    )?;
-    let scene = platoon::load_scene(Some(&path))?;
+    let scene = crate::generated::load(&platoon_scenegen::sphere_field(4, false), "field")?;
     prepare(
         scene,
         &PrepareOptions {

@@ -125,13 +125,7 @@ pub struct Report {
 /// The sphere field, `characters` copies of the character in a ring, `movers` spheres; returns
 /// the scene, the movers' nodes and a camera over it all.
 fn build_scene(o: &Options) -> Result<(Scene, Vec<usize>, Camera)> {
-    let dir = tempfile::tempdir()?;
-    let field = dir.path().join("field.glb");
-    std::fs::write(
-        &field,
-        platoon_scenegen::to_glb(&platoon_scenegen::sphere_field(4, false)),
-    )?;
-    let mut scene = platoon::load_scene(Some(&field))?;
+    let mut scene = crate::generated::load(&platoon_scenegen::sphere_field(4, false), "field")?;
     if !o.character.exists() {
         bail!(
             "{}: the character to animate is missing (pass --character with a skinned glTF)",

@@ -10,6 +10,7 @@
 
 pub mod balance_bench;
 pub mod dynamic_bench;
+pub mod generated;
 pub mod layout_bench;
 pub mod method;
 pub mod mitsuba;

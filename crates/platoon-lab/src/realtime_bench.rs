@@ -259,11 +259,7 @@ pub fn scene(o: &Options) -> Result<(Scene, Camera)> {
         BenchScene::File(path) => platoon::load_scene(Some(path))?,
         BenchScene::Cornell => platoon::load_scene(None)?,
         BenchScene::Hall => {
-            let dir = tempfile::tempdir()?;
-            let path = dir.path().join("many-lights.glb");
-            let hall = platoon_scenegen::many_lights::many_lights();
-            std::fs::write(&path, platoon_scenegen::to_glb(&hall))?;
-            platoon::load_scene(Some(&path))?
+            crate::generated::load(&platoon_scenegen::many_lights::many_lights(), "many-lights")?
         }
     };
     let camera = Camera::from_scene(&scene, &scene.pose(0.0), None)
@@ -301,11 +297,8 @@ fn walk(o: &Options) -> Result<(Scene, Camera)> {
         .with_context(|| format!("{}: the walking character", path.display()))?;
     let (lo, hi) = character.pose(0.0).bounds();
     let height = (hi.y - lo.y).max(1e-3);
-    let dir = tempfile::tempdir()?;
-    let ground = dir.path().join("walk-ground.glb");
-    let data = platoon_scenegen::bench::walk_ground(3.0 * height);
-    std::fs::write(&ground, platoon_scenegen::to_glb(&data))?;
-    let mut scene = platoon::load_scene(Some(&ground))?;
+    let ground = platoon_scenegen::bench::walk_ground(3.0 * height);
+    let mut scene = crate::generated::load(&ground, "walk-ground")?;
     scene.environment = Some(platoon_core::scene::environment::Environment::Constant(
         glam::Vec3::new(0.35, 0.45, 0.6),
     ));

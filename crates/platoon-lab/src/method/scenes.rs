@@ -41,13 +41,8 @@ pub fn scenes(names: &[String], shared: &std::path::Path) -> Result<Vec<MethodSc
             }
             let (what, file, env) = match name.as_str() {
                 "conference" => {
-                    let dir = tempfile::tempdir()?;
-                    let path = dir.path().join("conference.glb");
-                    std::fs::write(
-                        &path,
-                        platoon_scenegen::to_glb(&platoon_scenegen::conference_room()),
-                    )?;
-                    let scene = platoon::load_scene(Some(&path))?;
+                    let scene =
+                        crate::generated::load(&platoon_scenegen::conference_room(), "conference")?;
                     return Ok(MethodScene {
                         name: name.clone(),
                         what: "the generated conference room".into(),
