@@ -193,27 +193,21 @@ bool reuse_light(Surface s, vec3 t, vec3 b, Bsdf bsdf, vec3 wo, vec3 ng_wo, inou
     q.n = s.ns;
     q.distance = distance(s.position, F.cam_origin.xyz);
 
-    // Source 0: the fresh candidates, as path/resampled_light.glsl draws them, as a reservoir.
+    // Source 0: the fresh candidates (path/resampled_light.glsl's), as a reservoir.
     uint m = max(pc.ris_candidates, 1u);
     Reservoir sources[REUSE_MAX_SOURCES];
     ReuseSurface surfaces[REUSE_MAX_SOURCES];
-    float wfresh = 0.0;
     float fresh_target = 0.0;
     sources[0] = Reservoir(0u, vec2(0.0), 0.0, float(m));
     surfaces[0] = q.surface;
-    for (uint j = 0u; j < m; j++) {
-        LightSample c;
-        bool ok = sample_one_light(s.position, rng, c) && c.pdf > 0.0;
-        float target = ok ? contribution_target(bsdf, wo, t, b, s.ns, ng_wo, c) : 0.0;
-        float w = target > 0.0 ? target / c.pdf : 0.0;
-        wfresh += w;
-        if (w > 0.0 && rng_next(rng) * wfresh < w) {
-            sources[0].light = c.light + 1u;
-            sources[0].u = c.u;
-            fresh_target = target * c.pick / c.pdf;
-        }
+    LightSample fresh;
+    float kept, wfresh;
+    if (resample_candidates(s.position, bsdf, wo, t, b, s.ns, ng_wo, rng, fresh, kept, wfresh)) {
+        sources[0].light = fresh.light + 1u;
+        sources[0].u = fresh.u;
+        fresh_target = kept * fresh.pick / fresh.pdf;
+        sources[0].W = wfresh / (float(m) * fresh_target);
     }
-    if (sources[0].light != 0u) sources[0].W = wfresh / (float(m) * fresh_target);
 
     // The previous frame's reservoirs: where the surface was (when it was in view), then
     // around that point; only those of a surface like this one's.

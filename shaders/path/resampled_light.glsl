@@ -15,11 +15,13 @@ float contribution_target(Bsdf bsdf, vec3 wo, vec3 t, vec3 b, vec3 n, vec3 ng_wo
     return luminance(bsdf_eval(bsdf, wo, wl, pdf) * c.radiance);
 }
 
-bool sample_light_toward(vec3 p, Bsdf bsdf, vec3 wo, vec3 t, vec3 b, vec3 n, vec3 ng_wo,
-                         inout Rng rng, out LightSample ls) {
+// The candidates' reservoir: the one kept (ls, its target `kept`) and the sum of the weights
+// (`wsum`); false when none weighs anything. Light reuse (path/light_reuse.glsl) starts from it.
+bool resample_candidates(vec3 p, Bsdf bsdf, vec3 wo, vec3 t, vec3 b, vec3 n, vec3 ng_wo,
+                         inout Rng rng, out LightSample ls, out float kept, out float wsum) {
     uint m = max(pc.ris_candidates, 1u);
-    float wsum = 0.0;
-    float kept = 0.0;
+    wsum = 0.0;
+    kept = 0.0;
     for (uint j = 0u; j < m; j++) {
         LightSample c;
         bool ok = sample_one_light(p, rng, c) && c.pdf > 0.0;
@@ -31,8 +33,14 @@ bool sample_light_toward(vec3 p, Bsdf bsdf, vec3 wo, vec3 t, vec3 b, vec3 n, vec
             kept = target;
         }
     }
-    if (!(kept > 0.0) || !(wsum > 0.0)) return false;
+    return kept > 0.0 && wsum > 0.0;
+}
+
+bool sample_light_toward(vec3 p, Bsdf bsdf, vec3 wo, vec3 t, vec3 b, vec3 n, vec3 ng_wo,
+                         inout Rng rng, out LightSample ls) {
+    float kept, wsum;
+    if (!resample_candidates(p, bsdf, wo, t, b, n, ng_wo, rng, ls, kept, wsum)) return false;
     ls.mis_pdf = ls.pdf;
-    ls.pdf = kept * float(m) / wsum;
+    ls.pdf = kept * float(max(pc.ris_candidates, 1u)) / wsum;
     return ls.pdf > 0.0;
 }
