@@ -244,8 +244,24 @@ impl ReuseStats {
 }
 
 /// What the path tracer's bands leave per pixel, one after the other in each pixel: the world
-/// cache's training record (when `cache`) then the reservoir (when `reuse`). Split back into
-/// the two, each in pixel order.
+/// cache's training record (when there are records) then the reservoir (when there are
+/// reservoirs); [`split_per_pixel`] takes them apart.
+pub fn join_per_pixel(records: Vec<[f32; 4]>, reservoirs: Vec<[f32; 4]>) -> Vec<[f32; 4]> {
+    if records.is_empty() {
+        return reservoirs;
+    }
+    if reservoirs.is_empty() {
+        return records;
+    }
+    records
+        .iter()
+        .zip(reservoirs.chunks_exact(RECORD_VEC4S))
+        .flat_map(|(r, v)| std::iter::once(*r).chain(v.iter().copied()))
+        .collect()
+}
+
+/// [`join_per_pixel`]'s data (joined in pixel order over the bands) split back into the cache's
+/// records (when `cache`) and the reservoirs (when `reuse`), each in pixel order.
 pub fn split_per_pixel(
     per_pixel: Vec<[f32; 4]>,
     cache: bool,
@@ -286,8 +302,11 @@ mod tests {
         );
         assert_eq!(
             split_per_pixel(per_pixel.clone(), true, false),
-            (per_pixel, Vec::new())
+            (per_pixel.clone(), Vec::new())
         );
+        // ... what the tracer joined.
+        let (records, reservoirs) = split_per_pixel(per_pixel.clone(), true, true);
+        assert_eq!(join_per_pixel(records, reservoirs), per_pixel);
     }
 
     #[test]

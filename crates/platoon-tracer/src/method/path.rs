@@ -5,7 +5,7 @@
 use std::time::Duration;
 
 use platoon_core::frame::aov::AovPass;
-use platoon_core::frame::light_reuse::RECORD_VEC4S;
+use platoon_core::frame::light_reuse::join_per_pixel;
 use platoon_core::frame::{FrameParams, Output, Span};
 use platoon_core::method::path::PathKernel;
 use platoon_core::{KernelVariant, SceneFeatures};
@@ -84,22 +84,12 @@ impl MethodPasses for PathPasses {
         self.cache.train(rec, push)
     }
 
-    /// Per pixel, its world cache record then its reservoir (`light_reuse::split_per_pixel`).
+    /// Per pixel, its world cache record then its reservoir (`light_reuse::join_per_pixel`).
     fn per_pixel(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
-        let records = self.cache.records(params, span);
-        let reservoirs = self.reuse.reservoirs(params, span);
-        if records.is_empty() || reservoirs.is_empty() {
-            return if records.is_empty() {
-                reservoirs
-            } else {
-                records
-            };
-        }
-        records
-            .iter()
-            .zip(reservoirs.chunks_exact(RECORD_VEC4S))
-            .flat_map(|(r, v)| std::iter::once(*r).chain(v.iter().copied()))
-            .collect()
+        join_per_pixel(
+            self.cache.records(params, span),
+            self.reuse.reservoirs(params, span),
+        )
     }
 
     /// A megakernel pass, or a streaming one. Where the device cut megakernel invocations
