@@ -11,10 +11,12 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context as _, Result};
 use glam::Vec3;
-use platoon_core::balance::replay::{replay, CostMap};
+use platoon_core::balance::replay::{replay, replay_stealing, CostMap, Overhead, StolenFrame};
+use platoon_core::balance::steal::{ClaimBoard, Stealing};
 use platoon_core::balance::{by_name, NAMES};
 use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::FrameParams;
+use platoon_core::frame::Span;
 use platoon_core::scene::camera::Camera;
 use platoon_tracer::Sampling;
 
@@ -104,7 +106,50 @@ pub struct Options {
     /// Folder for balance.csv and balance.png.
     #[arg(long, default_value = ".")]
     pub out: PathBuf,
+    /// Also run every balancer with in-frame stealing of the bands' tails (rows
+    /// `<balancer>+steal`; their idle counts the pieces' overhead as lost).
+    #[arg(long)]
+    pub stealing: bool,
+    /// Stealing: share of each band's predicted cost left in its tail.
+    #[arg(long, default_value_t = Stealing::default().tail)]
+    pub tail: f64,
+    /// Stealing: a chunk's predicted cost as a share of its band's.
+    #[arg(long, default_value_t = Stealing::default().chunk)]
+    pub chunk: f64,
+    /// Stealing: chunks an owner leaves for others while nobody has run out of work.
+    #[arg(long, default_value_t = Stealing::default().reserve)]
+    pub reserve: u32,
+    /// Stealing: once some have run out, a claim takes the unclaimed chunks over this times
+    /// the tracers sharing them.
+    #[arg(long, default_value_t = Stealing::default().guide)]
+    pub guide: f64,
+    /// Stealing: a chunk's work is at least this many times a piece's overhead.
+    #[arg(long, default_value_t = Stealing::default().work_per_overhead)]
+    pub work_per_overhead: f64,
+    /// Stealing: a frame is stolen only when a tracer's expected idle without it exceeds this
+    /// many pieces' overhead.
+    #[arg(long, default_value_t = Stealing::default().pieces_worth)]
+    pub pieces_worth: f64,
+    /// Replay with stealing: fixed cost of a piece's dispatch, microseconds (lavapipe's,
+    /// measured by --measure-overhead at the maps' 96x96 and 2 spp; docs/BALANCING.md).
+    #[arg(long, default_value_t = LAVAPIPE_OVERHEAD.dispatch * 1e6)]
+    pub dispatch_us: f64,
+    /// Replay with stealing: cost of a claim, microseconds (an atomic between the tracers of
+    /// one process; a message's round trip to rank 0 between machines).
+    #[arg(long, default_value_t = LAVAPIPE_OVERHEAD.claim * 1e6)]
+    pub claim_us: f64,
+    /// Measure the overhead model on the first tracer of --devices2 (a frame rendered as one
+    /// band and as pieces) and replay with it.
+    #[arg(long)]
+    pub measure_overhead: bool,
 }
+
+/// The overhead of a piece measured on lavapipe by `--measure-overhead` (one llvmpipe thread,
+/// the orbit's frame at 96x96, 2 spp; docs/BALANCING.md).
+pub const LAVAPIPE_OVERHEAD: Overhead = Overhead {
+    dispatch: 300e-6,
+    claim: 0.05e-6,
+};
 
 impl Default for Options {
     /// The command line's defaults.
@@ -131,7 +176,31 @@ impl Options {
         if !self.out.is_dir() {
             bail!("{}: output folder does not exist", self.out.display());
         }
+        self.steal().validate().map_err(anyhow::Error::msg)?;
+        if !(self.dispatch_us >= 0.0 && self.claim_us >= 0.0) {
+            bail!("--dispatch-us and --claim-us must be non-negative");
+        }
         Ok(())
+    }
+
+    /// The stealing the options describe.
+    pub fn steal(&self) -> Stealing {
+        Stealing {
+            tail: self.tail,
+            chunk: self.chunk,
+            reserve: self.reserve,
+            guide: self.guide,
+            work_per_overhead: self.work_per_overhead,
+            pieces_worth: self.pieces_worth,
+        }
+    }
+
+    /// The replay's overhead model as the options state it.
+    pub fn overhead(&self) -> Overhead {
+        Overhead {
+            dispatch: self.dispatch_us * 1e-6,
+            claim: self.claim_us * 1e-6,
+        }
     }
 }
 
@@ -139,11 +208,33 @@ impl Options {
 #[derive(Clone, Debug)]
 pub struct Cell {
     pub balancer: &'static str,
+    /// The tracers stole the bands' tails in the frame (`balance::steal`).
+    pub stealing: bool,
     pub devices: usize,
     /// The camera path: a cost map's name in replay, the orbit in real mode.
     pub camera: String,
+    /// Mean idle % of the frames, the pieces' overhead counted in (replay: as lost; real: as
+    /// the busy time it is).
     pub idle_pct: f64,
+    /// Replay: the pieces' overhead % within `idle_pct`. Real: pieces x the dispatch overhead
+    /// (`--dispatch-us`) over the tracers' time, an estimate the busy times already hold.
+    pub overhead_pct: f64,
+    /// Pieces claimed a frame, mean.
+    pub pieces: f64,
+    /// Mean frame time, ms (replay: of the slowest tracer, in the maps' seconds).
+    pub frame_ms: f64,
     pub per_frame: Vec<f64>,
+}
+
+impl Cell {
+    /// The table's row: the balancer, `+steal` with stealing.
+    pub fn label(&self) -> String {
+        if self.stealing {
+            format!("{}+steal", self.balancer)
+        } else {
+            self.balancer.to_string()
+        }
+    }
 }
 
 /// The outdoor scene: the 103k-triangle sphere field under a constant sky.
@@ -278,52 +369,177 @@ pub fn run(o: &Options) -> Result<Vec<Cell>> {
     match o.mode {
         Mode::Replay => {
             let maps = cost_maps(o)?;
+            let overhead = if o.measure_overhead {
+                let measured = measure_overhead(o, &o.devices2, 31)?;
+                eprintln!(
+                    "overhead measured on {}: a dispatch {:.1} us, a claim {:.3} us",
+                    o.devices2,
+                    measured.dispatch * 1e6,
+                    measured.claim * 1e6
+                );
+                measured
+            } else {
+                o.overhead()
+            };
             for speeds in [&o.speeds2, &o.speeds3] {
                 for (camera, map) in &maps {
                     let map = map.take(o.frames as usize);
-                    for name in NAMES {
-                        let per_frame = replay(&map, speeds, by_name(name).unwrap().as_mut());
-                        cells.push(Cell {
-                            balancer: name,
-                            devices: speeds.len(),
-                            camera: camera.clone(),
-                            idle_pct: 100.0 * mean(&per_frame),
-                            per_frame,
-                        });
+                    for stealing in steal_settings(o) {
+                        for name in NAMES {
+                            let mut b = by_name(name).unwrap();
+                            cells.push(match &stealing {
+                                None => {
+                                    let per_frame = replay(&map, speeds, b.as_mut());
+                                    let frame_ms = frame_ms_replayed(&map, speeds, name);
+                                    Cell {
+                                        balancer: name,
+                                        stealing: false,
+                                        devices: speeds.len(),
+                                        camera: camera.clone(),
+                                        idle_pct: 100.0 * mean(&per_frame),
+                                        overhead_pct: 0.0,
+                                        pieces: 0.0,
+                                        frame_ms,
+                                        per_frame,
+                                    }
+                                }
+                                Some(s) => {
+                                    let frames =
+                                        replay_stealing(&map, speeds, b.as_mut(), s, overhead);
+                                    let per_frame: Vec<f64> =
+                                        frames.iter().map(|f| f.lost()).collect();
+                                    let of = |f: fn(&StolenFrame) -> f64| {
+                                        mean(&frames.iter().map(f).collect::<Vec<f64>>())
+                                    };
+                                    Cell {
+                                        balancer: name,
+                                        stealing: true,
+                                        devices: speeds.len(),
+                                        camera: camera.clone(),
+                                        idle_pct: 100.0 * mean(&per_frame),
+                                        overhead_pct: 100.0 * of(|f| f.overhead),
+                                        pieces: of(|f| f.pieces as f64),
+                                        frame_ms: 1e3 * of(|f| f.frame_seconds),
+                                        per_frame,
+                                    }
+                                }
+                            });
+                        }
                     }
                 }
             }
         }
         Mode::Real => {
             let scene = outdoor_scene()?;
+            let dispatch = o.overhead().dispatch;
             for spec in [&o.devices2, &o.devices3] {
                 let mut tracers = create_tracers(spec, &scene.gpu, false, Sampling::Mis)?;
                 let devices = tracers.len();
                 for camera in [CameraSpeed::Slow, CameraSpeed::Fast] {
-                    for name in NAMES {
-                        let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
-                        let mut per_frame = Vec::new();
-                        for f in 0..o.frames {
-                            per_frame.push(
-                                renderer
-                                    .render_frame(&frame_params(o, f, camera))?
-                                    .idle_fraction,
-                            );
+                    for stealing in steal_settings(o) {
+                        for name in NAMES {
+                            let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
+                            renderer.set_stealing(stealing);
+                            let (mut per_frame, mut pieces, mut ms, mut overhead) =
+                                (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+                            for f in 0..o.frames {
+                                let frame = renderer.render_frame(&frame_params(o, f, camera))?;
+                                per_frame.push(frame.idle_fraction);
+                                let n: u32 = frame.tracers.iter().map(|t| t.pieces).sum();
+                                let busiest = frame
+                                    .tracers
+                                    .iter()
+                                    .map(|t| (t.wall_time + t.idle).as_secs_f64())
+                                    .fold(0.0, f64::max);
+                                pieces.push(n as f64);
+                                ms.push(1e3 * frame.wall_time.as_secs_f64());
+                                overhead.push(
+                                    n as f64 * dispatch / (devices as f64 * busiest).max(1e-9),
+                                );
+                            }
+                            tracers = renderer.into_tracers();
+                            cells.push(Cell {
+                                balancer: name,
+                                stealing: stealing.is_some(),
+                                devices,
+                                camera: camera.name().to_string(),
+                                idle_pct: 100.0 * mean(&per_frame),
+                                overhead_pct: 100.0 * mean(&overhead),
+                                pieces: mean(&pieces),
+                                frame_ms: mean(&ms),
+                                per_frame,
+                            });
                         }
-                        tracers = renderer.into_tracers();
-                        cells.push(Cell {
-                            balancer: name,
-                            devices,
-                            camera: camera.name().to_string(),
-                            idle_pct: 100.0 * mean(&per_frame),
-                            per_frame,
-                        });
                     }
                 }
             }
         }
     }
     Ok(cells)
+}
+
+/// The stealing settings a run compares: none, and the options' when `--stealing`.
+fn steal_settings(o: &Options) -> Vec<Option<Stealing>> {
+    let mut settings = vec![None];
+    if o.stealing {
+        settings.push(Some(o.steal()));
+    }
+    settings
+}
+
+/// Mean frame time (the slowest tracer's, ms of the maps' seconds) of `balancer`, replayed.
+fn frame_ms_replayed(map: &CostMap, speeds: &[f64], balancer: &str) -> f64 {
+    let free = Stealing {
+        tail: 0.0,
+        ..Stealing::default()
+    };
+    let mut b = by_name(balancer).unwrap();
+    let frames = replay_stealing(map, speeds, b.as_mut(), &free, Overhead::default());
+    1e3 * mean(&frames.iter().map(|f| f.frame_seconds).collect::<Vec<_>>())
+}
+
+/// The overhead of a piece on the first tracer of `spec`: the median time of a band of one
+/// pixel of the orbit's frame (the fixed cost of a dispatch: recording, submitting, waiting,
+/// reading back; the pixel's own work is a few microseconds) over `repeat` tries. A claim's
+/// cost is timed on a board of many chunks, one thread claiming.
+pub fn measure_overhead(o: &Options, spec: &DeviceSpec, repeat: u32) -> Result<Overhead> {
+    let scene = outdoor_scene()?;
+    let mut tracers = create_tracers(spec, &scene.gpu, false, Sampling::Mis)?;
+    let Some(t) = tracers.first_mut() else {
+        bail!("no tracer to measure the overhead on")
+    };
+    let params = frame_params(o, 20, CameraSpeed::Slow);
+    let pixel = Span::new(o.width / 2, o.width / 2 + 1);
+    t.render_span(&params, pixel, &mut |_| {})?;
+    let mut times = Vec::new();
+    for _ in 0..repeat.max(1) {
+        let start = std::time::Instant::now();
+        t.render_span(&params, pixel, &mut |_| {})?;
+        times.push(start.elapsed().as_secs_f64());
+    }
+    let board_of = || {
+        let planned = [Span::new(0, 1 << 20), Span::new(1 << 20, 1 << 21)];
+        let fine = Stealing {
+            tail: 1.0,
+            chunk: 1e-4,
+            reserve: 0,
+            guide: 1e9,
+            work_per_overhead: 0.0,
+            pieces_worth: 0.0,
+        };
+        ClaimBoard::new(&planned, 1024, &[1.0; 2048], &fine, 0.0)
+    };
+    let board = board_of();
+    let start = std::time::Instant::now();
+    let mut claims = 0u32;
+    while board.claim(0, 1.0).is_some() {
+        claims += 1;
+    }
+    let claim = start.elapsed().as_secs_f64() / claims.max(1) as f64;
+    Ok(Overhead {
+        dispatch: platoon_core::measure::median(times),
+        claim,
+    })
 }
 
 /// Scaling efficiency T(1) / (n T(n)) of equal devices under `balancer`, replayed.
@@ -334,15 +550,22 @@ pub fn replay_efficiency(map: &CostMap, n: usize, balancer: &str) -> f64 {
     1.0 - mean(&per_frame)
 }
 
-pub fn cell<'a>(
-    cells: &'a [Cell],
-    balancer: &str,
-    devices: usize,
-    camera: &str,
-) -> Option<&'a Cell> {
+/// The cell of the row `label` (`Cell::label`) in a column.
+pub fn cell<'a>(cells: &'a [Cell], label: &str, devices: usize, camera: &str) -> Option<&'a Cell> {
     cells
         .iter()
-        .find(|c| c.balancer == balancer && c.devices == devices && c.camera == camera)
+        .find(|c| c.label() == label && c.devices == devices && c.camera == camera)
+}
+
+/// The table's rows (`Cell::label`), in the order the cells came.
+pub fn rows(cells: &[Cell]) -> Vec<String> {
+    let mut rows: Vec<String> = Vec::new();
+    for c in cells {
+        if !rows.contains(&c.label()) {
+            rows.push(c.label());
+        }
+    }
+    rows
 }
 
 /// The table's columns, (devices, camera path), in the order the cells came.
@@ -362,15 +585,15 @@ pub fn columns(cells: &[Cell]) -> Vec<(usize, String)> {
 /// The table in Brigade's Table 16 shape.
 pub fn table(cells: &[Cell]) -> String {
     let columns = columns(cells);
-    let mut s = format!("{:<16}", "idle %");
+    let mut s = format!("{:<20}", "idle %");
     for (d, c) in &columns {
         let _ = write!(s, " {:>9}", format!("{d}-{c}"));
     }
     s.push('\n');
-    for name in NAMES {
-        let _ = write!(s, "{name:<16}");
+    for name in rows(cells) {
+        let _ = write!(s, "{name:<20}");
         for (d, c) in &columns {
-            match cell(cells, name, *d, c) {
+            match cell(cells, &name, *d, c) {
                 Some(x) => {
                     let _ = write!(s, " {:>9.2}", x.idle_pct);
                 }
@@ -381,6 +604,25 @@ pub fn table(cells: &[Cell]) -> String {
         }
         s.push('\n');
     }
+    if cells.iter().any(|c| c.stealing) {
+        s.push_str(
+            "+steal rows: overhead % within idle / pieces a frame / frame ms (plain row's ms)\n",
+        );
+        for c in cells.iter().filter(|c| c.stealing) {
+            let plain = cell(cells, c.balancer, c.devices, &c.camera).map_or(0.0, |p| p.frame_ms);
+            let _ = writeln!(
+                s,
+                "  {:<18} {}-{:<6} {:>6.3} / {:>6.1} / {:>8.2} ({:.2})",
+                c.label(),
+                c.devices,
+                c.camera,
+                c.overhead_pct,
+                c.pieces,
+                c.frame_ms,
+                plain
+            );
+        }
+    }
     s
 }
 
@@ -389,8 +631,8 @@ pub fn json(cells: &[Cell]) -> String {
         .iter()
         .map(|c| {
             format!(
-                r#"{{"balancer":"{}","devices":{},"camera":"{}","idle_pct":{:.4}}}"#,
-                c.balancer, c.devices, c.camera, c.idle_pct
+                r#"{{"balancer":"{}","stealing":{},"devices":{},"camera":"{}","idle_pct":{:.4},"overhead_pct":{:.4},"pieces":{:.2},"frame_ms":{:.3}}}"#,
+                c.balancer, c.stealing, c.devices, c.camera, c.idle_pct, c.overhead_pct, c.pieces, c.frame_ms
             )
         })
         .collect();
@@ -404,7 +646,7 @@ pub fn csv(cells: &[Cell]) -> String {
             let _ = writeln!(
                 s,
                 "{},{},{},{},{:.4}",
-                c.balancer,
+                c.label(),
                 c.devices,
                 c.camera,
                 f,
@@ -436,7 +678,7 @@ pub fn interleaved_idle(map: &CostMap, speeds: &[f64]) -> f64 {
 /// table's columns.
 fn reference_row(o: &Options, name: &str, idle: fn(&CostMap, &[f64]) -> f64) -> Result<String> {
     let maps = cost_maps(o)?;
-    let mut s = format!("{name:<16}");
+    let mut s = format!("{name:<20}");
     for speeds in [&o.speeds2, &o.speeds3] {
         for (_, map) in &maps {
             let _ = write!(s, " {:>9.2}", idle(&map.take(o.frames as usize), speeds));

@@ -5,10 +5,9 @@
 use std::path::Path;
 
 use anyhow::{anyhow, Result};
-use platoon_core::balance::NAMES;
 use plotters::prelude::*;
 
-use crate::balance_bench::{cell, columns, Cell};
+use crate::balance_bench::{cell, columns, rows, Cell};
 
 const FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
@@ -146,9 +145,9 @@ pub fn write_png(path: &Path, cells: &[Cell], title: &str) -> Result<()> {
             .max(1);
         let panels = root.split_evenly((columns.len().div_ceil(per_row), per_row));
         for (area, (devices, camera)) in panels.iter().zip(columns) {
-            let series: Vec<Series> = NAMES
+            let series: Vec<Series> = rows(cells)
                 .iter()
-                .filter_map(|n| cell(cells, n, devices, &camera).map(|c| (*n, c)))
+                .filter_map(|n| cell(cells, n, devices, &camera).map(|c| (n, c)))
                 .map(|(name, c)| {
                     let points = c.per_frame.iter().enumerate();
                     let points = points.map(|(f, v)| (f, 100.0 * v)).collect();

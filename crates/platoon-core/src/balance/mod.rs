@@ -12,6 +12,7 @@ mod perfect_smooth;
 mod policy;
 pub mod replay;
 mod robin_hood;
+pub mod steal;
 
 pub use cost_aware::{fractional_cuts, spans_at, CostAware};
 pub use cycles::CyclesDamped;

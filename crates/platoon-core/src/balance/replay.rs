@@ -5,8 +5,10 @@
 
 use std::path::Path;
 
+use crate::balance::steal::{StealHistory, Stealing};
 use crate::balance::{idle_fraction, span_cost, Balancer, FrameMeasure, TracerFrame};
 use crate::error::{Error, Result};
+use crate::frame::Span;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct CostMap {
@@ -134,6 +136,125 @@ pub fn replay(costs: &CostMap, speeds: &[f64], balancer: &mut dyn Balancer) -> V
     idle
 }
 
+/// What a piece of a band costs besides its pixels (seconds): the fixed cost of a dispatch
+/// (recording, submitting, waiting, reading back) and of a claim (an atomic between tracers of
+/// one process; a message to rank 0 between machines).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Overhead {
+    pub dispatch: f64,
+    pub claim: f64,
+}
+
+/// One replayed frame with stealing: the tracers' idle and the time the pieces' overhead
+/// took, both as shares of the frame's tracer time (n T_max).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StolenFrame {
+    pub idle: f64,
+    pub overhead: f64,
+    /// Pieces claimed (dispatches besides the heads).
+    pub pieces: u32,
+    /// The slowest tracer's time (the maps' seconds).
+    pub frame_seconds: f64,
+}
+
+impl StolenFrame {
+    /// Idle with the overhead counted as lost: what the frame lost to balancing.
+    pub fn lost(&self) -> f64 {
+        self.idle + self.overhead
+    }
+}
+
+/// [`replay`] with stealing: the balancer plans each frame, the tails are cut from the costs
+/// of the frame before (what a renderer knows), and the tracers claim pieces in the order of
+/// their clocks, each piece costing `overhead` besides its pixels and every claim (the last,
+/// empty one too) a claim's. The balancer learns what each tracer's planned band would have
+/// taken at the speed it rendered at.
+pub fn replay_stealing(
+    costs: &CostMap,
+    speeds: &[f64],
+    balancer: &mut dyn Balancer,
+    stealing: &Stealing,
+    overhead: Overhead,
+) -> Vec<StolenFrame> {
+    let (width, height) = (costs.width, costs.height() as u32);
+    let n = speeds.len();
+    let mut history = StealHistory::default();
+    let mut frames = Vec::with_capacity(costs.frames.len());
+    let piece = overhead.dispatch + overhead.claim;
+    for line_costs in &costs.frames {
+        let planned = balancer.plan(width, height, n);
+        let board = history.board(stealing, &planned, width, height);
+        let head = |i: usize| board.as_ref().map_or(planned[i], |b| b.head(i));
+        let time = |i: usize, s: Span| span_cost(line_costs, width, s) / speeds[i];
+        let mut clock: Vec<f64> = (0..n).map(|i| time(i, head(i))).collect();
+        let mut rendered: Vec<Vec<Span>> = (0..n).map(|i| vec![head(i)]).collect();
+        let mut spent = vec![0.0; n];
+        let mut pieces = 0;
+        if let Some(board) = &board {
+            let mut working: Vec<usize> = (0..n).collect();
+            while !working.is_empty() {
+                // The tracer whose clock is earliest claims next (the lowest on a tie).
+                let k = (0..working.len())
+                    .min_by(|&a, &b| clock[working[a]].total_cmp(&clock[working[b]]))
+                    .expect("a tracer at work");
+                let i = working[k];
+                clock[i] += overhead.claim;
+                spent[i] += overhead.claim;
+                match board.claim(i, clock[i]) {
+                    Some(piece) => {
+                        clock[i] += overhead.dispatch + time(i, piece.span);
+                        spent[i] += overhead.dispatch;
+                        rendered[i].push(piece.span);
+                        pieces += 1;
+                    }
+                    None => {
+                        working.remove(k);
+                    }
+                }
+            }
+        }
+        let max = clock.iter().copied().fold(0.0, f64::max);
+        frames.push(StolenFrame {
+            idle: idle_fraction(&clock),
+            overhead: if max > 0.0 {
+                spent.iter().sum::<f64>() / (n as f64 * max)
+            } else {
+                0.0
+            },
+            pieces,
+            frame_seconds: max,
+        });
+        let tracers: Vec<TracerFrame> = (0..n)
+            .map(|i| {
+                let done: f64 = rendered[i]
+                    .iter()
+                    .map(|&s| span_cost(line_costs, width, s))
+                    .sum();
+                let band = span_cost(line_costs, width, planned[i]);
+                let share = if done > 0.0 && band > 0.0 {
+                    band / done
+                } else {
+                    1.0
+                };
+                TracerFrame {
+                    span: planned[i],
+                    seconds: clock[i] * share,
+                }
+            })
+            .collect();
+        balancer.observe(&FrameMeasure {
+            width,
+            height,
+            tracers: &tracers,
+            line_costs,
+        });
+        let unstolen: Vec<f64> = tracers.iter().map(|t| t.seconds).collect();
+        let measured = (pieces > 0).then_some(piece);
+        history.learn(line_costs.clone(), max, idle_fraction(&unstolen), measured);
+    }
+    frames
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -157,6 +278,52 @@ mod tests {
         assert!(CostMap::parse("", Path::new("bad.csv")).is_err());
         assert!(CostMap::parse("# width: 0\n1,2,3\n", Path::new("bad.csv")).is_err());
         assert_eq!(CostMap::parse("1,2,3\n", Path::new("x")).unwrap().width, 3);
+    }
+
+    #[test]
+    fn stealing_takes_up_an_equal_splits_idle_and_pays_for_each_piece() {
+        let map = CostMap {
+            width: 30,
+            frames: vec![vec![1.0; 30]; 4],
+        };
+        let stealing = Stealing {
+            tail: 0.5,
+            chunk: 0.01,
+            ..Stealing::default()
+        };
+        let mut none = by_name("none").unwrap();
+        // Speeds 1 and 0.5 under an equal split idle 25% (below); with half of each band
+        // shared, the fast tracer takes the slow one's tail down to a piece of a chunk.
+        let free = replay_stealing(
+            &map,
+            &[1.0, 0.5],
+            none.as_mut(),
+            &stealing,
+            Overhead::default(),
+        );
+        for f in &free {
+            assert!(f.idle < 0.02 && f.overhead == 0.0 && f.pieces > 4, "{f:?}");
+        }
+        let costly = Overhead {
+            dispatch: 0.05,
+            claim: 0.01,
+        };
+        let paid = replay_stealing(&map, &[1.0, 0.5], none.as_mut(), &stealing, costly);
+        for (f, p) in free.iter().zip(&paid) {
+            assert!(p.overhead > 0.01 && p.lost() > f.lost(), "{p:?} vs {f:?}");
+        }
+        // No tail: the plain replay's idle, nothing paid.
+        let whole = Stealing {
+            tail: 0.0,
+            ..stealing
+        };
+        let plain = replay_stealing(&map.take(3), &[1.0, 0.5], none.as_mut(), &whole, costly);
+        assert!(
+            plain.iter().all(|f| (f.idle - 0.25).abs() < 1e-3),
+            "{plain:?}"
+        );
+        // The empty claim at the end of each tracer's work costs a claim.
+        assert!(plain.iter().all(|f| f.pieces == 0 && f.overhead > 0.0));
     }
 
     #[test]

@@ -330,6 +330,8 @@ impl<T: BandTracer + Send + 'static> RankRenderer<T> {
                 wall_time: r.wall_time,
                 idle: Duration::from_secs_f64(max - r.wall_time.as_secs_f64()),
                 rays: r.tracers.iter().map(|t| t.rays).sum(),
+                pieces: r.tracers.iter().map(|t| t.pieces).sum(),
+                stolen: r.tracers.iter().map(|t| t.stolen).sum(),
             })
             .collect();
         let part = PartResult {

@@ -258,6 +258,8 @@ pub fn put_tracer_stats(w: &mut Writer, s: &TracerStats) {
     w.duration(s.wall_time);
     w.duration(s.idle);
     w.u64(s.rays);
+    w.u32(s.pieces);
+    w.u32(s.stolen);
 }
 
 pub fn get_tracer_stats(r: &mut Reader) -> Result<TracerStats, WireError> {
@@ -269,6 +271,8 @@ pub fn get_tracer_stats(r: &mut Reader) -> Result<TracerStats, WireError> {
         wall_time: r.duration()?,
         idle: r.duration()?,
         rays: r.u64()?,
+        pieces: r.u32()?,
+        stolen: r.u32()?,
     })
 }
 

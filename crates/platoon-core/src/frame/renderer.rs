@@ -7,7 +7,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::workers::Worker;
-use crate::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use crate::balance::steal::{ClaimBoard, StealHistory, Stealing};
+use crate::balance::{idle_fraction, span_cost, Balancer, FrameMeasure, TracerFrame};
 use crate::denoise::{DeviceFilter, Guides};
 use crate::flatten::commit::Commit;
 use crate::frame::{assemble, gather_sums, Band, BandTracer, FrameParams, Span, TracerError};
@@ -27,6 +28,10 @@ pub struct TracerStats {
     /// Time it waited for the slowest tracer.
     pub idle: Duration,
     pub rays: u64,
+    /// Pieces it claimed besides its band's head (`balance::steal`; 0 without stealing).
+    pub pieces: u32,
+    /// Pixels of other tracers' bands it rendered.
+    pub stolen: u32,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -62,6 +67,10 @@ pub struct FrameResult {
 pub enum RenderError {
     #[error("no tracer left: {0}")]
     NoTracers(String),
+    /// The bands came back not covering the frame once (a fault of the claims, never of a
+    /// tracer): no frame rather than a wrong one.
+    #[error("the frame's bands do not cover it exactly: {0}")]
+    Incomplete(String),
 }
 
 pub struct Renderer<T: BandTracer + Send + 'static> {
@@ -71,6 +80,11 @@ pub struct Renderer<T: BandTracer + Send + 'static> {
     failures: Vec<TracerFailure>,
     /// The bands of the last frame, for a frame that keeps them.
     last_bands: Vec<Span>,
+    /// Whether a band's tail may be taken by others (`balance::steal`), and how it is cut.
+    stealing: Option<Stealing>,
+    /// What the frames so far tell stealing: line costs, a piece's overhead, the idle to
+    /// expect without it.
+    history: StealHistory,
 }
 
 type Outcome = (usize, Span, Result<Band, TracerError>);
@@ -121,7 +135,20 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             balancer,
             failures: Vec::new(),
             last_bands: Vec::new(),
+            stealing: None,
+            history: StealHistory::default(),
         }
+    }
+
+    /// Lets tracers done with their band take the unstarted chunks of others' tails in the
+    /// same frame (`balance::steal`); None: each renders its band alone. The image is the
+    /// same bits either way.
+    pub fn set_stealing(&mut self, stealing: Option<Stealing>) {
+        self.stealing = stealing;
+    }
+
+    pub fn stealing(&self) -> Option<Stealing> {
+        self.stealing
     }
 
     pub fn balancer_name(&self) -> &'static str {
@@ -328,58 +355,101 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                 wall_time: Duration::ZERO,
                 idle: Duration::ZERO,
                 rays: 0,
+                pieces: 0,
+                stolen: 0,
             })
             .collect();
         let mut done: Vec<Band> = Vec::new();
         let mut new_failures = Vec::new();
-        // Planned-band time of each tracer, for idle and for the balancer.
-        let mut first_round: Vec<f64> = vec![0.0; self.tracers.len()];
-        let mut round_work = planned.clone();
+        let add = |stats: &mut Vec<TracerStats>, id: usize, band: &Band| {
+            let s = stats
+                .iter_mut()
+                .find(|s| s.tracer == id)
+                .expect("stats of a live tracer");
+            s.pixels += band.span.len();
+            s.gpu_time += band.gpu_time;
+            s.wall_time += band.wall_time;
+            s.rays += band.rays;
+        };
+        // The first round: the planned bands, their tails shared when stealing. Each tracer's
+        // time in it, for idle and for the balancer, and what failed tracers lost.
         let mut queue: Vec<Span> = Vec::new();
-        for round in 0.. {
-            let mut dead = Vec::new();
-            for (slot, span, result) in run_bands(&self.tracers, &round_work, params) {
-                let id = self.tracers[slot].0;
-                match result {
-                    Ok(band) => {
-                        let s = stats
-                            .iter_mut()
-                            .find(|s| s.tracer == id)
-                            .expect("stats of a live tracer");
-                        s.pixels += span.len();
-                        s.gpu_time += band.gpu_time;
-                        s.wall_time += band.wall_time;
-                        s.rays += band.rays;
-                        if round == 0 {
-                            first_round[slot] = band.wall_time.as_secs_f64();
-                        }
+        let mut dead = Vec::new();
+        // What each tracer rendered of the first round when others could take from its band,
+        // and the times of its head and pieces.
+        let mut rendered: Vec<(usize, Vec<Span>)> = Vec::new();
+        let mut timed: Vec<(Span, Vec<(Span, f64)>)> = Vec::new();
+        let first_round: Vec<f64> = match self.board(params, &planned) {
+            Some(board) => {
+                let board = Arc::new(board);
+                for (slot, (_, worker)) in self.tracers.iter().enumerate() {
+                    worker.start_stealing(params, &board, slot);
+                }
+                let mut times = Vec::with_capacity(self.tracers.len());
+                for (slot, (id, worker)) in self.tracers.iter().enumerate() {
+                    let stolen = worker.stolen();
+                    let s = stats.iter_mut().find(|s| s.tracer == *id).expect("stats");
+                    (s.pieces, s.stolen) = (stolen.pieces, stolen.stolen);
+                    times.push(stolen.busy.as_secs_f64());
+                    let delivered: Vec<Span> = stolen.bands.iter().map(|b| b.span).collect();
+                    rendered.push((*id, delivered.clone()));
+                    let times = stolen.bands.iter();
+                    let times = times.map(|b| (b.span, b.wall_time.as_secs_f64()));
+                    timed.push((board.head(slot), times.collect()));
+                    for band in stolen.bands {
+                        add(&mut stats, *id, &band);
                         done.push(band);
                     }
-                    Err(e) => {
-                        dead.push((slot, span));
+                    if let Some(e) = stolen.error {
+                        // Its head and every piece it claimed, but for what it handed in.
+                        let mut held = board.held_by(slot);
+                        held.push(board.head(slot));
+                        queue.extend(subtract(&held, &delivered));
+                        dead.push(slot);
                         new_failures.push(TracerFailure {
-                            tracer: id,
+                            tracer: *id,
                             frame: params.frame,
                             message: e.to_string(),
                         });
                     }
                 }
+                // Left only when every tracer failed (the others claim all there is).
+                queue.extend(board.unclaimed_chunks());
+                times
             }
+            None => {
+                let mut times = vec![0.0; self.tracers.len()];
+                for (slot, span, result) in run_bands(&self.tracers, &planned, params) {
+                    let id = self.tracers[slot].0;
+                    match result {
+                        Ok(band) => {
+                            add(&mut stats, id, &band);
+                            times[slot] = band.wall_time.as_secs_f64();
+                            done.push(band);
+                        }
+                        Err(e) => {
+                            queue.push(span);
+                            dead.push(slot);
+                            new_failures.push(TracerFailure {
+                                tracer: id,
+                                frame: params.frame,
+                                message: e.to_string(),
+                            });
+                        }
+                    }
+                }
+                times
+            }
+        };
+        let mut times = first_round;
+        // Later rounds: the survivors share what the failed tracers lost, until nothing is.
+        loop {
             // Drop failed tracers, highest slot first so lower slots keep their meaning.
-            dead.sort_unstable_by_key(|d| std::cmp::Reverse(d.0));
-            let survivors = self.tracers.len() - dead.len();
-            for &(slot, lost) in &dead {
+            dead.sort_unstable_by_key(|&slot| std::cmp::Reverse(slot));
+            for slot in dead.drain(..) {
                 self.tracers.remove(slot);
                 self.balancer.remove_tracer(slot);
-                first_round.remove(slot);
-                // The survivors take over the lost pixels in this same frame.
-                let (n, len) = (survivors.max(1) as u64, lost.len() as u64);
-                let at = |k: u64| lost.begin + (len * k / n) as u32;
-                queue.extend(
-                    (0..n)
-                        .map(|k| Span::new(at(k), at(k + 1)))
-                        .filter(|s| !s.is_empty()),
-                );
+                times.remove(slot);
             }
             if queue.is_empty() {
                 break;
@@ -392,40 +462,87 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                     .collect();
                 return Err(RenderError::NoTracers(why.join("; ")));
             }
-            round_work = (0..self.tracers.len())
-                .map(|_| queue.pop().unwrap_or_default())
+            // The survivors take over the lost pixels in this same frame.
+            let n = self.tracers.len() as u64;
+            let lost = std::mem::take(&mut queue);
+            let mut shares: Vec<Span> = lost
+                .iter()
+                .flat_map(|lost| {
+                    let len = lost.len() as u64;
+                    let at = move |k: u64| lost.begin + (len * k / n) as u32;
+                    (0..n).map(move |k| Span::new(at(k), at(k + 1)))
+                })
+                .filter(|s| !s.is_empty())
                 .collect();
+            while !shares.is_empty() {
+                let round: Vec<Span> = (0..self.tracers.len())
+                    .map(|_| shares.pop().unwrap_or_default())
+                    .collect();
+                for (slot, span, result) in run_bands(&self.tracers, &round, params) {
+                    let id = self.tracers[slot].0;
+                    match result {
+                        Ok(band) => {
+                            add(&mut stats, id, &band);
+                            done.push(band);
+                        }
+                        Err(e) => {
+                            queue.push(span);
+                            dead.push(slot);
+                            new_failures.push(TracerFailure {
+                                tracer: id,
+                                frame: params.frame,
+                                message: e.to_string(),
+                            });
+                        }
+                    }
+                }
+                if !dead.is_empty() {
+                    queue.append(&mut shares);
+                    break;
+                }
+            }
         }
+        check_cover(&planned, &done)?;
 
         stats.retain(|s| self.tracers.iter().any(|(id, _)| *id == s.tracer));
-        let times = first_round;
         let max = times.iter().copied().fold(0.0, f64::max);
         for (s, t) in stats.iter_mut().zip(&times) {
             s.idle = Duration::from_secs_f64(max - t);
         }
+        let line_rays = line_rays_of(params, &done);
         // A frame with a failure measured a split that no longer exists: learn nothing from it.
         if learn && new_failures.is_empty() {
             let (y0, y1) = window;
             let base = y0 * params.width;
-            let line_rays = line_rays_of(params, &done);
-            let line_costs: Vec<f64> = line_rays[y0 as usize..y1 as usize]
-                .iter()
-                .map(|&r| r as f64)
-                .collect();
+            let all_costs: Vec<f64> = line_rays.iter().map(|&r| r as f64).collect();
+            let line_costs = &all_costs[y0 as usize..y1 as usize];
             let observed: Vec<TracerFrame> = stats
                 .iter()
                 .zip(&times)
                 .map(|(s, &t)| TracerFrame {
                     span: Span::new(s.span.begin - base, s.span.end - base),
-                    seconds: t,
+                    seconds: t * rendered
+                        .iter()
+                        .find(|(id, _)| *id == s.tracer)
+                        .map_or(1.0, |(_, r)| {
+                            planned_share(&all_costs, params.width, s.span, r)
+                        }),
                 })
                 .collect();
             self.balancer.observe(&FrameMeasure {
                 width: params.width,
                 height: y1 - y0,
                 tracers: &observed,
-                line_costs: &line_costs,
+                line_costs,
             });
+            let unstolen: Vec<f64> = observed.iter().map(|t| t.seconds).collect();
+            let overhead = piece_overhead(&all_costs, params.width, &timed);
+            self.history.learn(
+                all_costs,
+                times.iter().copied().fold(0.0, f64::max),
+                idle_fraction(&unstolen),
+                overhead,
+            );
         }
         self.failures.extend(new_failures.iter().cloned());
         Ok(PartResult {
@@ -435,6 +552,113 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             failures: new_failures,
         })
     }
+
+    /// The claim board of `planned` when this renderer steals, the frame may be split and
+    /// stealing pays (`StealHistory::board`).
+    fn board(&self, params: &FrameParams, planned: &[Span]) -> Option<ClaimBoard> {
+        let stealing = self.stealing.as_ref()?;
+        if self.tracers.len() < 2 || params.check_split(2).is_err() {
+            return None;
+        }
+        self.history
+            .board(stealing, planned, params.width, params.height)
+    }
+}
+
+/// The median time of the frame's pieces beyond their work, each tracer's work timed by its
+/// head (cost over time): `timed` holds each tracer's head and the (span, seconds) of what it
+/// rendered, the head first. None without a piece to tell.
+fn piece_overhead(
+    line_costs: &[f64],
+    width: u32,
+    timed: &[(Span, Vec<(Span, f64)>)],
+) -> Option<f64> {
+    let mut excess = Vec::new();
+    for (head, rendered) in timed {
+        let Some(&(first, head_seconds)) = rendered.first() else {
+            continue;
+        };
+        let head_cost = span_cost(line_costs, width, *head);
+        if first != *head || head.is_empty() || head_cost <= 0.0 || head_seconds <= 0.0 {
+            continue;
+        }
+        let per_cost = head_seconds / head_cost;
+        for &(span, seconds) in &rendered[1..] {
+            excess.push((seconds - span_cost(line_costs, width, span) * per_cost).max(0.0));
+        }
+    }
+    (!excess.is_empty()).then(|| crate::measure::median(excess))
+}
+
+/// The share of a tracer's measured time its planned band would have taken: the cost of its
+/// band over the cost of what it rendered (its band less what others took, plus what it took
+/// from them), so that the balancer learns the speed of the tracer, not the luck of the claims.
+fn planned_share(line_costs: &[f64], width: u32, planned: Span, rendered: &[Span]) -> f64 {
+    let done: f64 = rendered
+        .iter()
+        .map(|&s| span_cost(line_costs, width, s))
+        .sum();
+    let band = span_cost(line_costs, width, planned);
+    if done > 0.0 && band > 0.0 {
+        band / done
+    } else {
+        1.0
+    }
+}
+
+/// `spans` less the pixels of `taken` (spans that lie within them or apart).
+fn subtract(spans: &[Span], taken: &[Span]) -> Vec<Span> {
+    let mut left: Vec<Span> = spans.iter().copied().filter(|s| !s.is_empty()).collect();
+    for t in taken {
+        left = left
+            .into_iter()
+            .flat_map(|s| {
+                [
+                    Span::new(s.begin, s.end.min(t.begin)),
+                    Span::new(s.begin.max(t.end), s.end),
+                ]
+            })
+            .filter(|s| !s.is_empty())
+            .collect();
+    }
+    left
+}
+
+/// The bands rendered tile the planned pixels exactly (no pixel twice, none missing): what
+/// keeps a claim handed out twice, or lost, from becoming a wrong frame.
+fn check_cover(planned: &[Span], done: &[Band]) -> Result<(), RenderError> {
+    let (Some(first), Some(last)) = (planned.first(), planned.last()) else {
+        return Ok(());
+    };
+    let mut spans: Vec<Span> = done
+        .iter()
+        .map(|b| b.span)
+        .filter(|s| !s.is_empty())
+        .collect();
+    spans.sort_by_key(|s| (s.begin, s.end));
+    let mut at = first.begin;
+    for s in &spans {
+        if s.begin != at {
+            let what = if s.begin < at {
+                "rendered twice"
+            } else {
+                "never rendered"
+            };
+            return Err(RenderError::Incomplete(format!(
+                "pixels {}..{} {what}",
+                s.begin.min(at),
+                s.begin.max(at)
+            )));
+        }
+        at = s.end;
+    }
+    if at != last.end {
+        return Err(RenderError::Incomplete(format!(
+            "pixels {at}..{} never rendered",
+            last.end
+        )));
+    }
+    Ok(())
 }
 
 /// What the tracers rendered of a part of a frame (all of it, or a rank's span): the bands
@@ -645,6 +869,104 @@ mod tests {
         assert_eq!(reported.len(), 1);
         assert_eq!((reported[0].tracer, reported[0].frame), (1, 2));
         assert_eq!(r.alive(), vec![0, 2]);
+    }
+
+    /// Long tails of small chunks, so that the fakes' frames are mostly claimed.
+    fn greedy() -> Stealing {
+        Stealing {
+            tail: 0.5,
+            chunk: 0.02,
+            reserve: 0,
+            guide: 1.0,
+            work_per_overhead: 0.0,
+            pieces_worth: 0.0,
+        }
+    }
+
+    #[test]
+    fn stealing_renders_the_same_frame_under_every_balancer() {
+        for frame in 0..3 {
+            let reference = Renderer::new(vec![Fake { slowness: 1 }], by_name("none").unwrap())
+                .render_frame(&params(frame))
+                .unwrap()
+                .film;
+            for name in NAMES {
+                for tracers in 1..=3u64 {
+                    let fakes = (1..=tracers).map(|s| Fake { slowness: s }).collect();
+                    let mut r = Renderer::new(fakes, by_name(name).unwrap());
+                    r.set_stealing(Some(greedy()));
+                    for _ in 0..2 {
+                        let f = r.render_frame(&params(frame)).unwrap();
+                        assert_eq!(f.film, reference, "{name}, {tracers} tracers");
+                        assert_eq!(f.tracers.iter().map(|s| s.pixels).sum::<u32>(), 160);
+                        let claimed: u32 = f.tracers.iter().map(|s| s.pieces).sum();
+                        assert_eq!(claimed > 0, tracers > 1, "{name}, {tracers} tracers");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_slow_tracers_tail_is_taken_by_the_fast_ones() {
+        // An equal split of tracers 1 and 4 times as slow: the fast one runs out first.
+        let fakes = vec![Fake { slowness: 1 }, Fake { slowness: 4 }];
+        let mut r = Renderer::new(fakes, by_name("none").unwrap());
+        r.set_stealing(Some(greedy()));
+        let f = r.render_frame(&params(0)).unwrap();
+        assert!(f.tracers[0].stolen > 0, "{:?}", f.tracers);
+        assert_eq!(f.tracers[1].stolen, 0, "{:?}", f.tracers);
+        assert!(f.tracers[0].pixels > f.tracers[1].pixels, "{:?}", f.tracers);
+    }
+
+    #[test]
+    fn a_tracer_dying_with_a_claimed_chunk_loses_no_pixel() {
+        for after in 0..4 {
+            let tracers = vec![
+                FaultInjector::healthy(Fake { slowness: 1 }),
+                FaultInjector::failing_after_bands(Fake { slowness: 1 }, after),
+                FaultInjector::healthy(Fake { slowness: 2 }),
+            ];
+            let mut r = Renderer::new(tracers, by_name("cost-aware").unwrap());
+            r.set_stealing(Some(greedy()));
+            let reference = Renderer::new(vec![Fake { slowness: 1 }], by_name("none").unwrap());
+            let mut reference = reference;
+            for frame in 0..3 {
+                let f = r.render_frame(&params(frame)).unwrap();
+                let expected = reference.render_frame(&params(frame)).unwrap().film;
+                assert_eq!(f.film, expected, "dying after {after} bands, frame {frame}");
+                if f.failures.is_empty() {
+                    assert_eq!(f.tracers.iter().map(|s| s.pixels).sum::<u32>(), 160);
+                }
+            }
+            assert_eq!(r.alive(), vec![0, 2], "dying after {after} bands");
+            assert_eq!(r.failures().len(), 1);
+        }
+    }
+
+    #[test]
+    fn bands_that_overlap_or_leave_a_gap_are_no_frame() {
+        let band = |b, e| Band {
+            span: Span::new(b, e),
+            ..Default::default()
+        };
+        let planned = [Span::new(0, 10), Span::new(10, 20)];
+        assert!(check_cover(&planned, &[band(10, 20), band(0, 10)]).is_ok());
+        let twice = check_cover(&planned, &[band(0, 12), band(10, 20)]).unwrap_err();
+        assert!(
+            twice.to_string().contains("10..12 rendered twice"),
+            "{twice}"
+        );
+        let lost = check_cover(&planned, &[band(0, 8), band(10, 20)]).unwrap_err();
+        assert!(lost.to_string().contains("8..10 never rendered"), "{lost}");
+        assert!(check_cover(&planned, &[band(0, 10), band(10, 19)]).is_err());
+        assert_eq!(
+            subtract(
+                &[Span::new(0, 10), Span::new(20, 30)],
+                &[Span::new(2, 4), Span::new(20, 30)]
+            ),
+            vec![Span::new(0, 2), Span::new(4, 10)]
+        );
     }
 
     #[test]

@@ -8,7 +8,9 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
+use crate::balance::steal::ClaimBoard;
 use crate::flatten::commit::Commit;
 use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
@@ -17,12 +19,77 @@ enum Job {
         params: Arc<FrameParams>,
         span: Span,
     },
+    /// The head of band `slot` of the board, then pieces claimed until none is left.
+    Steal {
+        params: Arc<FrameParams>,
+        board: Arc<ClaimBoard>,
+        slot: usize,
+    },
     Commit(Arc<Commit>),
 }
 
 pub(crate) enum Done {
     Band(Result<Band, TracerError>),
+    Stolen(Stolen),
     Committed(Result<u64, TracerError>),
+}
+
+/// What a tracer rendered of a frame with stealing: its head and the pieces it claimed, in
+/// the order it rendered them, until the board was empty or it failed.
+#[derive(Default)]
+pub(crate) struct Stolen {
+    pub bands: Vec<Band>,
+    /// Its head's time plus the wall time from the head's end to its last piece's: all it
+    /// spent on the frame, but for the work before the head's dispatch (a kernel's first
+    /// compilation), which is no part of its speed.
+    pub busy: Duration,
+    /// Pieces claimed besides the head.
+    pub pieces: u32,
+    /// Pixels of the pieces claimed from other tracers' bands.
+    pub stolen: u32,
+    pub error: Option<TracerError>,
+}
+
+/// Renders the head of `slot`'s band and claims pieces until none is left (`ClaimBoard`).
+fn steal<T: BandTracer>(
+    t: &mut T,
+    params: &FrameParams,
+    board: &ClaimBoard,
+    slot: usize,
+) -> Stolen {
+    let mut out = Stolen::default();
+    let start = Instant::now();
+    let head = board.head(slot);
+    if !head.is_empty() {
+        match run(|| t.render_band(params, head, &mut |_| {})) {
+            Ok(band) => {
+                out.busy = band.wall_time;
+                out.bands.push(band);
+            }
+            Err(e) => {
+                out.error = Some(e);
+                return out;
+            }
+        }
+    }
+    let after_head = Instant::now();
+    while let Some(piece) = board.claim(slot, start.elapsed().as_secs_f64()) {
+        match run(|| t.render_band(params, piece.span, &mut |_| {})) {
+            Ok(band) => {
+                out.bands.push(band);
+                out.pieces += 1;
+                if piece.stolen {
+                    out.stolen += piece.span.len();
+                }
+            }
+            Err(e) => {
+                out.error = Some(e);
+                break;
+            }
+        }
+    }
+    out.busy += after_head.elapsed();
+    out
 }
 
 pub(crate) struct Worker<T> {
@@ -53,6 +120,11 @@ impl<T: BandTracer + Send + 'static> Worker<T> {
                         Job::Render { params, span } => {
                             Done::Band(run(|| t.render_band(&params, span, &mut |_| {})))
                         }
+                        Job::Steal {
+                            params,
+                            board,
+                            slot,
+                        } => Done::Stolen(steal(&mut *t, &params, &board, slot)),
                         Job::Commit(commit) => Done::Committed(run(|| t.apply_commit(&commit))),
                     };
                     drop(t);
@@ -81,8 +153,29 @@ impl<T: BandTracer + Send + 'static> Worker<T> {
     pub fn band(&self) -> Result<Band, TracerError> {
         match self.done.recv() {
             Ok(Done::Band(result)) => result,
-            Ok(Done::Committed(_)) => Err("tracer thread answered out of turn".into()),
+            Ok(_) => Err("tracer thread answered out of turn".into()),
             Err(_) => Err("tracer thread panicked".into()),
+        }
+    }
+
+    /// Starts rendering band `slot` of `board` with stealing; [`Worker::stolen`] waits.
+    pub fn start_stealing(&self, params: &Arc<FrameParams>, board: &Arc<ClaimBoard>, slot: usize) {
+        self.send(Job::Steal {
+            params: Arc::clone(params),
+            board: Arc::clone(board),
+            slot,
+        });
+    }
+
+    pub fn stolen(&self) -> Stolen {
+        let failed = |why: &str| Stolen {
+            error: Some(why.into()),
+            ..Default::default()
+        };
+        match self.done.recv() {
+            Ok(Done::Stolen(stolen)) => stolen,
+            Ok(_) => failed("tracer thread answered out of turn"),
+            Err(_) => failed("tracer thread panicked"),
         }
     }
 
@@ -94,7 +187,7 @@ impl<T: BandTracer + Send + 'static> Worker<T> {
     pub fn committed(&self) -> Result<u64, TracerError> {
         match self.done.recv() {
             Ok(Done::Committed(result)) => result,
-            Ok(Done::Band(_)) => Err("tracer thread answered out of turn".into()),
+            Ok(_) => Err("tracer thread answered out of turn".into()),
             Err(_) => Err("tracer thread panicked".into()),
         }
     }
