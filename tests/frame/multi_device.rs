@@ -5,6 +5,7 @@
 mod common;
 
 use common::*;
+use platoon::core::balance::steal::Stealing;
 use platoon::core::balance::{by_name, NAMES};
 use platoon::core::frame::fault::FaultInjector;
 use platoon::core::frame::renderer::Renderer;
@@ -38,19 +39,24 @@ fn images_are_bit_identical_for_one_two_and_three_tracers_under_every_balancer()
                 kernel,
                 ..params.clone()
             };
-            for name in NAMES {
+            for (name, stealing) in NAMES.iter().flat_map(|n| [(n, None), (n, Some(greedy()))]) {
                 let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
+                renderer.set_stealing(stealing);
+                let mut pieces = 0;
                 // Several frames, so that the balancers move the cuts between them.
                 for _ in 0..4 {
                     let frame = renderer.render_frame(&params).unwrap();
                     assert!(
                         frame.film == reference,
-                        "{spec} under {name} in the {} kernel: image differs",
+                        "{spec} under {name} (stealing: {}) in the {} kernel: image differs",
+                        stealing.is_some(),
                         kernel.name()
                     );
                     assert_eq!(frame.tracers.iter().map(|t| t.pixels).sum::<u32>(), 16 * 24);
                     assert_eq!(frame.rejected_samples, 0);
+                    pieces += frame.tracers.iter().map(|t| t.pieces).sum::<u32>();
                 }
+                assert_eq!(pieces > 0, stealing.is_some(), "{spec} under {name}");
                 tracers = renderer.into_tracers();
             }
         }
@@ -58,6 +64,55 @@ fn images_are_bit_identical_for_one_two_and_three_tracers_under_every_balancer()
             assert_no_validation_messages(t);
         }
     }
+}
+
+/// Stealing on every frame, of long tails in small chunks, so that a few frames of a small
+/// image are mostly claimed.
+fn greedy() -> Stealing {
+    Stealing {
+        tail: 0.5,
+        chunk: 0.05,
+        reserve: 1,
+        guide: 2.0,
+        work_per_overhead: 0.0,
+        pieces_worth: 0.0,
+    }
+}
+
+#[test]
+fn a_tracer_dying_with_a_claimed_chunk_loses_no_pixel() {
+    init();
+    let prepared = scene();
+    let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
+    // Tracer 1 renders its head and fails on the first piece it claims (its second band of
+    // a frame), whichever frame that is.
+    let tracers: Vec<FaultInjector<_>> = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis)
+        .unwrap()
+        .into_iter()
+        .enumerate()
+        .map(|(i, t)| match i {
+            1 => FaultInjector::failing_at_band_of_frame(t, 1),
+            _ => FaultInjector::healthy(t),
+        })
+        .collect();
+    let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
+    renderer.set_stealing(Some(greedy()));
+    let mut reference_tracer = tracer(&prepared, Sampling::Mis);
+    let mut reports = Vec::new();
+    for f in 0..6 {
+        let mut params = FrameParams::new(16, 24, 2, prepared.camera);
+        params.frame = f;
+        let frame = renderer.render_frame(&params).expect("frame completes");
+        assert!(
+            frame.film == render_with(&mut reference_tracer, &params),
+            "frame {f} differs"
+        );
+        reports.extend(frame.failures);
+    }
+    assert_eq!(reports.len(), 1, "the failure is reported exactly once");
+    assert_eq!(reports[0].tracer, 1);
+    assert!(reports[0].message.contains("injected fault at band 1"));
+    assert_eq!(renderer.alive(), vec![0, 2]);
 }
 
 #[test]
@@ -127,7 +182,46 @@ fn replay_shows_the_published_ordering_and_cost_aware_beats_perfect_smooth() {
     assert_eq!(worst, Some(&"robin-hood"));
     let json = bb::json(&cells);
     assert!(
-        json.starts_with("[{\"balancer\":\"none\",\"devices\":2,\"camera\":\"slow\",\"idle_pct\":"),
+        json.starts_with(
+            "[{\"balancer\":\"none\",\"stealing\":false,\"devices\":2,\"camera\":\"slow\",\"idle_pct\":"
+        ),
         "{json}"
     );
+}
+
+#[test]
+fn replayed_stealing_takes_up_what_cost_aware_leaves_even_at_lavapipes_overhead() {
+    let options = bb::Options {
+        stealing: true,
+        ..bb::Options::default()
+    };
+    let cells = bb::run(&options).unwrap();
+    for devices in [2, 3] {
+        for camera in ["slow", "fast", "game"] {
+            let idle = |row| bb::cell(&cells, row, devices, camera).unwrap().idle_pct;
+            // The stealing row counts the pieces' overhead (lavapipe's, as measured) as lost.
+            assert!(
+                idle("cost-aware+steal") < idle("cost-aware"),
+                "{devices}-{camera}: {} with stealing vs {} without",
+                idle("cost-aware+steal"),
+                idle("cost-aware")
+            );
+        }
+    }
+    // Free pieces: the tails take up all but a few hundredths of a percent.
+    let free = bb::Options {
+        dispatch_us: 0.0,
+        claim_us: 0.0,
+        ..options
+    };
+    let cells = bb::run(&free).unwrap();
+    for c in cells.iter().filter(|c| c.label() == "cost-aware+steal") {
+        assert!(
+            c.idle_pct < 0.3,
+            "{}-{}: {}",
+            c.devices,
+            c.camera,
+            c.idle_pct
+        );
+    }
 }

@@ -138,8 +138,8 @@ pub struct Options {
     /// one process; a message's round trip to rank 0 between machines).
     #[arg(long, default_value_t = LAVAPIPE_OVERHEAD.claim * 1e6)]
     pub claim_us: f64,
-    /// Measure the overhead model on the first tracer of --devices2 (a frame rendered as one
-    /// band and as pieces) and replay with it.
+    /// Measure the overhead model on the first tracer of --devices2 (the time of a band of
+    /// one pixel; a claim on a board) and replay with it.
     #[arg(long)]
     pub measure_overhead: bool,
 }
@@ -147,8 +147,8 @@ pub struct Options {
 /// The overhead of a piece measured on lavapipe by `--measure-overhead` (one llvmpipe thread,
 /// the orbit's frame at 96x96, 2 spp; docs/BALANCING.md).
 pub const LAVAPIPE_OVERHEAD: Overhead = Overhead {
-    dispatch: 300e-6,
-    claim: 0.05e-6,
+    dispatch: 380e-6,
+    claim: 0.015e-6,
 };
 
 impl Default for Options {

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use crate::balance::steal::{StealHistory, Stealing};
+use crate::balance::steal::{unstolen_seconds, StealHistory, Stealing};
 use crate::balance::{idle_fraction, span_cost, Balancer, FrameMeasure, TracerFrame};
 use crate::error::{Error, Result};
 use crate::frame::Span;
@@ -225,21 +225,9 @@ pub fn replay_stealing(
             frame_seconds: max,
         });
         let tracers: Vec<TracerFrame> = (0..n)
-            .map(|i| {
-                let done: f64 = rendered[i]
-                    .iter()
-                    .map(|&s| span_cost(line_costs, width, s))
-                    .sum();
-                let band = span_cost(line_costs, width, planned[i]);
-                let share = if done > 0.0 && band > 0.0 {
-                    band / done
-                } else {
-                    1.0
-                };
-                TracerFrame {
-                    span: planned[i],
-                    seconds: clock[i] * share,
-                }
+            .map(|i| TracerFrame {
+                span: planned[i],
+                seconds: unstolen_seconds(line_costs, width, planned[i], &rendered[i], clock[i]),
             })
             .collect();
         balancer.observe(&FrameMeasure {

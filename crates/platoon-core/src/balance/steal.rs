@@ -417,6 +417,29 @@ impl StealHistory {
     }
 }
 
+/// What a tracer's `planned` band would have taken at the speed it rendered at, from its
+/// `seconds` for what it `rendered` (its band less what others took, plus what it took from
+/// them), by the frame's line costs: what the balancer learns, so that it learns the speed of
+/// the tracer, not the luck of the claims.
+pub fn unstolen_seconds(
+    line_costs: &[f64],
+    width: u32,
+    planned: Span,
+    rendered: &[Span],
+    seconds: f64,
+) -> f64 {
+    let done: f64 = rendered
+        .iter()
+        .map(|&s| span_cost(line_costs, width, s))
+        .sum();
+    let band = span_cost(line_costs, width, planned);
+    if done > 0.0 && band > 0.0 {
+        seconds * band / done
+    } else {
+        seconds
+    }
+}
+
 /// The predicted cost of `span`: by the line costs, or its pixels over the width without them.
 fn cost_of(line_costs: &[f64], width: u32, span: Span) -> f64 {
     if line_costs.is_empty() {

@@ -10,7 +10,13 @@ pub struct FaultInjector<T> {
     /// Bands it renders before every later call fails (a device lost within a frame's work,
     /// e.g. midway through an update of several device frames); None: no such limit.
     pub fail_after_bands: Option<u32>,
+    /// The band within a frame (0: the first it renders of that frame) at which every later
+    /// call fails: with stealing, 1 is the first piece a tracer claims after its head (a
+    /// device lost while it holds a chunk); None: no such limit.
+    pub fail_at_band_of_frame: Option<u32>,
     bands: u32,
+    /// (frame, bands rendered of it).
+    of_frame: (u32, u32),
 }
 
 impl<T> FaultInjector<T> {
@@ -19,7 +25,15 @@ impl<T> FaultInjector<T> {
             inner,
             fail_from_frame: None,
             fail_after_bands: None,
+            fail_at_band_of_frame: None,
             bands: 0,
+            of_frame: (u32::MAX, 0),
+        }
+    }
+    pub fn failing_at_band_of_frame(inner: T, band: u32) -> Self {
+        FaultInjector {
+            fail_at_band_of_frame: Some(band),
+            ..Self::healthy(inner)
         }
     }
     pub fn failing_from(inner: T, frame: u32) -> Self {
@@ -49,6 +63,16 @@ impl<T: BandTracer> BandTracer for FaultInjector<T> {
         if self.fail_after_bands.is_some_and(|n| self.bands >= n) {
             return Err(format!("injected fault after {} bands", self.bands).into());
         }
+        if self.of_frame.0 != params.frame {
+            self.of_frame = (params.frame, 0);
+        }
+        if let Some(k) = self.fail_at_band_of_frame {
+            if self.of_frame.1 >= k {
+                self.fail_from_frame = Some(params.frame);
+                return Err(format!("injected fault at band {k} of frame {}", params.frame).into());
+            }
+        }
+        self.of_frame.1 += 1;
         self.bands += 1;
         self.inner.render_band(params, span, progress)
     }
