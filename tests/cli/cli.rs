@@ -288,6 +288,18 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     assert!(meta
         .iter()
         .any(|(k, v)| k == "platoon:balancer" && v == "perfect"));
+    // The tracers that finish first take the ends of the others' bands: the same image.
+    let o = render()
+        .flag("--devices", "lavapipe:1,1")
+        .flag("--balancer", "cost-aware+steal")
+        .out(&two)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (b, meta) = platoon::core::output::read_exr(&two).unwrap();
+    assert!(a == b, "stealing changed the image");
+    assert!(meta
+        .iter()
+        .any(|(k, v)| k == "platoon:balancer" && v == "cost-aware+steal"));
 
     let o = Cli::new("render")
         .flag("--balancer", "fastest")
@@ -317,6 +329,19 @@ fn renders_on_several_tracers_and_runs_the_balance_bench() {
     let csv = std::fs::read_to_string(dir.path().join("balance.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 36 * 12);
     assert_eq!(image_dims(&dir.path().join("balance.png")), (1500, 800));
+    // With stealing: every balancer again with +steal, and what the pieces cost.
+    let o = Cli::new("bench")
+        .arg("balance")
+        .flag("--frames", "12")
+        .arg("--stealing")
+        .arg("--json")
+        .out(d)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(json.matches("\"stealing\":true").count(), 36, "{json}");
+    assert!(stderr(&o).contains("cost-aware+steal"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("overhead %"), "{}", stderr(&o));
 
     let costs = dir.path().join("costs");
     let o = Cli::new("bench")

@@ -163,12 +163,12 @@ pub fn tracers_from_options(options: &[TracerOptions], scene: &GpuScene) -> Resu
         .collect()
 }
 
-/// The balancer named `name` (one of `platoon_core::balance::NAMES`), or an error listing them.
+/// The balancer named `name` (`platoon_core::balance::by_name`), or an error listing them.
 pub fn balancer(name: &str) -> Result<Box<dyn Balancer>> {
     platoon_core::balance::by_name(name).with_context(|| {
         format!(
-            "unknown balancer {name:?} (known: {})",
-            platoon_core::balance::NAMES.join(", ")
+            "unknown balancer {name:?} ({})",
+            platoon_core::balance::names_help()
         )
     })
 }

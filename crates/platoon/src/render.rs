@@ -157,8 +157,10 @@ pub enum Tracers {
 
 impl Tracers {
     /// This rank's tracers for `options` holding `scene`, in the job `group`: `balancer` (a
-    /// name of `platoon_core::balance::NAMES`) cuts frames between the ranks on rank 0 and
-    /// between each rank's devices.
+    /// name `platoon_core::balance::by_name` knows) cuts frames between the ranks on rank 0
+    /// and between each rank's devices. With `+steal` each rank's devices steal from each
+    /// other; the ranks' shares, cut before the frame and sent in one scatter, are not stolen
+    /// across ranks (the game loop's ranks are: `distribute::remote`).
     pub fn over_ranks(
         options: &[TracerOptions],
         balancer: &str,
@@ -194,7 +196,7 @@ impl platoon_core::denoise::DeviceFilter for Tracers {
 
 impl Tracers {
     /// Tracers for `options` (one per entry) holding `scene`; `balancer` splits the lines
-    /// when there are several (a name of `platoon_core::balance::NAMES`).
+    /// when there are several (a name `platoon_core::balance::by_name` knows).
     pub fn new(options: &[TracerOptions], balancer: &str, scene: &GpuScene) -> Result<Tracers> {
         let mut tracers = crate::devices::tracers_from_options(options, scene)?;
         if tracers.len() == 1 {

@@ -116,7 +116,8 @@ pub struct RenderArgs {
     #[arg(long, default_value = "auto")]
     pub(super) devices: DeviceSpec,
     /// How lines are split between devices: none, robin-hood, perfect, perfect-smooth,
-    /// cycles, cost-aware.
+    /// cycles, cost-aware; each with `+steal` (cost-aware+steal): the devices that finish
+    /// first take the unstarted ends of the others' bands in the same frame (same image).
     #[arg(long, default_value = "cost-aware", value_parser = parse_balancer)]
     pub(super) balancer: String,
     /// Estimator: MIS of light and BSDF sampling (default), or either alone.
@@ -181,10 +182,7 @@ fn parse_aovs(s: &str) -> Result<AovList, String> {
 fn parse_balancer(s: &str) -> Result<String, String> {
     match balance::by_name(s) {
         Some(_) => Ok(s.to_string()),
-        None => Err(format!(
-            "unknown balancer {s}: one of {}",
-            balance::NAMES.join(", ")
-        )),
+        None => Err(format!("unknown balancer {s}: {}", balance::names_help())),
     }
 }
 

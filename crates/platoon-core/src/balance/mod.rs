@@ -36,7 +36,32 @@ pub const NAMES: [&str; 6] = [
     "cost-aware",
 ];
 
+/// Every balancer with in-frame stealing of the bands' tails (`steal`): `<name>+steal`.
+pub const STEALING_NAMES: [&str; 6] = [
+    "none+steal",
+    "robin-hood+steal",
+    "perfect+steal",
+    "perfect-smooth+steal",
+    "cycles+steal",
+    "cost-aware+steal",
+];
+
+/// What the names accepted by [`by_name`] are, for messages.
+pub fn names_help() -> String {
+    format!("one of {}, each with +steal", NAMES.join(", "))
+}
+
+/// The balancer of a name of [`NAMES`], or of [`STEALING_NAMES`]: the same policy, its bands'
+/// tails taken by the tracers that run out first (`steal::Stealing::default()`).
 pub fn by_name(name: &str) -> Option<Box<dyn Balancer>> {
+    if let Some(i) = STEALING_NAMES.iter().position(|n| *n == name) {
+        let inner = by_name(NAMES[i])?;
+        return Some(Box::new(steal::WithStealing {
+            inner,
+            name: STEALING_NAMES[i],
+            stealing: steal::Stealing::default(),
+        }));
+    }
     Some(match name {
         "none" => Box::new(EqualSplit),
         "robin-hood" => Box::new(RobinHood::default()),
@@ -52,6 +77,21 @@ pub fn by_name(name: &str) -> Option<Box<dyn Balancer>> {
 mod tests {
     use super::*;
     use crate::frame::Span;
+
+    #[test]
+    fn every_name_with_steal_plans_as_its_policy_and_steals() {
+        for (plain, stolen) in NAMES.iter().zip(STEALING_NAMES) {
+            let (mut a, mut b) = (by_name(plain).unwrap(), by_name(stolen).unwrap());
+            assert_eq!((a.name(), b.name()), (*plain, stolen));
+            assert_eq!(
+                (a.stealing(), b.stealing()),
+                (None, Some(steal::Stealing::default()))
+            );
+            assert_eq!(a.plan(7, 50, 3), b.plan(7, 50, 3));
+        }
+        assert!(by_name("cost-aware+steal+steal").is_none());
+        assert!(names_help().contains("cost-aware"));
+    }
 
     #[test]
     fn proportional_sums_and_keeps_everyone() {

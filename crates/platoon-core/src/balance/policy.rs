@@ -31,6 +31,11 @@ pub trait Balancer: Send {
     fn observe(&mut self, frame: &FrameMeasure);
     /// Tracer `index` is gone (it failed); later plans have one tracer fewer.
     fn remove_tracer(&mut self, index: usize);
+    /// Whether the tracers take the unstarted tails of each other's bands within a frame, and
+    /// how (`steal`): a renderer given this balancer steals so.
+    fn stealing(&self) -> Option<super::steal::Stealing> {
+        None
+    }
 }
 
 /// Contiguous bands of whole lines from line counts, in tracer order.

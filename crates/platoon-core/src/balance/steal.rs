@@ -18,8 +18,34 @@
 
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
-use crate::balance::span_cost;
+use crate::balance::{span_cost, Balancer, FrameMeasure};
 use crate::frame::Span;
+
+/// A balancing policy whose renderer steals (`balance::STEALING_NAMES`): it plans and learns
+/// as `inner` does.
+pub struct WithStealing {
+    pub inner: Box<dyn Balancer>,
+    pub name: &'static str,
+    pub stealing: Stealing,
+}
+
+impl Balancer for WithStealing {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn plan(&mut self, width: u32, height: u32, tracers: usize) -> Vec<Span> {
+        self.inner.plan(width, height, tracers)
+    }
+    fn observe(&mut self, frame: &FrameMeasure) {
+        self.inner.observe(frame)
+    }
+    fn remove_tracer(&mut self, index: usize) {
+        self.inner.remove_tracer(index)
+    }
+    fn stealing(&self) -> Option<Stealing> {
+        Some(self.stealing)
+    }
+}
 
 /// How a band's end is cut into chunks others may claim.
 #[derive(Clone, Copy, Debug, PartialEq)]

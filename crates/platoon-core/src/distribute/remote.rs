@@ -255,7 +255,7 @@ pub fn serve<T: BandTracer + Send + 'static>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::balance::{by_name, NAMES};
+    use crate::balance::{by_name, NAMES, STEALING_NAMES};
     use crate::distribute::local::LocalLink;
     use crate::frame::fakes::{Fake, Keeping};
     use crate::output::Film;
@@ -306,7 +306,9 @@ mod tests {
 
     #[test]
     fn ranks_as_tracers_render_the_one_process_image_under_every_balancer() {
-        for name in NAMES {
+        for name in NAMES.into_iter().chain(STEALING_NAMES) {
+            let messages = TRAFFIC.messages.load(Ordering::Relaxed);
+            let (mut pieces, mut remote_pieces) = (0, 0);
             let films = with_ranks(
                 vec![Fake { slowness: 1 }],
                 vec![
@@ -326,6 +328,9 @@ mod tests {
                             }
                             let frame = r.render_frame(&p).unwrap();
                             assert_eq!(frame.line_rays.iter().sum::<u64>(), 9 * 15 + 9 * 16 * 8);
+                            pieces += frame.tracers.iter().map(|t| t.pieces).sum::<u32>();
+                            let remote = frame.tracers.iter().filter(|t| t.tracer > 0);
+                            remote_pieces += remote.map(|t| t.pieces as u64).sum::<u64>();
                             (bits(&frame.film), p)
                         })
                         .collect::<Vec<_>>()
@@ -337,6 +342,10 @@ mod tests {
                     .unwrap();
                 assert_eq!(*film, bits(&reference.film), "{name} frame {f}");
             }
+            // A piece a remote rank claims is one more band asked of it: a message each way.
+            assert_eq!(pieces > 0, name.ends_with("+steal"), "{name}");
+            let asked = TRAFFIC.messages.load(Ordering::Relaxed) - messages;
+            assert!(asked >= 2 * 3 + remote_pieces, "{name}: {asked}");
         }
     }
 
@@ -373,6 +382,13 @@ mod tests {
 
     #[test]
     fn a_rank_whose_devices_fail_is_dropped_by_rank_0s_renderer() {
+        for balancer in ["perfect", "perfect+steal"] {
+            a_rank_fails(balancer);
+        }
+    }
+
+    /// Rank 1's devices fail from frame 1 on (with stealing, whatever piece it holds then).
+    fn a_rank_fails(balancer: &str) {
         use crate::frame::fault::FaultInjector;
         let (films, alive) = with_ranks(
             vec![FaultInjector::healthy(Fake { slowness: 1 })],
@@ -380,7 +396,7 @@ mod tests {
                 vec![FaultInjector::failing_from(Fake { slowness: 1 }, 1)],
                 vec![FaultInjector::healthy(Fake { slowness: 1 })],
             ],
-            "perfect",
+            balancer,
             |r| {
                 let films: Vec<Vec<u32>> = (0..3)
                     .map(|f| bits(&r.render_frame(&params(f)).unwrap().film))
@@ -392,8 +408,8 @@ mod tests {
             let reference = Renderer::new(vec![Fake { slowness: 0 }], by_name("none").unwrap())
                 .render_frame(&params(f as u32))
                 .unwrap();
-            assert_eq!(*film, bits(&reference.film), "frame {f}");
+            assert_eq!(*film, bits(&reference.film), "{balancer}, frame {f}");
         }
-        assert_eq!(alive, vec![0, 2]);
+        assert_eq!(alive, vec![0, 2], "{balancer}");
     }
 }

@@ -125,7 +125,10 @@ impl<T: BandTracer + Send + 'static> DeviceFilter for Renderer<T> {
 }
 
 impl<T: BandTracer + Send + 'static> Renderer<T> {
+    /// The renderer of `tracers`, its frames cut by `balancer` (and stolen as it says,
+    /// `Balancer::stealing`).
     pub fn new(tracers: Vec<T>, balancer: Box<dyn Balancer>) -> Renderer<T> {
+        let stealing = balancer.stealing();
         Renderer {
             tracers: tracers
                 .into_iter()
@@ -135,7 +138,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             balancer,
             failures: Vec::new(),
             last_bands: Vec::new(),
-            stealing: None,
+            stealing,
             history: StealHistory::default(),
         }
     }
@@ -155,8 +158,10 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         self.balancer.name()
     }
 
-    /// Cuts the next frames with `balancer` (which learns the tracers' speeds afresh).
+    /// Cuts the next frames with `balancer` (which learns the tracers' speeds afresh), and
+    /// steals as it says.
     pub fn set_balancer(&mut self, balancer: Box<dyn Balancer>) {
+        self.stealing = balancer.stealing();
         self.balancer = balancer;
     }
 

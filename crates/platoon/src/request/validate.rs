@@ -157,9 +157,9 @@ impl Request {
             refuse(
                 "balancer",
                 format!(
-                    "unknown balancer {}: one of {}",
+                    "unknown balancer {}: {}",
                     self.balancer,
-                    platoon_core::balance::NAMES.join(", ")
+                    platoon_core::balance::names_help()
                 ),
             )?;
         }
