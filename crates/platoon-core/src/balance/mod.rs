@@ -13,6 +13,8 @@ mod policy;
 pub mod replay;
 mod robin_hood;
 pub mod steal;
+mod stealing;
+mod with_stealing;
 
 pub use cost_aware::{fractional_cuts, spans_at, CostAware};
 pub use cycles::CyclesDamped;
@@ -20,6 +22,8 @@ pub use equal_split::EqualSplit;
 pub use perfect::Perfect;
 pub use perfect_smooth::PerfectSmooth;
 pub use robin_hood::RobinHood;
+pub use stealing::Stealing;
+pub use with_stealing::WithStealing;
 
 pub(crate) use policy::line_speeds;
 pub use policy::{
@@ -56,10 +60,10 @@ pub fn names_help() -> String {
 pub fn by_name(name: &str) -> Option<Box<dyn Balancer>> {
     if let Some(i) = STEALING_NAMES.iter().position(|n| *n == name) {
         let inner = by_name(NAMES[i])?;
-        return Some(Box::new(steal::WithStealing {
+        return Some(Box::new(WithStealing {
             inner,
             name: STEALING_NAMES[i],
-            stealing: steal::Stealing::default(),
+            stealing: Stealing::default(),
         }));
     }
     Some(match name {

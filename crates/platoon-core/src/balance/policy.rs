@@ -33,7 +33,7 @@ pub trait Balancer: Send {
     fn remove_tracer(&mut self, index: usize);
     /// Whether the tracers take the unstarted tails of each other's bands within a frame, and
     /// how (`steal`): a renderer given this balancer steals so.
-    fn stealing(&self) -> Option<super::steal::Stealing> {
+    fn stealing(&self) -> Option<super::Stealing> {
         None
     }
 }

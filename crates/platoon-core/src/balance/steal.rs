@@ -18,53 +18,9 @@
 
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
-use crate::balance::{span_cost, Balancer, FrameMeasure};
+pub use super::stealing::Stealing;
+use crate::balance::span_cost;
 use crate::frame::Span;
-
-/// A balancing policy whose renderer steals (`balance::STEALING_NAMES`): it plans and learns
-/// as `inner` does.
-pub struct WithStealing {
-    pub inner: Box<dyn Balancer>,
-    pub name: &'static str,
-    pub stealing: Stealing,
-}
-
-impl Balancer for WithStealing {
-    fn name(&self) -> &'static str {
-        self.name
-    }
-    fn plan(&mut self, width: u32, height: u32, tracers: usize) -> Vec<Span> {
-        self.inner.plan(width, height, tracers)
-    }
-    fn observe(&mut self, frame: &FrameMeasure) {
-        self.inner.observe(frame)
-    }
-    fn remove_tracer(&mut self, index: usize) {
-        self.inner.remove_tracer(index)
-    }
-    fn stealing(&self) -> Option<Stealing> {
-        Some(self.stealing)
-    }
-}
-
-/// How a band's end is cut into chunks others may claim.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Stealing {
-    /// Share of each band's predicted cost left in its tail.
-    pub tail: f64,
-    /// A chunk's predicted cost as a share of its band's (at least; see `ClaimBoard::new`).
-    pub chunk: f64,
-    /// Chunks an owner leaves at the back of its tail for others while nobody is hungry.
-    pub reserve: u32,
-    /// Once some are hungry, a claim takes the unclaimed chunks of a tail over this times the
-    /// tracers sharing them (at least one chunk).
-    pub guide: f64,
-    /// A chunk's predicted work is at least this many times a piece's overhead (`min_chunk`).
-    pub work_per_overhead: f64,
-    /// A frame is stolen only when the idle a tracer is expected to have without stealing
-    /// exceeds this many pieces' overhead (`StealHistory::board`).
-    pub pieces_worth: f64,
-}
 
 /// The least share of a band a chunk may hold so that its work is `stealing`'s
 /// `work_per_overhead` times a piece's `overhead` (seconds), the band taking `band_seconds`.
@@ -73,47 +29,6 @@ pub fn min_chunk(stealing: &Stealing, overhead: f64, band_seconds: f64) -> f64 {
         (stealing.work_per_overhead * overhead / band_seconds).min(1.0)
     } else {
         0.0
-    }
-}
-
-impl Default for Stealing {
-    /// Chosen on the tuning maps (scenes/costs/tune) with lavapipe's overhead model
-    /// (docs/BALANCING.md, "Stealing the trailing lines").
-    fn default() -> Stealing {
-        Stealing {
-            tail: 0.03,
-            chunk: 0.001,
-            reserve: 2,
-            guide: 2.0,
-            work_per_overhead: 4.0,
-            pieces_worth: 8.0,
-        }
-    }
-}
-
-impl Stealing {
-    pub fn validate(&self) -> Result<(), String> {
-        let share = |v: f64| v.is_finite() && (0.0..=1.0).contains(&v);
-        if !share(self.tail) || !share(self.chunk) || self.chunk <= 0.0 {
-            return Err(format!(
-                "stealing: the tail ({}) and the chunk ({}) are shares of a band in [0, 1], \
-                 the chunk above 0",
-                self.tail, self.chunk
-            ));
-        }
-        if !(self.work_per_overhead.is_finite() && self.work_per_overhead >= 0.0) {
-            return Err(format!(
-                "stealing: the work per overhead ({}) must be non-negative",
-                self.work_per_overhead
-            ));
-        }
-        if !(self.guide.is_finite() && self.guide >= 1.0) {
-            return Err(format!(
-                "stealing: the guide ({}) must be at least 1",
-                self.guide
-            ));
-        }
-        Ok(())
     }
 }
 
