@@ -198,14 +198,17 @@ fn replayed_stealing_takes_up_what_cost_aware_leaves_even_at_lavapipes_overhead(
     let cells = bb::run(&options).unwrap();
     for devices in [2, 3] {
         for camera in ["slow", "fast", "game"] {
-            let idle = |row| bb::cell(&cells, row, devices, camera).unwrap().idle_pct;
-            // The stealing row counts the pieces' overhead (lavapipe's, as measured) as lost.
-            assert!(
-                idle("cost-aware+steal") < idle("cost-aware"),
-                "{devices}-{camera}: {} with stealing vs {} without",
-                idle("cost-aware+steal"),
-                idle("cost-aware")
-            );
+            let idle = |row: &str| bb::cell(&cells, row, devices, camera).unwrap().idle_pct;
+            // The stealing rows count the pieces' overhead (lavapipe's, as measured) as lost.
+            for name in NAMES {
+                let stolen = format!("{name}+steal");
+                assert!(
+                    idle(&stolen) < idle(name),
+                    "{devices}-{camera}: {name} {} with stealing vs {} without",
+                    idle(&stolen),
+                    idle(name)
+                );
+            }
         }
     }
     // Free pieces: the tails take up all but a few hundredths of a percent.

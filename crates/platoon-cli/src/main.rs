@@ -2,6 +2,7 @@
 //! file; the work is done by the `platoon` library.
 
 #[cfg(feature = "lab")]
+mod balancer_arg;
 mod bench;
 mod devices;
 mod display_args;

@@ -31,6 +31,10 @@ pub struct GameArgs {
     /// The devices (see `platoon devices`; lavapipe:N,M makes software tracers).
     #[arg(long, default_value = "all")]
     pub devices: String,
+    /// How each frame is split between the devices (and, with --mpi, the ranks): a balancer,
+    /// with `+steal` for in-frame stealing of the bands' tails (cost-aware+steal).
+    #[arg(long, default_value = "cost-aware", value_parser = crate::balancer_arg::parse_balancer)]
+    pub balancer: String,
     /// The skinned, animated glTF the game's characters are.
     #[arg(long, default_value_os_t = platoon_lab::shared::path("scenes/CesiumMan.glb"))]
     pub character: std::path::PathBuf,
@@ -111,7 +115,7 @@ pub fn run(o: &GameArgs) -> Result<()> {
         bench(o, Some(ranks))
     } else {
         let devices = o.devices.parse().map_err(anyhow::Error::msg)?;
-        platoon::distributed::game::serve(&ranks, &devices, "cost-aware", false)
+        platoon::distributed::game::serve(&ranks, &devices, &o.balancer, false)
     };
     match result {
         // The others would wait for this rank in their next exchange.
@@ -147,6 +151,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
         resolution: o.resolution_scaling,
     };
     game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
+    game.balancer = o.balancer.clone();
     game.driver.denoise = o.denoise;
     game.driver.resampled_light = o.resampled_light;
     game.driver.world_cache = o.world_cache.then(Default::default);
@@ -169,8 +174,8 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
         light_reuse: game.driver.light_reuse,
     };
     eprintln!(
-        "playing {} frames of the game at {}x{} on {}, holding {} ms a frame",
-        o.frames, width, height, o.devices, o.target_ms
+        "playing {} frames of the game at {}x{} on {} ({}), holding {} ms a frame",
+        o.frames, width, height, o.devices, o.balancer, o.target_ms
     );
     let played = play(
         &PlayOptions {

@@ -5,7 +5,6 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::ValueEnum;
 use platoon::animation::FrameRange;
-use platoon::core::balance;
 use platoon::core::denoise::Denoiser;
 use platoon::core::frame::aov::Aov;
 use platoon::devices::DeviceSpec;
@@ -118,7 +117,7 @@ pub struct RenderArgs {
     /// How lines are split between devices: none, robin-hood, perfect, perfect-smooth,
     /// cycles, cost-aware; each with `+steal` (cost-aware+steal): the devices that finish
     /// first take the unstarted ends of the others' bands in the same frame (same image).
-    #[arg(long, default_value = "cost-aware", value_parser = parse_balancer)]
+    #[arg(long, default_value = "cost-aware", value_parser = crate::balancer_arg::parse_balancer)]
     pub(super) balancer: String,
     /// Estimator: MIS of light and BSDF sampling (default), or either alone.
     #[arg(long, value_enum, default_value = "mis")]
@@ -177,13 +176,6 @@ pub struct AovList(pub Vec<Aov>);
 
 fn parse_aovs(s: &str) -> Result<AovList, String> {
     Aov::parse_list(s).map(AovList)
-}
-
-fn parse_balancer(s: &str) -> Result<String, String> {
-    match balance::by_name(s) {
-        Some(_) => Ok(s.to_string()),
-        None => Err(format!("unknown balancer {s}: {}", balance::names_help())),
-    }
 }
 
 #[derive(clap::Args)]
