@@ -261,6 +261,23 @@ fn the_game_bench_over_three_ranks_reports_its_communication_per_frame() {
         mpi["sent_bytes_per_frame"].as_f64().unwrap() > 10_000.0,
         "{json}"
     );
+    // With stealing (issue 44) the ranks that finish first take pieces of the others' bands
+    // through rank 0: more messages a frame, the idle beside them.
+    let stealing = cli.flag("--balancer", "cost-aware+steal");
+    let o = over_ranks(&[&stealing, &stealing, &stealing]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let stolen: serde_json::Value = out
+        .lines()
+        .find_map(|l| serde_json::from_str(l).ok())
+        .unwrap_or_else(|| panic!("no JSON line: {out}"));
+    assert_eq!(stolen["balancer"], "cost-aware+steal", "{stolen}");
+    assert!(stolen["idle_percent_median"].as_f64().is_some(), "{stolen}");
+    assert!(
+        stolen["mpi"]["messages_per_frame"].as_f64().unwrap()
+            > mpi["messages_per_frame"].as_f64().unwrap(),
+        "{stolen} against {json}"
+    );
 }
 
 #[test]

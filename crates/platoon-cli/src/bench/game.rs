@@ -362,6 +362,7 @@ fn json(o: &GameArgs, t: &Techniques, s: &Summary) -> serde_json::Value {
         "width": o.size.0,
         "height": o.size.1,
         "devices": o.devices,
+        "balancer": o.balancer,
         "settle_frames": s.settle_frames,
         "frame_ms_median": s.frame_ms_median,
         "frame_ms_p99": s.frame_ms_p99,

@@ -15,8 +15,10 @@ pub mod hit_geometry;
 pub mod light_pass;
 pub mod light_reuse;
 pub mod motion;
+mod outcome;
 mod pixel_filter;
 pub mod renderer;
+mod rounds;
 mod workers;
 pub mod world_cache;
 

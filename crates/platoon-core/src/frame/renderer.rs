@@ -1,45 +1,21 @@
 //! The frame loop over many tracers: each frame the balancer cuts the pixels into one band per
-//! tracer, every tracer renders its band on its own thread, the core assembles the image. A
-//! tracer that fails (device lost, timeout, error) is dropped, its lines are rendered by the
-//! survivors in the same frame, and the failure is reported once.
+//! tracer, every tracer renders its band on its own thread (with stealing, its head and what
+//! it claims of the bands' tails: `balance::steal`), the core assembles the image. A tracer
+//! that fails (device lost, timeout, error) is dropped, its lines are rendered by the
+//! survivors in the same frame (`rounds`), and the failure is reported once.
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+pub use super::outcome::{RenderError, TracerFailure, TracerStats};
+use super::rounds::{check_cover, piece_overhead, planned_round, stolen_round, Gathered};
 use super::workers::Worker;
 use crate::balance::steal::{unstolen_seconds, ClaimBoard, StealHistory, Stealing};
-use crate::balance::{idle_fraction, span_cost, Balancer, FrameMeasure, TracerFrame};
+use crate::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
 use crate::denoise::{DeviceFilter, Guides};
 use crate::flatten::commit::Commit;
-use crate::frame::{assemble, gather_sums, Band, BandTracer, FrameParams, Span, TracerError};
+use crate::frame::{assemble, gather_sums, Band, BandTracer, FrameParams, Span};
 use crate::output::Film;
-
-/// One tracer's part in a frame.
-#[derive(Clone, Debug)]
-pub struct TracerStats {
-    /// The tracer's index among those the renderer was created with.
-    pub tracer: usize,
-    /// The band the balancer gave it.
-    pub span: Span,
-    /// Pixels it rendered in total, recovery work included.
-    pub pixels: u32,
-    pub gpu_time: Duration,
-    pub wall_time: Duration,
-    /// Time it waited for the slowest tracer.
-    pub idle: Duration,
-    pub rays: u64,
-    /// Pieces it claimed besides its band's head (`balance::steal`; 0 without stealing).
-    pub pieces: u32,
-    /// Pixels of other tracers' bands it rendered.
-    pub stolen: u32,
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub struct TracerFailure {
-    pub tracer: usize,
-    pub frame: u32,
-    pub message: String,
-}
 
 pub struct FrameResult {
     pub film: Film,
@@ -63,16 +39,6 @@ pub struct FrameResult {
     pub method_report: Vec<(String, String)>,
 }
 
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    #[error("no tracer left: {0}")]
-    NoTracers(String),
-    /// The bands came back not covering the frame once (a fault of the claims, never of a
-    /// tracer): no frame rather than a wrong one.
-    #[error("the frame's bands do not cover it exactly: {0}")]
-    Incomplete(String),
-}
-
 pub struct Renderer<T: BandTracer + Send + 'static> {
     /// Surviving tracers with their original indices, each on its own thread.
     tracers: Vec<(usize, Worker<T>)>,
@@ -85,37 +51,6 @@ pub struct Renderer<T: BandTracer + Send + 'static> {
     /// What the frames so far tell stealing: line costs, a piece's overhead, the idle to
     /// expect without it.
     history: StealHistory,
-}
-
-type Outcome = (usize, Span, Result<Band, TracerError>);
-
-/// Renders `work[i]` on tracer i, all at once, each on its thread.
-fn run_bands<T: BandTracer + Send + 'static>(
-    tracers: &[(usize, Worker<T>)],
-    work: &[Span],
-    params: &Arc<FrameParams>,
-) -> Vec<Outcome> {
-    for ((_, worker), &span) in tracers.iter().zip(work) {
-        if !span.is_empty() {
-            worker.start_band(params, span);
-        }
-    }
-    tracers
-        .iter()
-        .zip(work)
-        .enumerate()
-        .map(|(slot, ((_, worker), &span))| {
-            let result = if span.is_empty() {
-                Ok(Band {
-                    span,
-                    ..Default::default()
-                })
-            } else {
-                worker.band()
-            };
-            (slot, span, result)
-        })
-        .collect()
 }
 
 impl<T: BandTracer + Send + 'static> DeviceFilter for Renderer<T> {
@@ -348,178 +283,37 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         window: (u32, u32),
     ) -> Result<PartResult, RenderError> {
         let params = &Arc::new(params.clone());
-        let mut stats: Vec<TracerStats> = self
-            .tracers
-            .iter()
-            .zip(&planned)
-            .map(|((id, _), &span)| TracerStats {
-                tracer: *id,
-                span,
-                pixels: 0,
-                gpu_time: Duration::ZERO,
-                wall_time: Duration::ZERO,
-                idle: Duration::ZERO,
-                rays: 0,
-                pieces: 0,
-                stolen: 0,
-            })
-            .collect();
-        let mut done: Vec<Band> = Vec::new();
-        let mut new_failures = Vec::new();
-        let add = |stats: &mut Vec<TracerStats>, id: usize, band: &Band| {
-            let s = stats
-                .iter_mut()
-                .find(|s| s.tracer == id)
-                .expect("stats of a live tracer");
-            s.pixels += band.span.len();
-            s.gpu_time += band.gpu_time;
-            s.wall_time += band.wall_time;
-            s.rays += band.rays;
+        let mut g = Gathered::new(&self.tracers, &planned);
+        // The first round: the planned bands, their tails shared when stealing; each
+        // tracer's time in it, for idle and for the balancer.
+        let mut times = match self.board(params, &planned) {
+            Some(board) => stolen_round(&self.tracers, board, params, &mut g),
+            None => planned_round(&self.tracers, &planned, params, &mut g),
         };
-        // The first round: the planned bands, their tails shared when stealing. Each tracer's
-        // time in it, for idle and for the balancer, and what failed tracers lost.
-        let mut queue: Vec<Span> = Vec::new();
-        let mut dead = Vec::new();
-        // What each tracer rendered of the first round when others could take from its band,
-        // and the times of its head and pieces.
-        let mut rendered: Vec<(usize, Vec<Span>)> = Vec::new();
-        let mut timed: Vec<(Span, Vec<(Span, f64)>)> = Vec::new();
-        let first_round: Vec<f64> = match self.board(params, &planned) {
-            Some(board) => {
-                let board = Arc::new(board);
-                for (slot, (_, worker)) in self.tracers.iter().enumerate() {
-                    worker.start_stealing(params, &board, slot);
-                }
-                let mut times = Vec::with_capacity(self.tracers.len());
-                for (slot, (id, worker)) in self.tracers.iter().enumerate() {
-                    let stolen = worker.stolen();
-                    let s = stats.iter_mut().find(|s| s.tracer == *id).expect("stats");
-                    (s.pieces, s.stolen) = (stolen.pieces, stolen.stolen);
-                    times.push(stolen.busy.as_secs_f64());
-                    let delivered: Vec<Span> = stolen.bands.iter().map(|b| b.span).collect();
-                    rendered.push((*id, delivered.clone()));
-                    let times = stolen.bands.iter();
-                    let times = times.map(|b| (b.span, b.wall_time.as_secs_f64()));
-                    timed.push((board.head(slot), times.collect()));
-                    for band in stolen.bands {
-                        add(&mut stats, *id, &band);
-                        done.push(band);
-                    }
-                    if let Some(e) = stolen.error {
-                        // Its head and every piece it claimed, but for what it handed in.
-                        let mut held = board.held_by(slot);
-                        held.push(board.head(slot));
-                        queue.extend(subtract(&held, &delivered));
-                        dead.push(slot);
-                        new_failures.push(TracerFailure {
-                            tracer: *id,
-                            frame: params.frame,
-                            message: e.to_string(),
-                        });
-                    }
-                }
-                // Left only when every tracer failed (the others claim all there is).
-                queue.extend(board.unclaimed_chunks());
-                times
-            }
-            None => {
-                let mut times = vec![0.0; self.tracers.len()];
-                for (slot, span, result) in run_bands(&self.tracers, &planned, params) {
-                    let id = self.tracers[slot].0;
-                    match result {
-                        Ok(band) => {
-                            add(&mut stats, id, &band);
-                            times[slot] = band.wall_time.as_secs_f64();
-                            done.push(band);
-                        }
-                        Err(e) => {
-                            queue.push(span);
-                            dead.push(slot);
-                            new_failures.push(TracerFailure {
-                                tracer: id,
-                                frame: params.frame,
-                                message: e.to_string(),
-                            });
-                        }
-                    }
-                }
-                times
-            }
-        };
-        let mut times = first_round;
-        // Later rounds: the survivors share what the failed tracers lost, until nothing is.
-        loop {
-            // Drop failed tracers, highest slot first so lower slots keep their meaning.
-            dead.sort_unstable_by_key(|&slot| std::cmp::Reverse(slot));
-            for slot in dead.drain(..) {
-                self.tracers.remove(slot);
-                self.balancer.remove_tracer(slot);
-                times.remove(slot);
-            }
-            if queue.is_empty() {
-                break;
-            }
-            if self.tracers.is_empty() {
-                self.failures.extend(new_failures.iter().cloned());
-                let why: Vec<String> = new_failures
-                    .iter()
-                    .map(|f| format!("tracer {}: {}", f.tracer, f.message))
-                    .collect();
-                return Err(RenderError::NoTracers(why.join("; ")));
-            }
-            // The survivors take over the lost pixels in this same frame.
-            let n = self.tracers.len() as u64;
-            let lost = std::mem::take(&mut queue);
-            let mut shares: Vec<Span> = lost
-                .iter()
-                .flat_map(|lost| {
-                    let len = lost.len() as u64;
-                    let at = move |k: u64| lost.begin + (len * k / n) as u32;
-                    (0..n).map(move |k| Span::new(at(k), at(k + 1)))
-                })
-                .filter(|s| !s.is_empty())
-                .collect();
-            while !shares.is_empty() {
-                let round: Vec<Span> = (0..self.tracers.len())
-                    .map(|_| shares.pop().unwrap_or_default())
-                    .collect();
-                for (slot, span, result) in run_bands(&self.tracers, &round, params) {
-                    let id = self.tracers[slot].0;
-                    match result {
-                        Ok(band) => {
-                            add(&mut stats, id, &band);
-                            done.push(band);
-                        }
-                        Err(e) => {
-                            queue.push(span);
-                            dead.push(slot);
-                            new_failures.push(TracerFailure {
-                                tracer: id,
-                                frame: params.frame,
-                                message: e.to_string(),
-                            });
-                        }
-                    }
-                }
-                if !dead.is_empty() {
-                    queue.append(&mut shares);
-                    break;
-                }
-            }
-        }
-        check_cover(&planned, &done)?;
+        self.recover(params, &mut g, &mut times)?;
+        check_cover(&planned, &g.done)?;
 
+        let Gathered {
+            mut stats,
+            done,
+            failures: new_failures,
+            rendered,
+            timed,
+            ..
+        } = g;
         stats.retain(|s| self.tracers.iter().any(|(id, _)| *id == s.tracer));
         let max = times.iter().copied().fold(0.0, f64::max);
         for (s, t) in stats.iter_mut().zip(&times) {
             s.idle = Duration::from_secs_f64(max - t);
         }
-        let line_rays = line_rays_of(params, &done);
         // A frame with a failure measured a split that no longer exists: learn nothing from it.
         if learn && new_failures.is_empty() {
             let (y0, y1) = window;
             let base = y0 * params.width;
-            let all_costs: Vec<f64> = line_rays.iter().map(|&r| r as f64).collect();
+            let all_costs: Vec<f64> = line_rays_of(params, &done)
+                .iter()
+                .map(|&r| r as f64)
+                .collect();
             let line_costs = &all_costs[y0 as usize..y1 as usize];
             let observed: Vec<TracerFrame> = stats
                 .iter()
@@ -558,6 +352,57 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         })
     }
 
+    /// Drops the tracers that failed and has the survivors render what they lost, in this
+    /// same frame, until nothing is lost (or no tracer is left: an error naming every failure).
+    fn recover(
+        &mut self,
+        params: &Arc<FrameParams>,
+        g: &mut Gathered,
+        times: &mut Vec<f64>,
+    ) -> Result<(), RenderError> {
+        loop {
+            // Highest slot first, so that lower slots keep their meaning.
+            g.dead.sort_unstable_by_key(|&slot| std::cmp::Reverse(slot));
+            for slot in g.dead.drain(..) {
+                self.tracers.remove(slot);
+                self.balancer.remove_tracer(slot);
+                times.remove(slot);
+            }
+            if g.lost.is_empty() {
+                return Ok(());
+            }
+            if self.tracers.is_empty() {
+                self.failures.extend(g.failures.iter().cloned());
+                let why: Vec<String> = g
+                    .failures
+                    .iter()
+                    .map(|f| format!("tracer {}: {}", f.tracer, f.message))
+                    .collect();
+                return Err(RenderError::NoTracers(why.join("; ")));
+            }
+            let n = self.tracers.len() as u64;
+            let mut shares: Vec<Span> = std::mem::take(&mut g.lost)
+                .iter()
+                .flat_map(|lost| {
+                    let len = lost.len() as u64;
+                    let at = move |k: u64| lost.begin + (len * k / n) as u32;
+                    (0..n).map(move |k| Span::new(at(k), at(k + 1)))
+                })
+                .filter(|s| !s.is_empty())
+                .collect();
+            while !shares.is_empty() {
+                let round: Vec<Span> = (0..self.tracers.len())
+                    .map(|_| shares.pop().unwrap_or_default())
+                    .collect();
+                planned_round(&self.tracers, &round, params, g);
+                if !g.dead.is_empty() {
+                    g.lost.append(&mut shares);
+                    break;
+                }
+            }
+        }
+    }
+
     /// The claim board of `planned` when this renderer steals, the frame may be split and
     /// stealing pays (`StealHistory::board`).
     fn board(&self, params: &FrameParams, planned: &[Span]) -> Option<ClaimBoard> {
@@ -568,86 +413,6 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         self.history
             .board(stealing, planned, params.width, params.height)
     }
-}
-
-/// The median time of the frame's pieces beyond their work, each tracer's work timed by its
-/// head (cost over time): `timed` holds each tracer's head and the (span, seconds) of what it
-/// rendered, the head first. None without a piece to tell.
-fn piece_overhead(
-    line_costs: &[f64],
-    width: u32,
-    timed: &[(Span, Vec<(Span, f64)>)],
-) -> Option<f64> {
-    let mut excess = Vec::new();
-    for (head, rendered) in timed {
-        let Some(&(first, head_seconds)) = rendered.first() else {
-            continue;
-        };
-        let head_cost = span_cost(line_costs, width, *head);
-        if first != *head || head.is_empty() || head_cost <= 0.0 || head_seconds <= 0.0 {
-            continue;
-        }
-        let per_cost = head_seconds / head_cost;
-        for &(span, seconds) in &rendered[1..] {
-            excess.push((seconds - span_cost(line_costs, width, span) * per_cost).max(0.0));
-        }
-    }
-    (!excess.is_empty()).then(|| crate::measure::median(excess))
-}
-
-/// `spans` less the pixels of `taken` (spans that lie within them or apart).
-fn subtract(spans: &[Span], taken: &[Span]) -> Vec<Span> {
-    let mut left: Vec<Span> = spans.iter().copied().filter(|s| !s.is_empty()).collect();
-    for t in taken {
-        left = left
-            .into_iter()
-            .flat_map(|s| {
-                [
-                    Span::new(s.begin, s.end.min(t.begin)),
-                    Span::new(s.begin.max(t.end), s.end),
-                ]
-            })
-            .filter(|s| !s.is_empty())
-            .collect();
-    }
-    left
-}
-
-/// The bands rendered tile the planned pixels exactly (no pixel twice, none missing): what
-/// keeps a claim handed out twice, or lost, from becoming a wrong frame.
-fn check_cover(planned: &[Span], done: &[Band]) -> Result<(), RenderError> {
-    let (Some(first), Some(last)) = (planned.first(), planned.last()) else {
-        return Ok(());
-    };
-    let mut spans: Vec<Span> = done
-        .iter()
-        .map(|b| b.span)
-        .filter(|s| !s.is_empty())
-        .collect();
-    spans.sort_by_key(|s| (s.begin, s.end));
-    let mut at = first.begin;
-    for s in &spans {
-        if s.begin != at {
-            let what = if s.begin < at {
-                "rendered twice"
-            } else {
-                "never rendered"
-            };
-            return Err(RenderError::Incomplete(format!(
-                "pixels {}..{} {what}",
-                s.begin.min(at),
-                s.begin.max(at)
-            )));
-        }
-        at = s.end;
-    }
-    if at != last.end {
-        return Err(RenderError::Incomplete(format!(
-            "pixels {at}..{} never rendered",
-            last.end
-        )));
-    }
-    Ok(())
 }
 
 /// What the tracers rendered of a part of a frame (all of it, or a rank's span): the bands
@@ -737,6 +502,7 @@ mod tests {
     use crate::balance::{by_name, NAMES};
     use crate::frame::fakes::Fake;
     use crate::frame::fault::FaultInjector;
+    use crate::frame::TracerError;
     use crate::scene::camera::Camera;
 
     /// A fake that, when `refuse`, fails every scene commit, as a lost device would.
@@ -931,31 +697,6 @@ mod tests {
             assert_eq!(r.alive(), vec![0, 2], "dying after {after} bands");
             assert_eq!(r.failures().len(), 1);
         }
-    }
-
-    #[test]
-    fn bands_that_overlap_or_leave_a_gap_are_no_frame() {
-        let band = |b, e| Band {
-            span: Span::new(b, e),
-            ..Default::default()
-        };
-        let planned = [Span::new(0, 10), Span::new(10, 20)];
-        assert!(check_cover(&planned, &[band(10, 20), band(0, 10)]).is_ok());
-        let twice = check_cover(&planned, &[band(0, 12), band(10, 20)]).unwrap_err();
-        assert!(
-            twice.to_string().contains("10..12 rendered twice"),
-            "{twice}"
-        );
-        let lost = check_cover(&planned, &[band(0, 8), band(10, 20)]).unwrap_err();
-        assert!(lost.to_string().contains("8..10 never rendered"), "{lost}");
-        assert!(check_cover(&planned, &[band(0, 10), band(10, 19)]).is_err());
-        assert_eq!(
-            subtract(
-                &[Span::new(0, 10), Span::new(20, 30)],
-                &[Span::new(2, 4), Span::new(20, 30)]
-            ),
-            vec![Span::new(0, 2), Span::new(4, 10)]
-        );
     }
 
     #[test]
