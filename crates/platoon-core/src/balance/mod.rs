@@ -13,6 +13,7 @@ mod policy;
 pub mod replay;
 mod robin_hood;
 pub mod steal;
+pub mod steal_history;
 mod stealing;
 mod with_stealing;
 

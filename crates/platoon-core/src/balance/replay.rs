@@ -5,7 +5,8 @@
 
 use std::path::Path;
 
-use crate::balance::steal::{unstolen_seconds, StealHistory, Stealing};
+use crate::balance::steal::{unstolen_seconds, Stealing};
+use crate::balance::steal_history::StealHistory;
 use crate::balance::{idle_fraction, span_cost, Balancer, FrameMeasure, TracerFrame};
 use crate::error::{Error, Result};
 use crate::frame::Span;

@@ -9,12 +9,14 @@
 //! keeps its bits whoever renders which chunk.
 //!
 //! Every piece costs a dispatch (on lavapipe a third of a millisecond), so the claims keep the
-//! pieces few: while every other tracer still has chunks of its own, an owner takes all of its
-//! tail but a reserve of a few chunks in one piece; once some have none (they are at the end of
-//! their work), claims are guided (Polychronopoulos and Kuck's guided self-scheduling): the
-//! unclaimed chunks shared between the owner and those, never less than a chunk, so the last
-//! pieces, which decide who waits for whom, are single chunks. And a chunk is never cut so small that its dispatch
-//! would cost more than a share of its work (`ClaimBoard::new`'s `min_chunk`).
+//! pieces few. The first claim tells the board the tracer's speed in the frame; while no other
+//! tracer has run out of chunks of its own, an owner takes what it can render before the first
+//! of them is expected to (at most all of its tail but a reserve of a few chunks); once some
+//! have, the unclaimed chunks of a tail are shared by speed between the owner and those (guided
+//! self-scheduling, Polychronopoulos and Kuck), never less than a chunk, so the last pieces,
+//! which decide who waits for whom, are single chunks. A chunk is never cut so small that its
+//! dispatch would cost more than a share of its work (`min_chunk`), and where stealing would not
+//! pay at all the frame is not stolen (`steal_history::StealHistory`).
 
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
@@ -33,11 +35,7 @@ pub fn min_chunk(stealing: &Stealing, overhead: f64, band_seconds: f64) -> f64 {
 }
 
 /// The tail's share of a band when no line cost is known yet.
-const BLIND_TAIL: f64 = 0.8;
-
-/// A tail holds at least this many times the idle expected without stealing (a share of the
-/// frame's tracer time; a tracer's miss is about twice it with two tracers).
-const TAIL_PER_IDLE: f64 = 2.0;
+pub(crate) const BLIND_TAIL: f64 = 0.8;
 
 /// Nobody holds the chunk.
 const UNCLAIMED: usize = usize::MAX;
@@ -304,74 +302,6 @@ impl ClaimBoard {
     }
 }
 
-/// What a renderer learns between frames to steal well: the lines' costs (what tails are cut
-/// by), a piece's overhead (what chunks may not be smaller than), the slowest tracer's time
-/// and the idle a split without stealing would have had (whether stealing pays at all).
-#[derive(Clone, Debug, Default)]
-pub struct StealHistory {
-    line_costs: Vec<f64>,
-    piece_overhead: Option<f64>,
-    last_seconds: f64,
-    expected_idle: Option<f64>,
-}
-
-/// Weight of the newest frame in the estimates of a piece's overhead and the idle to expect.
-const HISTORY_RATE: f64 = 0.3;
-
-impl StealHistory {
-    /// The board of the next frame's `planned` bands, or None where stealing would not pay:
-    /// the idle expected without it is less than the pieces would cost. A frame of a size
-    /// whose line costs are not known (the first) is always stolen: its split is blind.
-    pub fn board(
-        &self,
-        stealing: &Stealing,
-        planned: &[Span],
-        width: u32,
-        height: u32,
-    ) -> Option<ClaimBoard> {
-        let known = self.line_costs.len() == height as usize;
-        let overhead = self.piece_overhead.unwrap_or(0.0);
-        let expected = self.expected_idle.unwrap_or(1.0) * self.last_seconds;
-        if known && expected <= stealing.pieces_worth * overhead {
-            return None;
-        }
-        let costs: &[f64] = if known { &self.line_costs } else { &[] };
-        let floor = min_chunk(stealing, overhead, self.last_seconds);
-        // A split that keeps missing by much (a policy that cannot weigh the devices, a
-        // change of speed) has its tails grown to hold the error, in chunks of the same size.
-        let mut sizing = *stealing;
-        let wanted = (TAIL_PER_IDLE * self.expected_idle.unwrap_or(0.0)).min(BLIND_TAIL);
-        if sizing.tail > 0.0 && wanted > sizing.tail {
-            sizing.tail = wanted;
-        }
-        Some(ClaimBoard::new(planned, width, costs, &sizing, floor))
-    }
-
-    /// Learns from a frame: its line costs, its slowest tracer's time, the idle its split
-    /// would have had without stealing, and a piece's overhead if it measured one.
-    pub fn learn(
-        &mut self,
-        line_costs: Vec<f64>,
-        seconds: f64,
-        idle_unstolen: f64,
-        piece_overhead: Option<f64>,
-    ) {
-        let blend =
-            |old: Option<f64>, new: f64| Some(old.map_or(new, |o| o + HISTORY_RATE * (new - o)));
-        if let Some(o) = piece_overhead.filter(|o| o.is_finite()) {
-            self.piece_overhead = blend(self.piece_overhead, o);
-        }
-        // A frame cut blind (its line costs unknown: the first) says nothing of how well the
-        // policy predicts.
-        let blind = self.line_costs.len() != line_costs.len();
-        if idle_unstolen.is_finite() && !blind {
-            self.expected_idle = blend(self.expected_idle, idle_unstolen);
-        }
-        self.line_costs = line_costs;
-        self.last_seconds = seconds;
-    }
-}
-
 /// What a tracer's `planned` band would have taken at the speed it rendered at, from its
 /// `seconds` for what it `rendered` (its band less what others took, plus what it took from
 /// them), by the frame's line costs: what the balancer learns, so that it learns the speed of
@@ -451,12 +381,12 @@ fn tail_chunks(band: Span, width: u32, line_costs: &[f64], stealing: &Stealing) 
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use std::sync::Arc;
 
     /// Settings the tests' numbers are worked out for (the defaults may be tuned).
-    fn fixed() -> Stealing {
+    pub(crate) fn fixed() -> Stealing {
         Stealing {
             tail: 0.06,
             chunk: 0.004,
@@ -584,33 +514,6 @@ mod tests {
         }
         .validate()
         .is_err());
-    }
-
-    #[test]
-    fn stealing_is_skipped_where_it_cannot_pay_and_grows_where_the_split_misses_by_much() {
-        let planned = [Span::lines(10, 0, 50), Span::lines(10, 50, 100)];
-        let (s, costs) = (fixed(), vec![1.0; 100]);
-        let mut h = StealHistory::default();
-        // The first frame is blind: always stolen, most of each band shared.
-        assert_eq!(
-            h.board(&s, &planned, 10, 100).unwrap().head(0),
-            Span::lines(10, 0, 10)
-        );
-        h.learn(costs.clone(), 0.1, 0.2, Some(1e-4));
-        // Its idle teaches nothing; the next frame has the stated tail (6%: 3 of 50 lines, in
-        // chunks of 0.4%, over the floor of four pieces' overhead, 0.4 ms of 100).
-        assert_eq!(
-            h.board(&s, &planned, 10, 100).unwrap().head(0),
-            Span::lines(10, 0, 47)
-        );
-        // 0.1% idle of 0.1 s is 0.1 ms, under two pieces of 0.1 ms: not stolen...
-        h.learn(costs.clone(), 0.1, 0.001, Some(1e-4));
-        assert!(h.board(&s, &planned, 10, 100).is_none());
-        // ...and after a split missing by a fifth (expected idle 0.001 + 0.3 x 0.199) the
-        // tails hold twice the idle expected: 12.1% of a band, 30 chunks of 2 pixels.
-        h.learn(costs.clone(), 0.1, 0.2, Some(1e-4));
-        let head = h.board(&s, &planned, 10, 100).unwrap().head(0);
-        assert_eq!(head.end, 500 - 60, "{head:?}");
     }
 
     #[test]

@@ -58,7 +58,6 @@ fn steal<T: BandTracer>(
     slot: usize,
 ) -> Stolen {
     let mut out = Stolen::default();
-    let start = Instant::now();
     let head = board.head(slot);
     if !head.is_empty() {
         match run(|| t.render_band(params, head, &mut |_| {})) {
@@ -72,8 +71,11 @@ fn steal<T: BandTracer>(
             }
         }
     }
+    // The claims' clock starts with the head's dispatch, as `busy` does: a kernel's first
+    // compilation before it would read as a slow tracer.
     let after_head = Instant::now();
-    while let Some(piece) = board.claim(slot, start.elapsed().as_secs_f64()) {
+    let now = |head: Duration| (head + after_head.elapsed()).as_secs_f64();
+    while let Some(piece) = board.claim(slot, now(out.busy)) {
         match run(|| t.render_band(params, piece.span, &mut |_| {})) {
             Ok(band) => {
                 out.bands.push(band);
