@@ -386,44 +386,8 @@ pub fn run(o: &Options) -> Result<Vec<Cell>> {
                     let map = map.take(o.frames as usize);
                     for stealing in steal_settings(o) {
                         for name in NAMES {
-                            let mut b = by_name(name).unwrap();
-                            cells.push(match &stealing {
-                                None => {
-                                    let per_frame = replay(&map, speeds, b.as_mut());
-                                    let frame_ms = frame_ms_replayed(&map, speeds, name);
-                                    Cell {
-                                        balancer: name,
-                                        stealing: false,
-                                        devices: speeds.len(),
-                                        camera: camera.clone(),
-                                        idle_pct: 100.0 * mean(&per_frame),
-                                        overhead_pct: 0.0,
-                                        pieces: 0.0,
-                                        frame_ms,
-                                        per_frame,
-                                    }
-                                }
-                                Some(s) => {
-                                    let frames =
-                                        replay_stealing(&map, speeds, b.as_mut(), s, overhead);
-                                    let per_frame: Vec<f64> =
-                                        frames.iter().map(|f| f.lost()).collect();
-                                    let of = |f: fn(&StolenFrame) -> f64| {
-                                        mean(&frames.iter().map(f).collect::<Vec<f64>>())
-                                    };
-                                    Cell {
-                                        balancer: name,
-                                        stealing: true,
-                                        devices: speeds.len(),
-                                        camera: camera.clone(),
-                                        idle_pct: 100.0 * mean(&per_frame),
-                                        overhead_pct: 100.0 * of(|f| f.overhead),
-                                        pieces: of(|f| f.pieces as f64),
-                                        frame_ms: 1e3 * of(|f| f.frame_seconds),
-                                        per_frame,
-                                    }
-                                }
-                            });
+                            let played = (name, stealing.as_ref(), overhead);
+                            cells.push(replayed_cell(&map, camera, speeds, played));
                         }
                     }
                 }
@@ -431,44 +395,14 @@ pub fn run(o: &Options) -> Result<Vec<Cell>> {
         }
         Mode::Real => {
             let scene = outdoor_scene()?;
-            let dispatch = o.overhead().dispatch;
             for spec in [&o.devices2, &o.devices3] {
                 let mut tracers = create_tracers(spec, &scene.gpu, false, Sampling::Mis)?;
-                let devices = tracers.len();
                 for camera in [CameraSpeed::Slow, CameraSpeed::Fast] {
                     for stealing in steal_settings(o) {
                         for name in NAMES {
-                            let mut renderer = Renderer::new(tracers, by_name(name).unwrap());
-                            renderer.set_stealing(stealing);
-                            let (mut per_frame, mut pieces, mut ms, mut overhead) =
-                                (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-                            for f in 0..o.frames {
-                                let frame = renderer.render_frame(&frame_params(o, f, camera))?;
-                                per_frame.push(frame.idle_fraction);
-                                let n: u32 = frame.tracers.iter().map(|t| t.pieces).sum();
-                                let busiest = frame
-                                    .tracers
-                                    .iter()
-                                    .map(|t| (t.wall_time + t.idle).as_secs_f64())
-                                    .fold(0.0, f64::max);
-                                pieces.push(n as f64);
-                                ms.push(1e3 * frame.wall_time.as_secs_f64());
-                                overhead.push(
-                                    n as f64 * dispatch / (devices as f64 * busiest).max(1e-9),
-                                );
-                            }
-                            tracers = renderer.into_tracers();
-                            cells.push(Cell {
-                                balancer: name,
-                                stealing: stealing.is_some(),
-                                devices,
-                                camera: camera.name().to_string(),
-                                idle_pct: 100.0 * mean(&per_frame),
-                                overhead_pct: 100.0 * mean(&overhead),
-                                pieces: mean(&pieces),
-                                frame_ms: mean(&ms),
-                                per_frame,
-                            });
+                            let cell;
+                            (cell, tracers) = real_cell(o, tracers, camera, name, stealing)?;
+                            cells.push(cell);
                         }
                     }
                 }
@@ -476,6 +410,83 @@ pub fn run(o: &Options) -> Result<Vec<Cell>> {
         }
     }
     Ok(cells)
+}
+
+/// The cell of `balancer` (with `stealing`, each piece costing `overhead`) replaying `map`
+/// against devices of `speeds`.
+fn replayed_cell(
+    map: &CostMap,
+    camera: &str,
+    speeds: &[f64],
+    (balancer, stealing, overhead): (&'static str, Option<&Stealing>, Overhead),
+) -> Cell {
+    let mut b = by_name(balancer).unwrap();
+    let cell = |per_frame: Vec<f64>, overhead_pct, pieces, frame_ms| Cell {
+        balancer,
+        stealing: stealing.is_some(),
+        devices: speeds.len(),
+        camera: camera.to_string(),
+        idle_pct: 100.0 * mean(&per_frame),
+        overhead_pct,
+        pieces,
+        frame_ms,
+        per_frame,
+    };
+    let Some(s) = stealing else {
+        let frame_ms = frame_ms_replayed(map, speeds, balancer);
+        return cell(replay(map, speeds, b.as_mut()), 0.0, 0.0, frame_ms);
+    };
+    let frames = replay_stealing(map, speeds, b.as_mut(), s, overhead);
+    let of = |f: fn(&StolenFrame) -> f64| mean(&frames.iter().map(f).collect::<Vec<f64>>());
+    cell(
+        frames.iter().map(|f| f.lost()).collect(),
+        100.0 * of(|f| f.overhead),
+        of(|f| f.pieces as f64),
+        1e3 * of(|f| f.frame_seconds),
+    )
+}
+
+/// The cell of `balancer` (with `stealing`) rendering the `camera` path on `tracers`, which
+/// come back for the next cell. Its overhead is the pieces at `--dispatch-us` each over the
+/// tracers' time: an estimate (their busy times hold the true one).
+fn real_cell(
+    o: &Options,
+    tracers: Vec<platoon_tracer::Tracer>,
+    camera: CameraSpeed,
+    balancer: &'static str,
+    stealing: Option<Stealing>,
+) -> Result<(Cell, Vec<platoon_tracer::Tracer>)> {
+    let devices = tracers.len();
+    let mut renderer = Renderer::new(tracers, by_name(balancer).unwrap());
+    renderer.set_stealing(stealing);
+    let (mut per_frame, mut pieces, mut ms, mut overhead) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for f in 0..o.frames {
+        let frame = renderer.render_frame(&frame_params(o, f, camera))?;
+        per_frame.push(frame.idle_fraction);
+        let n: u32 = frame.tracers.iter().map(|t| t.pieces).sum();
+        let busiest = frame
+            .tracers
+            .iter()
+            .map(|t| (t.wall_time + t.idle).as_secs_f64())
+            .fold(0.0, f64::max);
+        pieces.push(n as f64);
+        ms.push(1e3 * frame.wall_time.as_secs_f64());
+        let spent = n as f64 * o.overhead().dispatch;
+        overhead.push(spent / (devices as f64 * busiest).max(1e-9));
+    }
+    let cell = Cell {
+        balancer,
+        stealing: stealing.is_some(),
+        devices,
+        camera: camera.name().to_string(),
+        idle_pct: 100.0 * mean(&per_frame),
+        overhead_pct: 100.0 * mean(&overhead),
+        pieces: mean(&pieces),
+        frame_ms: mean(&ms),
+        per_frame,
+    };
+    Ok((cell, renderer.into_tracers()))
 }
 
 /// The stealing settings a run compares: none, and the options' when `--stealing`.
