@@ -91,8 +91,8 @@ impl ClaimBoard {
     /// `stealing.chunk` of it each (but `min_chunk` at least: the share of a band whose work
     /// makes a piece's overhead worth paying), to the pixel. With no costs known (a first
     /// frame, whose split no measurement has shaped: an equal one, 20-40% idle on unequal
-    /// devices) the tail is most of each band (`BLIND_TAIL`), of chunks as many as a tail of the stated share
-    /// has.
+    /// devices) the tail is most of each band (`BLIND_TAIL`), of chunks as many as a tail of
+    /// the stated share has.
     pub fn new(
         planned: &[Span],
         width: u32,
@@ -267,7 +267,7 @@ impl ClaimBoard {
                     let (lo, hi) = (lo as usize, hi as usize);
                     return Some(Span::new(tail.chunks[lo].begin, tail.chunks[hi - 1].end));
                 }
-                Err(now) => seen = now,
+                Err(current) => seen = current,
             }
         }
     }

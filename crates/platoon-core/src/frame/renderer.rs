@@ -86,10 +86,6 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         self.stealing = stealing;
     }
 
-    pub fn stealing(&self) -> Option<Stealing> {
-        self.stealing
-    }
-
     pub fn balancer_name(&self) -> &'static str {
         self.balancer.name()
     }
@@ -298,8 +294,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             mut stats,
             done,
             failures: new_failures,
-            rendered,
-            timed,
+            claimed,
             ..
         } = g;
         stats.retain(|s| self.tracers.iter().any(|(id, _)| *id == s.tracer));
@@ -321,11 +316,11 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                 .zip(&times)
                 .map(|(s, &t)| TracerFrame {
                     span: Span::new(s.span.begin - base, s.span.end - base),
-                    seconds: rendered
+                    seconds: claimed
                         .iter()
-                        .find(|(id, _)| *id == s.tracer)
-                        .map_or(t, |(_, r)| {
-                            unstolen_seconds(&all_costs, params.width, s.span, r, t)
+                        .find(|c| c.tracer == s.tracer)
+                        .map_or(t, |c| {
+                            unstolen_seconds(&all_costs, params.width, s.span, &c.spans(), t)
                         }),
                 })
                 .collect();
@@ -336,7 +331,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                 line_costs,
             });
             let unstolen: Vec<f64> = observed.iter().map(|t| t.seconds).collect();
-            let overhead = piece_overhead(&all_costs, params.width, &timed);
+            let overhead = piece_overhead(&all_costs, params.width, &claimed);
             self.history.learn(
                 all_costs,
                 times.iter().copied().fold(0.0, f64::max),

@@ -22,11 +22,23 @@ pub(crate) struct Gathered {
     /// Slots of the tracers that failed in the last round.
     pub dead: Vec<usize>,
     pub failures: Vec<TracerFailure>,
-    /// With stealing: what each tracer (by its id) rendered of the first round.
-    pub rendered: Vec<(usize, Vec<Span>)>,
-    /// With stealing: each tracer's head and the (span, seconds) of every band it rendered,
-    /// the head first (what a piece's overhead is measured from).
-    pub timed: Vec<(Span, Vec<(Span, f64)>)>,
+    /// With stealing: what each tracer rendered of the first round.
+    pub claimed: Vec<Claimed>,
+}
+
+/// What a tracer rendered of a stolen round: what the balancer learns its speed from and a
+/// piece's overhead is measured by.
+pub(crate) struct Claimed {
+    pub tracer: usize,
+    pub head: Span,
+    /// Each band it rendered and its seconds, the head (when it rendered it) first.
+    pub bands: Vec<(Span, f64)>,
+}
+
+impl Claimed {
+    pub fn spans(&self) -> Vec<Span> {
+        self.bands.iter().map(|&(span, _)| span).collect()
+    }
 }
 
 impl Gathered {
@@ -51,8 +63,7 @@ impl Gathered {
             lost: Vec::new(),
             dead: Vec::new(),
             failures: Vec::new(),
-            rendered: Vec::new(),
-            timed: Vec::new(),
+            claimed: Vec::new(),
         }
     }
 
@@ -154,19 +165,30 @@ pub(crate) fn stolen_round<T: BandTracer + Send + 'static>(
         let s = g.stats(*id);
         (s.pieces, s.stolen) = (stolen.pieces, stolen.stolen);
         times.push(stolen.busy.as_secs_f64());
-        let delivered: Vec<Span> = stolen.bands.iter().map(|b| b.span).collect();
-        let each = stolen.bands.iter();
-        let each = each.map(|b| (b.span, b.wall_time.as_secs_f64()));
-        g.timed.push((board.head(slot), each.collect()));
-        g.rendered.push((*id, delivered.clone()));
+        let claimed = Claimed {
+            tracer: *id,
+            head: board.head(slot),
+            bands: stolen
+                .bands
+                .iter()
+                .map(|b| (b.span, b.wall_time.as_secs_f64()))
+                .collect(),
+        };
         for band in stolen.bands {
             g.add(*id, band);
         }
         if let Some(e) = stolen.error {
             let mut held = board.held_by(slot);
-            held.push(board.head(slot));
-            g.fail(slot, *id, params.frame, e, subtract(&held, &delivered));
+            held.push(claimed.head);
+            g.fail(
+                slot,
+                *id,
+                params.frame,
+                e,
+                subtract(&held, &claimed.spans()),
+            );
         }
+        g.claimed.push(claimed);
     }
     // Left only when every tracer failed (the others claim all there is).
     g.lost.extend(board.unclaimed_chunks());
@@ -174,24 +196,19 @@ pub(crate) fn stolen_round<T: BandTracer + Send + 'static>(
 }
 
 /// The median time of the frame's pieces beyond their work, each tracer's work timed by its
-/// head (cost over time): `timed` holds each tracer's head and the (span, seconds) of what it
-/// rendered, the head first. None without a piece to tell.
-pub(crate) fn piece_overhead(
-    line_costs: &[f64],
-    width: u32,
-    timed: &[(Span, Vec<(Span, f64)>)],
-) -> Option<f64> {
+/// head (cost over time). None without a piece to tell.
+pub(crate) fn piece_overhead(line_costs: &[f64], width: u32, claimed: &[Claimed]) -> Option<f64> {
     let mut excess = Vec::new();
-    for (head, rendered) in timed {
-        let Some(&(first, head_seconds)) = rendered.first() else {
+    for c in claimed {
+        let Some(&(first, head_seconds)) = c.bands.first() else {
             continue;
         };
-        let head_cost = span_cost(line_costs, width, *head);
-        if first != *head || head.is_empty() || head_cost <= 0.0 || head_seconds <= 0.0 {
+        let head_cost = span_cost(line_costs, width, c.head);
+        if first != c.head || c.head.is_empty() || head_cost <= 0.0 || head_seconds <= 0.0 {
             continue;
         }
         let per_cost = head_seconds / head_cost;
-        for &(span, seconds) in &rendered[1..] {
+        for &(span, seconds) in &c.bands[1..] {
             excess.push((seconds - span_cost(line_costs, width, span) * per_cost).max(0.0));
         }
     }
