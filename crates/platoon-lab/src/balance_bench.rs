@@ -421,29 +421,19 @@ fn replayed_cell(
     (balancer, stealing, overhead): (&'static str, Option<&Stealing>, Overhead),
 ) -> Cell {
     let mut b = by_name(balancer).unwrap();
-    let cell = |per_frame: Vec<f64>, overhead_pct, pieces, frame_ms| Cell {
+    let frames = replay_stealing(map, speeds, b.as_mut(), stealing, overhead);
+    let of = |f: fn(&StolenFrame) -> f64| mean(&frames.iter().map(f).collect::<Vec<f64>>());
+    Cell {
         balancer,
         stealing: stealing.is_some(),
         devices: speeds.len(),
         camera: camera.to_string(),
-        idle_pct: 100.0 * mean(&per_frame),
-        overhead_pct,
-        pieces,
-        frame_ms,
-        per_frame,
-    };
-    let Some(s) = stealing else {
-        let frame_ms = frame_ms_replayed(map, speeds, balancer);
-        return cell(replay(map, speeds, b.as_mut()), 0.0, 0.0, frame_ms);
-    };
-    let frames = replay_stealing(map, speeds, b.as_mut(), s, overhead);
-    let of = |f: fn(&StolenFrame) -> f64| mean(&frames.iter().map(f).collect::<Vec<f64>>());
-    cell(
-        frames.iter().map(|f| f.lost()).collect(),
-        100.0 * of(|f| f.overhead),
-        of(|f| f.pieces as f64),
-        1e3 * of(|f| f.frame_seconds),
-    )
+        idle_pct: 100.0 * of(|f| f.lost()),
+        overhead_pct: 100.0 * of(|f| f.overhead),
+        pieces: of(|f| f.pieces as f64),
+        frame_ms: 1e3 * of(|f| f.frame_seconds),
+        per_frame: frames.iter().map(|f| f.lost()).collect(),
+    }
 }
 
 /// The cell of `balancer` (with `stealing`) rendering the `camera` path on `tracers`, which
@@ -496,17 +486,6 @@ fn steal_settings(o: &Options) -> Vec<Option<Stealing>> {
         settings.push(Some(o.steal()));
     }
     settings
-}
-
-/// Mean frame time (the slowest tracer's, ms of the maps' seconds) of `balancer`, replayed.
-fn frame_ms_replayed(map: &CostMap, speeds: &[f64], balancer: &str) -> f64 {
-    let free = Stealing {
-        tail: 0.0,
-        ..Stealing::default()
-    };
-    let mut b = by_name(balancer).unwrap();
-    let frames = replay_stealing(map, speeds, b.as_mut(), &free, Overhead::default());
-    1e3 * mean(&frames.iter().map(|f| f.frame_seconds).collect::<Vec<_>>())
 }
 
 /// The overhead of a piece on the first tracer of `spec`: the median time of a band of one

@@ -111,30 +111,12 @@ impl CostMap {
 }
 
 /// Idle fraction of every frame when `balancer` splits the recorded frames between devices of
-/// the given relative speeds.
+/// the given relative speeds ([`replay_stealing`] without stealing).
 pub fn replay(costs: &CostMap, speeds: &[f64], balancer: &mut dyn Balancer) -> Vec<f64> {
-    let (width, height) = (costs.width, costs.height() as u32);
-    let mut idle = Vec::with_capacity(costs.frames.len());
-    for line_costs in &costs.frames {
-        let spans = balancer.plan(width, height, speeds.len());
-        let tracers: Vec<TracerFrame> = spans
-            .iter()
-            .zip(speeds)
-            .map(|(&span, s)| TracerFrame {
-                span,
-                seconds: span_cost(line_costs, width, span) / s,
-            })
-            .collect();
-        let times: Vec<f64> = tracers.iter().map(|t| t.seconds).collect();
-        idle.push(idle_fraction(&times));
-        balancer.observe(&FrameMeasure {
-            width,
-            height,
-            tracers: &tracers,
-            line_costs,
-        });
-    }
-    idle
+    replay_stealing(costs, speeds, balancer, None, Overhead::default())
+        .iter()
+        .map(|f| f.idle)
+        .collect()
 }
 
 /// What a piece of a band costs besides its pixels (seconds): the fixed cost of a dispatch
@@ -165,16 +147,17 @@ impl StolenFrame {
     }
 }
 
-/// [`replay`] with stealing: the balancer plans each frame, the tails are cut from the costs
-/// of the frame before (what a renderer knows), and the tracers claim pieces in the order of
+/// The recorded frames split between devices of the given relative speeds: the balancer
+/// plans each frame and learns from it. With `stealing` the tails are cut from the costs of
+/// the frame before (what a renderer knows), and the tracers claim pieces in the order of
 /// their clocks, each piece costing `overhead` besides its pixels and every claim (the last,
-/// empty one too) a claim's. The balancer learns what each tracer's planned band would have
+/// empty one too) a claim's; the balancer learns what each tracer's planned band would have
 /// taken at the speed it rendered at.
 pub fn replay_stealing(
     costs: &CostMap,
     speeds: &[f64],
     balancer: &mut dyn Balancer,
-    stealing: &Stealing,
+    stealing: Option<&Stealing>,
     overhead: Overhead,
 ) -> Vec<StolenFrame> {
     let (width, height) = (costs.width, costs.height() as u32);
@@ -184,7 +167,7 @@ pub fn replay_stealing(
     let piece = overhead.dispatch + overhead.claim;
     for line_costs in &costs.frames {
         let planned = balancer.plan(width, height, n);
-        let board = history.board(stealing, &planned, width, height);
+        let board = stealing.and_then(|s| history.board(s, &planned, width, height));
         let head = |i: usize| board.as_ref().map_or(planned[i], |b| b.head(i));
         let time = |i: usize, s: Span| span_cost(line_costs, width, s) / speeds[i];
         let mut clock: Vec<f64> = (0..n).map(|i| time(i, head(i))).collect();
@@ -228,7 +211,12 @@ pub fn replay_stealing(
         let tracers: Vec<TracerFrame> = (0..n)
             .map(|i| TracerFrame {
                 span: planned[i],
-                seconds: unstolen_seconds(line_costs, width, planned[i], &rendered[i], clock[i]),
+                seconds: match board {
+                    Some(_) => {
+                        unstolen_seconds(line_costs, width, planned[i], &rendered[i], clock[i])
+                    }
+                    None => clock[i],
+                },
             })
             .collect();
         balancer.observe(&FrameMeasure {
@@ -287,7 +275,7 @@ mod tests {
             &map,
             &[1.0, 0.5],
             none.as_mut(),
-            &stealing,
+            Some(&stealing),
             Overhead::default(),
         );
         for f in &free {
@@ -297,7 +285,7 @@ mod tests {
             dispatch: 0.05,
             claim: 0.01,
         };
-        let paid = replay_stealing(&map, &[1.0, 0.5], none.as_mut(), &stealing, costly);
+        let paid = replay_stealing(&map, &[1.0, 0.5], none.as_mut(), Some(&stealing), costly);
         for (f, p) in free.iter().zip(&paid) {
             assert!(p.overhead > 0.01 && p.lost() > f.lost(), "{p:?} vs {f:?}");
         }
@@ -306,7 +294,13 @@ mod tests {
             tail: 0.0,
             ..stealing
         };
-        let plain = replay_stealing(&map.take(3), &[1.0, 0.5], none.as_mut(), &whole, costly);
+        let plain = replay_stealing(
+            &map.take(3),
+            &[1.0, 0.5],
+            none.as_mut(),
+            Some(&whole),
+            costly,
+        );
         assert!(
             plain.iter().all(|f| (f.idle - 0.25).abs() < 1e-3),
             "{plain:?}"
