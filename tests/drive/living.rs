@@ -69,16 +69,11 @@ fn added_and_removed_instances_on_three_tracers_with_one_killed() {
     let mut updater = Updater::new(scene, 0.0, DVec3::ZERO).unwrap();
     let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
     // Tracer 1 is lost from frame 2 on; the others take its lines on the current generation.
-    let tracers: Vec<FaultInjector<Tracer>> =
-        create_tracers(&spec, updater.flattened(), true, Sampling::Mis)
-            .unwrap()
-            .into_iter()
-            .enumerate()
-            .map(|(i, t)| match i {
-                1 => FaultInjector::failing_from(t, 2),
-                _ => FaultInjector::healthy(t),
-            })
-            .collect();
+    let tracers = FaultInjector::one_failing(
+        create_tracers(&spec, updater.flattened(), true, Sampling::Mis).unwrap(),
+        1,
+        |t| FaultInjector::failing_from(t, 2),
+    );
     let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
     let mut added = None;
     for f in 0..4u32 {

@@ -8,11 +8,11 @@ use common::*;
 use platoon::core::balance::steal::Stealing;
 use platoon::core::balance::{by_name, NAMES};
 use platoon::core::frame::fault::FaultInjector;
-use platoon::core::frame::renderer::Renderer;
+use platoon::core::frame::renderer::{Renderer, TracerFailure};
 use platoon::core::frame::FrameParams;
 use platoon::core::method::path::PathKernel;
 use platoon::devices::{create_tracers, DeviceSpec};
-use platoon::tracer::Sampling;
+use platoon::tracer::{Sampling, Tracer};
 use platoon_lab::balance_bench as bb;
 
 fn scene() -> platoon::Prepared {
@@ -79,64 +79,26 @@ fn greedy() -> Stealing {
     }
 }
 
-#[test]
-fn a_tracer_dying_with_a_claimed_chunk_loses_no_pixel() {
+/// `frames` frames of CesiumMan on three one-thread tracers under cost-aware (stealing as
+/// `stealing` says), tracer 1 failing as `fault` makes it: each frame the one-tracer render's
+/// bits. Returns the failures reported and the tracers left.
+fn play_with_tracer_1_failing(
+    fault: impl FnOnce(Tracer) -> FaultInjector<Tracer>,
+    stealing: Option<Stealing>,
+    frames: u32,
+) -> (Vec<TracerFailure>, Vec<usize>) {
     init();
     let prepared = scene();
     let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
-    // Tracer 1 renders its head and fails on the first piece it claims (its second band of
-    // a frame), whichever frame that is.
-    let tracers: Vec<FaultInjector<_>> = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis)
-        .unwrap()
-        .into_iter()
-        .enumerate()
-        .map(|(i, t)| match i {
-            1 => FaultInjector::failing_at_band_of_frame(t, 1),
-            _ => FaultInjector::healthy(t),
-        })
-        .collect();
-    let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
-    renderer.set_stealing(Some(greedy()));
+    let tracers = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis).unwrap();
+    let mut renderer = Renderer::new(
+        FaultInjector::one_failing(tracers, 1, fault),
+        by_name("cost-aware").unwrap(),
+    );
+    renderer.set_stealing(stealing);
     let mut reference_tracer = tracer(&prepared, Sampling::Mis);
     let mut reports = Vec::new();
-    for f in 0..6 {
-        let mut params = FrameParams::new(16, 24, 2, prepared.camera);
-        params.frame = f;
-        let frame = renderer.render_frame(&params).expect("frame completes");
-        assert!(
-            frame.film == render_with(&mut reference_tracer, &params),
-            "frame {f} differs"
-        );
-        reports.extend(frame.failures);
-    }
-    assert_eq!(reports.len(), 1, "the failure is reported exactly once");
-    assert_eq!(reports[0].tracer, 1);
-    assert!(reports[0].message.contains("injected fault at band 1"));
-    assert_eq!(renderer.alive(), vec![0, 2]);
-}
-
-#[test]
-fn a_tracer_killed_mid_run_loses_no_line_of_any_frame() {
-    init();
-    let prepared = scene();
-    let spec: DeviceSpec = "lavapipe:1,1,1".parse().unwrap();
-    // Tracer 1 fails from frame 2 on, as a lost device would.
-    let tracers: Vec<FaultInjector<_>> = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis)
-        .unwrap()
-        .into_iter()
-        .enumerate()
-        .map(|(i, t)| {
-            if i == 1 {
-                FaultInjector::failing_from(t, 2)
-            } else {
-                FaultInjector::healthy(t)
-            }
-        })
-        .collect();
-    let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
-    let mut reference_tracer = tracer(&prepared, Sampling::Mis);
-    let mut reports = Vec::new();
-    for f in 0..5 {
+    for f in 0..frames {
         let mut params = FrameParams::new(16, 24, 2, prepared.camera);
         params.frame = f;
         let frame = renderer.render_frame(&params).expect("frame completes");
@@ -146,10 +108,33 @@ fn a_tracer_killed_mid_run_loses_no_line_of_any_frame() {
         );
         reports.extend(frame.failures);
     }
+    (reports, renderer.alive())
+}
+
+#[test]
+fn a_tracer_dying_with_a_claimed_chunk_loses_no_pixel() {
+    // Tracer 1 renders its head and fails on the first piece it claims (its second band of
+    // a frame), whichever frame that is.
+    let (reports, alive) = play_with_tracer_1_failing(
+        |t| FaultInjector::failing_at_band_of_frame(t, 1),
+        Some(greedy()),
+        6,
+    );
+    assert_eq!(reports.len(), 1, "the failure is reported exactly once");
+    assert_eq!(reports[0].tracer, 1);
+    assert!(reports[0].message.contains("injected fault at band 1"));
+    assert_eq!(alive, vec![0, 2]);
+}
+
+#[test]
+fn a_tracer_killed_mid_run_loses_no_line_of_any_frame() {
+    // Tracer 1 fails from frame 2 on, as a lost device would.
+    let (reports, alive) =
+        play_with_tracer_1_failing(|t| FaultInjector::failing_from(t, 2), None, 5);
     assert_eq!(reports.len(), 1, "the failure is reported exactly once");
     assert_eq!((reports[0].tracer, reports[0].frame), (1, 2));
     assert!(reports[0].message.contains("injected fault"));
-    assert_eq!(renderer.alive(), vec![0, 2]);
+    assert_eq!(alive, vec![0, 2]);
 }
 
 #[test]

@@ -289,15 +289,11 @@ fn one_and_three_tracers_give_the_same_bits_under_every_balancer() {
         assert_no_validation_messages(t);
     }
     for lost_after in [0, 1] {
-        let tracers = create_tracers(&spec, &prepared.gpu, true, Sampling::Mis).unwrap();
-        let tracers: Vec<FaultInjector<Tracer>> = tracers
-            .into_iter()
-            .enumerate()
-            .map(|(i, t)| match i {
-                1 => FaultInjector::failing_after_bands(t, lost_after),
-                _ => FaultInjector::healthy(t),
-            })
-            .collect();
+        let tracers = FaultInjector::one_failing(
+            create_tracers(&spec, &prepared.gpu, true, Sampling::Mis).unwrap(),
+            1,
+            |t| FaultInjector::failing_after_bands(t, lost_after),
+        );
         let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
         let p = platoon::method_update::on_renderer(&mut renderer, &prepared.gpu, &params).unwrap();
         same(&p, &format!("tracer lost after {lost_after} bands"));
@@ -492,15 +488,11 @@ fn revalidating_on_three_tracers_gives_one_tracers_bits_under_every_balancer() {
     for t in &tracers {
         assert_no_validation_messages(t);
     }
-    let tracers: Vec<FaultInjector<Tracer>> = create_tracers(&spec, g, true, Sampling::Mis)
-        .unwrap()
-        .into_iter()
-        .enumerate()
-        .map(|(i, t)| match i {
-            1 => FaultInjector::failing_after_bands(t, 1),
-            _ => FaultInjector::healthy(t),
-        })
-        .collect();
+    let tracers = FaultInjector::one_failing(
+        create_tracers(&spec, g, true, Sampling::Mis).unwrap(),
+        1,
+        |t| FaultInjector::failing_after_bands(t, 1),
+    );
     let mut renderer = Renderer::new(tracers, by_name("cost-aware").unwrap());
     let p = platoon::method_update::on_renderer(&mut renderer, g, &params).unwrap();
     same(&p, "a tracer lost after a band");

@@ -30,6 +30,18 @@ impl<T> FaultInjector<T> {
             of_frame: (u32::MAX, 0),
         }
     }
+    /// `tracers`, all healthy but the one at `slot`, which `fault` makes fail.
+    pub fn one_failing(tracers: Vec<T>, slot: usize, fault: impl FnOnce(T) -> Self) -> Vec<Self> {
+        let mut fault = Some(fault);
+        tracers
+            .into_iter()
+            .enumerate()
+            .map(|(i, t)| match fault.take_if(|_| i == slot) {
+                Some(fault) => fault(t),
+                None => Self::healthy(t),
+            })
+            .collect()
+    }
     pub fn failing_at_band_of_frame(inner: T, band: u32) -> Self {
         FaultInjector {
             fail_at_band_of_frame: Some(band),
