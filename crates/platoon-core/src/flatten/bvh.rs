@@ -235,6 +235,26 @@ pub enum BuildQuality {
     /// skinned character's 4,672 triangles: 2.3 ms against 9 ms): PLOC with 5% of the nodes
     /// reinserted (obvhs' "medium").
     Deforming,
+    /// Static geometry past [`QUICK_BUILD_TRIANGLES`]: split top-down by binned SAH
+    /// ([`super::binned_sah`]), where [`BuildQuality::Static`]'s reinsertion grows to many
+    /// seconds (the Cornell box cut into 3.24 million triangles: 10.7 s).
+    Quick,
+}
+
+/// Static meshes of more triangles than this are built [`BuildQuality::Quick`]: every scene of
+/// the bench and test suites (the atrium's 264k triangles the largest) keeps the tree, and so
+/// the images, it had.
+pub const QUICK_BUILD_TRIANGLES: usize = 1 << 20;
+
+impl BuildQuality {
+    /// The build of a static mesh of `triangles` triangles.
+    pub fn for_static(triangles: usize) -> BuildQuality {
+        if triangles > QUICK_BUILD_TRIANGLES {
+            BuildQuality::Quick
+        } else {
+            BuildQuality::Static
+        }
+    }
 }
 
 /// The obvhs build parameters of `quality`, without spatial pre-splits in either, so that every
@@ -242,11 +262,11 @@ pub enum BuildQuality {
 /// changed the atrium's SAH cost by +0.7% and the others' by nothing, docs/PERFORMANCE.md).
 pub fn build_params(quality: BuildQuality) -> BvhBuildParams {
     let mut p = match quality {
-        BuildQuality::Static => BvhBuildParams::very_slow_build(),
+        BuildQuality::Static | BuildQuality::Quick => BvhBuildParams::very_slow_build(),
         BuildQuality::Deforming => BvhBuildParams::medium_build(),
     };
     p.pre_split = false;
-    if quality == BuildQuality::Static {
+    if quality != BuildQuality::Deforming {
         p.collapse_traversal_cost = STATIC_COLLAPSE_TRAVERSAL_COST;
     }
     p
@@ -297,20 +317,47 @@ pub(crate) fn flatten_mesh(bvh: &Bvh2, original: &[u32]) -> FlatBvh {
     flat
 }
 
-/// The BVH of a mesh's triangles, built once ([`BuildQuality::Static`]). Triangles with an
+/// The BVH of a mesh's triangles, built once ([`BuildQuality::for_static`]). Triangles with an
 /// unplaceable corner (NaN or Inf from a file or from skinning) are left out of it, so they are
 /// never drawn.
 pub fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
+    build_mesh_bvh_at(mesh, None)
+}
+
+/// [`build_mesh_bvh`] at `quality` (None: by the size rule).
+pub fn build_mesh_bvh_at(mesh: &Mesh, quality: Option<BuildQuality>) -> FlatBvh {
     let (tris, original) = placeable_triangles(mesh);
     if tris.is_empty() {
         return FlatBvh::default();
     }
-    flatten_mesh(&build_bvh2(&tris, BuildQuality::Static), &original)
+    let quality = quality.unwrap_or(BuildQuality::for_static(tris.len()));
+    build_flat(&tris, &original, quality)
 }
 
-/// Per-mesh BVHs, built in parallel on the CPU threads.
-pub fn build_mesh_bvhs(meshes: &[std::sync::Arc<Mesh>]) -> Vec<FlatBvh> {
-    meshes.par_iter().map(|m| build_mesh_bvh(m)).collect()
+/// The flattened BVH of `tris` (mesh triangles `original`) at `quality`.
+pub fn build_flat(tris: &[Triangle], original: &[u32], quality: BuildQuality) -> FlatBvh {
+    match quality {
+        BuildQuality::Quick => {
+            let mut flat = super::binned_sah::build(tris, STATIC_COLLAPSE_TRAVERSAL_COST);
+            for o in &mut flat.order {
+                *o = original[*o as usize];
+            }
+            flat
+        }
+        _ => flatten_mesh(&build_bvh2(tris, quality), original),
+    }
+}
+
+/// Per-mesh BVHs at `quality` (None: each by the size rule), built in parallel on the CPU
+/// threads.
+pub fn build_mesh_bvhs(
+    meshes: &[std::sync::Arc<Mesh>],
+    quality: Option<BuildQuality>,
+) -> Vec<FlatBvh> {
+    meshes
+        .par_iter()
+        .map(|m| build_mesh_bvh_at(m, quality))
+        .collect()
 }
 
 /// World-space box of an object-space box under `m`.

@@ -7,6 +7,7 @@
 //! the objects that never move; [`commit`] says what changed between two flattened scenes.
 
 pub mod arrays;
+pub mod binned_sah;
 pub mod bvh;
 mod bvh_report;
 pub mod commit;
@@ -69,8 +70,19 @@ impl GpuScene {
         posed: &Posed,
         environment: Option<&Environment>,
     ) -> Result<GpuScene> {
+        GpuScene::build_at(scene, posed, environment, None)
+    }
+
+    /// [`GpuScene::build`] with every mesh's BVH built at `quality` (None: by the size rule,
+    /// [`bvh::BuildQuality::for_static`]).
+    pub fn build_at(
+        scene: &Scene,
+        posed: &Posed,
+        environment: Option<&Environment>,
+        quality: Option<bvh::BuildQuality>,
+    ) -> Result<GpuScene> {
         let meshes = geometry::used_meshes(posed);
-        let (mesh_bvhs, mesh_time) = bvh::timed(|| bvh::build_mesh_bvhs(&meshes));
+        let (mesh_bvhs, mesh_time) = bvh::timed(|| bvh::build_mesh_bvhs(&meshes, quality));
         let capacity: Vec<usize> = mesh_bvhs.iter().map(|b| b.nodes.len()).collect();
         let refs: Vec<&FlatBvh> = mesh_bvhs.iter().collect();
         let mut g = GpuScene::build_with(scene, posed, environment, &refs, &capacity)?;

@@ -1,0 +1,421 @@
+//! A top-down BVH build by the surface area heuristic over binned centroids (Wald 2007, "On fast
+//! Construction of SAH-based Bounding Volume Hierarchies"), straight into the kernel's layout:
+//! the quick build of big static geometry ([`super::bvh::BuildQuality::Quick`]).
+//!
+//! obvhs builds bottom-up (PLOC), which on finely tessellated surfaces needs every node
+//! reinserted to reach a good tree: the Cornell box cut into 3.24 million triangles takes 10.7 s
+//! that way (SAH cost 53), and PLOC with little reinsertion leaves boxes that overlap widely
+//! (1.1 s, SAH 876: rays visit 16 times the nodes). Splitting top-down where the SAH says gives
+//! a tree of nearly the reinserted one's cost in a fraction of the time (docs/PERFORMANCE.md,
+//! "Scenes of production size").
+//!
+//! Deterministic: the same triangles give the same bytes whatever the threads building it (the
+//! subtrees built in parallel are joined in a fixed order).
+
+use glam::{Vec3, Vec3A};
+use obvhs::triangle::Triangle;
+
+use super::bvh::{item, BvhNode, FlatBvh, MAX_LEAF_ITEM};
+
+/// Bins per axis: 32 finds splits as good as a full sweep on real meshes (Wald 2007).
+const BINS: usize = 32;
+
+/// Above this depth subtrees are built on their own threads (2^4 = 16 tasks).
+const PARALLEL_DEPTH: u32 = 4;
+
+/// Subtrees under this many primitives are built on the thread that reached them.
+const PARALLEL_PRIMITIVES: usize = 4096;
+
+#[derive(Clone, Copy)]
+struct Bounds {
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+impl Bounds {
+    const EMPTY: Bounds = Bounds {
+        lo: Vec3A::splat(f32::INFINITY),
+        hi: Vec3A::splat(f32::NEG_INFINITY),
+    };
+
+    fn grow(&mut self, o: &Bounds) {
+        self.lo = self.lo.min(o.lo);
+        self.hi = self.hi.max(o.hi);
+    }
+
+    fn grow_point(&mut self, p: Vec3A) {
+        self.lo = self.lo.min(p);
+        self.hi = self.hi.max(p);
+    }
+
+    /// Half the surface area (the heuristic only compares areas).
+    fn half_area(&self) -> f32 {
+        let d = (self.hi - self.lo).max(Vec3A::ZERO);
+        d.x * d.y + d.y * d.z + d.z * d.x
+    }
+}
+
+/// What the build reads of each primitive.
+struct Primitives {
+    bounds: Vec<Bounds>,
+    centroids: Vec<Vec3A>,
+    /// A node step's cost in triangle tests.
+    traversal_cost: f32,
+}
+
+/// A subtree built on its own: its nodes (root first when it is an inner node) with items
+/// local to this list, and its root item.
+struct Subtree {
+    nodes: Vec<BvhNode>,
+    root: u32,
+    bounds: Bounds,
+}
+
+/// The BVH of `tris` (leaves name positions of `order`, which holds triangle indices) by binned
+/// SAH, a node step costing `traversal_cost` triangle tests.
+pub fn build(tris: &[Triangle], traversal_cost: f32) -> FlatBvh {
+    if tris.is_empty() {
+        return FlatBvh::default();
+    }
+    let bounds: Vec<Bounds> = tris
+        .iter()
+        .map(|t| {
+            let mut b = Bounds::EMPTY;
+            for v in [t.v0, t.v1, t.v2] {
+                b.grow_point(v);
+            }
+            b
+        })
+        .collect();
+    let centroids = bounds.iter().map(|b| (b.lo + b.hi) * 0.5).collect();
+    let prims = Primitives {
+        bounds,
+        centroids,
+        traversal_cost,
+    };
+    let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+    let tree = subtree(&prims, &mut order, 0, 0);
+    FlatBvh {
+        nodes: tree.nodes,
+        root: tree.root,
+        order,
+        bounds: (Vec3::from(tree.bounds.lo), Vec3::from(tree.bounds.hi)),
+    }
+}
+
+/// The subtree over `order` (whose first position is `first` in the whole order).
+fn subtree(p: &Primitives, order: &mut [u32], first: u32, depth: u32) -> Subtree {
+    let bounds = bounds_of(p, order);
+    let Some(split) = choose_split(p, order, &bounds) else {
+        let root = leaf(first, order.len() as u32);
+        return Subtree {
+            nodes: Vec::new(),
+            root,
+            bounds,
+        };
+    };
+    let mid = partition(p, order, split);
+    let n = order.len();
+    let (left, right) = order.split_at_mut(mid);
+    let second = first + mid as u32;
+    if depth >= PARALLEL_DEPTH || n < PARALLEL_PRIMITIVES {
+        let mut nodes = Vec::with_capacity(2 * (left.len() + right.len()) / 3);
+        nodes.push(BvhNode::default());
+        let a = build_into(p, left, first, &mut nodes);
+        let b = build_into(p, right, second, &mut nodes);
+        nodes[0] = BvhNode::pair(a, b);
+        return Subtree {
+            nodes,
+            root: item(0, 0),
+            bounds,
+        };
+    }
+    let (a, b) = rayon::join(
+        || subtree(p, left, first, depth + 1),
+        || subtree(p, right, second, depth + 1),
+    );
+    let mut nodes = Vec::with_capacity(1 + a.nodes.len() + b.nodes.len());
+    nodes.push(BvhNode::default());
+    let child = |t: Subtree, nodes: &mut Vec<BvhNode>| {
+        let base = nodes.len() as u32;
+        let moved = |it: u32| moved_item(it, base);
+        nodes.extend(t.nodes.iter().map(|n| BvhNode {
+            item0: moved(n.item0),
+            item1: moved(n.item1),
+            ..*n
+        }));
+        (
+            Vec3::from(t.bounds.lo),
+            Vec3::from(t.bounds.hi),
+            moved(t.root),
+        )
+    };
+    let ca = child(a, &mut nodes);
+    let cb = child(b, &mut nodes);
+    nodes[0] = BvhNode::pair(ca, cb);
+    Subtree {
+        nodes,
+        root: item(0, 0),
+        bounds,
+    }
+}
+
+/// An inner node's item moved `base` nodes down the list; a leaf's unchanged.
+fn moved_item(it: u32, base: u32) -> u32 {
+    let (index, count) = super::bvh::unpack_item(it);
+    if count == 0 {
+        item(index + base, 0)
+    } else {
+        it
+    }
+}
+
+/// Builds the subtree over `order` into `nodes` (sequentially): its (lo, hi, item).
+fn build_into(
+    p: &Primitives,
+    order: &mut [u32],
+    first: u32,
+    nodes: &mut Vec<BvhNode>,
+) -> (Vec3, Vec3, u32) {
+    let bounds = bounds_of(p, order);
+    let (lo, hi) = (Vec3::from(bounds.lo), Vec3::from(bounds.hi));
+    let Some(split) = choose_split(p, order, &bounds) else {
+        return (lo, hi, leaf(first, order.len() as u32));
+    };
+    let mid = partition(p, order, split);
+    let index = nodes.len();
+    nodes.push(BvhNode::default());
+    let (left, right) = order.split_at_mut(mid);
+    let a = build_into(p, left, first, nodes);
+    let b = build_into(p, right, first + mid as u32, nodes);
+    nodes[index] = BvhNode::pair(a, b);
+    (lo, hi, item(index as u32, 0))
+}
+
+/// A leaf of `count` primitives from `first` ([`choose_split`] splits any more than an item
+/// names).
+fn leaf(first: u32, count: u32) -> u32 {
+    debug_assert!(count <= MAX_LEAF_ITEM);
+    item(first, count)
+}
+
+fn bounds_of(p: &Primitives, order: &[u32]) -> Bounds {
+    let mut b = Bounds::EMPTY;
+    for &i in order {
+        b.grow(&p.bounds[i as usize]);
+    }
+    b
+}
+
+/// Where to cut: on `axis`, centroids in bins below `bin` go left.
+#[derive(Clone, Copy)]
+enum Split {
+    Bin {
+        axis: usize,
+        bin: usize,
+        lo: f32,
+        scale: f32,
+    },
+    /// Every centroid in one point: halves by position in the order.
+    Median,
+}
+
+/// The cheapest split of `order` by the SAH, or None where a leaf costs less (and holds them).
+fn choose_split(p: &Primitives, order: &[u32], bounds: &Bounds) -> Option<Split> {
+    let n = order.len();
+    if n <= 1 {
+        return None;
+    }
+    let mut centre = Bounds::EMPTY;
+    for &i in order {
+        centre.grow_point(p.centroids[i as usize]);
+    }
+    let extent = centre.hi - centre.lo;
+    let leaf_cost = n as f32;
+    let area = bounds.half_area();
+    let mut best: Option<(f32, Split)> = None;
+    for axis in 0..3 {
+        // Zero or NaN: no spread of centroids on this axis to cut.
+        if extent[axis].is_nan() || extent[axis] <= 0.0 {
+            continue;
+        }
+        let lo = centre.lo[axis];
+        // Just under BINS / extent, so the largest centroid lands in the last bin.
+        let scale = BINS as f32 * (1.0 - 1e-6) / extent[axis];
+        let mut boxes = [Bounds::EMPTY; BINS];
+        let mut counts = [0u32; BINS];
+        for &i in order {
+            let bin = bin_of(p.centroids[i as usize][axis], lo, scale);
+            counts[bin] += 1;
+            boxes[bin].grow(&p.bounds[i as usize]);
+        }
+        // Areas and counts right of each cut, then a sweep from the left.
+        let mut right_area = [0.0f32; BINS];
+        let mut right_count = [0u32; BINS];
+        let mut acc = Bounds::EMPTY;
+        let mut count = 0;
+        for b in (1..BINS).rev() {
+            acc.grow(&boxes[b]);
+            count += counts[b];
+            right_area[b] = acc.half_area();
+            right_count[b] = count;
+        }
+        let mut left = Bounds::EMPTY;
+        let mut left_count = 0;
+        for b in 1..BINS {
+            left.grow(&boxes[b - 1]);
+            left_count += counts[b - 1];
+            if left_count == 0 || right_count[b] == 0 {
+                continue;
+            }
+            let cost = left.half_area() * left_count as f32 + right_area[b] * right_count[b] as f32;
+            if best.is_none_or(|(c, _)| cost < c) {
+                best = Some((
+                    cost,
+                    Split::Bin {
+                        axis,
+                        bin: b,
+                        lo,
+                        scale,
+                    },
+                ));
+            }
+        }
+    }
+    let split_cost = |cost: f32| {
+        if area > 0.0 {
+            p.traversal_cost + cost / area
+        } else {
+            p.traversal_cost
+        }
+    };
+    match best {
+        Some((cost, split)) if n as u32 > MAX_LEAF_ITEM || split_cost(cost) < leaf_cost => {
+            Some(split)
+        }
+        Some(_) => None,
+        // Centroids in one point: halves, until a leaf can hold them.
+        None if n as u32 > MAX_LEAF_ITEM => Some(Split::Median),
+        None => None,
+    }
+}
+
+fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
+    (((c - lo) * scale) as usize).min(BINS - 1)
+}
+
+/// Moves `order`'s primitives left of `split` to its front (in a stable way: the order of
+/// each side is the order they had); returns how many.
+fn partition(p: &Primitives, order: &mut [u32], split: Split) -> usize {
+    match split {
+        Split::Median => order.len() / 2,
+        Split::Bin {
+            axis,
+            bin,
+            lo,
+            scale,
+        } => {
+            let goes_left = |i: u32| bin_of(p.centroids[i as usize][axis], lo, scale) < bin;
+            let mut right = Vec::new();
+            let mut kept = 0;
+            for k in 0..order.len() {
+                let i = order[k];
+                if goes_left(i) {
+                    order[kept] = i;
+                    kept += 1;
+                } else {
+                    right.push(i);
+                }
+            }
+            order[kept..].copy_from_slice(&right);
+            kept
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flatten::bvh::{build_bvh2, flatten_mesh, placeable_triangles, BuildQuality};
+
+    fn tessellated(cells: u32) -> (Vec<Triangle>, Vec<u32>) {
+        let scene = crate::scene::cornell::tessellated(cells);
+        placeable_triangles(&scene.meshes[0])
+    }
+
+    #[test]
+    fn every_triangle_is_in_exactly_one_leaf_under_a_box_that_holds_it() {
+        let (tris, _) = tessellated(12);
+        let bvh = build(&tris, 1.5);
+        let mut seen = vec![0; tris.len()];
+        let mut boxes = vec![(Vec3::ZERO, Vec3::ZERO); tris.len()];
+        let mut visit = vec![(bvh.bounds.0, bvh.bounds.1, bvh.root)];
+        while let Some((lo, hi, it)) = visit.pop() {
+            let (index, count) = super::super::bvh::unpack_item(it);
+            if count == 0 {
+                let n = &bvh.nodes[index as usize];
+                visit.push((n.min0.into(), n.max0.into(), n.item0));
+                visit.push((n.min1.into(), n.max1.into(), n.item1));
+                continue;
+            }
+            for k in index..index + count {
+                let t = bvh.order[k as usize] as usize;
+                seen[t] += 1;
+                boxes[t] = (lo, hi);
+            }
+        }
+        assert!(seen.iter().all(|&s| s == 1));
+        for (t, (lo, hi)) in tris.iter().zip(boxes) {
+            for v in [t.v0, t.v1, t.v2] {
+                let v = Vec3::from(v);
+                assert!(v.cmpge(lo).all() && v.cmple(hi).all());
+            }
+        }
+    }
+
+    #[test]
+    fn tessellated_walls_cost_rays_about_what_the_reinserted_tree_costs() {
+        let (tris, original) = tessellated(24);
+        let quick = build(&tris, 1.5).sah_cost();
+        let fine = flatten_mesh(&build_bvh2(&tris, BuildQuality::Static), &original).sah_cost();
+        let ploc = flatten_mesh(&build_bvh2(&tris, BuildQuality::Deforming), &original).sah_cost();
+        assert!(
+            quick < 1.3 * fine,
+            "binned {quick} against reinserted {fine}"
+        );
+        assert!(quick < 0.5 * ploc, "binned {quick} against PLOC {ploc}");
+    }
+
+    #[test]
+    fn a_build_gives_the_same_bytes_whatever_the_threads_building_it() {
+        let (tris, _) = tessellated(40);
+        let build_on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let b = pool.install(|| build(&tris, 1.5));
+            let mut out = bytemuck::cast_slice::<BvhNode, u8>(&b.nodes).to_vec();
+            out.extend(b.root.to_le_bytes());
+            out.extend(bytemuck::cast_slice::<u32, u8>(&b.order));
+            out
+        };
+        let one = build_on(1);
+        for threads in [2, 3] {
+            assert!(build_on(threads) == one, "{threads} threads");
+        }
+    }
+
+    #[test]
+    fn coincident_centroids_are_split_into_leaves_an_item_can_name() {
+        let t = Triangle {
+            v0: Vec3A::ZERO,
+            v1: Vec3A::X,
+            v2: Vec3A::Y,
+        };
+        let bvh = build(&vec![t; 40], 1.5);
+        let total: u32 = bvh.leaves().map(|(_, c)| c).sum();
+        assert_eq!(total, 40);
+        assert!(bvh.leaves().all(|(_, c)| c <= MAX_LEAF_ITEM));
+    }
+}
