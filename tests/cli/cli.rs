@@ -1320,6 +1320,59 @@ fn the_environment_turns_and_scales_as_its_map_would() {
     assert_refused(&["--env-rotation", "nan"], "--env-rotation", &out);
 }
 
+#[test]
+fn a_scene_over_the_device_memory_limit_is_refused_before_upload_naming_the_sizes() {
+    // Issue 59: a limit below the scene's arrays refuses it on the device, naming the device,
+    // what the scene needs and the limit, and writes nothing; a limit that holds it renders,
+    // and the log's line says what each stage cost.
+    let dir = tempfile::tempdir().unwrap();
+    let refused = dir.path().join("refused.png");
+    let o = Cli::new("render")
+        .spp(1)
+        .size(8, 8)
+        .flag("--device-memory-limit", "1K")
+        .out(&refused)
+        .run();
+    let e = stderr(&o);
+    assert!(!o.status.success(), "{e}");
+    for says in [
+        "device 0 (llvmpipe",
+        "the scene needs",
+        "more than the device-memory limit of 1.00 KiB",
+        "refused before upload",
+    ] {
+        assert!(e.contains(says), "{says:?} not in {e}");
+    }
+    assert!(!refused.exists());
+    assert_refused(
+        &["--device-memory-limit", "none"],
+        "not an amount of memory",
+        &refused,
+    );
+    let out = dir.path().join("held.png");
+    let o = Cli::new("render")
+        .spp(1)
+        .size(8, 8)
+        .flag("--device-memory-limit", "64M")
+        .arg("--log-json")
+        .out(&out)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let line = String::from_utf8_lossy(&o.stdout).to_string();
+    let v: serde_json::Value = serde_json::from_str(line.trim()).unwrap();
+    let cost = &v["cost"];
+    assert_eq!(cost["triangles"], 32, "{line}");
+    let device = cost["device_bytes"][0].as_u64().unwrap();
+    assert!(device > 0 && device < 64 << 20, "{line}");
+    assert!(cost["peak_host_bytes"].as_u64().unwrap() > device, "{line}");
+    let stages = ["load", "prepare", "upload", "first_pixel", "render"];
+    for s in stages {
+        let t = cost[format!("{s}_seconds")].as_f64().unwrap();
+        assert!((0.0..600.0).contains(&t), "{s}: {line}");
+    }
+    assert!(stderr(&o).contains("first pixel at"), "{}", stderr(&o));
+}
+
 /// `render` with `flags` fails saying `says`, and leaves no image at `out`.
 fn assert_refused(flags: &[&str], says: &str, out: &Path) {
     let o = Cli::new("render")

@@ -4,6 +4,7 @@
 #[cfg(feature = "lab")]
 mod balancer_arg;
 mod bench;
+mod bytes_arg;
 mod devices;
 mod display_args;
 mod info;

@@ -210,7 +210,8 @@ impl Mitsuba {
         ))
     }
 
-    fn command(&self, xml: &Path) -> Command {
+    /// The command that renders `xml` (an exported scene) with Mitsuba.
+    pub fn command(&self, xml: &Path) -> Command {
         let mut c = Command::new(&self.python);
         c.arg(&self.script).arg("--scene").arg(xml);
         c

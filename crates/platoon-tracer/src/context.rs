@@ -25,6 +25,8 @@ pub struct DeviceInfo {
     /// The Mesa release (major, minor) of a Mesa driver (lavapipe, RADV, ANV...), read from its
     /// driverInfo; `None` for other drivers.
     pub mesa: Option<(u32, u32)>,
+    /// What the device's memory holds: its heaps and the largest allocation and buffer.
+    pub memory: crate::memory_budget::DeviceMemory,
 }
 
 impl DeviceInfo {
@@ -117,10 +119,26 @@ fn create_instance(entry: &ash::Entry, validation: bool) -> Result<ash::Instance
 }
 
 fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> DeviceInfo {
+    let api = unsafe { instance.get_physical_device_properties(pd) }.api_version;
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
-    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+    let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
+    let mut maintenance4 = vk::PhysicalDeviceMaintenance4Properties::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default()
+        .push_next(&mut driver)
+        .push_next(&mut maintenance3);
+    // maxBufferSize is core from Vulkan 1.3; an older device's chain must not name it.
+    let has_maintenance4 = api >= vk::API_VERSION_1_3;
+    if has_maintenance4 {
+        props2 = props2.push_next(&mut maintenance4);
+    }
     unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
     let p = props2.properties;
+    let heaps = unsafe { instance.get_physical_device_memory_properties(pd) };
+    let memory = crate::memory_budget::DeviceMemory::of(
+        &heaps,
+        maintenance3.max_memory_allocation_size,
+        has_maintenance4.then_some(maintenance4.max_buffer_size),
+    );
     let name = p
         .device_name_as_c_str()
         .map(|c| c.to_string_lossy().into_owned())
@@ -148,6 +166,7 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
         max_texel_buffer_elements: p.limits.max_texel_buffer_elements as u64,
         cpu: p.device_type == vk::PhysicalDeviceType::CPU,
         mesa,
+        memory,
         name,
         device_type: device_type.into(),
         driver: format!("{driver_name} {driver_info}").trim().to_string(),

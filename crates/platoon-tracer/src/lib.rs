@@ -13,6 +13,7 @@ mod globals;
 mod gpu;
 mod kernel;
 mod memory;
+pub mod memory_budget;
 mod method;
 pub mod stop;
 mod tracer;

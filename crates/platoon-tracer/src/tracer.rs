@@ -15,6 +15,7 @@ use crate::globals::Globals;
 use crate::gpu::Gpu;
 use crate::kernel::Sampling;
 use crate::memory::{self, ArrayPath, MemoryPath, SceneDescriptors, SCENE_ARRAYS};
+use crate::memory_budget;
 use crate::method::MethodPasses;
 use crate::Result;
 
@@ -33,6 +34,9 @@ pub struct TracerOptions {
     /// a number for the kind of device. Fewer than a band's pixels make slots take pixel after
     /// pixel.
     pub stream_slots: Option<u32>,
+    /// Device memory the scene's arrays may take, in bytes (below what the device has): a
+    /// scene over it is refused before upload (`memory_budget`).
+    pub memory_limit: Option<u64>,
 }
 
 pub(crate) struct SceneBuffers {
@@ -88,6 +92,7 @@ impl Tracer {
             memory: options.memory,
             filter_planes: None,
         };
+        tracer.check_memory(scene, options.memory_limit)?;
         tracer.upload_scene(scene)?;
         tracer.bind_scene_arrays()?;
         Ok(tracer)
@@ -190,6 +195,24 @@ impl Tracer {
             }
         }
         self.gpu.write_buffers(&staged)
+    }
+
+    /// Refuses `s` when its arrays do not fit this device (or `limit`), before any is made.
+    fn check_memory(&self, s: &GpuScene, limit: Option<u64>) -> Result<()> {
+        let arrays: Vec<(&str, u64)> = SCENE_ARRAYS
+            .iter()
+            .zip(memory::scene_array_bytes(s))
+            .map(|(a, bytes)| (a.name, bytes.len() as u64))
+            .collect();
+        let info = &self.gpu.ctx.info;
+        let budget = memory_budget::budget(info, limit, memory_budget::host_memory());
+        memory_budget::check(info, &arrays, budget, limit.is_some_and(|l| l <= budget))
+    }
+
+    /// Device memory this tracer's buffers take, in bytes (scene arrays, frame buffers, method
+    /// buffers; the allocator reserves it in blocks of 64 MiB and more).
+    pub fn device_bytes(&self) -> u64 {
+        self.gpu.allocator.generate_report().total_allocated_bytes
     }
 
     fn upload_scene(&mut self, s: &GpuScene) -> Result<()> {

@@ -210,6 +210,7 @@ mod tests {
             max_texel_buffer_elements: 1 << 27,
             cpu,
             mesa: None,
+            memory: Default::default(),
         }
     }
 

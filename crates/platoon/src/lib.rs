@@ -29,6 +29,7 @@
 pub mod animation;
 pub mod aov;
 pub mod batched;
+pub mod cost;
 pub mod devices;
 pub mod distributed;
 pub mod game;

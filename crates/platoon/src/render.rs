@@ -215,6 +215,15 @@ impl Tracers {
         }
     }
 
+    /// Device memory each tracer of this process holds, in bytes.
+    pub fn device_bytes(&self) -> Vec<u64> {
+        match self {
+            Tracers::One(t) => vec![t.device_bytes()],
+            Tracers::Many(r) => r.with_tracers(|t| t.device_bytes()),
+            Tracers::Ranks(r) => r.local().with_tracers(|t| t.device_bytes()),
+        }
+    }
+
     /// The processes rendering each frame (1 unless over the ranks of a job).
     pub fn ranks(&self) -> usize {
         match self {

@@ -10,6 +10,7 @@ pub mod atrium;
 pub mod bench;
 pub mod many_lights;
 pub mod materials;
+pub mod scale;
 pub mod twins;
 
 /// One mesh as flat arrays.

@@ -8,6 +8,7 @@ mod game_costs;
 mod game_error;
 mod kernel;
 mod realtime;
+mod scale;
 mod scenes;
 
 use anyhow::{Context as _, Result};
@@ -20,6 +21,9 @@ pub enum BenchMode {
     /// The bench scenes (scenes as exporters write them) as whole renders against Mitsuba 3
     /// on the same scenes and cores, when it is installed: seconds, samples/s and the ratio.
     Scenes(scenes::ScenesArgs),
+    /// Scenes of production size (millions of triangles and instances, hundreds of large
+    /// textures) as whole renders: load, BVH build, first pixel, host and device memory.
+    Scale(scale::ScaleArgs),
     /// A living scene: walking characters and moving objects over the sphere field,
     /// double-buffered updates and commits, against the scene standing still.
     Dynamic(dynamic::DynamicArgs),
@@ -40,6 +44,7 @@ pub fn run(mode: BenchMode) -> Result<()> {
     match mode {
         BenchMode::Kernel(a) => kernel::run(&a).context("bench kernel failed"),
         BenchMode::Scenes(a) => scenes::run(&a).context("bench scenes failed"),
+        BenchMode::Scale(a) => scale::run(&a).context("bench scale failed"),
         BenchMode::Dynamic(a) => dynamic::run(&a).context("bench dynamic failed"),
         BenchMode::Game(a) => game::run(&a).context("bench game failed"),
         BenchMode::Balance(a) => balance::run(a),

@@ -131,6 +131,10 @@ pub struct RenderArgs {
     /// image on every path.
     #[arg(long, value_enum, default_value = "auto")]
     pub(super) memory: MemoryArg,
+    /// Device memory the scene may take on each device (bytes, or 512M, 2G...): a scene over
+    /// it, or over what a device has, is refused before upload, naming the device and sizes.
+    #[arg(long, value_parser = crate::bytes_arg::parse_bytes)]
+    pub(super) device_memory_limit: Option<u64>,
     #[arg(long, short, default_value = "render.png")]
     pub(super) out: PathBuf,
     /// AOVs written as layers of the EXR beside the beauty, comma-separated: albedo, normal

@@ -1,7 +1,8 @@
 //! What `render` says of each frame on standard output: a line of text (`frame N: ok ...`), or
 //! with `--log-json` one JSON object a line, for farm tools: `frame`, `status` (ok, skipped,
 //! failed; a still's: ok or interrupted), `file`, `seconds`, `rank` over a farm's ranks,
-//! `error` of a failure, and a still's `spp`, `width`, `height`, `samples_per_second`.
+//! `error` of a failure, and a still's `spp`, `width`, `height`, `samples_per_second` and `cost`
+//! (its stages and memory, [`cost_json`]).
 
 use std::path::Path;
 
@@ -50,6 +51,23 @@ impl FrameLog {
     pub fn still(&self, fields: Value) -> Option<String> {
         self.json.then(|| fields.to_string())
     }
+}
+
+/// What a render cost, stage by stage, as a still's `cost` field (seconds and bytes; what
+/// `platoon bench scale` reads).
+pub fn cost_json(c: &platoon::cost::RenderCost) -> Value {
+    json!({
+        "load_seconds": c.load.as_secs_f64(),
+        "prepare_seconds": c.prepare.as_secs_f64(),
+        "bvh_seconds": c.bvh.as_secs_f64(),
+        "upload_seconds": c.upload.as_secs_f64(),
+        "first_pixel_seconds": c.first_pixel.as_secs_f64(),
+        "render_seconds": c.render.as_secs_f64(),
+        "peak_host_bytes": c.peak_host_bytes,
+        "device_bytes": c.device_bytes,
+        "triangles": c.triangles,
+        "instances": c.instances,
+    })
 }
 
 fn with_rank(v: &mut Value, rank: Option<usize>) {

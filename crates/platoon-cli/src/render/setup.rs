@@ -41,6 +41,8 @@ pub(super) struct Setup {
     /// When the command began (before the scene was read): what a render's time in all counts
     /// from.
     pub(super) started: std::time::Instant,
+    /// How long reading the scene took.
+    pub(super) load_time: std::time::Duration,
     /// How a PNG or a video shows the image.
     pub(super) image: platoon::core::output::ImageOptions,
     /// The scene's camera, or one given (`--camera-position`, `--look-at`, `--fov`).
@@ -145,6 +147,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         sampling,
         validation,
         memory,
+        device_memory_limit,
         out,
         aov,
         denoise,
@@ -223,6 +226,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
             MemoryArg::StorageBuffers => MemoryPath::StorageBuffers,
             MemoryArg::DeviceAddress => MemoryPath::DeviceAddress,
         },
+        device_memory_limit,
         validation,
         aovs,
         denoiser: denoise,
@@ -236,7 +240,9 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         bail!("--time-limit renders on one device: shares of a frame cut at different times on the ranks would break the image's independence from the split (--mpi-frames renders whole frames, each with the limit)");
     }
     let tracers = request.tracer_options().map_err(any_as_flags)?;
+    let loading = std::time::Instant::now();
     let loaded = request.load_scene()?;
+    let load_time = loading.elapsed();
     let options = request.prepare_options(&loaded).map_err(any_as_flags)?;
     let farm = frames.mpi_frames.is_some();
     let session = if mpi || farm {
@@ -248,6 +254,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     let placeholder = platoon::core::scene::camera::Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0);
     let setup = Setup {
         started,
+        load_time,
         image,
         camera: request.camera.clone(),
         scene: loaded,

@@ -27,7 +27,17 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
             eprintln!("note: {note}");
         }
     }
+    let uploading = std::time::Instant::now();
     let mut tracers = setup.tracers(&prepared.gpu)?;
+    let mut cost = platoon::cost::RenderCost {
+        load: setup.load_time,
+        prepare: prepared.prepare_time,
+        bvh: prepared.gpu.build_times.meshes + prepared.gpu.build_times.instances,
+        upload: uploading.elapsed(),
+        triangles: prepared.gpu.triangle_count,
+        instances: prepared.gpu.instances.len(),
+        ..Default::default()
+    };
     let time = setup.options.time;
     let interval = platoon::request::DEFAULT_FRAME_INTERVAL;
     let previous = setup.previous_frame(time, interval, prepared.posed.origin)?;
@@ -53,7 +63,14 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         true => checkpoint::resume(&out, &mut params, &key)?,
         false => 0,
     };
-    let mut rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching)?;
+    let mut first_pass = None;
+    let mut rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching, &mut || {
+        first_pass.get_or_insert(started.elapsed());
+    })?;
+    cost.first_pixel = first_pass.unwrap_or(started.elapsed());
+    cost.render = rendered.wall_time;
+    cost.device_bytes = tracers.device_bytes();
+    cost.peak_host_bytes = platoon::cost::peak_host_bytes();
     if resumed > 0 {
         // The sums hold the checkpoint's samples too: the image is of all of them.
         rendered.average_over(rendered.spp + resumed);
@@ -118,6 +135,7 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         rendered.rejected_samples(),
         started.elapsed().as_secs_f64()
     );
+    eprintln!("  {}", cost.line());
     report_method(rendered, &params.method);
     if let Some(told) = told {
         eprintln!("note: {told}");
@@ -131,6 +149,7 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         "width": params.width,
         "height": params.height,
         "samples_per_second": samples / secs,
+        "cost": super::frame_log::cost_json(&cost),
     })) {
         println!("{line}");
     }
@@ -145,12 +164,14 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
 }
 
 /// Renders a frame with a progress bar over its samples (one tracer) or a spinner (several,
-/// which render on their own threads), then prints the tracers' shares.
+/// which render on their own threads), then prints the tracers' shares. `passed` hears each
+/// pass of samples one tracer finishes (several tracers: none).
 fn render_frame(
     tracers: &mut Tracers,
     scene: &platoon::core::flatten::GpuScene,
     params: &FrameParams,
     batching: &Batching,
+    passed: &mut dyn FnMut(),
 ) -> Result<platoon::Rendered> {
     let rendered = if tracers.rank() != 0 {
         tracers.render_batched(scene, params, batching, &mut |_| {})?
@@ -161,6 +182,9 @@ fn render_frame(
                 .unwrap(),
         );
         let r = tracers.render_batched(scene, params, batching, &mut |done| {
+            if done > 0 {
+                passed();
+            }
             bar.set_position(done as u64)
         });
         bar.finish_and_clear();

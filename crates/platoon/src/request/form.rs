@@ -116,6 +116,9 @@ pub struct Request {
     /// How lines are split between devices (`platoon_core::balance::NAMES`).
     pub balancer: String,
     pub memory: MemoryPath,
+    /// Device memory the scene may take on each device, in bytes: a scene over it (or over
+    /// what the device has) is refused before upload, naming the device and the sizes.
+    pub device_memory_limit: Option<u64>,
     /// The Khronos validation layer.
     pub validation: bool,
     /// AOVs rendered beside the beauty.
@@ -169,6 +172,7 @@ impl Default for Request {
             devices: DeviceSpec::Auto,
             balancer: "cost-aware".into(),
             memory: MemoryPath::Auto,
+            device_memory_limit: None,
             validation: false,
             aovs: Vec::new(),
             denoiser: Denoiser::None,
@@ -242,6 +246,7 @@ impl Request {
             crate::devices::tracer_options(&self.devices, self.validation, self.sampling)?;
         for t in &mut tracers {
             t.memory = self.memory;
+            t.memory_limit = self.device_memory_limit;
         }
         self.validate_devices(tracers.len())?;
         Ok(tracers)

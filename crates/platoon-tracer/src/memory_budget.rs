@@ -1,0 +1,185 @@
+//! The device memory a scene's arrays take, checked against the device before anything is
+//! allocated: a scene too large for a device is refused naming the device, what the scene needs
+//! and what the device has, instead of failing inside the driver (an out-of-memory error from
+//! the allocator, or a buffer past `maxBufferSize` that a driver need not even report).
+
+use ash::vk;
+
+use crate::{DeviceInfo, Error, Result};
+
+/// What a device's memory can hold.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DeviceMemory {
+    /// The largest device-local heap in bytes: where a GPU's scene arrays live.
+    pub device_local: u64,
+    /// `maxMemoryAllocationSize` (Vulkan 1.1): the largest single allocation.
+    pub max_allocation: u64,
+    /// `maxBufferSize` (Vulkan 1.3); None on older devices, which state no such limit.
+    pub max_buffer: Option<u64>,
+}
+
+impl DeviceMemory {
+    pub fn of(
+        heaps: &vk::PhysicalDeviceMemoryProperties,
+        max_allocation: u64,
+        max_buffer: Option<u64>,
+    ) -> DeviceMemory {
+        let device_local = heaps.memory_heaps[..heaps.memory_heap_count as usize]
+            .iter()
+            .filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL))
+            .map(|h| h.size)
+            .max()
+            .unwrap_or(0);
+        DeviceMemory {
+            device_local,
+            max_allocation,
+            max_buffer,
+        }
+    }
+
+    /// The largest one array can be: one buffer in one allocation.
+    pub fn largest_array(&self) -> u64 {
+        self.max_buffer
+            .map_or(self.max_allocation, |b| b.min(self.max_allocation))
+    }
+}
+
+/// The bytes a device can give a scene: `limit` when one is set below it, else what the device
+/// has. A CPU device (lavapipe) allocates from the host's memory, whatever heap size it states
+/// (Mesa 22.3 states 2 GiB and allocates past it), so the host's memory is its bound there.
+pub fn budget(info: &DeviceInfo, limit: Option<u64>, host_memory: Option<u64>) -> u64 {
+    let device = match (info.cpu, host_memory) {
+        (true, Some(host)) => host.max(info.memory.device_local),
+        _ => info.memory.device_local,
+    };
+    limit.map_or(device, |l| l.min(device))
+}
+
+/// The host's physical memory (`MemTotal` of /proc/meminfo), where the system says.
+pub fn host_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuses `arrays` (name, bytes) on the device of `info` when one of them is larger than one
+/// buffer can be, or all together more than `budget` bytes. `limit_set`: the budget is a limit
+/// the caller asked for (said in the message).
+pub fn check(
+    info: &DeviceInfo,
+    arrays: &[(&str, u64)],
+    budget: u64,
+    limit_set: bool,
+) -> Result<()> {
+    let device = || format!("{} ({})", info.index, info.name);
+    let largest = info.memory.largest_array();
+    if let Some((name, bytes)) = arrays.iter().find(|(_, b)| *b > largest) {
+        return Err(Error::Unsupported {
+            device: device(),
+            message: format!(
+                "the scene's {name} take {}, more than one buffer of this device can hold ({})",
+                size(*bytes),
+                size(largest)
+            ),
+        });
+    }
+    let total: u64 = arrays.iter().map(|(_, b)| b).sum();
+    if total <= budget {
+        return Ok(());
+    }
+    let mut by_size: Vec<&(&str, u64)> = arrays.iter().filter(|(_, b)| *b > 0).collect();
+    by_size.sort_by_key(|(_, b)| std::cmp::Reverse(*b));
+    let parts: Vec<String> = by_size
+        .iter()
+        .take(4)
+        .map(|(name, b)| format!("{name} {}", size(*b)))
+        .collect();
+    let bound = if limit_set {
+        format!("the device-memory limit of {}", size(budget))
+    } else if info.cpu {
+        format!("the host's {} of memory", size(budget))
+    } else {
+        format!("the device's {} of memory", size(budget))
+    };
+    Err(Error::Unsupported {
+        device: device(),
+        message: format!(
+            "the scene needs {} of device memory ({}), more than {bound}: refused before upload",
+            size(total),
+            parts.join(", ")
+        ),
+    })
+}
+
+/// Bytes for a person: B, KiB, MiB or GiB with two decimals.
+pub fn size(bytes: u64) -> String {
+    const UNITS: [&str; 4] = ["B", "KiB", "MiB", "GiB"];
+    let mut value = bytes as f64;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    match unit {
+        0 => format!("{bytes} B"),
+        _ => format!("{value:.2} {}", UNITS[unit]),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn device(cpu: bool) -> DeviceInfo {
+        DeviceInfo {
+            index: 1,
+            name: "test device".into(),
+            device_type: String::new(),
+            driver: String::new(),
+            api_version: "1.3.0".into(),
+            max_storage_buffer_range: 1 << 27,
+            max_texel_buffer_elements: 1 << 27,
+            cpu,
+            mesa: None,
+            memory: DeviceMemory {
+                device_local: 2 << 30,
+                max_allocation: 1 << 30,
+                max_buffer: Some(4 << 30),
+            },
+        }
+    }
+
+    #[test]
+    fn a_scene_over_the_budget_is_refused_naming_the_device_and_the_sizes() {
+        let d = device(false);
+        let arrays = [("blas", 600 << 20), ("vertices", 300 << 20), ("lights", 0)];
+        assert!(check(&d, &arrays, 1 << 30, true).is_ok());
+        let e = check(&d, &arrays, 800 << 20, true).unwrap_err().to_string();
+        assert!(e.contains("device 1 (test device)"), "{e}");
+        assert!(e.contains("900.00 MiB"), "{e}");
+        assert!(e.contains("blas 600.00 MiB, vertices 300.00 MiB"), "{e}");
+        assert!(e.contains("limit of 800.00 MiB"), "{e}");
+    }
+
+    #[test]
+    fn an_array_past_one_buffer_is_refused_whatever_the_budget() {
+        let d = device(true);
+        let e = check(&d, &[("texels", 3 << 30)], u64::MAX, false)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("texels take 3.00 GiB"), "{e}");
+        assert!(e.contains("(1.00 GiB)"), "{e}");
+    }
+
+    #[test]
+    fn a_cpu_device_is_bounded_by_the_host_and_a_limit_by_itself() {
+        let (cpu, gpu) = (device(true), device(false));
+        assert_eq!(budget(&cpu, None, Some(24 << 30)), 24 << 30);
+        assert_eq!(budget(&gpu, None, Some(24 << 30)), 2 << 30);
+        assert_eq!(budget(&cpu, Some(1 << 20), Some(24 << 30)), 1 << 20);
+        assert_eq!(budget(&gpu, Some(8 << 30), None), 2 << 30);
+        assert_eq!(size(1536), "1.50 KiB");
+        assert_eq!(size(12), "12 B");
+    }
+}
