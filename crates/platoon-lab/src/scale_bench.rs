@@ -2,7 +2,7 @@
 //! memory it takes. Each scene is generated (platoon-scenegen's `scale`), then rendered by
 //! `platoon render --log-json` as a whole process, whose `cost` field says its stages (load,
 //! BVH build, upload, first pixel, render) and memory (host peak, each device's); the process's
-//! own peak resident memory and wall time come from the system (`wait4`). Against Mitsuba 3 on
+//! own peak resident memory (polled) and wall time come from the system. Against Mitsuba 3 on
 //! the same triangles where it is installed (the cut boxes: the instanced and textured scenes
 //! are not exported).
 
@@ -127,56 +127,74 @@ pub struct Process {
 }
 
 /// Runs `c` to its end, measuring it; an error with its standard error when it fails.
+///
+/// The peak is the child's own `VmHWM`, read every few milliseconds while it runs (the last
+/// milliseconds before it exits can escape). `wait4`'s `ru_maxrss` would not do: Linux starts
+/// an exec'd child's count at its parent's high-water mark, and this bench holds a 16-million-
+/// triangle scene in memory while it exports it for Mitsuba.
 pub fn run_measured(mut c: Command, what: &str) -> Result<Process> {
+    use std::io::Read;
     let start = Instant::now();
-    let child = c
+    let mut child = c
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .with_context(|| format!("could not start {what}"))?;
-    let pid = child.id() as libc::pid_t;
-    // The pipes are read before the wait: a child filling one would otherwise never end.
-    let (stdout, stderr) = read_pipes(child);
-    let mut status = 0;
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: waits for our own child, writing into the locals above.
-    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    // The pipes are drained on their own threads: a child filling one would never end.
+    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut s = String::new();
+            if let Some(mut p) = pipe {
+                let _ = p.read_to_string(&mut s);
+            }
+            s
+        })
+    };
+    let out = drain(
+        child
+            .stdout
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
+    let err = drain(
+        child
+            .stderr
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
+    let status_file = format!("/proc/{}/status", child.id());
+    let mut peak = 0;
+    let status = loop {
+        if let Some(kib) = std::fs::read_to_string(&status_file)
+            .ok()
+            .and_then(|t| vm_hwm_kib(&t))
+        {
+            peak = peak.max(kib * 1024);
+        }
+        if let Some(status) = child.try_wait()? {
+            break status;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    };
     let seconds = start.elapsed().as_secs_f64();
-    if r != pid {
-        bail!(
-            "{what}: waiting for it failed: {}",
-            std::io::Error::last_os_error()
-        );
-    }
-    if !(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0) {
+    let (stdout, stderr) = (
+        out.join().unwrap_or_default(),
+        err.join().unwrap_or_default(),
+    );
+    if !status.success() {
         bail!("{what} failed: {}", stderr.trim());
     }
     Ok(Process {
         seconds,
-        // ru_maxrss is in KiB on Linux.
-        peak_bytes: usage.ru_maxrss as u64 * 1024,
+        peak_bytes: peak,
         stdout,
     })
 }
 
-fn read_pipes(mut child: std::process::Child) -> (String, String) {
-    use std::io::Read;
-    let mut err_pipe = child.stderr.take();
-    let reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        if let Some(e) = err_pipe.as_mut() {
-            let _ = e.read_to_string(&mut s);
-        }
-        s
-    });
-    let mut out = String::new();
-    if let Some(o) = child.stdout.as_mut() {
-        let _ = o.read_to_string(&mut out);
-    }
-    let err = reader.join().unwrap_or_default();
-    // The Child is dropped without a wait: wait4 reaps it.
-    std::mem::forget(child);
-    (out, err)
+/// `VmHWM` of a /proc status file, in KiB.
+fn vm_hwm_kib(status: &str) -> Option<u64> {
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
 }
 
 /// What one platoon render cost (its `--log-json` line's `cost`) and the whole process.
@@ -277,14 +295,19 @@ mod tests {
 
     #[test]
     fn a_measured_process_reports_its_peak_memory_and_failures_their_stderr() {
-        let mut c = Command::new("sh");
+        // A Python writing 200 MB and holding them a moment: the child's peak is read.
+        let mut c = Command::new("python3");
         c.args([
             "-c",
-            "echo out; head -c 50000000 /dev/zero | tail -c 1 >/dev/null",
+            "import time; b = b'x' * 200000000; print('out'); time.sleep(0.3)",
         ]);
-        let p = run_measured(c, "sh").unwrap();
+        let p = run_measured(c, "python3").unwrap();
         assert_eq!(p.stdout.trim(), "out");
-        assert!(p.peak_bytes > 0);
+        assert!(
+            (200_000_000..400_000_000).contains(&p.peak_bytes),
+            "{}",
+            p.peak_bytes
+        );
         let mut bad = Command::new("sh");
         bad.args(["-c", "echo broken >&2; exit 3"]);
         let e = run_measured(bad, "sh").err().unwrap().to_string();

@@ -14,6 +14,7 @@
 
 use glam::{Vec3, Vec3A};
 use obvhs::triangle::Triangle;
+use rayon::prelude::*;
 
 use super::bvh::{item, BvhNode, FlatBvh, MAX_LEAF_ITEM};
 
@@ -78,7 +79,7 @@ pub fn build(tris: &[Triangle], traversal_cost: f32) -> FlatBvh {
         return FlatBvh::default();
     }
     let bounds: Vec<Bounds> = tris
-        .iter()
+        .par_iter()
         .map(|t| {
             let mut b = Bounds::EMPTY;
             for v in [t.v0, t.v1, t.v2] {
@@ -87,7 +88,7 @@ pub fn build(tris: &[Triangle], traversal_cost: f32) -> FlatBvh {
             b
         })
         .collect();
-    let centroids = bounds.iter().map(|b| (b.lo + b.hi) * 0.5).collect();
+    let centroids = bounds.par_iter().map(|b| (b.lo + b.hi) * 0.5).collect();
     let prims = Primitives {
         bounds,
         centroids,
@@ -304,33 +305,30 @@ fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
     (((c - lo) * scale) as usize).min(BINS - 1)
 }
 
-/// Moves `order`'s primitives left of `split` to its front (in a stable way: the order of
-/// each side is the order they had); returns how many.
+/// Moves `order`'s primitives left of `split` to its front, in place (two cursors swapping
+/// from the ends: no allocation, which at the top levels would be tens of MiB a node, each
+/// freshly mapped and faulted in); returns how many.
 fn partition(p: &Primitives, order: &mut [u32], split: Split) -> usize {
-    match split {
-        Split::Median => order.len() / 2,
-        Split::Bin {
-            axis,
-            bin,
-            lo,
-            scale,
-        } => {
-            let goes_left = |i: u32| bin_of(p.centroids[i as usize][axis], lo, scale) < bin;
-            let mut right = Vec::new();
-            let mut kept = 0;
-            for k in 0..order.len() {
-                let i = order[k];
-                if goes_left(i) {
-                    order[kept] = i;
-                    kept += 1;
-                } else {
-                    right.push(i);
-                }
-            }
-            order[kept..].copy_from_slice(&right);
-            kept
+    let Split::Bin {
+        axis,
+        bin,
+        lo,
+        scale,
+    } = split
+    else {
+        return order.len() / 2;
+    };
+    let goes_left = |i: u32| bin_of(p.centroids[i as usize][axis], lo, scale) < bin;
+    let (mut left, mut right) = (0, order.len());
+    while left < right {
+        if goes_left(order[left]) {
+            left += 1;
+        } else {
+            right -= 1;
+            order.swap(left, right);
         }
     }
+    left
 }
 
 #[cfg(test)]

@@ -241,10 +241,10 @@ pub enum BuildQuality {
     Quick,
 }
 
-/// Static meshes of more triangles than this are built [`BuildQuality::Quick`]: every scene of
-/// the bench and test suites (the atrium's 264k triangles the largest) keeps the tree, and so
-/// the images, it had.
-pub const QUICK_BUILD_TRIANGLES: usize = 1 << 20;
+/// Static meshes of more triangles than this (2^19) are built [`BuildQuality::Quick`]: every
+/// scene of the bench and test suites (the atrium's 264k triangles the largest) keeps the tree,
+/// and so the images, it had.
+pub const QUICK_BUILD_TRIANGLES: usize = 1 << 19;
 
 impl BuildQuality {
     /// The build of a static mesh of `triangles` triangles.
