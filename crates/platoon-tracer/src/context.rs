@@ -26,7 +26,7 @@ pub struct DeviceInfo {
     /// driverInfo; `None` for other drivers.
     pub mesa: Option<(u32, u32)>,
     /// What the device's memory holds: its heaps and the largest allocation and buffer.
-    pub memory: crate::memory_budget::DeviceMemory,
+    pub memory: DeviceMemory,
 }
 
 impl DeviceInfo {
@@ -37,6 +37,43 @@ impl DeviceInfo {
             max_texel_buffer_elements: self.max_texel_buffer_elements,
             texel_fastest: crate::memory::texel_fastest(self.cpu, self.mesa),
         }
+    }
+}
+
+/// What a device's memory can hold.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DeviceMemory {
+    /// The largest device-local heap in bytes: where a GPU's scene arrays live.
+    pub device_local: u64,
+    /// `maxMemoryAllocationSize` (Vulkan 1.1): the largest single allocation.
+    pub max_allocation: u64,
+    /// `maxBufferSize` (Vulkan 1.3); None on older devices, which state no such limit.
+    pub max_buffer: Option<u64>,
+}
+
+impl DeviceMemory {
+    pub fn of(
+        heaps: &vk::PhysicalDeviceMemoryProperties,
+        max_allocation: u64,
+        max_buffer: Option<u64>,
+    ) -> DeviceMemory {
+        let device_local = heaps.memory_heaps[..heaps.memory_heap_count as usize]
+            .iter()
+            .filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL))
+            .map(|h| h.size)
+            .max()
+            .unwrap_or(0);
+        DeviceMemory {
+            device_local,
+            max_allocation,
+            max_buffer,
+        }
+    }
+
+    /// The largest one array can be: one buffer in one allocation.
+    pub fn largest_array(&self) -> u64 {
+        self.max_buffer
+            .map_or(self.max_allocation, |b| b.min(self.max_allocation))
     }
 }
 
@@ -134,7 +171,7 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
     unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
     let p = props2.properties;
     let heaps = unsafe { instance.get_physical_device_memory_properties(pd) };
-    let memory = crate::memory_budget::DeviceMemory::of(
+    let memory = DeviceMemory::of(
         &heaps,
         maintenance3.max_memory_allocation_size,
         has_maintenance4.then_some(maintenance4.max_buffer_size),

@@ -3,46 +3,7 @@
 //! and what the device has, instead of failing inside the driver (an out-of-memory error from
 //! the allocator, or a buffer past `maxBufferSize` that a driver need not even report).
 
-use ash::vk;
-
 use crate::{DeviceInfo, Error, Result};
-
-/// What a device's memory can hold.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct DeviceMemory {
-    /// The largest device-local heap in bytes: where a GPU's scene arrays live.
-    pub device_local: u64,
-    /// `maxMemoryAllocationSize` (Vulkan 1.1): the largest single allocation.
-    pub max_allocation: u64,
-    /// `maxBufferSize` (Vulkan 1.3); None on older devices, which state no such limit.
-    pub max_buffer: Option<u64>,
-}
-
-impl DeviceMemory {
-    pub fn of(
-        heaps: &vk::PhysicalDeviceMemoryProperties,
-        max_allocation: u64,
-        max_buffer: Option<u64>,
-    ) -> DeviceMemory {
-        let device_local = heaps.memory_heaps[..heaps.memory_heap_count as usize]
-            .iter()
-            .filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL))
-            .map(|h| h.size)
-            .max()
-            .unwrap_or(0);
-        DeviceMemory {
-            device_local,
-            max_allocation,
-            max_buffer,
-        }
-    }
-
-    /// The largest one array can be: one buffer in one allocation.
-    pub fn largest_array(&self) -> u64 {
-        self.max_buffer
-            .map_or(self.max_allocation, |b| b.min(self.max_allocation))
-    }
-}
 
 /// The bytes a device can give a scene: `limit` when one is set below it, else what the device
 /// has. A CPU device (lavapipe) allocates from the host's memory, whatever heap size it states
@@ -130,6 +91,7 @@ pub fn size(bytes: u64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::context::DeviceMemory;
 
     fn device(cpu: bool) -> DeviceInfo {
         DeviceInfo {

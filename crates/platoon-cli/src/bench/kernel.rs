@@ -238,7 +238,7 @@ fn refit_row(p: &Prepared) {
         refit.push(t.elapsed().as_secs_f64());
         let t = Instant::now();
         for m in &moved {
-            std::hint::black_box(platoon::core::flatten::bvh::build_mesh_bvh(m));
+            std::hint::black_box(platoon::core::flatten::mesh_bvh::build_mesh_bvh(m));
         }
         rebuild.push(t.elapsed().as_secs_f64());
     }

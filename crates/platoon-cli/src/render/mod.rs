@@ -9,6 +9,7 @@ mod frames;
 mod job;
 mod outputs;
 mod setup;
+mod stage;
 mod still;
 mod video;
 

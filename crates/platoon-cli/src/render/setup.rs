@@ -241,7 +241,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     }
     let tracers = request.tracer_options().map_err(any_as_flags)?;
     let loading = std::time::Instant::now();
-    let loaded = request.load_scene()?;
+    let loaded = super::stage::during("reading the scene", || request.load_scene())?;
     let load_time = loading.elapsed();
     let options = request.prepare_options(&loaded).map_err(any_as_flags)?;
     let farm = frames.mpi_frames.is_some();

@@ -18,7 +18,9 @@ use super::setup::Setup;
 /// The still render of `run`.
 pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> Result<()> {
     let speaks = setup.speaks();
-    let prepared = platoon::prepare(setup.scene.clone(), &setup.options)?;
+    let prepared = super::stage::during("building BVHs and flattening", || {
+        platoon::prepare(setup.scene.clone(), &setup.options)
+    })?;
     if speaks {
         for w in &prepared.scene.warnings {
             eprintln!("warning: {w}");
@@ -28,7 +30,8 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         }
     }
     let uploading = std::time::Instant::now();
-    let mut tracers = setup.tracers(&prepared.gpu)?;
+    let mut tracers =
+        super::stage::during("uploading to the devices", || setup.tracers(&prepared.gpu))?;
     let mut cost = platoon::cost::RenderCost {
         load: setup.load_time,
         prepare: prepared.prepare_time,

@@ -16,8 +16,9 @@ use glam::DVec3;
 
 use crate::error::Result;
 use crate::flatten::arrays::SceneArray;
-use crate::flatten::bvh::{build_mesh_bvh, FlatBvh};
+use crate::flatten::bvh::FlatBvh;
 use crate::flatten::commit::Commit;
+use crate::flatten::mesh_bvh::build_mesh_bvh;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
 use crate::flatten::static_merge::{StaticMerge, MERGED_NODE};
 use crate::flatten::{used_meshes, GpuScene, MeshRegion};

@@ -11,7 +11,6 @@ use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 use obvhs::triangle::Triangle;
 use obvhs::BvhBuildParams;
-use rayon::prelude::*;
 
 use crate::scene::Mesh;
 
@@ -277,7 +276,7 @@ pub fn build_params(quality: BuildQuality) -> BvhBuildParams {
 /// node step than on a GPU, and a long leaf keeps every lane of a group waiting: at 1.5 leaves
 /// are smaller and a static scene renders 3-37% faster (the conference room most, the 48 x 48
 /// box within noise; docs/PERFORMANCE.md, "Leaf size"), for twice the nodes.
-const STATIC_COLLAPSE_TRAVERSAL_COST: f32 = 1.5;
+pub(crate) const STATIC_COLLAPSE_TRAVERSAL_COST: f32 = 1.5;
 
 pub use crate::scene::placeable::{placeable, MAX_COORDINATE};
 
@@ -317,49 +316,6 @@ pub(crate) fn flatten_mesh(bvh: &Bvh2, original: &[u32]) -> FlatBvh {
     flat
 }
 
-/// The BVH of a mesh's triangles, built once ([`BuildQuality::for_static`]). Triangles with an
-/// unplaceable corner (NaN or Inf from a file or from skinning) are left out of it, so they are
-/// never drawn.
-pub fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
-    build_mesh_bvh_at(mesh, None)
-}
-
-/// [`build_mesh_bvh`] at `quality` (None: by the size rule).
-pub fn build_mesh_bvh_at(mesh: &Mesh, quality: Option<BuildQuality>) -> FlatBvh {
-    let (tris, original) = placeable_triangles(mesh);
-    if tris.is_empty() {
-        return FlatBvh::default();
-    }
-    let quality = quality.unwrap_or(BuildQuality::for_static(tris.len()));
-    build_flat(&tris, &original, quality)
-}
-
-/// The flattened BVH of `tris` (mesh triangles `original`) at `quality`.
-pub fn build_flat(tris: &[Triangle], original: &[u32], quality: BuildQuality) -> FlatBvh {
-    match quality {
-        BuildQuality::Quick => {
-            let mut flat = super::binned_sah::build(tris, STATIC_COLLAPSE_TRAVERSAL_COST);
-            for o in &mut flat.order {
-                *o = original[*o as usize];
-            }
-            flat
-        }
-        _ => flatten_mesh(&build_bvh2(tris, quality), original),
-    }
-}
-
-/// Per-mesh BVHs at `quality` (None: each by the size rule), built in parallel on the CPU
-/// threads.
-pub fn build_mesh_bvhs(
-    meshes: &[std::sync::Arc<Mesh>],
-    quality: Option<BuildQuality>,
-) -> Vec<FlatBvh> {
-    meshes
-        .par_iter()
-        .map(|m| build_mesh_bvh_at(m, quality))
-        .collect()
-}
-
 /// World-space box of an object-space box under `m`.
 pub fn transform_bounds(m: &Mat4, (lo, hi): (Vec3, Vec3)) -> Aabb {
     let mut aabb = Aabb::empty();
@@ -390,6 +346,15 @@ pub fn timed<T>(f: impl FnOnce() -> T) -> (T, Duration) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A mesh's static BVH as obvhs builds it (what `mesh_bvh` builds under the quick size).
+    fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
+        let (tris, original) = placeable_triangles(mesh);
+        if tris.is_empty() {
+            return FlatBvh::default();
+        }
+        flatten_mesh(&build_bvh2(&tris, BuildQuality::Static), &original)
+    }
 
     #[test]
     fn every_triangle_is_in_exactly_one_leaf() {

@@ -51,7 +51,7 @@ impl GpuScene {
 
 #[cfg(test)]
 mod tests {
-    use crate::flatten::bvh::build_mesh_bvh;
+    use crate::flatten::mesh_bvh::build_mesh_bvh;
 
     #[test]
     fn the_report_reads_the_costs_of_the_bvhs_the_scene_was_built_from() {

@@ -20,6 +20,7 @@ mod instances;
 pub mod layout;
 mod lights;
 mod materials;
+pub mod mesh_bvh;
 mod placed;
 pub mod refit;
 pub mod sheen_albedo;
@@ -82,7 +83,7 @@ impl GpuScene {
         quality: Option<bvh::BuildQuality>,
     ) -> Result<GpuScene> {
         let meshes = geometry::used_meshes(posed);
-        let (mesh_bvhs, mesh_time) = bvh::timed(|| bvh::build_mesh_bvhs(&meshes, quality));
+        let (mesh_bvhs, mesh_time) = bvh::timed(|| mesh_bvh::build_mesh_bvhs(&meshes, quality));
         let capacity: Vec<usize> = mesh_bvhs.iter().map(|b| b.nodes.len()).collect();
         let refs: Vec<&FlatBvh> = mesh_bvhs.iter().collect();
         let mut g = GpuScene::build_with(scene, posed, environment, &refs, &capacity)?;
