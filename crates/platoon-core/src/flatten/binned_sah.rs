@@ -18,7 +18,7 @@ use rayon::prelude::*;
 
 use super::bvh::{item, BvhNode, FlatBvh, MAX_LEAF_ITEM};
 
-/// Bins per axis: 32 finds splits about as good as a full sweep on real meshes (Wald 2007).
+/// Bins per axis: 32 finds splits as good as a full sweep on real meshes (Wald 2007).
 const BINS: usize = 32;
 
 /// Above this depth subtrees are built on their own threads (2^4 = 16 tasks).
@@ -54,35 +54,14 @@ impl Bounds {
         let d = (self.hi - self.lo).max(Vec3A::ZERO);
         d.x * d.y + d.y * d.z + d.z * d.x
     }
-
-    fn corners(&self) -> (Vec3, Vec3) {
-        (Vec3::from(self.lo), Vec3::from(self.hi))
-    }
 }
 
-/// A triangle as the build reads it: its box and its index, 32 bytes. The build moves these
-/// records themselves, so that every pass over a node reads memory in order (an index array
-/// into boxes elsewhere made each pass a gather: half the build's time in cache misses).
-#[derive(Clone, Copy)]
-#[repr(C)]
-struct Prim {
-    lo: Vec3,
-    index: u32,
-    hi: Vec3,
-    _pad: u32,
-}
-
-impl Prim {
-    fn bounds(&self) -> Bounds {
-        Bounds {
-            lo: self.lo.into(),
-            hi: self.hi.into(),
-        }
-    }
-
-    fn centroid(&self) -> Vec3A {
-        (Vec3A::from(self.lo) + Vec3A::from(self.hi)) * 0.5
-    }
+/// What the build reads of each primitive.
+struct Primitives {
+    bounds: Vec<Bounds>,
+    centroids: Vec<Vec3A>,
+    /// A node step's cost in triangle tests.
+    traversal_cost: f32,
 }
 
 /// A subtree built on its own: its nodes (root first when it is an inner node) with items
@@ -99,51 +78,52 @@ pub fn build(tris: &[Triangle], traversal_cost: f32) -> FlatBvh {
     if tris.is_empty() {
         return FlatBvh::default();
     }
-    let mut prims: Vec<Prim> = tris
+    let bounds: Vec<Bounds> = tris
         .par_iter()
-        .enumerate()
-        .map(|(i, t)| {
+        .map(|t| {
             let mut b = Bounds::EMPTY;
             for v in [t.v0, t.v1, t.v2] {
                 b.grow_point(v);
             }
-            Prim {
-                lo: b.lo.into(),
-                index: i as u32,
-                hi: b.hi.into(),
-                _pad: 0,
-            }
+            b
         })
         .collect();
-    let tree = subtree(&mut prims, 0, 0, traversal_cost);
+    let centroids = bounds.par_iter().map(|b| (b.lo + b.hi) * 0.5).collect();
+    let prims = Primitives {
+        bounds,
+        centroids,
+        traversal_cost,
+    };
+    let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+    let tree = subtree(&prims, &mut order, 0, 0);
     FlatBvh {
         nodes: tree.nodes,
         root: tree.root,
-        order: prims.iter().map(|p| p.index).collect(),
-        bounds: tree.bounds.corners(),
+        order,
+        bounds: (Vec3::from(tree.bounds.lo), Vec3::from(tree.bounds.hi)),
     }
 }
 
-/// The subtree over `prims` (whose first is at position `first` of the whole order).
-fn subtree(prims: &mut [Prim], first: u32, depth: u32, cost: f32) -> Subtree {
-    let n = prims.len();
-    let (bounds, split) = choose_split(prims, cost);
-    let Some(split) = split else {
+/// The subtree over `order` (whose first position is `first` in the whole order).
+fn subtree(p: &Primitives, order: &mut [u32], first: u32, depth: u32) -> Subtree {
+    let bounds = bounds_of(p, order);
+    let Some(split) = choose_split(p, order, &bounds) else {
+        let root = leaf(first, order.len() as u32);
         return Subtree {
             nodes: Vec::new(),
-            root: leaf(first, n as u32),
+            root,
             bounds,
         };
     };
-    let mid = partition(prims, split);
-    let (left, right) = prims.split_at_mut(mid);
+    let mid = partition(p, order, split);
+    let n = order.len();
+    let (left, right) = order.split_at_mut(mid);
     let second = first + mid as u32;
     if depth >= PARALLEL_DEPTH || n < PARALLEL_PRIMITIVES {
-        // About one inner node for every 1.5 triangles at this traversal cost.
-        let mut nodes = Vec::with_capacity(n);
+        let mut nodes = Vec::with_capacity(2 * (left.len() + right.len()) / 3);
         nodes.push(BvhNode::default());
-        let a = build_into(left, first, &mut nodes, cost);
-        let b = build_into(right, second, &mut nodes, cost);
+        let a = build_into(p, left, first, &mut nodes);
+        let b = build_into(p, right, second, &mut nodes);
         nodes[0] = BvhNode::pair(a, b);
         return Subtree {
             nodes,
@@ -152,8 +132,8 @@ fn subtree(prims: &mut [Prim], first: u32, depth: u32, cost: f32) -> Subtree {
         };
     }
     let (a, b) = rayon::join(
-        || subtree(left, first, depth + 1, cost),
-        || subtree(right, second, depth + 1, cost),
+        || subtree(p, left, first, depth + 1),
+        || subtree(p, right, second, depth + 1),
     );
     let mut nodes = Vec::with_capacity(1 + a.nodes.len() + b.nodes.len());
     nodes.push(BvhNode::default());
@@ -165,8 +145,11 @@ fn subtree(prims: &mut [Prim], first: u32, depth: u32, cost: f32) -> Subtree {
             item1: moved(n.item1),
             ..*n
         }));
-        let (lo, hi) = t.bounds.corners();
-        (lo, hi, moved(t.root))
+        (
+            Vec3::from(t.bounds.lo),
+            Vec3::from(t.bounds.hi),
+            moved(t.root),
+        )
     };
     let ca = child(a, &mut nodes);
     let cb = child(b, &mut nodes);
@@ -188,24 +171,24 @@ fn moved_item(it: u32, base: u32) -> u32 {
     }
 }
 
-/// Builds the subtree over `prims` into `nodes` (sequentially): its (lo, hi, item).
+/// Builds the subtree over `order` into `nodes` (sequentially): its (lo, hi, item).
 fn build_into(
-    prims: &mut [Prim],
+    p: &Primitives,
+    order: &mut [u32],
     first: u32,
     nodes: &mut Vec<BvhNode>,
-    cost: f32,
 ) -> (Vec3, Vec3, u32) {
-    let (bounds, split) = choose_split(prims, cost);
-    let (lo, hi) = bounds.corners();
-    let Some(split) = split else {
-        return (lo, hi, leaf(first, prims.len() as u32));
+    let bounds = bounds_of(p, order);
+    let (lo, hi) = (Vec3::from(bounds.lo), Vec3::from(bounds.hi));
+    let Some(split) = choose_split(p, order, &bounds) else {
+        return (lo, hi, leaf(first, order.len() as u32));
     };
-    let mid = partition(prims, split);
+    let mid = partition(p, order, split);
     let index = nodes.len();
     nodes.push(BvhNode::default());
-    let (left, right) = prims.split_at_mut(mid);
-    let a = build_into(left, first, nodes, cost);
-    let b = build_into(right, first + mid as u32, nodes, cost);
+    let (left, right) = order.split_at_mut(mid);
+    let a = build_into(p, left, first, nodes);
+    let b = build_into(p, right, first + mid as u32, nodes);
     nodes[index] = BvhNode::pair(a, b);
     (lo, hi, item(index as u32, 0))
 }
@@ -215,6 +198,14 @@ fn build_into(
 fn leaf(first: u32, count: u32) -> u32 {
     debug_assert!(count <= MAX_LEAF_ITEM);
     item(first, count)
+}
+
+fn bounds_of(p: &Primitives, order: &[u32]) -> Bounds {
+    let mut b = Bounds::EMPTY;
+    for &i in order {
+        b.grow(&p.bounds[i as usize]);
+    }
+    b
 }
 
 /// Where to cut: on `axis`, centroids in bins below `bin` go left.
@@ -230,45 +221,35 @@ enum Split {
     Median,
 }
 
-/// The box of `prims` and the cheapest split of them by the SAH, or None where a leaf costs
-/// less (and holds them). Two passes: the boxes of the primitives and of their centroids, then
-/// the bins of all three axes at once.
-fn choose_split(prims: &[Prim], cost: f32) -> (Bounds, Option<Split>) {
-    let n = prims.len();
-    let mut bounds = Bounds::EMPTY;
-    let mut centre = Bounds::EMPTY;
-    for p in prims {
-        bounds.grow(&p.bounds());
-        centre.grow_point(p.centroid());
-    }
+/// The cheapest split of `order` by the SAH, or None where a leaf costs less (and holds them).
+fn choose_split(p: &Primitives, order: &[u32], bounds: &Bounds) -> Option<Split> {
+    let n = order.len();
     if n <= 1 {
-        return (bounds, None);
+        return None;
+    }
+    let mut centre = Bounds::EMPTY;
+    for &i in order {
+        centre.grow_point(p.centroids[i as usize]);
     }
     let extent = centre.hi - centre.lo;
-    // Per axis: where bins start and bins per unit; 0 where the centroids do not spread (zero
-    // or NaN extent), which puts every primitive in bin 0 and leaves the axis no cut.
-    let mut scale = [0.0f32; 3];
-    for axis in 0..3 {
-        if extent[axis] > 0.0 {
-            // Just under BINS / extent, so the largest centroid lands in the last bin.
-            scale[axis] = BINS as f32 * (1.0 - 1e-6) / extent[axis];
-        }
-    }
-    let lo = centre.lo;
-    let mut boxes = [[Bounds::EMPTY; BINS]; 3];
-    let mut counts = [[0u32; BINS]; 3];
-    for p in prims {
-        let (b, c) = (p.bounds(), p.centroid());
-        for axis in 0..3 {
-            let bin = bin_of(c[axis], lo[axis], scale[axis]);
-            counts[axis][bin] += 1;
-            boxes[axis][bin].grow(&b);
-        }
-    }
+    let leaf_cost = n as f32;
     let area = bounds.half_area();
     let mut best: Option<(f32, Split)> = None;
-    for axis in (0..3).filter(|&a| scale[a] > 0.0) {
-        let (boxes, counts) = (&boxes[axis], &counts[axis]);
+    for axis in 0..3 {
+        // Zero or NaN: no spread of centroids on this axis to cut.
+        if extent[axis].is_nan() || extent[axis] <= 0.0 {
+            continue;
+        }
+        let lo = centre.lo[axis];
+        // Just under BINS / extent, so the largest centroid lands in the last bin.
+        let scale = BINS as f32 * (1.0 - 1e-6) / extent[axis];
+        let mut boxes = [Bounds::EMPTY; BINS];
+        let mut counts = [0u32; BINS];
+        for &i in order {
+            let bin = bin_of(p.centroids[i as usize][axis], lo, scale);
+            counts[bin] += 1;
+            boxes[bin].grow(&p.bounds[i as usize]);
+        }
         // Areas and counts right of each cut, then a sweep from the left.
         let mut right_area = [0.0f32; BINS];
         let mut right_count = [0u32; BINS];
@@ -288,37 +269,46 @@ fn choose_split(prims: &[Prim], cost: f32) -> (Bounds, Option<Split>) {
             if left_count == 0 || right_count[b] == 0 {
                 continue;
             }
-            let c = left.half_area() * left_count as f32 + right_area[b] * right_count[b] as f32;
-            if best.is_none_or(|(best, _)| c < best) {
-                let split = Split::Bin {
-                    axis,
-                    bin: b,
-                    lo: lo[axis],
-                    scale: scale[axis],
-                };
-                best = Some((c, split));
+            let cost = left.half_area() * left_count as f32 + right_area[b] * right_count[b] as f32;
+            if best.is_none_or(|(c, _)| cost < c) {
+                best = Some((
+                    cost,
+                    Split::Bin {
+                        axis,
+                        bin: b,
+                        lo,
+                        scale,
+                    },
+                ));
             }
         }
     }
-    let split_cost = |c: f32| if area > 0.0 { cost + c / area } else { cost };
-    let split = match best {
-        Some((c, split)) if n as u32 > MAX_LEAF_ITEM || split_cost(c) < n as f32 => Some(split),
+    let split_cost = |cost: f32| {
+        if area > 0.0 {
+            p.traversal_cost + cost / area
+        } else {
+            p.traversal_cost
+        }
+    };
+    match best {
+        Some((cost, split)) if n as u32 > MAX_LEAF_ITEM || split_cost(cost) < leaf_cost => {
+            Some(split)
+        }
         Some(_) => None,
         // Centroids in one point: halves, until a leaf can hold them.
         None if n as u32 > MAX_LEAF_ITEM => Some(Split::Median),
         None => None,
-    };
-    (bounds, split)
+    }
 }
 
 fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
     (((c - lo) * scale) as usize).min(BINS - 1)
 }
 
-/// Moves the primitives left of `split` to the front of `prims`, in place (two cursors swapping
+/// Moves `order`'s primitives left of `split` to its front, in place (two cursors swapping
 /// from the ends: no allocation, which at the top levels would be tens of MiB a node, each
 /// freshly mapped and faulted in); returns how many.
-fn partition(prims: &mut [Prim], split: Split) -> usize {
+fn partition(p: &Primitives, order: &mut [u32], split: Split) -> usize {
     let Split::Bin {
         axis,
         bin,
@@ -326,16 +316,16 @@ fn partition(prims: &mut [Prim], split: Split) -> usize {
         scale,
     } = split
     else {
-        return prims.len() / 2;
+        return order.len() / 2;
     };
-    let goes_left = |p: &Prim| bin_of(p.centroid()[axis], lo, scale) < bin;
-    let (mut left, mut right) = (0, prims.len());
+    let goes_left = |i: u32| bin_of(p.centroids[i as usize][axis], lo, scale) < bin;
+    let (mut left, mut right) = (0, order.len());
     while left < right {
-        if goes_left(&prims[left]) {
+        if goes_left(order[left]) {
             left += 1;
         } else {
             right -= 1;
-            prims.swap(left, right);
+            order.swap(left, right);
         }
     }
     left
