@@ -210,6 +210,17 @@ impl Mitsuba {
         ))
     }
 
+    /// [`Mitsuba::find`], saying on standard output why the bench goes on without it.
+    pub fn find_or_say(explicit: Option<&Path>, dir: &Path) -> Option<Mitsuba> {
+        match Mitsuba::find(explicit, dir) {
+            Ok(m) => Some(m),
+            Err(why) => {
+                println!("Mitsuba 3 not found, platoon alone: {why}");
+                None
+            }
+        }
+    }
+
     /// The command that renders `xml` (an exported scene) with Mitsuba.
     pub fn command(&self, xml: &Path) -> Command {
         let mut c = Command::new(&self.python);

@@ -122,6 +122,7 @@ pub fn request(
             .ok_or_else(|| bad("sampling", "one of mis, bsdf, light"))?,
         devices: devices.parse().map_err(|e| bad("devices", e))?,
         balancer: take(k, "balancer", "a balancer's name")?.unwrap_or(d.balancer),
+        device_memory_limit: take(k, "device_memory_limit", "a number of bytes")?,
         aovs: aovs
             .iter()
             .map(|a| Aov::parse_list(a).map_err(|e| bad("aovs", e)))

@@ -145,6 +145,7 @@ def test_the_light_passes_sum_to_the_image():
     (dict(devices="lavapipe:1,1", time_limit=1.0), ValueError, "time_limit"),
     (dict(time_limit=-1.0), ValueError, "time_limit: must be a positive number of seconds"),
     (dict(scene="/nonexistent/man.glb"), platoon.PlatoonError, "/nonexistent/man.glb"),
+    (dict(device_memory_limit=1024), platoon.PlatoonError, "device-memory limit of 1.00 KiB"),
 ])
 def test_bad_input_raises_naming_the_argument_or_file(kwargs, error, says):
     with pytest.raises(error, match=None) as caught:

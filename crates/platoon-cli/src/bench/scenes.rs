@@ -73,13 +73,7 @@ pub fn run(a: &ScenesArgs) -> Result<()> {
         None => temporary.path(),
     };
     let scenes = scene_bench::scenes(dir, &a.shared, &a.scenes)?;
-    let mitsuba = match Mitsuba::find(a.mitsuba.as_deref(), dir) {
-        Ok(m) => Some(m),
-        Err(why) => {
-            println!("Mitsuba 3 not found, platoon alone: {why}");
-            None
-        }
-    };
+    let mitsuba = Mitsuba::find_or_say(a.mitsuba.as_deref(), dir);
     let options = Options {
         width: a.size,
         height: a.size,

@@ -67,6 +67,7 @@ def render(
     focus_distance: float | None = None,
     balancer: str = "cost-aware",
     sampling: str = "mis",
+    device_memory_limit: int | None = None,
     adaptive_threshold: float | None = None,
     variant: str | None = None,
     allow_external_files: bool = False,
@@ -85,8 +86,10 @@ def render(
     blackman-harris (1.5 px). `transparent_film`: the environment seen directly left out, `Rendered.alpha` the
     coverage (the image premultiplied by it). `crop`: a border render, the window (x, y, width, height) of
     the image in its pixels, the same bits as the whole render's there. `camera`: a scene camera's index or
-    name, or (eye, target, vertical fov in degrees) in world space. The method's options by
-    name (`methods()`), e.g. method="igi", vpls=180.
+    name, or (eye, target, vertical fov in degrees) in world space. `device_memory_limit`: the
+    bytes the scene may take on each device; a scene over it (or over what a device has) raises
+    before upload, naming the device and the sizes. The method's options by name (`methods()`),
+    e.g. method="igi", vpls=180.
     """
 
 class Renderer:
