@@ -6,9 +6,9 @@
 use crate::{DeviceInfo, Error, Result};
 
 /// The bytes a device can give a scene: `limit` when one is set below it, else what the device
-/// has. A CPU device (lavapipe) allocates from the host's memory, whatever heap size it states
-/// (Mesa 22.3 states 2 GiB; the Cornell box cut into 18M
-/// triangles renders with 2.15 GiB of it), so the host's memory is its bound there.
+/// has. A CPU device (lavapipe) allocates from the host's memory whatever heap size it states
+/// (Mesa 22.3 states 2 GiB, and the Cornell box cut into 18M triangles renders with 2.15 GiB of
+/// it), so the host's memory is its bound there.
 pub fn budget(info: &DeviceInfo, limit: Option<u64>, host_memory: Option<u64>) -> u64 {
     let device = match (info.cpu, host_memory) {
         (true, Some(host)) => host.max(info.memory.device_local),
