@@ -41,14 +41,8 @@ pub fn run(a: &ScaleArgs) -> Result<()> {
     if a.spp == 0 || a.size == 0 || a.max_depth == 0 {
         bail!("--spp, --size and --max-depth must be positive");
     }
-    let temporary = tempfile::tempdir()?;
-    let dir = match &a.keep {
-        Some(d) => {
-            std::fs::create_dir_all(d)?;
-            d.as_path()
-        }
-        None => temporary.path(),
-    };
+    let folder = super::WorkFolder::new(a.keep.as_deref())?;
+    let dir = folder.path();
     let names = scale_bench::expand(&a.scenes);
     for n in &names {
         if !scale_bench::ALL.contains(&n.as_str()) {

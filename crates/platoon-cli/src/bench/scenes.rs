@@ -64,14 +64,8 @@ pub fn run(a: &ScenesArgs) -> Result<()> {
     if a.spp == 0 || a.size == 0 {
         bail!("--spp and --size must be positive");
     }
-    let temporary = tempfile::tempdir()?;
-    let dir = match &a.keep {
-        Some(d) => {
-            std::fs::create_dir_all(d)?;
-            d.as_path()
-        }
-        None => temporary.path(),
-    };
+    let folder = super::WorkFolder::new(a.keep.as_deref())?;
+    let dir = folder.path();
     let scenes = scene_bench::scenes(dir, &a.shared, &a.scenes)?;
     let mitsuba = Mitsuba::find_or_say(a.mitsuba.as_deref(), dir);
     let options = Options {
