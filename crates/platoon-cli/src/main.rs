@@ -19,6 +19,7 @@ mod tradeoff;
 #[cfg(feature = "view")]
 mod view;
 mod warnings;
+mod work_folder;
 
 use std::process::ExitCode;
 

@@ -41,7 +41,7 @@ pub fn run(a: &ScaleArgs) -> Result<()> {
     if a.spp == 0 || a.size == 0 || a.max_depth == 0 {
         bail!("--spp, --size and --max-depth must be positive");
     }
-    let folder = super::WorkFolder::new(a.keep.as_deref())?;
+    let folder = crate::work_folder::WorkFolder::new(a.keep.as_deref())?;
     let dir = folder.path();
     let names = scale_bench::expand(&a.scenes);
     for n in &names {

@@ -64,7 +64,7 @@ pub fn run(a: &ScenesArgs) -> Result<()> {
     if a.spp == 0 || a.size == 0 {
         bail!("--spp and --size must be positive");
     }
-    let folder = super::WorkFolder::new(a.keep.as_deref())?;
+    let folder = crate::work_folder::WorkFolder::new(a.keep.as_deref())?;
     let dir = folder.path();
     let scenes = scene_bench::scenes(dir, &a.shared, &a.scenes)?;
     let mitsuba = Mitsuba::find_or_say(a.mitsuba.as_deref(), dir);
