@@ -165,11 +165,11 @@ pub fn run_measured(mut c: Command, what: &str) -> Result<Process> {
     let status_file = format!("/proc/{}/status", child.id());
     let mut peak = 0;
     let status = loop {
-        if let Some(kib) = std::fs::read_to_string(&status_file)
+        if let Some(bytes) = std::fs::read_to_string(&status_file)
             .ok()
-            .and_then(|t| vm_hwm_kib(&t))
+            .and_then(|t| platoon::cost::peak_bytes_in(&t))
         {
-            peak = peak.max(kib * 1024);
+            peak = peak.max(bytes);
         }
         if let Some(status) = child.try_wait()? {
             break status;
@@ -189,12 +189,6 @@ pub fn run_measured(mut c: Command, what: &str) -> Result<Process> {
         peak_bytes: peak,
         stdout,
     })
-}
-
-/// `VmHWM` of a /proc status file, in KiB.
-fn vm_hwm_kib(status: &str) -> Option<u64> {
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    line.split_whitespace().nth(1)?.parse().ok()
 }
 
 /// What one platoon render cost (its `--log-json` line's `cost`) and the whole process.

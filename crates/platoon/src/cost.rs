@@ -72,8 +72,12 @@ fn gib(bytes: u64) -> String {
 /// The peak resident memory of this process so far (`VmHWM` of /proc/self/status), where the
 /// system says.
 pub fn peak_host_bytes() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = text.lines().find(|l| l.starts_with("VmHWM:"))?;
+    peak_bytes_in(&std::fs::read_to_string("/proc/self/status").ok()?)
+}
+
+/// The peak resident memory (`VmHWM`) a /proc status file says, in bytes.
+pub fn peak_bytes_in(status: &str) -> Option<u64> {
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024)
 }
