@@ -114,43 +114,43 @@ void apply_material(inout Surface s, Material m) {
     // llvmpipe an empty slot's fetch still runs, masked, at every shading point.
     VertexAttributes a = s.attr;
 #ifdef HAS_BASE_COLOR_TEXTURES
-    if (m.textures0.x >= 0) s.base_color *= sample_texture(m.textures0.x, slot_uv(m, TEXTURE_SLOT_BASE_COLOR, a), true).rgb;
+    if (m.textures0.x >= 0) s.base_color *= sample_slot(m, m.textures0.x, TEXTURE_SLOT_BASE_COLOR, a, true).rgb;
 #endif
 #ifdef HAS_METALLIC_ROUGHNESS_TEXTURES
     if (m.textures0.y >= 0) {
-        vec4 mr = sample_texture(m.textures0.y, slot_uv(m, TEXTURE_SLOT_METALLIC_ROUGHNESS, a), false);
+        vec4 mr = sample_slot(m, m.textures0.y, TEXTURE_SLOT_METALLIC_ROUGHNESS, a, false);
         s.roughness *= mr.g;
         s.metallic *= mr.b;
     }
 #endif
 #ifdef HAS_EMISSIVE_TEXTURES
-    if (m.textures0.w >= 0) s.emission *= sample_texture(m.textures0.w, slot_uv(m, TEXTURE_SLOT_EMISSIVE, a), true).rgb;
+    if (m.textures0.w >= 0) s.emission *= sample_slot(m, m.textures0.w, TEXTURE_SLOT_EMISSIVE, a, true).rgb;
 #endif
 #ifdef HAS_SPECULAR_TEXTURES
-    if (m.textures1.x >= 0) s.specular *= sample_texture(m.textures1.x, slot_uv(m, TEXTURE_SLOT_SPECULAR, a), false).a;
-    if (m.textures1.y >= 0) s.specular_color *= sample_texture(m.textures1.y, slot_uv(m, TEXTURE_SLOT_SPECULAR_COLOR, a), true).rgb;
+    if (m.textures1.x >= 0) s.specular *= sample_slot(m, m.textures1.x, TEXTURE_SLOT_SPECULAR, a, false).a;
+    if (m.textures1.y >= 0) s.specular_color *= sample_slot(m, m.textures1.y, TEXTURE_SLOT_SPECULAR_COLOR, a, true).rgb;
 #endif
 #ifdef HAS_TRANSMISSION_TEXTURES
-    if (m.textures1.z >= 0) s.transmission *= sample_texture(m.textures1.z, slot_uv(m, TEXTURE_SLOT_TRANSMISSION, a), false).r;
+    if (m.textures1.z >= 0) s.transmission *= sample_slot(m, m.textures1.z, TEXTURE_SLOT_TRANSMISSION, a, false).r;
 #endif
 #ifdef HAS_DIFFUSE_TRANSMISSION_TEXTURES
-    if (m.textures2.w >= 0) s.diffuse_transmission *= sample_texture(m.textures2.w, slot_uv(m, TEXTURE_SLOT_DIFFUSE_TRANSMISSION, a), false).a;
-    if (m.textures3.x >= 0) s.diffuse_transmission_color *= sample_texture(m.textures3.x, slot_uv(m, TEXTURE_SLOT_DIFFUSE_TRANSMISSION_COLOR, a), true).rgb;
+    if (m.textures2.w >= 0) s.diffuse_transmission *= sample_slot(m, m.textures2.w, TEXTURE_SLOT_DIFFUSE_TRANSMISSION, a, false).a;
+    if (m.textures3.x >= 0) s.diffuse_transmission_color *= sample_slot(m, m.textures3.x, TEXTURE_SLOT_DIFFUSE_TRANSMISSION_COLOR, a, true).rgb;
 #endif
 #ifdef HAS_SHEEN_TEXTURES
-    if (m.textures3.y >= 0) s.sheen_color *= sample_texture(m.textures3.y, slot_uv(m, TEXTURE_SLOT_SHEEN_COLOR, a), true).rgb;
-    if (m.textures3.z >= 0) s.sheen_roughness *= sample_texture(m.textures3.z, slot_uv(m, TEXTURE_SLOT_SHEEN_ROUGHNESS, a), false).a;
+    if (m.textures3.y >= 0) s.sheen_color *= sample_slot(m, m.textures3.y, TEXTURE_SLOT_SHEEN_COLOR, a, true).rgb;
+    if (m.textures3.z >= 0) s.sheen_roughness *= sample_slot(m, m.textures3.z, TEXTURE_SLOT_SHEEN_ROUGHNESS, a, false).a;
 #endif
 #ifdef HAS_IRIDESCENCE_TEXTURES
-    if (m.textures3.w >= 0) s.iridescence *= sample_texture(m.textures3.w, slot_uv(m, TEXTURE_SLOT_IRIDESCENCE, a), false).r;
+    if (m.textures3.w >= 0) s.iridescence *= sample_slot(m, m.textures3.w, TEXTURE_SLOT_IRIDESCENCE, a, false).r;
     // Without a texture the film is the maximum thick.
-    if (m.textures4.x >= 0) s.iridescence_thickness = mix(m.iridescence.z, m.iridescence.w, sample_texture(m.textures4.x, slot_uv(m, TEXTURE_SLOT_IRIDESCENCE_THICKNESS, a), false).g);
+    if (m.textures4.x >= 0) s.iridescence_thickness = mix(m.iridescence.z, m.iridescence.w, sample_slot(m, m.textures4.x, TEXTURE_SLOT_IRIDESCENCE_THICKNESS, a, false).g);
 #endif
 #ifdef HAS_ANISOTROPY_TEXTURES
     if (m.textures4.y >= 0) {
         // A direction in tangent space (red, green in [-1, 1]) turned by the rotation, and the
         // strength (blue) times the factor.
-        vec3 t = sample_texture(m.textures4.y, slot_uv(m, TEXTURE_SLOT_ANISOTROPY, a), false).rgb;
+        vec3 t = sample_slot(m, m.textures4.y, TEXTURE_SLOT_ANISOTROPY, a, false).rgb;
         vec2 d = t.rg * 2.0 - 1.0;
         d = dot(d, d) > 1e-12 ? normalize(d) : vec2(1.0, 0.0);
         vec2 r = s.anisotropy_direction.xy;
@@ -159,8 +159,8 @@ void apply_material(inout Surface s, Material m) {
     }
 #endif
 #ifdef HAS_CLEARCOAT_TEXTURES
-    if (m.textures2.x >= 0) s.clearcoat *= sample_texture(m.textures2.x, slot_uv(m, TEXTURE_SLOT_CLEARCOAT, a), false).r;
-    if (m.textures2.y >= 0) s.clearcoat_roughness *= sample_texture(m.textures2.y, slot_uv(m, TEXTURE_SLOT_CLEARCOAT_ROUGHNESS, a), false).g;
+    if (m.textures2.x >= 0) s.clearcoat *= sample_slot(m, m.textures2.x, TEXTURE_SLOT_CLEARCOAT, a, false).r;
+    if (m.textures2.y >= 0) s.clearcoat_roughness *= sample_slot(m, m.textures2.y, TEXTURE_SLOT_CLEARCOAT_ROUGHNESS, a, false).g;
 #endif
 #endif
 #ifndef HAS_TRANSMISSION
@@ -169,17 +169,17 @@ void apply_material(inout Surface s, Material m) {
 }
 
 #if defined(HAS_NORMAL_MAPS) || defined(HAS_CLEARCOAT_TEXTURES)
-// `n` turned by the tangent-space normal map `texture` read at `uv` (its xy scaled by `scale`),
-// in the frame of the interpolated tangent (object space `tangent`, made orthogonal to n) and
-// the bitangent of handedness `sign`; n itself where the frame degenerates or the map would turn
-// it below the geometric normal ng.
-vec3 normal_mapped(vec3 n, vec3 ng, Instance inst, vec3 tangent, float sign, int texture, vec2 uv, float scale) {
+// `n` turned by the tangent-space normal map `texture`, read as material m's slot `slot` at the
+// point of `a` (its xy scaled by `scale`), in the frame of the interpolated tangent (object
+// space `tangent`, made orthogonal to n) and the bitangent of handedness `sign`; n itself where
+// the frame degenerates or the map would turn it below the geometric normal ng.
+vec3 normal_mapped(vec3 n, vec3 ng, Instance inst, vec3 tangent, float sign, int texture, Material m, int slot, VertexAttributes a, float scale) {
     vec3 tw = instance_vector(inst, tangent);
     tw = tw - n * dot(n, tw);
     if (dot(tw, tw) <= 1e-12) return n;
     tw = normalize(tw);
     vec3 bw = cross(n, tw) * sign;
-    vec3 tn = sample_texture(texture, uv, false).xyz * 2.0 - 1.0;
+    vec3 tn = sample_slot(m, texture, slot, a, false).xyz * 2.0 - 1.0;
     tn.xy *= scale;
     vec3 mapped = tn.x * tw + tn.y * bw + tn.z * n;
     if (dot(mapped, mapped) <= 1e-12) return n;
@@ -188,7 +188,26 @@ vec3 normal_mapped(vec3 n, vec3 ng, Instance inst, vec3 tangent, float sign, int
 }
 #endif
 
-Surface surface_at(Hit hit) {
+#ifdef TEXTURE_LOD
+// log2 of the UV footprint of a ray cone `width` wide meeting a triangle of world area
+// `world_area` (doubled) and UVs t0, t1, t2 at `cosine` to its normal, times the UV length per
+// world length (the square root of the ratio of the triangle's areas). The cone leaves an
+// ellipse of axes width and width / cosine; an isotropic level is chosen for their geometric
+// mean (the circle of the same area): the major axis (Akenine-Möller et al.'s choice) blurs
+// a grazing plane more than its supersampled image, the minor one aliases, and the mean is
+// closest (tests/kernel/features.rs, the grazing checker: error 0.066 against 0.072 and 0.093).
+// -INF for a cone of no width or a triangle without UV area.
+float cone_lod(float world_area, vec2 t0, vec2 t1, vec2 t2, float width, float cosine) {
+    vec2 e1 = t1 - t0, e2 = t2 - t0;
+    float uv_area = abs(e1.x * e2.y - e2.x * e1.y);
+    if (!(width > 0.0) || !(uv_area > 0.0) || !(world_area > 0.0)) return -INF;
+    return log2(width / sqrt(max(cosine, 1e-8))) + 0.5 * log2(uv_area / world_area);
+}
+#endif
+
+// The shading point of `hit`; with TEXTURE_LOD its textures read at the mip level of a ray cone
+// `cone_width` wide there, met along `dir` (0: the image itself).
+Surface surface_at(Hit hit, vec3 dir, float cone_width) {
     Surface s;
     Instance inst = instance_at(hit.instance);
     Triangle T = triangle_at(hit.triangle);
@@ -203,6 +222,18 @@ Surface surface_at(Hit hit) {
     Vertex v0 = vertex_at(T.v.x), v1 = vertex_at(T.v.y), v2 = vertex_at(T.v.z);
     Material m = material_at(T.material);
     s.attr = vertex_attributes(T, v0, v1, v2, m, vec3(b0, hit.b1, hit.b2));
+#ifdef TEXTURE_LOD
+    float world_area = length(cross(instance_vector(inst, p1 - p0), instance_vector(inst, p2 - p0)));
+    float cosine = abs(dot(s.ng, dir));
+    s.attr.lod = cone_lod(world_area, vec2(v0.position_u.w, v0.normal_v.w), vec2(v1.position_u.w, v1.normal_v.w),
+                          vec2(v2.position_u.w, v2.normal_v.w), cone_width, cosine);
+    s.attr.lod1 = s.attr.lod;
+#ifdef HAS_UV_TRANSFORMS
+    if ((m.textures1.w & MATERIAL_USES_UV1) != 0)
+        s.attr.lod1 = cone_lod(world_area, vertex_extra_at(T.v.x).uv1, vertex_extra_at(T.v.y).uv1,
+                               vertex_extra_at(T.v.z).uv1, cone_width, cosine);
+#endif
+#endif
     vec3 n = b0 * v0.normal_v.xyz + hit.b1 * v1.normal_v.xyz + hit.b2 * v2.normal_v.xyz;
     s.ns = dot(n, n) > 1e-12 ? normalize(instance_normal(inst, n)) : s.ng;
     if (dot(s.ns, s.ng) < 0.0) s.ns = -s.ns;
@@ -217,12 +248,12 @@ Surface surface_at(Hit hit) {
     s.clearcoat_normal = s.ns;
 #ifdef HAS_CLEARCOAT_TEXTURES
     if (m.textures2.z >= 0)
-        s.clearcoat_normal = normal_mapped(s.ns, s.ng, inst, tangent, sign, m.textures2.z, slot_uv(m, TEXTURE_SLOT_CLEARCOAT_NORMAL, s.attr), m.clearcoat.z);
+        s.clearcoat_normal = normal_mapped(s.ns, s.ng, inst, tangent, sign, m.textures2.z, m, TEXTURE_SLOT_CLEARCOAT_NORMAL, s.attr, m.clearcoat.z);
 #endif
 #endif
 #ifdef HAS_NORMAL_MAPS
     if (m.textures0.z >= 0)
-        s.ns = normal_mapped(s.ns, s.ng, inst, tangent, sign, m.textures0.z, slot_uv(m, TEXTURE_SLOT_NORMAL, s.attr), m.emissive.w);
+        s.ns = normal_mapped(s.ns, s.ng, inst, tangent, sign, m.textures0.z, m, TEXTURE_SLOT_NORMAL, s.attr, m.emissive.w);
 #endif
 #ifdef HAS_ANISOTROPY
     if (s.anisotropy > 0.0) {
@@ -241,4 +272,10 @@ Surface surface_at(Hit hit) {
     }
 #endif
     return s;
+}
+
+// The shading point of `hit`, its textures read at the image itself (what methods without a
+// ray cone see).
+Surface surface_at(Hit hit) {
+    return surface_at(hit, vec3(0.0), 0.0);
 }

@@ -25,8 +25,7 @@ vec4 srgb_to_linear(vec4 c) {
 
 // Bilinear lookup (the texel under uv with magFilter NEAREST); sRGB textures are decoded per
 // texel before filtering.
-vec4 sample_texture(int index, vec2 uv, bool srgb) {
-    Texture t = texture_at(index);
+vec4 sample_level(Texture t, vec2 uv, bool srgb) {
     vec2 p = uv * vec2(t.width, t.height) - 0.5;
     if (any(isnan(p)) || any(isinf(p))) p = vec2(0.0);
     p = clamp(p, vec2(-1e7), vec2(1e7));
@@ -43,10 +42,52 @@ vec4 sample_texture(int index, vec2 uv, bool srgb) {
     return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
 }
 
+#ifdef TEXTURE_LOD
+// The mip levels stored after a texture's image (GpuTexture::wrap >> TEXTURE_MIPS_SHIFT).
+uint texture_mips(Texture t) { return t.wrap >> 8; }
+
+// The level `l` below `t`: stored after the one above, half its size on each axis (at least 1).
+Texture texture_level(Texture t, uint l) {
+    for (uint k = 0u; k < l; k++) {
+        t.offset += t.width * t.height;
+        t.width = max(t.width >> 1, 1u);
+        t.height = max(t.height >> 1, 1u);
+    }
+    return t;
+}
+#endif
+
+// Texture `index` at uv. `lod`: log2 of the lookup's footprint in UV units (-INF: a point),
+// which with TEXTURE_LOD picks the mip level whose texels are that wide, blending the two
+// nearest (trilinear); without, the image itself is read.
+vec4 sample_texture(int index, vec2 uv, float lod, bool srgb) {
+    Texture t = texture_at(index);
+#ifdef TEXTURE_LOD
+    float level = lod + 0.5 * log2(float(t.width) * float(t.height));
+    if (level > 0.0 && texture_mips(t) > 0u) {
+        level = min(level, float(texture_mips(t)));
+        uint l = uint(level);
+        float f = level - float(l);
+        Texture above = texture_level(t, l);
+        vec4 c = sample_level(above, uv, srgb);
+        if (f > 0.0) c = mix(c, sample_level(texture_level(above, 1u), uv, srgb), f);
+        return c;
+    }
+#endif
+    return sample_level(t, uv, srgb);
+}
+
 // What a triangle's vertices give a point at barycentrics b: TEXCOORD_0, TEXCOORD_1 and COLOR_0
 // (white without HAS_VERTEX_COLORS). TEXCOORD_1 is read only for materials that use it
 // (MATERIAL_USES_UV1): the vertex extras exist whenever one does.
-struct VertexAttributes { vec2 uv; vec2 uv1; vec4 color; };
+// With TEXTURE_LOD, the lookups' footprints at either UV set (log2, in UV units; -INF: a
+// point, the image itself), which surface_at sets from the ray cone.
+struct VertexAttributes {
+    vec2 uv; vec2 uv1; vec4 color;
+#ifdef TEXTURE_LOD
+    float lod; float lod1;
+#endif
+};
 
 vec4 unpack_color(uvec2 c) { return vec4(unpackUnorm2x16(c.x), unpackUnorm2x16(c.y)); }
 
@@ -56,6 +97,10 @@ VertexAttributes vertex_attributes(Triangle T, Vertex v0, Vertex v1, Vertex v2, 
     a.uv = b.x * vec2(v0.position_u.w, v0.normal_v.w) + b.y * vec2(v1.position_u.w, v1.normal_v.w) + b.z * vec2(v2.position_u.w, v2.normal_v.w);
     a.uv1 = vec2(0.0);
     a.color = vec4(1.0);
+#ifdef TEXTURE_LOD
+    a.lod = -INF;
+    a.lod1 = -INF;
+#endif
 #if defined(HAS_VERTEX_COLORS) || defined(HAS_UV_TRANSFORMS)
 #ifndef HAS_VERTEX_COLORS
     if ((m.textures1.w & MATERIAL_USES_UV1) != 0)
@@ -87,11 +132,30 @@ vec2 slot_uv(Material m, int slot, VertexAttributes a) {
 #endif
 }
 
+// log2 of the footprint of slot `slot`'s lookups: its UV set's, scaled by its
+// KHR_texture_transform (the square root of the area the transform maps a unit square to).
+float slot_lod(Material m, int slot, VertexAttributes a) {
+#ifndef TEXTURE_LOD
+    return -INF;
+#elif defined(HAS_UV_TRANSFORMS)
+    vec4 r0 = m.uv_rows[2 * slot], r1 = m.uv_rows[2 * slot + 1];
+    float det = abs(r0.x * r1.y - r0.y * r1.x);
+    return (r0.w > 0.5 ? a.lod1 : a.lod) + 0.5 * log2(max(det, 1e-30));
+#else
+    return a.lod;
+#endif
+}
+
+// Texture `index` as material m's slot `slot` reads it at the point of `a`.
+vec4 sample_slot(Material m, int index, int slot, VertexAttributes a, bool srgb) {
+    return sample_texture(index, slot_uv(m, slot, a), slot_lod(m, slot, a), srgb);
+}
+
 // Alpha: the base colour's times its texture's and the vertex colour's.
 float material_alpha(Material m, VertexAttributes a) {
     float alpha = m.base_color.a * a.color.a;
 #ifdef HAS_BASE_COLOR_TEXTURES
-    if (m.textures0.x >= 0) alpha *= sample_texture(m.textures0.x, slot_uv(m, TEXTURE_SLOT_BASE_COLOR, a), true).a;
+    if (m.textures0.x >= 0) alpha *= sample_slot(m, m.textures0.x, TEXTURE_SLOT_BASE_COLOR, a, true).a;
 #endif
     return alpha;
 }

@@ -14,11 +14,13 @@ vec3 aov_sample(uvec2 pixel, uint si, inout uint rays) {
     Rng rng = pixel_rng(pixel, si);
     Ray ray = camera_ray(pixel, rng);
     vec3 weight = vec3(1.0);
+    float cone = cone_start();  // the beauty's ray cone, for its texture levels
     for (uint vertex = 0u; vertex <= AOV_SPECULAR_CHAIN; vertex++) {
         Hit hit;
         rays++;
         if (!trace(ray, false, hit)) return vec3(0.0);
-        Surface s = surface_at(hit);
+        cone += cone_spread() * hit.t;
+        Surface s = surface_at(hit, ray.dir, cone);
         vec3 t, b;
         make_frame(s.ns, t, b);
         vec3 wo = to_local(-ray.dir, t, b, s.ns);

@@ -132,6 +132,24 @@ Ray camera_ray(uvec2 pixel, inout Rng rng) {
     return Ray(origin, normalize(dir), INF);
 }
 
+// The pixel's ray cone (texture level selection, TEXTURE_LOD): the angle a pixel spans at the
+// camera, and the cone's width at the camera (a pixel's width for an orthographic camera, whose
+// cone does not spread).
+float cone_spread() {
+#ifdef HAS_ORTHOGRAPHIC
+    return 0.0;
+#else
+    return 2.0 * F.cam_up.w / image_size().y;
+#endif
+}
+float cone_start() {
+#ifdef HAS_ORTHOGRAPHIC
+    return 2.0 * F.cam_up.w / image_size().y;
+#else
+    return 0.0;
+#endif
+}
+
 // One path in flight: what the bounce loop carries from one vertex to the next.
 struct Path {
     Ray ray;
@@ -150,6 +168,11 @@ struct Path {
 #endif
 #ifdef LIGHT_PASS
     float pass_share;   // the light pass's part of the first vertex's BSDF sample
+#endif
+#ifdef TEXTURE_LOD
+    // The pixel's cone's width at the ray's origin: widened along each segment at the camera's
+    // spread, not by the bounces (curvature and roughness left out: it blurs less, never more).
+    float cone;
 #endif
 #ifdef PATH_HOOKS
     PathHook hook;
@@ -224,6 +247,9 @@ Path path_start(Ray ray, uint sample_index) {
 #ifdef LIGHT_PASS
     p.pass_share = 0.0;
 #endif
+#ifdef TEXTURE_LOD
+    p.cone = cone_start();
+#endif
 #ifdef PATH_HOOKS
     hook_path_start(p.hook);
 #endif
@@ -284,7 +310,12 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
             FOUND_LIGHT(p.L, p.throughput * env_radiance(p.ray.dir) * path_emission_weight(p, environment_light_pdf(p.ray.dir)), p.depth, p, true);
         return false;
     }
+#ifdef TEXTURE_LOD
+    p.cone += cone_spread() * hit.t;
+    Surface s = surface_at(hit, p.ray.dir, p.cone);
+#else
     Surface s = surface_at(hit);
+#endif
 #ifdef HAS_UNLIT
     // KHR_materials_unlit (the spec's advice to a path tracer): the base colour is radiance the
     // surface emits toward every viewer, and it reflects nothing. NEE never picks it, so a BSDF

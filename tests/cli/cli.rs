@@ -1373,6 +1373,69 @@ fn a_scene_over_the_device_memory_limit_is_refused_before_upload_naming_the_size
     assert!(stderr(&o).contains("first pixel at"), "{}", stderr(&o));
 }
 
+#[test]
+fn textures_take_mip_levels_and_a_budget_from_the_command_line_and_the_metadata_says_so() {
+    // Issue 59: four 64 x 64 textures (64 KiB, 85 KiB with their levels) in a budget of 40K
+    // are halved until they fit, read by ray cone; a budget below a texel each is refused
+    // naming the file, and writes nothing.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("wall.glb");
+    let wall = platoon_scenegen::scale::textured_wall(4, 64);
+    std::fs::write(&scene, platoon_scenegen::to_glb(&wall)).unwrap();
+    let out = dir.path().join("wall.exr");
+    let o = Cli::new("render")
+        .arg(scene.to_str().unwrap())
+        .spp(1)
+        .size(16, 16)
+        .flag("--texture-lod", "ray-cone")
+        .flag("--texture-budget", "40K")
+        .out(&out)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (_, meta) = platoon::core::output::read_exr(&out).unwrap();
+    assert_eq!(metadata_value(&meta, "texture_lod"), "ray-cone");
+    assert!(metadata_value(&meta, "kernel_defines").contains("TEXTURE_LOD"));
+    let approximations = metadata_value(&meta, "approximations");
+    for says in [
+        "mip level chosen by the camera path's ray cone",
+        "textures halved 3 times to fit the texture budget of 40.00 KiB (85.33 KiB as loaded)",
+    ] {
+        assert!(
+            approximations.contains(says),
+            "{says:?} not in {approximations}"
+        );
+    }
+    let plain = dir.path().join("plain.exr");
+    let o = Cli::new("render")
+        .arg(scene.to_str().unwrap())
+        .spp(1)
+        .size(16, 16)
+        .out(&plain)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (_, meta) = platoon::core::output::read_exr(&plain).unwrap();
+    assert_eq!(metadata_value(&meta, "texture_lod"), "off");
+    assert!(!metadata_value(&meta, "approximations").contains("texture"));
+    let refused = dir.path().join("refused.exr");
+    let o = Cli::new("render")
+        .arg(scene.to_str().unwrap())
+        .spp(1)
+        .size(16, 16)
+        .flag("--texture-budget", "10")
+        .out(&refused)
+        .run();
+    let e = stderr(&o);
+    assert!(!o.status.success() && !refused.exists(), "{e}");
+    let says = "wall.glb: the scene's 4 textures take 16 B at one texel each, more than the \
+                texture budget of 10 B";
+    assert!(e.contains(says), "{e}");
+    assert_refused(
+        &["--texture-lod", "trilinear"],
+        "expected one of off, ray-cone",
+        &refused,
+    );
+}
+
 /// `render` with `flags` fails saying `says`, and leaves no image at `out`.
 fn assert_refused(flags: &[&str], says: &str, out: &Path) {
     let o = Cli::new("render")

@@ -287,6 +287,7 @@ pub fn one_texel(name: &str, rgba8: [u8; 4]) -> platoon::core::scene::Texture {
         wrap_s: Wrap::Repeat,
         wrap_t: Wrap::Repeat,
         nearest: true,
+        mips: Vec::new(),
     }
 }
 

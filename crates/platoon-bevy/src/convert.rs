@@ -193,6 +193,7 @@ pub fn texture(image: &Image, name: &str, warnings: &mut Warnings) -> Option<Tex
         wrap_s,
         wrap_t,
         nearest,
+        mips: Vec::new(),
     })
 }
 

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use glam::Vec3;
+use platoon::core::scene::texture_levels::{TextureLod, TextureOptions};
 use platoon::EnvChoice;
 
 #[derive(clap::Args)]
@@ -33,6 +34,15 @@ pub struct SceneArgs {
     /// The material variant to render (KHR_materials_variants; `platoon info` lists a file's).
     #[arg(long)]
     pub variant: Option<String>,
+    /// How textures are read: `off` (the image itself: unbiased, aliased in the distance until
+    /// enough samples land) or `ray-cone` (mip maps made at load, the level chosen by the
+    /// camera path's ray cone: less noise and aliasing, blurred at grazing angles).
+    #[arg(long, default_value = "off", value_parser = TextureLod::parse)]
+    pub texture_lod: TextureLod,
+    /// Device memory all textures together may take (bytes, or 512M, 2G...), mip levels
+    /// included: past it the largest are halved until they fit (the metadata says how often).
+    #[arg(long, value_parser = crate::bytes_arg::parse_bytes)]
+    pub texture_budget: Option<u64>,
 }
 
 impl SceneArgs {
@@ -45,6 +55,10 @@ impl SceneArgs {
         platoon::core::scene::gltf_load::LoadOptions {
             allow_external_files: self.allow_external_files,
             variant: self.variant.clone(),
+            textures: TextureOptions {
+                lod: self.texture_lod,
+                budget: self.texture_budget,
+            },
         }
     }
 

@@ -18,6 +18,7 @@
 //! The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
 pub mod balance;
+pub mod byte_size;
 pub mod denoise;
 pub mod distribute;
 pub mod drive;

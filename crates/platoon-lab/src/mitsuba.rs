@@ -370,6 +370,7 @@ mod tests {
             wrap_s: platoon::core::scene::Wrap::Repeat,
             wrap_t: platoon::core::scene::Wrap::Repeat,
             nearest: false,
+            mips: Vec::new(),
         };
         (m, t)
     }

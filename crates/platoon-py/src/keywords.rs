@@ -15,6 +15,7 @@ use platoon::core::method::registry;
 use platoon::core::method::settings::{Settings, Value, ValueKind};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::gltf_load::LoadOptions;
+use platoon::core::scene::texture_levels::{TextureLod, TextureOptions};
 use platoon::tracer::Sampling;
 use platoon::{CameraChoice, EnvChoice, Request, SceneSource};
 
@@ -81,6 +82,13 @@ pub fn request(
             allow_external_files: take(k, "allow_external_files", "True or False")?
                 .unwrap_or(false),
             variant: take(k, "variant", "a variant's name")?,
+            textures: TextureOptions {
+                lod: match take::<String>(k, "texture_lod", "off or ray-cone")? {
+                    Some(name) => TextureLod::parse(&name).map_err(|e| bad("texture_lod", e))?,
+                    None => TextureLod::Off,
+                },
+                budget: take(k, "texture_budget", "a number of bytes")?,
+            },
         },
         env: match (env, env_color) {
             (Some(p), None) => EnvChoice::File(p),

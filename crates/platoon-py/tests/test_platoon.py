@@ -88,6 +88,16 @@ def test_a_crop_is_the_whole_renders_window():
     assert crop.metadata["crop"] == "5,3,13,9 of 24 x 16"
 
 
+def test_textures_by_ray_cone_and_in_a_budget_say_so_in_the_metadata():
+    man = Path(__file__).resolve().parents[3] / ".." / "shared" / "scenes" / "CesiumMan.glb"
+    r = platoon.render(man, **SMALL, texture_lod="ray-cone", texture_budget=64 << 10)
+    assert r.metadata["texture_lod"] == "ray-cone"
+    assert "texture budget of 64.00 KiB" in r.metadata["approximations"]
+    plain = platoon.render(man, **SMALL)
+    assert plain.metadata["texture_lod"] == "off"
+    assert not np.array_equal(r.image, plain.image)
+
+
 def test_a_cryptomatte_names_its_ids_in_the_metadata():
     import json
     import struct
@@ -146,6 +156,7 @@ def test_the_light_passes_sum_to_the_image():
     (dict(time_limit=-1.0), ValueError, "time_limit: must be a positive number of seconds"),
     (dict(scene="/nonexistent/man.glb"), platoon.PlatoonError, "/nonexistent/man.glb"),
     (dict(device_memory_limit=1024), platoon.PlatoonError, "device-memory limit of 1.00 KiB"),
+    (dict(texture_lod="trilinear"), ValueError, "texture_lod: trilinear: expected one of off"),
 ])
 def test_bad_input_raises_naming_the_argument_or_file(kwargs, error, says):
     with pytest.raises(error, match=None) as caught:

@@ -4,6 +4,7 @@
 //! the allocator, or a buffer past `maxBufferSize` that a driver need not even report).
 
 use crate::{DeviceInfo, Error, Result};
+pub use platoon_core::byte_size::size;
 
 /// The bytes a device can give a scene: `limit` when one is set below it, else what the device
 /// has. A CPU device (lavapipe) allocates from the host's memory whatever heap size it states
@@ -72,21 +73,6 @@ pub fn check(
             parts.join(", ")
         ),
     })
-}
-
-/// Bytes for a person: B, KiB, MiB or GiB with two decimals.
-pub fn size(bytes: u64) -> String {
-    const UNITS: [&str; 4] = ["B", "KiB", "MiB", "GiB"];
-    let mut value = bytes as f64;
-    let mut unit = 0;
-    while value >= 1024.0 && unit + 1 < UNITS.len() {
-        value /= 1024.0;
-        unit += 1;
-    }
-    match unit {
-        0 => format!("{bytes} B"),
-        _ => format!("{value:.2} {}", UNITS[unit]),
-    }
 }
 
 #[cfg(test)]

@@ -9,6 +9,8 @@ pub struct SceneFacts<'a> {
     pub source: Option<&'a std::path::Path>,
     /// The material variant loaded (KHR_materials_variants), if one was chosen.
     pub variant: Option<&'a str>,
+    /// What the scene as loaded approximates (`Scene::approximations`: its textures).
+    pub approximations: &'a [String],
     pub features: platoon_core::SceneFeatures,
     pub env_label: &'a str,
     /// Where render space is centred (the floating origin).
@@ -20,6 +22,7 @@ impl Prepared {
         SceneFacts {
             source: self.scene.source.as_deref(),
             variant: self.scene.variant.as_deref(),
+            approximations: &self.scene.approximations,
             features: self.gpu.features,
             env_label: &self.env_label,
             origin: self.posed.origin,
@@ -154,7 +157,15 @@ pub fn metadata_of(
             "rejected_samples".into(),
             rendered.rejected_samples().to_string(),
         ),
-        ("approximations".into(), approximations(params)),
+        (
+            "approximations".into(),
+            [approximations(params)]
+                .into_iter()
+                .chain(facts.approximations.iter().cloned())
+                .collect::<Vec<_>>()
+                .join("; "),
+        ),
+        ("texture_lod".into(), texture_lod(facts.features).into()),
     ];
     if let Some(r) = &rendered.ranks {
         m.extend([
@@ -207,6 +218,15 @@ pub fn approximations(params: &FrameParams) -> String {
     }
     a.extend(params.method.unit().approximations());
     a.join("; ")
+}
+
+/// How textures were read: mip levels by ray cone where the scene was loaded with them.
+fn texture_lod(features: platoon_core::SceneFeatures) -> &'static str {
+    use platoon_core::scene::texture_levels::TextureLod;
+    match features.texture_lod {
+        true => TextureLod::RayCone.name(),
+        false => TextureLod::Off.name(),
+    }
 }
 
 /// The path tracer's kernel as asked for; `auto` with what it stands for on each kind of device.

@@ -83,9 +83,18 @@ pub fn load_scene_with(path: Option<&Path>, options: &LoadOptions) -> Result<Sce
         None if options.variant.is_some() => {
             bail!("the built-in Cornell box has no material variants (a variant needs a glTF file)")
         }
-        None => Ok(platoon_core::scene::cornell::scene()),
-        Some(p) => Ok(platoon_core::scene::gltf_load::load_with(p, options)?),
+        None => with_textures(platoon_core::scene::cornell::scene(), options),
+        Some(p) => with_textures(
+            platoon_core::scene::gltf_load::load_with(p, options)?,
+            options,
+        ),
     }
+}
+
+/// `scene` with the textures `options` ask for (mip maps, a budget).
+pub fn with_textures(mut scene: Scene, options: &LoadOptions) -> Result<Scene> {
+    options.textures.apply(&mut scene)?;
+    Ok(scene)
 }
 
 /// A scene posed and flattened for the devices, with its camera.

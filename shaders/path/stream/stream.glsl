@@ -33,8 +33,9 @@ struct SptSlot {
 #if defined(HAS_VOLUME) || defined(HAS_DISPERSION)
     vec4 medium;      // Path::medium, w: Path::wavelength
 #endif
-#ifdef LIGHT_PASS
-    vec4 pass;        // x: Path::pass_share (a light pass's kernel; StreamSlot has room for it)
+#if defined(LIGHT_PASS) || defined(TEXTURE_LOD)
+    vec4 extra;       // x: Path::pass_share (a light pass's kernel), y: Path::cone (StreamSlot
+                      // has room for it)
 #endif
 };
 // The closest hit of the ray of live-queue entry k (32 bytes): (t, b1, b2, -), (instance,
@@ -116,7 +117,10 @@ Path unpack_path(SptSlot s) {
     p.wavelength = s.medium.w;
 #endif
 #ifdef LIGHT_PASS
-    p.pass_share = s.pass.x;
+    p.pass_share = s.extra.x;
+#endif
+#ifdef TEXTURE_LOD
+    p.cone = s.extra.y;
 #endif
     return p;
 }
@@ -134,8 +138,12 @@ void store_path(uint i, Path p, uint state, uint pixel, Rng rng, uint rays) {
 #elif defined(HAS_DISPERSION)
                        , vec4(vec3(0.0), p.wavelength)
 #endif
-#ifdef LIGHT_PASS
+#if defined(LIGHT_PASS) && defined(TEXTURE_LOD)
+                       , vec4(p.pass_share, p.cone, 0.0, 0.0)
+#elif defined(LIGHT_PASS)
                        , vec4(p.pass_share, 0.0, 0.0, 0.0)
+#elif defined(TEXTURE_LOD)
+                       , vec4(0.0, p.cone, 0.0, 0.0)
 #endif
                        );
 }

@@ -53,6 +53,9 @@ pub struct SceneFeatures {
     pub emissive_triangles: bool,
     pub punctual_lights: bool,
     pub environment_map: bool,
+    /// Some texture has mip levels (`--texture-lod ray-cone`): lookups pick a level by the
+    /// path's ray cone.
+    pub texture_lod: bool,
 }
 
 impl SceneFeatures {
@@ -134,6 +137,14 @@ impl SceneFeatures {
                 scene.environment,
                 Some(crate::scene::environment::Environment::Map(_))
             ),
+            texture_lod: used.iter().any(|m| {
+                m.textures().any(|t| {
+                    scene
+                        .textures
+                        .get(t.texture as usize)
+                        .is_some_and(|t| !t.mips.is_empty())
+                })
+            }),
         }
     }
 
@@ -177,7 +188,7 @@ impl SceneFeatures {
     /// Every flag, in a stable order (what a commit sent to another rank carries,
     /// `crate::distribute::wire`). Written out field by field: a new feature breaks the build
     /// here until it is listed.
-    pub fn flags_mut(&mut self) -> [&mut bool; 29] {
+    pub fn flags_mut(&mut self) -> [&mut bool; 30] {
         let SceneFeatures {
             specular_lobes,
             textures,
@@ -208,6 +219,7 @@ impl SceneFeatures {
             emissive_triangles,
             punctual_lights,
             environment_map,
+            texture_lod,
         } = self;
         [
             specular_lobes,
@@ -239,11 +251,12 @@ impl SceneFeatures {
             emissive_triangles,
             punctual_lights,
             environment_map,
+            texture_lod,
         ]
     }
 
     /// Each feature with whether the scene has it, in a stable order.
-    pub(crate) fn options(&self) -> [KernelOption; 29] {
+    pub(crate) fn options(&self) -> [KernelOption; 30] {
         [
             ("specular-lobes", "HAS_SPECULAR_LOBES", self.specular_lobes),
             ("textures", "HAS_TEXTURES", self.textures),
@@ -326,6 +339,7 @@ impl SceneFeatures {
                 "HAS_ENVIRONMENT_MAP",
                 self.environment_map,
             ),
+            ("texture-lod", "TEXTURE_LOD", self.texture_lod),
         ]
     }
 

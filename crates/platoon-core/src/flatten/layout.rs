@@ -112,9 +112,13 @@ pub struct GpuTexture {
     pub width: u32,
     pub height: u32,
     /// wrap_s | wrap_t << 2 (0 repeat, 1 mirrored repeat, 2 clamp) | nearest << 4 (glTF
-    /// magFilter NEAREST)
+    /// magFilter NEAREST) | the mip levels below the image << TEXTURE_MIPS_SHIFT (stored after
+    /// it, each half the one above)
     pub wrap: u32,
 }
+
+/// Where `GpuTexture::wrap` counts the texture's mip levels.
+pub const TEXTURE_MIPS_SHIFT: u32 = 8;
 
 pub const LIGHT_TRIANGLE: u32 = 0;
 pub const LIGHT_POINT: u32 = 1;

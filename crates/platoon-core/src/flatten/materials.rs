@@ -3,7 +3,7 @@
 
 use super::layout::{
     GpuMaterial, GpuTexture, MATERIAL_ALPHA_BLEND, MATERIAL_ALPHA_MASK, MATERIAL_DOUBLE_SIDED,
-    MATERIAL_UNLIT, MATERIAL_USES_UV1, NO_TEXTURE, TEXTURE_SLOTS,
+    MATERIAL_UNLIT, MATERIAL_USES_UV1, NO_TEXTURE, TEXTURE_MIPS_SHIFT, TEXTURE_SLOTS,
 };
 use super::GpuScene;
 use crate::scene::{AlphaMode, Scene, Wrap};
@@ -20,13 +20,19 @@ pub(super) fn add(scene: &Scene, g: &mut GpuScene) {
             offset: g.texels.len() as u32,
             width: t.width,
             height: t.height,
-            wrap: wrap_code(t.wrap_s) | wrap_code(t.wrap_t) << 2 | (t.nearest as u32) << 4,
+            wrap: wrap_code(t.wrap_s)
+                | wrap_code(t.wrap_t) << 2
+                | (t.nearest as u32) << 4
+                | (t.mips.len() as u32) << TEXTURE_MIPS_SHIFT,
         });
-        g.texels.extend(
-            t.rgba8
-                .chunks_exact(4)
-                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])),
-        );
+        // The image, then each level below it (textures.glsl's texture_level finds them).
+        for level in std::iter::once(&t.rgba8).chain(t.mips.iter().map(|m| &m.rgba8)) {
+            g.texels.extend(
+                level
+                    .chunks_exact(4)
+                    .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+            );
+        }
     }
 }
 

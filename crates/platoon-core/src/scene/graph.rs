@@ -300,6 +300,9 @@ pub struct Texture {
     pub wrap_t: Wrap,
     /// glTF magFilter NEAREST: magnified texels stay sharp (pixel art); else bilinear.
     pub nearest: bool,
+    /// The levels below the image, made at load for lookups by ray cone (empty: the image
+    /// only; `texture_levels`).
+    pub mips: Vec<super::texture_levels::MipLevel>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -352,6 +355,9 @@ pub struct Scene {
     /// file's default look).
     pub variants: Vec<String>,
     pub variant: Option<String>,
+    /// What the scene as loaded approximates (its textures mip-mapped or reduced to a budget,
+    /// `texture_levels`): the metadata lists it among the render's approximations.
+    pub approximations: Vec<String>,
 }
 
 impl Scene {

@@ -18,6 +18,7 @@ pub mod placement;
 mod pose;
 mod subdivide;
 pub mod tangents;
+pub mod texture_levels;
 
 pub use graph::*;
 pub use mesh::*;

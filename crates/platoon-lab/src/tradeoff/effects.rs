@@ -265,6 +265,7 @@ mod tests {
             wrap_s: Wrap::Repeat,
             wrap_t: Wrap::Repeat,
             nearest: false,
+            mips: Vec::new(),
         });
         scene.materials.push(Material {
             base_color_texture: Some(TextureRef::new(0)),

@@ -68,6 +68,8 @@ def render(
     balancer: str = "cost-aware",
     sampling: str = "mis",
     device_memory_limit: int | None = None,
+    texture_lod: str = "off",
+    texture_budget: int | None = None,
     adaptive_threshold: float | None = None,
     variant: str | None = None,
     allow_external_files: bool = False,
@@ -88,7 +90,10 @@ def render(
     the image in its pixels, the same bits as the whole render's there. `camera`: a scene camera's index or
     name, or (eye, target, vertical fov in degrees) in world space. `device_memory_limit`: the
     bytes the scene may take on each device; a scene over it (or over what a device has) raises
-    before upload, naming the device and the sizes. The method's options by name (`methods()`),
+    before upload, naming the device and the sizes. `texture_lod`: "off" (textures read at full
+    resolution) or "ray-cone" (mip maps, the level by the camera path's ray cone: less aliasing,
+    blurred at grazing angles). `texture_budget`: the bytes all textures may take, the largest
+    halved until they fit. The method's options by name (`methods()`),
     e.g. method="igi", vpls=180.
     """
 

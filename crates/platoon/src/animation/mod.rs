@@ -124,6 +124,7 @@ impl Animation {
         SceneFacts {
             source: self.updater.scene().source.as_deref(),
             variant: self.updater.scene().variant.as_deref(),
+            approximations: &self.updater.scene().approximations,
             features: self.updater.flattened().features,
             env_label: &self.env_label,
             origin: self.updater.origin(),

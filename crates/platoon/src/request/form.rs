@@ -187,7 +187,9 @@ impl Request {
         match &self.scene {
             SceneSource::BuiltIn => crate::load_scene_with(None, &self.load),
             SceneSource::File(path) => crate::load_scene_with(Some(path), &self.load),
-            SceneSource::Scene(scene) => Ok((**scene).clone()),
+            SceneSource::Scene(scene) => {
+                crate::prepare::with_textures((**scene).clone(), &self.load)
+            }
         }
     }
 

@@ -61,8 +61,10 @@ pub fn texture(t: &gltf::Texture, image: &Rgba8) -> Texture {
         rgba8: image.pixels.clone(),
         wrap_s: wrap(sampler.wrap_s()),
         wrap_t: wrap(sampler.wrap_t()),
-        // Minification needs no filter of its own: a pixel's many samples average the texels.
+        // Minification needs no filter of its own: a pixel's many samples average the texels
+        // (unless `--texture-lod ray-cone` makes mip levels, texture_levels).
         nearest: sampler.mag_filter() == Some(gltf::texture::MagFilter::Nearest),
+        mips: Vec::new(),
     }
 }
 

@@ -7,4 +7,7 @@ pub struct LoadOptions {
     /// KHR_materials_variants: the variant whose materials the primitives take (None: each
     /// primitive's own material, the file's default look).
     pub variant: Option<String>,
+    /// Mip maps and a memory budget for the textures (applied by the facade after any load,
+    /// `crate::scene::texture_levels`).
+    pub textures: crate::scene::texture_levels::TextureOptions,
 }
