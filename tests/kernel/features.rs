@@ -353,6 +353,85 @@ fn mip_levels_by_ray_cone_bring_a_grazing_plane_closer_to_its_supersampled_image
 }
 
 #[test]
+fn a_ktx2_texture_of_basis_universal_loads_and_renders_its_colours() {
+    // Issue 59: KHR_texture_basisu. A UASTC KTX2 of 2 x 2 solid blocks (made by
+    // platoon-scenegen, read by the Basis Universal transcoder) on an unlit quad: each
+    // quarter of the image is its block's colour, decoded from sRGB.
+    let colours = [
+        [200u8, 40, 40, 255],
+        [40, 200, 40, 255],
+        [40, 40, 200, 255],
+        [220, 220, 60, 255],
+    ];
+    let scene = load_generated(&platoon_scenegen::ktx2::basisu_quad(colours));
+    let t = &scene.textures[0];
+    assert_eq!((t.width, t.height), (8, 8));
+    for (i, c) in colours.iter().enumerate() {
+        let (bx, by) = (i % 2, i / 2);
+        let texel = 4 * ((4 * by + 1) * 8 + 4 * bx + 2);
+        assert_eq!(&t.rgba8[texel..texel + 4], c, "block {i}");
+    }
+    let prepared = prepare(scene, constant_env(0.0));
+    let film = render(
+        &prepared,
+        &FrameParams::new(16, 16, 4, prepared.camera),
+        Sampling::Mis,
+    );
+    let linear = |v: u8| ((v as f32 / 255.0 + 0.055) / 1.055).powf(2.4);
+    for (i, c) in colours.iter().enumerate() {
+        let (x, y) = (4 + 8 * (i % 2), 4 + 8 * (i / 2));
+        let p = film.pixels[y * 16 + x];
+        for k in 0..3 {
+            assert!(
+                (p[k] - linear(c[k])).abs() < 1e-3,
+                "block {i} at ({x}, {y}): {p:?}, want {c:?}"
+            );
+        }
+    }
+    // A damaged file (cut short, bytes of its header, descriptor or blocks changed) loads or
+    // is refused naming the file and image, never panics.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("damaged.glb");
+    let good = platoon_scenegen::ktx2::uastc_solid(2, 2, |x, y| colours[(2 * y + x) as usize]);
+    let mut damaged: Vec<Vec<u8>> = [12, 60, 100, 140, good.len() - 1]
+        .map(|n| good[..n].to_vec())
+        .to_vec();
+    for at in [
+        12,
+        20,
+        44,
+        48,
+        52,
+        80,
+        88,
+        104 + 12,
+        104 + 28,
+        good.len() - 16,
+    ] {
+        for v in [0u8, 0x7f, 0xff] {
+            let mut d = good.clone();
+            d[at] = v;
+            damaged.push(d);
+        }
+    }
+    let mut refused = 0;
+    for (k, bytes) in damaged.into_iter().enumerate() {
+        let mut data = platoon_scenegen::ktx2::basisu_quad(colours);
+        data.images[0] = bytes;
+        std::fs::write(&path, platoon_scenegen::to_glb(&data)).unwrap();
+        if let Err(e) = platoon::load_scene(Some(&path)) {
+            let e = format!("{e:#}");
+            assert!(
+                e.contains("damaged.glb") && e.contains("image 0"),
+                "{k}: {e}"
+            );
+            refused += 1;
+        }
+    }
+    assert!(refused >= 5, "only {refused} damaged files refused");
+}
+
+#[test]
 fn thin_lens_compiles_its_variant_and_keeps_a_uniform_plane_uniform() {
     const L: f32 = 1.0;
     let mut prepared = prepare(ground(vec![], vec![]), constant_env(L));

@@ -8,6 +8,7 @@ use serde_json::{json, Value};
 pub mod adversarial;
 pub mod atrium;
 pub mod bench;
+pub mod ktx2;
 pub mod many_lights;
 pub mod materials;
 pub mod scale;
@@ -377,8 +378,8 @@ pub struct SceneData {
     pub nodes: Vec<NodeData>,
     pub lights: Vec<Value>,
     pub extensions_used: Vec<String>,
-    /// PNG images, texture `i` showing image `i` (repeating, bilinear): what materials'
-    /// `{"index": i}` texture infos name.
+    /// PNG or KTX2 images (the latter through KHR_texture_basisu), texture `i` showing image
+    /// `i` (repeating, bilinear): what materials' `{"index": i}` texture infos name.
     pub images: Vec<Vec<u8>>,
 }
 
@@ -448,12 +449,17 @@ pub fn to_json(scene: &SceneData, bin: &mut Vec<u8>) -> Value {
         meshes.push(json!({"primitives": [{"attributes": attributes, "indices": accessors.len() - 1, "material": material}]}));
     }
     let mut images = Vec::new();
-    for png in &scene.images {
+    for file in &scene.images {
         let offset = bin.len();
-        bin.extend_from_slice(png);
+        bin.extend_from_slice(file);
         pad4(bin, 0);
-        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": png.len()}));
-        images.push(json!({"bufferView": views.len() - 1, "mimeType": "image/png"}));
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": file.len()}));
+        let mime = if ktx2::is_ktx2(file) {
+            "image/ktx2"
+        } else {
+            "image/png"
+        };
+        images.push(json!({"bufferView": views.len() - 1, "mimeType": mime}));
     }
     let mut cameras = Vec::new();
     let nodes: Vec<Value> = scene
@@ -498,10 +504,20 @@ pub fn to_json(scene: &SceneData, bin: &mut Vec<u8>) -> Value {
     if !cameras.is_empty() {
         root["cameras"] = json!(cameras);
     }
+    let mut extensions_required = Vec::new();
     if !images.is_empty() {
+        // A KTX2 image through KHR_texture_basisu, without a fallback: the extension is then
+        // required.
         let textures: Vec<Value> = (0..images.len())
-            .map(|i| json!({"source": i, "sampler": 0}))
+            .map(|i| match ktx2::is_ktx2(&scene.images[i]) {
+                true => json!({"extensions": {"KHR_texture_basisu": {"source": i}}, "sampler": 0}),
+                false => json!({"source": i, "sampler": 0}),
+            })
             .collect();
+        if scene.images.iter().any(|f| ktx2::is_ktx2(f)) {
+            extensions_used.push("KHR_texture_basisu".to_string());
+            extensions_required.push("KHR_texture_basisu".to_string());
+        }
         root["images"] = json!(images);
         root["textures"] = json!(textures);
         // REPEAT both ways, bilinear.
@@ -514,6 +530,9 @@ pub fn to_json(scene: &SceneData, bin: &mut Vec<u8>) -> Value {
     }
     if !extensions_used.is_empty() {
         root["extensionsUsed"] = json!(extensions_used);
+    }
+    if !extensions_required.is_empty() {
+        root["extensionsRequired"] = json!(extensions_required);
     }
     root
 }

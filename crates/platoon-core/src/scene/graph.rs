@@ -302,7 +302,15 @@ pub struct Texture {
     pub nearest: bool,
     /// The levels below the image, made at load for lookups by ray cone (empty: the image
     /// only; `texture_levels`).
-    pub mips: Vec<super::texture_levels::MipLevel>,
+    pub mips: Vec<MipLevel>,
+}
+
+/// One level below a texture's base image: half the one above on each axis (at least 1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MipLevel {
+    pub width: u32,
+    pub height: u32,
+    pub rgba8: Vec<u8>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

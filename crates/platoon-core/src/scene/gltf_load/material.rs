@@ -2,7 +2,6 @@
 
 use glam::{Vec3, Vec4};
 
-use super::resources::Rgba8;
 use super::validate::Check;
 use crate::scene::*;
 
@@ -14,18 +13,23 @@ fn wrap(mode: gltf::texture::WrappingMode) -> Wrap {
     }
 }
 
-/// The image a texture shows: EXT_texture_webp's source where the file gives one (its `source`
-/// is then a fallback, or absent), else its own.
+/// The image a texture shows: KHR_texture_basisu's or EXT_texture_webp's source where the file
+/// gives one (its `source` is then a fallback, or absent), else its own.
 pub fn texture_image(t: &gltf::Texture, images: usize) -> Check<usize> {
-    let webp = t
-        .extension_value("EXT_texture_webp")
-        .and_then(|e| e.get("source"))
-        .map(|s| {
-            s.as_u64()
-                .ok_or("EXT_texture_webp's source is not an image index")
-        })
-        .transpose()?;
-    let index = match (webp, own_image(t)) {
+    let extension_source = |name: &str| {
+        t.extension_value(name)
+            .and_then(|e| e.get("source"))
+            .map(|s| {
+                s.as_u64()
+                    .ok_or(format!("{name}'s source is not an image index"))
+            })
+            .transpose()
+    };
+    let chosen = match extension_source("KHR_texture_basisu")? {
+        Some(k) => Some(k),
+        None => extension_source("EXT_texture_webp")?,
+    };
+    let index = match (chosen, own_image(t)) {
         (Some(w), _) => w as usize,
         (None, Some(image)) => image.index(),
         (None, None) => return Err(format!("texture {} has no image", t.index())),
@@ -48,7 +52,8 @@ fn own_image<'a>(t: &gltf::Texture<'a>) -> Option<gltf::Image<'a>> {
     return Some(t.source());
 }
 
-pub fn texture(t: &gltf::Texture, image: &Rgba8) -> Texture {
+/// Texture `t`, showing a `width` x `height` image of RGBA8 `pixels`.
+pub fn texture(t: &gltf::Texture, width: u32, height: u32, pixels: Vec<u8>) -> Texture {
     let sampler = t.sampler();
     Texture {
         name: t
@@ -56,9 +61,9 @@ pub fn texture(t: &gltf::Texture, image: &Rgba8) -> Texture {
             .or(own_image(t).and_then(|s| s.name()))
             .unwrap_or("")
             .to_string(),
-        width: image.width,
-        height: image.height,
-        rgba8: image.pixels.clone(),
+        width,
+        height,
+        rgba8: pixels,
         wrap_s: wrap(sampler.wrap_s()),
         wrap_t: wrap(sampler.wrap_t()),
         // Minification needs no filter of its own: a pixel's many samples average the texels

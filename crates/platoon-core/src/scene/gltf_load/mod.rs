@@ -7,6 +7,7 @@
 
 mod attributes;
 mod guard;
+mod ktx2;
 mod material;
 mod mesh;
 mod nodes;
@@ -42,6 +43,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_dispersion",
     "KHR_mesh_quantization",
     "EXT_texture_webp",
+    "KHR_texture_basisu",
     "KHR_texture_transform",
     "KHR_materials_unlit",
     "EXT_mesh_gpu_instancing",
@@ -162,16 +164,33 @@ pub fn load_from_slice(
     let policy = resources::UriPolicy { base, options };
     let buffers = validate::in_file(path, resources::buffers(&doc, blob, &policy))?;
     validate::in_file(path, validate::buffer_views(&doc, &buffers))?;
-    let images = validate::in_file(path, resources::images(&doc, &buffers, &policy))?;
+    let mut images = validate::in_file(path, resources::images(&doc, &buffers, &policy))?;
 
     let mut scene = Scene {
         source: Some(path.to_path_buf()),
         warnings,
         ..Default::default()
     };
-    for t in doc.textures() {
-        let image = validate::in_file(path, material::texture_image(&t, images.len()))?;
-        scene.textures.push(material::texture(&t, &images[image]));
+    let shown: Vec<usize> = doc
+        .textures()
+        .map(|t| validate::in_file(path, material::texture_image(&t, images.len())))
+        .collect::<Result<_>>()?;
+    // An image's last texture takes its texels; only images that several textures show are
+    // copied (hundreds of megabytes in a scene of large textures).
+    let mut uses = vec![0usize; images.len()];
+    for &i in &shown {
+        uses[i] += 1;
+    }
+    for (t, &i) in doc.textures().zip(&shown) {
+        uses[i] -= 1;
+        let image = &mut images[i];
+        let pixels = match uses[i] {
+            0 => std::mem::take(&mut image.pixels),
+            _ => image.pixels.clone(),
+        };
+        scene
+            .textures
+            .push(material::texture(&t, image.width, image.height, pixels));
     }
     let mut glossiness = material::GlossinessTextures::default();
     for m in doc.materials() {

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use base64::Engine as _;
 use percent_encoding::percent_decode_str;
+use rayon::prelude::*;
 
 use super::validate::Check;
 use super::LoadOptions;
@@ -159,35 +160,53 @@ pub struct Rgba8 {
     pub pixels: Vec<u8>,
 }
 
-/// Every image decoded to RGBA8 (PNG or JPEG; the image crate's default limits bound the memory
-/// a hostile header can ask for).
+/// Every image decoded to RGBA8 (PNG, JPEG or WebP, the image crate's default limits bounding
+/// the memory a hostile header can ask for; KTX2 through Basis Universal's transcoder), on
+/// every core.
 pub fn images(doc: &gltf::Document, buffers: &[Vec<u8>], policy: &UriPolicy) -> Check<Vec<Rgba8>> {
-    let mut out = Vec::new();
+    let mut read = Vec::new();
     for image in doc.images() {
-        let owned;
-        let encoded: &[u8] = match image.source() {
+        read.push(match image.source() {
             gltf::image::Source::View { view, .. } => {
                 // In range: validate::buffer_views ran first.
-                &buffers[view.buffer().index()][view.offset()..view.offset() + view.length()]
+                let bytes = &buffers[view.buffer().index()];
+                std::borrow::Cow::Borrowed(&bytes[view.offset()..view.offset() + view.length()])
             }
             gltf::image::Source::Uri { uri, .. } => {
-                owned = policy.read(uri, "texture", None)?;
-                &owned
+                std::borrow::Cow::Owned(policy.read(uri, "texture", None)?)
             }
-        };
-        let decoded = image::load_from_memory(encoded)
-            .map_err(|e| format!("cannot decode image {}: {e}", image.index()))?;
-        let rgba = decoded.to_rgba8();
-        if rgba.width() == 0 || rgba.height() == 0 {
-            return Err(format!("image {} is empty", image.index()));
-        }
-        out.push(Rgba8 {
-            width: rgba.width(),
-            height: rgba.height(),
-            pixels: rgba.into_raw(),
         });
     }
-    Ok(out)
+    let decoded: Vec<Check<Rgba8>> = read
+        .par_iter()
+        .enumerate()
+        .map(|(index, encoded)| decode(encoded, index))
+        .collect();
+    // The first image's error, whichever thread met it first.
+    decoded.into_iter().collect()
+}
+
+/// Image `index` from its file's bytes.
+fn decode(encoded: &[u8], index: usize) -> Check<Rgba8> {
+    if super::ktx2::is_ktx2(encoded) {
+        let (width, height, pixels) = super::ktx2::decode(encoded, index)?;
+        return Ok(Rgba8 {
+            width,
+            height,
+            pixels,
+        });
+    }
+    let decoded = image::load_from_memory(encoded)
+        .map_err(|e| format!("cannot decode image {index}: {e}"))?;
+    let rgba = decoded.to_rgba8();
+    if rgba.width() == 0 || rgba.height() == 0 {
+        return Err(format!("image {index} is empty"));
+    }
+    Ok(Rgba8 {
+        width: rgba.width(),
+        height: rgba.height(),
+        pixels: rgba.into_raw(),
+    })
 }
 
 #[cfg(test)]
