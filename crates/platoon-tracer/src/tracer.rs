@@ -67,6 +67,47 @@ unsafe impl Send for Tracer {}
 
 impl Tracer {
     pub fn new(options: &TracerOptions, scene: &GpuScene) -> Result<Tracer> {
+        let mut tracer = Tracer::without_arrays(options, scene)?;
+        let arrays = memory::scene_array_bytes(scene);
+        let writes: Vec<(usize, u64, &[u8])> = arrays
+            .iter()
+            .enumerate()
+            .filter(|(_, d)| !d.is_empty())
+            .map(|(i, d)| (i, 0, *d))
+            .collect();
+        tracer.write_arrays(&writes)?;
+        tracer.bind_scene_arrays()?;
+        Ok(tracer)
+    }
+
+    /// Tracers for `options`, each holding `scene`, which gives up its host copy of each large
+    /// array (`GpuScene::release`) once every tracer has it: the host never holds the scene's
+    /// arrays and a device's copy of them whole at once (on a CPU device the device's memory is
+    /// the host's). For a render that reads the scene on its devices only (a still of the path
+    /// tracer): the released arrays are empty after.
+    pub fn new_releasing(options: &[TracerOptions], scene: &mut GpuScene) -> Result<Vec<Tracer>> {
+        let mut tracers = options
+            .iter()
+            .map(|o| Tracer::without_arrays(o, scene))
+            .collect::<Result<Vec<_>>>()?;
+        for (i, info) in SCENE_ARRAYS.iter().enumerate() {
+            let bytes = scene.bytes_of(info.array);
+            if !bytes.is_empty() {
+                for t in &mut tracers {
+                    t.write_arrays(&[(i, 0, bytes)])?;
+                }
+            }
+            scene.release(info.array);
+        }
+        for t in &mut tracers {
+            t.bind_scene_arrays()?;
+        }
+        Ok(tracers)
+    }
+
+    /// A tracer with `scene`'s arrays made (their memory checked and allocated, nothing
+    /// written yet) and its header read.
+    fn without_arrays(options: &TracerOptions, scene: &GpuScene) -> Result<Tracer> {
         let ctx = Context::new(options.device, options.validation, options.lavapipe_threads)?;
         let mut gpu = Gpu::new(ctx)?;
         gpu.stream_slots = options.stream_slots;
@@ -93,8 +134,11 @@ impl Tracer {
             filter_planes: None,
         };
         tracer.check_memory(scene, options.memory_limit)?;
-        tracer.upload_scene(scene)?;
-        tracer.bind_scene_arrays()?;
+        for (info, data) in SCENE_ARRAYS.iter().zip(memory::scene_array_bytes(scene)) {
+            let buffer = tracer.array_buffer(info.name, data.len() as u64)?;
+            tracer.scene.list.push(buffer);
+        }
+        tracer.refresh_globals(&scene.header());
         Ok(tracer)
     }
 
@@ -213,23 +257,6 @@ impl Tracer {
     /// buffers; the allocator reserves it in blocks of 64 MiB and more).
     pub fn device_bytes(&self) -> u64 {
         self.gpu.allocator.generate_report().total_allocated_bytes
-    }
-
-    fn upload_scene(&mut self, s: &GpuScene) -> Result<()> {
-        let arrays = memory::scene_array_bytes(s);
-        for (i, data) in arrays.iter().enumerate() {
-            let buffer = self.array_buffer(SCENE_ARRAYS[i].name, data.len() as u64)?;
-            self.scene.list.push(buffer);
-        }
-        let writes: Vec<(usize, u64, &[u8])> = arrays
-            .iter()
-            .enumerate()
-            .filter(|(_, d)| !d.is_empty())
-            .map(|(i, d)| (i, 0, *d))
-            .collect();
-        self.write_arrays(&writes)?;
-        self.refresh_globals(&s.header());
-        Ok(())
     }
 
     /// The Globals fields that come from the scene: array addresses, counts, environment.

@@ -206,6 +206,23 @@ impl Tracers {
         Ok(Tracers::Many(Renderer::new(tracers, policy)))
     }
 
+    /// [`Tracers::new`] for a still that reads `scene` on its devices only (the path tracer's):
+    /// `scene` gives up its host copy of each large array once every tracer holds it
+    /// (`Tracer::new_releasing`), so a big scene is not held twice.
+    pub fn new_releasing(
+        options: &[TracerOptions],
+        balancer: &str,
+        scene: &mut GpuScene,
+    ) -> Result<Tracers> {
+        let mut tracers =
+            Tracer::new_releasing(options, scene).context("creating the devices' tracers")?;
+        if tracers.len() == 1 {
+            return Ok(Tracers::One(Box::new(tracers.remove(0))));
+        }
+        let policy = crate::devices::balancer(balancer)?;
+        Ok(Tracers::Many(Renderer::new(tracers, policy)))
+    }
+
     /// The devices rendering in this process.
     pub fn count(&self) -> usize {
         match self {

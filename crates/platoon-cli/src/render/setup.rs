@@ -82,6 +82,19 @@ impl Setup {
         }
     }
 
+    /// The tracers of a still holding `scene`: a path-traced still in one process takes the
+    /// scene's large arrays off the host as it uploads them (`Tracers::new_releasing`), the
+    /// others keep them (a method reading the scene on the host, the ranks of a job).
+    pub(super) fn still_tracers(
+        &self,
+        scene: &mut platoon::core::flatten::GpuScene,
+    ) -> Result<Tracers> {
+        match self.session.is_some() || !self.params.method.is_path_tracing() {
+            true => self.tracers(scene),
+            false => Tracers::new_releasing(&self.tracers, &self.balancer, scene),
+        }
+    }
+
     /// Whether this process writes and reports (rank 0 of a job, or a process alone).
     pub(super) fn speaks(&self) -> bool {
         self.session.as_ref().is_none_or(|s| s.rank() == 0)

@@ -18,7 +18,7 @@ use super::setup::Setup;
 /// The still render of `run`.
 pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> Result<()> {
     let speaks = setup.speaks();
-    let prepared = super::stage::during("building BVHs and flattening", || {
+    let mut prepared = super::stage::during("building BVHs and flattening", || {
         platoon::prepare(setup.scene.clone(), &setup.options)
     })?;
     if speaks {
@@ -29,9 +29,12 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
             eprintln!("note: {note}");
         }
     }
+    // Before the upload, which may give up the host's copy of the large arrays.
+    let content = prepared.gpu.content_hash();
     let uploading = std::time::Instant::now();
-    let mut tracers =
-        super::stage::during("uploading to the devices", || setup.tracers(&prepared.gpu))?;
+    let mut tracers = super::stage::during("uploading to the devices", || {
+        setup.still_tracers(&mut prepared.gpu)
+    })?;
     let mut cost = platoon::cost::RenderCost {
         load: setup.load_time,
         prepare: prepared.prepare_time,
@@ -57,7 +60,7 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
     } = setup;
     params.camera = camera.in_render_space(prepared.camera, prepared.posed.origin);
     let asked = params.spp;
-    let key = checkpoint::key(&params, prepared.gpu.content_hash(), sampling);
+    let key = checkpoint::key(&params, content, sampling);
     let plain = batching.adaptive.is_none() && !batching.variance;
     let resumed = match resume {
         true if !plain => bail!(

@@ -54,6 +54,26 @@ impl GpuScene {
     }
 }
 
+impl GpuScene {
+    /// Frees the host's copy of `array`, once every device holds it, when it is one of the
+    /// large ones (mesh data, bottom-level nodes, texels: nothing on the host reads them while
+    /// a still renders on its devices); the others are small and stay. Its bytes are empty
+    /// after: not for a scene that commits, is sent to other processes or that a method reads
+    /// on the host.
+    pub fn release(&mut self, array: SceneArray) {
+        use SceneArray::*;
+        match array {
+            Vertices => self.vertices = Vec::new(),
+            TrianglePositions => self.triangle_positions = Vec::new(),
+            Triangles => self.triangles = Vec::new(),
+            Blas => self.blas_nodes = Vec::new(),
+            Texels => self.texels = Vec::new(),
+            VertexExtras => self.vertex_extras = Vec::new(),
+            _ => {}
+        }
+    }
+}
+
 /// What a tracer needs of a scene besides its arrays (the counts and the environment that go
 /// into its per-frame constants, and the feature set that picks its kernel).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

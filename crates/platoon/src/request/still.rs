@@ -158,7 +158,7 @@ impl Request {
         self.refuse_frame_to_frame()?;
         let scene = self.load_scene()?;
         let options = self.prepare_options(&scene)?;
-        let prepared = crate::prepare(scene, &options)?;
+        let mut prepared = crate::prepare(scene, &options)?;
         for w in &prepared.scene.warnings {
             log::warn!("{w}");
         }
@@ -166,7 +166,12 @@ impl Request {
             log::info!("{note}");
         }
         let options = self.tracer_options()?;
-        let mut tracers = Tracers::new(&options, &self.balancer, &prepared.gpu)?;
+        // The path tracer reads the scene on its devices only: the host gives up its copy of
+        // the large arrays as they are uploaded.
+        let mut tracers = match self.method.is_path_tracing() {
+            true => Tracers::new_releasing(&options, &self.balancer, &mut prepared.gpu)?,
+            false => Tracers::new(&options, &self.balancer, &prepared.gpu)?,
+        };
         let params = self.frame_params(self.camera_in(&prepared));
         let rendered =
             tracers.render_batched(&prepared.gpu, &params, &self.batching(), progress)?;
