@@ -365,6 +365,21 @@ fn a_walking_figures_frames_carry_its_motion_and_a_still_box_none() {
     let moving = x.iter().filter(|v| v.abs() > 0.05).count();
     assert!(moving > 10, "{moving} pixels moved");
     assert!(x.iter().all(|v| v.is_finite()));
+    // A still of the walk (which keeps the frame's geometry on the host for them).
+    let walk = dir.path().join("walk.exr");
+    let o = Cli::new("render")
+        .arg(shared("scenes/CesiumMan.glb").to_str().unwrap())
+        .spp(1)
+        .size(32, 32)
+        .flag("--time", "0.25")
+        .flag("--aov", "motion")
+        .out(&walk)
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let channels = read_exr_channels(&walk).unwrap();
+    let x = &channels.iter().find(|(c, _)| c == "motion.X").unwrap().1;
+    let moving = x.iter().filter(|v| v.abs() > 0.02).count();
+    assert!(moving > 10, "the still: {moving} pixels moved");
     let still = dir.path().join("box.exr");
     let o = Cli::new("render")
         .spp(1)

@@ -84,12 +84,16 @@ impl Setup {
 
     /// The tracers of a still holding `scene`: a path-traced still in one process takes the
     /// scene's large arrays off the host as it uploads them (`Tracers::new_releasing`), the
-    /// others keep them (a method reading the scene on the host, the ranks of a job).
+    /// others keep them (a method reading the scene on the host, motion vectors reading the
+    /// frame's geometry, the ranks of a job).
     pub(super) fn still_tracers(
         &self,
         scene: &mut platoon::core::flatten::GpuScene,
     ) -> Result<Tracers> {
-        match self.session.is_some() || !self.params.method.is_path_tracing() {
+        let keeps = self.session.is_some()
+            || !self.params.method.is_path_tracing()
+            || self.aovs.contains(&Aov::Motion);
+        match keeps {
             true => self.tracers(scene),
             false => Tracers::new_releasing(&self.tracers, &self.balancer, scene),
         }

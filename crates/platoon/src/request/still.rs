@@ -167,8 +167,9 @@ impl Request {
         }
         let options = self.tracer_options()?;
         // The path tracer reads the scene on its devices only: the host gives up its copy of
-        // the large arrays as they are uploaded.
-        let mut tracers = match self.method.is_path_tracing() {
+        // the large arrays as they are uploaded (motion vectors read the frame's geometry).
+        let releasing = self.method.is_path_tracing() && !self.aovs.contains(&Aov::Motion);
+        let mut tracers = match releasing {
             true => Tracers::new_releasing(&options, &self.balancer, &mut prepared.gpu)?,
             false => Tracers::new(&options, &self.balancer, &prepared.gpu)?,
         };
