@@ -18,11 +18,19 @@ pub fn build_mesh_bvh(mesh: &Mesh) -> FlatBvh {
 
 /// [`build_mesh_bvh`] at `quality` (None: by the size rule).
 pub fn build_mesh_bvh_at(mesh: &Mesh, quality: Option<BuildQuality>) -> FlatBvh {
+    let quality = quality.unwrap_or(BuildQuality::for_static(mesh.indices.len()));
+    if quality == BuildQuality::Quick {
+        // A big mesh: no array of its triangles beside the build's own.
+        return super::binned_sah::build_mesh(
+            &mesh.positions,
+            &mesh.indices,
+            STATIC_COLLAPSE_TRAVERSAL_COST,
+        );
+    }
     let (tris, original) = placeable_triangles(mesh);
     if tris.is_empty() {
         return FlatBvh::default();
     }
-    let quality = quality.unwrap_or(BuildQuality::for_static(tris.len()));
     build_flat(&tris, &original, quality)
 }
 
