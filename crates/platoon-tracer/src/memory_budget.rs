@@ -41,9 +41,11 @@ pub fn check(
         return Err(Error::Unsupported {
             device: device(),
             message: format!(
-                "the scene's {name} take {}, more than one buffer of this device can hold ({})",
+                "the scene's {name} take {}, more than one buffer of this device can hold \
+                 ({}){}",
                 size(*bytes),
-                size(largest)
+                size(largest),
+                texture_hint(name)
             ),
         });
     }
@@ -68,11 +70,24 @@ pub fn check(
     Err(Error::Unsupported {
         device: device(),
         message: format!(
-            "the scene needs {} of device memory ({}), more than {bound}: refused before upload",
+            "the scene needs {} of device memory ({}), more than {bound}: refused before \
+             upload{}",
             size(total),
-            parts.join(", ")
+            parts.join(", "),
+            texture_hint(by_size[0].0)
         ),
     })
+}
+
+/// What to do when the texels are the array too large: a texture budget.
+fn texture_hint(largest: &str) -> &'static str {
+    match largest {
+        "texels" => {
+            "; a texture budget (`--texture-budget`, `TextureOptions::budget`) halves the \
+             largest textures until they fit"
+        }
+        _ => "",
+    }
 }
 
 #[cfg(test)]
@@ -118,7 +133,12 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("texels take 3.00 GiB"), "{e}");
-        assert!(e.contains("(1.00 GiB)"), "{e}");
+        assert!(e.contains("(1.00 GiB); a texture budget"), "{e}");
+        // Other arrays get no such advice.
+        let e = check(&d, &[("blas", 3 << 30)], u64::MAX, false)
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("texture budget"), "{e}");
     }
 
     #[test]
