@@ -16,9 +16,10 @@ pub enum TextureLod {
     #[default]
     Off,
     /// Mip maps made at load, the level chosen from the camera path's ray cone (the width a
-    /// pixel's cone has where it meets the surface, over the cosine; Akenine-Möller et al.,
-    /// "Improved Shader and Texture Level of Detail Using Ray Cones", 2021): isotropic, so a
-    /// surface at a grazing angle blurs more than a supersampled image does.
+    /// pixel's cone has where it meets the surface, over the square root of the cosine: the
+    /// geometric mean of its footprint's axes, surface.glsl's `cone_lod`; after Akenine-Möller
+    /// et al., "Improved Shader and Texture Level of Detail Using Ray Cones", 2021): one
+    /// isotropic level, so a surface at a grazing angle blurs more than a supersampled image.
     RayCone,
 }
 
