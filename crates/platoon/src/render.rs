@@ -198,24 +198,34 @@ impl Tracers {
     /// Tracers for `options` (one per entry) holding `scene`; `balancer` splits the lines
     /// when there are several (a name `platoon_core::balance::by_name` knows).
     pub fn new(options: &[TracerOptions], balancer: &str, scene: &GpuScene) -> Result<Tracers> {
-        let mut tracers = crate::devices::tracers_from_options(options, scene)?;
-        if tracers.len() == 1 {
-            return Ok(Tracers::One(Box::new(tracers.remove(0))));
-        }
-        let policy = crate::devices::balancer(balancer)?;
-        Ok(Tracers::Many(Renderer::new(tracers, policy)))
+        Tracers::of(
+            crate::devices::tracers_from_options(options, scene)?,
+            balancer,
+        )
     }
 
-    /// [`Tracers::new`] for a still that reads `scene` on its devices only (the path tracer's):
-    /// `scene` gives up its host copy of each large array once every tracer holds it
-    /// (`Tracer::new_releasing`), so a big scene is not held twice.
-    pub fn new_releasing(
+    /// The tracers of a still of `method` with `aovs`, holding `scene`. The path tracer reads
+    /// the scene on its devices only, so `scene` gives up its host copy of each large array
+    /// once every tracer holds it (`Tracer::new_releasing`) and a big scene is not held twice;
+    /// other methods (links and LHB read it on the host) and motion vectors (the frame's
+    /// geometry) keep it.
+    pub fn for_still(
         options: &[TracerOptions],
         balancer: &str,
         scene: &mut GpuScene,
+        method: &platoon_core::method::Method,
+        aovs: &[platoon_core::frame::aov::Aov],
     ) -> Result<Tracers> {
-        let mut tracers =
+        if !method.is_path_tracing() || aovs.contains(&platoon_core::frame::aov::Aov::Motion) {
+            return Tracers::new(options, balancer, scene);
+        }
+        let tracers =
             Tracer::new_releasing(options, scene).context("creating the devices' tracers")?;
+        Tracers::of(tracers, balancer)
+    }
+
+    /// One tracer alone, or several under a renderer splitting lines by `balancer`.
+    fn of(mut tracers: Vec<Tracer>, balancer: &str) -> Result<Tracers> {
         if tracers.len() == 1 {
             return Ok(Tracers::One(Box::new(tracers.remove(0))));
         }

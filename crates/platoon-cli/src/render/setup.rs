@@ -82,20 +82,21 @@ impl Setup {
         }
     }
 
-    /// The tracers of a still holding `scene`: a path-traced still in one process takes the
-    /// scene's large arrays off the host as it uploads them (`Tracers::new_releasing`), the
-    /// others keep them (a method reading the scene on the host, motion vectors reading the
-    /// frame's geometry, the ranks of a job).
+    /// The tracers of a still holding `scene` (`Tracers::for_still`, which may take its large
+    /// arrays off the host); over the job's ranks with --mpi, which keep them.
     pub(super) fn still_tracers(
         &self,
         scene: &mut platoon::core::flatten::GpuScene,
     ) -> Result<Tracers> {
-        let keeps = self.session.is_some()
-            || !self.params.method.is_path_tracing()
-            || self.aovs.contains(&Aov::Motion);
-        match keeps {
-            true => self.tracers(scene),
-            false => Tracers::new_releasing(&self.tracers, &self.balancer, scene),
+        match &self.session {
+            Some(_) => self.tracers(scene),
+            None => Tracers::for_still(
+                &self.tracers,
+                &self.balancer,
+                scene,
+                &self.params.method,
+                &self.aovs,
+            ),
         }
     }
 

@@ -166,13 +166,13 @@ impl Request {
             log::info!("{note}");
         }
         let options = self.tracer_options()?;
-        // The path tracer reads the scene on its devices only: the host gives up its copy of
-        // the large arrays as they are uploaded (motion vectors read the frame's geometry).
-        let releasing = self.method.is_path_tracing() && !self.aovs.contains(&Aov::Motion);
-        let mut tracers = match releasing {
-            true => Tracers::new_releasing(&options, &self.balancer, &mut prepared.gpu)?,
-            false => Tracers::new(&options, &self.balancer, &prepared.gpu)?,
-        };
+        let mut tracers = Tracers::for_still(
+            &options,
+            &self.balancer,
+            &mut prepared.gpu,
+            &self.method,
+            &self.aovs,
+        )?;
         let params = self.frame_params(self.camera_in(&prepared));
         let rendered =
             tracers.render_batched(&prepared.gpu, &params, &self.batching(), progress)?;
