@@ -305,6 +305,83 @@ pub fn render_mitsuba(m: &Mitsuba, xml: &Path) -> Result<Process> {
     run_measured(m.command(xml), "Mitsuba")
 }
 
+/// A living scene's refinement of its big static geometry ([`platoon_core::drive::refinement`]):
+/// what it costs and what it brings.
+pub struct Refined {
+    /// The updater's first generation (the quick build and the flattening).
+    pub first_generation: f64,
+    /// The refinement alone, waited for right after.
+    pub refine: f64,
+    /// SAH cost of the largest bottom level, quick and refined.
+    pub sah: (f64, f64),
+    /// Median frame times (`frames` alternated renders each), quick and refined.
+    pub render: (f64, f64),
+}
+
+/// [`Refined`] of `scene` on the first device: an updater refining in the background, a
+/// tracer holding its first generation and one holding the generation after the swap, frames
+/// of `o`'s size rendered alternately.
+pub fn refinement(scene: &ScaleScene, o: &Options, frames: usize) -> Result<Refined> {
+    use platoon::core::drive::{Refinement, StaticBuild, Updater, UpdaterOptions};
+    use platoon::core::frame::FrameParams;
+    use platoon::core::scene::camera::Camera;
+    use platoon::render::Tracers;
+    let loaded = load_scene(Some(&scene.file))?;
+    let camera =
+        Camera::from_scene(&loaded, &loaded.pose(0.0), None).map_err(anyhow::Error::msg)?;
+    let options = UpdaterOptions {
+        static_build: StaticBuild {
+            refinement: Refinement::Background,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let start = Instant::now();
+    let mut updater = Updater::with_options(loaded, 0.0, glam::DVec3::ZERO, options)?;
+    let first_generation = start.elapsed().as_secs_f64();
+    if updater.refinements_pending() == 0 {
+        bail!("{}: no static mesh past the quick build's size", scene.name);
+    }
+    let quick_scene = updater.flattened().clone();
+    let start = Instant::now();
+    updater.finish_refinements();
+    let refine = start.elapsed().as_secs_f64();
+    let g = updater.update()?;
+    if g.refined == 0 {
+        bail!("{}: the refinement was not swapped in", scene.name);
+    }
+    let sah = (
+        quick_scene.bvh_report().largest,
+        updater.flattened().bvh_report().largest,
+    );
+    let spec = platoon::devices::DeviceSpec::Indices(vec![0]);
+    let options = platoon::devices::tracer_options(&spec, false, platoon::tracer::Sampling::Mis)?;
+    let mut quick = Tracers::new(&options, "cost-aware", &quick_scene)?;
+    let mut refined = Tracers::new(&options, "cost-aware", updater.flattened())?;
+    let mut params = FrameParams::new(o.width, o.height, o.spp, camera);
+    params.max_depth = o.max_depth;
+    let time = |t: &mut Tracers, s| -> Result<f64> {
+        let start = Instant::now();
+        t.render(s, &params, &mut |_| {})?;
+        Ok(start.elapsed().as_secs_f64())
+    };
+    // One frame each first (the kernels' compiles), then alternated.
+    time(&mut quick, &quick_scene)?;
+    time(&mut refined, updater.flattened())?;
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for _ in 0..frames.max(1) {
+        a.push(time(&mut quick, &quick_scene)?);
+        b.push(time(&mut refined, updater.flattened())?);
+    }
+    let median = platoon::core::measure::median;
+    Ok(Refined {
+        first_generation,
+        refine,
+        sah,
+        render: (median(a), median(b)),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -32,6 +32,11 @@ pub struct ScaleArgs {
     /// folder (default: a temporary folder, removed at the end).
     #[arg(long)]
     keep: Option<PathBuf>,
+    /// Also measure a living scene's refinement of the cut boxes' BVHs (in this process, on
+    /// the first device): its time, the SAH cost before and after, and the frame time with
+    /// each tree (medians of this many alternated frames).
+    #[arg(long, value_name = "FRAMES")]
+    refine: Option<usize>,
     /// Further `platoon render` arguments, after `--` (e.g. `-- --devices lavapipe:1,1`).
     #[arg(last = true)]
     render_args: Vec<String>,
@@ -101,6 +106,22 @@ pub fn run(a: &ScaleArgs) -> Result<()> {
                 }
             }
             Err(e) => println!("  platoon: refused or failed: {e:#}"),
+        }
+        if let (Some(frames), true) = (a.refine, scene.mitsuba) {
+            match scale_bench::refinement(&scene, &options, frames) {
+                Ok(r) => println!(
+                    "  refinement: first generation {:.2} s, refined in {:.2} s more; SAH {:.2} \
+                     -> {:.2}; frame {:.3} s -> {:.3} s ({:.3}x)",
+                    r.first_generation,
+                    r.refine,
+                    r.sah.0,
+                    r.sah.1,
+                    r.render.0,
+                    r.render.1,
+                    r.render.1 / r.render.0
+                ),
+                Err(e) => println!("  refinement: failed: {e:#}"),
+            }
         }
     }
     Ok(())

@@ -16,9 +16,10 @@ use glam::DVec3;
 
 use crate::error::Result;
 use crate::flatten::arrays::SceneArray;
+use crate::flatten::bvh::BuildQuality;
 use crate::flatten::bvh::FlatBvh;
 use crate::flatten::commit::Commit;
-use crate::flatten::mesh_bvh::build_mesh_bvh;
+use crate::flatten::mesh_bvh::build_mesh_bvh_at;
 use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
 use crate::flatten::static_merge::{StaticMerge, MERGED_NODE};
 use crate::flatten::{used_meshes, GpuScene, MeshRegion};
@@ -27,6 +28,7 @@ use crate::scene::floating_origin::FloatingOrigin;
 use crate::scene::{Mesh, Node, Posed, Scene};
 
 use super::edit::{Edit, Structure};
+use super::refinement::{Refiner, StaticBuild, Target};
 
 /// Where an update spent its time.
 #[derive(Clone, Copy, Debug, Default)]
@@ -61,12 +63,33 @@ pub struct Generation {
     /// geometry too, built again after an edit split an object out of it).
     pub refitted: usize,
     pub rebuilt: usize,
+    /// Static BVHs whose refined tree was swapped in by this update
+    /// ([`super::refinement::Refinement::Background`]).
+    pub refined: usize,
     /// The generation's flattened scene, when the pipeline keeps them (`Pipeline::keep_scenes`)
     /// and the scene changed.
     pub scene: Option<Arc<GpuScene>>,
     /// What carries the generation's hits back to the frame before, when the pipeline keeps
     /// it (`Pipeline::keep_hit_geometry`) and the scene changed.
     pub hits: Option<Arc<HitGeometry>>,
+}
+
+/// How an updater treats the scene's static geometry.
+#[derive(Clone, Copy, Debug)]
+pub struct UpdaterOptions {
+    /// The objects that never move merged into one bottom level (else each keeps its
+    /// instance).
+    pub merge_static: bool,
+    pub static_build: StaticBuild,
+}
+
+impl Default for UpdaterOptions {
+    fn default() -> Self {
+        UpdaterOptions {
+            merge_static: true,
+            static_build: StaticBuild::default(),
+        }
+    }
 }
 
 pub struct Updater {
@@ -76,10 +99,13 @@ pub struct Updater {
     time: f32,
     policy: RefitPolicy,
     /// Flattened BVHs of static meshes, by scene mesh.
-    static_bvhs: HashMap<usize, FlatBvh>,
+    static_bvhs: HashMap<usize, Arc<FlatBvh>>,
     /// The objects that never moved, merged; the BVH of their mesh as last built.
     merge: StaticMerge,
-    merged_bvh: Option<(Arc<Mesh>, FlatBvh)>,
+    merged_bvh: Option<(Arc<Mesh>, Arc<FlatBvh>)>,
+    /// How static BVHs are built, and their refinements under way.
+    static_build: StaticBuild,
+    refiner: Refiner,
     /// Skinned meshes by the node that poses them: the pose last flattened, its BVH kept from
     /// frame to frame, and that BVH flattened.
     deforming: HashMap<usize, Skinned>,
@@ -111,7 +137,21 @@ impl Updater {
         origin: DVec3,
         merge_static: bool,
     ) -> Result<Updater> {
-        let merge = if merge_static {
+        let options = UpdaterOptions {
+            merge_static,
+            ..Default::default()
+        };
+        Updater::with_options(scene, time, origin, options)
+    }
+
+    /// The same, as `options` say.
+    pub fn with_options(
+        scene: Scene,
+        time: f32,
+        origin: DVec3,
+        options: UpdaterOptions,
+    ) -> Result<Updater> {
+        let merge = if options.merge_static {
             StaticMerge::of_scene(&scene)
         } else {
             StaticMerge::none()
@@ -120,6 +160,8 @@ impl Updater {
             structure: Structure::of(&scene),
             merge,
             merged_bvh: None,
+            static_build: options.static_build,
+            refiner: Refiner::new(options.static_build.refinement),
             scene,
             origin: FloatingOrigin {
                 origin,
@@ -161,6 +203,17 @@ impl Updater {
     /// queries are relative to it.
     pub fn origin(&self) -> DVec3 {
         self.origin.origin
+    }
+
+    /// Static BVHs whose refinement is under way or done and not yet swapped in.
+    pub fn refinements_pending(&self) -> usize {
+        self.refiner.pending()
+    }
+
+    /// Waits for the refinements under way: the next update swaps them in (what makes the
+    /// generation of a swap a chosen one, for tests and benches).
+    pub fn finish_refinements(&mut self) {
+        self.refiner.wait();
     }
 
     pub fn set_refit_policy(&mut self, policy: RefitPolicy) {
@@ -231,6 +284,10 @@ impl Updater {
     /// updated in place and the commit holds exactly what was rewritten; otherwise (instances of
     /// new meshes, a changed layout) the scene is flattened anew and compared chunk by chunk.
     pub fn update(&mut self) -> Result<Generation> {
+        let refined = self.take_refined();
+        if !refined.is_empty() {
+            self.edited = true;
+        }
         if !std::mem::take(&mut self.edited) {
             // Nothing changed (only the camera moved, which is the frame's, not the scene's):
             // no pose, no skinning, an empty commit.
@@ -245,6 +302,7 @@ impl Updater {
                 times: UpdateTimes::default(),
                 refitted: 0,
                 rebuilt: 0,
+                refined: 0,
                 scene: None,
                 hits: None,
             });
@@ -268,9 +326,9 @@ impl Updater {
             .bvhs
             .iter()
             .map(|b| match b {
-                Level::Static(i) => &self.static_bvhs[i],
+                Level::Static(i) => &*self.static_bvhs[i],
                 Level::Skinned(node) => &self.deforming[node].flat,
-                Level::Merged => &self.merged_bvh.as_ref().expect("built with the level").1,
+                Level::Merged => &*self.merged_bvh.as_ref().expect("built with the level").1,
                 Level::Empty => &EMPTY,
             })
             .collect();
@@ -280,8 +338,25 @@ impl Updater {
             .zip(&levels.capacity)
             .map(|((m, b), &c)| (m.positions.len(), b.order.len(), c.max(b.nodes.len())))
             .collect();
+        // The posed meshes whose refined tree came (those rebuilt this update already are).
+        let swapped: Vec<usize> = (levels.bvhs.iter().enumerate())
+            .filter(|(i, level)| {
+                let target = match level {
+                    Level::Static(m) => Target::Static(*m),
+                    Level::Merged => Target::Merged,
+                    _ => return false,
+                };
+                refined.contains(&target) && !levels.deformed.iter().any(|d| d.0 == *i)
+            })
+            .map(|(i, _)| i)
+            .collect();
         let commit = if self.generation > 0 && layout == self.layout {
             let mut ranges = Vec::new();
+            for &i in &swapped {
+                // The triangles stay where they are: the nodes alone.
+                let r = self.state.rewrite_nodes(i, refs[i])?;
+                ranges.push(node_range(&r));
+            }
             for &(i, node, reshaped) in &levels.deformed {
                 let r = if reshaped {
                     self.state
@@ -340,6 +415,7 @@ impl Updater {
             times,
             refitted: levels.refitted,
             rebuilt: levels.rebuilt,
+            refined: swapped.len(),
             scene: None,
             hits: None,
         })
@@ -356,7 +432,7 @@ impl Updater {
             .filter(|i| i.mesh >= base && i.node != MERGED_NODE)
             .map(|i| (i.mesh, i.node))
             .collect();
-        let merged = self.merge.mesh();
+        let merged = self.merge.mesh().cloned();
         let mut levels = Levels::default();
         // Skinned meshes whose pose changed, taken out of the map to refit in parallel.
         let mut changed: Vec<(usize, usize, Option<Skinned>)> = Vec::new();
@@ -364,14 +440,15 @@ impl Updater {
             if mesh.indices.is_empty() {
                 levels.bvhs.push(Level::Empty);
                 levels.capacity.push(0);
-            } else if merged.is_some_and(|m| Arc::ptr_eq(m, mesh)) {
+            } else if merged.as_ref().is_some_and(|m| Arc::ptr_eq(m, mesh)) {
                 // The merged static geometry: its BVH is built once per merge.
                 let fresh = self
                     .merged_bvh
                     .as_ref()
                     .is_some_and(|(m, _)| Arc::ptr_eq(m, mesh));
                 if !fresh {
-                    self.merged_bvh = Some((mesh.clone(), build_mesh_bvh(mesh)));
+                    let bvh = self.build_static(Target::Merged, mesh);
+                    self.merged_bvh = Some((mesh.clone(), bvh));
                     // Built again (a split, or render space moved): its region is rewritten
                     // whole when the layout stays.
                     levels.deformed.push((i, MERGED_NODE, true));
@@ -389,11 +466,11 @@ impl Updater {
                 // A binary tree over n triangles has fewer than n inner nodes: any rebuild fits.
                 levels.capacity.push(mesh.indices.len().max(1));
             } else {
-                let flat = self
-                    .static_bvhs
-                    .entry(i)
-                    .or_insert_with(|| build_mesh_bvh(mesh));
-                levels.capacity.push(flat.nodes.len());
+                if !self.static_bvhs.contains_key(&i) {
+                    let bvh = self.build_static(Target::Static(i), mesh);
+                    self.static_bvhs.insert(i, bvh);
+                }
+                levels.capacity.push(self.static_bvhs[&i].nodes.len());
                 levels.bvhs.push(Level::Static(i));
             }
         }
@@ -446,6 +523,47 @@ impl Updater {
         self.deforming.retain(|node, _| live.contains(node));
         levels
     }
+}
+
+impl Updater {
+    /// The BVH of a static mesh (or the merged static geometry), built by the size rule of
+    /// [`StaticBuild`]; a quick one is handed to the refiner.
+    fn build_static(&mut self, target: Target, mesh: &Mesh) -> Arc<FlatBvh> {
+        if mesh.indices.len() > self.static_build.quick_above {
+            let quick = build_mesh_bvh_at(mesh, Some(BuildQuality::Quick));
+            self.refiner.built(target, quick)
+        } else {
+            Arc::new(build_mesh_bvh_at(mesh, Some(BuildQuality::Static)))
+        }
+    }
+
+    /// Puts the refined trees that are done in place of the quick ones they were made from
+    /// (unless those were replaced meanwhile: a split rebuilt the merged geometry); returns
+    /// whose.
+    fn take_refined(&mut self) -> Vec<Target> {
+        let mut swapped = Vec::new();
+        for (target, from, tree) in self.refiner.finished() {
+            let slot = match target {
+                Target::Static(m) => self.static_bvhs.get_mut(&m),
+                Target::Merged => self.merged_bvh.as_mut().map(|(_, b)| b),
+            };
+            if let Some(slot) = slot.filter(|b| Arc::ptr_eq(b, &from)) {
+                *slot = Arc::new(tree);
+                swapped.push(target);
+            }
+        }
+        swapped
+    }
+}
+
+/// The byte range of a mesh region's nodes (its whole capacity).
+fn node_range(r: &MeshRegion) -> (usize, u64, u64) {
+    let node = std::mem::size_of::<crate::flatten::bvh::BvhNode>() as u64;
+    (
+        SceneArray::Blas.index(),
+        r.node_base as u64 * node,
+        r.node_capacity as u64 * node,
+    )
 }
 
 static EMPTY: FlatBvh = FlatBvh {
@@ -566,6 +684,92 @@ mod tests {
         assert_eq!(next.id, 2);
         // Without an edit nothing is posed or flattened at all.
         assert_eq!(next.times.pose + next.times.flatten, Duration::ZERO);
+    }
+
+    /// The Cornell box cut into `cells` quads a face, its merged geometry built quick (past 100
+    /// triangles) and refined as `refinement` says.
+    fn refined_box(cells: u32, refinement: super::super::refinement::Refinement) -> Updater {
+        let static_build = StaticBuild {
+            quick_above: 100,
+            refinement,
+        };
+        let options = UpdaterOptions {
+            static_build,
+            ..Default::default()
+        };
+        let scene = crate::scene::cornell::tessellated(cells);
+        Updater::with_options(scene, 0.0, DVec3::ZERO, options).unwrap()
+    }
+
+    fn merged_sah(u: &Updater) -> f64 {
+        u.merged_bvh.as_ref().unwrap().1.sah_cost()
+    }
+
+    #[test]
+    fn a_refined_tree_is_swapped_in_by_the_next_update_and_commits_its_nodes_alone() {
+        use super::super::refinement::Refinement;
+        let mut u = refined_box(24, Refinement::Background);
+        let quick = merged_sah(&u);
+        let before = u.flattened().clone();
+        assert_eq!(u.refinements_pending(), 1);
+        u.finish_refinements();
+        let g = u.update().unwrap();
+        assert_eq!((g.refined, u.refinements_pending()), (1, 0));
+        let refined = merged_sah(&u);
+        assert!(refined < 0.995 * quick, "SAH {refined} against {quick}");
+        // Only the nodes moved: a copy that follows the commit holds the updater's bytes.
+        let blas = SceneArray::Blas.index();
+        assert!(g.commit.arrays.iter().all(|a| a.array == blas));
+        let mut followed = crate::drive::QueryScene::new(&before);
+        followed.apply_commit(&g.commit);
+        assert!(followed.scene().array_bytes() == u.flattened().array_bytes());
+        assert!(before.bytes_of(SceneArray::Blas) != u.flattened().bytes_of(SceneArray::Blas));
+        // Nothing more to swap.
+        assert!(u.update().unwrap().commit.is_empty());
+        // Waiting for it gives the same tree in the first generation.
+        let waited = refined_box(24, Refinement::Wait);
+        assert_eq!(
+            (waited.refinements_pending(), merged_sah(&waited)),
+            (0, refined)
+        );
+        assert!(waited.flattened().array_bytes() == u.flattened().array_bytes());
+        let off = refined_box(24, Refinement::Off);
+        assert_eq!((off.refinements_pending(), merged_sah(&off)), (0, quick));
+    }
+
+    #[test]
+    fn a_refinement_of_a_tree_rebuilt_meanwhile_gives_way_to_the_new_trees() {
+        use super::super::refinement::Refinement;
+        // Two boxes side by side, merged; the second moves before the refinement is swapped
+        // in: the merged geometry (the first box alone now) and the moved box's own mesh are
+        // built again, each refined, and the old refinement is dropped.
+        let two = |refinement| {
+            let mut u = refined_box(16, refinement);
+            let mut node = u.scene.nodes[0].clone();
+            node.translation.x += 6.0;
+            u.scene.nodes.push(node);
+            u.structure = Structure::of(&u.scene);
+            u.merge = StaticMerge::of_scene(&u.scene);
+            u.edited = true;
+            u.update().unwrap();
+            u
+        };
+        let moved = |u: &mut Updater| {
+            let node = u.scene.nodes.len() - 1;
+            let placement = Placement::at(DVec3::new(6.0, 0.5, 0.0));
+            u.apply(Edit::Placement { node, placement }).unwrap();
+            u.update().unwrap()
+        };
+        let mut u = two(Refinement::Background);
+        let g = moved(&mut u);
+        assert_eq!(g.rebuilt, 1);
+        assert_eq!(u.refinements_pending(), 2);
+        u.finish_refinements();
+        assert_eq!(u.update().unwrap().refined, 2);
+        // The trees the same as where every quick tree is refined before it is used.
+        let mut waited = two(Refinement::Wait);
+        moved(&mut waited);
+        assert!(waited.flattened().array_bytes() == u.flattened().array_bytes());
     }
 
     #[test]

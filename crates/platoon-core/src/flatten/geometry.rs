@@ -110,6 +110,24 @@ pub(super) fn write_mesh(
     let triangles = g.triangles.len();
     g.hit_names.set_mesh(mesh, tbase, &flat.order, triangles);
     write_corners(scene, mesh, &flat.order, r, g);
+    write_nodes(index, flat, g)
+}
+
+/// Writes `flat`'s nodes over region `index`'s node capacity (the slots past them cleared) and
+/// its root: all a new tree over the triangles in place needs, when it keeps their order.
+pub(super) fn write_nodes(index: usize, flat: &FlatBvh, g: &mut GpuScene) -> Result<()> {
+    let r = g.regions[index];
+    if flat.nodes.len() > r.node_capacity as usize || flat.order.len() != r.triangle_count as usize
+    {
+        return Err(Error::Invalid(format!(
+            "mesh {index}: a BVH of {} nodes over {} triangles does not fit its region \
+             ({} nodes, {} triangles)",
+            flat.nodes.len(),
+            flat.order.len(),
+            r.node_capacity,
+            r.triangle_count
+        )));
+    }
     let too_large = || {
         Error::Invalid(format!(
             "more than {} triangles or BVH nodes: too large for the kernel's node items",

@@ -22,6 +22,7 @@ mod lights;
 mod materials;
 pub mod mesh_bvh;
 mod placed;
+pub mod refine;
 pub mod refit;
 pub mod sheen_albedo;
 mod sheen_albedo_table;
@@ -136,6 +137,13 @@ impl GpuScene {
         flat: &FlatBvh,
     ) -> Result<MeshRegion> {
         geometry::write_mesh(scene, index, mesh, flat, self)?;
+        Ok(self.regions[index])
+    }
+
+    /// Rewrites mesh `index`'s nodes with `flat`, a tree over its triangles in the order they
+    /// have in place (a refinement, [`refine::refine`]): the nodes and the root, nothing else.
+    pub fn rewrite_nodes(&mut self, index: usize, flat: &FlatBvh) -> Result<MeshRegion> {
+        geometry::write_nodes(index, flat, self)?;
         Ok(self.regions[index])
     }
 

@@ -32,7 +32,7 @@
 pub mod frames;
 
 use anyhow::{bail, Result};
-use platoon_core::drive::{Edit, Generation, Updater};
+use platoon_core::drive::{Edit, Generation, Refinement, StaticBuild, Updater, UpdaterOptions};
 use platoon_core::flatten::GpuScene;
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::floating_origin::FloatingOrigin;
@@ -67,7 +67,16 @@ impl Animation {
                 .position()
                 .as_dvec3(),
         );
-        let updater = Updater::with_merge(scene, time, origin.origin, options.merge_static)?;
+        // Big static geometry refined before the first frame: every frame the same whatever
+        // the machine's speed (a game's pipeline refines it in the background instead).
+        let updater_options = UpdaterOptions {
+            merge_static: options.merge_static,
+            static_build: StaticBuild {
+                refinement: Refinement::Wait,
+                ..Default::default()
+            },
+        };
+        let updater = Updater::with_options(scene, time, origin.origin, updater_options)?;
         let posed = updater.scene().pose_around(time, updater.origin());
         let camera = camera_at(updater.scene(), &posed, options)?;
         Ok(Animation {
