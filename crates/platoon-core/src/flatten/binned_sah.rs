@@ -25,10 +25,16 @@ const BINS: usize = 32;
 /// Above this depth subtrees are built on their own threads (2^4 = 16 tasks).
 const PARALLEL_DEPTH: u32 = 4;
 
+/// Nodes of at most this many primitives are split by a full sweep over their sorted centroids
+/// rather than by bins: at the deep levels, where most nodes are, setting up and sweeping 32
+/// bins on three axes cost more than sorting a few centroids, and the sweep finds the exact
+/// SAH split.
+const SWEEP_PRIMITIVES: usize = 16;
+
 /// Subtrees under this many primitives are built on the thread that reached them.
 const PARALLEL_PRIMITIVES: usize = 4096;
 
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Bounds {
     lo: Vec3A,
     hi: Vec3A,
@@ -120,14 +126,25 @@ fn build_over(bounds: Vec<Bounds>, traversal_cost: f32) -> FlatBvh {
     if bounds.is_empty() {
         return FlatBvh::default();
     }
-    let centroids = bounds.par_iter().map(|b| (b.lo + b.hi) * 0.5).collect();
+    let centroids: Vec<Vec3A> = bounds.par_iter().map(|b| (b.lo + b.hi) * 0.5).collect();
     let prims = Primitives {
         bounds,
         centroids,
         traversal_cost,
     };
     let mut order: Vec<u32> = (0..prims.bounds.len() as u32).collect();
-    let tree = subtree(&prims, &mut order, 0, 0);
+    let span = (0..prims.bounds.len())
+        .into_par_iter()
+        .fold(
+            || Span::EMPTY,
+            |mut s, i| {
+                s.bounds.grow(&prims.bounds[i]);
+                s.centre.grow_point(prims.centroids[i]);
+                s
+            },
+        )
+        .reduce(|| Span::EMPTY, |a, b| a.joined(&b));
+    let tree = subtree(&prims, &mut order, 0, 0, span);
     FlatBvh {
         nodes: tree.nodes,
         root: tree.root,
@@ -136,10 +153,71 @@ fn build_over(bounds: Vec<Bounds>, traversal_cost: f32) -> FlatBvh {
     }
 }
 
+/// What a node's split starts from, which its parent's split already found: the box of its
+/// primitives and the box of their centroids.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Span {
+    bounds: Bounds,
+    centre: Bounds,
+}
+
+impl Span {
+    const EMPTY: Span = Span {
+        bounds: Bounds::EMPTY,
+        centre: Bounds::EMPTY,
+    };
+
+    fn of(p: &Primitives, order: &[u32]) -> Span {
+        let mut s = Span::EMPTY;
+        for &i in order {
+            s.bounds.grow(&p.bounds[i as usize]);
+            s.centre.grow_point(p.centroids[i as usize]);
+        }
+        s
+    }
+
+    fn joined(mut self, o: &Span) -> Span {
+        self.bounds.grow(&o.bounds);
+        self.centre.grow(&o.centre);
+        self
+    }
+}
+
+/// Splits `order` as `split` says: the position of the cut and the two sides' spans.
+fn split_at(p: &Primitives, order: &mut [u32], split: Split) -> (usize, [Span; 2]) {
+    match split {
+        Split::Bin {
+            axis,
+            bin,
+            lo,
+            scale,
+            bounds,
+        } => {
+            let (mid, centres) = partition(p, order, axis, bin, lo, scale);
+            let sides = [0, 1].map(|k| Span {
+                bounds: bounds[k],
+                centre: centres[k],
+            });
+            (mid, sides)
+        }
+        Split::Median | Split::Sweep { .. } => {
+            let mid = match split {
+                Split::Sweep { axis, count } => {
+                    order.sort_unstable_by(|&a, &b| sweep_key(p, axis, a, b));
+                    count
+                }
+                _ => order.len() / 2,
+            };
+            let (left, right) = order.split_at(mid);
+            (mid, [Span::of(p, left), Span::of(p, right)])
+        }
+    }
+}
+
 /// The subtree over `order` (whose first position is `first` in the whole order).
-fn subtree(p: &Primitives, order: &mut [u32], first: u32, depth: u32) -> Subtree {
-    let bounds = bounds_of(p, order);
-    let Some(split) = choose_split(p, order, &bounds) else {
+fn subtree(p: &Primitives, order: &mut [u32], first: u32, depth: u32, span: Span) -> Subtree {
+    let bounds = span.bounds;
+    let Some(split) = choose_split(p, order, &span) else {
         let root = leaf(first, order.len() as u32);
         return Subtree {
             nodes: Vec::new(),
@@ -147,15 +225,15 @@ fn subtree(p: &Primitives, order: &mut [u32], first: u32, depth: u32) -> Subtree
             bounds,
         };
     };
-    let mid = partition(p, order, split);
+    let (mid, [sa, sb]) = split_at(p, order, split);
     let n = order.len();
     let (left, right) = order.split_at_mut(mid);
     let second = first + mid as u32;
     if depth >= PARALLEL_DEPTH || n < PARALLEL_PRIMITIVES {
         let mut nodes = Vec::with_capacity(2 * (left.len() + right.len()) / 3);
         nodes.push(BvhNode::default());
-        let a = build_into(p, left, first, &mut nodes);
-        let b = build_into(p, right, second, &mut nodes);
+        let a = build_into(p, left, first, &mut nodes, sa);
+        let b = build_into(p, right, second, &mut nodes, sb);
         nodes[0] = BvhNode::pair(a, b);
         return Subtree {
             nodes,
@@ -164,8 +242,8 @@ fn subtree(p: &Primitives, order: &mut [u32], first: u32, depth: u32) -> Subtree
         };
     }
     let (a, b) = rayon::join(
-        || subtree(p, left, first, depth + 1),
-        || subtree(p, right, second, depth + 1),
+        || subtree(p, left, first, depth + 1, sa),
+        || subtree(p, right, second, depth + 1, sb),
     );
     let mut nodes = Vec::with_capacity(1 + a.nodes.len() + b.nodes.len());
     nodes.push(BvhNode::default());
@@ -209,18 +287,18 @@ fn build_into(
     order: &mut [u32],
     first: u32,
     nodes: &mut Vec<BvhNode>,
+    span: Span,
 ) -> (Vec3, Vec3, u32) {
-    let bounds = bounds_of(p, order);
-    let (lo, hi) = (Vec3::from(bounds.lo), Vec3::from(bounds.hi));
-    let Some(split) = choose_split(p, order, &bounds) else {
+    let (lo, hi) = (Vec3::from(span.bounds.lo), Vec3::from(span.bounds.hi));
+    let Some(split) = choose_split(p, order, &span) else {
         return (lo, hi, leaf(first, order.len() as u32));
     };
-    let mid = partition(p, order, split);
+    let (mid, [sa, sb]) = split_at(p, order, split);
     let index = nodes.len();
     nodes.push(BvhNode::default());
     let (left, right) = order.split_at_mut(mid);
-    let a = build_into(p, left, first, nodes);
-    let b = build_into(p, right, first + mid as u32, nodes);
+    let a = build_into(p, left, first, nodes, sa);
+    let b = build_into(p, right, first + mid as u32, nodes, sb);
     nodes[index] = BvhNode::pair(a, b);
     (lo, hi, item(index as u32, 0))
 }
@@ -232,65 +310,73 @@ fn leaf(first: u32, count: u32) -> u32 {
     item(first, count)
 }
 
-fn bounds_of(p: &Primitives, order: &[u32]) -> Bounds {
-    let mut b = Bounds::EMPTY;
-    for &i in order {
-        b.grow(&p.bounds[i as usize]);
-    }
-    b
-}
-
-/// Where to cut: on `axis`, centroids in bins below `bin` go left.
+/// Where to cut.
 #[derive(Clone, Copy)]
 enum Split {
+    /// On `axis`, centroids in bins below `bin` go left; `bounds` are the two sides' boxes
+    /// (the bins' boxes joined).
     Bin {
         axis: usize,
         bin: usize,
         lo: f32,
         scale: f32,
+        bounds: [Bounds; 2],
     },
     /// Every centroid in one point: halves by position in the order.
     Median,
+    /// The first `count` of the centroids sorted on `axis` go left.
+    Sweep { axis: usize, count: usize },
 }
 
 /// The cheapest split of `order` by the SAH, or None where a leaf costs less (and holds them).
-fn choose_split(p: &Primitives, order: &[u32], bounds: &Bounds) -> Option<Split> {
+/// One pass over the primitives bins them on all three axes (each primitive's centroid and box
+/// read once).
+fn choose_split(p: &Primitives, order: &[u32], span: &Span) -> Option<Split> {
     let n = order.len();
+    // What the parent's split passed down is what a pass over the primitives finds.
+    debug_assert_eq!(*span, Span::of(p, order));
     if n <= 1 {
         return None;
     }
-    let mut centre = Bounds::EMPTY;
-    for &i in order {
-        centre.grow_point(p.centroids[i as usize]);
+    if n <= SWEEP_PRIMITIVES {
+        return sweep_split(p, order, &span.bounds);
     }
+    let centre = span.centre;
     let extent = centre.hi - centre.lo;
-    let leaf_cost = n as f32;
-    let area = bounds.half_area();
+    // Zero or NaN: no spread of centroids on this axis to cut.
+    let live = [0, 1, 2].map(|a| extent[a] > 0.0);
+    // Just under BINS / extent, so the largest centroid lands in the last bin.
+    let scale = Vec3A::from([0, 1, 2].map(|a| {
+        if live[a] {
+            BINS as f32 * (1.0 - 1e-6) / extent[a]
+        } else {
+            0.0
+        }
+    }));
+    let mut boxes = [[Bounds::EMPTY; BINS]; 3];
+    let mut counts = [[0u32; BINS]; 3];
+    for &i in order {
+        let c = p.centroids[i as usize];
+        let b = &p.bounds[i as usize];
+        let bins = ((c - centre.lo) * scale).to_array();
+        for axis in 0..3 {
+            let bin = (bins[axis] as usize).min(BINS - 1);
+            counts[axis][bin] += 1;
+            boxes[axis][bin].grow(b);
+        }
+    }
     let mut best: Option<(f32, Split)> = None;
-    for axis in 0..3 {
-        // Zero or NaN: no spread of centroids on this axis to cut.
-        if extent[axis].is_nan() || extent[axis] <= 0.0 {
-            continue;
-        }
-        let lo = centre.lo[axis];
-        // Just under BINS / extent, so the largest centroid lands in the last bin.
-        let scale = BINS as f32 * (1.0 - 1e-6) / extent[axis];
-        let mut boxes = [Bounds::EMPTY; BINS];
-        let mut counts = [0u32; BINS];
-        for &i in order {
-            let bin = bin_of(p.centroids[i as usize][axis], lo, scale);
-            counts[bin] += 1;
-            boxes[bin].grow(&p.bounds[i as usize]);
-        }
-        // Areas and counts right of each cut, then a sweep from the left.
-        let mut right_area = [0.0f32; BINS];
+    for axis in (0..3).filter(|&a| live[a]) {
+        let (boxes, counts) = (&boxes[axis], &counts[axis]);
+        // Boxes and counts right of each cut, then a sweep from the left.
+        let mut right_box = [Bounds::EMPTY; BINS];
         let mut right_count = [0u32; BINS];
         let mut acc = Bounds::EMPTY;
         let mut count = 0;
         for b in (1..BINS).rev() {
             acc.grow(&boxes[b]);
             count += counts[b];
-            right_area[b] = acc.half_area();
+            right_box[b] = acc;
             right_count[b] = count;
         }
         let mut left = Bounds::EMPTY;
@@ -301,20 +387,29 @@ fn choose_split(p: &Primitives, order: &[u32], bounds: &Bounds) -> Option<Split>
             if left_count == 0 || right_count[b] == 0 {
                 continue;
             }
-            let cost = left.half_area() * left_count as f32 + right_area[b] * right_count[b] as f32;
+            let cost = left.half_area() * left_count as f32
+                + right_box[b].half_area() * right_count[b] as f32;
             if best.is_none_or(|(c, _)| cost < c) {
                 best = Some((
                     cost,
                     Split::Bin {
                         axis,
                         bin: b,
-                        lo,
-                        scale,
+                        lo: centre.lo[axis],
+                        scale: scale[axis],
+                        bounds: [left, right_box[b]],
                     },
                 ));
             }
         }
     }
+    decide(p, n, &span.bounds, best)
+}
+
+/// The split `best` (its SAH cost unnormalised) if it is cheaper than a leaf of `n`
+/// primitives or a leaf cannot hold them.
+fn decide(p: &Primitives, n: usize, bounds: &Bounds, best: Option<(f32, Split)>) -> Option<Split> {
+    let area = bounds.half_area();
     let split_cost = |cost: f32| {
         if area > 0.0 {
             p.traversal_cost + cost / area
@@ -323,7 +418,7 @@ fn choose_split(p: &Primitives, order: &[u32], bounds: &Bounds) -> Option<Split>
         }
     };
     match best {
-        Some((cost, split)) if n as u32 > MAX_LEAF_ITEM || split_cost(cost) < leaf_cost => {
+        Some((cost, split)) if n as u32 > MAX_LEAF_ITEM || split_cost(cost) < n as f32 => {
             Some(split)
         }
         Some(_) => None,
@@ -333,34 +428,72 @@ fn choose_split(p: &Primitives, order: &[u32], bounds: &Bounds) -> Option<Split>
     }
 }
 
-fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
-    (((c - lo) * scale) as usize).min(BINS - 1)
+/// [`choose_split`] of a few primitives: every cut between their centroids sorted on each
+/// axis (ties by index, so the order is total).
+fn sweep_split(p: &Primitives, order: &[u32], bounds: &Bounds) -> Option<Split> {
+    let n = order.len();
+    // (centroid on the axis, index): sorted without reaching back into the centroids.
+    let mut sorted = [(0.0f32, 0u32); SWEEP_PRIMITIVES];
+    let sorted = &mut sorted[..n];
+    let mut right_area = [0.0f32; SWEEP_PRIMITIVES];
+    let mut best: Option<(f32, Split)> = None;
+    for axis in 0..3 {
+        for (slot, &i) in sorted.iter_mut().zip(order) {
+            *slot = (p.centroids[i as usize][axis], i);
+        }
+        sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // Centroids in one point on this axis: no cut separates them.
+        if sorted[0].0 == sorted[n - 1].0 {
+            continue;
+        }
+        let mut acc = Bounds::EMPTY;
+        for k in (1..n).rev() {
+            acc.grow(&p.bounds[sorted[k].1 as usize]);
+            right_area[k] = acc.half_area();
+        }
+        let mut left = Bounds::EMPTY;
+        for k in 1..n {
+            left.grow(&p.bounds[sorted[k - 1].1 as usize]);
+            let cost = left.half_area() * k as f32 + right_area[k] * (n - k) as f32;
+            if best.is_none_or(|(b, _)| cost < b) {
+                best = Some((cost, Split::Sweep { axis, count: k }));
+            }
+        }
+    }
+    decide(p, n, bounds, best)
 }
 
-/// Moves `order`'s primitives left of `split` to its front, in place (two cursors swapping
-/// from the ends: no allocation, which at the top levels would be tens of MiB a node, each
-/// freshly mapped and faulted in); returns how many.
-fn partition(p: &Primitives, order: &mut [u32], split: Split) -> usize {
-    let Split::Bin {
-        axis,
-        bin,
-        lo,
-        scale,
-    } = split
-    else {
-        return order.len() / 2;
-    };
-    let goes_left = |i: u32| bin_of(p.centroids[i as usize][axis], lo, scale) < bin;
+fn sweep_key(p: &Primitives, axis: usize, a: u32, b: u32) -> std::cmp::Ordering {
+    let c = |i: u32| p.centroids[i as usize][axis];
+    c(a).total_cmp(&c(b)).then(a.cmp(&b))
+}
+
+/// Moves `order`'s primitives whose centroid on `axis` falls in a bin below `bin` to its
+/// front, in place (two cursors swapping from the ends: no allocation, which at the top levels
+/// would be tens of MiB a node, each freshly mapped and faulted in); returns how many, and the
+/// boxes of the two sides' centroids (found on the way).
+fn partition(
+    p: &Primitives,
+    order: &mut [u32],
+    axis: usize,
+    bin: usize,
+    lo: f32,
+    scale: f32,
+) -> (usize, [Bounds; 2]) {
+    let mut centres = [Bounds::EMPTY; 2];
     let (mut left, mut right) = (0, order.len());
     while left < right {
-        if goes_left(order[left]) {
+        let c = p.centroids[order[left] as usize];
+        if (((c[axis] - lo) * scale) as usize).min(BINS - 1) < bin {
+            centres[0].grow_point(c);
             left += 1;
         } else {
+            centres[1].grow_point(c);
             right -= 1;
             order.swap(left, right);
         }
     }
-    left
+    (left, centres)
 }
 
 #[cfg(test)]

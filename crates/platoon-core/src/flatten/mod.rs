@@ -47,7 +47,7 @@ impl GpuScene {
     /// hash render the same image. What renders cached across runs are keyed by.
     pub fn content_hash(&self) -> u64 {
         use std::hash::{Hash, Hasher};
-        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let mut h = xxhash_rust::xxh3::Xxh3::new();
         let e = &self.env;
         for bytes in self.array_bytes() {
             bytes.hash(&mut h);
