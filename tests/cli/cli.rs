@@ -1079,8 +1079,8 @@ fn box_16x12_at_2_spp(dir: &Path) -> platoon::core::output::Film {
 #[test]
 fn a_png_is_the_exr_under_the_view_transform_and_exposure_asked_for() {
     // Issue 41, colour: the same render as scene-linear EXR and as PNG under each view; the
-    // PNG's bytes are the EXR's pixels through platoon::core::view, and its metadata says so.
-    use platoon::core::view::{View, ViewTransform};
+    // PNG's bytes are the EXR's pixels through platoon::core::colour, and its metadata says so.
+    use platoon::core::colour::{View, ViewTransform};
     let dir = tempfile::tempdir().unwrap();
     let film = box_16x12_at_2_spp(dir.path());
     let mut seen = Vec::new();
@@ -1131,7 +1131,7 @@ fn a_16_bit_tiff_png_and_a_jpeg_are_the_exr_under_the_view() {
     // Issue 41, outputs: the same render as EXR and as 16-bit TIFF and PNG (their values the
     // EXR's pixels through the view at 16 bits) and JPEG (close to the 8-bit encoding, with
     // the render's metadata); bits a format cannot hold are refused before rendering.
-    use platoon::core::view::View;
+    use platoon::core::colour::View;
     let dir = tempfile::tempdir().unwrap();
     let film = box_16x12_at_2_spp(dir.path());
     let want16 = film.srgb16_viewed(&View::default());

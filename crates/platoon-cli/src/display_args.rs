@@ -1,10 +1,10 @@
 //! How an image is shown: the view transform and exposure of a PNG, JPEG or TIFF, a video's
-//! frames and the viewer's window (`platoon::core::view`), their bits; an EXR's samples and
+//! frames and the viewer's window (`platoon::core::colour`), their bits; an EXR's samples and
 //! compression (EXR output stays scene-linear).
 
 use anyhow::{bail, Result};
+use platoon::core::colour::{View, ViewTransform};
 use platoon::core::output::{DisplayOptions, ExrCompression, ExrOptions, ImageOptions};
-use platoon::core::view::{View, ViewTransform};
 
 #[derive(clap::Args)]
 pub struct DisplayArgs {

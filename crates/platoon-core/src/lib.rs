@@ -1,7 +1,8 @@
 //! platoon-core: everything of the renderer that is not Vulkan, grouped by stage.
 //!
 //! - [`scene`]: the scene graph, its loaders (glTF, the built-in Cornell box), animation,
-//!   cameras, the environment and the floating origin;
+//!   cameras, the environment and the floating origin: the crate `platoon-scene`, re-exported
+//!   here with its [`error`], [`input`] (reading a user's files) and [`byte_size`];
 //! - [`flatten`]: a posed scene made into the plain GPU-ready arrays of [`flatten::GpuScene`]
 //!   (BVHs, materials and textures, lights and their selection CDF, the feature set);
 //! - [`frame`]: frame parameters, bands of lines, the multi-tracer frame loop and fault injection;
@@ -13,24 +14,25 @@
 //! - [`drive`]: a living scene: the game's edits, and generations of the flattened scene with
 //!   what changed between them;
 //! - [`measure`]: summaries of measurements;
-//! - [`output`]: films and image files.
+//! - [`output`]: films and image files, and [`colour`] (exposure and view transforms): the crate
+//!   `platoon-image`, re-exported here.
 //!
 //! The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
 pub mod balance;
-pub mod byte_size;
 pub mod denoise;
 pub mod distribute;
 pub mod drive;
-pub mod error;
 pub mod flatten;
 pub mod frame;
-pub mod input;
 pub mod measure;
 pub mod method;
-pub mod output;
-pub mod scene;
-pub mod view;
+
+pub use platoon_scene as scene;
+pub use platoon_scene::{byte_size, error, input};
+
+pub use platoon_image as output;
+pub use platoon_image::colour;
 
 pub use error::{Error, Result};
 pub use flatten::features::SceneFeatures;

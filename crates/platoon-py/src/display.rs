@@ -1,12 +1,12 @@
 //! `platoon.display`: a linear image as the display pixels platoon's PNG output would hold,
-//! under a view transform and an exposure (`platoon::core::view`), so a notebook shows what
+//! under a view transform and an exposure (`platoon::core::colour`), so a notebook shows what
 //! `platoon render --out x.png` writes.
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use platoon::core::view::{View, ViewTransform};
+use platoon::core::colour::{View, ViewTransform};
 
 /// `image` (float32 H x W x 3, scene-linear) as sRGB display pixels under `view_transform`
 /// (standard, agx, pbr-neutral, aces) after `exposure` stops: uint8 H x W x 3, or uint16 with

@@ -45,7 +45,7 @@ fn placed_quad(corners: [[f32; 3]; 4]) -> (MeshData, [f64; 3]) {
     (quad_from(local), c.map(f64::from))
 }
 
-/// The built-in Cornell box (crates/platoon-core/src/scene/cornell.rs) as an exporter writes
+/// The built-in Cornell box (crates/platoon-scene/src/cornell.rs) as an exporter writes
 /// it: five walls, the light and two closed blocks, each its own mesh under its own node (8
 /// instances, 36 triangles), and the built-in's camera.
 pub fn cornell_nodes() -> SceneData {

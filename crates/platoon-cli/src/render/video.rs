@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{bail, Context as _, Result};
+use platoon::core::colour::View;
 use platoon::core::output::{read_exr, write_image_as, ImageOptions};
-use platoon::core::view::View;
 
 /// Refuses a video the run could not make, before rendering.
 pub fn check(video: &Path, farm_task: bool) -> Result<()> {
