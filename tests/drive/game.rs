@@ -12,7 +12,6 @@ use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
 use platoon::core::denoise::temporal::{GBuffer, Temporal};
 use platoon::core::denoise::Denoiser;
-use platoon::core::distribute::Collective as _;
 use platoon::core::drive::plan::Join;
 use platoon::core::drive::scaling::BelowOneSample;
 use platoon::core::drive::Edit;
@@ -23,6 +22,7 @@ use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::Placement;
 use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::distribute::Collective as _;
 use platoon::tracer::Sampling;
 
 const W: u32 = 32;
@@ -575,13 +575,13 @@ fn the_device_denoiser_in_the_game_loop_is_the_cpu_one_with_the_same_bits_for_an
 }
 
 /// Ranks as threads for the facade's game loop over ranks (`platoon::distributed::game`): the
-/// collectives and links of `platoon_core::distribute::local`.
+/// collectives and links of `platoon_distribute::local`.
 struct ThreadRanks {
-    group: platoon::core::distribute::local::LocalGroup,
-    link: std::sync::Arc<platoon::core::distribute::local::LocalLink>,
+    group: platoon::distribute::local::LocalGroup,
+    link: std::sync::Arc<platoon::distribute::local::LocalLink>,
 }
 
-impl platoon::core::distribute::Collective for ThreadRanks {
+impl platoon::distribute::Collective for ThreadRanks {
     fn rank(&self) -> usize {
         self.group.rank()
     }
@@ -609,7 +609,7 @@ impl platoon::distributed::Session for ThreadRanks {
     fn deal(&self, frames: Vec<i64>) -> Box<dyn Iterator<Item = i64>> {
         Box::new(frames.into_iter())
     }
-    fn link(&self) -> anyhow::Result<std::sync::Arc<dyn platoon::core::distribute::remote::Link>> {
+    fn link(&self) -> anyhow::Result<std::sync::Arc<dyn platoon::distribute::remote::Link>> {
         Ok(self.link.clone())
     }
 }
@@ -678,8 +678,8 @@ fn game_over_ranks_and_alone(method: platoon::core::Method, configure: fn(&mut D
         (stats.len(), stats.last().unwrap().commit_bytes, film)
     };
     let alone = play(None, "lavapipe:1");
-    let mut groups = platoon::core::distribute::local::LocalGroup::new(3);
-    let links = platoon::core::distribute::local::LocalLink::new(3);
+    let mut groups = platoon::distribute::local::LocalGroup::new(3);
+    let links = platoon::distribute::local::LocalLink::new(3);
     let over_ranks = std::thread::scope(|s| {
         for (group, link) in groups.drain(1..).zip(links[1..].iter().cloned()) {
             s.spawn(move || {

@@ -9,19 +9,17 @@
 //! - [`method`]: the rendering methods (path tracing, instant global illumination): their
 //!   options, the kernel variant a render runs, the passes after assembly;
 //! - [`balance`]: the line balancers and the replay of recorded costs;
-//! - [`distribute`]: frames split between processes (the ranks of an MPI job), two levels of
-//!   balancing, the bytes between them;
 //! - [`drive`]: a living scene: the game's edits, and generations of the flattened scene with
 //!   what changed between them;
 //! - [`measure`]: summaries of measurements;
 //! - [`output`]: films and image files, and [`colour`] (exposure and view transforms): the crate
 //!   `platoon-image`, re-exported here.
 //!
-//! The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
+//! Frames split between processes (MPI ranks) are the crate `platoon-distribute`, built on
+//! this one. The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
 pub mod balance;
 pub mod denoise;
-pub mod distribute;
 pub mod drive;
 pub mod flatten;
 pub mod frame;

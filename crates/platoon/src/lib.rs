@@ -43,6 +43,9 @@ pub mod request;
 
 pub use metadata::{approximations, metadata, metadata_of, SceneFacts};
 pub use platoon_core as core;
+/// Frames split between processes: the ranks' two levels of balancing and the bytes between
+/// them (the crate `platoon-distribute`; `distributed` runs them over MPI).
+pub use platoon_distribute as distribute;
 pub use platoon_tracer as tracer;
 pub use prepare::{
     load_scene, load_scene_with, prepare, EnvChoice, EnvLight, PrepareOptions, Prepared,

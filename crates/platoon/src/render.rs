@@ -5,11 +5,11 @@ use std::rc::Rc;
 use std::sync::Arc;
 
 use anyhow::{Context as _, Result};
-use platoon_core::distribute::{Collective, RankFrame, RankRenderer};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::renderer::{FrameResult, Renderer};
 use platoon_core::frame::{assemble, gather_sums, Band, FrameParams, Span};
+use platoon_distribute::{Collective, RankFrame, RankRenderer};
 use platoon_tracer::{Tracer, TracerOptions};
 
 use crate::rendered::{pack, Devices, Measured};

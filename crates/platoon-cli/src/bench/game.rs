@@ -246,7 +246,7 @@ struct Communication {
 
 fn communication(ranks: usize, frames: usize) -> Communication {
     use std::sync::atomic::Ordering::Relaxed;
-    let t = &platoon::core::distribute::remote::TRAFFIC;
+    let t = &platoon::distribute::remote::TRAFFIC;
     let per = |v: u64| v as f64 / frames.max(1) as f64;
     Communication {
         ranks,

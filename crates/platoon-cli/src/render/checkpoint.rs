@@ -35,7 +35,7 @@ pub(super) fn key(params: &FrameParams, scene: u64, sampling: &str) -> String {
     let mut p = params.clone();
     p.first_sample = 0;
     p.time_limit = None;
-    let settings = platoon::core::distribute::wire::fingerprint(&p);
+    let settings = platoon::distribute::wire::fingerprint(&p);
     format!("{settings:016x}-{scene:016x}-{sampling}")
 }
 

@@ -186,7 +186,7 @@ impl SceneFeatures {
     }
 
     /// Every flag, in a stable order (what a commit sent to another rank carries,
-    /// `crate::distribute::wire`). Written out field by field: a new feature breaks the build
+    /// `platoon_distribute::wire`). Written out field by field: a new feature breaks the build
     /// here until it is listed.
     pub fn flags_mut(&mut self) -> [&mut bool; 30] {
         let SceneFeatures {

@@ -7,8 +7,10 @@ pub mod aov;
 pub mod aov_params;
 mod crop;
 pub mod cryptomatte;
-#[cfg(test)]
-pub(crate) mod fakes;
+/// CPU fake tracers for tests (this crate's, and platoon-distribute's through the feature
+/// `test-support`).
+#[cfg(any(test, feature = "test-support"))]
+pub mod fakes;
 pub mod fault;
 mod film_state;
 pub mod hit_geometry;

@@ -244,7 +244,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
     }
 
     /// Renders the pixels `span` of the frame `params` (a rank's share of a frame split
-    /// between machines, `crate::distribute`): the balancer cuts it between the tracers as it
+    /// between machines, `platoon-distribute`): the balancer cuts it between the tracers as it
     /// would a frame of the lines the span touches, and learns from it. The bands come back
     /// as they are, for whoever assembles the frame.
     pub fn render_within(

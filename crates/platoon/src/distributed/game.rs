@@ -1,5 +1,5 @@
 //! The game loop over the ranks of a job: rank 0 runs the game and its frame driver, whose
-//! tracers are the ranks (`platoon_core::distribute::remote`): its own devices as one, each
+//! tracers are the ranks (`platoon_distribute::remote`): its own devices as one, each
 //! other rank as one reached by messages. The driver's balancer cuts each frame between the
 //! ranks, each rank's renderer cuts its band between its devices; each generation's commit
 //! (what changed) and each frame's parameters travel to the ranks as the driver hands them to
@@ -10,15 +10,15 @@ use std::sync::Arc;
 
 use anyhow::{bail, Context as _, Result};
 use glam::DVec3;
-use platoon_core::distribute::method_wire::travels;
-use platoon_core::distribute::remote::{serve as serve_bands, LocalRank, RankTracer, RemoteRank};
-use platoon_core::distribute::wire::{self, Reader, Writer};
 use platoon_core::drive::queries::QueryScene;
 use platoon_core::drive::{FrameDriver, Pipeline};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::renderer::Renderer;
 use platoon_core::Scene;
+use platoon_distribute::method_wire::travels;
+use platoon_distribute::remote::{serve as serve_bands, LocalRank, RankTracer, RemoteRank};
+use platoon_distribute::wire::{self, Reader, Writer};
 use platoon_tracer::Sampling;
 
 use super::Ranks;
@@ -61,7 +61,7 @@ pub fn start(scene: Scene, options: &GameOptions, ranks: &Ranks) -> Result<Frame
 pub fn serve(ranks: &Ranks, devices: &DeviceSpec, balancer: &str, validation: bool) -> Result<()> {
     let session = &ranks.0;
     let rank = session.rank();
-    let link: Arc<dyn platoon_core::distribute::remote::Link> = session.link()?;
+    let link: Arc<dyn platoon_distribute::remote::Link> = session.link()?;
     let bytes = session.broadcast(Vec::new());
     let mut r = Reader::new(&bytes);
     let commit =

@@ -1,4 +1,4 @@
-//! Frames split between processes (`platoon_core::distribute`): every rank of a job holds
+//! Frames split between processes (`platoon_distribute`): every rank of a job holds
 //! the scene and its own devices; rank 0's balancer cuts each frame between the ranks, each
 //! rank's renderer between its devices, and the bands are gathered on rank 0, which gets the
 //! image (the others get frames of zeros and write nothing). With the feature `mpi` the ranks
@@ -20,9 +20,9 @@ mod session;
 use std::rc::Rc;
 
 use anyhow::Result;
-use platoon_core::distribute::{Communication, RankFrame, RankRenderer, RankStats};
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::FrameParams;
+use platoon_distribute::{Communication, RankFrame, RankRenderer, RankStats};
 use platoon_tracer::Tracer;
 
 pub use session::Session;

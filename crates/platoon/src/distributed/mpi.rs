@@ -1,5 +1,5 @@
 //! The ranks of an MPI job (rsmpi over the system's MPI: Debian's Open MPI): the collectives
-//! of `platoon_core::distribute` as MPI_Bcast, MPI_Scatterv and MPI_Gatherv of bytes, each
+//! of `platoon_distribute` as MPI_Bcast, MPI_Scatterv and MPI_Gatherv of bytes, each
 //! preceded by the exchange of the lengths.
 
 use anyhow::{bail, Result};
@@ -11,8 +11,8 @@ use mpi::Count;
 use std::sync::Arc;
 
 use mpi::Threading;
-use platoon_core::distribute::remote::Link;
-use platoon_core::distribute::Collective;
+use platoon_distribute::remote::Link;
+use platoon_distribute::Collective;
 
 use super::Session;
 

@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use anyhow::Result;
-use platoon_core::distribute::Collective;
+use platoon_distribute::Collective;
 
 /// A job's ranks, with what a program needs beyond the collectives: ending every rank when one
 /// fails (a rank that returns leaves the others waiting in their next collective).
@@ -15,7 +15,7 @@ pub trait Session: Collective {
     /// call on the session until the iterator has ended.
     fn deal(&self, frames: Vec<i64>) -> Box<dyn Iterator<Item = i64>>;
     /// Messages between rank 0 and each other rank from any thread: the game loop's ranks
-    /// (`platoon_core::distribute::remote`). An error where the library cannot talk from
+    /// (`platoon_distribute::remote`). An error where the library cannot talk from
     /// several threads at once.
-    fn link(&self) -> Result<Arc<dyn platoon_core::distribute::remote::Link>>;
+    fn link(&self) -> Result<Arc<dyn platoon_distribute::remote::Link>>;
 }

@@ -12,11 +12,11 @@ use std::time::{Duration, Instant};
 
 use super::params::{get_params, put_params};
 use super::wire::{self, Reader, WireError, Writer};
-use crate::flatten::commit::Commit;
-use crate::frame::renderer::{
+use platoon_core::flatten::commit::Commit;
+use platoon_core::frame::renderer::{
     first_report, line_rays_of, per_pixel_in_order, PartResult, Renderer,
 };
-use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
+use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
 /// Messages between rank 0 and another rank, callable from several threads at once (MPI
 /// started with MPI_THREAD_MULTIPLE; channels for ranks as threads).
@@ -255,11 +255,11 @@ pub fn serve<T: BandTracer + Send + 'static>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::balance::{by_name, NAMES, STEALING_NAMES};
-    use crate::distribute::local::LocalLink;
-    use crate::frame::fakes::{Fake, Keeping};
-    use crate::output::Film;
-    use crate::scene::camera::Camera;
+    use crate::local::LocalLink;
+    use platoon_core::balance::{by_name, NAMES, STEALING_NAMES};
+    use platoon_core::frame::fakes::{Fake, Keeping};
+    use platoon_core::output::Film;
+    use platoon_core::scene::camera::Camera;
 
     fn params(frame: u32) -> FrameParams {
         let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
@@ -364,7 +364,7 @@ mod tests {
             |r| {
                 let mut c = Commit::default();
                 c.header.lights = 5;
-                c.arrays.push(crate::flatten::commit::ArrayCommit {
+                c.arrays.push(platoon_core::flatten::commit::ArrayCommit {
                     array: 0,
                     len: 4,
                     ranges: vec![(0, 4)],
@@ -389,7 +389,7 @@ mod tests {
 
     /// Rank 1's devices fail from frame 1 on (with stealing, whatever piece it holds then).
     fn a_rank_fails(balancer: &str) {
-        use crate::frame::fault::FaultInjector;
+        use platoon_core::frame::fault::FaultInjector;
         let (films, alive) = with_ranks(
             vec![FaultInjector::healthy(Fake { slowness: 1 })],
             vec![

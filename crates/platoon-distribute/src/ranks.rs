@@ -14,13 +14,13 @@ use std::time::{Duration, Instant};
 use super::share::{decode_reply, encode_reply, share, unshare, Reply};
 use super::wire::{self, Reader, WireError, Writer};
 use super::Collective;
-use crate::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
-use crate::flatten::commit::Commit;
-use crate::frame::renderer::{
+use platoon_core::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use platoon_core::flatten::commit::Commit;
+use platoon_core::frame::renderer::{
     frame_of, line_rays_of, FrameResult, PartResult, RenderError, Renderer, TracerStats,
 };
-use crate::frame::{BandTracer, FrameParams, Span};
-use crate::output::Film;
+use platoon_core::frame::{BandTracer, FrameParams, Span};
+use platoon_core::output::Film;
 
 #[derive(Debug, thiserror::Error)]
 pub enum RankError {
@@ -388,11 +388,11 @@ fn zeros(params: &FrameParams, tracers: Vec<TracerStats>, start: Instant) -> Fra
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::balance::{by_name, NAMES};
-    use crate::distribute::local::LocalGroup;
-    use crate::frame::fakes::{Fake, Keeping};
-    use crate::frame::fault::FaultInjector;
-    use crate::scene::camera::Camera;
+    use crate::local::LocalGroup;
+    use platoon_core::balance::{by_name, NAMES};
+    use platoon_core::frame::fakes::{Fake, Keeping};
+    use platoon_core::frame::fault::FaultInjector;
+    use platoon_core::scene::camera::Camera;
 
     fn params(frame: u32) -> FrameParams {
         let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
@@ -557,7 +557,7 @@ mod tests {
             |r| {
                 let mut c = Commit::default();
                 c.header.lights = 10 + r.rank() as u32;
-                c.arrays.push(crate::flatten::commit::ArrayCommit {
+                c.arrays.push(platoon_core::flatten::commit::ArrayCommit {
                     array: 1,
                     len: 8,
                     ranges: vec![(0, 8)],

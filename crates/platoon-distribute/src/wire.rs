@@ -7,9 +7,9 @@
 use std::hash::{Hash, Hasher};
 use std::time::Duration;
 
-use crate::flatten::commit::{ArrayCommit, Commit, SceneHeader};
-use crate::frame::renderer::{TracerFailure, TracerStats};
-use crate::frame::{Band, FrameParams, Span};
+use platoon_core::flatten::commit::{ArrayCommit, Commit, SceneHeader};
+use platoon_core::frame::renderer::{TracerFailure, TracerStats};
+use platoon_core::frame::{Band, FrameParams, Span};
 
 #[derive(Debug, thiserror::Error)]
 #[error("a message between ranks is cut short or malformed: {0}")]
@@ -308,7 +308,7 @@ pub fn get_commit(r: &mut Reader) -> Result<Commit, WireError> {
     let mut arrays = Vec::new();
     for _ in 0..count {
         let array = r.u32()? as usize;
-        if array >= crate::flatten::commit::ARRAY_COUNT {
+        if array >= platoon_core::flatten::commit::ARRAY_COUNT {
             return Err(WireError(format!("no scene array {array}")));
         }
         let len = r.u64()?;
@@ -479,7 +479,8 @@ mod tests {
 
     #[test]
     fn the_fingerprint_sees_settings_and_not_the_frame_data() {
-        let camera = crate::scene::camera::Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
+        let camera =
+            platoon_core::scene::camera::Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
         let p = FrameParams::new(4, 4, 2, camera);
         let mut q = p.clone();
         q.film.accumulated = Some(vec![[1.0; 3]; 16].into());

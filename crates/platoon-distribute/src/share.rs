@@ -5,8 +5,8 @@
 use std::time::Duration;
 
 use super::wire::{self, Reader, WireError, Writer};
-use crate::frame::renderer::PartResult;
-use crate::frame::{FrameParams, Span};
+use platoon_core::frame::renderer::PartResult;
+use platoon_core::frame::{FrameParams, Span};
 
 /// What a rank answers for its share.
 pub(super) enum Reply {

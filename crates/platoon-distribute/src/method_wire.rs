@@ -3,9 +3,9 @@
 //! whose preparation cannot travel says so itself (`MethodKind::travels`).
 
 use super::wire::{Reader, WireError, Writer};
-use crate::method::registry::{kind, KINDS};
-use crate::method::settings::{Settings, Value};
-use crate::method::Method;
+use platoon_core::method::registry::{kind, KINDS};
+use platoon_core::method::settings::{Settings, Value};
+use platoon_core::method::Method;
 
 /// Whether `method`'s frames can be sent to another rank.
 pub fn travels(method: &Method) -> Result<(), String> {

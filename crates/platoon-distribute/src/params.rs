@@ -8,13 +8,13 @@ use std::time::Duration;
 
 use super::method_wire::{get_method, put_method};
 use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
-use crate::frame::aov::AovPass;
-use crate::frame::light_pass::{BsdfPart, LightPass};
-use crate::frame::light_reuse::{LightReuse, ReservoirHistory};
-use crate::frame::world_cache::CacheTable;
-use crate::frame::{Crop, FrameParams, Output, PixelFilter, Span};
-use crate::method::path_kernel::PathKernel;
-use crate::scene::camera::Camera;
+use platoon_core::frame::aov::AovPass;
+use platoon_core::frame::light_pass::{BsdfPart, LightPass};
+use platoon_core::frame::light_reuse::{LightReuse, ReservoirHistory};
+use platoon_core::frame::world_cache::CacheTable;
+use platoon_core::frame::{Crop, FrameParams, Output, PixelFilter, Span};
+use platoon_core::method::path_kernel::PathKernel;
+use platoon_core::scene::camera::Camera;
 
 fn opt_f32(w: &mut Writer, v: Option<f32>) {
     w.u8(v.is_some() as u8);
@@ -343,9 +343,9 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::distribute::wire::fingerprint;
-    use crate::method::igi::IgiOptions;
-    use crate::method::Method;
+    use crate::wire::fingerprint;
+    use platoon_core::method::igi::IgiOptions;
+    use platoon_core::method::Method;
 
     fn round_trip(p: &FrameParams, span: Span) -> FrameParams {
         let mut w = Writer::default();
@@ -464,7 +464,7 @@ mod tests {
             1,
             Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
         );
-        p.method = Method::new(crate::method::lhb::Lhb::new(Default::default()));
+        p.method = Method::new(platoon_core::method::lhb::Lhb::new(Default::default()));
         let e = put_params(&mut Writer::default(), &p, Span::new(0, 9)).unwrap_err();
         assert!(e.contains("--method path or igi"), "{e}");
     }
