@@ -4,10 +4,10 @@
 
 use glam::DVec3;
 use platoon::core::balance::by_name;
-use platoon::core::drive::{DriverOptions, FinishedFrame, FrameDriver, Pipeline};
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;
 use platoon::devices::create_tracers;
+use platoon::drive::{DriverOptions, FinishedFrame, FrameDriver, Pipeline};
 use platoon::tracer::Sampling;
 
 /// Plays `frames` still frames of `scene` from `camera` on the tracers of `spec`.

@@ -12,10 +12,6 @@ use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
 use platoon::core::denoise::temporal::{GBuffer, Temporal};
 use platoon::core::denoise::Denoiser;
-use platoon::core::drive::plan::Join;
-use platoon::core::drive::scaling::BelowOneSample;
-use platoon::core::drive::Edit;
-use platoon::core::drive::{DriverOptions, FinishedFrame, FrameDriver, FrameStats, Pipeline};
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::{FrameParams, Output};
 use platoon::core::output::Film;
@@ -23,6 +19,10 @@ use platoon::core::scene::camera::Camera;
 use platoon::core::scene::Placement;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::distribute::Collective as _;
+use platoon::drive::plan::Join;
+use platoon::drive::scaling::BelowOneSample;
+use platoon::drive::Edit;
+use platoon::drive::{DriverOptions, FinishedFrame, FrameDriver, FrameStats, Pipeline};
 use platoon::tracer::Sampling;
 
 const W: u32 = 32;
@@ -312,7 +312,7 @@ fn below_one_sample_the_driver_scales_roulette_and_resolution_into_one_film() {
         }
     }
     // Rendered at the plan's size: the lines the balancer saw.
-    let (_, h) = platoon::core::drive::driver::render_size(64, 64, last.resolution);
+    let (_, h) = platoon::drive::driver::render_size(64, 64, last.resolution);
     assert_eq!(stats.last().unwrap().line_rays.len(), h as usize);
 }
 
@@ -341,7 +341,7 @@ fn an_asynchronous_update_without_its_own_tracers_is_refused() {
     let mut options = DriverOptions::new(16, 16);
     options.method =
         platoon::core::Method::new(platoon::core::method::links::Links::new(Default::default()));
-    options.gi_update = platoon::core::drive::GiUpdate::Asynchronous;
+    options.gi_update = platoon::drive::GiUpdate::Asynchronous;
     let e = FrameDriver::new(pipeline, &first, tracers, by_name("none").unwrap(), options)
         .err()
         .expect("refused");

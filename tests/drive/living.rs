@@ -7,8 +7,6 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
-use platoon::core::drive::Edit;
-use platoon::core::drive::{Pipeline, QueryScene, Updater};
 use platoon::core::frame::fault::FaultInjector;
 use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::{FrameParams, Output};
@@ -17,6 +15,8 @@ use platoon::core::scene::environment::Environment;
 use platoon::core::scene::Placement;
 use platoon::core::Scene;
 use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::drive::Edit;
+use platoon::drive::{Pipeline, QueryScene, Updater};
 use platoon::tracer::{Sampling, Tracer};
 
 fn new_tracer(scene: &platoon::core::flatten::GpuScene) -> Tracer {
@@ -322,7 +322,7 @@ fn merged_static_geometry_follows_a_far_camera_with_its_precision() {
 
 #[test]
 fn a_refined_bvh_swapped_in_mid_run_keeps_the_image_and_the_split() {
-    use platoon::core::drive::{Refinement, StaticBuild, UpdaterOptions};
+    use platoon::drive::{Refinement, StaticBuild, UpdaterOptions};
     init();
     // The Cornell box cut into 24 x 24 quads a face (5,772 triangles), its merged geometry
     // built quick and refined in the background as a scene past 2^19 triangles is.

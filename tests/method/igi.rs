@@ -325,7 +325,7 @@ fn every_light_kind_gives_the_path_tracers_indirect_light() {
 /// one by one onto each other's sums, and not one render of as many samples from one set.
 #[test]
 fn a_still_view_in_the_frame_driver_averages_over_vpl_sets() {
-    use platoon::core::drive::{DriverOptions, FrameDriver, Pipeline};
+    use platoon::drive::{DriverOptions, FrameDriver, Pipeline};
     init();
     let scene = platoon::load_scene(None).unwrap();
     let camera =

@@ -299,9 +299,9 @@ fn lhb_frames_are_bit_identical_for_one_and_three_tracers() {
 /// it reuses the kept part, adding one instance.
 #[test]
 fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
-    use platoon::core::drive::Updater;
+    use platoon::drive::Updater;
     let man = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
-    let (scene, node) = platoon::core::drive::walk::walk_in_a_room(&man, 6).unwrap();
+    let (scene, node) = platoon::drive::walk::walk_in_a_room(&man, 6).unwrap();
     let camera =
         platoon::core::scene::camera::Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
     let mut updater = Updater::new(scene, 0.0, glam::DVec3::ZERO).unwrap();
@@ -311,7 +311,7 @@ fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
     let mut previous: Option<std::sync::Arc<platoon::core::method::lhb::tables::Tables>> = None;
     for step in 0..4 {
         if step > 0 {
-            for e in platoon::core::drive::walk::walk_edits(node, step) {
+            for e in platoon::drive::walk::walk_edits(node, step) {
                 updater.apply(e).unwrap();
             }
             let generation = updater.update().unwrap();
@@ -354,10 +354,10 @@ fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
 /// tracers without NaN or a device message.
 #[test]
 fn the_game_loop_prepares_each_generation_of_a_walk() {
-    use platoon::core::drive::{DriverOptions, FrameDriver, GiUpdate, Pipeline};
+    use platoon::drive::{DriverOptions, FrameDriver, GiUpdate, Pipeline};
     init();
     let man = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
-    let (scene, node) = platoon::core::drive::walk::walk_in_a_room(&man, 6).unwrap();
+    let (scene, node) = platoon::drive::walk::walk_in_a_room(&man, 6).unwrap();
     let camera =
         platoon::core::scene::camera::Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
     let (pipeline, first) = Pipeline::new(scene, 0.0, glam::DVec3::ZERO).unwrap();
@@ -378,7 +378,7 @@ fn the_game_loop_prepares_each_generation_of_a_walk() {
     let mut stats = Vec::new();
     for frame in 0..6 {
         if frame < 3 {
-            for e in platoon::core::drive::walk::walk_edits(node, frame + 1) {
+            for e in platoon::drive::walk::walk_edits(node, frame + 1) {
                 d.scene().push(e).unwrap();
             }
         }

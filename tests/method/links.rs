@@ -11,9 +11,6 @@ use std::time::Duration;
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::{by_name, NAMES};
-use platoon::core::drive::{
-    DriverOptions, Edit, FrameDriver, FrameStats, GiStats, GiUpdate, Pipeline, Updater,
-};
 use platoon::core::flatten::GpuScene;
 use platoon::core::frame::fault::FaultInjector;
 use platoon::core::frame::renderer::Renderer;
@@ -25,6 +22,9 @@ use platoon::core::scene::camera::Camera;
 use platoon::core::scene::{cornell, LightKind, Mesh, Node, PunctualLight, Scene};
 use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::drive::{
+    DriverOptions, Edit, FrameDriver, FrameStats, GiStats, GiUpdate, Pipeline, Updater,
+};
 use platoon::tracer::{Sampling, Tracer};
 
 fn links(options: LinksOptions) -> Method {
@@ -362,7 +362,7 @@ fn relighting_a_still_scene_reuses_the_links_and_equals_a_full_update() {
 /// the floor (his node's placement), as the updater makes its generations.
 fn walk_in_a_room() -> (Updater, usize, Camera) {
     let man = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
-    let (scene, node) = platoon::core::drive::walk::walk_in_a_room(&man, 6).unwrap();
+    let (scene, node) = platoon::drive::walk::walk_in_a_room(&man, 6).unwrap();
     let camera = Camera::from_scene(&scene, &scene.pose(0.0), None).unwrap();
     (Updater::new(scene, 0.0, DVec3::ZERO).unwrap(), node, camera)
 }
@@ -390,7 +390,7 @@ fn revalidating_a_walk_gives_the_bits_of_regenerating_every_link() {
     let mut last = solve(&mut t, updater.flattened(), None);
     let all_rays = last.stats.rays;
     for step in 1..=2 {
-        for e in platoon::core::drive::walk::walk_edits(node, step) {
+        for e in platoon::drive::walk::walk_edits(node, step) {
             updater.apply(e).unwrap();
         }
         let generation = updater.update().unwrap();
@@ -459,7 +459,7 @@ fn revalidating_on_three_tracers_gives_one_tracers_bits_under_every_balancer() {
     updater
         .apply(Edit::Placement {
             node,
-            placement: platoon::core::drive::walk::walk_step(1.0),
+            placement: platoon::drive::walk::walk_step(1.0),
         })
         .unwrap();
     updater.update().unwrap();
@@ -533,7 +533,7 @@ fn play_the_walk(
     loop {
         if frame < steps {
             // The replica takes each step's edits as one generation, as the driver's updater.
-            for e in platoon::core::drive::walk::walk_edits(node, frame + 1) {
+            for e in platoon::drive::walk::walk_edits(node, frame + 1) {
                 updater.apply(e.clone()).unwrap();
                 d.scene().push(e).unwrap();
             }

@@ -5,9 +5,9 @@
 mod common;
 
 use common::*;
-use platoon::core::drive::Edit;
 use platoon::core::frame::FrameParams;
 use platoon::core::output::Film;
+use platoon::drive::Edit;
 use platoon::tracer::Sampling;
 use platoon_scenegen::twins::edited_glb;
 
@@ -267,8 +267,8 @@ fn a_morph_at_its_weights_renders_as_the_mesh_baked_at_them() {
 
 #[test]
 fn animated_weights_deform_a_living_scene_through_commits() {
-    use platoon::core::drive::Updater;
     use platoon::core::scene::environment::Environment;
+    use platoon::drive::Updater;
     let (morphed, baked) = platoon_scenegen::twins::morphed(true);
     let mut scene = load_glb(&morphed);
     scene.environment = Some(Environment::Constant(glam::Vec3::ONE));

@@ -38,7 +38,7 @@ use bevy::light::EnvironmentMapLight;
 use bevy::prelude::*;
 use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat};
 use bevy::transform::TransformSystems;
-use platoon::core::drive::DriverOptions;
+use platoon::drive::DriverOptions;
 use platoon::core::output::Film;
 use platoon::game::GameOptions;
 use platoon::prepare::EnvChoice;

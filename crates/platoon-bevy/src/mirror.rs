@@ -16,7 +16,7 @@ use bevy::mesh::{Mesh, Mesh3d};
 use bevy::pbr::{MeshMaterial3d, StandardMaterial};
 use bevy::prelude::{Entity, GlobalTransform, MessageReader, Name, Query, Res};
 use glam::Mat4;
-use platoon::core::drive::Edit;
+use platoon::drive::Edit;
 use platoon::core::scene::environment::Environment;
 use platoon::core::scene::{Node, Placement, PunctualLight, Scene, Skin};
 

@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
 use anyhow::Result;
-use platoon::core::drive::{Edit, FinishedFrame, FrameDriver};
+use platoon::drive::{Edit, FinishedFrame, FrameDriver};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::Scene;
 use platoon::game::GameOptions;

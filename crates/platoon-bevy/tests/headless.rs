@@ -10,7 +10,7 @@ use bevy::prelude::*;
 use bevy::render::settings::WgpuSettings;
 use bevy::render::RenderPlugin;
 use bevy::window::ExitCondition;
-use platoon::core::drive::DriverOptions;
+use platoon::drive::DriverOptions;
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera as PCamera;
 use platoon::devices::DeviceSpec;

@@ -15,10 +15,10 @@ use glam::{Vec2, Vec3};
 use platoon::core::balance;
 use platoon::core::colour::View;
 use platoon::core::denoise::Denoiser;
-use platoon::core::drive::Edit;
-use platoon::core::drive::{FrameDriver, GiUpdate};
 use platoon::core::output::{write_image_as, Film};
 use platoon::core::scene::camera::Camera;
+use platoon::drive::Edit;
+use platoon::drive::{FrameDriver, GiUpdate};
 use platoon::game::start;
 use winit::application::ApplicationHandler;
 use winit::dpi::{LogicalSize, PhysicalPosition};
@@ -103,7 +103,7 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
     if args.realtime {
         // The game loop's rule, on the flags before the request validates them.
         (args.resampled_light, args.denoise) =
-            platoon::core::drive::realtime(args.resampled_light, args.denoise);
+            platoon::drive::realtime(args.resampled_light, args.denoise);
     }
     args.denoise
         .available()
@@ -156,7 +156,7 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
         GiUpdateArg::Sync => GiUpdate::Synchronous,
         GiUpdateArg::Async => GiUpdate::Asynchronous,
     };
-    options.driver.below_one = platoon::core::drive::scaling::BelowOneSample {
+    options.driver.below_one = platoon::drive::scaling::BelowOneSample {
         roulette: args.roulette_scaling,
         resolution: args.resolution_scaling,
     };

@@ -9,18 +9,16 @@
 //! - [`method`]: the rendering methods (path tracing, instant global illumination): their
 //!   options, the kernel variant a render runs, the passes after assembly;
 //! - [`balance`]: the line balancers and the replay of recorded costs;
-//! - [`drive`]: a living scene: the game's edits, and generations of the flattened scene with
-//!   what changed between them;
 //! - [`measure`]: summaries of measurements;
 //! - [`output`]: films and image files, and [`colour`] (exposure and view transforms): the crate
 //!   `platoon-image`, re-exported here.
 //!
-//! Frames split between processes (MPI ranks) are the crate `platoon-distribute`, built on
-//! this one. The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
+//! Built on this one: a living scene (the game's edits, the double-buffered updater, the frame
+//! driver) is the crate `platoon-live`, frames split between processes (MPI ranks) the crate
+//! `platoon-distribute`. The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
 pub mod balance;
 pub mod denoise;
-pub mod drive;
 pub mod flatten;
 pub mod frame;
 pub mod measure;

@@ -7,11 +7,11 @@ use std::time::{Duration, Instant};
 
 use anyhow::Result;
 use glam::{DVec3, Quat, Vec3};
-use platoon::core::drive::Edit;
-use platoon::core::drive::{DriverOptions, FinishedFrame, FrameDriver, UpdaterThreads};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::{Material, Placement};
 use platoon::devices::DeviceSpec;
+use platoon::drive::Edit;
+use platoon::drive::{DriverOptions, FinishedFrame, FrameDriver, UpdaterThreads};
 
 use crate::physics::{Physics, Shape, FRAME_SECONDS};
 use crate::world::{self, Character, GROUND};

@@ -8,9 +8,9 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, Frame, RgbaImage};
-use platoon::core::drive::plan::Join;
-use platoon::core::drive::FinishedFrame;
 use platoon::core::output::{write_image, Film};
+use platoon::drive::plan::Join;
+use platoon::drive::FinishedFrame;
 
 use crate::game::{Game, GameOptions, Step};
 

@@ -8,8 +8,6 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context as _, Result};
 use glam::{DVec3, Quat, Vec3};
-use platoon_core::drive::Edit;
-use platoon_core::drive::{Pipeline, UpdaterThreads};
 use platoon_core::flatten::instance_bvh::build_instance_bvh;
 use platoon_core::flatten::refit::MeshBvh;
 use platoon_core::frame::FrameParams;
@@ -17,6 +15,8 @@ use platoon_core::measure::{median, percentile};
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::environment::Environment;
 use platoon_core::scene::{Placement, Scene};
+use platoon_live::Edit;
+use platoon_live::{Pipeline, UpdaterThreads};
 use platoon_tracer::{Tracer, TracerOptions};
 
 /// The bench's settings (`platoon bench dynamic ...`).
@@ -335,9 +335,9 @@ struct ThreadCores {
 impl ThreadCores {
     /// None with fewer than two cores, or where threads cannot be pinned.
     fn split() -> Option<ThreadCores> {
-        let before = platoon_core::drive::threads::current_cpus()?;
+        let before = platoon_live::threads::current_cpus()?;
         let (&last, rest) = before.split_last()?;
-        if rest.is_empty() || !platoon_core::drive::threads::pin_current_thread(rest) {
+        if rest.is_empty() || !platoon_live::threads::pin_current_thread(rest) {
             return None;
         }
         Some(ThreadCores {
@@ -349,7 +349,7 @@ impl ThreadCores {
 
 impl Drop for ThreadCores {
     fn drop(&mut self) {
-        platoon_core::drive::threads::pin_current_thread(&self.before);
+        platoon_live::threads::pin_current_thread(&self.before);
     }
 }
 
@@ -369,7 +369,7 @@ fn characters_ms(o: &Options, threads: usize) -> Result<f64> {
         .build()
         .context("a thread pool")?;
     pool.install(|| {
-        let mut updater = platoon_core::drive::Updater::new(scene, 0.0, DVec3::ZERO)?;
+        let mut updater = platoon_live::Updater::new(scene, 0.0, DVec3::ZERO)?;
         let mut times = Vec::new();
         for f in 1..=o.frames.min(60) {
             updater.apply(Edit::Time((f as f32 / 30.0) % duration))?;

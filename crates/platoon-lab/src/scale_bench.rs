@@ -305,7 +305,7 @@ pub fn render_mitsuba(m: &Mitsuba, xml: &Path) -> Result<Process> {
     run_measured(m.command(xml), "Mitsuba")
 }
 
-/// A living scene's refinement of its big static geometry ([`platoon_core::drive::refinement`]):
+/// A living scene's refinement of its big static geometry ([`platoon_live::refinement`]):
 /// what it costs and what it brings.
 pub struct Refined {
     /// The updater's first generation (the quick build and the flattening).
@@ -322,9 +322,9 @@ pub struct Refined {
 /// tracer holding its first generation and one holding the generation after the swap, frames
 /// of `o`'s size rendered alternately.
 pub fn refinement(scene: &ScaleScene, o: &Options, frames: usize) -> Result<Refined> {
-    use platoon::core::drive::{Refinement, StaticBuild, Updater, UpdaterOptions};
     use platoon::core::frame::FrameParams;
     use platoon::core::scene::camera::Camera;
+    use platoon::drive::{Refinement, StaticBuild, Updater, UpdaterOptions};
     use platoon::render::Tracers;
     let loaded = load_scene(Some(&scene.file))?;
     let camera =

@@ -11,7 +11,7 @@ use glam::{DVec3, Quat, Vec3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use platoon::core::drive::{Edit, FinishedFrame};
+use platoon::drive::{Edit, FinishedFrame};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::Placement;
 

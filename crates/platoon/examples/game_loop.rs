@@ -11,9 +11,9 @@ use std::time::Duration;
 
 use anyhow::{Context, Result};
 use glam::Vec3;
-use platoon::core::drive::DriverOptions;
 use platoon::core::scene::camera::Camera;
 use platoon::devices::DeviceSpec;
+use platoon::drive::DriverOptions;
 use platoon::game::{start, GameOptions};
 
 fn main() -> Result<()> {

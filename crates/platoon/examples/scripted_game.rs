@@ -11,9 +11,9 @@
 
 use anyhow::{Context, Result};
 use glam::{DVec3, Quat, Vec3};
-use platoon::core::drive::Edit;
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::Placement;
+use platoon::drive::Edit;
 
 /// The prop's placement: `x` across the box, a third of the mesh's size.
 fn prop_at(x: f64) -> Placement {

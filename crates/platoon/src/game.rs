@@ -3,7 +3,7 @@
 //!
 //! ```no_run
 //! # fn main() -> anyhow::Result<()> {
-//! use platoon::core::drive::DriverOptions;
+//! use platoon::drive::DriverOptions;
 //! use platoon::core::scene::camera::Camera;
 //! use platoon::game::{start, GameOptions};
 //!
@@ -27,8 +27,8 @@ use anyhow::Result;
 use glam::DVec3;
 
 use crate::devices::{create_tracers, DeviceSpec};
-use platoon_core::drive::{DriverOptions, FrameDriver, GiUpdate, Pipeline, UpdaterThreads};
 use platoon_core::Scene;
+use platoon_live::{DriverOptions, FrameDriver, GiUpdate, Pipeline, UpdaterThreads};
 use platoon_tracer::Sampling;
 
 /// Everything [`start`] needs besides the scene.

@@ -46,6 +46,9 @@ pub use platoon_core as core;
 /// Frames split between processes: the ranks' two levels of balancing and the bytes between
 /// them (the crate `platoon-distribute`; `distributed` runs them over MPI).
 pub use platoon_distribute as distribute;
+/// A living scene: a game's edits, the double-buffered updater, the frame driver (the crate
+/// `platoon-live`).
+pub use platoon_live as drive;
 pub use platoon_tracer as tracer;
 pub use prepare::{
     load_scene, load_scene_with, prepare, EnvChoice, EnvLight, PrepareOptions, Prepared,

@@ -35,7 +35,7 @@ pub fn on_renderer<T: BandTracer + Send + 'static>(
     g: &GpuScene,
     params: &FrameParams,
 ) -> Result<FrameParams> {
-    let (prepared, failures) = platoon_core::drive::gi::prepare_on(renderer, g, params)?;
+    let (prepared, failures) = platoon_live::gi::prepare_on(renderer, g, params)?;
     for f in &failures {
         log::warn!(
             "tracer {} failed while preparing the frame and was dropped; the others \

@@ -146,7 +146,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     game.driver.width = width;
     game.driver.height = height;
     game.driver.target = Some(Duration::from_secs_f64(o.target_ms * 1e-3));
-    game.driver.below_one = platoon::core::drive::scaling::BelowOneSample {
+    game.driver.below_one = platoon::drive::scaling::BelowOneSample {
         roulette: o.roulette_scaling,
         resolution: o.resolution_scaling,
     };

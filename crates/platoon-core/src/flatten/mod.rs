@@ -22,6 +22,7 @@ mod lights;
 mod materials;
 pub mod mesh_bvh;
 mod placed;
+pub mod queries;
 pub mod refine;
 pub mod refit;
 pub mod sheen_albedo;

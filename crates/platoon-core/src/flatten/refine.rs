@@ -1,7 +1,7 @@
 //! The refined build of big static geometry: the quick binned-SAH tree
 //! ([`super::binned_sah`]) with every node reinserted where the surface area heuristic wants it
 //! (Meister and Bittner 2018, obvhs' optimizer), what a living scene builds in the background
-//! and swaps in when done ([`crate::drive::refinement`]).
+//! and swaps in when done (platoon-live's `refinement`).
 //!
 //! Reinsertion from the binned tree rather than from obvhs' PLOC: PLOC's tree, reinserted,
 //! still costs more than the binned one on tessellated surfaces (docs/PERFORMANCE.md, "Scenes of

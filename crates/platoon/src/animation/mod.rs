@@ -32,11 +32,11 @@
 pub mod frames;
 
 use anyhow::{bail, Result};
-use platoon_core::drive::{Edit, Generation, Refinement, StaticBuild, Updater, UpdaterOptions};
 use platoon_core::flatten::GpuScene;
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::floating_origin::FloatingOrigin;
 use platoon_core::Scene;
+use platoon_live::{Edit, Generation, Refinement, StaticBuild, Updater, UpdaterOptions};
 
 use crate::prepare::{camera_at, light};
 use crate::{PrepareOptions, SceneFacts};

@@ -5,7 +5,7 @@
 use std::time::Duration;
 
 use anyhow::Result;
-use platoon_core::drive::{DriverOptions, FrameDriver};
+use platoon_live::{DriverOptions, FrameDriver};
 
 use super::form::Request;
 use crate::game::GameOptions;

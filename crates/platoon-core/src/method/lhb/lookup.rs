@@ -99,7 +99,7 @@ impl Buffers {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drive::QueryScene;
+    use crate::flatten::queries::QueryScene;
     use crate::scene::cornell::push_grid;
     use crate::scene::Mesh;
 

@@ -1,4 +1,4 @@
-//! Link shooting on the CPU, through the core's ray queries (`drive::queries`): the oracle the
+//! Link shooting on the CPU, through the core's ray queries (`flatten::queries`): the oracle the
 //! devices' shooting is held to, and a way to solve small scenes without a device. Each element
 //! shoots the fixed directions about its normal from just above its position (so no ray meets
 //! the element's own triangles at a distance of rounding error: a flat or convex one-ring lies
@@ -15,7 +15,7 @@ use glam::Vec3;
 
 use super::reduce::RayHit;
 use super::scene_elements::SceneElements;
-use crate::drive::queries::QueryScene;
+use crate::flatten::queries::QueryScene;
 use crate::flatten::GpuScene;
 
 /// Every element's rays, element after element, in ray order (`LinkGroups::from_hits`' input).

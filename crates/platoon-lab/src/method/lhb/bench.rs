@@ -130,8 +130,8 @@ pub fn walk(
     size: u32,
     spp: u32,
 ) -> Result<Vec<WalkRow>> {
-    use platoon::core::drive::Updater;
-    let (scene, node) = platoon::core::drive::walk::walk_in_a_room(character, cells)?;
+    use platoon::drive::Updater;
+    let (scene, node) = platoon::drive::walk::walk_in_a_room(character, cells)?;
     let camera = platoon::core::scene::camera::Camera::from_scene(&scene, &scene.pose(0.0), None)
         .map_err(anyhow::Error::msg)?;
     let mut updater = Updater::new(scene, 0.0, glam::DVec3::ZERO)?;
@@ -148,7 +148,7 @@ pub fn walk(
     for step in 0..=steps {
         let mut refit_s = 0.0;
         if step > 0 {
-            for e in platoon::core::drive::walk::walk_edits(node, step) {
+            for e in platoon::drive::walk::walk_edits(node, step) {
                 updater.apply(e)?;
             }
             let generation = updater.update()?;

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 
 use super::{bench as links_bench, walk as links_walk};
 use anyhow::{bail, Result};
-use platoon::core::drive::GiUpdate;
 use platoon::core::method::links::LinksOptions;
+use platoon::drive::GiUpdate;
 
 /// `platoon bench links`'s settings.
 #[derive(clap::Args)]

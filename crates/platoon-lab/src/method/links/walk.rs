@@ -1,5 +1,5 @@
 //! The walk of `platoon bench links --walk`: CesiumMan walking across a tessellated Cornell
-//! box (`platoon::core::drive::walk`). Per step: the paper's regeneration of every link against
+//! box (`platoon::drive::walk`). Per step: the paper's regeneration of every link against
 //! platoon's revalidation (wall time, rays shot, elements regrouped), the two compared bit for
 //! bit, and the error of lighting the step with the previous step's links (what a
 //! frame shows while an asynchronous update is a generation behind).
@@ -9,14 +9,14 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 use glam::DVec3;
-use platoon::core::drive::walk::{walk_edits, walk_in_a_room, walk_step};
-use platoon::core::drive::{DriverOptions, Edit, GiUpdate, Updater};
 use platoon::core::flatten::GpuScene;
 use platoon::core::frame::FrameParams;
 use platoon::core::method::links::job::UpdateStats;
 use platoon::core::method::links::{Job, Links, LinksOptions, Solution};
 use platoon::core::scene::camera::Camera;
 use platoon::core::{Method, Scene};
+use platoon::drive::walk::{walk_edits, walk_in_a_room, walk_step};
+use platoon::drive::{DriverOptions, Edit, GiUpdate, Updater};
 use platoon::game::{start, GameOptions};
 use platoon::tracer::{Tracer, TracerOptions};
 

@@ -12,16 +12,16 @@ use std::time::{Duration, Instant};
 
 use super::accumulation::upscale;
 use super::plan::FramePlan;
-use crate::denoise::temporal::{GBuffer, Temporal};
-use crate::denoise::Denoiser;
-use crate::error::{Error, Result};
-use crate::frame::aov::AovPass;
-use crate::frame::aov_params::aov_pass_params;
-use crate::frame::hit_geometry::HitGeometry;
-use crate::frame::motion::hits_before;
-use crate::frame::renderer::{Renderer, TracerFailure};
-use crate::frame::{BandTracer, FrameParams};
-use crate::output::Film;
+use platoon_core::denoise::temporal::{GBuffer, Temporal};
+use platoon_core::denoise::Denoiser;
+use platoon_core::error::{Error, Result};
+use platoon_core::frame::aov::AovPass;
+use platoon_core::frame::aov_params::aov_pass_params;
+use platoon_core::frame::hit_geometry::HitGeometry;
+use platoon_core::frame::motion::hits_before;
+use platoon_core::frame::renderer::{Renderer, TracerFailure};
+use platoon_core::frame::{BandTracer, FrameParams};
+use platoon_core::output::Film;
 
 /// What denoising a frame did and cost.
 #[derive(Clone, Debug)]

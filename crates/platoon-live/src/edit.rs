@@ -6,10 +6,10 @@ use std::collections::HashSet;
 
 use glam::DVec3;
 
-use crate::error::Result;
-use crate::scene::environment::Environment;
-use crate::scene::placement::invalid;
-use crate::scene::{LightKind, Material, Placement, PunctualLight, Scene};
+use platoon_core::error::Result;
+use platoon_core::scene::environment::Environment;
+use platoon_core::scene::placement::invalid;
+use platoon_core::scene::{LightKind, Material, Placement, PunctualLight, Scene};
 
 /// One change to the scene, taking effect at the next generation.
 #[derive(Clone, Debug)]

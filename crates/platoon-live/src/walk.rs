@@ -3,9 +3,9 @@
 
 use glam::{DVec3, Vec3};
 
-use crate::drive::Edit;
-use crate::scene::{cornell, Placement, Scene};
-use crate::Result;
+use crate::Edit;
+use platoon_core::scene::{cornell, Placement, Scene};
+use platoon_core::Result;
 
 /// The Cornell box with every face `cells` x `cells` quads and `character` (CesiumMan: its
 /// skin walks) appended at [`walk_step`] 0; returns the scene and the node that places the character.

@@ -13,8 +13,8 @@
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::Arc;
 
-use crate::flatten::bvh::{FlatBvh, QUICK_BUILD_TRIANGLES};
-use crate::flatten::refine::refine;
+use platoon_core::flatten::bvh::{FlatBvh, QUICK_BUILD_TRIANGLES};
+use platoon_core::flatten::refine::refine;
 
 /// When a static mesh's quick BVH is refined.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -14,14 +14,14 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use crate::balance::Balancer;
-use crate::error::{Error, Result};
-use crate::flatten::commit::Commit;
-use crate::flatten::GpuScene;
-use crate::frame::renderer::{Renderer, TracerFailure};
-use crate::frame::{BandTracer, FrameParams};
-use crate::method::render_method::DeviceFrame;
-use crate::method::Method;
+use platoon_core::balance::Balancer;
+use platoon_core::error::{Error, Result};
+use platoon_core::flatten::commit::Commit;
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::renderer::{Renderer, TracerFailure};
+use platoon_core::frame::{BandTracer, FrameParams};
+use platoon_core::method::render_method::DeviceFrame;
+use platoon_core::method::Method;
 
 /// Where the game loop prepares a method whose frames need it (vertex links' update).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use super::plan::Join;
-use crate::output::Film;
+use platoon_core::output::Film;
 
 pub struct Accumulation {
     width: u32,

@@ -26,16 +26,16 @@ use super::plan::{Join, Motion, Planner};
 use super::render_thread::{render_loop, FrameJob, Job, Learned, Synchronous};
 use super::scaling::{BelowOneSample, Workload, WorkloadScaler};
 use super::{Pipeline, QueryScene, UpdateTimes};
-use crate::balance::Balancer;
-use crate::denoise::Denoiser;
-use crate::error::{Error, Result};
-use crate::flatten::GpuScene;
-use crate::frame::hit_geometry::HitGeometry;
-use crate::frame::light_reuse::{check_context, LightReuse, LightReuseState};
-use crate::frame::renderer::Renderer;
-use crate::frame::world_cache::{WorldCache, WorldCacheOptions};
-use crate::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
-use crate::scene::camera::Camera;
+use platoon_core::balance::Balancer;
+use platoon_core::denoise::Denoiser;
+use platoon_core::error::{Error, Result};
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::hit_geometry::HitGeometry;
+use platoon_core::frame::light_reuse::{check_context, LightReuse, LightReuseState};
+use platoon_core::frame::renderer::Renderer;
+use platoon_core::frame::world_cache::{WorldCache, WorldCacheOptions};
+use platoon_core::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
+use platoon_core::scene::camera::Camera;
 
 /// How the driver renders.
 #[derive(Clone, Debug)]
@@ -53,13 +53,13 @@ pub struct DriverOptions {
     pub blend_floor: f32,
     pub seed: u32,
     /// The pixel filter every frame's camera rays are drawn from.
-    pub filter: crate::frame::PixelFilter,
+    pub filter: platoon_core::frame::PixelFilter,
     pub max_depth: u32,
     pub rr_depth: u32,
     pub samples_per_pass: u32,
-    /// The rendering method (`crate::method`). With instant global illumination a still
+    /// The rendering method (`platoon_core::method`). With instant global illumination a still
     /// view's frames each gather a VPL set of their own, so the film averages over sets.
-    pub method: crate::method::Method,
+    pub method: platoon_core::method::Method,
     /// Keep a [`QueryScene`] of the generation being rendered, for the game's ray queries.
     pub queries: bool,
     /// Where a method whose frames need a preparation (vertex links' update) prepares them as
@@ -134,11 +134,11 @@ impl DriverOptions {
             below_one: BelowOneSample::default(),
             blend_floor: 0.2,
             seed: 0,
-            filter: crate::frame::PixelFilter::Box,
+            filter: platoon_core::frame::PixelFilter::Box,
             max_depth: DEFAULT_MAX_DEPTH,
             rr_depth: 3,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
-            method: crate::method::Method::path_tracing(),
+            method: platoon_core::method::Method::path_tracing(),
             resampled_light: None,
             world_cache: None,
             light_reuse: None,
@@ -220,7 +220,7 @@ impl FrameDriver {
                         options.method.unit().name()
                     )));
                 }
-                let balancer = crate::balance::by_name(name)
+                let balancer = platoon_core::balance::by_name(name)
                     .ok_or_else(|| Error::Invalid(format!("no balancer named {name}")))?;
                 Some(Worker::start(update_tracers, balancer)?)
             }

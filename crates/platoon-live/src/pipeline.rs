@@ -15,10 +15,10 @@ use glam::DVec3;
 
 use super::edit::{Edit, Structure};
 use super::{Generation, Updater};
-use crate::error::{Error, Result};
-use crate::flatten::GpuScene;
-use crate::frame::hit_geometry::HitGeometry;
-use crate::scene::Scene;
+use platoon_core::error::{Error, Result};
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::hit_geometry::HitGeometry;
+use platoon_core::scene::Scene;
 
 /// The updater's threads: how many, and the cores they may run on (empty: any). See
 /// [`super::threads`] for why a game may want them apart from its tracers' cores.
@@ -277,11 +277,11 @@ fn apply(updater: &mut Updater, batch: Vec<Edit>) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Placement;
+    use platoon_core::scene::Placement;
 
     #[test]
     fn generations_arrive_in_order_with_the_edits_of_their_submission() {
-        let scene = crate::scene::cornell::scene();
+        let scene = platoon_core::scene::cornell::scene();
         let node = scene.nodes.iter().position(|n| n.mesh.is_some()).unwrap();
         let (mut p, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
         let added = p

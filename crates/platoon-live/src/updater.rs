@@ -14,18 +14,18 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 
-use crate::error::Result;
-use crate::flatten::arrays::SceneArray;
-use crate::flatten::bvh::BuildQuality;
-use crate::flatten::bvh::FlatBvh;
-use crate::flatten::commit::Commit;
-use crate::flatten::mesh_bvh::build_mesh_bvh_at;
-use crate::flatten::refit::{MeshBvh, RefitPolicy, Update};
-use crate::flatten::static_merge::{StaticMerge, MERGED_NODE};
-use crate::flatten::{used_meshes, GpuScene, MeshRegion};
-use crate::frame::hit_geometry::HitGeometry;
-use crate::scene::floating_origin::FloatingOrigin;
-use crate::scene::{Mesh, Node, Posed, Scene};
+use platoon_core::error::Result;
+use platoon_core::flatten::arrays::SceneArray;
+use platoon_core::flatten::bvh::BuildQuality;
+use platoon_core::flatten::bvh::FlatBvh;
+use platoon_core::flatten::commit::Commit;
+use platoon_core::flatten::mesh_bvh::build_mesh_bvh_at;
+use platoon_core::flatten::refit::{MeshBvh, RefitPolicy, Update};
+use platoon_core::flatten::static_merge::{StaticMerge, MERGED_NODE};
+use platoon_core::flatten::{used_meshes, GpuScene, MeshRegion};
+use platoon_core::frame::hit_geometry::HitGeometry;
+use platoon_core::scene::floating_origin::FloatingOrigin;
+use platoon_core::scene::{Mesh, Node, Posed, Scene};
 
 use super::edit::{Edit, Structure};
 use super::refinement::{Refiner, StaticBuild, Target};
@@ -558,7 +558,7 @@ impl Updater {
 
 /// The byte range of a mesh region's nodes (its whole capacity).
 fn node_range(r: &MeshRegion) -> (usize, u64, u64) {
-    let node = std::mem::size_of::<crate::flatten::bvh::BvhNode>() as u64;
+    let node = std::mem::size_of::<platoon_core::flatten::bvh::BvhNode>() as u64;
     (
         SceneArray::Blas.index(),
         r.node_base as u64 * node,
@@ -628,11 +628,11 @@ fn top_arrays(g: &GpuScene) -> [Vec<u8>; 4] {
 /// fewer nodes than the BVH before it, and the rewrite clears the rest, so that a copy that
 /// follows the commits holds the updater's bytes, not the old tree's leftovers.
 fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, u64)> {
-    use crate::flatten::{GpuTriangle, GpuVertex};
+    use platoon_core::flatten::{GpuTriangle, GpuVertex};
     use std::mem::size_of;
     let (tb, tc) = (r.triangle_base as u64, r.triangle_count as u64);
     let vertex = size_of::<GpuVertex>() as u64;
-    let node = size_of::<crate::flatten::bvh::BvhNode>() as u64;
+    let node = size_of::<platoon_core::flatten::bvh::BvhNode>() as u64;
     let triangle = size_of::<GpuTriangle>() as u64;
     let mut ranges = vec![
         (
@@ -660,18 +660,24 @@ fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::flatten::commit::MESH_ARRAYS;
-    use crate::scene::Placement;
+    use platoon_core::flatten::commit::MESH_ARRAYS;
+    use platoon_core::scene::Placement;
 
     /// The Cornell box with an instance per node: these tests follow instances; the merged
     /// static geometry has tests of its own (and tests/drive/living.rs).
     fn cornell() -> Updater {
-        Updater::with_merge(crate::scene::cornell::scene(), 0.0, DVec3::ZERO, false).unwrap()
+        Updater::with_merge(
+            platoon_core::scene::cornell::scene(),
+            0.0,
+            DVec3::ZERO,
+            false,
+        )
+        .unwrap()
     }
 
     #[test]
     fn the_first_generation_is_a_fresh_build_and_an_unchanged_one_commits_nothing() {
-        let merged = Updater::new(crate::scene::cornell::scene(), 0.0, DVec3::ZERO).unwrap();
+        let merged = Updater::new(platoon_core::scene::cornell::scene(), 0.0, DVec3::ZERO).unwrap();
         let scene = merged.scene();
         let levels = StaticMerge::of_scene(scene).apply(scene, scene.pose(0.0));
         let fresh = GpuScene::build(scene, &levels, None).unwrap();
@@ -697,7 +703,7 @@ mod tests {
             static_build,
             ..Default::default()
         };
-        let scene = crate::scene::cornell::tessellated(cells);
+        let scene = platoon_core::scene::cornell::tessellated(cells);
         Updater::with_options(scene, 0.0, DVec3::ZERO, options).unwrap()
     }
 
@@ -720,7 +726,7 @@ mod tests {
         // Only the nodes moved: a copy that follows the commit holds the updater's bytes.
         let blas = SceneArray::Blas.index();
         assert!(g.commit.arrays.iter().all(|a| a.array == blas));
-        let mut followed = crate::drive::QueryScene::new(&before);
+        let mut followed = crate::QueryScene::new(&before);
         followed.apply_commit(&g.commit);
         assert!(followed.scene().array_bytes() == u.flattened().array_bytes());
         assert!(before.bytes_of(SceneArray::Blas) != u.flattened().bytes_of(SceneArray::Blas));
@@ -775,7 +781,7 @@ mod tests {
     #[test]
     fn the_render_origin_follows_a_far_camera_and_keeps_a_far_room_precise() {
         // The Cornell box 1e7 units from the world origin.
-        let mut scene = crate::scene::cornell::scene();
+        let mut scene = platoon_core::scene::cornell::scene();
         for n in scene.nodes.iter_mut().filter(|n| n.parent.is_none()) {
             n.translation += DVec3::new(1e7, 0.0, 0.0);
         }

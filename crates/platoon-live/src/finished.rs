@@ -8,12 +8,12 @@ use super::denoising::DenoiseStats;
 use super::gi::GiStats;
 use super::plan::FramePlan;
 use super::UpdateTimes;
-use crate::flatten::GpuScene;
-use crate::frame::light_reuse::ReuseStats;
-use crate::frame::renderer::{TracerFailure, TracerStats};
-use crate::frame::world_cache::CacheUpdate;
-use crate::output::Film;
-use crate::scene::camera::Camera;
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::light_reuse::ReuseStats;
+use platoon_core::frame::renderer::{TracerFailure, TracerStats};
+use platoon_core::frame::world_cache::CacheUpdate;
+use platoon_core::output::Film;
+use platoon_core::scene::camera::Camera;
 
 /// What one frame was and cost.
 #[derive(Clone, Debug)]

@@ -12,15 +12,15 @@ use super::finished::{FinishedFrame, FrameStats};
 use super::gi::{self, GiStats, PreparedMethod};
 use super::plan::FramePlan;
 use super::UpdateTimes;
-use crate::balance::Balancer;
-use crate::error::{Error, Result};
-use crate::flatten::commit::Commit;
-use crate::flatten::GpuScene;
-use crate::frame::hit_geometry::HitGeometry;
-use crate::frame::light_reuse::{split_per_pixel, LightReuseState};
-use crate::frame::renderer::Renderer;
-use crate::frame::world_cache::WorldCache;
-use crate::frame::{BandTracer, FrameParams};
+use platoon_core::balance::Balancer;
+use platoon_core::error::{Error, Result};
+use platoon_core::flatten::commit::Commit;
+use platoon_core::flatten::GpuScene;
+use platoon_core::frame::hit_geometry::HitGeometry;
+use platoon_core::frame::light_reuse::{split_per_pixel, LightReuseState};
+use platoon_core::frame::renderer::Renderer;
+use platoon_core::frame::world_cache::WorldCache;
+use platoon_core::frame::{BandTracer, FrameParams};
 
 pub(super) struct FrameJob {
     pub frame: u32,
@@ -114,7 +114,7 @@ fn render_one<T: BandTracer + Send + 'static>(
         moved,
     } = job;
     let start = Instant::now();
-    let failed = |e: crate::frame::renderer::RenderError| Error::Invalid(e.to_string());
+    let failed = |e: platoon_core::frame::renderer::RenderError| Error::Invalid(e.to_string());
     let mut failures = Vec::new();
     let commit_bytes = match &commit {
         Some(c) => {
