@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""Where the code stands against issue 60's targets: lines of Rust per crate (target: none over
+10k), `FrameParams`' fields (target: at most 18, none naming one technique) and, for each of its
+fields of a name of more than one word, how many source files outside the tests name it (what adding an option like it touches;
+target: 4: the table, its logic, its shader, its test). Prints one line per measure and a JSON
+summary last; exits 1 only when a ceiling given with --ceilings is passed (the structure test's
+ratchet: what was reached stays reached).
+Usage: tools/code_targets.py [--ceilings FILE] [repo-root]"""
+import json, os, re, sys
+
+def rust_files(folder):
+    for root, _, files in os.walk(folder):
+        for f in files:
+            if f.endswith(".rs"):
+                yield os.path.join(root, f)
+
+def lines(path):
+    with open(path, encoding="utf-8") as f:
+        return sum(1 for _ in f)
+
+def crate_lines(root):
+    out = {}
+    crates = os.path.join(root, "crates")
+    for name in sorted(os.listdir(crates)):
+        src = os.path.join(crates, name, "src")
+        if os.path.isdir(src):
+            out[name] = sum(lines(p) for p in rust_files(src))
+    return out
+
+def frame_params_fields(root):
+    path = os.path.join(root, "crates/platoon-core/src/frame/mod.rs")
+    text = open(path, encoding="utf-8").read()
+    body = text[text.index("pub struct FrameParams {"):]
+    body = body[: body.index("\n}\n")]
+    return re.findall(r"^\s*pub (\w+):", body, re.M)
+
+def source_files(root):
+    """Non-test sources: the crates' src folders (their `tests.rs` files and `mod tests`
+    blocks aside, roughly: a file whose name says test), the shaders and the Python stub."""
+    for base in ("crates", "shaders"):
+        for dirpath, _, files in os.walk(os.path.join(root, base)):
+            if "/tests" in dirpath or "/examples" in dirpath or "/target" in dirpath:
+                continue
+            for f in files:
+                if f.endswith((".rs", ".glsl", ".comp", ".pyi")) and "test" not in f:
+                    yield os.path.join(dirpath, f)
+
+def naming_files(root, fields):
+    texts = {}
+    for p in source_files(root):
+        text = open(p, encoding="utf-8").read()
+        # The tests' block of a file is not where an option is declared or used.
+        texts[p] = text.split("#[cfg(test)]\nmod tests")[0]
+    out = {}
+    for field in fields:
+        pattern = re.compile(r"\b" + field + r"\b")
+        out[field] = sum(1 for t in texts.values() if pattern.search(t))
+    return out
+
+def main(argv):
+    ceilings = None
+    if len(argv) > 1 and argv[1] == "--ceilings":
+        ceilings = json.load(open(argv[2]))
+        argv = argv[:1] + argv[3:]
+    root = argv[1] if len(argv) > 1 else os.path.join(os.path.dirname(__file__), "..")
+    crates = crate_lines(root)
+    for name, n in sorted(crates.items(), key=lambda kv: -kv[1]):
+        print(f"crate {name}: {n} lines{'  (over 10k)' if n > 10000 else ''}")
+    fields = frame_params_fields(root)
+    print(f"FrameParams: {len(fields)} fields (target 18)")
+    # Names of more than one word: a common word (frame, width, film) is named everywhere for
+    # other reasons, so only these say what an option touches.
+    files = naming_files(root, [f for f in fields if "_" in f])
+    for field, n in sorted(files.items(), key=lambda kv: -kv[1]):
+        print(f"  {field}: named in {n} source files (target 4)")
+    summary = {
+        "largest_crate_lines": max(crates.values()),
+        "crates_over_10k": sorted(n for n, l in crates.items() if l > 10000),
+        "frame_params_fields": len(fields),
+        "most_files_naming_a_frame_option": max(files.values()),
+    }
+    print(json.dumps(summary))
+    if ceilings is not None:
+        passed = []
+        for key in ("largest_crate_lines", "frame_params_fields", "most_files_naming_a_frame_option"):
+            if summary[key] > ceilings[key]:
+                passed.append(f"{key} {summary[key]} over its ceiling {ceilings[key]}")
+        extra = set(summary["crates_over_10k"]) - set(ceilings["crates_over_10k"])
+        if extra:
+            passed.append(f"crates newly over 10k lines: {sorted(extra)}")
+        for p in passed:
+            print("over:", p)
+        return 1 if passed else 0
+    return 0
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
