@@ -136,7 +136,7 @@ impl DriverOptions {
             seed: 0,
             filter: platoon_core::frame::PixelFilter::Box,
             max_depth: DEFAULT_MAX_DEPTH,
-            rr_depth: 3,
+            rr_depth: platoon_core::frame::DEFAULT_RR_DEPTH,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             method: platoon_core::method::Method::path_tracing(),
             resampled_light: None,
