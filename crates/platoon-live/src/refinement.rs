@@ -158,22 +158,20 @@ impl Refiner {
 
     /// The refinements done, each with the tree it was made from; those still running stay.
     pub(super) fn finished(&mut self) -> Vec<(Target, Arc<FlatBvh>, FlatBvh)> {
-        let mut done = Vec::new();
-        self.jobs.retain_mut(|j| {
+        for j in &mut self.jobs {
             j.poll(false);
-            match std::mem::replace(&mut j.state, State::Failed) {
-                State::Running => {
-                    j.state = State::Running;
-                    true
-                }
-                State::Done(tree) => {
-                    done.push((j.target, j.from.clone(), tree));
-                    false
-                }
-                State::Failed => false,
-            }
-        });
-        done
+        }
+        let (ended, running): (Vec<Job>, Vec<Job>) = std::mem::take(&mut self.jobs)
+            .into_iter()
+            .partition(|j| !matches!(j.state, State::Running));
+        self.jobs = running;
+        ended
+            .into_iter()
+            .filter_map(|j| match j.state {
+                State::Done(tree) => Some((j.target, j.from, tree)),
+                _ => None,
+            })
+            .collect()
     }
 
     /// Waits for every refinement under way (the next update swaps them in).

@@ -355,7 +355,7 @@ impl Updater {
             for &i in &swapped {
                 // The triangles stay where they are: the nodes alone.
                 let r = self.state.rewrite_nodes(i, refs[i])?;
-                ranges.push(node_range(&r));
+                ranges.push(node_range(&r, r.node_capacity as u64));
             }
             for &(i, node, reshaped) in &levels.deformed {
                 let r = if reshaped {
@@ -529,11 +529,12 @@ impl Updater {
     /// The BVH of a static mesh (or the merged static geometry), built by the size rule of
     /// [`StaticBuild`]; a quick one is handed to the refiner.
     fn build_static(&mut self, target: Target, mesh: &Mesh) -> Arc<FlatBvh> {
-        if mesh.indices.len() > self.static_build.quick_above {
-            let quick = build_mesh_bvh_at(mesh, Some(BuildQuality::Quick));
-            self.refiner.built(target, quick)
-        } else {
-            Arc::new(build_mesh_bvh_at(mesh, Some(BuildQuality::Static)))
+        let quality =
+            BuildQuality::for_static_above(mesh.indices.len(), self.static_build.quick_above);
+        let flat = build_mesh_bvh_at(mesh, Some(quality));
+        match quality {
+            BuildQuality::Quick => self.refiner.built(target, flat),
+            _ => Arc::new(flat),
         }
     }
 
@@ -556,13 +557,13 @@ impl Updater {
     }
 }
 
-/// The byte range of a mesh region's nodes (its whole capacity).
-fn node_range(r: &MeshRegion) -> (usize, u64, u64) {
+/// The byte range of the first `nodes` nodes of a mesh region.
+fn node_range(r: &MeshRegion, nodes: u64) -> (usize, u64, u64) {
     let node = std::mem::size_of::<platoon_core::flatten::bvh::BvhNode>() as u64;
     (
         SceneArray::Blas.index(),
         r.node_base as u64 * node,
-        r.node_capacity as u64 * node,
+        nodes * node,
     )
 }
 
@@ -632,7 +633,6 @@ fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, 
     use std::mem::size_of;
     let (tb, tc) = (r.triangle_base as u64, r.triangle_count as u64);
     let vertex = size_of::<GpuVertex>() as u64;
-    let node = size_of::<platoon_core::flatten::bvh::BvhNode>() as u64;
     let triangle = size_of::<GpuTriangle>() as u64;
     let mut ranges = vec![
         (
@@ -641,14 +641,13 @@ fn region_ranges(r: &MeshRegion, nodes: u64, rebuilt: bool) -> Vec<(usize, u64, 
             r.vertex_count as u64 * vertex,
         ),
         (1, 3 * tb * 16, 3 * tc * 16),
-        (
-            4,
-            r.node_base as u64 * node,
+        node_range(
+            r,
             if rebuilt {
                 r.node_capacity as u64
             } else {
                 nodes
-            } * node,
+            },
         ),
     ];
     if rebuilt {

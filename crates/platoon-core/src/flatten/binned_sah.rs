@@ -432,28 +432,27 @@ fn decide(p: &Primitives, n: usize, bounds: &Bounds, best: Option<(f32, Split)>)
 /// axis (ties by index, so the order is total).
 fn sweep_split(p: &Primitives, order: &[u32], bounds: &Bounds) -> Option<Split> {
     let n = order.len();
-    // (centroid on the axis, index): sorted without reaching back into the centroids.
-    let mut sorted = [(0.0f32, 0u32); SWEEP_PRIMITIVES];
+    let mut sorted = [0u32; SWEEP_PRIMITIVES];
     let sorted = &mut sorted[..n];
     let mut right_area = [0.0f32; SWEEP_PRIMITIVES];
     let mut best: Option<(f32, Split)> = None;
     for axis in 0..3 {
-        for (slot, &i) in sorted.iter_mut().zip(order) {
-            *slot = (p.centroids[i as usize][axis], i);
-        }
-        sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        sorted.copy_from_slice(order);
+        // The order the partition sorts them in (`split_at`), so that its cut is this one.
+        sorted.sort_unstable_by(|&a, &b| sweep_key(p, axis, a, b));
         // Centroids in one point on this axis: no cut separates them.
-        if sorted[0].0 == sorted[n - 1].0 {
+        let c = |i: u32| p.centroids[i as usize][axis];
+        if c(sorted[0]) == c(sorted[n - 1]) {
             continue;
         }
         let mut acc = Bounds::EMPTY;
         for k in (1..n).rev() {
-            acc.grow(&p.bounds[sorted[k].1 as usize]);
+            acc.grow(&p.bounds[sorted[k] as usize]);
             right_area[k] = acc.half_area();
         }
         let mut left = Bounds::EMPTY;
         for k in 1..n {
-            left.grow(&p.bounds[sorted[k - 1].1 as usize]);
+            left.grow(&p.bounds[sorted[k - 1] as usize]);
             let cost = left.half_area() * k as f32 + right_area[k] * (n - k) as f32;
             if best.is_none_or(|(b, _)| cost < b) {
                 best = Some((cost, Split::Sweep { axis, count: k }));

@@ -248,7 +248,12 @@ pub const QUICK_BUILD_TRIANGLES: usize = 1 << 19;
 impl BuildQuality {
     /// The build of a static mesh of `triangles` triangles.
     pub fn for_static(triangles: usize) -> BuildQuality {
-        if triangles > QUICK_BUILD_TRIANGLES {
+        BuildQuality::for_static_above(triangles, QUICK_BUILD_TRIANGLES)
+    }
+
+    /// The same with meshes of more than `quick_above` triangles built quick.
+    pub fn for_static_above(triangles: usize, quick_above: usize) -> BuildQuality {
+        if triangles > quick_above {
             BuildQuality::Quick
         } else {
             BuildQuality::Static

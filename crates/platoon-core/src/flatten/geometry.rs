@@ -117,16 +117,8 @@ pub(super) fn write_mesh(
 /// its root: all a new tree over the triangles in place needs, when it keeps their order.
 pub(super) fn write_nodes(index: usize, flat: &FlatBvh, g: &mut GpuScene) -> Result<()> {
     let r = g.regions[index];
-    if flat.nodes.len() > r.node_capacity as usize || flat.order.len() != r.triangle_count as usize
-    {
-        return Err(Error::Invalid(format!(
-            "mesh {index}: a BVH of {} nodes over {} triangles does not fit its region \
-             ({} nodes, {} triangles)",
-            flat.nodes.len(),
-            flat.order.len(),
-            r.node_capacity,
-            r.triangle_count
-        )));
+    if !tree_fits(r, flat) {
+        return Err(no_longer_fits(index));
     }
     let too_large = || {
         Error::Invalid(format!(
@@ -188,15 +180,21 @@ pub(super) fn write_refitted(
 /// Whether `mesh` and its BVH `flat` fit region `r` (mesh `index`): the same vertex and triangle
 /// counts, the nodes within its capacity.
 fn check_fits(index: usize, r: MeshRegion, mesh: &Mesh, flat: &FlatBvh) -> Result<()> {
-    let fits = r.vertex_count as usize == mesh.positions.len()
-        && r.triangle_count as usize == flat.order.len()
-        && flat.nodes.len() <= r.node_capacity as usize;
-    if !fits {
-        return Err(Error::Invalid(format!(
-            "mesh {index} no longer fits its region (vertices, triangles or BVH nodes changed)"
-        )));
+    if r.vertex_count as usize != mesh.positions.len() || !tree_fits(r, flat) {
+        return Err(no_longer_fits(index));
     }
     Ok(())
+}
+
+/// Whether BVH `flat` fits region `r`: over as many triangles, its nodes within the capacity.
+fn tree_fits(r: MeshRegion, flat: &FlatBvh) -> bool {
+    r.triangle_count as usize == flat.order.len() && flat.nodes.len() <= r.node_capacity as usize
+}
+
+fn no_longer_fits(index: usize) -> Error {
+    Error::Invalid(format!(
+        "mesh {index} no longer fits its region (vertices, triangles or BVH nodes changed)"
+    ))
 }
 
 fn write_vertices(mesh: &Mesh, r: MeshRegion, g: &mut GpuScene) {
