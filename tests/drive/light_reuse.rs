@@ -27,7 +27,7 @@ fn reference(scene: platoon::core::Scene, camera: Camera, w: u32, h: u32, spp: u
         create_tracers(&"lavapipe:1".parse().unwrap(), &first, true, Sampling::Mis).unwrap();
     let mut renderer = Renderer::new(tracers, by_name("none").unwrap());
     let mut p = FrameParams::new(w, h, spp, camera);
-    p.max_depth = 2;
+    p.path_loop.max_depth = 2;
     renderer.render_frame(&p).unwrap().film
 }
 

@@ -291,12 +291,12 @@ fn the_quick_build_of_big_meshes_renders_the_reinserted_trees_image() {
         let mut t = tracer_reading(g, Default::default());
         render_with(&mut t, params)
     };
-    params.max_depth = 1;
+    params.path_loop.max_depth = 1;
     assert!(
         image(&fine, &params) == image(&quick, &params),
         "camera rays found other surfaces"
     );
-    params.max_depth = 6;
+    params.path_loop.max_depth = 6;
     let (a, b) = (image(&fine, &params), image(&quick, &params));
     let (d, err) = mean_and_stderr(
         a.pixels

@@ -66,9 +66,9 @@ fn russian_roulette_scaled_down_stays_unbiased_and_traces_fewer_rays() {
     let mut tracer = tracer(&prepared, Sampling::Mis);
     let mut render = |survival: f32, fixed: Option<f32>| {
         let mut params = FrameParams::new(w, h, 64, prepared.camera);
-        params.rr_survival = survival;
-        params.rr_fixed = fixed;
-        params.rr_depth = 0;
+        params.path_loop.rr_survival = survival;
+        params.path_loop.rr_fixed = fixed;
+        params.path_loop.rr_depth = 0;
         let r = platoon::render_bands(
             &mut tracer,
             &params,
@@ -98,7 +98,7 @@ fn russian_roulette_scaled_down_stays_unbiased_and_traces_fewer_rays() {
     }
     assert_no_validation_messages(&tracer);
     let mut bad = FrameParams::new(w, h, 1, prepared.camera);
-    bad.rr_survival = 0.0;
+    bad.path_loop.rr_survival = 0.0;
     assert!(tracer.render(&bad, 0, h, &mut |_| {}).is_err());
 }
 
@@ -264,7 +264,7 @@ fn an_edge_seen_through_each_pixel_filter_is_the_filters_integral() {
         PixelFilter::BlackmanHarris,
     ] {
         let mut params = FrameParams::new(w, h, 4096, prepared.camera);
-        params.max_depth = 1;
+        params.path_loop.max_depth = 1;
         params.filter = filter;
         let film = render(&prepared, &params, Sampling::Mis);
         let mut profile = Vec::new();

@@ -63,7 +63,7 @@ fn background_follows_the_equirectangular_mapping() {
     let prepared = common::prepare(scene, EnvChoice::File(map));
     let (w, h) = (32u32, 16u32);
     let mut params = FrameParams::new(w, h, 1, prepared.camera);
-    params.max_depth = 1;
+    params.path_loop.max_depth = 1;
     let film = common::render(&prepared, &params, Sampling::Mis);
     // Pixel centres are jittered by up to half a pixel; compare with a tolerance of one texel
     // plus the pixel footprint.

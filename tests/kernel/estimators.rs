@@ -253,7 +253,7 @@ fn resampled_direct_light_agrees_with_mis_and_is_less_noisy_among_many_lights() 
     assert!(prepared.gpu.features.punctual_lights && prepared.gpu.features.emissive_triangles);
     {
         let depth = 2;
-        let at_depth = |p: &mut FrameParams| p.max_depth = depth;
+        let at_depth = |p: &mut FrameParams| p.path_loop.max_depth = depth;
         let mis = blocks_with(&prepared, Sampling::Mis, 256, &at_depth);
         let resampled = blocks_with(&prepared, Sampling::Mis, 16, &|p| {
             at_depth(p);

@@ -455,7 +455,7 @@ fn max_depth_one_compiles_the_bounce_away_and_sees_only_emitters() {
         platoon::EnvChoice::Scene,
     );
     let mut params = FrameParams::new(32, 32, 16, prepared.camera);
-    params.max_depth = 1;
+    params.path_loop.max_depth = 1;
     let mut t = tracer(&prepared, Sampling::Mis);
     assert!(t.kernel_defines(&params).contains(&"CAMERA_RAYS_ONLY"));
     let film = render_with(&mut t, &params);
@@ -473,7 +473,7 @@ fn max_depth_one_compiles_the_bounce_away_and_sees_only_emitters() {
         );
     }
     // One bounce more lights the walls, through the kernel with bounce code.
-    params.max_depth = 2;
+    params.path_loop.max_depth = 2;
     assert!(!t.kernel_defines(&params).contains(&"CAMERA_RAYS_ONLY"));
     let film = render_with(&mut t, &params);
     assert!(film.pixels.iter().filter(|p| p[0] > 0.0).count() > film.pixels.len() / 2);

@@ -469,7 +469,7 @@ fn tangent_quad(angle: f64) -> platoon::core::scene::Mesh {
 fn rendered(lobe: &Lobe, cos_view: f64, sampling: Sampling, spp: u32) -> (f64, f64) {
     let prepared = plane(lobe, cos_view);
     let mut params = FrameParams::new(32, 32, spp, prepared.camera);
-    params.max_depth = 8;
+    params.path_loop.max_depth = 8;
     let film = render(&prepared, &params, sampling);
     mean_and_stderr(film.pixels.iter().map(|p| p[lobe.channel] as f64))
 }
@@ -1501,7 +1501,7 @@ fn an_anisotropy_texture_sets_the_direction_and_strength() {
     );
     assert!(prepared.gpu.features.anisotropy_textures);
     let mut params = FrameParams::new(32, 32, 512, prepared.camera);
-    params.max_depth = 8;
+    params.path_loop.max_depth = 8;
     let film = render(&prepared, &params, Sampling::Mis);
     let (m, se) = mean_and_stderr(film.pixels.iter().map(|p| p[0] as f64));
     eprintln!("textured: {m:.5} +- {se:.5}, formula {expected:.5}, untextured {untextured:.5}");

@@ -450,7 +450,7 @@ fn a_generic_kernel_renders_the_specialised_kernels_image() {
         let mut t = tracer(prepared, Sampling::Mis);
         let params = FrameParams::new(24, 24, 4, prepared.camera);
         let mut generic = params.clone();
-        generic.generic_kernel = true;
+        generic.path_loop.generic_kernel = true;
         assert_ne!(t.kernel_defines(&params), t.kernel_defines(&generic));
         let a = render_with(&mut t, &params);
         let b = render_with(&mut t, &generic);

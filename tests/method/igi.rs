@@ -31,14 +31,14 @@ fn igi_indirect_light_converges_to_the_path_tracers_as_the_vpls_grow_in_number()
     let mut tracer = tracer(&prepared, Sampling::Mis);
     let mut params = FrameParams::new(32, 32, 4096, prepared.camera);
     let bounces = IgiOptions::default().bounces;
-    params.max_depth = bounces + 2;
+    params.path_loop.max_depth = bounces + 2;
     let full = render_with(&mut tracer, &params);
-    params.max_depth = 2;
+    params.path_loop.max_depth = 2;
     let reference = minus(&full, &render_with(&mut tracer, &params));
     params.spp = 8;
     params.seed = 1;
     let direct = render_with(&mut tracer, &params);
-    params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
+    params.path_loop.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
     let mut errors = Vec::new();
     for vpls in [12, 48, 192, 768] {
         params.method = Method::new(IgiOptions::with_vpls(vpls));
@@ -281,9 +281,9 @@ fn every_light_kind_gives_the_path_tracers_indirect_light() {
         let mut tracer = tracer(&prepared, Sampling::Mis);
         let bounces = 2;
         let mut params = FrameParams::new(16, 16, 4096, prepared.camera);
-        params.max_depth = bounces + 2;
+        params.path_loop.max_depth = bounces + 2;
         let full = render_with(&mut tracer, &params);
-        params.max_depth = 2;
+        params.path_loop.max_depth = 2;
         let reference = minus(&full, &render_with(&mut tracer, &params));
         // Eight frames, eight VPL sets: the unbounded geometry term makes one set's estimate
         // heavy-tailed, their mean is closer to IGI's expectation. One sample a pixel: the
@@ -293,10 +293,10 @@ fn every_light_kind_gives_the_path_tracers_indirect_light() {
         let mut got = 0.0;
         for frame in 0..frames {
             params.frame = frame;
-            params.max_depth = 2;
+            params.path_loop.max_depth = 2;
             params.method = Method::path_tracing();
             let direct = render_with(&mut tracer, &params);
-            params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
+            params.path_loop.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
             params.method = Method::new(IgiOptions {
                 paths: 4096,
                 bounces,

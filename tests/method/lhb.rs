@@ -218,9 +218,9 @@ fn lhb_indirect_light_converges_to_the_path_tracers_with_directions_and_resoluti
     let mut tracer = tracer(&prepared, Sampling::Mis);
     let mut params = FrameParams::new(32, 32, 4096, prepared.camera);
     let bounces = LhbOptions::default().bounces;
-    params.max_depth = bounces + 2;
+    params.path_loop.max_depth = bounces + 2;
     let full = render_with(&mut tracer, &params);
-    params.max_depth = 2;
+    params.path_loop.max_depth = 2;
     let reference = minus(&full, &render_with(&mut tracer, &params));
     params.spp = 256;
     params.seed = 1;
@@ -231,11 +231,11 @@ fn lhb_indirect_light_converges_to_the_path_tracers_with_directions_and_resoluti
             ..options(set, r)
         };
         params.method = Method::new(Lhb::prepared(o, &prepared.gpu));
-        params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
+        params.path_loop.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
         let lit = render_with(&mut tracer, &params);
         // The same paths cut after the first vertex's direct light: the same random numbers,
         // so the difference holds none of the direct light's noise.
-        params.max_depth = 2;
+        params.path_loop.max_depth = 2;
         let indirect = minus(&lit, &render_with(&mut tracer, &params));
         errors.push((set, r, rmse(&indirect, &reference), mean(&indirect)));
     }

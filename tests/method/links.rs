@@ -189,9 +189,9 @@ fn links_indirect_light_converges_with_directions_and_tessellation() {
         let prepared = prepare(cornell::scene(), platoon::EnvChoice::Scene);
         let mut tracer = tracer(&prepared, Sampling::Mis);
         let mut params = FrameParams::new(32, 32, 4096, prepared.camera);
-        params.max_depth = bounces + 2;
+        params.path_loop.max_depth = bounces + 2;
         let full = render_with(&mut tracer, &params);
-        params.max_depth = 2;
+        params.path_loop.max_depth = 2;
         minus(&full, &render_with(&mut tracer, &params))
     };
     let m = mean(&reference);
@@ -201,9 +201,9 @@ fn links_indirect_light_converges_with_directions_and_tessellation() {
         let mut tracer = tracer(&prepared, Sampling::Mis);
         let mut params = FrameParams::new(32, 32, 8, prepared.camera);
         params.seed = 1;
-        params.max_depth = 2;
+        params.path_loop.max_depth = 2;
         let direct = render_with(&mut tracer, &params);
-        params.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
+        params.path_loop.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
         params.method = links(LinksOptions {
             directions,
             ..Default::default()

@@ -12,7 +12,7 @@ use platoon_core::frame::aov::AovPass;
 use platoon_core::frame::light_pass::{BsdfPart, LightPass};
 use platoon_core::frame::light_reuse::{LightReuse, ReservoirHistory};
 use platoon_core::frame::world_cache::CacheTable;
-use platoon_core::frame::{Crop, FrameParams, Output, PixelFilter, Span};
+use platoon_core::frame::{Crop, FrameParams, Output, PathLoop, PixelFilter, Span};
 use platoon_core::method::path_kernel::PathKernel;
 use platoon_core::scene::camera::Camera;
 
@@ -119,12 +119,8 @@ fn get_light_reuse(r: &mut Reader) -> Result<ReservoirHistory, WireError> {
     })
 }
 
-/// `p` for a rank rendering `span`: everything, with the sums and mask of the span only.
-pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), String> {
-    let FrameParams {
-        width,
-        height,
-        spp,
+fn put_path_loop(w: &mut Writer, l: &PathLoop) {
+    let PathLoop {
         max_depth,
         rr_depth,
         rr_survival,
@@ -134,6 +130,43 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         generic_kernel,
         deterministic_termination,
         single_diffuse_bounce,
+    } = l;
+    w.u32(*max_depth);
+    w.u32(*rr_depth);
+    w.f32(*rr_survival);
+    opt_f32(w, *rr_fixed);
+    opt_f32(w, *clamp_indirect);
+    for b in [
+        uniform_light_selection,
+        generic_kernel,
+        deterministic_termination,
+        single_diffuse_bounce,
+    ] {
+        w.u8(*b as u8);
+    }
+}
+
+fn get_path_loop(r: &mut Reader) -> Result<PathLoop, WireError> {
+    Ok(PathLoop {
+        max_depth: r.u32()?,
+        rr_depth: r.u32()?,
+        rr_survival: r.f32()?,
+        rr_fixed: get_opt_f32(r)?,
+        clamp_indirect: get_opt_f32(r)?,
+        uniform_light_selection: flag(r)?,
+        generic_kernel: flag(r)?,
+        deterministic_termination: flag(r)?,
+        single_diffuse_bounce: flag(r)?,
+    })
+}
+
+/// `p` for a rank rendering `span`: everything, with the sums and mask of the span only.
+pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), String> {
+    let FrameParams {
+        width,
+        height,
+        spp,
+        path_loop,
         cut_last_paths,
         ris_candidates,
         ris_mis,
@@ -155,21 +188,11 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         ao_distance,
         output,
     } = p;
-    for v in [width, height, spp, max_depth, rr_depth] {
+    for v in [width, height, spp] {
         w.u32(*v);
     }
-    w.f32(*rr_survival);
-    opt_f32(w, *rr_fixed);
-    opt_f32(w, *clamp_indirect);
-    for b in [
-        uniform_light_selection,
-        generic_kernel,
-        deterministic_termination,
-        single_diffuse_bounce,
-        cut_last_paths,
-        ris_mis,
-        ris_contribution,
-    ] {
+    put_path_loop(w, path_loop);
+    for b in [cut_last_paths, ris_mis, ris_contribution] {
         w.u8(*b as u8);
     }
     w.u8(ris_candidates.is_some() as u8);
@@ -244,15 +267,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
 pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> {
     let camera0 = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
     let mut p = FrameParams::new(r.u32()?, r.u32()?, r.u32()?, camera0);
-    p.max_depth = r.u32()?;
-    p.rr_depth = r.u32()?;
-    p.rr_survival = r.f32()?;
-    p.rr_fixed = get_opt_f32(r)?;
-    p.clamp_indirect = get_opt_f32(r)?;
-    p.uniform_light_selection = flag(r)?;
-    p.generic_kernel = flag(r)?;
-    p.deterministic_termination = flag(r)?;
-    p.single_diffuse_bounce = flag(r)?;
+    p.path_loop = get_path_loop(r)?;
     p.cut_last_paths = flag(r)?;
     p.ris_mis = flag(r)?;
     p.ris_contribution = flag(r)?;
@@ -362,8 +377,8 @@ mod tests {
         camera.orthographic = Some([2.0, 1.5]);
         camera.aperture_radius = 0.1;
         let mut p = FrameParams::new(5, 4, 3, camera);
-        p.rr_fixed = Some(0.5);
-        p.clamp_indirect = Some(9.0);
+        p.path_loop.rr_fixed = Some(0.5);
+        p.path_loop.clamp_indirect = Some(9.0);
         p.ris_candidates = Some(4);
         p.ris_mis = true;
         p.ris_contribution = true;

@@ -359,7 +359,7 @@ pub fn refinement(scene: &ScaleScene, o: &Options, frames: usize) -> Result<Refi
     let mut quick = Tracers::new(&options, "cost-aware", &quick_scene)?;
     let mut refined = Tracers::new(&options, "cost-aware", updater.flattened())?;
     let mut params = FrameParams::new(o.width, o.height, o.spp, camera);
-    params.max_depth = o.max_depth;
+    params.path_loop.max_depth = o.max_depth;
     let time = |t: &mut Tracers, s| -> Result<f64> {
         let start = Instant::now();
         t.render(s, &params, &mut |_| {})?;

@@ -117,8 +117,8 @@ impl DriverOptions {
         let mut p = FrameParams::new(width, height, spp, camera);
         p.seed = self.seed;
         p.filter = self.filter;
-        p.max_depth = self.max_depth;
-        p.rr_depth = self.rr_depth;
+        p.path_loop.max_depth = self.max_depth;
+        p.path_loop.rr_depth = self.rr_depth;
         p.samples_per_pass = self.samples_per_pass;
         p.method = self.method.clone();
         p.set_resampled_light(self.resampled_light);
@@ -388,10 +388,10 @@ impl FrameDriver {
         let mut params = o.frame_params(width, height, plan.spp, camera);
         params.frame = self.epoch;
         params.first_sample = plan.first_sample;
-        params.rr_survival = plan.rr_survival;
+        params.path_loop.rr_survival = plan.rr_survival;
         if plan.rr_survival < 1.0 {
             // Scaled roulette saves time only where it plays: from the first bounce on.
-            params.rr_depth = params.rr_depth.min(1);
+            params.path_loop.rr_depth = params.path_loop.rr_depth.min(1);
         }
         let gi = self.prepared.as_ref().map(|p| {
             params.method = p.method.clone();

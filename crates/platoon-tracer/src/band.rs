@@ -66,17 +66,7 @@ impl Tracer {
                 params.output
             )));
         }
-        if !(params.rr_survival > 0.0 && params.rr_survival <= 1.0) {
-            return Err(crate::Error::Invalid(format!(
-                "the Russian-roulette survival scale must be in (0, 1], not {}",
-                params.rr_survival
-            )));
-        }
-        if params.rr_fixed.is_some_and(|p| !(p > 0.0 && p <= 1.0)) {
-            return Err(crate::Error::Invalid(
-                "a fixed Russian-roulette survival probability must be in (0, 1]".into(),
-            ));
-        }
+        params.path_loop.check().map_err(crate::Error::Invalid)?;
         if params.ris_candidates == Some(0) {
             return Err(crate::Error::Invalid(
                 "resampled light selection needs at least one candidate".into(),
@@ -119,14 +109,6 @@ impl Tracer {
                 "the world cache's table must hold a power of two of slots and cells of a \
                  positive size"
                     .into(),
-            ));
-        }
-        if params
-            .clamp_indirect
-            .is_some_and(|c| c.is_nan() || c <= 0.0)
-        {
-            return Err(crate::Error::Invalid(
-                "the indirect clamp must be a positive radiance".into(),
             ));
         }
         if let Some(c) = &params.film.converged {
@@ -281,8 +263,11 @@ impl Tracer {
             // What a method's first pass may key its work by, besides frame and seed.
             sample_begin: params.first_sample,
             sample_end: params.first_sample,
-            rr_survival: params.rr_fixed.unwrap_or(params.rr_survival),
-            clamp_indirect: params.clamp_indirect.unwrap_or(f32::INFINITY),
+            rr_survival: params
+                .path_loop
+                .rr_fixed
+                .unwrap_or(params.path_loop.rr_survival),
+            clamp_indirect: params.path_loop.clamp_indirect.unwrap_or(f32::INFINITY),
             ris_candidates: params.ris_candidates.unwrap_or(1),
             method: method.push_words(params),
         };

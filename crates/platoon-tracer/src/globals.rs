@@ -92,10 +92,10 @@ impl Globals {
         g.dims[1] = params.height;
         g.crop = [crop.x, crop.y, crop.image_width, crop.image_height];
         g.params = [
-            params.max_depth.max(1),
+            params.path_loop.max_depth.max(1),
             params.frame,
             params.seed,
-            params.rr_depth,
+            params.path_loop.rr_depth,
         ];
         g
     }

@@ -88,9 +88,12 @@ pub fn metadata_of(
         ("ao_distance".into(), params.ao_distance.to_string()),
         ("seed".into(), params.seed.to_string()),
         ("frame".into(), params.frame.to_string()),
-        ("max_depth".into(), params.max_depth.to_string()),
+        ("max_depth".into(), params.path_loop.max_depth.to_string()),
         ("filter".into(), params.filter.describe()),
-        ("russian_roulette_depth".into(), params.rr_depth.to_string()),
+        (
+            "russian_roulette_depth".into(),
+            params.path_loop.rr_depth.to_string(),
+        ),
         // 1 means no path regeneration within a kernel pass (a trade-off knob).
         (
             "samples_per_pass".into(),
@@ -98,15 +101,21 @@ pub fn metadata_of(
         ),
         (
             "russian_roulette_survival".into(),
-            match (params.deterministic_termination, params.rr_fixed) {
+            match (
+                params.path_loop.deterministic_termination,
+                params.path_loop.rr_fixed,
+            ) {
                 (true, _) => "deterministic (DPT)".to_string(),
                 (false, Some(p)) => format!("fixed {p}"),
-                (false, None) => format!("throughput x {}", params.rr_survival),
+                (false, None) => format!("throughput x {}", params.path_loop.rr_survival),
             },
         ),
         (
             "light_selection".into(),
-            match (params.ris_candidates, params.uniform_light_selection) {
+            match (
+                params.ris_candidates,
+                params.path_loop.uniform_light_selection,
+            ) {
                 (Some(m), _) => format!(
                     "{} over {m} candidates{}",
                     if params.ris_mis { "MIS+RIS" } else { "RIS" },
@@ -123,6 +132,7 @@ pub fn metadata_of(
         (
             "clamp_indirect".into(),
             params
+                .path_loop
                 .clamp_indirect
                 .map_or_else(|| "none".into(), |c| c.to_string()),
         ),
@@ -201,16 +211,19 @@ fn method(params: &FrameParams) -> String {
 /// Every approximation in effect, so a reader of the image knows what it is not.
 pub fn approximations(params: &FrameParams) -> String {
     let mut a = vec!["roughness<0.01 rendered as perfectly specular".to_string()];
-    if params.max_depth < platoon_core::frame::DEFAULT_MAX_DEPTH {
-        a.push(format!("path depth capped at {}", params.max_depth));
+    if params.path_loop.max_depth < platoon_core::frame::DEFAULT_MAX_DEPTH {
+        a.push(format!(
+            "path depth capped at {}",
+            params.path_loop.max_depth
+        ));
     }
-    if let Some(c) = params.clamp_indirect {
+    if let Some(c) = params.path_loop.clamp_indirect {
         a.push(format!("light after the first bounce clamped at {c}"));
     }
-    if params.deterministic_termination {
+    if params.path_loop.deterministic_termination {
         a.push("deterministic path termination: no path outlives log2(spp) tests".into());
     }
-    if params.single_diffuse_bounce {
+    if params.path_loop.single_diffuse_bounce {
         a.push("a single diffuse bounce of indirect light".into());
     }
     if params.cut_last_paths {
@@ -256,10 +269,10 @@ mod tests {
             Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
         );
         let plain = approximations(&p);
-        p.max_depth = 2;
-        p.clamp_indirect = Some(1.5);
-        p.deterministic_termination = true;
-        p.single_diffuse_bounce = true;
+        p.path_loop.max_depth = 2;
+        p.path_loop.clamp_indirect = Some(1.5);
+        p.path_loop.deterministic_termination = true;
+        p.path_loop.single_diffuse_bounce = true;
         p.method = platoon_core::Method::new(platoon_core::method::igi::IgiOptions {
             min_distance: 0.1,
             imperfect_visibility: true,
@@ -288,8 +301,8 @@ mod tests {
             1,
             Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
         );
-        q.rr_fixed = Some(0.5);
-        q.uniform_light_selection = true;
+        q.path_loop.rr_fixed = Some(0.5);
+        q.path_loop.uniform_light_selection = true;
         q.ris_candidates = Some(4);
         q.ris_mis = true;
         q.ris_contribution = true;

@@ -170,7 +170,7 @@ pub fn run(a: &KernelArgs) -> Result<()> {
             for &(what, depth) in depths {
                 let mut params = FrameParams::new(256, 256, spp, p.camera);
                 if let Some(d) = depth {
-                    params.max_depth = d;
+                    params.path_loop.max_depth = d;
                 }
                 let m = measure(&mut tracer, &params, kernels, repeat)?;
                 print_row(&format!("{}, {what}", scene.name), &m);

@@ -77,7 +77,7 @@ impl Job {
                 p.time_limit.map(|t| format!("{} s", t.as_secs_f64())),
                 "none"
             ),
-            p.max_depth,
+            p.path_loop.max_depth,
             p.seed,
             if args.animated_seed { " + frame" } else { "" },
             p.filter.describe(),

@@ -14,7 +14,7 @@ pub fn aov_pass_params(params: &FrameParams, pass: AovPass, spp: u32) -> FramePa
     p.spp = spp;
     // A light pass keeps the beauty's roulette: its paths must be the beauty's.
     if !matches!(pass, AovPass::Light(_)) {
-        p.rr_survival = 1.0;
+        p.path_loop.rr_survival = 1.0;
     }
     p.film = FilmState::default();
     p.time_limit = None;

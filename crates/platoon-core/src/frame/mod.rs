@@ -18,6 +18,7 @@ pub mod light_pass;
 pub mod light_reuse;
 pub mod motion;
 mod outcome;
+mod path_loop;
 mod pixel_filter;
 pub mod renderer;
 mod rounds;
@@ -28,6 +29,7 @@ use std::time::Duration;
 
 pub use crop::{Crop, Region};
 pub use film_state::FilmState;
+pub use path_loop::{PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH};
 pub use pixel_filter::PixelFilter;
 
 use crate::output::Film;
@@ -40,12 +42,6 @@ use crate::scene::camera::Camera;
 /// docs/PERFORMANCE.md).
 pub const DEFAULT_SAMPLES_PER_PASS: u32 = 16;
 
-/// Default path-length limit: high enough to be unbounded in practice (Russian roulette ends
-/// paths long before), low enough to stop a pathological scene. Reported in the output metadata.
-pub const DEFAULT_MAX_DEPTH: u32 = 1024;
-/// The path depth Russian roulette starts at.
-pub const DEFAULT_RR_DEPTH: u32 = 3;
-
 /// The ambient-occlusion pass's distance by default: Cycles' (10 m).
 pub const DEFAULT_AO_DISTANCE: f32 = 10.0;
 
@@ -54,34 +50,8 @@ pub struct FrameParams {
     pub width: u32,
     pub height: u32,
     pub spp: u32,
-    /// Longest path in segments (Mitsuba's convention: 1 = emitters seen directly, 2 = direct light).
-    pub max_depth: u32,
-    /// Depth from which Russian roulette may end a path.
-    pub rr_depth: u32,
-    /// Russian-roulette survival scale in (0, 1]: a path survives with probability
-    /// min(max throughput component x this, 0.95) and survivors are weighted up by its inverse,
-    /// so any value is unbiased; below 1 paths are shorter (faster) and the image noisier. What
-    /// the frame driver's roulette scaling lowers when one sample a frame is already too slow.
-    pub rr_survival: f32,
-    /// Russian roulette with this fixed survival probability in (0, 1] instead of one from the
-    /// path's throughput (unbiased; Bikker's comparison). Compiled in only when set.
-    pub rr_fixed: Option<f32>,
-    /// Clamp every contribution after the first bounce to this maximum component (a firefly
-    /// suppressor games use; biased, listed as an approximation). Compiled in only when set.
-    pub clamp_indirect: Option<f32>,
-    /// Next-event estimation picks every light with the same probability instead of by power
-    /// (unbiased, usually noisier). Compiled in only when set.
-    pub uniform_light_selection: bool,
-    /// Compile every effect a scene may call for into the kernel, not only this scene's: what
-    /// a renderer without specialisation pays (the image is the same; the time is not).
-    pub generic_kernel: bool,
-    /// Bikker's deterministic path termination instead of Russian roulette: of a pixel's N
-    /// samples N/2 end at the first test, N/4 at the second... (biased: no path outlives log2 N
-    /// tests). Compiled in only when set.
-    pub deterministic_termination: bool,
-    /// Paths end at their second non-delta vertex: direct light and one diffuse bounce of
-    /// indirect (Bikker's games; biased). Compiled in only when set.
-    pub single_diffuse_bounce: bool,
+    /// How the path loop every method's kernels run ends, weighs and picks (`path_loop`).
+    pub path_loop: PathLoop,
     /// Bikker's NOP, the last path not always completed: once every SIMD lane of a group has
     /// started its pass's last sample, the group stops when the first lane finishes it, the
     /// others' last paths ending where they are (biased low; saves the tail of the pass where
@@ -228,15 +198,7 @@ impl FrameParams {
             width,
             height,
             spp,
-            max_depth: DEFAULT_MAX_DEPTH,
-            rr_depth: DEFAULT_RR_DEPTH,
-            rr_survival: 1.0,
-            rr_fixed: None,
-            clamp_indirect: None,
-            uniform_light_selection: false,
-            generic_kernel: false,
-            deterministic_termination: false,
-            single_diffuse_bounce: false,
+            path_loop: PathLoop::default(),
             cut_last_paths: false,
             ris_candidates: None,
             ris_mis: false,

@@ -22,7 +22,7 @@ impl KernelVariant {
     /// through the focus point), and the generic kernel must render the specialised kernel's
     /// image, bit for bit (tests/lab/tradeoff.rs).
     pub fn new(scene: SceneFeatures, params: &FrameParams) -> KernelVariant {
-        let scene = if params.generic_kernel {
+        let scene = if params.path_loop.generic_kernel {
             scene.generic()
         } else {
             scene
@@ -46,7 +46,7 @@ impl KernelVariant {
             (
                 "camera-rays-only",
                 "CAMERA_RAYS_ONLY",
-                params.max_depth <= 1,
+                params.path_loop.max_depth <= 1,
             ),
             (
                 "primary-hit-output",
@@ -76,23 +76,27 @@ impl KernelVariant {
             (
                 "clamp-indirect",
                 "CLAMP_INDIRECT",
-                params.clamp_indirect.is_some(),
+                params.path_loop.clamp_indirect.is_some(),
             ),
-            ("fixed-roulette", "RR_FIXED", params.rr_fixed.is_some()),
+            (
+                "fixed-roulette",
+                "RR_FIXED",
+                params.path_loop.rr_fixed.is_some(),
+            ),
             (
                 "uniform-lights",
                 "LIGHT_SELECT_UNIFORM",
-                params.uniform_light_selection,
+                params.path_loop.uniform_light_selection,
             ),
             (
                 "deterministic-termination",
                 "RR_DETERMINISTIC",
-                params.deterministic_termination,
+                params.path_loop.deterministic_termination,
             ),
             (
                 "single-diffuse-bounce",
                 "SINGLE_DIFFUSE_BOUNCE",
-                params.single_diffuse_bounce,
+                params.path_loop.single_diffuse_bounce,
             ),
             ("last-paths-cut", "LAST_PATH_CUT", params.cut_last_paths),
             ("ris-lights", "LIGHT_SELECT_RIS", ris),

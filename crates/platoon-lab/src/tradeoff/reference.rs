@@ -43,8 +43,8 @@ pub fn cache_path(prepared: &Prepared, base: &FrameParams, spp: u32) -> Result<P
         base.height,
         base.seed,
         spp,
-        base.max_depth,
-        base.rr_depth,
+        base.path_loop.max_depth,
+        base.path_loop.rr_depth,
         camera,
     )
         .hash(&mut h);

@@ -207,22 +207,24 @@ impl Technique {
     /// Sets what it changes on a frame's parameters.
     pub fn apply(&self, params: &mut FrameParams) {
         match *self {
-            Technique::MaxDepth(n) => params.max_depth = n,
-            Technique::RouletteFrom(n) => params.rr_depth = n,
-            Technique::RouletteSurvival(p) => params.rr_survival = p as f32 / 100.0,
-            Technique::RouletteFixed(p) => params.rr_fixed = Some(p as f32 / 100.0),
-            Technique::Clamp(bits) => params.clamp_indirect = Some(f32::from_bits(bits)),
+            Technique::MaxDepth(n) => params.path_loop.max_depth = n,
+            Technique::RouletteFrom(n) => params.path_loop.rr_depth = n,
+            Technique::RouletteSurvival(p) => params.path_loop.rr_survival = p as f32 / 100.0,
+            Technique::RouletteFixed(p) => params.path_loop.rr_fixed = Some(p as f32 / 100.0),
+            Technique::Clamp(bits) => params.path_loop.clamp_indirect = Some(f32::from_bits(bits)),
             Technique::NoRegeneration => params.samples_per_pass = 1,
-            Technique::UniformLights => params.uniform_light_selection = true,
-            Technique::GenericKernel => params.generic_kernel = true,
-            Technique::DeterministicTermination => params.deterministic_termination = true,
+            Technique::UniformLights => params.path_loop.uniform_light_selection = true,
+            Technique::GenericKernel => params.path_loop.generic_kernel = true,
+            Technique::DeterministicTermination => {
+                params.path_loop.deterministic_termination = true
+            }
             Technique::Ris(m) => params.ris_candidates = Some(m),
             Technique::MisRis(m) => {
                 params.ris_candidates = Some(m);
                 params.ris_mis = true;
             }
             Technique::ResampledLight(m) => params.set_resampled_light(Some(m)),
-            Technique::SingleDiffuseBounce => params.single_diffuse_bounce = true,
+            Technique::SingleDiffuseBounce => params.path_loop.single_diffuse_bounce = true,
             Technique::Streaming => {
                 params.kernel = platoon_core::method::path::PathKernel::Streaming
             }

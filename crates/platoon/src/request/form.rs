@@ -226,7 +226,7 @@ impl Request {
         params.method = self.method.clone();
         params.kernel = self.kernel;
         if let Some(d) = self.max_depth {
-            params.max_depth = d;
+            params.path_loop.max_depth = d;
         }
         params.set_resampled_light(self.resampled_light);
         params.time_limit = self.time_limit;

@@ -81,7 +81,7 @@ pub fn measure(
         let r = &band.method_report;
         let build_s = entry(r, "lhb_build_s")?;
         let mut direct = params.clone();
-        direct.max_depth = 2;
+        direct.path_loop.max_depth = 2;
         let cut = tracer.render(&direct, 0, size, &mut |_| {})?;
         let direct_s =
             (device_time(&cut).as_secs_f64() - entry(&cut.method_report, "lhb_build_s")?).max(0.0);
