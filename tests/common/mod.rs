@@ -74,17 +74,29 @@ pub fn render_with(tracer: &mut Tracer, params: &FrameParams) -> Film {
     let path_traced = params.method.is_path_tracing()
         && params.output == platoon::core::frame::Output::Radiance
         && params.time_limit.is_none();
-    if path_traced && params.kernel == PathKernel::Auto {
-        let streamed = FrameParams {
-            kernel: PathKernel::Streaming,
-            ..params.clone()
-        };
+    if path_traced && params.method.path().kernel == PathKernel::Auto {
+        let mut streamed = params.clone();
+        streamed.method = streaming(&params.method);
         assert!(
             render_once(tracer, &streamed) == film,
             "the streaming path tracer's image differs from the megakernel's"
         );
     }
     film
+}
+
+/// `method` (the path tracer's) with its paths in the streaming kernels.
+pub fn streaming(method: &platoon::core::Method) -> platoon::core::Method {
+    let mut method = method.clone();
+    method.path_mut().expect("the path tracer").kernel = PathKernel::Streaming;
+    method
+}
+
+/// `method` (the path tracer's) in `kernel`.
+pub fn in_kernel(method: &platoon::core::Method, kernel: PathKernel) -> platoon::core::Method {
+    let mut method = method.clone();
+    method.path_mut().expect("the path tracer").kernel = kernel;
+    method
 }
 
 /// Renders the whole frame once in `params`' kernel (see `render_with`).

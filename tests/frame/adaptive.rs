@@ -153,7 +153,7 @@ fn adaptive_sampling_has_the_same_bits_on_one_tracer_on_three_and_streaming() {
         platoon::EnvChoice::Scene,
     );
     let mut params = FrameParams::new(24, 20, 64, prepared.camera);
-    params.kernel = PathKernel::Mega;
+    params.method = in_kernel(&params.method, PathKernel::Mega);
     let batching = adaptive(0.05);
     let one = render_on("0", Sampling::Mis, &prepared, &params, &batching);
     let three = render_on(
@@ -163,7 +163,7 @@ fn adaptive_sampling_has_the_same_bits_on_one_tracer_on_three_and_streaming() {
         &params,
         &batching,
     );
-    params.kernel = PathKernel::Streaming;
+    params.method = in_kernel(&params.method, PathKernel::Streaming);
     let streaming = render_on("0", Sampling::Mis, &prepared, &params, &batching);
     let samples = |r: &Rendered| r.batched.as_ref().unwrap().samples.clone();
     assert!(

@@ -7,7 +7,7 @@ mod common;
 use common::*;
 use platoon::core::balance::{line_bands, proportional};
 use platoon::core::frame::{FrameParams, Span};
-use platoon::core::method::path::PathKernel;
+use platoon::core::method::path::{PathKernel, ResampledLight};
 use platoon::tracer::{Sampling, TracerOptions};
 
 fn cesium() -> platoon::Prepared {
@@ -52,7 +52,7 @@ fn any_band_split_gives_the_same_bits() {
         let mut tracer = tracer(&prepared, Sampling::Mis);
         for kernel in [PathKernel::Mega, PathKernel::Streaming] {
             let mut params = FrameParams::new(20, 30, 6, prepared.camera);
-            params.kernel = kernel;
+            params.method = in_kernel(&params.method, kernel);
             let whole =
                 platoon::render_bands(&mut tracer, &params, &[Span::lines(20, 0, 30)], &mut |_| {})
                     .unwrap();
@@ -100,8 +100,8 @@ fn resampled_direct_light_gives_the_same_bits_for_any_split() {
     let mut tracer = tracer(&prepared, Sampling::Mis);
     for kernel in [PathKernel::Mega, PathKernel::Streaming] {
         let mut params = FrameParams::new(24, 16, 2, prepared.camera);
-        params.kernel = kernel;
-        params.set_resampled_light(Some(8));
+        params.method = in_kernel(&params.method, kernel);
+        params.method.path_mut().unwrap().resampled_light = Some(ResampledLight::new(8));
         let whole =
             platoon::render_bands(&mut tracer, &params, &[Span::lines(24, 0, 16)], &mut |_| {})
                 .unwrap();
@@ -118,7 +118,7 @@ fn resampled_direct_light_gives_the_same_bits_for_any_split() {
         );
         assert_eq!(whole.film.count_non_finite(), 0);
         // It is the resampling kernel: another image than one light drawn by power.
-        params.ris_candidates = None;
+        params.method.path_mut().unwrap().resampled_light = None;
         let plain =
             platoon::render_bands(&mut tracer, &params, &[Span::lines(24, 0, 16)], &mut |_| {})
                 .unwrap();
@@ -136,7 +136,7 @@ fn interleaved_passes_give_the_contiguous_image() {
     let mut tracer = tracer(&prepared, Sampling::Mis);
     for kernel in [PathKernel::Mega, PathKernel::Streaming] {
         let mut params = FrameParams::new(12, 17, 3, prepared.camera);
-        params.kernel = kernel;
+        params.method = in_kernel(&params.method, kernel);
         let whole = tracer.render(&params, 0, 17, &mut |_| {}).unwrap();
         let mut sums = vec![[0.0f32; 3]; whole.sums.len()];
         for k in 0..3 {
@@ -214,10 +214,10 @@ fn the_streaming_path_tracer_gives_the_megakernels_bits_with_any_number_of_slots
         cesium(),
     ] {
         let mut params = FrameParams::new(20, 30, 6, prepared.camera);
-        params.kernel = PathKernel::Mega;
+        params.method = in_kernel(&params.method, PathKernel::Mega);
         let mut mega_tracer = tracer(&prepared, Sampling::Mis);
         let mega = mega_tracer.render(&params, 0, 30, &mut |_| {}).unwrap();
-        params.kernel = PathKernel::Streaming;
+        params.method = in_kernel(&params.method, PathKernel::Streaming);
         for slots in [1, 7, 64, 600, 5000] {
             init();
             let options = TracerOptions {
@@ -252,7 +252,7 @@ fn the_streaming_path_tracer_continues_a_sum_as_one_longer_render() {
         by_name("none").unwrap(),
     );
     let mut params = FrameParams::new(16, 12, 5, prepared.camera);
-    params.kernel = PathKernel::Streaming;
+    params.method = in_kernel(&params.method, PathKernel::Streaming);
     let whole = renderer.render_frame(&params).unwrap().sums;
     // 2 samples, then 3 more onto their sums.
     params.spp = 2;

@@ -36,7 +36,7 @@ fn images_are_bit_identical_for_one_two_and_three_tracers_under_every_balancer()
         // order per pixel, whatever the split.
         for kernel in [PathKernel::Mega, PathKernel::Streaming] {
             let params = FrameParams {
-                kernel,
+                method: common::in_kernel(&params.method, kernel),
                 ..params.clone()
             };
             for (name, stealing) in NAMES.iter().flat_map(|n| [(n, None), (n, Some(greedy()))]) {

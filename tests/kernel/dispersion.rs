@@ -92,7 +92,7 @@ fn dispersive_glass_reflects_the_spectrum_of_its_indices() {
         let plain = fresnel(cos_view, ior);
         for kernel in [PathKernel::Mega, PathKernel::Streaming] {
             let mut params = FrameParams::new(16, 16, 1024, prepared.camera);
-            params.kernel = kernel;
+            params.method = in_kernel(&params.method, kernel);
             let film = render(&prepared, &params, Sampling::Mis);
             for (k, &want) in expected.iter().enumerate() {
                 let (m, se) = mean_and_stderr(film.pixels.iter().map(|p| p[k] as f64));
@@ -143,9 +143,9 @@ fn the_streaming_path_tracer_carries_the_wavelength_between_its_kernels() {
     scene.cameras[0].orthographic = Some([0.8, 0.8]);
     let prepared = prepare(scene, constant_env(1.0));
     let mut params = FrameParams::new(24, 24, 16, prepared.camera);
-    params.kernel = PathKernel::Mega;
+    params.method = in_kernel(&params.method, PathKernel::Mega);
     let mega = render(&prepared, &params, Sampling::Mis);
-    params.kernel = PathKernel::Streaming;
+    params.method = in_kernel(&params.method, PathKernel::Streaming);
     let streaming = render(&prepared, &params, Sampling::Mis);
     assert_eq!(mega.count_non_finite(), 0);
     assert!(mega.pixels == streaming.pixels);

@@ -7,6 +7,7 @@ mod common;
 use common::*;
 use glam::Vec3;
 use platoon::core::frame::FrameParams;
+use platoon::core::method::path::ResampledLight;
 use platoon::core::scene::Material;
 use platoon::tracer::Sampling;
 
@@ -257,9 +258,7 @@ fn resampled_direct_light_agrees_with_mis_and_is_less_noisy_among_many_lights() 
         let mis = blocks_with(&prepared, Sampling::Mis, 256, &at_depth);
         let resampled = blocks_with(&prepared, Sampling::Mis, 16, &|p| {
             at_depth(p);
-            p.ris_candidates = Some(8);
-            p.ris_mis = true;
-            p.ris_contribution = true;
+            p.method.path_mut().unwrap().resampled_light = Some(ResampledLight::new(8));
         });
         let (mut worst, mut variance) = (0.0f64, [0.0f64; 2]);
         for b in 0..mis[0].len() {

@@ -318,7 +318,7 @@ fn mip_levels_by_ray_cone_bring_a_grazing_plane_closer_to_its_supersampled_image
     assert!(!image.gpu.features.texture_lod && mipped.gpu.features.texture_lod);
     let render_at = |prepared: &platoon::Prepared, spp, kernel| {
         let mut params = FrameParams::new(64, 48, spp, prepared.camera);
-        params.kernel = kernel;
+        params.method = in_kernel(&params.method, kernel);
         render(prepared, &params, Sampling::Mis)
     };
     let reference = render_at(&image, 256, PathKernel::Mega);

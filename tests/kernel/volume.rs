@@ -41,7 +41,7 @@ fn index_matched_glass() -> Material {
 
 fn pixels(prepared: &platoon::Prepared, kernel: PathKernel) -> Vec<[f32; 3]> {
     let mut params = FrameParams::new(8, 8, 4, prepared.camera);
-    params.kernel = kernel;
+    params.method = in_kernel(&params.method, kernel);
     render(prepared, &params, Sampling::Mis).pixels
 }
 

@@ -7,117 +7,15 @@
 use std::time::Duration;
 
 use super::method_wire::{get_method, put_method};
-use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
+use super::path_wire::{get_path_tracing, put_path_tracing};
+use super::wire::{
+    get_camera, get_film_span, put_camera, put_film_span, Reader, WireError, Writer,
+};
 use platoon_core::frame::aov::AovPass;
 use platoon_core::frame::light_pass::{BsdfPart, LightPass};
-use platoon_core::frame::light_reuse::{LightReuse, ReservoirHistory};
-use platoon_core::frame::world_cache::CacheTable;
 use platoon_core::frame::{Crop, FrameParams, Output, PathLoop, PixelFilter, Span};
-use platoon_core::method::path_kernel::PathKernel;
+use platoon_core::method::path::PathTracing;
 use platoon_core::scene::camera::Camera;
-
-fn opt_f32(w: &mut Writer, v: Option<f32>) {
-    w.u8(v.is_some() as u8);
-    w.f32(v.unwrap_or(0.0));
-}
-
-fn get_opt_f32(r: &mut Reader) -> Result<Option<f32>, WireError> {
-    let some = r.u8()? == 1;
-    let v = r.f32()?;
-    Ok(some.then_some(v))
-}
-
-fn flag(r: &mut Reader) -> Result<bool, WireError> {
-    Ok(r.u8()? != 0)
-}
-
-fn put_camera(w: &mut Writer, camera: &Camera) {
-    let Camera {
-        camera_to_world,
-        yfov,
-        aperture_radius,
-        focus_distance,
-        orthographic,
-    } = camera;
-    w.pod(&camera_to_world.to_cols_array());
-    w.f32(*yfov);
-    w.f32(*aperture_radius);
-    w.f32(*focus_distance);
-    w.u8(orthographic.is_some() as u8);
-    w.pod(&orthographic.unwrap_or_default());
-}
-
-fn get_camera(r: &mut Reader) -> Result<Camera, WireError> {
-    let cols: Vec<f32> = r.pod()?;
-    let cols: [f32; 16] = cols
-        .try_into()
-        .map_err(|_| WireError("the camera's matrix".into()))?;
-    Ok(Camera {
-        camera_to_world: glam::Mat4::from_cols_array(&cols),
-        yfov: r.f32()?,
-        aperture_radius: r.f32()?,
-        focus_distance: r.f32()?,
-        orthographic: {
-            let some = flag(r)?;
-            let xy: Vec<f32> = r.pod()?;
-            let xy: [f32; 2] = xy
-                .try_into()
-                .map_err(|_| WireError("the orthographic size".into()))?;
-            some.then_some(xy)
-        },
-    })
-}
-
-/// The reuse's settings and the previous frame's reservoirs (every rank reads the whole
-/// image's: the reuse finds them by reprojection, anywhere).
-fn put_light_reuse(w: &mut Writer, h: &ReservoirHistory) {
-    let ReservoirHistory {
-        options,
-        camera,
-        width,
-        height,
-        records,
-    } = h;
-    let LightReuse {
-        unbiased,
-        neighbours,
-        radius,
-        history,
-    } = options;
-    w.u8(*unbiased as u8);
-    w.u32(*neighbours);
-    w.f32(*radius);
-    w.u32(*history);
-    put_camera(w, camera);
-    w.u32(*width);
-    w.u32(*height);
-    w.pod(bytemuck::cast_slice::<[f32; 4], f32>(records));
-}
-
-fn get_light_reuse(r: &mut Reader) -> Result<ReservoirHistory, WireError> {
-    let options = LightReuse {
-        unbiased: flag(r)?,
-        neighbours: r.u32()?,
-        radius: r.f32()?,
-        history: r.u32()?,
-    };
-    let camera = get_camera(r)?;
-    let (width, height) = (r.u32()?, r.u32()?);
-    let flat: Vec<f32> = r.pod()?;
-    if !flat.len().is_multiple_of(4) {
-        return Err(WireError("the light reuse's reservoirs".into()));
-    }
-    Ok(ReservoirHistory {
-        options,
-        camera,
-        width,
-        height,
-        records: flat
-            .chunks_exact(4)
-            .map(|c| [c[0], c[1], c[2], c[3]])
-            .collect(),
-    })
-}
 
 fn put_path_loop(w: &mut Writer, l: &PathLoop) {
     let PathLoop {
@@ -134,8 +32,8 @@ fn put_path_loop(w: &mut Writer, l: &PathLoop) {
     w.u32(*max_depth);
     w.u32(*rr_depth);
     w.f32(*rr_survival);
-    opt_f32(w, *rr_fixed);
-    opt_f32(w, *clamp_indirect);
+    w.opt_f32(*rr_fixed);
+    w.opt_f32(*clamp_indirect);
     for b in [
         uniform_light_selection,
         generic_kernel,
@@ -151,12 +49,12 @@ fn get_path_loop(r: &mut Reader) -> Result<PathLoop, WireError> {
         max_depth: r.u32()?,
         rr_depth: r.u32()?,
         rr_survival: r.f32()?,
-        rr_fixed: get_opt_f32(r)?,
-        clamp_indirect: get_opt_f32(r)?,
-        uniform_light_selection: flag(r)?,
-        generic_kernel: flag(r)?,
-        deterministic_termination: flag(r)?,
-        single_diffuse_bounce: flag(r)?,
+        rr_fixed: r.opt_f32()?,
+        clamp_indirect: r.opt_f32()?,
+        uniform_light_selection: r.flag()?,
+        generic_kernel: r.flag()?,
+        deterministic_termination: r.flag()?,
+        single_diffuse_bounce: r.flag()?,
     })
 }
 
@@ -167,14 +65,7 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         height,
         spp,
         path_loop,
-        cut_last_paths,
-        ris_candidates,
-        ris_mis,
-        ris_contribution,
-        world_cache,
-        light_reuse,
         method,
-        kernel,
         seed,
         frame,
         first_sample,
@@ -192,27 +83,11 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         w.u32(*v);
     }
     put_path_loop(w, path_loop);
-    for b in [cut_last_paths, ris_mis, ris_contribution] {
-        w.u8(*b as u8);
-    }
-    w.u8(ris_candidates.is_some() as u8);
-    w.u32(ris_candidates.unwrap_or(0));
-    w.u8(world_cache.is_some() as u8);
-    if let Some(c) = world_cache {
-        w.f32(c.cell_size);
-        w.u32(c.train_stride);
-        w.pod(bytemuck::cast_slice::<[f32; 4], f32>(&c.slots));
-    }
-    w.u8(light_reuse.is_some() as u8);
-    if let Some(h) = light_reuse {
-        put_light_reuse(w, h);
-    }
     put_method(w, method)?;
-    w.u8(match kernel {
-        PathKernel::Auto => 0,
-        PathKernel::Mega => 1,
-        PathKernel::Streaming => 2,
-    });
+    // The path tracer's state beyond its settings: what its frames carry.
+    if let Some(path) = method.state::<PathTracing>() {
+        put_path_tracing(w, path);
+    }
     for v in [seed, frame, first_sample, samples_per_pass] {
         w.u32(*v);
     }
@@ -268,45 +143,16 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
     let camera0 = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
     let mut p = FrameParams::new(r.u32()?, r.u32()?, r.u32()?, camera0);
     p.path_loop = get_path_loop(r)?;
-    p.cut_last_paths = flag(r)?;
-    p.ris_mis = flag(r)?;
-    p.ris_contribution = flag(r)?;
-    let some = flag(r)?;
-    let m = r.u32()?;
-    p.ris_candidates = some.then_some(m);
-    if flag(r)? {
-        let cell_size = r.f32()?;
-        let train_stride = r.u32()?;
-        let flat: Vec<f32> = r.pod()?;
-        let slots: Vec<[f32; 4]> = flat
-            .chunks_exact(4)
-            .map(|c| [c[0], c[1], c[2], c[3]])
-            .collect();
-        if !slots.len().is_power_of_two() {
-            return Err(WireError("the world cache's table".into()));
-        }
-        p.world_cache = Some(std::sync::Arc::new(CacheTable {
-            cell_size,
-            train_stride,
-            slots,
-        }));
-    }
-    if flag(r)? {
-        p.light_reuse = Some(std::sync::Arc::new(get_light_reuse(r)?));
-    }
     p.method = get_method(r)?;
-    p.kernel = match r.u8()? {
-        0 => PathKernel::Auto,
-        1 => PathKernel::Mega,
-        2 => PathKernel::Streaming,
-        k => return Err(WireError(format!("unknown path kernel {k}"))),
-    };
+    if let Some(path) = p.method.path_mut() {
+        *path = get_path_tracing(r)?;
+    }
     p.seed = r.u32()?;
     p.frame = r.u32()?;
     p.first_sample = r.u32()?;
     p.samples_per_pass = r.u32()?;
     get_film_span(r, &mut p, span)?;
-    let some = flag(r)?;
+    let some = r.flag()?;
     let limit: Duration = r.duration()?;
     p.time_limit = some.then_some(limit);
     p.camera = get_camera(r)?;
@@ -316,7 +162,7 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
         2 => PixelFilter::BlackmanHarris,
         k => return Err(WireError(format!("unknown pixel filter {k}"))),
     };
-    let cropped = flag(r)?;
+    let cropped = r.flag()?;
     let crop = Crop {
         x: r.u32()?,
         y: r.u32()?,
@@ -350,7 +196,7 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
         }
         k => return Err(WireError(format!("unknown output {k}"))),
     };
-    p.transparent_film = flag(r)?;
+    p.transparent_film = r.flag()?;
     p.ao_distance = r.f32()?;
     Ok(p)
 }
@@ -359,7 +205,10 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
 mod tests {
     use super::*;
     use crate::wire::fingerprint;
+    use platoon_core::frame::light_reuse::{LightReuse, ReservoirHistory};
+    use platoon_core::frame::world_cache::CacheTable;
     use platoon_core::method::igi::IgiOptions;
+    use platoon_core::method::path::{PathKernel, ResampledLight};
     use platoon_core::method::Method;
 
     fn round_trip(p: &FrameParams, span: Span) -> FrameParams {
@@ -379,10 +228,6 @@ mod tests {
         let mut p = FrameParams::new(5, 4, 3, camera);
         p.path_loop.rr_fixed = Some(0.5);
         p.path_loop.clamp_indirect = Some(9.0);
-        p.ris_candidates = Some(4);
-        p.ris_mis = true;
-        p.ris_contribution = true;
-        p.cut_last_paths = true;
         p.transparent_film = true;
         p.ao_distance = 2.5;
         // Every IGI option away from its default: each must travel.
@@ -394,28 +239,6 @@ mod tests {
             downsample: 2,
             interleave: [2, 3],
         });
-        p.kernel = PathKernel::Streaming;
-        p.world_cache = Some(std::sync::Arc::new(CacheTable {
-            cell_size: 0.5,
-            train_stride: 3,
-            slots: (0..4)
-                .map(|i| [f32::from_bits(i * 257 + 1), 0.5, 1.5, 2.5])
-                .collect(),
-        }));
-        let mut camera = p.camera;
-        camera.yfov = 0.75;
-        p.light_reuse = Some(std::sync::Arc::new(ReservoirHistory {
-            options: LightReuse {
-                unbiased: false,
-                neighbours: 5,
-                radius: 7.5,
-                history: 9,
-            },
-            camera,
-            width: 2,
-            height: 1,
-            records: (0..6).map(|i| [i as f32, 0.5, -1.5, 2.5]).collect(),
-        }));
         p.seed = 11;
         p.frame = 12;
         p.first_sample = 13;
@@ -437,7 +260,10 @@ mod tests {
         let span = Span::new(6, 13);
         let back = round_trip(&p, span);
         assert_eq!(fingerprint(&back), fingerprint(&p));
-        let (a, b) = (p.film.accumulated.unwrap(), back.film.accumulated.unwrap());
+        let (a, b) = (
+            p.film.accumulated.clone().unwrap(),
+            back.film.accumulated.unwrap(),
+        );
         for i in 0..20 {
             let inside = (6..13).contains(&i);
             assert_eq!(b[i], if inside { a[i] } else { [0.0; 3] }, "{i}");
@@ -446,6 +272,45 @@ mod tests {
                 inside && p.film.converged.as_ref().unwrap()[i]
             );
         }
+        let mut camera = p.camera;
+        camera.yfov = 0.75;
+        // Every path tracer's option away from its default, with what its frames carry.
+        let path = PathTracing {
+            kernel: PathKernel::Streaming,
+            cut_last_paths: true,
+            resampled_light: Some(ResampledLight {
+                candidates: 4,
+                mis: false,
+                contribution: true,
+            }),
+            world_cache: Some(std::sync::Arc::new(CacheTable {
+                cell_size: 0.5,
+                train_stride: 3,
+                slots: (0..4)
+                    .map(|i| [f32::from_bits(i * 257 + 1), 0.5, 1.5, 2.5])
+                    .collect(),
+            })),
+            light_reuse: Some(std::sync::Arc::new(ReservoirHistory {
+                options: LightReuse {
+                    unbiased: false,
+                    neighbours: 5,
+                    radius: 7.5,
+                    history: 9,
+                },
+                camera,
+                width: 2,
+                height: 1,
+                records: (0..6).map(|i| [i as f32, 0.5, -1.5, 2.5]).collect(),
+            })),
+        };
+        let path_traced = FrameParams {
+            method: Method::new(path),
+            ..p.clone()
+        };
+        let back = round_trip(&path_traced, span);
+        assert_eq!(back.method, path_traced.method);
+        assert_eq!(fingerprint(&back), fingerprint(&path_traced));
+        assert_ne!(fingerprint(&back), fingerprint(&p));
         let plain = FrameParams::new(
             3,
             3,

@@ -10,6 +10,7 @@ use std::time::Duration;
 use platoon_core::flatten::commit::{ArrayCommit, Commit, SceneHeader};
 use platoon_core::frame::renderer::{TracerFailure, TracerStats};
 use platoon_core::frame::{Band, FrameParams, Span};
+use platoon_core::scene::camera::Camera;
 
 #[derive(Debug, thiserror::Error)]
 #[error("a message between ranks is cut short or malformed: {0}")]
@@ -53,6 +54,13 @@ impl Writer {
     pub fn span(&mut self, s: Span) {
         self.u32(s.begin);
         self.u32(s.end);
+    }
+    pub fn flag(&mut self, on: bool) {
+        self.u8(on as u8);
+    }
+    pub fn opt_f32(&mut self, v: Option<f32>) {
+        self.flag(v.is_some());
+        self.f32(v.unwrap_or(0.0));
     }
 }
 
@@ -119,6 +127,14 @@ impl<'a> Reader<'a> {
     pub fn span(&mut self) -> Result<Span, WireError> {
         Ok(Span::new(self.u32()?, self.u32()?))
     }
+    pub fn flag(&mut self) -> Result<bool, WireError> {
+        Ok(self.u8()? != 0)
+    }
+    pub fn opt_f32(&mut self) -> Result<Option<f32>, WireError> {
+        let some = self.u8()? == 1;
+        let v = self.f32()?;
+        Ok(some.then_some(v))
+    }
     /// Whether every byte was read (a message with bytes left over is not what was sent).
     pub fn finish(&self) -> Result<(), WireError> {
         if self.at == self.bytes.len() {
@@ -130,6 +146,44 @@ impl<'a> Reader<'a> {
             )))
         }
     }
+}
+
+/// A camera, bit for bit.
+pub fn put_camera(w: &mut Writer, camera: &Camera) {
+    let Camera {
+        camera_to_world,
+        yfov,
+        aperture_radius,
+        focus_distance,
+        orthographic,
+    } = camera;
+    w.pod(&camera_to_world.to_cols_array());
+    w.f32(*yfov);
+    w.f32(*aperture_radius);
+    w.f32(*focus_distance);
+    w.u8(orthographic.is_some() as u8);
+    w.pod(&orthographic.unwrap_or_default());
+}
+
+pub fn get_camera(r: &mut Reader) -> Result<Camera, WireError> {
+    let cols: Vec<f32> = r.pod()?;
+    let cols: [f32; 16] = cols
+        .try_into()
+        .map_err(|_| WireError("the camera's matrix".into()))?;
+    Ok(Camera {
+        camera_to_world: glam::Mat4::from_cols_array(&cols),
+        yfov: r.f32()?,
+        aperture_radius: r.f32()?,
+        focus_distance: r.f32()?,
+        orthographic: {
+            let some = r.flag()?;
+            let xy: Vec<f32> = r.pod()?;
+            let xy: [f32; 2] = xy
+                .try_into()
+                .map_err(|_| WireError("the orthographic size".into()))?;
+            some.then_some(xy)
+        },
+    })
 }
 
 /// A hash of everything in `params` that every rank must agree on (all but the sums and
@@ -149,13 +203,15 @@ pub fn fingerprint(params: &FrameParams) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     // The world cache's table by its bits: formatting a megabyte each frame would cost more
     // than the frame.
-    if let Some(c) = p.world_cache.take() {
-        (c.cell_size.to_bits(), c.train_stride).hash(&mut h);
-        bytemuck::cast_slice::<[f32; 4], u32>(&c.slots).hash(&mut h);
-    }
-    if let Some(l) = p.light_reuse.take() {
-        format!("{:?} {:?} {} {}", l.options, l.camera, l.width, l.height).hash(&mut h);
-        bytemuck::cast_slice::<[f32; 4], u32>(&l.records).hash(&mut h);
+    if let Some(path) = p.method.path_mut() {
+        if let Some(c) = path.world_cache.take() {
+            (c.cell_size.to_bits(), c.train_stride).hash(&mut h);
+            bytemuck::cast_slice::<[f32; 4], u32>(&c.slots).hash(&mut h);
+        }
+        if let Some(l) = path.light_reuse.take() {
+            format!("{:?} {:?} {} {}", l.options, l.camera, l.width, l.height).hash(&mut h);
+            bytemuck::cast_slice::<[f32; 4], u32>(&l.records).hash(&mut h);
+        }
     }
     std::fmt::write(&mut HashWriter(&mut h), format_args!("{p:?}")).expect("hashing");
     h.finish()

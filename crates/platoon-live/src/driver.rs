@@ -35,6 +35,7 @@ use platoon_core::frame::light_reuse::{check_context, LightReuse, LightReuseStat
 use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::world_cache::{WorldCache, WorldCacheOptions};
 use platoon_core::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
+use platoon_core::method::path::ResampledLight;
 use platoon_core::scene::camera::Camera;
 
 /// How the driver renders.
@@ -74,7 +75,7 @@ pub struct DriverOptions {
     /// samples in (a game's: moving objects keep the history). Off by default.
     pub restart_on_change: bool,
     /// Next-event estimation resamples this many candidate lights toward their unshadowed
-    /// contribution ([`FrameParams::set_resampled_light`]); None: one drawn by power.
+    /// contribution (`method::path::ResampledLight::new`; the path tracer's); None: one drawn by power.
     pub resampled_light: Option<u32>,
     /// The path tracer's bounces after the first read a world cache trained as the frames go
     /// (`frame::world_cache`; biased); None by default.
@@ -121,7 +122,9 @@ impl DriverOptions {
         p.path_loop.rr_depth = self.rr_depth;
         p.samples_per_pass = self.samples_per_pass;
         p.method = self.method.clone();
-        p.set_resampled_light(self.resampled_light);
+        if let (Some(path), Some(m)) = (p.method.path_mut(), self.resampled_light) {
+            path.resampled_light = Some(ResampledLight::new(m));
+        }
         p
     }
 

@@ -141,10 +141,13 @@ fn render_one<T: BandTracer + Send + 'static>(
     }
     let render_start = Instant::now();
     params.film.accumulated = film.continued(plan.join);
-    params.world_cache = learned.cache.as_ref().map(|c| c.table());
-    if let Some(reuse) = &mut learned.reuse {
-        let lights = commit.as_ref().map(|c| c.header.lights as usize);
-        params.light_reuse = Some(reuse.history(lights));
+    // (The driver refused a world cache and light reuse for another method.)
+    if let Some(path) = params.method.path_mut() {
+        path.world_cache = learned.cache.as_ref().map(|c| c.table());
+        if let Some(reuse) = &mut learned.reuse {
+            let lights = commit.as_ref().map(|c| c.header.lights as usize);
+            path.light_reuse = Some(reuse.history(lights));
+        }
     }
     let mut rendered = renderer
         .render_frame_planned(&params, plan.rebalance)

@@ -67,47 +67,15 @@ impl Tracer {
             )));
         }
         params.path_loop.check().map_err(crate::Error::Invalid)?;
-        if params.ris_candidates == Some(0) {
-            return Err(crate::Error::Invalid(
-                "resampled light selection needs at least one candidate".into(),
-            ));
-        }
-        if params.ris_candidates.is_some()
-            && !params.ris_contribution
-            && self.features.punctual_lights
-        {
+        let by_luminance = params
+            .method
+            .path()
+            .resampled_light
+            .is_some_and(|r| !r.contribution);
+        if by_luminance && self.features.punctual_lights {
             return Err(crate::Error::Invalid(
                 "resampled light selection by emitted luminance weighs lights in solid angle: \
                  the scene's punctual lights have no such density (weigh by contribution)"
-                    .into(),
-            ));
-        }
-        if params.world_cache.is_some() && !params.method.is_path_tracing() {
-            return Err(crate::Error::Invalid(
-                "the world cache is the path tracer's: another method was chosen".into(),
-            ));
-        }
-        if let Some(h) = &params.light_reuse {
-            platoon_core::frame::light_reuse::check_context(
-                params.ris_candidates.is_some() && params.ris_contribution,
-                params.method.is_path_tracing(),
-            )
-            .map_err(crate::Error::Invalid)?;
-            if params.crop.is_some() {
-                return Err(crate::Error::Invalid(
-                    "light reuse finds the previous frame's reservoirs in the whole image: \
-                     a border render has none"
-                        .into(),
-                ));
-            }
-            h.options.validate().map_err(crate::Error::Invalid)?;
-        }
-        if params.world_cache.as_ref().is_some_and(|t| {
-            !t.slots.len().is_power_of_two() || t.cell_size.is_nan() || t.cell_size <= 0.0
-        }) {
-            return Err(crate::Error::Invalid(
-                "the world cache's table must hold a power of two of slots and cells of a \
-                 positive size"
                     .into(),
             ));
         }
@@ -268,7 +236,11 @@ impl Tracer {
                 .rr_fixed
                 .unwrap_or(params.path_loop.rr_survival),
             clamp_indirect: params.path_loop.clamp_indirect.unwrap_or(f32::INFINITY),
-            ris_candidates: params.ris_candidates.unwrap_or(1),
+            ris_candidates: params
+                .method
+                .path()
+                .resampled_light
+                .map_or(1, |r| r.candidates),
             method: method.push_words(params),
         };
         let Some((_, _, _, stats_buffer, _)) = self.frame_buffers.as_mut() else {

@@ -122,7 +122,7 @@ pub(crate) struct Push {
     pub rr_survival: f32,
     /// FrameParams::clamp_indirect (read with CLAMP_INDIRECT).
     pub clamp_indirect: f32,
-    /// FrameParams::ris_candidates (read with LIGHT_SELECT_RIS).
+    /// The path tracer's `ResampledLight::candidates` (read with LIGHT_SELECT_RIS).
     pub ris_candidates: u32,
     /// The rendering method's words (`MethodPasses::push_words`; its shaders name them).
     pub method: [u32; METHOD_WORDS],

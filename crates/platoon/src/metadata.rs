@@ -113,13 +113,14 @@ pub fn metadata_of(
         (
             "light_selection".into(),
             match (
-                params.ris_candidates,
+                params.method.path().resampled_light,
                 params.path_loop.uniform_light_selection,
             ) {
-                (Some(m), _) => format!(
-                    "{} over {m} candidates{}",
-                    if params.ris_mis { "MIS+RIS" } else { "RIS" },
-                    if params.ris_contribution {
+                (Some(r), _) => format!(
+                    "{} over {} candidates{}",
+                    if r.mis { "MIS+RIS" } else { "RIS" },
+                    r.candidates,
+                    if r.contribution {
                         " weighed by contribution"
                     } else {
                         ""
@@ -151,7 +152,10 @@ pub fn metadata_of(
         ),
         ("features".into(), features.to_string()),
         ("kernel_defines".into(), rendered.kernel_defines.join(",")),
-        ("path_kernel".into(), path_kernel(params.kernel)),
+        (
+            "path_kernel".into(),
+            path_kernel(params.method.path().kernel),
+        ),
         (
             "kernel_fallbacks".into(),
             rendered.kernel_fallbacks.to_string(),
@@ -225,9 +229,6 @@ pub fn approximations(params: &FrameParams) -> String {
     }
     if params.path_loop.single_diffuse_bounce {
         a.push("a single diffuse bounce of indirect light".into());
-    }
-    if params.cut_last_paths {
-        a.push("the last path of a pass cut where its SIMD group stopped (NOP)".into());
     }
     a.extend(params.method.unit().approximations());
     a.join("; ")
@@ -303,9 +304,10 @@ mod tests {
         );
         q.path_loop.rr_fixed = Some(0.5);
         q.path_loop.uniform_light_selection = true;
-        q.ris_candidates = Some(4);
-        q.ris_mis = true;
-        q.ris_contribution = true;
+        q.method = platoon_core::Method::new(platoon_core::method::path::PathTracing {
+            resampled_light: Some(platoon_core::method::path::ResampledLight::new(4)),
+            ..Default::default()
+        });
         assert_eq!(approximations(&q), plain);
     }
 }

@@ -10,7 +10,8 @@ use platoon::core::frame::FrameParams;
 use platoon::tracer::{Tracer, TracerOptions};
 
 use platoon::core::measure::median;
-use platoon::core::method::path::PathKernel;
+use platoon::core::method::path::{PathKernel, PathTracing};
+use platoon::core::Method;
 use platoon::{prepare, PrepareOptions, Prepared};
 use platoon_lab::scene_bench;
 
@@ -28,8 +29,11 @@ fn measure(
     kernels: &[PathKernel],
     repeat: u32,
 ) -> Result<Vec<Measure>> {
-    let with = |k: PathKernel| FrameParams {
-        kernel: k,
+    let with = |kernel: PathKernel| FrameParams {
+        method: Method::new(PathTracing {
+            kernel,
+            ..params.method.path().clone()
+        }),
         ..params.clone()
     };
     for &k in kernels {

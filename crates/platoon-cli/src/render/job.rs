@@ -92,7 +92,7 @@ impl Job {
             },
             p.ao_distance,
             p.method.unit().describe(),
-            format!("{:?}", p.kernel).to_lowercase(),
+            format!("{:?}", p.method.path().kernel).to_lowercase(),
             setup.sampling,
             args.fps,
             if aovs.is_empty() {

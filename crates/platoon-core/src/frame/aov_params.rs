@@ -10,7 +10,10 @@ use crate::method::Method;
 pub fn aov_pass_params(params: &FrameParams, pass: AovPass, spp: u32) -> FrameParams {
     let mut p = params.clone();
     p.output = Output::Aov(pass);
-    p.method = Method::path_tracing();
+    // A light pass keeps the path tracer's state: its paths must be the beauty's.
+    if !p.method.is_path_tracing() {
+        p.method = Method::path_tracing();
+    }
     p.spp = spp;
     // A light pass keeps the beauty's roulette: its paths must be the beauty's.
     if !matches!(pass, AovPass::Light(_)) {

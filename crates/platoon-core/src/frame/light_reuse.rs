@@ -9,7 +9,8 @@
 //! spatiotemporal resampling), so the reuse never crosses a band border of this frame: every
 //! device reads the same history and the image is the same bits for any split. The bands leave
 //! their reservoirs per pixel (`Band::per_pixel`), joined in pixel order into the next frame's
-//! [`ReservoirHistory`] (`FrameParams::light_reuse`, and over the wire with the frame).
+//! [`ReservoirHistory`] (in the path tracer's state, `PathTracing::light_reuse`, and over the
+//! wire with the frame).
 //!
 //! A sample is (light, u): the light's index and the two numbers that placed it on the light,
 //! the same sample from any shading point; its target at a pixel is the unshadowed luminance of

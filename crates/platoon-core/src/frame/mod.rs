@@ -52,35 +52,9 @@ pub struct FrameParams {
     pub spp: u32,
     /// How the path loop every method's kernels run ends, weighs and picks (`path_loop`).
     pub path_loop: PathLoop,
-    /// Bikker's NOP, the last path not always completed: once every SIMD lane of a group has
-    /// started its pass's last sample, the group stops when the first lane finishes it, the
-    /// others' last paths ending where they are (biased low; saves the tail of the pass where
-    /// one long path keeps a group busy). The image then depends on which pixels share a SIMD
-    /// group (the device and the band's first line): one device, the trade-off tool. The
-    /// megakernel's; compiled in only when set.
-    pub cut_last_paths: bool,
-    /// Next-event estimation by resampled importance sampling over this many candidate lights
-    /// (Talbot et al. 2005; unbiased, no MIS with BSDF sampling). Compiled in only when set.
-    pub ris_candidates: Option<u32>,
-    /// With `ris_candidates`: combine the RIS light sample with BSDF sampling by MIS, weighing
-    /// with the kept candidate's own pdf (Bikker's MIS+RIS; still unbiased).
-    pub ris_mis: bool,
-    /// With `ris_candidates`: weigh each candidate by its unshadowed contribution at the
-    /// shading point (the BSDF's f cos times its radiance) instead of its emitted luminance:
-    /// ReSTIR DI's target (Bitterli et al. 2020), without reuse yet; still unbiased, and
-    /// punctual lights may take part.
-    pub ris_contribution: bool,
-    /// The world cache the path tracer's bounces after the first read, and its training
-    /// pattern (`world_cache`; biased). None: paths go on. Compiled in only when set.
-    pub world_cache: Option<std::sync::Arc<world_cache::CacheTable>>,
-    /// With `ris_contribution`: the first vertex's light sample reuses the previous frame's
-    /// reservoirs around the pixel's reprojection (`light_reuse`; ReSTIR DI's temporal and
-    /// spatial reuse; unbiased unless its options say otherwise). Compiled in only when set.
-    pub light_reuse: Option<std::sync::Arc<light_reuse::ReservoirHistory>>,
-    /// The rendering method and its options (`crate::method`; path tracing by default).
+    /// The rendering method and its options (`crate::method`; path tracing by default, whose
+    /// own options are its state: `method::path::PathTracing`).
     pub method: crate::method::Method,
-    /// How the path tracer's work is cut into kernels (the same image either way).
-    pub kernel: crate::method::path_kernel::PathKernel,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
@@ -147,28 +121,6 @@ impl Output {
 }
 
 impl FrameParams {
-    /// Resampled direct light over `candidates` lights (None: one light drawn by power): RIS
-    /// toward each candidate's unshadowed contribution, combined with BSDF sampling by MIS
-    /// (`ris_candidates`, `ris_mis`, `ris_contribution`).
-    pub fn set_resampled_light(&mut self, candidates: Option<u32>) {
-        if let Some(m) = candidates {
-            self.ris_candidates = Some(m);
-            self.ris_mis = true;
-            self.ris_contribution = true;
-        }
-    }
-
-    /// The history the frame's first vertices reuse light from, where they do: the beauty's,
-    /// with resampled light by contribution (what compiles LIGHT_REUSE in and what the tracer
-    /// prepares its buffers for: one rule).
-    pub fn reused_light(&self) -> Option<&std::sync::Arc<light_reuse::ReservoirHistory>> {
-        self.light_reuse.as_ref().filter(|_| {
-            self.ris_candidates.is_some()
-                && self.ris_contribution
-                && self.output == Output::Radiance
-        })
-    }
-
     /// Whether the frame may be split between `devices`: a time limit cuts one device's
     /// frame only (bands cut at different times would break the image's independence from
     /// the split).
@@ -199,14 +151,7 @@ impl FrameParams {
             height,
             spp,
             path_loop: PathLoop::default(),
-            cut_last_paths: false,
-            ris_candidates: None,
-            ris_mis: false,
-            ris_contribution: false,
-            world_cache: None,
-            light_reuse: None,
             method: crate::method::Method::path_tracing(),
-            kernel: Default::default(),
             seed: 0,
             frame: 0,
             first_sample: 0,

@@ -9,7 +9,8 @@
 //! per unit of throughput: a record of the cell's key and that radiance, left per pixel in the
 //! band (`Band::per_pixel`). The frame's records, joined in pixel order, update the cells here in
 //! that order, so the cache holds the same bits whatever the split between devices; the next
-//! frame's tracers all read one table ([`CacheTable`], in `FrameParams::world_cache`).
+//! frame's tracers all read one table ([`CacheTable`], in the path tracer's state:
+//! `PathTracing::world_cache`).
 
 use std::sync::Arc;
 

@@ -13,12 +13,16 @@ use std::sync::Arc;
 /// (`MethodKind::unit`).
 pub trait MethodState: Any + Send + Sync + fmt::Debug {
     fn as_any(&self) -> &dyn Any;
+    fn as_any_mut(&mut self) -> &mut dyn Any;
     /// Whether `other` is the same method with equal state.
     fn same(&self, other: &dyn MethodState) -> bool;
 }
 
 impl<T: Any + Send + Sync + fmt::Debug + PartialEq> MethodState for T {
     fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn as_any_mut(&mut self) -> &mut dyn Any {
         self
     }
     fn same(&self, other: &dyn MethodState) -> bool {
@@ -39,6 +43,14 @@ impl Method {
     /// The state as its unit's type, when the method is that unit's.
     pub fn state<T: Any>(&self) -> Option<&T> {
         self.0.as_any().downcast_ref()
+    }
+
+    /// The state as its unit's type to change, when the method is that unit's: this method's
+    /// own copy (the clones sharing it keep theirs as it was).
+    pub fn state_mut<T: MethodState + Clone>(&mut self) -> Option<&mut T> {
+        let own = self.state::<T>()?.clone();
+        self.0 = Arc::new(own);
+        Arc::get_mut(&mut self.0)?.as_any_mut().downcast_mut()
     }
 }
 

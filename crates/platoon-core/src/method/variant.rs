@@ -32,8 +32,9 @@ impl KernelVariant {
             Output::Aov(pass) => Some(pass),
             _ => None,
         };
-        let ris = params.ris_candidates.is_some();
-        let reuse = params.reused_light().map(|h| h.options);
+        let path = params.method.path();
+        let ris = path.resampled_light;
+        let reuse = path.reused_light(params.output).map(|h| h.options);
         let render_options = [
             // An orthographic camera has no lens.
             (
@@ -98,19 +99,19 @@ impl KernelVariant {
                 "SINGLE_DIFFUSE_BOUNCE",
                 params.path_loop.single_diffuse_bounce,
             ),
-            ("last-paths-cut", "LAST_PATH_CUT", params.cut_last_paths),
-            ("ris-lights", "LIGHT_SELECT_RIS", ris),
-            ("ris-mis", "RIS_MIS", ris && params.ris_mis),
+            ("last-paths-cut", "LAST_PATH_CUT", path.cut_last_paths),
+            ("ris-lights", "LIGHT_SELECT_RIS", ris.is_some()),
+            ("ris-mis", "RIS_MIS", ris.is_some_and(|r| r.mis)),
             (
                 "ris-contribution",
                 "RIS_CONTRIBUTION",
-                ris && params.ris_contribution,
+                ris.is_some_and(|r| r.contribution),
             ),
             // The beauty's paths read it (a light pass's too, so that the passes sum to it).
             (
                 "world-cache",
                 "WORLD_CACHE",
-                params.world_cache.is_some()
+                path.world_cache.is_some()
                     && matches!(
                         params.output,
                         Output::Radiance | Output::Aov(crate::frame::aov::AovPass::Light(_))

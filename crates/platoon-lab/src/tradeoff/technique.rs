@@ -8,6 +8,7 @@ use anyhow::{bail, Result};
 use platoon_core::denoise::Denoiser;
 use platoon_core::frame::FrameParams;
 use platoon_core::method::kind::MethodKind;
+use platoon_core::method::path::{PathKernel, PathTracing, ResampledLight};
 use platoon_core::method::registry;
 use platoon_tracer::Sampling;
 
@@ -218,19 +219,17 @@ impl Technique {
             Technique::DeterministicTermination => {
                 params.path_loop.deterministic_termination = true
             }
-            Technique::Ris(m) => params.ris_candidates = Some(m),
-            Technique::MisRis(m) => {
-                params.ris_candidates = Some(m);
-                params.ris_mis = true;
+            Technique::Ris(m) => path(params).resampled_light = Some(by_luminance(m, false)),
+            Technique::MisRis(m) => path(params).resampled_light = Some(by_luminance(m, true)),
+            Technique::ResampledLight(m) => {
+                path(params).resampled_light = Some(ResampledLight::new(m))
             }
-            Technique::ResampledLight(m) => params.set_resampled_light(Some(m)),
             Technique::SingleDiffuseBounce => params.path_loop.single_diffuse_bounce = true,
-            Technique::Streaming => {
-                params.kernel = platoon_core::method::path::PathKernel::Streaming
-            }
+            Technique::Streaming => path(params).kernel = PathKernel::Streaming,
             Technique::CutLastPaths => {
-                params.kernel = platoon_core::method::path::PathKernel::Mega;
-                params.cut_last_paths = true;
+                let path = path(params);
+                path.kernel = PathKernel::Mega;
+                path.cut_last_paths = true;
             }
             Technique::Method(ref t) => params.method = t.method(),
             // Its change is to the scene (`variant`).
@@ -239,6 +238,25 @@ impl Technique {
             Technique::Denoise(_) | Technique::Adaptive(_) => {}
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
         }
+    }
+}
+
+/// The path tracer's state in `params`, which the sweep's techniques start from (only
+/// `Technique::Method` renders another way, and it is one technique of its own).
+fn path(params: &mut FrameParams) -> &mut PathTracing {
+    params
+        .method
+        .path_mut()
+        .expect("a technique's frame starts as the path tracer's")
+}
+
+/// Resampled light over `m` candidates weighed by their emitted luminance (Bikker's RIS), with
+/// or without MIS against BSDF sampling.
+fn by_luminance(m: u32, mis: bool) -> ResampledLight {
+    ResampledLight {
+        candidates: m,
+        mis,
+        contribution: false,
     }
 }
 

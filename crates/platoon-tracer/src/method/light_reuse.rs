@@ -43,7 +43,12 @@ fn history_block(h: &ReservoirHistory, params: &FrameParams) -> Vec<u8> {
     let mut bytes = Vec::with_capacity(96 + h.records.len() * 16);
     let size = [width, height, params.first_sample, h.options.neighbours];
     bytes.extend_from_slice(bytemuck::cast_slice(&size));
-    let cap = (h.options.history * params.ris_candidates.unwrap_or(1).max(1)) as f32;
+    let cap = (h.options.history
+        * params
+            .method
+            .path()
+            .resampled_light
+            .map_or(1, |r| r.candidates.max(1))) as f32;
     let vec4s = [
         [h.options.radius, cap, 0.0, 0.0],
         b.origin.extend(0.0).to_array(),
@@ -61,7 +66,7 @@ fn history_block(h: &ReservoirHistory, params: &FrameParams) -> Vec<u8> {
 impl LightReusePasses {
     /// Uploads the frame's history and sizes the reservoirs; the two buffers' addresses.
     pub fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 2]> {
-        let Some(history) = params.reused_light() else {
+        let Some(history) = params.method.path().reused_light(params.output) else {
             return Ok([0; 2]);
         };
         let fresh = !self
@@ -95,7 +100,7 @@ impl LightReusePasses {
 
     /// The span's reservoirs (after the band's last submission), [`RECORD_VEC4S`] a pixel.
     pub fn reservoirs(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
-        if params.reused_light().is_none() {
+        if params.method.path().reused_light(params.output).is_none() {
             return Vec::new();
         }
         let Some(b) = self.reservoirs.as_mut() else {

@@ -29,9 +29,9 @@ pub(crate) struct PathPasses {
     /// (Passes of a render resemble each other: one cut short predicts the next, and a pass
     /// that streams from the start costs less than a megakernel pass streamed again.)
     cut_short: bool,
-    /// The world cache's table, training paths and records (FrameParams::world_cache).
+    /// The world cache's table, training paths and records (PathTracing::world_cache).
     cache: WorldCachePasses,
-    /// Light reuse's history and reservoirs (FrameParams::light_reuse).
+    /// Light reuse's history and reservoirs (PathTracing::light_reuse).
     reuse: LightReusePasses,
 }
 
@@ -45,7 +45,7 @@ const STAT_CUT_SHORT: usize = 1;
 /// the beauty's paths, take the beauty's.
 pub fn path_kernel(params: &FrameParams, cpu: bool) -> PathKernel {
     if beauty_paths(params.output) {
-        params.kernel.resolved(cpu)
+        params.method.path().kernel.resolved(cpu)
     } else {
         PathKernel::Mega
     }

@@ -29,13 +29,13 @@ pub(crate) struct WorldCachePasses {
 
 /// Whether the frame's paths train the cache: the beauty's (AOV and light passes only read it).
 pub(crate) fn trains(params: &FrameParams) -> bool {
-    params.world_cache.is_some() && params.output == Output::Radiance
+    params.method.path().world_cache.is_some() && params.output == Output::Radiance
 }
 
 impl WorldCachePasses {
     /// Uploads the frame's table and sizes the records; the method buffers' addresses.
     pub fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> Result<[u64; 4]> {
-        let Some(table) = &params.world_cache else {
+        let Some(table) = &params.method.path().world_cache else {
             return Ok([0; 4]);
         };
         let bytes: &[u8] = bytemuck::cast_slice(&table.slots);
@@ -72,7 +72,7 @@ impl WorldCachePasses {
 
     /// The kernels' push words 2-4 (world_cache.glsl).
     pub fn push_words(params: &FrameParams, words: &mut [u32]) {
-        if let Some(t) = &params.world_cache {
+        if let Some(t) = &params.method.path().world_cache {
             words[2] = t.cell_size.to_bits();
             words[3] = t.slot_mask();
             words[4] = t.train_stride.max(1);

@@ -9,7 +9,7 @@ use platoon_core::denoise::Denoiser;
 use platoon_core::frame::adaptive::{Adaptive, Batching};
 use platoon_core::frame::aov::Aov;
 use platoon_core::frame::{FrameParams, PixelFilter, Region};
-use platoon_core::method::path::PathKernel;
+use platoon_core::method::path::{PathKernel, ResampledLight};
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::gltf_load::LoadOptions;
 use platoon_core::scene::Scene;
@@ -224,11 +224,13 @@ impl Request {
         params.transparent_film = self.transparent_film;
         params.ao_distance = self.ao_distance;
         params.method = self.method.clone();
-        params.kernel = self.kernel;
+        if let Some(path) = params.method.path_mut() {
+            path.kernel = self.kernel;
+            path.resampled_light = self.resampled_light.map(ResampledLight::new);
+        }
         if let Some(d) = self.max_depth {
             params.path_loop.max_depth = d;
         }
-        params.set_resampled_light(self.resampled_light);
         params.time_limit = self.time_limit;
         params
     }

@@ -57,9 +57,6 @@ impl RenderMethod for IgiOptions {
         if params.output != Output::Radiance {
             return Err("IGI renders radiance only".into());
         }
-        if params.cut_last_paths {
-            return Err("cutting the last paths of a pass (NOP) is the path tracer's".into());
-        }
         Ok(())
     }
 

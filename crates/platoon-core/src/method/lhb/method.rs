@@ -42,9 +42,6 @@ impl RenderMethod for Lhb {
         if params.output != Output::Radiance {
             return Err("layered hit buffers render radiance only".into());
         }
-        if params.cut_last_paths {
-            return Err("cutting the last paths of a pass (NOP) is the path tracer's".into());
-        }
         Ok(())
     }
 

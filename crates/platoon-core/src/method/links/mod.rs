@@ -78,9 +78,6 @@ impl RenderMethod for Links {
         if params.output != Output::Radiance {
             return Err("vertex links render radiance only".into());
         }
-        if params.cut_last_paths {
-            return Err("cutting the last paths of a pass (NOP) is the path tracer's".into());
-        }
         Ok(())
     }
 
