@@ -1730,3 +1730,58 @@ fn a_transparent_film_writes_alpha_where_the_format_holds_one() {
     let jpg = dir.path().join("clear.jpg");
     assert_refused(&["--film-transparent"], "no alpha channel", &jpg);
 }
+
+/// The flags of `render --help` and `view --help`, their names only.
+fn flags_of(command: &str) -> Vec<String> {
+    let out = Command::new(env!("CARGO_BIN_EXE_platoon"))
+        .args([command, "--help"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .filter_map(|l| {
+            l.trim_start()
+                .split_once("--")
+                .filter(|(a, _)| a.len() <= 4)
+        })
+        .map(|(_, rest)| rest.split([' ', ',']).next().unwrap().to_string())
+        .collect()
+}
+
+/// Every flag `render` and `view` had when the path tracer's options became its method's
+/// settings (issue 60) is still there, and every setting of every method is a flag of both:
+/// an option moved between the layers keeps its flag.
+#[test]
+fn every_flag_of_today_and_every_method_setting_is_in_the_help() {
+    const BOTH: &str = "env env-color env-strength env-rotation time allow-external-files \
+        variant texture-lod texture-budget method kernel resampled-light filter devices denoise \
+        frames view-transform exposure exr-half exr-compression bit-depth jpeg-quality";
+    const RENDER: &str = "spp time-limit width height resume resolution-percent crop \
+        ao-distance film-transparent max-depth seed camera camera-position look-at fov aperture \
+        focus-distance balancer sampling validation memory device-memory-limit out aov \
+        adaptive-threshold adaptive-min-spp mpi log-json fps task-index chunk overwrite \
+        animated-seed fresh-prepare mpi-frames video";
+    const VIEW: &str = "size target-ms gi-update roulette-scaling resolution-scaling realtime \
+        world-cache light-reuse screenshot";
+    let settings: Vec<&str> = platoon::core::method::registry::KINDS
+        .iter()
+        .flat_map(|k| k.settings().iter().map(|s| s.flag))
+        .collect();
+    assert!(settings.contains(&"kernel") && settings.contains(&"resampled-light"));
+    for (command, own) in [("render", RENDER), ("view", VIEW)] {
+        let flags = flags_of(command);
+        let wanted = BOTH.split_whitespace().chain(own.split_whitespace());
+        for flag in wanted.chain(settings.iter().copied()) {
+            assert!(
+                flags.iter().any(|f| f == flag),
+                "`{command} --help` has no --{flag}: {flags:?}"
+            );
+        }
+        let mut unique = flags.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), flags.len(), "a flag twice: {flags:?}");
+    }
+}

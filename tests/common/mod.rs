@@ -85,6 +85,15 @@ pub fn render_with(tracer: &mut Tracer, params: &FrameParams) -> Film {
     film
 }
 
+/// Path tracing with resampled light over `candidates` lights by contribution, combined with
+/// BSDF sampling by MIS (what `--resampled-light` chooses).
+pub fn resampled(candidates: u32) -> platoon::core::Method {
+    platoon::core::Method::new(platoon::core::method::path::PathTracing {
+        resampled_light: Some(platoon::core::method::path::ResampledLight::new(candidates)),
+        ..Default::default()
+    })
+}
+
 /// `method` (the path tracer's) with its paths in the streaming kernels.
 pub fn streaming(method: &platoon::core::Method) -> platoon::core::Method {
     let mut method = method.clone();

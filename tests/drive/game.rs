@@ -629,7 +629,7 @@ fn the_game_loop_over_ranks_is_the_one_process_loop_bit_for_bit() {
 #[test]
 fn the_game_loop_over_ranks_trains_the_one_process_world_cache() {
     game_over_ranks_and_alone(platoon::core::Method::path_tracing(), |d| {
-        d.resampled_light = Some(4);
+        d.method = resampled(4);
         d.light_reuse = Some(Default::default());
         d.world_cache = Some(platoon::core::frame::world_cache::WorldCacheOptions {
             resolution: 16,

@@ -71,7 +71,7 @@ fn mean_over(f: &Film, lit: &[usize]) -> f64 {
 /// Resampled light over 4 candidates, direct light only (max depth 2: where the reuse acts).
 fn options(w: u32, h: u32, reuse: Option<LightReuse>) -> DriverOptions {
     let mut o = DriverOptions::new(w, h);
-    o.resampled_light = Some(4);
+    o.method = resampled(4);
     o.light_reuse = reuse;
     o.max_depth = 2;
     o

@@ -200,7 +200,7 @@ fn every_technique_at_once_gives_the_same_bits_on_one_and_three_tracers_under_ev
     // moving: what a game runs with `--realtime --light-reuse --world-cache --denoise
     // atrous-device`.
     let mut options = DriverOptions::new(24, 24);
-    options.resampled_light = Some(8);
+    options.method = resampled(8);
     options.light_reuse = Some(Default::default());
     options.world_cache = Some(cache_options(16, 2));
     options.denoise = platoon::core::denoise::Denoiser::AtrousDevice;

@@ -13,7 +13,7 @@ use common::*;
 use glam::Vec3;
 use platoon::core::frame::adaptive::{Adaptive, Batching};
 use platoon::core::frame::FrameParams;
-use platoon::core::method::path_kernel::PathKernel;
+use platoon::core::method::path::PathKernel;
 use platoon::core::scene::cornell::lambertian;
 use platoon::devices::{tracer_options, DeviceSpec};
 use platoon::tracer::Sampling;

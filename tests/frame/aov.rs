@@ -457,7 +457,7 @@ fn the_light_passes_sum_to_the_beauty_and_each_holds_its_part() {
     );
     // The streaming kernels carry a path's share between their kernels: the same passes.
     let streamed = platoon::Request {
-        kernel: platoon::core::method::path::PathKernel::Streaming,
+        method: streaming(&request.method),
         ..request
     }
     .render(&mut |_| {})

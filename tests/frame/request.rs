@@ -140,7 +140,7 @@ fn a_crop_is_the_whole_renders_pixels_there_on_any_split() {
     ] {
         let cropped = Request {
             crop,
-            kernel,
+            method: in_kernel(&whole.method, kernel),
             devices: DeviceSpec::Lavapipe(devices.clone()),
             ..whole.clone()
         }
@@ -314,20 +314,11 @@ fn every_rule_refuses_by_naming_its_option() {
         ),
         (
             Request {
-                resampled_light: Some(0),
+                method: resampled(0),
                 ..small()
             },
             "resampled_light",
             "at least one candidate",
-        ),
-        (
-            Request {
-                resampled_light: Some(8),
-                method: igi.clone(),
-                ..small()
-            },
-            "resampled_light",
-            "igi gathers its light",
         ),
         (
             Request {
@@ -363,7 +354,7 @@ fn every_rule_refuses_by_naming_its_option() {
                     history: 0,
                     ..Default::default()
                 }),
-                resampled_light: Some(8),
+                method: resampled(8),
                 ..small()
             },
             "light_reuse",
@@ -390,7 +381,7 @@ fn every_rule_refuses_by_naming_its_option() {
     }
     // ... nor has a still a previous frame's reservoirs to reuse.
     let reusing = Request {
-        resampled_light: Some(8),
+        method: resampled(8),
         light_reuse: Some(Default::default()),
         ..small()
     };

@@ -1,12 +1,12 @@
 //! The rendering method's flags, made from the methods' own descriptions (the core's
 //! `method::registry::all`): `--method NAME` and one flag per setting of every method
-//! (`--vpls`, `--links-directions`...), so this file names no method.
+//! (`--kernel`, `--resampled-light`, `--vpls`, `--links-directions`...), so this file names
+//! no method.
 
 use anyhow::{bail, Result};
 use clap::builder::{PossibleValue, PossibleValuesParser};
 use clap::{Arg, ArgAction, ArgMatches, Command};
 use platoon::core::method::kind::MethodKind;
-use platoon::core::method::path::PathKernel;
 use platoon::core::method::registry;
 use platoon::core::method::settings::{Settings, Value, ValueKind};
 use platoon::core::Method;
@@ -17,7 +17,6 @@ pub struct MethodArgs {
     pub method: &'static dyn MethodKind,
     /// Each method's settings given, with the flags that gave them.
     given: Vec<(&'static dyn MethodKind, Settings, Vec<&'static str>)>,
-    pub kernel: PathKernel,
 }
 
 impl MethodArgs {
@@ -66,7 +65,7 @@ impl clap::Args for MethodArgs {
                 .value_parser(method_values())
                 .default_value(registry::KINDS[0].name()),
         );
-        let cmd = registry::all().into_iter().fold(cmd, |cmd, kind| {
+        registry::all().into_iter().fold(cmd, |cmd, kind| {
             kind.settings().iter().fold(cmd, |cmd, s| {
                 let help = format!("{}: {}", kind.title(), s.help);
                 let arg = Arg::new(s.flag).long(s.flag).help(help);
@@ -75,32 +74,12 @@ impl clap::Args for MethodArgs {
                     kind => arg.value_parser(value_parser(kind)),
                 })
             })
-        });
-        cmd.arg(
-            Arg::new("kernel")
-                .long("kernel")
-                .help(
-                    "Path tracing: the megakernel (mega), streaming path tracing (spt), or the \
-                     one measured faster on each kind of device (auto). The same image either \
-                     way.",
-                )
-                .default_value("auto")
-                .value_parser(parse_kernel),
-        )
+        })
     }
 
     fn augment_args_for_update(cmd: Command) -> Command {
         Self::augment_args(cmd)
     }
-}
-
-fn parse_kernel(s: &str) -> Result<PathKernel, String> {
-    PathKernel::by_name(s).ok_or_else(|| {
-        format!(
-            "unknown kernel {s}: one of {}",
-            PathKernel::NAMES.join(", ")
-        )
-    })
 }
 
 impl clap::FromArgMatches for MethodArgs {
@@ -133,14 +112,7 @@ impl clap::FromArgMatches for MethodArgs {
                 (kind, settings, flags)
             })
             .collect();
-        let kernel = *m
-            .get_one::<PathKernel>("kernel")
-            .expect("--kernel has a default");
-        Ok(MethodArgs {
-            method,
-            given,
-            kernel,
-        })
+        Ok(MethodArgs { method, given })
     }
 
     fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {

@@ -70,10 +70,6 @@ pub struct ViewArgs {
     /// earlier frames' reprojected into the view before the filter; biased, the title says so.
     #[arg(long, default_value = "none")]
     denoise: Denoiser,
-    /// Next-event estimation resamples this many candidate lights toward their unshadowed
-    /// contribution (unbiased; for scenes of many lights).
-    #[arg(long)]
-    resampled_light: Option<u32>,
     /// A game's real-time settings: resampled direct light over 8 candidates and the a-trous
     /// denoiser over the history (moving objects keep theirs), unless --resampled-light or
     /// --denoise say otherwise. Biased by the denoiser; the title says so.
@@ -100,10 +96,10 @@ pub struct ViewArgs {
 }
 
 pub fn run(mut args: ViewArgs) -> Result<()> {
+    let mut method = args.method.method()?;
     if args.realtime {
         // The game loop's rule, on the flags before the request validates them.
-        (args.resampled_light, args.denoise) =
-            platoon::drive::realtime(args.resampled_light, args.denoise);
+        args.denoise = platoon::drive::realtime(&mut method, args.denoise);
     }
     args.denoise
         .available()
@@ -137,13 +133,12 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
         height: h,
         spp: 1,
         filter: args.filter,
-        method: args.method.method()?,
+        method,
         devices: args
             .devices
             .parse()
             .map_err(|e: String| anyhow!("--devices: {e}"))?,
         denoiser: args.denoise,
-        resampled_light: args.resampled_light,
         world_cache: args.world_cache.then(Default::default),
         light_reuse: args.light_reuse,
         ..Default::default()

@@ -20,6 +20,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use anyhow::{Context, Result};
+use platoon::core::method::path::{PathTracing, ResampledLight};
 use platoon_game::{play, GameOptions, PlayOptions};
 
 fn main() -> Result<()> {
@@ -31,7 +32,7 @@ fn main() -> Result<()> {
     let mut out = PathBuf::from("game-out");
     let mut validation = false;
     let mut denoise = platoon::core::denoise::Denoiser::None;
-    let mut resampled_light = None;
+    let mut resampled_light: Option<u32> = None;
     let mut realtime = false;
     let mut world_cache = false;
     let mut light_reuse = None;
@@ -66,14 +67,17 @@ fn main() -> Result<()> {
     game.devices = devices.parse().map_err(anyhow::Error::msg)?;
     game.validation = validation;
     game.driver.denoise = denoise;
-    game.driver.resampled_light = resampled_light;
+    if resampled_light == Some(0) {
+        anyhow::bail!("--resampled-light needs at least one candidate light");
+    }
+    game.driver.method = platoon::core::Method::new(PathTracing {
+        resampled_light: resampled_light.map(ResampledLight::new),
+        ..Default::default()
+    });
     game.driver.world_cache = world_cache.then(Default::default);
     game.driver.light_reuse = light_reuse;
     if realtime {
         game.driver.realtime();
-    }
-    if game.driver.resampled_light == Some(0) {
-        anyhow::bail!("--resampled-light needs at least one candidate light");
     }
     game.driver
         .denoise

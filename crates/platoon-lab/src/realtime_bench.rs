@@ -17,6 +17,7 @@ use platoon_core::denoise::Denoiser;
 use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::FrameParams;
 use platoon_core::measure::median;
+use platoon_core::method::path::ResampledLight;
 use platoon_core::output::Film;
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::{Placement, Scene};
@@ -149,7 +150,11 @@ impl Technique {
             driver.denoise = Denoiser::Atrous;
         }
         if self.resampled {
-            driver.resampled_light = Some(REALTIME_CANDIDATES);
+            let path = driver
+                .method
+                .path_mut()
+                .expect("the bench renders by path tracing");
+            path.resampled_light = Some(ResampledLight::new(REALTIME_CANDIDATES));
         }
         if self.reuse {
             driver.light_reuse = Some(Default::default());

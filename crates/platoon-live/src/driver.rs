@@ -36,6 +36,7 @@ use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::world_cache::{WorldCache, WorldCacheOptions};
 use platoon_core::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
 use platoon_core::method::path::ResampledLight;
+use platoon_core::method::Method;
 use platoon_core::scene::camera::Camera;
 
 /// How the driver renders.
@@ -60,7 +61,7 @@ pub struct DriverOptions {
     pub samples_per_pass: u32,
     /// The rendering method (`platoon_core::method`). With instant global illumination a still
     /// view's frames each gather a VPL set of their own, so the film averages over sets.
-    pub method: platoon_core::method::Method,
+    pub method: Method,
     /// Keep a [`QueryScene`] of the generation being rendered, for the game's ray queries.
     pub queries: bool,
     /// Where a method whose frames need a preparation (vertex links' update) prepares them as
@@ -74,13 +75,10 @@ pub struct DriverOptions {
     /// the still view that follows converges to exact sums), instead of blending the new
     /// samples in (a game's: moving objects keep the history). Off by default.
     pub restart_on_change: bool,
-    /// Next-event estimation resamples this many candidate lights toward their unshadowed
-    /// contribution (`method::path::ResampledLight::new`; the path tracer's); None: one drawn by power.
-    pub resampled_light: Option<u32>,
     /// The path tracer's bounces after the first read a world cache trained as the frames go
     /// (`frame::world_cache`; biased); None by default.
     pub world_cache: Option<WorldCacheOptions>,
-    /// With `resampled_light`: the first vertex's light sample reuses the previous frame's
+    /// With the path tracer's resampled light: the first vertex's light sample reuses the previous frame's
     /// reservoirs where its surface was and around it (`frame::light_reuse`, ReSTIR DI's
     /// temporal and spatial reuse); None by default.
     pub light_reuse: Option<LightReuse>,
@@ -94,22 +92,26 @@ pub struct DriverOptions {
 /// the gain in the many-light hall (tests/kernel/estimators.rs) for a few evaluations of the BSDF.
 pub const REALTIME_CANDIDATES: u32 = 8;
 
-/// [`DriverOptions::realtime`]'s rule on a resampled-light and a denoiser setting (for front
-/// ends that validate them before any driver exists).
-pub fn realtime(resampled_light: Option<u32>, denoise: Denoiser) -> (Option<u32>, Denoiser) {
-    let denoise = match denoise {
+/// [`DriverOptions::realtime`]'s rule on a method and a denoiser (for front ends that
+/// validate them before any driver exists): the path tracer's resampled light where it has
+/// none, over [`REALTIME_CANDIDATES`] lights; the à-trous denoiser where none is chosen.
+pub fn realtime(method: &mut Method, denoise: Denoiser) -> Denoiser {
+    if let Some(path) = method.path_mut() {
+        let light = path.resampled_light;
+        path.resampled_light = light.or(Some(ResampledLight::new(REALTIME_CANDIDATES)));
+    }
+    match denoise {
         Denoiser::None => Denoiser::Atrous,
         d => d,
-    };
-    (resampled_light.or(Some(REALTIME_CANDIDATES)), denoise)
+    }
 }
 
 impl DriverOptions {
-    /// A game's real-time settings where these options leave them open: resampled direct light
-    /// over [`REALTIME_CANDIDATES`] lights and the à-trous denoiser over the history (biased by
-    /// the denoiser, reported as such).
+    /// A game's real-time settings where these options leave them open: the path tracer's
+    /// resampled direct light over [`REALTIME_CANDIDATES`] lights and the à-trous denoiser over
+    /// the history (biased by the denoiser, reported as such).
     pub fn realtime(&mut self) {
-        (self.resampled_light, self.denoise) = realtime(self.resampled_light, self.denoise);
+        self.denoise = realtime(&mut self.method, self.denoise);
     }
 
     /// A frame's params of `width` x `height` at `spp` from `camera` with these options' seed,
@@ -122,9 +124,6 @@ impl DriverOptions {
         p.path_loop.rr_depth = self.rr_depth;
         p.samples_per_pass = self.samples_per_pass;
         p.method = self.method.clone();
-        if let (Some(path), Some(m)) = (p.method.path_mut(), self.resampled_light) {
-            path.resampled_light = Some(ResampledLight::new(m));
-        }
         p
     }
 
@@ -142,7 +141,6 @@ impl DriverOptions {
             rr_depth: platoon_core::frame::DEFAULT_RR_DEPTH,
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             method: platoon_core::method::Method::path_tracing(),
-            resampled_light: None,
             world_cache: None,
             light_reuse: None,
             keep_frame_scenes: false,
@@ -253,7 +251,7 @@ impl FrameDriver {
         let reuse = match options.light_reuse {
             Some(o) => {
                 check_context(
-                    options.resampled_light.is_some(),
+                    options.method.path().resampled_light.is_some(),
                     options.method.is_path_tracing(),
                 )
                 .and_then(|()| o.validate())

@@ -80,6 +80,21 @@ def test_a_pixel_filter_equals_the_clis(tmp_path):
     assert not np.array_equal(r.image, platoon.render(**SMALL).image)
 
 
+def test_the_path_tracers_options_equal_the_clis(tmp_path):
+    out = tmp_path / "cli.exr"
+    args = ["render", "--width", "24", "--height", "16", "--spp", "4", "--devices",
+            "lavapipe:1", "--resampled-light", "8", "--kernel", "spt", "--out", str(out)]
+    subprocess.run([str(cli()), *args], check=True, capture_output=True)
+    cli_image, meta = platoon.read_exr(out)
+    r = platoon.render(**SMALL, resampled_light=8, kernel="spt")
+    assert np.array_equal(r.image, cli_image)
+    assert r.metadata["light_selection"] == meta["light_selection"]
+    assert r.metadata["light_selection"].startswith("MIS+RIS over 8 candidates")
+    assert r.metadata["path_kernel"] == "spt"
+    assert not np.array_equal(r.image, platoon.render(**SMALL).image)
+    assert set(platoon.methods()["path"]) == {"kernel", "resampled_light"}
+
+
 def test_a_crop_is_the_whole_renders_window():
     whole = platoon.render(**SMALL)
     crop = platoon.render(**SMALL, crop=(5, 3, 13, 9))
@@ -151,6 +166,10 @@ def test_the_light_passes_sum_to_the_image():
     (dict(vplz=30), ValueError, "vplz: not an argument of render"),
     (dict(method="igi", vpls="many"), ValueError, "vpls: expects a whole number"),
     (dict(method="igi", bounces=20), ValueError, "bounces"),
+    (dict(method="igi", resampled_light=8), ValueError,
+     "resampled_light: not an argument of render, nor an option of method \"igi\""),
+    (dict(resampled_light=0), ValueError, "at least one candidate light"),
+    (dict(kernel="warp"), ValueError, "unknown kernel warp: one of auto, mega, spt"),
     (dict(aovs=["beauty"]), ValueError, "unknown AOV"),
     (dict(devices="lavapipe:1,1", time_limit=1.0), ValueError, "time_limit"),
     (dict(time_limit=-1.0), ValueError, "time_limit: must be a positive number of seconds"),

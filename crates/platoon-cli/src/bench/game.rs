@@ -7,6 +7,8 @@ use std::time::Duration;
 use anyhow::{bail, Result};
 use platoon::core::denoise::Denoiser;
 use platoon::core::measure::{median, percentile};
+use platoon::core::method::path::{PathTracing, ResampledLight};
+use platoon::core::Method;
 use platoon_game::{play, FrameRecord, GameOptions, PlayOptions};
 
 /// `platoon bench game`'s settings.
@@ -153,14 +155,17 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
     game.balancer = o.balancer.clone();
     game.driver.denoise = o.denoise;
-    game.driver.resampled_light = o.resampled_light;
+    if o.resampled_light == Some(0) {
+        bail!("--resampled-light needs at least one candidate light");
+    }
+    game.driver.method = Method::new(PathTracing {
+        resampled_light: o.resampled_light.map(ResampledLight::new),
+        ..Default::default()
+    });
     game.driver.world_cache = o.world_cache.then(Default::default);
     game.driver.light_reuse = o.light_reuse;
     if o.realtime {
         game.driver.realtime();
-    }
-    if game.driver.resampled_light == Some(0) {
-        bail!("--resampled-light needs at least one candidate light");
     }
     game.ranks = ranks.clone();
     game.driver
@@ -169,7 +174,12 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
         .map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
     let techniques = Techniques {
         denoise: game.driver.denoise,
-        resampled_light: game.driver.resampled_light,
+        resampled_light: game
+            .driver
+            .method
+            .path()
+            .resampled_light
+            .map(|r| r.candidates),
         world_cache: game.driver.world_cache.is_some(),
         light_reuse: game.driver.light_reuse,
     };

@@ -70,11 +70,6 @@ pub struct RenderArgs {
     /// Longest path in segments (1: emitters only, 2: direct light). Default: effectively unbounded.
     #[arg(long, allow_negative_numbers = true)]
     pub(super) max_depth: Option<u32>,
-    /// Next-event estimation resamples this many candidate lights toward their unshadowed
-    /// contribution (ReSTIR DI's candidates, without reuse; unbiased): for scenes of many
-    /// lights (8-32). Default: one light drawn by power.
-    #[arg(long, allow_negative_numbers = true)]
-    pub(super) resampled_light: Option<u32>,
     #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub(super) seed: u32,
     /// The pixel filter: box (1 px), gaussian (sigma 0.5 px, cut at 1.5) or blackman-harris

@@ -151,7 +151,6 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         ao_distance,
         resume: _,
         max_depth,
-        resampled_light,
         seed,
         filter,
         camera,
@@ -230,7 +229,6 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         transparent_film: film_transparent,
         ao_distance,
         method: method.method()?,
-        kernel: method.kernel,
         sampling: match sampling {
             SamplingArg::Mis => Sampling::Mis,
             SamplingArg::Bsdf => Sampling::Bsdf,
@@ -249,7 +247,6 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         aovs,
         denoiser: denoise,
         adaptive,
-        resampled_light,
         world_cache: None,
         light_reuse: None,
     };

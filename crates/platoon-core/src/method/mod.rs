@@ -16,7 +16,6 @@ pub mod kind;
 pub mod lhb;
 pub mod links;
 pub mod path;
-pub mod path_kernel;
 pub mod registry;
 pub mod render_method;
 pub mod settings;

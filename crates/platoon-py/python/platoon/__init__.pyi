@@ -94,7 +94,7 @@ def render(
     resolution) or "ray-cone" (mip maps, the level by the camera path's ray cone: less aliasing,
     blurred at grazing angles). `texture_budget`: the bytes all textures may take, the largest
     halved until they fit. The method's options by name (`methods()`),
-    e.g. method="igi", vpls=180.
+    e.g. method="igi", vpls=180, or the path tracer's kernel="spt" and resampled_light=8.
     """
 
 class Renderer:

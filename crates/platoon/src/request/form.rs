@@ -9,7 +9,6 @@ use platoon_core::denoise::Denoiser;
 use platoon_core::frame::adaptive::{Adaptive, Batching};
 use platoon_core::frame::aov::Aov;
 use platoon_core::frame::{FrameParams, PixelFilter, Region};
-use platoon_core::method::path::{PathKernel, ResampledLight};
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::gltf_load::LoadOptions;
 use platoon_core::scene::Scene;
@@ -109,8 +108,9 @@ pub struct Request {
     pub transparent_film: bool,
     /// How far the ambient-occlusion AOV looks for occluders, in scene units.
     pub ao_distance: f32,
+    /// The method and its options (the path tracer's kernel and resampled light among them:
+    /// `method::path::PathTracing`).
     pub method: Method,
-    pub kernel: PathKernel,
     pub sampling: Sampling,
     pub devices: DeviceSpec,
     /// How lines are split between devices (`platoon_core::balance::NAMES`).
@@ -125,15 +125,11 @@ pub struct Request {
     pub aovs: Vec<Aov>,
     /// A denoiser run after assembly (biased).
     pub denoiser: Denoiser,
-    /// The path tracer's next-event estimation resamples this many candidate lights toward
-    /// their unshadowed contribution (ReSTIR DI's candidates, without reuse; unbiased): for
-    /// scenes of many lights. None: one light drawn by power.
-    pub resampled_light: Option<u32>,
     /// A game loop's path tracer reads a world cache for the bounces after the first, trained
     /// as the frames go (biased; `platoon_core::frame::world_cache`). A still has no frames to
     /// train it: refused there.
     pub world_cache: Option<platoon_core::frame::world_cache::WorldCacheOptions>,
-    /// With `resampled_light`, a game loop's first vertices reuse the previous frame's
+    /// With the path tracer's resampled light, a game loop's first vertices reuse the previous frame's
     /// reservoirs where their surface was and around it (ReSTIR DI's temporal and spatial
     /// reuse; unbiased unless its options say otherwise; `platoon_core::frame::light_reuse`).
     /// A still has no previous frame: refused there.
@@ -159,7 +155,6 @@ impl Default for Request {
             spp: 64,
             time_limit: None,
             max_depth: None,
-            resampled_light: None,
             world_cache: None,
             light_reuse: None,
             seed: 0,
@@ -167,7 +162,6 @@ impl Default for Request {
             transparent_film: false,
             ao_distance: platoon_core::frame::DEFAULT_AO_DISTANCE,
             method: Method::path_tracing(),
-            kernel: PathKernel::Auto,
             sampling: Sampling::Mis,
             devices: DeviceSpec::Auto,
             balancer: "cost-aware".into(),
@@ -224,10 +218,6 @@ impl Request {
         params.transparent_film = self.transparent_film;
         params.ao_distance = self.ao_distance;
         params.method = self.method.clone();
-        if let Some(path) = params.method.path_mut() {
-            path.kernel = self.kernel;
-            path.resampled_light = self.resampled_light.map(ResampledLight::new);
-        }
         if let Some(d) = self.max_depth {
             params.path_loop.max_depth = d;
         }

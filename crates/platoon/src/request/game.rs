@@ -24,7 +24,6 @@ impl Request {
         }
         driver.method = self.method.clone();
         driver.denoise = self.denoiser;
-        driver.resampled_light = self.resampled_light;
         driver.world_cache = self.world_cache;
         driver.light_reuse = self.light_reuse;
         GameOptions {

@@ -58,19 +58,15 @@ impl Request {
                 refuse("crop", e)?;
             }
         }
-        if self.resampled_light == Some(0) {
+        if self
+            .method
+            .path()
+            .resampled_light
+            .is_some_and(|r| r.candidates == 0)
+        {
             refuse(
                 "resampled_light",
                 "resampling needs at least one candidate light",
-            )?;
-        }
-        if self.resampled_light.is_some() && self.method.unit().name() != "path" {
-            refuse(
-                "resampled_light",
-                format!(
-                    "resamples the path tracer's light; {} gathers its light its own way",
-                    self.method.unit().name()
-                ),
             )?;
         }
         if let Some(c) = &self.world_cache {
@@ -91,7 +87,7 @@ impl Request {
             if let Err(e) = o.validate() {
                 refuse("light_reuse", e)?;
             }
-            if self.resampled_light.is_none() {
+            if self.method.path().resampled_light.is_none() {
                 refuse(
                     "light_reuse",
                     "reuses resampled light's reservoirs: set resampled_light (8 candidates \

@@ -1,5 +1,4 @@
-//! How the path tracer's work is cut into kernels on a device (a field of `FrameParams`; plain
-//! data, so that the frame imports nothing of the method that reads the frame).
+//! How the path tracer's work is cut into kernels on a device (a setting of its state).
 
 /// How the path tracer's work is cut into kernels on a device: the same estimator and random
 /// numbers either way, so the same image.

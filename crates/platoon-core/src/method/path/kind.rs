@@ -1,0 +1,90 @@
+//! The path tracer as a user chooses it: its settings (`--kernel`, `--resampled-light`; the
+//! keywords `kernel`, `resampled_light`), made into its state and read back for the wire.
+
+use super::kernel::PathKernel;
+use super::state::{PathTracing, ResampledLight};
+use crate::method::kind::MethodKind;
+use crate::method::render_method::RenderMethod;
+use crate::method::settings::{Setting, Settings, Value, ValueKind};
+use crate::method::Method;
+
+static SETTINGS: &[Setting] = &[
+    Setting {
+        key: "kernel",
+        flag: "kernel",
+        token: None,
+        // Any word, read by `PathKernel::by_name` (which also takes "streaming").
+        kind: ValueKind::Word(&[]),
+        help: "the megakernel (mega), streaming path tracing (spt), or the one measured \
+               faster on each kind of device (auto, the default). The same image either way.",
+    },
+    Setting {
+        key: "resampled_light",
+        flag: "resampled-light",
+        token: None,
+        kind: ValueKind::Count,
+        help: "next-event estimation resamples this many candidate lights toward their \
+               unshadowed contribution (ReSTIR DI's candidates, without reuse; unbiased): for \
+               scenes of many lights (8-32). Default: one light drawn by power.",
+    },
+];
+
+pub struct PathKind;
+
+impl MethodKind for PathKind {
+    fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod> {
+        method
+            .state::<PathTracing>()
+            .map(|s| s as &dyn RenderMethod)
+    }
+    fn name(&self) -> &'static str {
+        "path"
+    }
+    fn title(&self) -> &'static str {
+        "path tracing"
+    }
+    fn summary(&self) -> &'static str {
+        "Path tracing with NEE and MIS: unbiased, the reference."
+    }
+    fn settings(&self) -> &'static [Setting] {
+        SETTINGS
+    }
+    fn build(&self, given: &Settings) -> Result<Method, String> {
+        let kernel = match given.word("kernel") {
+            None => PathKernel::Auto,
+            Some(name) => PathKernel::by_name(name).ok_or_else(|| {
+                format!(
+                    "unknown kernel {name}: one of {}",
+                    PathKernel::NAMES.join(", ")
+                )
+            })?,
+        };
+        let resampled_light = match given.count("resampled_light") {
+            Some(0) => return Err("resampled light needs at least one candidate light".into()),
+            m => m.map(ResampledLight::new),
+        };
+        if kernel == PathKernel::Auto && resampled_light.is_none() {
+            return Ok(Method::path_tracing());
+        }
+        Ok(Method::new(PathTracing {
+            kernel,
+            resampled_light,
+            ..Default::default()
+        }))
+    }
+    /// Its settings; the rest of its state (the last paths cut, resampled light by luminance,
+    /// what its frames carry) travels beside them (platoon-distribute's `path_wire`).
+    fn settings_of(&self, method: &Method) -> Settings {
+        let path = method.path();
+        let mut s = Settings::default();
+        s.set("kernel", Value::Word(path.kernel.name().into()));
+        if let Some(r) = path.resampled_light {
+            s.set("resampled_light", Value::Count(r.candidates));
+        }
+        s
+    }
+    /// Its estimators against each other, a short path and no regeneration.
+    fn sweep(&self) -> &'static [&'static str] {
+        &["mis", "bsdf", "light", "max-depth=2", "no-regeneration"]
+    }
+}

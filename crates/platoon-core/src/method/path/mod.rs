@@ -1,0 +1,106 @@
+//! Path tracing: the default method and the reference every other is measured against. Its
+//! state (`PathTracing`) holds what only it does: how its work is cut into kernels
+//! ([`PathKernel`], `kernel`; the same image either way), the last paths of a pass cut
+//! short, resampled direct light, and what its frames carry from one to the next (the world
+//! cache's table, light reuse's reservoirs). The path loop it shares with the methods that
+//! continue its paths (depth, roulette, clamp...) is the frame's (`frame::PathLoop`).
+
+use std::sync::LazyLock;
+
+use crate::flatten::features::KernelOption;
+use crate::frame::FrameParams;
+use crate::method::render_method::RenderMethod;
+use crate::method::Method;
+
+mod kernel;
+mod kind;
+mod state;
+
+pub use kernel::PathKernel;
+pub use kind::PathKind;
+pub use state::{PathTracing, ResampledLight};
+
+static PATH_TRACING: LazyLock<Method> = LazyLock::new(|| Method::new(PathTracing::default()));
+static DEFAULTS: PathTracing = PathTracing {
+    kernel: PathKernel::Auto,
+    cut_last_paths: false,
+    resampled_light: None,
+    world_cache: None,
+    light_reuse: None,
+};
+
+impl Method {
+    /// Path tracing with its defaults, the reference.
+    pub fn path_tracing() -> Method {
+        PATH_TRACING.clone()
+    }
+
+    /// Whether this is path tracing.
+    pub fn is_path_tracing(&self) -> bool {
+        self.state::<PathTracing>().is_some()
+    }
+
+    /// The path tracer's state; its defaults for another method, whose frames take none of
+    /// its options.
+    pub fn path(&self) -> &PathTracing {
+        self.state::<PathTracing>().unwrap_or(&DEFAULTS)
+    }
+
+    /// The path tracer's state to change, when this is path tracing.
+    pub fn path_mut(&mut self) -> Option<&mut PathTracing> {
+        self.state_mut::<PathTracing>()
+    }
+}
+
+impl Default for Method {
+    fn default() -> Method {
+        Method::path_tracing()
+    }
+}
+
+impl RenderMethod for PathTracing {
+    fn name(&self) -> &'static str {
+        "path"
+    }
+    fn describe(&self) -> String {
+        "path tracing".into()
+    }
+    fn validate(&self, params: &FrameParams) -> Result<(), String> {
+        if self.cut_last_paths && self.kernel == PathKernel::Streaming {
+            return Err("cutting the last paths of a pass (NOP) is the megakernel's: the streaming kernels follow every path to its end".into());
+        }
+        if self.resampled_light.is_some_and(|r| r.candidates == 0) {
+            return Err("resampled light selection needs at least one candidate".into());
+        }
+        if let Some(h) = &self.light_reuse {
+            let by_contribution = self.resampled_light.is_some_and(|r| r.contribution);
+            crate::frame::light_reuse::check_context(by_contribution, true)?;
+            if params.crop.is_some() {
+                return Err(
+                    "light reuse finds the previous frame's reservoirs in the whole \
+                            image: a border render has none"
+                        .into(),
+                );
+            }
+            h.options.validate()?;
+        }
+        if self.world_cache.as_ref().is_some_and(|t| {
+            !t.slots.len().is_power_of_two() || t.cell_size.is_nan() || t.cell_size <= 0.0
+        }) {
+            return Err(
+                "the world cache's table must hold a power of two of slots and cells \
+                        of a positive size"
+                    .into(),
+            );
+        }
+        Ok(())
+    }
+    fn kernel_options(&self) -> Vec<KernelOption> {
+        Vec::new()
+    }
+    fn approximations(&self) -> Vec<String> {
+        let cut = "the last path of a pass cut where its SIMD group stopped (NOP)";
+        let cut = self.cut_last_paths.then_some(cut);
+        cut.into_iter().map(String::from).collect()
+    }
+}

@@ -1,0 +1,71 @@
+//! The path tracer's state in a frame: its options and what its frames carry.
+
+use std::sync::Arc;
+
+use super::kernel::PathKernel;
+use crate::frame::light_reuse::ReservoirHistory;
+use crate::frame::world_cache::CacheTable;
+use crate::frame::Output;
+
+/// The path tracer's state in a frame (`Method::path_tracing()` is its defaults).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PathTracing {
+    /// How its work is cut into kernels (the same image either way).
+    pub kernel: PathKernel,
+    /// Bikker's NOP, the last path not always completed: once every SIMD lane of a group has
+    /// started its pass's last sample, the group stops when the first lane finishes it, the
+    /// others' last paths ending where they are (biased low; saves the tail of the pass where
+    /// one long path keeps a group busy). The image then depends on which pixels share a SIMD
+    /// group (the device and the band's first line): one device, the trade-off tool. The
+    /// megakernel's; compiled in only when set.
+    pub cut_last_paths: bool,
+    /// Next-event estimation by resampled importance sampling over candidate lights; None: one
+    /// light drawn by power. Compiled in only when set.
+    pub resampled_light: Option<ResampledLight>,
+    /// The world cache the bounces after the first read, and its training pattern
+    /// (`frame::world_cache`; biased). None: paths go on. Compiled in only when set.
+    pub world_cache: Option<Arc<CacheTable>>,
+    /// With resampled light by contribution: the first vertex's light sample reuses the
+    /// previous frame's reservoirs around the pixel's reprojection (`frame::light_reuse`;
+    /// ReSTIR DI's temporal and spatial reuse; unbiased unless its options say otherwise).
+    /// Compiled in only when set.
+    pub light_reuse: Option<Arc<ReservoirHistory>>,
+}
+
+/// Next-event estimation by resampled importance sampling (Talbot et al. 2005).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ResampledLight {
+    /// Candidate lights per light sample (at least one).
+    pub candidates: u32,
+    /// Combine the RIS light sample with BSDF sampling by MIS, weighing with the kept
+    /// candidate's own pdf (Bikker's MIS+RIS; still unbiased). Without it, no MIS.
+    pub mis: bool,
+    /// Weigh each candidate by its unshadowed contribution at the shading point (the BSDF's
+    /// f cos times its radiance) instead of its emitted luminance: ReSTIR DI's target (Bitterli
+    /// et al. 2020); still unbiased, and punctual lights may take part.
+    pub contribution: bool,
+}
+
+impl ResampledLight {
+    /// Over `candidates` lights, toward each one's unshadowed contribution, combined with BSDF
+    /// sampling by MIS: what `--resampled-light` and a game's real-time settings choose.
+    pub fn new(candidates: u32) -> ResampledLight {
+        ResampledLight {
+            candidates,
+            mis: true,
+            contribution: true,
+        }
+    }
+}
+
+impl PathTracing {
+    /// The history the frame's first vertices reuse light from, where they do: the beauty's,
+    /// with resampled light by contribution (what compiles LIGHT_REUSE in and what the tracer
+    /// prepares its buffers for: one rule).
+    pub fn reused_light(&self, output: Output) -> Option<&Arc<ReservoirHistory>> {
+        let by_contribution = self.resampled_light.is_some_and(|r| r.contribution);
+        self.light_reuse
+            .as_ref()
+            .filter(|_| by_contribution && output == Output::Radiance)
+    }
+}
