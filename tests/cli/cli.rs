@@ -1751,7 +1751,8 @@ fn flags_of(command: &str) -> Vec<String> {
 }
 
 /// Every flag `render` and `view` had when the path tracer's options became its method's
-/// settings (issue 60) is still there, and every setting of every method is a flag of both:
+/// settings and the frame's options a table (issue 60) is still there, every setting of every
+/// method is a flag of both, and every frame option of the request's table one of `render`:
 /// an option moved between the layers keeps its flag.
 #[test]
 fn every_flag_of_today_and_every_method_setting_is_in_the_help() {
@@ -1770,10 +1771,17 @@ fn every_flag_of_today_and_every_method_setting_is_in_the_help() {
         .flat_map(|k| k.settings().iter().map(|s| s.flag))
         .collect();
     assert!(settings.contains(&"kernel") && settings.contains(&"resampled-light"));
+    // The request's frame options: every one a flag of `render`.
+    let options: Vec<&str> = platoon::request::options::OPTIONS
+        .iter()
+        .map(|o| o.flag)
+        .collect();
+    assert!(options.contains(&"spp") && options.contains(&"film-transparent"));
     for (command, own) in [("render", RENDER), ("view", VIEW)] {
         let flags = flags_of(command);
         let wanted = BOTH.split_whitespace().chain(own.split_whitespace());
-        for flag in wanted.chain(settings.iter().copied()) {
+        let table = options.iter().filter(|_| command == "render");
+        for flag in wanted.chain(settings.iter().copied()).chain(table.copied()) {
             assert!(
                 flags.iter().any(|f| f == flag),
                 "`{command} --help` has no --{flag}: {flags:?}"

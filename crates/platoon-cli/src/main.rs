@@ -10,6 +10,7 @@ mod display_args;
 mod info;
 mod method_args;
 mod render;
+mod request_args;
 mod request_flags;
 mod scene_args;
 #[cfg(any(feature = "lab", feature = "view"))]

@@ -10,13 +10,13 @@ use pyo3::types::PyDict;
 
 use platoon::core::frame::adaptive::Adaptive;
 use platoon::core::frame::aov::Aov;
-use platoon::core::frame::{PixelFilter, Region};
+use platoon::core::frame::Region;
 use platoon::core::method::registry;
 use platoon::core::method::settings::{Settings, Value, ValueKind};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::gltf_load::LoadOptions;
 use platoon::core::scene::texture_levels::{TextureLod, TextureOptions};
-use platoon::tracer::Sampling;
+use platoon::request::options::OPTIONS;
 use platoon::{CameraChoice, EnvChoice, Request, SceneSource};
 
 /// A keyword argument taken out of `kwargs` (so that what is left are the method's options),
@@ -59,7 +59,6 @@ pub fn request(
     let d = Request::default();
     let method: String = take(k, "method", "a method's name")?.unwrap_or("path".into());
     let aovs: Vec<String> = take(k, "aovs", "a list of AOV names")?.unwrap_or_default();
-    let time_limit: Option<f64> = take(k, "time_limit", "seconds")?;
     let env: Option<PathBuf> = take(k, "env", "a path")?;
     let env_color: Option<(f32, f32, f32)> = take(k, "env_color", "(r, g, b)")?;
     let camera = match k.get_item("camera")? {
@@ -71,7 +70,6 @@ pub fn request(
     };
     let devices: String = take(k, "devices", "a device list")?.unwrap_or("auto".into());
     let denoise: String = take(k, "denoise", "a denoiser's name")?.unwrap_or("none".into());
-    let sampling: String = take(k, "sampling", "mis, bsdf or light")?.unwrap_or("mis".into());
     let adaptive: Option<f32> = take(k, "adaptive_threshold", "a noise threshold")?;
     let mut request = Request {
         scene: match scene {
@@ -103,10 +101,6 @@ pub fn request(
         time: take(k, "time", "seconds")?.unwrap_or(d.time),
         frame_interval: take(k, "frame_interval", "seconds")?.unwrap_or(d.frame_interval),
         camera,
-        aperture: take(k, "aperture", "a radius")?.unwrap_or(d.aperture),
-        focus_distance: take(k, "focus_distance", "a distance")?,
-        width: take(k, "width", "a whole number")?.unwrap_or(d.width),
-        height: take(k, "height", "a whole number")?.unwrap_or(d.height),
         crop: take::<(u32, u32, u32, u32)>(k, "crop", "(x, y, width, height)")?.map(
             |(x, y, width, height)| Region {
                 x,
@@ -115,19 +109,7 @@ pub fn request(
                 height,
             },
         ),
-        spp: take(k, "spp", "a whole number")?.unwrap_or(default_spp),
-        time_limit: Request::time_limit_secs(time_limit).map_err(|e| bad(e.option, e.problem))?,
-        max_depth: take(k, "max_depth", "a whole number")?,
-        seed: take(k, "seed", "a whole number")?.unwrap_or(d.seed),
-        ao_distance: take(k, "ao_distance", "a distance")?.unwrap_or(d.ao_distance),
-        transparent_film: take(k, "transparent_film", "True or False")?
-            .unwrap_or(d.transparent_film),
-        filter: match take::<String>(k, "filter", "a pixel filter's name")? {
-            Some(name) => PixelFilter::parse(&name).map_err(|e| bad("filter", e))?,
-            None => d.filter,
-        },
-        sampling: Sampling::by_name(&sampling)
-            .ok_or_else(|| bad("sampling", "one of mis, bsdf, light"))?,
+        spp: default_spp,
         devices: devices.parse().map_err(|e| bad("devices", e))?,
         balancer: take(k, "balancer", "a balancer's name")?.unwrap_or(d.balancer),
         device_memory_limit: take(k, "device_memory_limit", "a number of bytes")?,
@@ -143,6 +125,17 @@ pub fn request(
         }),
         ..d
     };
+    // The frame's options by the request's table (`crop` was taken above: a tuple here).
+    for option in OPTIONS {
+        if let Some(value) = kwargs.get_item(option.key)? {
+            kwargs.del_item(option.key)?;
+            if value.is_none() {
+                continue;
+            }
+            let value = value_of(option.kind, &value).map_err(|e| bad(option.key, e))?;
+            (option.set)(&mut request, &value).map_err(|e| bad(option.key, e))?;
+        }
+    }
     request.method = method_of(&method, k)?;
     Ok(request)
 }

@@ -10,6 +10,7 @@ use platoon::core::frame::aov::Aov;
 use platoon::devices::DeviceSpec;
 
 use crate::method_args::MethodArgs;
+use crate::request_args::RequestArgs;
 use crate::scene_args::SceneArgs;
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -20,30 +21,14 @@ pub enum MemoryArg {
     DeviceAddress,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-pub enum SamplingArg {
-    Mis,
-    Bsdf,
-    Light,
-}
-
 #[derive(clap::Args)]
 pub struct RenderArgs {
     #[command(flatten)]
     pub(super) scene: SceneArgs,
     #[command(flatten)]
     pub(super) method: MethodArgs,
-    #[arg(long, default_value_t = 64, allow_negative_numbers = true)]
-    pub(super) spp: u32,
-    /// Stop within this many seconds: the passes start at one sample and grow as the time
-    /// left allows (then --spp is an upper bound; the spp reached goes into the metadata).
-    /// One device only.
-    #[arg(long, allow_negative_numbers = true)]
-    pub(super) time_limit: Option<f64>,
-    #[arg(long, default_value_t = 512, allow_negative_numbers = true)]
-    pub(super) width: u32,
-    #[arg(long, default_value_t = 512, allow_negative_numbers = true)]
-    pub(super) height: u32,
+    #[command(flatten)]
+    pub(super) options: RequestArgs,
     /// Continue a still from its checkpoint (OUT.checkpoint, which a render ended short by
     /// Ctrl-C or --time-limit on one device leaves): the same command with --resume renders
     /// the samples left, the image the same bits as one uninterrupted render.
@@ -53,30 +38,6 @@ pub struct RenderArgs {
     /// quick preview of the same framing.
     #[arg(long, default_value_t = 100, allow_negative_numbers = true)]
     pub(super) resolution_percent: u32,
-    /// A border render: only the window X,Y,W,H of the image (its top-left pixel and size, in
-    /// pixels of --width x --height after --resolution-percent); the output is W x H, its
-    /// pixels the same bits as the whole render's there (path tracing).
-    #[arg(long, value_parser = platoon::core::frame::Region::parse)]
-    pub(super) crop: Option<platoon::core::frame::Region>,
-    /// How far the ao AOV (ambient occlusion) looks for occluders, in scene units (Cycles'
-    /// world AO distance).
-    #[arg(long, default_value_t = platoon::core::frame::DEFAULT_AO_DISTANCE, allow_negative_numbers = true)]
-    pub(super) ao_distance: f32,
-    /// A transparent film (Cycles' Film > Transparent): the environment the camera sees is
-    /// left out of the image, which gets an alpha channel (EXR: premultiplied; PNG and TIFF:
-    /// straight); it still lights the scene. Not for JPEG.
-    #[arg(long)]
-    pub(super) film_transparent: bool,
-    /// Longest path in segments (1: emitters only, 2: direct light). Default: effectively unbounded.
-    #[arg(long, allow_negative_numbers = true)]
-    pub(super) max_depth: Option<u32>,
-    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
-    pub(super) seed: u32,
-    /// The pixel filter: box (1 px), gaussian (sigma 0.5 px, cut at 1.5) or blackman-harris
-    /// (1.5 px, Cycles' default). Camera rays are drawn from it, so any split of the frame
-    /// gives the same image.
-    #[arg(long, default_value = "box", value_parser = platoon::core::frame::PixelFilter::parse)]
-    pub(super) filter: platoon::core::frame::PixelFilter,
     /// The scene camera by index (from 0) or name; the scene is framed from its bounds when it
     /// has none.
     #[arg(long)]
@@ -98,12 +59,6 @@ pub struct RenderArgs {
         requires = "camera_position"
     )]
     pub(super) fov: f32,
-    /// Thin-lens aperture radius in scene units (0: pinhole).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub(super) aperture: f32,
-    /// Distance to the plane in focus (default: the scene centre).
-    #[arg(long, allow_negative_numbers = true)]
-    pub(super) focus_distance: Option<f32>,
     /// Devices: `auto` (every GPU, or lavapipe where there is none), `all`, indices like `0,1`
     /// (see `platoon devices`), or `lavapipe:T1,T2,...` (one software tracer per entry, with Ti
     /// threads each).
@@ -114,9 +69,6 @@ pub struct RenderArgs {
     /// first take the unstarted ends of the others' bands in the same frame (same image).
     #[arg(long, default_value = "cost-aware", value_parser = crate::balancer_arg::parse_balancer)]
     pub(super) balancer: String,
-    /// Estimator: MIS of light and BSDF sampling (default), or either alone.
-    #[arg(long, value_enum, default_value = "mis")]
-    pub(super) sampling: SamplingArg,
     /// Enable the Khronos validation layer.
     #[arg(long)]
     pub(super) validation: bool,

@@ -14,12 +14,12 @@ use platoon::core::frame::motion::PreviousFrame;
 use platoon::core::frame::FrameParams;
 use platoon::core::output::{image_format, ImageFormat};
 use platoon::distributed::Session;
-use platoon::tracer::{MemoryPath, Sampling};
+use platoon::tracer::MemoryPath;
 use platoon::{CameraChoice, PrepareOptions, Request, SceneSource, Tracers};
 
 use crate::request_flags::{any_as_flags, as_flags};
 
-use super::args::{FrameArgs, MemoryArg, RenderArgs, SamplingArg};
+use super::args::{FrameArgs, MemoryArg, RenderArgs};
 
 /// What a render needs besides the camera: the scene loaded, how to prepare it, the frame's
 /// parameters and the tracers' options.
@@ -141,27 +141,15 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     let RenderArgs {
         scene,
         method,
-        spp,
-        time_limit,
-        width,
-        height,
+        options,
         resolution_percent,
-        crop,
-        film_transparent,
-        ao_distance,
         resume: _,
-        max_depth,
-        seed,
-        filter,
         camera,
         camera_position,
         look_at,
         fov,
-        aperture,
-        focus_distance,
         devices,
         balancer,
-        sampling,
         validation,
         memory,
         device_memory_limit,
@@ -175,12 +163,6 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         display,
     } = a;
     let image = display.image(&out)?;
-    if film_transparent && matches!(image_format(&out)?, ImageFormat::Jpeg) {
-        bail!(
-            "--film-transparent: {} is a JPEG, which has no alpha channel: write PNG, TIFF or EXR",
-            out.display()
-        );
-    }
     let mut aovs = aov.map(|l| l.0).unwrap_or_default();
     let adaptive = adaptive_threshold.map(|threshold| Adaptive {
         threshold,
@@ -193,9 +175,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     {
         aovs.push(Aov::SampleCount);
     }
-    let time_limit = Request::time_limit_secs(time_limit).map_err(as_flags)?;
-    let (width, height) = at_percent(width, height, resolution_percent)?;
-    let request = Request {
+    let mut request = Request {
         scene: match &scene.scene {
             Some(path) => SceneSource::File(path.clone()),
             None => SceneSource::BuiltIn,
@@ -206,34 +186,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         time: scene.time,
         // A sequence's frames measure motion over their own interval (`Job::frame_interval`).
         frame_interval: platoon::request::DEFAULT_FRAME_INTERVAL,
-        camera: match (camera, camera_position.zip(look_at)) {
-            (_, Some((eye, target))) => {
-                CameraChoice::Given(given_camera(eye, target, fov, aperture, focus_distance)?)
-            }
-            (None, None) => CameraChoice::Scene(None),
-            (Some(c), None) => match c.parse::<usize>() {
-                Ok(index) => CameraChoice::Scene(Some(index)),
-                Err(_) => CameraChoice::Named(c),
-            },
-        },
-        aperture,
-        focus_distance,
-        width,
-        height,
-        crop,
-        spp,
-        time_limit,
-        max_depth,
-        seed,
-        filter,
-        transparent_film: film_transparent,
-        ao_distance,
         method: method.method()?,
-        sampling: match sampling {
-            SamplingArg::Mis => Sampling::Mis,
-            SamplingArg::Bsdf => Sampling::Bsdf,
-            SamplingArg::Light => Sampling::Light,
-        },
         devices,
         balancer,
         memory: match memory {
@@ -247,11 +200,33 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         aovs,
         denoiser: denoise,
         adaptive,
-        world_cache: None,
-        light_reuse: None,
+        ..Default::default()
+    };
+    options.apply(&mut request)?;
+    if request.transparent_film && matches!(image_format(&out)?, ImageFormat::Jpeg) {
+        bail!(
+            "--film-transparent: {} is a JPEG, which has no alpha channel: write PNG, TIFF or EXR",
+            out.display()
+        );
+    }
+    (request.width, request.height) =
+        at_percent(request.width, request.height, resolution_percent)?;
+    request.camera = match (camera, camera_position.zip(look_at)) {
+        (_, Some((eye, target))) => CameraChoice::Given(given_camera(
+            eye,
+            target,
+            fov,
+            request.aperture,
+            request.focus_distance,
+        )?),
+        (None, None) => CameraChoice::Scene(None),
+        (Some(c), None) => match c.parse::<usize>() {
+            Ok(index) => CameraChoice::Scene(Some(index)),
+            Err(_) => CameraChoice::Named(c),
+        },
     };
     request.validate().map_err(as_flags)?;
-    if mpi && time_limit.is_some() {
+    if mpi && request.time_limit.is_some() {
         bail!("--time-limit renders on one device: shares of a frame cut at different times on the ranks would break the image's independence from the split (--mpi-frames renders whole frames, each with the limit)");
     }
     let tracers = request.tracer_options().map_err(any_as_flags)?;

@@ -23,6 +23,7 @@
 mod error;
 mod form;
 mod game;
+pub mod options;
 mod progressive;
 pub mod still;
 mod validate;

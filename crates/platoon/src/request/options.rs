@@ -1,0 +1,231 @@
+//! The request's frame options declared once (`OPTIONS`): each one's keyword (the request's
+//! field, Python's keyword, the name its errors give), its command-line flag, its help, the
+//! kind of value it takes, and how a value is set on a request and read back. `platoon
+//! render`'s flags and `platoon.render`'s keywords are made from this table, so an option of
+//! the frame is one entry here, its field and rule in the request, and its use below.
+
+use platoon_core::frame::{PixelFilter, Region};
+use platoon_core::method::settings::{Value, ValueKind};
+use platoon_tracer::Sampling;
+
+use super::form::Request;
+
+/// One option of a render request.
+pub struct RequestOption {
+    /// Its name: Python's keyword, the request's field, what its errors name.
+    pub key: &'static str,
+    /// Its command-line flag, without the dashes.
+    pub flag: &'static str,
+    pub help: &'static str,
+    pub kind: ValueKind,
+    /// Sets `value` (of its kind) on a request; an error says what is wrong with it.
+    pub set: fn(&mut Request, &Value) -> Result<(), String>,
+    /// Its value in a request; None where it is unset (what help shows as the default is the
+    /// default request's).
+    pub get: fn(&Request) -> Option<Value>,
+}
+
+impl std::fmt::Debug for RequestOption {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.key)
+    }
+}
+
+fn count(v: &Value) -> Result<u32, String> {
+    match v {
+        Value::Count(n) => Ok(*n),
+        other => Err(format!("{other} is not a whole number")),
+    }
+}
+
+fn number(v: &Value) -> Result<f32, String> {
+    match v {
+        Value::Number(x) => Ok(*x),
+        Value::Count(n) => Ok(*n as f32),
+        other => Err(format!("{other} is not a number")),
+    }
+}
+
+fn switch(v: &Value) -> Result<bool, String> {
+    match v {
+        Value::Switch(on) => Ok(*on),
+        other => Err(format!("{other} is not on or off")),
+    }
+}
+
+fn word(v: &Value) -> Result<&str, String> {
+    match v {
+        Value::Word(w) => Ok(w),
+        other => Err(format!("{other} is not a word")),
+    }
+}
+
+/// Every frame option of a request, in the order help lists them.
+pub static OPTIONS: &[RequestOption] = &[
+    RequestOption {
+        key: "spp",
+        flag: "spp",
+        help: "Samples per pixel (with --time-limit, the most).",
+        kind: ValueKind::Count,
+        set: |r, v| {
+            r.spp = count(v)?;
+            Ok(())
+        },
+        get: |r| Some(Value::Count(r.spp)),
+    },
+    RequestOption {
+        key: "time_limit",
+        flag: "time-limit",
+        help: "Stop within this many seconds: the passes start at one sample and grow as the \
+               time left allows (then --spp is an upper bound; the spp reached goes into the \
+               metadata). One device only.",
+        kind: ValueKind::Number,
+        set: |r, v| {
+            let seconds = Some(number(v)? as f64);
+            r.time_limit = Request::time_limit_secs(seconds).map_err(|e| e.problem)?;
+            Ok(())
+        },
+        get: |r| r.time_limit.map(|t| Value::Number(t.as_secs_f32())),
+    },
+    RequestOption {
+        key: "width",
+        flag: "width",
+        help: "The image's width in pixels.",
+        kind: ValueKind::Count,
+        set: |r, v| {
+            r.width = count(v)?;
+            Ok(())
+        },
+        get: |r| Some(Value::Count(r.width)),
+    },
+    RequestOption {
+        key: "height",
+        flag: "height",
+        help: "The image's height in pixels.",
+        kind: ValueKind::Count,
+        set: |r, v| {
+            r.height = count(v)?;
+            Ok(())
+        },
+        get: |r| Some(Value::Count(r.height)),
+    },
+    RequestOption {
+        key: "crop",
+        flag: "crop",
+        help: "A border render: only the window X,Y,W,H of the image (its top-left pixel and \
+               size, in pixels of --width x --height after --resolution-percent); the output is W x H, its pixels the same \
+               bits as the whole render's there (path tracing).",
+        kind: ValueKind::Word(&[]),
+        set: |r, v| {
+            r.crop = Some(Region::parse(word(v)?)?);
+            Ok(())
+        },
+        get: |r| r.crop.map(|c| Value::Word(c.to_string())),
+    },
+    RequestOption {
+        key: "ao_distance",
+        flag: "ao-distance",
+        help: "How far the ao AOV (ambient occlusion) looks for occluders, in scene units \
+               (Cycles' world AO distance).",
+        kind: ValueKind::Number,
+        set: |r, v| {
+            r.ao_distance = number(v)?;
+            Ok(())
+        },
+        get: |r| Some(Value::Number(r.ao_distance)),
+    },
+    RequestOption {
+        key: "transparent_film",
+        flag: "film-transparent",
+        help: "A transparent film (Cycles' Film > Transparent): the environment the camera sees \
+               is left out of the image, which gets an alpha channel (EXR: premultiplied; PNG \
+               and TIFF: straight); it still lights the scene. Not for JPEG.",
+        kind: ValueKind::Switch,
+        set: |r, v| {
+            r.transparent_film = switch(v)?;
+            Ok(())
+        },
+        get: |r| Some(Value::Switch(r.transparent_film)),
+    },
+    RequestOption {
+        key: "max_depth",
+        flag: "max-depth",
+        help: "Longest path in segments (1: emitters only, 2: direct light). Default: \
+               effectively unbounded.",
+        kind: ValueKind::Count,
+        set: |r, v| {
+            r.max_depth = Some(count(v)?);
+            Ok(())
+        },
+        get: |r| r.max_depth.map(Value::Count),
+    },
+    RequestOption {
+        key: "seed",
+        flag: "seed",
+        help: "The random numbers' seed.",
+        kind: ValueKind::Count,
+        set: |r, v| {
+            r.seed = count(v)?;
+            Ok(())
+        },
+        get: |r| Some(Value::Count(r.seed)),
+    },
+    RequestOption {
+        key: "filter",
+        flag: "filter",
+        help: "The pixel filter: box (1 px), gaussian (sigma 0.5 px, cut at 1.5) or \
+               blackman-harris (1.5 px, Cycles' default). Camera rays are drawn from it, so any \
+               split of the frame gives the same image.",
+        kind: ValueKind::Word(&[]),
+        set: |r, v| {
+            r.filter = PixelFilter::parse(word(v)?)?;
+            Ok(())
+        },
+        get: |r| Some(Value::Word(r.filter.name().into())),
+    },
+    RequestOption {
+        key: "aperture",
+        flag: "aperture",
+        help: "Thin-lens aperture radius in scene units (0: pinhole).",
+        kind: ValueKind::Number,
+        set: |r, v| {
+            r.aperture = number(v)?;
+            Ok(())
+        },
+        get: |r| Some(Value::Number(r.aperture)),
+    },
+    RequestOption {
+        key: "focus_distance",
+        flag: "focus-distance",
+        help: "Distance to the plane in focus (default: the scene centre).",
+        kind: ValueKind::Number,
+        set: |r, v| {
+            r.focus_distance = Some(number(v)?);
+            Ok(())
+        },
+        get: |r| r.focus_distance.map(Value::Number),
+    },
+    RequestOption {
+        key: "sampling",
+        flag: "sampling",
+        help: "Estimator: MIS of light and BSDF sampling (mis), or either alone (bsdf, light).",
+        kind: ValueKind::Word(&["mis", "bsdf", "light"]),
+        set: |r, v| {
+            let name = word(v)?;
+            r.sampling = Sampling::by_name(name)
+                .ok_or_else(|| format!("unknown estimator {name}: one of mis, bsdf, light"))?;
+            Ok(())
+        },
+        get: |r| Some(Value::Word(r.sampling.name().into())),
+    },
+];
+
+/// The option named `key`.
+pub fn option(key: &str) -> Option<&'static RequestOption> {
+    OPTIONS.iter().find(|o| o.key == key)
+}
+
+/// What help shows as `option`'s default: the default request's value, if it has one.
+pub fn default_text(option: &RequestOption) -> Option<String> {
+    (option.get)(&Request::default()).map(|v| v.to_string())
+}
