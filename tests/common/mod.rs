@@ -23,15 +23,15 @@ pub fn init() {
             Path::new(LAVAPIPE_ICD).exists(),
             "lavapipe is not installed: run tools/install-deps.sh"
         );
-        // SAFETY: runs once, before any test thread touches the environment or Vulkan.
-        unsafe {
-            std::env::set_var("VK_DRIVER_FILES", LAVAPIPE_ICD);
-            std::env::set_var("VK_ICD_FILENAMES", LAVAPIPE_ICD);
-            if std::env::var_os("PLATOON_CACHE_DIR").is_none() {
-                let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("platoon-cache");
-                std::env::set_var("PLATOON_CACHE_DIR", dir);
-            }
+        // Under the tracer's creation lock: a test that creates its tracers without calling
+        // this first may be creating them on another thread (the loader reads the environment).
+        let icd = std::ffi::OsStr::new(LAVAPIPE_ICD);
+        let cache = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("platoon-cache");
+        let mut vars = vec![("VK_DRIVER_FILES", icd), ("VK_ICD_FILENAMES", icd)];
+        if std::env::var_os("PLATOON_CACHE_DIR").is_none() {
+            vars.push(("PLATOON_CACHE_DIR", cache.as_os_str()));
         }
+        platoon::tracer::set_environment(&vars);
     });
 }
 

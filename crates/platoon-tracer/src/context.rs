@@ -229,6 +229,8 @@ fn mesa_release(driver_info: &str) -> Option<(u32, u32)> {
 
 /// Every Vulkan device of the machine, in the order `--device` indexes them.
 pub fn list_devices() -> Result<Vec<DeviceInfo>> {
+    // The loader reads the environment while it creates the instance (see CREATION).
+    let _guard = CREATION.lock().unwrap_or_else(|e| e.into_inner());
     let entry = load_entry()?;
     let instance = create_instance(&entry, false)?;
     let pds = unsafe { instance.enumerate_physical_devices() }.ctx("enumerating devices");
@@ -242,9 +244,24 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>> {
     out
 }
 
-/// Serialises instance and device creation: LP_NUM_THREADS is process-wide and lavapipe reads
-/// it when a device is created, so it is set and read under this lock.
+/// Serialises instance and device creation with changes of the environment: LP_NUM_THREADS is
+/// process-wide and lavapipe reads it when a device is created, so it is set and read under this
+/// lock; and the Vulkan loader reads the environment with C's getenv while it creates an
+/// instance, which a setenv on another thread can crash (a test binary's tracers created on
+/// five threads at once segfaulted in getenv about one run in ten).
 static CREATION: Mutex<()> = Mutex::new(());
+
+/// Sets environment variables under the lock instance and device creation hold, so that no
+/// other thread's Vulkan loader reads the environment meanwhile (what tests and embedders set
+/// before their tracers: VK_DRIVER_FILES...).
+pub fn set_environment(vars: &[(&str, &std::ffi::OsStr)]) {
+    let _guard = CREATION.lock().unwrap_or_else(|e| e.into_inner());
+    for (key, value) in vars {
+        // SAFETY: under CREATION, which every creation of an instance or device holds; platoon
+        // reads no environment through C meanwhile.
+        unsafe { std::env::set_var(key, value) };
+    }
+}
 
 impl Context {
     /// `lavapipe_threads`: llvmpipe worker threads of this context's own thread pool.

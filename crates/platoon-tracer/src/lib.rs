@@ -19,7 +19,7 @@ pub mod stop;
 mod tracer;
 
 pub use commit::CommitStats;
-pub use context::{list_devices, DeviceInfo, DeviceMemory};
+pub use context::{list_devices, set_environment, DeviceInfo, DeviceMemory};
 pub use kernel::{cache_dir, sources_hash, Sampling};
 pub use memory::{
     choose as choose_memory_paths, scene_array_bytes, ArrayPath, MemoryLimits, MemoryPath,
