@@ -8,7 +8,6 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use platoon::core::frame::adaptive::Adaptive;
 use platoon::core::frame::aov::Aov;
 use platoon::core::frame::Region;
 use platoon::core::method::registry;
@@ -68,9 +67,6 @@ pub fn request(
         }
         None => CameraChoice::Scene(None),
     };
-    let devices: String = take(k, "devices", "a device list")?.unwrap_or("auto".into());
-    let denoise: String = take(k, "denoise", "a denoiser's name")?.unwrap_or("none".into());
-    let adaptive: Option<f32> = take(k, "adaptive_threshold", "a noise threshold")?;
     let mut request = Request {
         scene: match scene {
             Some(p) => SceneSource::File(p),
@@ -110,19 +106,12 @@ pub fn request(
             },
         ),
         spp: default_spp,
-        devices: devices.parse().map_err(|e| bad("devices", e))?,
-        balancer: take(k, "balancer", "a balancer's name")?.unwrap_or(d.balancer),
         device_memory_limit: take(k, "device_memory_limit", "a number of bytes")?,
         aovs: aovs
             .iter()
             .map(|a| Aov::parse_list(a).map_err(|e| bad("aovs", e)))
             .collect::<PyResult<Vec<Vec<Aov>>>>()?
             .concat(),
-        denoiser: denoise.parse().map_err(|e| bad("denoise", e))?,
-        adaptive: adaptive.map(|threshold| Adaptive {
-            threshold,
-            min_spp: None,
-        }),
         ..d
     };
     // The frame's options by the request's table (`crop` was taken above: a tuple here).

@@ -5,9 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::ValueEnum;
 use platoon::animation::FrameRange;
-use platoon::core::denoise::Denoiser;
 use platoon::core::frame::aov::Aov;
-use platoon::devices::DeviceSpec;
 
 use crate::method_args::MethodArgs;
 use crate::request_args::RequestArgs;
@@ -59,19 +57,6 @@ pub struct RenderArgs {
         requires = "camera_position"
     )]
     pub(super) fov: f32,
-    /// Devices: `auto` (every GPU, or lavapipe where there is none), `all`, indices like `0,1`
-    /// (see `platoon devices`), or `lavapipe:T1,T2,...` (one software tracer per entry, with Ti
-    /// threads each).
-    #[arg(long, default_value = "auto")]
-    pub(super) devices: DeviceSpec,
-    /// How lines are split between devices: none, robin-hood, perfect, perfect-smooth,
-    /// cycles, cost-aware; each with `+steal` (cost-aware+steal): the devices that finish
-    /// first take the unstarted ends of the others' bands in the same frame (same image).
-    #[arg(long, default_value = "cost-aware", value_parser = crate::balancer_arg::parse_balancer)]
-    pub(super) balancer: String,
-    /// Enable the Khronos validation layer.
-    #[arg(long)]
-    pub(super) validation: bool,
     /// How the kernel reads scene arrays: auto is texel buffers on CPU devices (lavapipe before
     /// Mesa 25) and storage buffers on GPUs and newer lavapipe, each where the array fits the
     /// device's limits, else device addresses; the others force one path where it fits. Same
@@ -96,16 +81,6 @@ pub struct RenderArgs {
     /// colours).
     #[arg(long, value_parser = parse_aovs)]
     pub(super) aov: Option<AovList>,
-    /// Denoise the image after assembly, guided by its albedo, normal and depth: none, atrous
-    /// (the edge-avoiding a-trous filter), atrous-device (the same on the first device) or oidn (Intel Open Image Denoise, in a build with
-    /// `--features oidn`); biased. The raw image is written beside it as NAME.noisy.EXT.
-    #[arg(long, default_value = "none")]
-    pub(super) denoise: Denoiser,
-    /// Adaptive sampling (Cycles' scheme): a pixel stops taking samples once its noise
-    /// estimate is below this threshold (0.01 clean, 0.1 a preview); --spp is then the most a
-    /// pixel takes. An EXR output gets the sample-count layer. Path tracing only.
-    #[arg(long)]
-    pub(super) adaptive_threshold: Option<f32>,
     /// Samples every pixel takes before adaptive sampling may stop it (default: spp / 16, at
     /// least 16).
     #[arg(long, requires = "adaptive_threshold")]

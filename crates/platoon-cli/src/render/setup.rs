@@ -8,7 +8,7 @@ use std::rc::Rc;
 use anyhow::{bail, Result};
 use glam::Vec3;
 use platoon::core::denoise::Denoiser;
-use platoon::core::frame::adaptive::{Adaptive, Batching};
+use platoon::core::frame::adaptive::Batching;
 use platoon::core::frame::aov::Aov;
 use platoon::core::frame::motion::PreviousFrame;
 use platoon::core::frame::FrameParams;
@@ -148,33 +148,16 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         camera_position,
         look_at,
         fov,
-        devices,
-        balancer,
-        validation,
         memory,
         device_memory_limit,
         out,
         aov,
-        denoise,
-        adaptive_threshold,
         adaptive_min_spp,
         mpi,
         frames,
         display,
     } = a;
     let image = display.image(&out)?;
-    let mut aovs = aov.map(|l| l.0).unwrap_or_default();
-    let adaptive = adaptive_threshold.map(|threshold| Adaptive {
-        threshold,
-        min_spp: adaptive_min_spp,
-    });
-    // An adaptive render's EXR shows where it stopped: the sample-count layer.
-    if adaptive.is_some()
-        && matches!(image_format(&out)?, ImageFormat::Exr)
-        && !aovs.contains(&Aov::SampleCount)
-    {
-        aovs.push(Aov::SampleCount);
-    }
     let mut request = Request {
         scene: match &scene.scene {
             Some(path) => SceneSource::File(path.clone()),
@@ -187,8 +170,6 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         // A sequence's frames measure motion over their own interval (`Job::frame_interval`).
         frame_interval: platoon::request::DEFAULT_FRAME_INTERVAL,
         method: method.method()?,
-        devices,
-        balancer,
         memory: match memory {
             MemoryArg::Auto => MemoryPath::Auto,
             MemoryArg::TexelBuffers => MemoryPath::TexelBuffers,
@@ -196,13 +177,19 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
             MemoryArg::DeviceAddress => MemoryPath::DeviceAddress,
         },
         device_memory_limit,
-        validation,
-        aovs,
-        denoiser: denoise,
-        adaptive,
+        aovs: aov.map(|l| l.0).unwrap_or_default(),
         ..Default::default()
     };
     options.apply(&mut request)?;
+    if let Some(a) = &mut request.adaptive {
+        a.min_spp = adaptive_min_spp;
+        // An adaptive render's EXR shows where it stopped: the sample-count layer.
+        if matches!(image_format(&out)?, ImageFormat::Exr)
+            && !request.aovs.contains(&Aov::SampleCount)
+        {
+            request.aovs.push(Aov::SampleCount);
+        }
+    }
     if request.transparent_film && matches!(image_format(&out)?, ImageFormat::Jpeg) {
         bail!(
             "--film-transparent: {} is a JPEG, which has no alpha channel: write PNG, TIFF or EXR",

@@ -4,6 +4,7 @@
 //! render`'s flags and `platoon.render`'s keywords are made from this table, so an option of
 //! the frame is one entry here, its field and rule in the request, and its use below.
 
+use platoon_core::frame::adaptive::Adaptive;
 use platoon_core::frame::{PixelFilter, Region};
 use platoon_core::method::settings::{Value, ValueKind};
 use platoon_tracer::Sampling;
@@ -217,6 +218,79 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Word(r.sampling.name().into())),
+    },
+    RequestOption {
+        key: "devices",
+        flag: "devices",
+        help: "Devices: `auto` (every GPU, or lavapipe where there is none), `all`, indices like \
+               `0,1` (see `platoon devices`), or `lavapipe:T1,T2,...` (one software tracer per \
+               entry, with Ti threads each).",
+        kind: ValueKind::Word(&[]),
+        set: |r, v| {
+            r.devices = word(v)?.parse()?;
+            Ok(())
+        },
+        get: |r| Some(Value::Word(r.devices.to_string())),
+    },
+    RequestOption {
+        key: "balancer",
+        flag: "balancer",
+        help: "How lines are split between devices: none, robin-hood, perfect, perfect-smooth, \
+               cycles, cost-aware; each with `+steal` (cost-aware+steal): the devices that \
+               finish first take the unstarted ends of the others' bands in the same frame \
+               (same image).",
+        kind: ValueKind::Word(&[]),
+        set: |r, v| {
+            let name = word(v)?;
+            if platoon_core::balance::by_name(name).is_none() {
+                let known = platoon_core::balance::names_help();
+                return Err(format!("unknown balancer {name}: {known}"));
+            }
+            r.balancer = name.to_string();
+            Ok(())
+        },
+        get: |r| Some(Value::Word(r.balancer.clone())),
+    },
+    RequestOption {
+        key: "validation",
+        flag: "validation",
+        help: "Enable the Khronos validation layer.",
+        kind: ValueKind::Switch,
+        set: |r, v| {
+            r.validation = switch(v)?;
+            Ok(())
+        },
+        get: |r| Some(Value::Switch(r.validation)),
+    },
+    RequestOption {
+        key: "denoise",
+        flag: "denoise",
+        help: "Denoise the image after assembly, guided by its albedo, normal and depth: none, \
+               atrous (the edge-avoiding a-trous filter), atrous-device (the same on the first \
+               device) or oidn (Intel Open Image Denoise, in a build with `--features oidn`); \
+               biased. The raw image is written beside it as NAME.noisy.EXT.",
+        kind: ValueKind::Word(&[]),
+        set: |r, v| {
+            r.denoiser = word(v)?.parse()?;
+            Ok(())
+        },
+        get: |r| Some(Value::Word(r.denoiser.name().into())),
+    },
+    RequestOption {
+        key: "adaptive_threshold",
+        flag: "adaptive-threshold",
+        help: "Adaptive sampling (Cycles' scheme): a pixel stops taking samples once its noise \
+               estimate is below this threshold (0.01 clean, 0.1 a preview); --spp is then the \
+               most a pixel takes. An EXR output gets the sample-count layer. Path tracing \
+               only.",
+        kind: ValueKind::Number,
+        set: |r, v| {
+            let min_spp = r.adaptive.and_then(|a| a.min_spp);
+            let threshold = number(v)?;
+            r.adaptive = Some(Adaptive { threshold, min_spp });
+            Ok(())
+        },
+        get: |r| r.adaptive.map(|a| Value::Number(a.threshold)),
     },
 ];
 
