@@ -164,6 +164,17 @@ fn devices(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     Ok(list)
 }
 
+/// The frame's options `render` takes as keyword arguments, from the request's table
+/// (`platoon::request::options`): {keyword: help}.
+#[pyfunction]
+fn options(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let all = PyDict::new(py);
+    for o in platoon::request::options::OPTIONS {
+        all.set_item(o.key, o.help)?;
+    }
+    Ok(all)
+}
+
 /// The rendering methods and the keyword arguments each takes: {name: {option: help}}.
 #[pyfunction]
 fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
@@ -201,6 +212,7 @@ fn _platoon(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(devices, m)?)?;
     m.add_function(wrap_pyfunction!(methods, m)?)?;
+    m.add_function(wrap_pyfunction!(options, m)?)?;
     m.add_function(wrap_pyfunction!(read_exr, m)?)?;
     m.add_function(wrap_pyfunction!(display::display, m)?)?;
     m.add_class::<Rendered>()?;

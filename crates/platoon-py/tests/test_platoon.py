@@ -217,6 +217,19 @@ def test_devices_and_methods_describe_themselves():
     assert list(m)[0] == "path" and "vpls" in m["igi"]
 
 
+def test_every_option_of_the_table_is_a_keyword_of_render_and_its_stub():
+    stub = (Path(platoon.__file__).parent / "__init__.pyi").read_text()
+    signature = stub[stub.index("def render("):stub.index(") -> Rendered:")]
+    table = platoon.options()
+    assert {"spp", "width", "filter", "max_depth", "denoise", "devices"} <= set(table)
+    for key in table:
+        assert f"    {key}:" in signature, f"the stub's render has no {key}"
+    # Each is taken by render (an unknown keyword would raise naming it).
+    r = platoon.render(**SMALL, seed=3, validation=False, ao_distance=2.0, sampling="mis",
+                       balancer="cost-aware", denoise="none", aperture=0.0)
+    assert r.image.shape == (16, 24, 3)
+
+
 def interrupted(code):
     """Runs `code` in a Python of its own, sends it SIGINT 1.5 s after it prints `rendering`,
     and returns its exit status and output; it must end within 20 s of the signal."""

@@ -10,7 +10,8 @@
 ({name: float32 H x W x C}), `.metadata` (what platoon writes into its EXR files). Bad
 arguments raise ValueError naming the argument; a scene or device that fails raises
 PlatoonError naming the file and the problem. `devices()` lists the Vulkan devices,
-`methods()` the rendering methods and the options each takes as keyword arguments;
+`options()` the frame's options `render` takes as keyword arguments, `methods()` the rendering
+methods and the options each takes as keyword arguments;
 `display(image, view_transform="aces", exposure=0.0, bits=8)` gives the sRGB pixels platoon's
 PNG of an image holds.
 `Renderer(scene, **the same arguments)` keeps its tracers: each `.render(spp)` adds samples
@@ -29,6 +30,7 @@ from ._platoon import (
     devices,
     display,
     methods,
+    options,
     read_exr,
     render,
 )
@@ -42,6 +44,7 @@ __all__ = [
     "devices",
     "display",
     "methods",
+    "options",
     "read_exr",
     "render",
 ]

@@ -68,6 +68,7 @@ def render(
     balancer: str = "cost-aware",
     sampling: str = "mis",
     device_memory_limit: int | None = None,
+    validation: bool = False,
     texture_lod: str = "off",
     texture_budget: int | None = None,
     adaptive_threshold: float | None = None,
@@ -164,6 +165,9 @@ class Game:
 
 def devices() -> list[dict[str, Any]]:
     """The Vulkan devices, in the order `devices="0,1"` numbers them."""
+
+def options() -> dict[str, str]:
+    """The frame's options `render` takes as keyword arguments: {keyword: help}."""
 
 def methods() -> dict[str, dict[str, str]]:
     """Each rendering method and the options it takes: {method: {option: help}}."""
