@@ -1764,8 +1764,9 @@ fn every_flag_of_today_and_every_method_setting_is_in_the_help() {
         focus-distance balancer sampling validation memory device-memory-limit out aov \
         adaptive-threshold adaptive-min-spp mpi log-json fps task-index chunk overwrite \
         animated-seed fresh-prepare mpi-frames video";
-    const VIEW: &str = "size target-ms gi-update roulette-scaling resolution-scaling realtime \
-        world-cache light-reuse screenshot";
+    const VIEW: &str =
+        "size target-ms gi-update roulette-scaling resolution-scaling realtime seed \
+        max-depth balancer validation world-cache light-reuse screenshot";
     let settings: Vec<&str> = platoon::core::method::registry::KINDS
         .iter()
         .flat_map(|k| k.settings().iter().map(|s| s.flag))

@@ -1,6 +1,8 @@
 //! The request's frame options as flags (`--spp`, `--filter`, `--max-depth`...), made from the
 //! facade's table (`platoon::request::options::OPTIONS`), so this file names no option: a
-//! value is parsed by its kind and set on the request by the table's own rule.
+//! value is parsed by its kind and set on the request by the table's own rule. A command takes
+//! the whole table (`render`) or the part that applies to it (`view`'s live frames), from its
+//! own base request (whose values help shows as the defaults).
 
 use anyhow::{anyhow, Result};
 use clap::{Arg, ArgAction, ArgMatches, Command};
@@ -8,13 +10,69 @@ use platoon::core::method::settings::{Value, ValueKind};
 use platoon::request::options::{default_text, RequestOption, OPTIONS};
 use platoon::Request;
 
-/// The frame options given on the command line, in the table's order.
-#[derive(Debug)]
-pub struct RequestArgs {
-    given: Vec<(&'static RequestOption, Value)>,
+/// Which of the table's options a command takes, and the request they are given on.
+pub trait Selection {
+    /// The keys it takes; None: every option.
+    const KEYS: Option<&'static [&'static str]>;
+    /// The request the command starts from: what an option not given keeps.
+    fn base() -> Request;
 }
 
-impl RequestArgs {
+/// `platoon render`: every option, from the default request.
+#[derive(Debug)]
+pub struct Still;
+
+impl Selection for Still {
+    const KEYS: Option<&'static [&'static str]> = None;
+    fn base() -> Request {
+        Request::default()
+    }
+}
+
+/// `platoon view`: what a live view's frames take (one sample a frame, its own size, every
+/// device by default).
+#[derive(Debug)]
+pub struct Live;
+
+impl Selection for Live {
+    const KEYS: Option<&'static [&'static str]> = Some(&[
+        "max_depth",
+        "seed",
+        "filter",
+        "devices",
+        "balancer",
+        "validation",
+    ]);
+    fn base() -> Request {
+        Request {
+            spp: 1,
+            devices: platoon::devices::DeviceSpec::All,
+            ..Request::default()
+        }
+    }
+}
+
+fn taken<S: Selection>() -> impl Iterator<Item = &'static RequestOption> {
+    OPTIONS
+        .iter()
+        .filter(|o| S::KEYS.is_none_or(|keys| keys.contains(&o.key)))
+}
+
+/// The frame options given on the command line, in the table's order.
+#[derive(Debug)]
+pub struct RequestArgs<S: Selection = Still> {
+    given: Vec<(&'static RequestOption, Value)>,
+    selection: std::marker::PhantomData<S>,
+}
+
+impl<S: Selection> RequestArgs<S> {
+    /// The command's base request with every option given set on it; an error names the flag.
+    pub fn request(&self) -> Result<Request> {
+        let mut request = S::base();
+        self.apply(&mut request)?;
+        Ok(request)
+    }
+
     /// Sets every option given on `request`; an error names the flag.
     pub fn apply(&self, request: &mut Request) -> Result<()> {
         for (option, value) in &self.given {
@@ -28,10 +86,11 @@ fn value_parser(kind: ValueKind) -> impl Fn(&str) -> Result<Value, String> + Clo
     move |text: &str| Value::parse(kind, text)
 }
 
-impl clap::Args for RequestArgs {
+impl<S: Selection> clap::Args for RequestArgs<S> {
     fn augment_args(cmd: Command) -> Command {
-        OPTIONS.iter().fold(cmd, |cmd, o| {
-            let help = match default_text(o).filter(|_| o.kind != ValueKind::Switch) {
+        let base = S::base();
+        taken::<S>().fold(cmd, |cmd, o| {
+            let help = match default_text(o, &base).filter(|_| o.kind != ValueKind::Switch) {
                 Some(d) => format!("{} [default: {d}]", o.help),
                 None => o.help.to_string(),
             };
@@ -51,10 +110,9 @@ impl clap::Args for RequestArgs {
     }
 }
 
-impl clap::FromArgMatches for RequestArgs {
+impl<S: Selection> clap::FromArgMatches for RequestArgs<S> {
     fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
-        let given = OPTIONS
-            .iter()
+        let given = taken::<S>()
             .filter_map(|o| {
                 let value = match o.kind {
                     ValueKind::Switch => m.get_flag(o.key).then_some(Value::Switch(true)),
@@ -63,7 +121,10 @@ impl clap::FromArgMatches for RequestArgs {
                 value.map(|v| (o, v))
             })
             .collect();
-        Ok(RequestArgs { given })
+        Ok(RequestArgs {
+            given,
+            selection: std::marker::PhantomData,
+        })
     }
 
     fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {

@@ -41,18 +41,14 @@ pub struct ViewArgs {
     scene: SceneArgs,
     #[command(flatten)]
     method: crate::method_args::MethodArgs,
+    #[command(flatten)]
+    options: crate::request_args::RequestArgs<crate::request_args::Live>,
     /// Render size, WIDTHxHEIGHT; the window shows it scaled to its size.
     #[arg(long, default_value = "320x240", value_parser = crate::size_arg::parse_size)]
     size: (u32, u32),
-    /// The pixel filter: box, gaussian or blackman-harris (as `render --filter`).
-    #[arg(long, default_value = "box", value_parser = platoon::core::frame::PixelFilter::parse)]
-    filter: platoon::core::frame::PixelFilter,
     /// Frame time to hold, in milliseconds.
     #[arg(long, default_value_t = 50.0)]
     target_ms: f64,
-    /// Devices to render on (see `platoon devices`).
-    #[arg(long, default_value = "all")]
-    devices: String,
     /// Vertex links: update the lighting on tracers of their own while frames render (async,
     /// the paper's way), or before each frame of a changed scene (sync).
     #[arg(long, value_enum, default_value = "async")]
@@ -131,17 +127,11 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
         time: args.scene.time,
         width: w,
         height: h,
-        spp: 1,
-        filter: args.filter,
         method,
-        devices: args
-            .devices
-            .parse()
-            .map_err(|e: String| anyhow!("--devices: {e}"))?,
         denoiser: args.denoise,
         world_cache: args.world_cache.then(Default::default),
         light_reuse: args.light_reuse,
-        ..Default::default()
+        ..args.options.request()?
     };
     request.validate().map_err(crate::request_flags::as_flags)?;
     let target = Duration::from_secs_f64(args.target_ms.max(1.0) * 1e-3);

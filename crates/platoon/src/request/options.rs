@@ -299,7 +299,8 @@ pub fn option(key: &str) -> Option<&'static RequestOption> {
     OPTIONS.iter().find(|o| o.key == key)
 }
 
-/// What help shows as `option`'s default: the default request's value, if it has one.
-pub fn default_text(option: &RequestOption) -> Option<String> {
-    (option.get)(&Request::default()).map(|v| v.to_string())
+/// What help shows as `option`'s default: its value in `base` (the request a front end starts
+/// from), if it has one.
+pub fn default_text(option: &RequestOption, base: &Request) -> Option<String> {
+    (option.get)(base).map(|v| v.to_string())
 }
