@@ -230,6 +230,29 @@ def test_every_option_of_the_table_is_a_keyword_of_render_and_its_stub():
     assert r.image.shape == (16, 24, 3)
 
 
+# Every keyword `render` took when the frame's options became a table (issue 60), with a value
+# of its kind: each must still be taken (a width of 0 is then what the request refuses).
+KEYWORDS_OF_TODAY = dict(
+    spp=4, method="path", devices="lavapipe:1", aovs=["albedo"], denoise="none", seed=1,
+    filter="box", crop=None, transparent_film=False, ao_distance=1.0, max_depth=4,
+    time_limit=None, env=None, env_color=(1.0, 1.0, 1.0), env_strength=1.0, env_rotation=0.0,
+    time=0.0, frame_interval=0.04, camera=None, aperture=0.0, focus_distance=1.0,
+    balancer="cost-aware", sampling="mis", device_memory_limit=None, texture_lod="off",
+    texture_budget=None, adaptive_threshold=None, variant=None, allow_external_files=False,
+    height=8, kernel="mega", resampled_light=4, validation=False, vpls=None,
+)
+
+
+@pytest.mark.parametrize("key", sorted(KEYWORDS_OF_TODAY))
+def test_every_keyword_of_today_is_still_taken(key):
+    kwargs = {key: KEYWORDS_OF_TODAY[key], "width": 0}
+    if key == "vpls":
+        kwargs.update(method="igi", vpls=30)
+    with pytest.raises(ValueError) as caught:
+        platoon.render(**kwargs)
+    assert "width: must be positive" in str(caught.value), str(caught.value)
+
+
 def interrupted(code):
     """Runs `code` in a Python of its own, sends it SIGINT 1.5 s after it prints `rendering`,
     and returns its exit status and output; it must end within 20 s of the signal."""
