@@ -73,7 +73,7 @@ fn options(w: u32, h: u32, reuse: Option<LightReuse>) -> DriverOptions {
     let mut o = DriverOptions::new(w, h);
     o.method = resampled(4);
     o.light_reuse = reuse;
-    o.max_depth = 2;
+    o.path_loop.max_depth = 2;
     o
 }
 
@@ -133,7 +133,7 @@ fn unbiased_reuse_converges_to_the_path_tracers_mean_with_less_noise() {
 fn one_and_three_tracers_reuse_the_same_reservoirs() {
     let (scene, camera) = hall();
     let mut o = options(32, 24, Some(LightReuse::default()));
-    o.max_depth = 4;
+    o.path_loop.max_depth = 4;
     for balancer in ["cost-aware", "perfect-smooth"] {
         let runs: Vec<Vec<FinishedFrame>> = ["lavapipe:1", "lavapipe:1,1,1"]
             .iter()

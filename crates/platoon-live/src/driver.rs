@@ -34,7 +34,7 @@ use platoon_core::frame::hit_geometry::HitGeometry;
 use platoon_core::frame::light_reuse::{check_context, LightReuse, LightReuseState};
 use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::world_cache::{WorldCache, WorldCacheOptions};
-use platoon_core::frame::{BandTracer, FrameParams, DEFAULT_MAX_DEPTH, DEFAULT_SAMPLES_PER_PASS};
+use platoon_core::frame::{BandTracer, FrameParams, PathLoop, DEFAULT_SAMPLES_PER_PASS};
 use platoon_core::method::path::ResampledLight;
 use platoon_core::method::Method;
 use platoon_core::scene::camera::Camera;
@@ -56,8 +56,10 @@ pub struct DriverOptions {
     pub seed: u32,
     /// The pixel filter every frame's camera rays are drawn from.
     pub filter: platoon_core::frame::PixelFilter,
-    pub max_depth: u32,
-    pub rr_depth: u32,
+    /// The path loop every frame's kernels run: depth, Russian roulette, clamp, light
+    /// selection (`frame::PathLoop`; the frame driver's roulette scaling lowers its survival
+    /// below one sample a frame).
+    pub path_loop: PathLoop,
     pub samples_per_pass: u32,
     /// The rendering method (`platoon_core::method`). With instant global illumination a still
     /// view's frames each gather a VPL set of their own, so the film averages over sets.
@@ -120,8 +122,7 @@ impl DriverOptions {
         let mut p = FrameParams::new(width, height, spp, camera);
         p.seed = self.seed;
         p.filter = self.filter;
-        p.path_loop.max_depth = self.max_depth;
-        p.path_loop.rr_depth = self.rr_depth;
+        p.path_loop = self.path_loop.clone();
         p.samples_per_pass = self.samples_per_pass;
         p.method = self.method.clone();
         p
@@ -137,8 +138,7 @@ impl DriverOptions {
             blend_floor: 0.2,
             seed: 0,
             filter: platoon_core::frame::PixelFilter::Box,
-            max_depth: DEFAULT_MAX_DEPTH,
-            rr_depth: platoon_core::frame::DEFAULT_RR_DEPTH,
+            path_loop: PathLoop::default(),
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             method: platoon_core::method::Method::path_tracing(),
             world_cache: None,
@@ -389,7 +389,8 @@ impl FrameDriver {
         let mut params = o.frame_params(width, height, plan.spp, camera);
         params.frame = self.epoch;
         params.first_sample = plan.first_sample;
-        params.path_loop.rr_survival = plan.rr_survival;
+        // The scaling's survival on the options' own (1 unless a caller lowered it).
+        params.path_loop.rr_survival *= plan.rr_survival;
         if plan.rr_survival < 1.0 {
             // Scaled roulette saves time only where it plays: from the first bounce on.
             params.path_loop.rr_depth = params.path_loop.rr_depth.min(1);
@@ -506,4 +507,24 @@ pub fn render_size(width: u32, height: u32, resolution: f32) -> (u32, u32) {
     }
     let scale = |n: u32| ((n as f32 * resolution).round() as u32).clamp(1, n.max(1));
     (scale(width), scale(height))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_frame_runs_the_options_path_loop_and_method() {
+        let mut options = DriverOptions::new(8, 6);
+        options.path_loop.max_depth = 3;
+        options.path_loop.clamp_indirect = Some(2.5);
+        options.realtime();
+        let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
+        let p = options.frame_params(8, 6, 1, camera);
+        assert_eq!(p.path_loop, options.path_loop);
+        assert_eq!(p.method, options.method);
+        let light = p.method.path().resampled_light.unwrap();
+        assert_eq!(light.candidates, REALTIME_CANDIDATES);
+        assert_eq!(options.denoise, Denoiser::Atrous);
+    }
 }

@@ -22,7 +22,7 @@ use std::time::Duration;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Workload {
     pub spp: u32,
-    /// Russian-roulette survival scale (`FrameParams::path_loop.rr_survival`; 1: not scaled).
+    /// Russian-roulette survival scale (`PathLoop::rr_survival`; 1: not scaled).
     pub rr_survival: f32,
     /// Render resolution per axis relative to the film (1: full; below 1 the frame is upscaled,
     /// a biased approximation).

@@ -20,7 +20,7 @@ impl Request {
         driver.seed = self.seed;
         driver.filter = self.filter;
         if let Some(d) = self.max_depth {
-            driver.max_depth = d;
+            driver.path_loop.max_depth = d;
         }
         driver.method = self.method.clone();
         driver.denoise = self.denoiser;
