@@ -1032,7 +1032,13 @@ fn flags_that_would_do_nothing_are_refused_or_said() {
     // stop a pixel early sampled every pixel fully without a word.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("still.png");
-    let refused: [(&[&str], &str); 7] = [
+    let refused: [(&[&str], &str); 9] = [
+        // A method's setting refused by its build: named as its flag.
+        (&["--kernel", "warp"], "--kernel: unknown kernel warp"),
+        (
+            &["--resampled-light", "0"],
+            "--resampled-light: resampled light needs",
+        ),
         (&["--task-index", "X"], "--frames"),
         (&["--chunk", "2"], "--task-index"),
         (&["--overwrite"], "--frames"),

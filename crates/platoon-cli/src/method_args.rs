@@ -38,7 +38,12 @@ impl MethodArgs {
             .find(|(k, _, _)| k.name() == self.method.name())
             .map(|(_, s, _)| s.clone())
             .unwrap_or_default();
-        self.method.build(&given).map_err(anyhow::Error::msg)
+        self.method
+            .build(&given)
+            .map_err(|e| match self.method.split_setting(&e) {
+                Some((setting, problem)) => anyhow::anyhow!("--{}: {problem}", setting.flag),
+                None => anyhow::Error::msg(e),
+            })
     }
 }
 

@@ -157,7 +157,11 @@ fn method_of(name: &str, kwargs: &Bound<'_, PyDict>) -> PyResult<platoon::core::
         let value = value_of(setting.kind, &value).map_err(|e| bad(&key, e))?;
         given.set(setting.key, value);
     }
-    kind.build(&given).map_err(|e| bad("method", e))
+    kind.build(&given)
+        .map_err(|e| match kind.split_setting(&e) {
+            Some((setting, problem)) => bad(setting.key, problem),
+            None => bad("method", e),
+        })
 }
 
 /// None: the scene's first camera; an int or a string: the scene's camera of that index or

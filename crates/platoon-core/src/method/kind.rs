@@ -20,7 +20,8 @@ pub trait MethodKind: Sync {
     /// Its options, in the order help and technique strings list them.
     fn settings(&self) -> &'static [Setting];
     /// The method with the `given` settings and the rest default, validated: an error names
-    /// the setting.
+    /// the setting (as `key: problem` where it is one setting's, which front ends write as
+    /// their flag or keyword: `split_setting`).
     fn build(&self, given: &Settings) -> Result<Method, String>;
     /// Every setting of `method` (one of this kind), so that `build` of them renders what
     /// `method` renders (the wire sends these).
@@ -56,6 +57,13 @@ impl PartialEq for dyn MethodKind {
 }
 
 impl dyn MethodKind + '_ {
+    /// `error` of `build` as the setting it is about and the problem, where it begins with a
+    /// setting's key (`kernel: unknown kernel warp...`).
+    pub fn split_setting<'e>(&self, error: &'e str) -> Option<(&'static Setting, &'e str)> {
+        let (key, problem) = error.split_once(": ")?;
+        self.setting(key).map(|s| (s, problem))
+    }
+
     /// The setting named `key`.
     pub fn setting(&self, key: &str) -> Option<&'static Setting> {
         self.settings().iter().find(|s| s.key == key)

@@ -54,13 +54,16 @@ impl MethodKind for PathKind {
             None => PathKernel::Auto,
             Some(name) => PathKernel::by_name(name).ok_or_else(|| {
                 format!(
-                    "unknown kernel {name}: one of {}",
+                    "kernel: unknown kernel {name}: one of {}",
                     PathKernel::NAMES.join(", ")
                 )
             })?,
         };
         let resampled_light = match given.count("resampled_light") {
-            Some(0) => return Err("resampled light needs at least one candidate light".into()),
+            Some(0) => {
+                let problem = "resampled light needs at least one candidate light";
+                return Err(format!("resampled_light: {problem}"));
+            }
             m => m.map(ResampledLight::new),
         };
         if kernel == PathKernel::Auto && resampled_light.is_none() {
