@@ -17,6 +17,7 @@ mod scene_args;
 mod size_arg;
 #[cfg(feature = "lab")]
 mod tradeoff;
+mod value_arg;
 #[cfg(feature = "view")]
 mod view;
 mod warnings;

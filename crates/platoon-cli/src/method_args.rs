@@ -5,11 +5,13 @@
 
 use anyhow::{bail, Result};
 use clap::builder::{PossibleValue, PossibleValuesParser};
-use clap::{Arg, ArgAction, ArgMatches, Command};
+use clap::{Arg, ArgMatches, Command};
 use platoon::core::method::kind::MethodKind;
 use platoon::core::method::registry;
-use platoon::core::method::settings::{Settings, Value, ValueKind};
+use platoon::core::method::settings::Settings;
 use platoon::core::Method;
+
+use crate::value_arg::{given, of_kind};
 
 /// The method chosen and every setting given on the command line, of any method.
 #[derive(Debug)]
@@ -56,11 +58,6 @@ fn method_values() -> PossibleValuesParser {
     )
 }
 
-/// The parser of a setting's value (a switch takes none).
-fn value_parser(kind: ValueKind) -> impl Fn(&str) -> Result<Value, String> + Clone {
-    move |text: &str| Value::parse(kind, text)
-}
-
 impl clap::Args for MethodArgs {
     fn augment_args(cmd: Command) -> Command {
         let cmd = cmd.arg(
@@ -73,11 +70,7 @@ impl clap::Args for MethodArgs {
         registry::all().into_iter().fold(cmd, |cmd, kind| {
             kind.settings().iter().fold(cmd, |cmd, s| {
                 let help = format!("{}: {}", kind.title(), s.help);
-                let arg = Arg::new(s.flag).long(s.flag).help(help);
-                cmd.arg(match s.kind {
-                    ValueKind::Switch => arg.action(ArgAction::SetTrue),
-                    kind => arg.value_parser(value_parser(kind)),
-                })
+                cmd.arg(of_kind(Arg::new(s.flag).long(s.flag).help(help), s.kind))
             })
         })
     }
@@ -105,11 +98,7 @@ impl clap::FromArgMatches for MethodArgs {
                 let mut settings = Settings::default();
                 let mut flags = Vec::new();
                 for s in kind.settings() {
-                    let value = match s.kind {
-                        ValueKind::Switch => m.get_flag(s.flag).then_some(Value::Switch(true)),
-                        _ => m.get_one::<Value>(s.flag).cloned(),
-                    };
-                    if let Some(v) = value {
+                    if let Some(v) = given(m, s.flag, s.kind) {
                         settings.set(s.key, v);
                         flags.push(s.flag);
                     }

@@ -5,10 +5,12 @@
 //! own base request (whose values help shows as the defaults).
 
 use anyhow::{anyhow, Result};
-use clap::{Arg, ArgAction, ArgMatches, Command};
+use clap::{Arg, ArgMatches, Command};
 use platoon::core::method::settings::{Value, ValueKind};
 use platoon::request::options::{default_text, RequestOption, OPTIONS};
 use platoon::Request;
+
+use crate::value_arg::{given, of_kind};
 
 /// Which of the table's options a command takes, and the request they are given on.
 pub trait Selection {
@@ -82,10 +84,6 @@ impl<S: Selection> RequestArgs<S> {
     }
 }
 
-fn value_parser(kind: ValueKind) -> impl Fn(&str) -> Result<Value, String> + Clone {
-    move |text: &str| Value::parse(kind, text)
-}
-
 impl<S: Selection> clap::Args for RequestArgs<S> {
     fn augment_args(cmd: Command) -> Command {
         let base = S::base();
@@ -95,13 +93,11 @@ impl<S: Selection> clap::Args for RequestArgs<S> {
                 None => o.help.to_string(),
             };
             let arg = Arg::new(o.key).long(o.flag).help(help);
-            cmd.arg(match o.kind {
-                ValueKind::Switch => arg.action(ArgAction::SetTrue),
-                kind => arg
-                    .value_name(o.key)
-                    .allow_negative_numbers(true)
-                    .value_parser(value_parser(kind)),
-            })
+            let arg = match o.kind {
+                ValueKind::Switch => arg,
+                _ => arg.value_name(o.key).allow_negative_numbers(true),
+            };
+            cmd.arg(of_kind(arg, o.kind))
         })
     }
 
@@ -113,13 +109,7 @@ impl<S: Selection> clap::Args for RequestArgs<S> {
 impl<S: Selection> clap::FromArgMatches for RequestArgs<S> {
     fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
         let given = taken::<S>()
-            .filter_map(|o| {
-                let value = match o.kind {
-                    ValueKind::Switch => m.get_flag(o.key).then_some(Value::Switch(true)),
-                    _ => m.get_one::<Value>(o.key).cloned(),
-                };
-                value.map(|v| (o, v))
-            })
+            .filter_map(|o| given(m, o.key, o.kind).map(|v| (o, v)))
             .collect();
         Ok(RequestArgs {
             given,

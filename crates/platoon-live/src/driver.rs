@@ -99,8 +99,8 @@ pub const REALTIME_CANDIDATES: u32 = 8;
 /// none, over [`REALTIME_CANDIDATES`] lights; the à-trous denoiser where none is chosen.
 pub fn realtime(method: &mut Method, denoise: Denoiser) -> Denoiser {
     if let Some(path) = method.path_mut() {
-        let light = path.resampled_light;
-        path.resampled_light = light.or(Some(ResampledLight::new(REALTIME_CANDIDATES)));
+        path.resampled_light
+            .get_or_insert(ResampledLight::new(REALTIME_CANDIDATES));
     }
     match denoise {
         Denoiser::None => Denoiser::Atrous,

@@ -126,38 +126,67 @@ impl Settings {
 
     /// `key`'s whole number, if given (a value of another kind is a method's mistake).
     pub fn count(&self, key: &str) -> Option<u32> {
-        match self.get(key)? {
-            Value::Count(n) => Some(*n),
-            other => panic!("setting {key} is a count, not {other:?}"),
-        }
+        self.get(key)
+            .map(|v| v.count().unwrap_or_else(|e| panic!("setting {key}: {e}")))
     }
 
     pub fn number(&self, key: &str) -> Option<f32> {
-        match self.get(key)? {
-            Value::Number(v) => Some(*v),
-            Value::Count(n) => Some(*n as f32),
-            other => panic!("setting {key} is a number, not {other:?}"),
-        }
+        self.get(key)
+            .map(|v| v.number().unwrap_or_else(|e| panic!("setting {key}: {e}")))
     }
 
     pub fn switch(&self, key: &str) -> Option<bool> {
-        match self.get(key)? {
-            Value::Switch(on) => Some(*on),
-            other => panic!("setting {key} is a switch, not {other:?}"),
-        }
+        self.get(key)
+            .map(|v| v.switch().unwrap_or_else(|e| panic!("setting {key}: {e}")))
     }
 
     pub fn tile(&self, key: &str) -> Option<[u32; 2]> {
-        match self.get(key)? {
-            Value::Tile(t) => Some(*t),
-            other => panic!("setting {key} is a tile, not {other:?}"),
-        }
+        self.get(key)
+            .map(|v| v.tile().unwrap_or_else(|e| panic!("setting {key}: {e}")))
     }
 
     pub fn word(&self, key: &str) -> Option<&str> {
-        match self.get(key)? {
-            Value::Word(w) => Some(w),
-            other => panic!("setting {key} is a word, not {other:?}"),
+        self.get(key)
+            .map(|v| v.word().unwrap_or_else(|e| panic!("setting {key}: {e}")))
+    }
+}
+
+impl Value {
+    /// The whole number it holds; another kind is an error saying so.
+    pub fn count(&self) -> Result<u32, String> {
+        match self {
+            Value::Count(n) => Ok(*n),
+            other => Err(format!("a count, not {other:?}")),
+        }
+    }
+
+    /// The number it holds (a whole number too).
+    pub fn number(&self) -> Result<f32, String> {
+        match self {
+            Value::Number(v) => Ok(*v),
+            Value::Count(n) => Ok(*n as f32),
+            other => Err(format!("a number, not {other:?}")),
+        }
+    }
+
+    pub fn switch(&self) -> Result<bool, String> {
+        match self {
+            Value::Switch(on) => Ok(*on),
+            other => Err(format!("a switch, not {other:?}")),
+        }
+    }
+
+    pub fn tile(&self) -> Result<[u32; 2], String> {
+        match self {
+            Value::Tile(t) => Ok(*t),
+            other => Err(format!("a tile, not {other:?}")),
+        }
+    }
+
+    pub fn word(&self) -> Result<&str, String> {
+        match self {
+            Value::Word(w) => Ok(w),
+            other => Err(format!("a word, not {other:?}")),
         }
     }
 }

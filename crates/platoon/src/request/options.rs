@@ -32,35 +32,6 @@ impl std::fmt::Debug for RequestOption {
     }
 }
 
-fn count(v: &Value) -> Result<u32, String> {
-    match v {
-        Value::Count(n) => Ok(*n),
-        other => Err(format!("{other} is not a whole number")),
-    }
-}
-
-fn number(v: &Value) -> Result<f32, String> {
-    match v {
-        Value::Number(x) => Ok(*x),
-        Value::Count(n) => Ok(*n as f32),
-        other => Err(format!("{other} is not a number")),
-    }
-}
-
-fn switch(v: &Value) -> Result<bool, String> {
-    match v {
-        Value::Switch(on) => Ok(*on),
-        other => Err(format!("{other} is not on or off")),
-    }
-}
-
-fn word(v: &Value) -> Result<&str, String> {
-    match v {
-        Value::Word(w) => Ok(w),
-        other => Err(format!("{other} is not a word")),
-    }
-}
-
 /// Every frame option of a request, in the order help lists them.
 pub static OPTIONS: &[RequestOption] = &[
     RequestOption {
@@ -69,7 +40,7 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "Samples per pixel (with --time-limit, the most).",
         kind: ValueKind::Count,
         set: |r, v| {
-            r.spp = count(v)?;
+            r.spp = v.count()?;
             Ok(())
         },
         get: |r| Some(Value::Count(r.spp)),
@@ -82,7 +53,7 @@ pub static OPTIONS: &[RequestOption] = &[
                metadata). One device only.",
         kind: ValueKind::Number,
         set: |r, v| {
-            let seconds = Some(number(v)? as f64);
+            let seconds = Some(v.number()? as f64);
             r.time_limit = Request::time_limit_secs(seconds).map_err(|e| e.problem)?;
             Ok(())
         },
@@ -94,7 +65,7 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "The image's width in pixels.",
         kind: ValueKind::Count,
         set: |r, v| {
-            r.width = count(v)?;
+            r.width = v.count()?;
             Ok(())
         },
         get: |r| Some(Value::Count(r.width)),
@@ -105,7 +76,7 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "The image's height in pixels.",
         kind: ValueKind::Count,
         set: |r, v| {
-            r.height = count(v)?;
+            r.height = v.count()?;
             Ok(())
         },
         get: |r| Some(Value::Count(r.height)),
@@ -118,7 +89,7 @@ pub static OPTIONS: &[RequestOption] = &[
                bits as the whole render's there (path tracing).",
         kind: ValueKind::Word(&[]),
         set: |r, v| {
-            r.crop = Some(Region::parse(word(v)?)?);
+            r.crop = Some(Region::parse(v.word()?)?);
             Ok(())
         },
         get: |r| r.crop.map(|c| Value::Word(c.to_string())),
@@ -130,7 +101,7 @@ pub static OPTIONS: &[RequestOption] = &[
                (Cycles' world AO distance).",
         kind: ValueKind::Number,
         set: |r, v| {
-            r.ao_distance = number(v)?;
+            r.ao_distance = v.number()?;
             Ok(())
         },
         get: |r| Some(Value::Number(r.ao_distance)),
@@ -143,7 +114,7 @@ pub static OPTIONS: &[RequestOption] = &[
                and TIFF: straight); it still lights the scene. Not for JPEG.",
         kind: ValueKind::Switch,
         set: |r, v| {
-            r.transparent_film = switch(v)?;
+            r.transparent_film = v.switch()?;
             Ok(())
         },
         get: |r| Some(Value::Switch(r.transparent_film)),
@@ -155,7 +126,7 @@ pub static OPTIONS: &[RequestOption] = &[
                effectively unbounded.",
         kind: ValueKind::Count,
         set: |r, v| {
-            r.max_depth = Some(count(v)?);
+            r.max_depth = Some(v.count()?);
             Ok(())
         },
         get: |r| r.max_depth.map(Value::Count),
@@ -166,7 +137,7 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "The random numbers' seed.",
         kind: ValueKind::Count,
         set: |r, v| {
-            r.seed = count(v)?;
+            r.seed = v.count()?;
             Ok(())
         },
         get: |r| Some(Value::Count(r.seed)),
@@ -179,7 +150,7 @@ pub static OPTIONS: &[RequestOption] = &[
                split of the frame gives the same image.",
         kind: ValueKind::Word(&[]),
         set: |r, v| {
-            r.filter = PixelFilter::parse(word(v)?)?;
+            r.filter = PixelFilter::parse(v.word()?)?;
             Ok(())
         },
         get: |r| Some(Value::Word(r.filter.name().into())),
@@ -190,7 +161,7 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "Thin-lens aperture radius in scene units (0: pinhole).",
         kind: ValueKind::Number,
         set: |r, v| {
-            r.aperture = number(v)?;
+            r.aperture = v.number()?;
             Ok(())
         },
         get: |r| Some(Value::Number(r.aperture)),
@@ -201,7 +172,7 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "Distance to the plane in focus (default: the scene centre).",
         kind: ValueKind::Number,
         set: |r, v| {
-            r.focus_distance = Some(number(v)?);
+            r.focus_distance = Some(v.number()?);
             Ok(())
         },
         get: |r| r.focus_distance.map(Value::Number),
@@ -212,7 +183,7 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "Estimator: MIS of light and BSDF sampling (mis), or either alone (bsdf, light).",
         kind: ValueKind::Word(&["mis", "bsdf", "light"]),
         set: |r, v| {
-            let name = word(v)?;
+            let name = v.word()?;
             r.sampling = Sampling::by_name(name)
                 .ok_or_else(|| format!("unknown estimator {name}: one of mis, bsdf, light"))?;
             Ok(())
@@ -227,7 +198,7 @@ pub static OPTIONS: &[RequestOption] = &[
                entry, with Ti threads each).",
         kind: ValueKind::Word(&[]),
         set: |r, v| {
-            r.devices = word(v)?.parse()?;
+            r.devices = v.word()?.parse()?;
             Ok(())
         },
         get: |r| Some(Value::Word(r.devices.to_string())),
@@ -241,12 +212,8 @@ pub static OPTIONS: &[RequestOption] = &[
                (same image).",
         kind: ValueKind::Word(&[]),
         set: |r, v| {
-            let name = word(v)?;
-            if platoon_core::balance::by_name(name).is_none() {
-                let known = platoon_core::balance::names_help();
-                return Err(format!("unknown balancer {name}: {known}"));
-            }
-            r.balancer = name.to_string();
+            // (Its name is checked by the request's rule: `validate`.)
+            r.balancer = v.word()?.to_string();
             Ok(())
         },
         get: |r| Some(Value::Word(r.balancer.clone())),
@@ -257,7 +224,7 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "Enable the Khronos validation layer.",
         kind: ValueKind::Switch,
         set: |r, v| {
-            r.validation = switch(v)?;
+            r.validation = v.switch()?;
             Ok(())
         },
         get: |r| Some(Value::Switch(r.validation)),
@@ -271,7 +238,7 @@ pub static OPTIONS: &[RequestOption] = &[
                biased. The raw image is written beside it as NAME.noisy.EXT.",
         kind: ValueKind::Word(&[]),
         set: |r, v| {
-            r.denoiser = word(v)?.parse()?;
+            r.denoiser = v.word()?.parse()?;
             Ok(())
         },
         get: |r| Some(Value::Word(r.denoiser.name().into())),
@@ -286,7 +253,7 @@ pub static OPTIONS: &[RequestOption] = &[
         kind: ValueKind::Number,
         set: |r, v| {
             let min_spp = r.adaptive.and_then(|a| a.min_spp);
-            let threshold = number(v)?;
+            let threshold = v.number()?;
             r.adaptive = Some(Adaptive { threshold, min_spp });
             Ok(())
         },

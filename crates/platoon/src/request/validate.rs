@@ -58,16 +58,8 @@ impl Request {
                 refuse("crop", e)?;
             }
         }
-        if self
-            .method
-            .path()
-            .resampled_light
-            .is_some_and(|r| r.candidates == 0)
-        {
-            refuse(
-                "resampled_light",
-                "resampling needs at least one candidate light",
-            )?;
+        if let Some(Err(e)) = self.method.path().resampled_light.map(|r| r.check()) {
+            refuse("resampled_light", e)?;
         }
         if let Some(c) = &self.world_cache {
             if let Err(e) = c.validate() {

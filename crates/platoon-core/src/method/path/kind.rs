@@ -59,15 +59,9 @@ impl MethodKind for PathKind {
                 )
             })?,
         };
-        let resampled_light = match given.count("resampled_light") {
-            Some(0) => {
-                let problem = "resampled light needs at least one candidate light";
-                return Err(format!("resampled_light: {problem}"));
-            }
-            m => m.map(ResampledLight::new),
-        };
-        if kernel == PathKernel::Auto && resampled_light.is_none() {
-            return Ok(Method::path_tracing());
+        let resampled_light = given.count("resampled_light").map(ResampledLight::new);
+        if let Some(Err(problem)) = resampled_light.map(|r| r.check()) {
+            return Err(format!("resampled_light: {problem}"));
         }
         Ok(Method::new(PathTracing {
             kernel,

@@ -21,13 +21,6 @@ pub use kind::PathKind;
 pub use state::{PathTracing, ResampledLight};
 
 static PATH_TRACING: LazyLock<Method> = LazyLock::new(|| Method::new(PathTracing::default()));
-static DEFAULTS: PathTracing = PathTracing {
-    kernel: PathKernel::Auto,
-    cut_last_paths: false,
-    resampled_light: None,
-    world_cache: None,
-    light_reuse: None,
-};
 
 impl Method {
     /// Path tracing with its defaults, the reference.
@@ -43,7 +36,8 @@ impl Method {
     /// The path tracer's state; its defaults for another method, whose frames take none of
     /// its options.
     pub fn path(&self) -> &PathTracing {
-        self.state::<PathTracing>().unwrap_or(&DEFAULTS)
+        let defaults = || PATH_TRACING.state().expect("path tracing's state");
+        self.state::<PathTracing>().unwrap_or_else(defaults)
     }
 
     /// The path tracer's state to change, when this is path tracing.
@@ -69,8 +63,8 @@ impl RenderMethod for PathTracing {
         if self.cut_last_paths && self.kernel == PathKernel::Streaming {
             return Err("cutting the last paths of a pass (NOP) is the megakernel's: the streaming kernels follow every path to its end".into());
         }
-        if self.resampled_light.is_some_and(|r| r.candidates == 0) {
-            return Err("resampled light selection needs at least one candidate".into());
+        if let Some(r) = self.resampled_light {
+            r.check()?;
         }
         if let Some(h) = &self.light_reuse {
             let by_contribution = self.resampled_light.is_some_and(|r| r.contribution);

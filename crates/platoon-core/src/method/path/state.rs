@@ -56,6 +56,15 @@ impl ResampledLight {
             contribution: true,
         }
     }
+
+    /// What is wrong with it, if anything (one rule for the settings, the request and the
+    /// band).
+    pub fn check(&self) -> Result<(), String> {
+        if self.candidates == 0 {
+            return Err("resampled light needs at least one candidate light".into());
+        }
+        Ok(())
+    }
 }
 
 impl PathTracing {
