@@ -23,7 +23,7 @@ cargo test -p platoon-cli --features mpi --test mpi "$@" 2>&1 | tee -a "$log" ||
 # Without it they are skipped, and this says why.
 if oidn_dir=$(tools/oidn.sh 2>"$log.oidn"); then
     OIDN_DIR=$oidn_dir LD_LIBRARY_PATH=$oidn_dir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} \
-        cargo test -p platoon-core --features oidn --lib denoise::oidn "$@" 2>&1 | tee -a "$log" || status=$?
+        cargo test -p platoon-aov --features oidn --lib denoise::oidn "$@" 2>&1 | tee -a "$log" || status=$?
 else
     echo "Open Image Denoise's tests skipped: $(cat "$log.oidn")"
 fi

@@ -30,7 +30,7 @@
 
 const float MIN_ROUGHNESS = 0.01;
 
-// Light passes (crates/platoon-core/src/frame/light_pass.rs): the pass a kernel renders, by the
+// Light passes (crates/platoon-aov/src/light_pass.rs): the pass a kernel renders, by the
 // order of LightPass::ALL, and the BSDF's split into Cycles' parts for it: what of bsdf_eval's
 // value (or of a delta sample) is diffuse, glossy and transmission. Without a light pass the
 // macros are the plain sums, so the beauty keeps its bits.
@@ -90,7 +90,7 @@ float share_of_part(int part) {
 #endif
 
 #ifdef HAS_SHEEN
-// KHR_materials_sheen's albedo table (crates/platoon-core/src/flatten/sheen_albedo.rs): f32 bits
+// KHR_materials_sheen's albedo table (crates/platoon-accel/src/sheen_albedo.rs): f32 bits
 // at the start of the texel array of a scene with a sheen, rows of roughness
 // SHEEN_MIN_ROUGHNESS..1, columns of cos θ 0..1, both uniform.
 const float SHEEN_MIN_ROUGHNESS = 0.07;

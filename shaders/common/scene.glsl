@@ -1,4 +1,4 @@
-// Scene layout: mirrors crates/platoon-core/src/flatten/layout.rs and the Globals block of
+// Scene layout: mirrors crates/platoon-accel/src/layout.rs and the Globals block of
 // crates/platoon-tracer/src/globals.rs. Every array has a buffer device address in Globals, so
 // none is bound by the 128 MiB storage-buffer range of lavapipe; arrays that fit it are read
 // through storage-buffer bindings instead (scene_arrays.glsl), which lavapipe loads much faster.
@@ -9,7 +9,7 @@ struct Vertex { vec4 position_u; vec4 normal_v; vec4 tangent; };
 // TEXCOORD_1 and COLOR_0 (RGBA, 16-bit unorms two to a uint): GpuVertexExtra.
 struct VertexExtra { vec2 uv1; uvec2 color; };
 struct Triangle { uvec3 v; uint material; };
-// An inner BVH2 node with both children's boxes and items (crates/platoon-core/src/flatten/bvh.rs): an
+// An inner BVH2 node with both children's boxes and items (crates/platoon-accel/src/bvh.rs): an
 // item is (index << 4) | count, count 0 naming inner node `index`, else `count` primitives.
 struct BvhNode { vec3 min0; uint item0; vec3 max0; uint pad0; vec3 min1; uint item1; vec3 max1; uint pad1; };
 struct Instance { vec4 w2o[3]; vec4 o2w[3]; uint blas_root; uint light_base; uint pad0; uint pad1; };
@@ -165,7 +165,7 @@ uint rr_depth() { return F.params.w; }
 uvec2 image_pixel(uvec2 pixel) { return pixel + F.crop.xy; }
 vec2 image_size() { return vec2(F.crop.zw); }
 
-// env_kind(): GpuEnvironment::kind (crates/platoon-core/src/flatten/layout.rs).
+// env_kind(): GpuEnvironment::kind (crates/platoon-accel/src/layout.rs).
 const uint ENV_NONE = 0u;
 const uint ENV_CONSTANT = 1u;
 const uint ENV_MAP = 2u;

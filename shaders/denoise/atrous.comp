@@ -1,6 +1,6 @@
 #version 460
 // The edge-avoiding a-trous filter on the device: the same arithmetic as the CPU reference,
-// crates/platoon-core/src/denoise/atrous.rs (its comment says why each weight), in three
+// crates/platoon-aov/src/denoise/atrous.rs (its comment says why each weight), in three
 // passes over planes of one buffer (method buffer 0), each plane a vec4 per pixel:
 //   0: colour (rgb, w the variance; uploaded: the history's estimate, negative where it has
 //      none), the source of odd iterations' output

@@ -3,7 +3,7 @@
 // first diffuse vertex is recorded for the gather passes (IgiVertex, igi/igi.glsl) instead of being lit by
 // indirect paths. Direct light and specular chains are the path tracer's, so only indirect
 // diffuse light is approximated. With IGI_FILTERED it also adds the pixel's G-buffer sums for
-// the filters after assembly. Defines: crates/platoon-core/src/flatten/features.rs.
+// the filters after assembly. Defines: crates/platoon-accel/src/features.rs.
 //
 // The gather is deferred to passes of its own rather than run inline in the path because
 // llvmpipe ends a shader invocation's loops after 65535 iterations in all (Mesa's

@@ -1,4 +1,4 @@
-// The AOV passes (frame::Output::Aov, crates/platoon-core/src/frame/aov.rs): one of albedo,
+// The AOV passes (frame::Output::Aov, crates/platoon-aov/src/aov.rs): one of albedo,
 // normal, position, ids, one sample's ids or alpha per pixel, chosen by OUTPUT_AOV_*. Albedo
 // and normal follow Cycles' denoising passes: the camera ray is followed through perfect
 // specular vertices (mirrors, clear glass; their sampled lobe's weight tints the albedo) to the

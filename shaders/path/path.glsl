@@ -64,7 +64,7 @@ void add_light(inout vec3 L, vec3 c, uint depth) {
 }
 
 #ifdef LIGHT_PASS
-// A light pass's kernel (crates/platoon-core/src/frame/light_pass.rs) keeps its share of each
+// A light pass's kernel (crates/platoon-aov/src/light_pass.rs) keeps its share of each
 // light the path gathers, after the clamp, so that the passes sum to the beauty.
 const uint LP_EMISSION = 6u;
 const uint LP_ENVIRONMENT = 7u;

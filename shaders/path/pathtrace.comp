@@ -5,7 +5,7 @@
 // Unidirectional path tracing with next-event estimation and MIS (power heuristic), for the
 // band of pixels (within lines [y0, y1)) and the samples [sample_begin, sample_end) of each pixel.
 // Feature defines (HAS_*) and the estimator (SAMPLING_BSDF / SAMPLING_LIGHT, default MIS) are
-// injected by the tracer; see crates/platoon-core/src/flatten/features.rs.
+// injected by the tracer; see crates/platoon-accel/src/features.rs.
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 

@@ -117,6 +117,30 @@ fn a_rerun_skips_done_frames_and_redoes_a_damaged_one() {
     assert_eq!(lines.matches(": ok").count(), 3, "{lines}");
 }
 
+/// What the scene is loaded as is part of a job too: frames of one material variant are not
+/// "done" for a rerun that asks for another (nor for another texture budget).
+#[test]
+fn a_rerun_with_another_variant_renders_its_frames_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("variants.glb");
+    std::fs::write(&scene, platoon_scenegen::twins::variants()).unwrap();
+    let out = dir.path().join("quad_#.exr");
+    let run = |extra: &[&str]| {
+        let o = frames("1..2").arg(&scene).out(&out).args(extra).run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o)
+    };
+    run(&["--variant", "red"]);
+    let lines = run(&["--variant", "red"]);
+    assert_eq!(lines.matches(": skipped").count(), 2, "{lines}");
+    let lines = run(&["--variant", "blue"]);
+    assert_eq!(lines.matches(": ok").count(), 2, "{lines}");
+    let centre = pixels(&dir.path().join("quad_1.exr"))[12 * 24 + 12];
+    assert_eq!(centre, [0.0, 0.0, 1.0]);
+    let lines = run(&["--variant", "blue", "--texture-budget", "1"]);
+    assert_eq!(lines.matches(": ok").count(), 2, "{lines}");
+}
+
 #[test]
 fn log_json_says_each_frame_and_a_still_as_one_json_object_a_line() {
     // Issue 41: farm tools read one JSON object a line: each frame's fate, a skipped one on a
@@ -205,7 +229,8 @@ fn a_rerun_redoes_frames_whose_environment_map_or_raw_image_changed() {
     for debug in ["Some(", "None", "File(", "\"", "["] {
         assert!(!job.contains(debug), "{debug} in {job}");
     }
-    // The pixel filter, a crop and a transparent film make other images too.
+    // The pixel filter, a crop, a transparent film and a method's setting make other images
+    // too.
     for flags in [
         &["--filter", "gaussian"][..],
         &["--filter", "gaussian", "--crop", "0,0,8,8"],
@@ -215,6 +240,16 @@ fn a_rerun_redoes_frames_whose_environment_map_or_raw_image_changed() {
             "--crop",
             "0,0,8,8",
             "--film-transparent",
+        ],
+        // A method's setting too (the path tracer's resampled light).
+        &[
+            "--filter",
+            "gaussian",
+            "--crop",
+            "0,0,8,8",
+            "--film-transparent",
+            "--resampled-light",
+            "4",
         ],
     ] {
         let o = frames("1..2")

@@ -401,6 +401,26 @@ fn every_rule_refuses_by_naming_its_option() {
     assert!(e.problem.contains("one device"), "{e}");
 }
 
+/// A still on one device says how far it is as its passes end (what the CLI's progress bar
+/// and Python's callback show), though it renders through the renderer on a worker thread:
+/// increasing sample counts up to all of them, and the image of a render that heard nothing.
+#[test]
+fn a_still_on_one_device_reports_its_samples_as_they_are_done() {
+    let request = Request {
+        width: 16,
+        height: 8,
+        spp: 8,
+        devices: DeviceSpec::Lavapipe(vec![1]),
+        ..Default::default()
+    };
+    let mut heard = Vec::new();
+    let still = request.render(&mut |n| heard.push(n)).unwrap();
+    assert_eq!(heard.last(), Some(&8), "{heard:?}");
+    assert!(heard.windows(2).all(|w| w[0] < w[1]), "{heard:?}");
+    let quiet = request.render(&mut |_| {}).unwrap();
+    assert_eq!(still.image.pixels, quiet.image.pixels);
+}
+
 #[test]
 fn a_progressive_render_is_one_render_of_all_its_samples() {
     let whole = Request {

@@ -90,10 +90,10 @@ fn a_depth_cap_and_a_clamp_leave_an_error_floor_that_samples_do_not_lower() {
         &spps,
         &[
             Technique::Mis,
-            Technique::MaxDepth(2),
+            Technique::parse("max-depth=2").unwrap(),
             clamp,
-            Technique::SingleDiffuseBounce,
-            Technique::DeterministicTermination,
+            Technique::parse("single-bounce").unwrap(),
+            Technique::parse("dpt").unwrap(),
         ],
     );
     let report = tradeoff::run(&cornell(), &o, &mut |_| {}).unwrap();
@@ -190,9 +190,9 @@ fn unbiased_knobs_converge_to_the_reference_with_no_floor() {
         platoon::EnvChoice::Color(glam::Vec3::splat(0.3)),
     );
     let knobs = [
-        Technique::UniformLights,
+        Technique::parse("uniform-lights").unwrap(),
         Technique::parse("rr-fixed=50").unwrap(),
-        Technique::RouletteSurvival(40),
+        Technique::parse("rr-survival=40").unwrap(),
         Technique::Ris(4),
         Technique::MisRis(4),
     ];
@@ -243,7 +243,7 @@ fn the_errors_are_the_same_for_the_same_seed_and_the_reference_is_cached() {
     let o = options(
         dir.path(),
         &[2, 4],
-        &[Technique::Bsdf, Technique::RouletteFrom(1)],
+        &[Technique::Bsdf, Technique::parse("rr-depth=1").unwrap()],
     );
     let a = tradeoff::run(&prepared, &o, &mut |_| {}).unwrap();
     let b = tradeoff::run(
@@ -347,9 +347,9 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
     };
     let plain = defines(&Technique::Mis);
     for t in [
-        Technique::MaxDepth(2),
-        Technique::RouletteFrom(1),
-        Technique::RouletteSurvival(50),
+        Technique::parse("max-depth=2").unwrap(),
+        Technique::parse("rr-depth=1").unwrap(),
+        Technique::parse("rr-survival=50").unwrap(),
         Technique::NoRegeneration,
     ] {
         assert_eq!(defines(&t), plain, "{t} changed the kernel");
@@ -375,15 +375,15 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
     let clamp = Technique::parse("clamp=4").unwrap();
     assert_eq!(sorted(defines(&clamp)), sorted(with("CLAMP_INDIRECT")));
     assert_eq!(
-        sorted(defines(&Technique::UniformLights)),
+        sorted(defines(&Technique::parse("uniform-lights").unwrap())),
         sorted(with("LIGHT_SELECT_UNIFORM"))
     );
     assert_eq!(
-        sorted(defines(&Technique::DeterministicTermination)),
+        sorted(defines(&Technique::parse("dpt").unwrap())),
         sorted(with("RR_DETERMINISTIC"))
     );
     assert_eq!(
-        sorted(defines(&Technique::SingleDiffuseBounce)),
+        sorted(defines(&Technique::parse("single-bounce").unwrap())),
         sorted(with("SINGLE_DIFFUSE_BOUNCE"))
     );
     assert_eq!(
@@ -393,7 +393,7 @@ fn each_technique_changes_the_kernel_only_through_its_own_defines() {
     let mut both = with("LIGHT_SELECT_RIS");
     both.push("RIS_MIS");
     assert_eq!(sorted(defines(&Technique::MisRis(4))), sorted(both));
-    let generic = defines(&Technique::GenericKernel);
+    let generic = defines(&Technique::parse("generic-kernel").unwrap());
     for effect in [
         "HAS_TEXTURES",
         "HAS_TRANSMISSION",

@@ -1,6 +1,7 @@
-//! A method from outside platoon's crates (`toy/grey.rs`), registered at run time: found by
-//! name, rendered through the front door with its pass after assembly, written as a technique
-//! and read back, and refused when it would take a name or flag already there. (Over the ranks
+//! A method from outside platoon's crates (`toy/grey.rs`, its kernel `toy/grey.comp`),
+//! registered at run time with both halves: found by name, rendered through the front door by
+//! its own kernel, written as a technique and read back, and refused when it would take a
+//! name, a flag or a kernel source's name already there. (Over the ranks
 //! of a game loop: tests/drive/game.rs.)
 
 #[path = "../common/mod.rs"]
@@ -14,6 +15,7 @@ use platoon::core::method::registry;
 use platoon::core::method::settings::Setting;
 use platoon::core::method::technique;
 use platoon::devices::DeviceSpec;
+use platoon::tracer::device::DeviceMethodKind;
 use platoon::Request;
 
 #[test]
@@ -24,8 +26,8 @@ fn a_method_from_outside_is_registered_once_by_name() {
     assert!(registry::names().ends_with("grey"), "{}", registry::names());
     let e = registry::register(&toy::GREY).unwrap_err();
     assert!(e.contains("a method named grey"), "{e}");
-    // A method whose flag another has.
-    struct Thief;
+    // A method whose flag another has, and one whose name and flags are free.
+    struct Stranger(&'static str, &'static [Setting]);
     const TAKEN: &[Setting] = &[Setting {
         key: "vpls",
         flag: "vpls",
@@ -33,18 +35,18 @@ fn a_method_from_outside_is_registered_once_by_name() {
         kind: platoon::core::method::settings::ValueKind::Count,
         help: "",
     }];
-    impl MethodKind for Thief {
+    impl MethodKind for Stranger {
         fn name(&self) -> &'static str {
-            "thief"
+            self.0
         }
         fn title(&self) -> &'static str {
-            "thief"
+            self.0
         }
         fn summary(&self) -> &'static str {
             ""
         }
         fn settings(&self) -> &'static [Setting] {
-            TAKEN
+            self.1
         }
         fn build(
             &self,
@@ -68,8 +70,40 @@ fn a_method_from_outside_is_registered_once_by_name() {
             None
         }
     }
-    let e = registry::register(&Thief).unwrap_err();
+    static THIEF: Stranger = Stranger("thief", TAKEN);
+    static FREE_KIND: Stranger = Stranger("free", &[]);
+    let e = registry::register(&THIEF).unwrap_err();
     assert!(e.contains("--vpls of method igi"), "{e}");
+    // Both halves, refused for the kind's flag; a device half whose shader would take a file
+    // of shaders/, or named for another method: refused, and nothing of the method registered.
+    static SHADOW: DeviceMethodKind = DeviceMethodKind {
+        name: "thief",
+        shaders: &[("thief/thief.comp", "")],
+        passes: platoon::tracer::device::path_passes,
+    };
+    let e = platoon::register_method(&THIEF, Some(&SHADOW)).unwrap_err();
+    assert!(e.contains("--vpls of method igi"), "{e}");
+    static FREE: DeviceMethodKind = DeviceMethodKind {
+        name: "free",
+        shaders: &[("common/scene.glsl", "")],
+        passes: platoon::tracer::device::path_passes,
+    };
+    let e = platoon::register_method(&FREE_KIND, Some(&FREE)).unwrap_err();
+    assert!(
+        e.contains("a kernel source is named common/scene.glsl"),
+        "{e}"
+    );
+    let e = platoon::register_method(&FREE_KIND, Some(&SHADOW)).unwrap_err();
+    assert!(e.contains("its device half is named thief"), "{e}");
+    assert!(registry::kind("free").is_none());
+    // A device half for a built-in method, which has its own.
+    static IGI_AGAIN: DeviceMethodKind = DeviceMethodKind {
+        name: "igi",
+        shaders: &[],
+        passes: platoon::tracer::device::path_passes,
+    };
+    let e = platoon::tracer::device::register(&IGI_AGAIN).unwrap_err();
+    assert!(e.contains("device half of igi: it has one"), "{e}");
 }
 
 #[test]
@@ -89,7 +123,7 @@ fn it_renders_through_the_front_door_with_its_own_pass() {
     let mut coloured = 0;
     for (g, c) in grey.image.pixels.iter().zip(&colour.image.pixels) {
         assert!(g[0] == g[1] && g[1] == g[2], "{g:?} is not grey");
-        let y = toy::luminance(*c);
+        let y = luminance(*c);
         assert!((g[0] - y).abs() <= 1e-5 * y.max(1.0), "{g:?} against {y}");
         coloured += (c[0] != c[1]) as u32;
     }
@@ -125,6 +159,11 @@ fn it_renders_through_the_front_door_with_its_own_pass() {
         mean(&short.image) < mean(&grey.image),
         "one bounce carries less light"
     );
+}
+
+/// A pixel's grey: its luminance (Rec. 709), as grey.comp takes it.
+fn luminance(c: [f32; 3]) -> f32 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 
 fn meta_of(still: &platoon::Still, key: &str) -> String {

@@ -4,11 +4,16 @@
 //!   cameras, the environment and the floating origin: the crate `platoon-scene`, re-exported
 //!   here with its [`error`], [`input`] (reading a user's files) and [`byte_size`];
 //! - [`flatten`]: a posed scene made into the plain GPU-ready arrays of [`flatten::GpuScene`]
-//!   (BVHs, materials and textures, lights and their selection CDF, the feature set);
+//!   (BVHs, materials and textures, lights and their selection CDF, the feature set) and the
+//!   CPU's ray queries over them: the crate `platoon-accel`, re-exported here;
 //! - [`frame`]: frame parameters, bands of lines, the multi-tracer frame loop and fault injection;
+//!   its outputs beside the beauty (`frame::aov`, `cryptomatte`, `light_pass`, `motion`,
+//!   `hit_geometry`, `Crop`) and the [`denoise`]rs they guide are the crate `platoon-aov`,
+//!   re-exported where they were;
 //! - [`method`]: the rendering methods (path tracing, instant global illumination): their
 //!   options, the kernel variant a render runs, the passes after assembly;
-//! - [`balance`]: the line balancers and the replay of recorded costs;
+//! - [`balance`]: the line balancers and the replay of recorded costs: the crate
+//!   `platoon-balance`, re-exported here;
 //! - [`measure`]: summaries of measurements;
 //! - [`output`]: films and image files, and [`colour`] (exposure and view transforms): the crate
 //!   `platoon-image`, re-exported here.
@@ -17,13 +22,13 @@
 //! driver) is the crate `platoon-live`, frames split between processes (MPI ranks) the crate
 //! `platoon-distribute`. The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
-pub mod balance;
-pub mod denoise;
-pub mod flatten;
 pub mod frame;
 pub mod measure;
 pub mod method;
 
+pub use platoon_accel as flatten;
+pub use platoon_aov::denoise;
+pub use platoon_balance as balance;
 pub use platoon_scene as scene;
 pub use platoon_scene::{byte_size, error, input};
 

@@ -1,203 +1,40 @@
 //! A frame's parameters on the wire, for ranks that cannot make them themselves (the game
 //! loop's workers: the frame driver on rank 0 decides each frame's camera, samples and film).
-//! Every field is written out by name: a new field of `FrameParams` breaks the build here until
-//! it travels. The accumulated sums and the converged mask travel only for the span the rank
-//! renders (`wire::put_film_span`); the method by its settings (`method_wire`).
-
-use std::time::Duration;
+//! The settings travel as `FrameParams` derives them (serde, in CBOR: every f32 bit, infinities
+//! included), so a new field travels without a line here; the method by its settings and its
+//! state (`method_wire`, the path tracer's `path_wire`), and the accumulated sums and the
+//! converged mask only for the span the rank renders (`wire::put_film_span`).
 
 use super::method_wire::{get_method, put_method};
 use super::path_wire::{get_path_tracing, put_path_tracing};
-use super::wire::{
-    get_camera, get_film_span, put_camera, put_film_span, Reader, WireError, Writer,
-};
-use platoon_core::frame::aov::AovPass;
-use platoon_core::frame::light_pass::{BsdfPart, LightPass};
-use platoon_core::frame::{Crop, FrameParams, Output, PathLoop, PixelFilter, Span};
+use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
+use platoon_core::frame::{FrameParams, Span};
 use platoon_core::method::path::PathTracing;
-use platoon_core::scene::camera::Camera;
-
-fn put_path_loop(w: &mut Writer, l: &PathLoop) {
-    let PathLoop {
-        max_depth,
-        rr_depth,
-        rr_survival,
-        rr_fixed,
-        clamp_indirect,
-        uniform_light_selection,
-        generic_kernel,
-        deterministic_termination,
-        single_diffuse_bounce,
-    } = l;
-    w.u32(*max_depth);
-    w.u32(*rr_depth);
-    w.f32(*rr_survival);
-    w.opt_f32(*rr_fixed);
-    w.opt_f32(*clamp_indirect);
-    for b in [
-        uniform_light_selection,
-        generic_kernel,
-        deterministic_termination,
-        single_diffuse_bounce,
-    ] {
-        w.u8(*b as u8);
-    }
-}
-
-fn get_path_loop(r: &mut Reader) -> Result<PathLoop, WireError> {
-    Ok(PathLoop {
-        max_depth: r.u32()?,
-        rr_depth: r.u32()?,
-        rr_survival: r.f32()?,
-        rr_fixed: r.opt_f32()?,
-        clamp_indirect: r.opt_f32()?,
-        uniform_light_selection: r.flag()?,
-        generic_kernel: r.flag()?,
-        deterministic_termination: r.flag()?,
-        single_diffuse_bounce: r.flag()?,
-    })
-}
 
 /// `p` for a rank rendering `span`: everything, with the sums and mask of the span only.
 pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), String> {
-    let FrameParams {
-        width,
-        height,
-        spp,
-        path_loop,
-        method,
-        seed,
-        frame,
-        first_sample,
-        film,
-        samples_per_pass,
-        time_limit,
-        camera,
-        filter,
-        crop,
-        transparent_film,
-        ao_distance,
-        output,
-    } = p;
-    for v in [width, height, spp] {
-        w.u32(*v);
-    }
-    put_path_loop(w, path_loop);
-    put_method(w, method)?;
+    let mut settings = Vec::new();
+    ciborium::into_writer(p, &mut settings)
+        .map_err(|e| format!("encoding the frame's parameters: {e}"))?;
+    w.bytes(&settings);
+    put_method(w, &p.method)?;
     // The path tracer's state beyond its settings: what its frames carry.
-    if let Some(path) = method.state::<PathTracing>() {
+    if let Some(path) = p.method.state::<PathTracing>() {
         put_path_tracing(w, path);
     }
-    for v in [seed, frame, first_sample, samples_per_pass] {
-        w.u32(*v);
-    }
-    // The film's sums and mask: the span's only.
-    let _ = film;
     put_film_span(w, p, span);
-    w.u8(time_limit.is_some() as u8);
-    w.duration(time_limit.unwrap_or_default());
-    put_camera(w, camera);
-    w.u8(match filter {
-        PixelFilter::Box => 0,
-        PixelFilter::Gaussian => 1,
-        PixelFilter::BlackmanHarris => 2,
-    });
-    w.u8(crop.is_some() as u8);
-    let Crop {
-        x,
-        y,
-        image_width,
-        image_height,
-    } = p.image_crop();
-    for v in [x, y, image_width, image_height] {
-        w.u32(v);
-    }
-    w.u8(match output {
-        Output::Radiance => 0,
-        Output::PrimaryHit => 1,
-        Output::BsdfSample => 2,
-        Output::BsdfValue => 3,
-        Output::Aov(AovPass::Albedo) => 4,
-        Output::Aov(AovPass::Normal) => 5,
-        Output::Aov(AovPass::Position) => 6,
-        Output::Aov(AovPass::Ids) => 7,
-        Output::Aov(AovPass::SampleIds(_)) => 8,
-        Output::Aov(AovPass::Light(_)) => 9,
-        Output::Aov(AovPass::Alpha) => 10,
-        Output::Aov(AovPass::Ao) => 11,
-        Output::Aov(AovPass::Color(_)) => 12,
-    });
-    match output {
-        Output::Aov(AovPass::SampleIds(sample)) => w.u32(*sample),
-        Output::Aov(AovPass::Light(pass)) => w.u8(*pass as u8),
-        Output::Aov(AovPass::Color(part)) => w.u8(*part as u8),
-        _ => {}
-    }
-    w.u8(*transparent_film as u8);
-    w.f32(*ao_distance);
     Ok(())
 }
 
 /// The parameters `put_params` wrote for `span`: the sums and mask outside it are zero.
 pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> {
-    let camera0 = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
-    let mut p = FrameParams::new(r.u32()?, r.u32()?, r.u32()?, camera0);
-    p.path_loop = get_path_loop(r)?;
+    let mut p: FrameParams = ciborium::from_reader(r.bytes()?)
+        .map_err(|e| WireError(format!("the frame's parameters: {e}")))?;
     p.method = get_method(r)?;
     if let Some(path) = p.method.path_mut() {
         *path = get_path_tracing(r)?;
     }
-    p.seed = r.u32()?;
-    p.frame = r.u32()?;
-    p.first_sample = r.u32()?;
-    p.samples_per_pass = r.u32()?;
     get_film_span(r, &mut p, span)?;
-    let some = r.flag()?;
-    let limit: Duration = r.duration()?;
-    p.time_limit = some.then_some(limit);
-    p.camera = get_camera(r)?;
-    p.filter = match r.u8()? {
-        0 => PixelFilter::Box,
-        1 => PixelFilter::Gaussian,
-        2 => PixelFilter::BlackmanHarris,
-        k => return Err(WireError(format!("unknown pixel filter {k}"))),
-    };
-    let cropped = r.flag()?;
-    let crop = Crop {
-        x: r.u32()?,
-        y: r.u32()?,
-        image_width: r.u32()?,
-        image_height: r.u32()?,
-    };
-    p.crop = cropped.then_some(crop);
-    p.output = match r.u8()? {
-        0 => Output::Radiance,
-        1 => Output::PrimaryHit,
-        2 => Output::BsdfSample,
-        3 => Output::BsdfValue,
-        4 => Output::Aov(AovPass::Albedo),
-        5 => Output::Aov(AovPass::Normal),
-        6 => Output::Aov(AovPass::Position),
-        7 => Output::Aov(AovPass::Ids),
-        8 => Output::Aov(AovPass::SampleIds(r.u32()?)),
-        9 => {
-            let k = r.u8()? as usize;
-            let pass = *(LightPass::ALL.get(k))
-                .ok_or_else(|| WireError(format!("unknown light pass {k}")))?;
-            Output::Aov(AovPass::Light(pass))
-        }
-        10 => Output::Aov(AovPass::Alpha),
-        11 => Output::Aov(AovPass::Ao),
-        12 => {
-            let k = r.u8()? as usize;
-            let part = *(BsdfPart::ALL.get(k))
-                .ok_or_else(|| WireError(format!("unknown BSDF part {k}")))?;
-            Output::Aov(AovPass::Color(part))
-        }
-        k => return Err(WireError(format!("unknown output {k}"))),
-    };
-    p.transparent_film = r.flag()?;
-    p.ao_distance = r.f32()?;
     Ok(p)
 }
 
@@ -205,11 +42,15 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
 mod tests {
     use super::*;
     use crate::wire::fingerprint;
+    use platoon_core::frame::aov::AovPass;
+    use platoon_core::frame::light_pass::{BsdfPart, LightPass};
     use platoon_core::frame::light_reuse::{LightReuse, ReservoirHistory};
     use platoon_core::frame::world_cache::CacheTable;
+    use platoon_core::frame::{Crop, Output, PixelFilter};
     use platoon_core::method::igi::IgiOptions;
     use platoon_core::method::path::{PathKernel, ResampledLight};
     use platoon_core::method::Method;
+    use platoon_core::scene::camera::Camera;
 
     fn round_trip(p: &FrameParams, span: Span) -> FrameParams {
         let mut w = Writer::default();
@@ -318,6 +159,11 @@ mod tests {
             Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
         );
         assert_eq!(round_trip(&plain, Span::new(0, 9)), plain);
+        // Every bit of a float, an infinity too (the encoding is CBOR, not JSON).
+        let mut far = plain.clone();
+        far.ao_distance = f32::INFINITY;
+        far.path_loop.rr_survival = f32::from_bits(0x3f00_0001);
+        assert_eq!(round_trip(&far, Span::new(0, 9)), far);
         // An output with a value of its own: the sample whose ids a pass holds.
         let ids = FrameParams {
             output: Output::Aov(AovPass::SampleIds(9)),

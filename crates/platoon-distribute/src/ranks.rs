@@ -373,6 +373,7 @@ fn zeros(params: &FrameParams, tracers: Vec<TracerStats>, start: Instant) -> Fra
             pixels: vec![[0.0; 3]; pixels],
         },
         sums: vec![[0.0; 3]; pixels],
+        spp: params.spp,
         tracers,
         line_rays: vec![0; params.height as usize],
         idle_fraction: 0.0,

@@ -4,7 +4,7 @@ use glam::{Mat4, Vec3};
 
 use crate::{Posed, Scene};
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Camera {
     pub camera_to_world: Mat4,
     /// Vertical field of view in radians.

@@ -1,6 +1,6 @@
 //! The dispatch of one band of pixels: clear it (or start it from the sums of earlier samples),
 //! have the frame's rendering method (`method::MethodPasses`) add its passes of samples with GPU
-//! timestamps around each, copy it back with its per-line counters and what the method leaves
+//! timestamps around each and end the band, copy it back with its per-line counters and what the method leaves
 //! per pixel.
 
 use std::time::{Duration, Instant};
@@ -60,13 +60,7 @@ impl Tracer {
         stride: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
-        if params.output.one_sample() && params.spp != 1 {
-            return Err(crate::Error::Invalid(format!(
-                "the {:?} output is one sample per pixel: set spp to 1",
-                params.output
-            )));
-        }
-        params.path_loop.check().map_err(crate::Error::Invalid)?;
+        params.check().map_err(crate::Error::Invalid)?;
         let by_luminance = params
             .method
             .path()
@@ -79,21 +73,7 @@ impl Tracer {
                     .into(),
             ));
         }
-        if let Some(c) = &params.film.converged {
-            let pixels = params.width as usize * params.height as usize;
-            if params.film.accumulated.is_none() || c.len() != pixels {
-                return Err(crate::Error::Invalid(
-                    "converged pixels need the accumulated sums, one flag per pixel".into(),
-                ));
-            }
-            if !params.method.is_path_tracing() {
-                return Err(crate::Error::Invalid(
-                    "adaptive sampling (converged pixels) is the path tracer's".into(),
-                ));
-            }
-        }
         let method = params.method.unit();
-        method.validate(params).map_err(crate::Error::Invalid)?;
         // The method's device side is taken out while it records, and kept for the next band.
         let name = method.name();
         let mut passes = self
@@ -177,13 +157,7 @@ impl Tracer {
         // The band starts from the earlier samples' sums when the frame continues them.
         let start = match &params.film.accumulated {
             Some(sums) => {
-                let pixels = width as usize * height as usize;
-                if sums.len() != pixels {
-                    return Err(crate::Error::Invalid(format!(
-                        "the accumulated sums hold {} pixels, the frame {width}x{height}",
-                        sums.len()
-                    )));
-                }
+                // (Its length is the frame's: `FrameParams::check`.)
                 let range = span.begin as usize..span.end as usize;
                 // The kernels leave pixels flagged converged (w = 2, PIXEL_CONVERGED in
                 // shaders/path/path.glsl) as they are.
@@ -261,7 +235,7 @@ impl Tracer {
 
         let spp = params.spp;
         let per_pass = method.samples_per_pass(params);
-        let groups = (width.div_ceil(8), (y1 - y0).div_ceil(stride).div_ceil(8));
+        let groups = rec.band_groups(&push);
         let mut begin = 0;
         let mut pass_start = Duration::ZERO;
         // Under a time limit the first pass takes one sample and each next one at most twice
@@ -301,6 +275,12 @@ impl Tracer {
             }
         }
         band.samples = begin;
+        let push = Push {
+            sample_begin: params.first_sample,
+            sample_end: params.first_sample.wrapping_add(begin),
+            ..push
+        };
+        band.gpu_time += method.end_band(&mut rec, &push)?;
         band.kernel_fallbacks = rec.fallbacks;
 
         // The sums into the readback buffer; the counters (host-visible) made visible too.

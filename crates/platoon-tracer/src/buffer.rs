@@ -7,7 +7,7 @@ use gpu_allocator::MemoryLocation;
 
 use crate::{Result, VkContext};
 
-pub(crate) struct GpuBuffer {
+pub struct GpuBuffer {
     pub buffer: vk::Buffer,
     pub allocation: Option<Allocation>,
     pub address: u64,

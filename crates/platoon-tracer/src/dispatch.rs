@@ -6,7 +6,7 @@ use ash::vk;
 use crate::globals::Push;
 
 /// A kernel variant ready to dispatch: its pipeline, layout and scene descriptor set.
-pub(crate) type Dispatchable = (vk::Pipeline, vk::PipelineLayout, vk::DescriptorSet);
+pub type Dispatchable = (vk::Pipeline, vk::PipelineLayout, vk::DescriptorSet);
 
 /// Records a barrier after earlier compute writes, then the dispatch of `kernel`.
 ///

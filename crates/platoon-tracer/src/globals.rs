@@ -103,11 +103,11 @@ impl Globals {
 
 /// Push-constant words a rendering method has for its options (`Push::method`; its shaders
 /// name them).
-pub(crate) const METHOD_WORDS: usize = 8;
+pub const METHOD_WORDS: usize = 8;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub(crate) struct Push {
+pub struct Push {
     pub globals: u64,
     /// Lines dispatched, and the pixels among them rendered (row-major indices).
     pub y0: u32,

@@ -20,9 +20,11 @@ use crate::{Result, VkContext};
 /// A kernel variant: its entry file (shaders/, `kernel::SOURCES`) and its defines.
 pub(crate) type KernelKey = (&'static str, Vec<&'static str>);
 
-pub(crate) struct Gpu {
-    pub ctx: ManuallyDrop<Context>,
-    pub allocator: ManuallyDrop<Allocator>,
+/// One device's memory, submissions, timestamps and compiled kernels: what a method's device
+/// half allocates its buffers from (`buffer`, `device::ensure`) and submits its own commands with.
+pub struct Gpu {
+    pub(crate) ctx: ManuallyDrop<Context>,
+    pub(crate) allocator: ManuallyDrop<Allocator>,
     command_pool: vk::CommandPool,
     command_buffer: vk::CommandBuffer,
     fence: vk::Fence,
@@ -32,16 +34,16 @@ pub(crate) struct Gpu {
     pipelines_built: u32,
     /// Set 1 of every kernel: storage buffers a rendering method binds for its own kernels
     /// (`METHOD_BINDINGS` of them; the streaming path tracer's stream).
-    pub method_layout: vk::DescriptorSetLayout,
+    pub(crate) method_layout: vk::DescriptorSetLayout,
     /// `TracerOptions::stream_slots`.
-    pub stream_slots: Option<u32>,
+    pub(crate) stream_slots: Option<u32>,
 }
 
 /// Storage-buffer bindings of the method set (set 1).
 pub(crate) const METHOD_BINDINGS: u32 = 6;
 
 impl Gpu {
-    pub fn new(ctx: Context) -> Result<Gpu> {
+    pub(crate) fn new(ctx: Context) -> Result<Gpu> {
         let device = ctx.device.clone();
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: ctx.instance.clone(),
@@ -248,7 +250,11 @@ impl Gpu {
     }
 
     /// The kernel `key`, reading the scene arrays through `scene`'s set, built on first use.
-    pub fn kernel(&mut self, key: KernelKey, scene: &SceneDescriptors) -> Result<Dispatchable> {
+    pub(crate) fn kernel(
+        &mut self,
+        key: KernelKey,
+        scene: &SceneDescriptors,
+    ) -> Result<Dispatchable> {
         use std::collections::hash_map::Entry;
         let k = match self.kernels.entry(key) {
             Entry::Occupied(e) => e.into_mut(),
@@ -269,7 +275,7 @@ impl Gpu {
     }
 
     /// Destroys every kernel (the scene's bindings changed: they are built again on use).
-    pub fn drop_kernels(&mut self) {
+    pub(crate) fn drop_kernels(&mut self) {
         for k in self.kernels.values() {
             k.destroy(&self.ctx.device);
         }
@@ -278,7 +284,7 @@ impl Gpu {
 
     /// A descriptor set of the method layout (set 1) binding `buffers` in order, from a pool of
     /// its own (destroy the pool to free it).
-    pub fn method_set(
+    pub(crate) fn method_set(
         &mut self,
         buffers: &[vk::Buffer],
     ) -> Result<(vk::DescriptorPool, vk::DescriptorSet)> {
@@ -329,7 +335,7 @@ impl Gpu {
     }
 
     /// Compute pipelines built so far.
-    pub fn pipelines_built(&self) -> u32 {
+    pub(crate) fn pipelines_built(&self) -> u32 {
         self.pipelines_built
     }
 }

@@ -6,6 +6,7 @@
 use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
+use std::sync::RwLock;
 
 use ash::vk;
 
@@ -16,10 +17,44 @@ use crate::{Error, Result, VkContext};
 /// its defines.
 const SOURCES: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
-/// The kernel sources: the embedded ones, or with $PLATOON_SHADER_DIR set, the files of that
-/// folder read now (kernel work on lavapipe then needs no rebuild per edit; the SPIR-V cache is
-/// keyed by the text, so edits are never served stale).
+/// Whether shaders/ has a file named `name`.
+pub(crate) fn built_in_source(name: &str) -> bool {
+    SOURCES.iter().any(|(n, _)| *n == name)
+}
+
+/// The sources of methods registered from outside platoon's crates (`method::registry`), by
+/// the names their entry files and `#include`s use.
+static REGISTERED: RwLock<Vec<(&'static str, &'static str)>> = RwLock::new(Vec::new());
+
+/// Whether a kernel source (shaders/'s or a registered one) is named `name`.
+pub(crate) fn source_named(name: &str) -> bool {
+    built_in_source(name)
+        || REGISTERED
+            .read()
+            .unwrap_or_else(|e| e.into_inner())
+            .iter()
+            .any(|(n, _)| *n == name)
+}
+
+/// Adds registered sources (their names checked free by the caller, `source_named`).
+pub(crate) fn add_sources(sources: &[(&'static str, &'static str)]) {
+    let mut registered = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
+    registered.extend_from_slice(sources);
+}
+
+/// The kernel sources: shaders/'s (`built_in_sources`), then the registered ones, which may
+/// include shaders/'s.
 fn sources() -> Result<Vec<(&'static str, String)>> {
+    let mut sources = built_in_sources()?;
+    let registered = REGISTERED.read().unwrap_or_else(|e| e.into_inner());
+    sources.extend(registered.iter().map(|(n, s)| (*n, s.to_string())));
+    Ok(sources)
+}
+
+/// shaders/'s files: the embedded ones, or with $PLATOON_SHADER_DIR set, the files of that
+/// folder read now (kernel work on lavapipe then needs no rebuild per edit; the SPIR-V cache is
+/// keyed by the text, so edits are never served stale). As many as `SOURCES`, in its order.
+fn built_in_sources() -> Result<Vec<(&'static str, String)>> {
     let Some(dir) = std::env::var_os("PLATOON_SHADER_DIR") else {
         return Ok(SOURCES.iter().map(|(n, s)| (*n, s.to_string())).collect());
     };
@@ -127,7 +162,14 @@ fn store(path: &Path, bytes: &[u8]) {
 /// SPIR-V of the entry file `entry` with `defines`, from the disk cache or compiled now.
 pub(crate) fn spirv(entry: &str, defines: &[&str]) -> Result<Vec<u32>> {
     let sources = sources()?;
-    let mut parts: Vec<&[u8]> = sources
+    // A kernel of shaders/ includes only shaders/'s files: its key leaves out the registered
+    // methods' (their registration does not make it compile again).
+    let keyed = if built_in_source(entry) {
+        &sources[..SOURCES.len()]
+    } else {
+        &sources[..]
+    };
+    let mut parts: Vec<&[u8]> = keyed
         .iter()
         .flat_map(|(n, s)| [n.as_bytes(), s.as_bytes()])
         .collect();
@@ -170,10 +212,11 @@ fn compile(sources: &[(&'static str, String)], entry: &str, defines: &[&str]) ->
             })
             .ok_or_else(|| format!("no shader include named {name}"))
     });
-    let (name, text) = sources
-        .iter()
-        .find(|(n, _)| *n == entry)
-        .ok_or_else(|| Error::Shader(format!("no kernel entry file shaders/{entry}")))?;
+    let (name, text) = sources.iter().find(|(n, _)| *n == entry).ok_or_else(|| {
+        Error::Shader(format!(
+            "no kernel entry file {entry} (shaders/ or a registered method's)"
+        ))
+    })?;
     let artifact = compiler
         .compile_into_spirv(
             text,

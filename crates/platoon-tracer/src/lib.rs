@@ -26,6 +26,21 @@ pub use memory::{
     SCENE_ARRAYS,
 };
 pub use method::{kernel_label, kernel_spirv, path_kernel};
+
+/// The device-method API: what a rendering method's device half implements (`MethodPasses`)
+/// and records a band with (`Recorder`), the buffers it grows (`ensure`, `GpuBuffer`), the
+/// push constants its kernels read (`Push`: the band and `METHOD_WORDS` of its own), and the
+/// registration of a method's device half with its GLSL from outside platoon's crates
+/// (`register`, `DeviceMethodKind`). The built-in methods are written against it too.
+pub mod device {
+    pub use crate::buffer::GpuBuffer;
+    pub use crate::globals::{Push, METHOD_WORDS};
+    pub use crate::gpu::Gpu;
+    pub use crate::method::registry::{refusal, register, DeviceMethodKind};
+    pub use crate::method::{ensure, path_passes, MethodPasses, Recorder};
+    pub use ash::vk;
+    pub use gpu_allocator::MemoryLocation;
+}
 pub use tracer::{Tracer, TracerOptions};
 
 /// Tracer failures; each says which device or file it concerns.

@@ -37,6 +37,7 @@ pub mod metadata;
 pub mod method_update;
 pub mod motion;
 pub mod prepare;
+mod register;
 pub mod render;
 mod rendered;
 pub mod request;
@@ -54,6 +55,7 @@ pub use prepare::{
     load_scene, load_scene_with, prepare, EnvChoice, EnvLight, PrepareOptions, Prepared,
     DEFAULT_SKY,
 };
+pub use register::register_method;
 pub use render::{
     render, render_bands, render_frame, whole_frame, BatchedStats, Rendered, Tracers,
 };

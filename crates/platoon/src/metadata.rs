@@ -215,21 +215,7 @@ fn method(params: &FrameParams) -> String {
 /// Every approximation in effect, so a reader of the image knows what it is not.
 pub fn approximations(params: &FrameParams) -> String {
     let mut a = vec!["roughness<0.01 rendered as perfectly specular".to_string()];
-    if params.path_loop.max_depth < platoon_core::frame::DEFAULT_MAX_DEPTH {
-        a.push(format!(
-            "path depth capped at {}",
-            params.path_loop.max_depth
-        ));
-    }
-    if let Some(c) = params.path_loop.clamp_indirect {
-        a.push(format!("light after the first bounce clamped at {c}"));
-    }
-    if params.path_loop.deterministic_termination {
-        a.push("deterministic path termination: no path outlives log2(spp) tests".into());
-    }
-    if params.path_loop.single_diffuse_bounce {
-        a.push("a single diffuse bounce of indirect light".into());
-    }
+    a.extend(params.path_loop.approximations());
     a.extend(params.method.unit().approximations());
     a.join("; ")
 }

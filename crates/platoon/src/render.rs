@@ -1,5 +1,6 @@
-//! Rendering a prepared frame: on one tracer band by band, or on many through the core's
-//! renderer, and what it cost.
+//! Rendering a prepared frame through the core's renderer, on one tracer or many (one renders
+//! the frame as one band on its worker thread, the same path as many), and what it cost.
+//! `render_bands` renders chosen bands on one tracer directly: the tests' and benches' tool.
 
 use std::rc::Rc;
 use std::sync::Arc;
@@ -59,17 +60,20 @@ pub fn render_bands(
 }
 
 /// Renders a prepared scene on one device (after the method's preparation, when it has one:
-/// vertex links' update).
+/// vertex links' update), through the renderer as `Tracers` renders.
 pub fn render(
     prepared: &Prepared,
     options: &TracerOptions,
     params: &FrameParams,
     progress: &mut dyn FnMut(u32),
 ) -> Result<Rendered> {
-    let mut tracer = Tracer::new(options, &prepared.gpu)?;
-    let params = crate::method_update::on_tracer(&mut tracer, &prepared.gpu, params)?;
-    render_bands(&mut tracer, &params, &[whole_frame(&params)], progress)
+    let mut tracers = Tracers::new(std::slice::from_ref(options), ONE_DEVICE, &prepared.gpu)?;
+    tracers.render(&prepared.gpu, params, progress)
 }
+
+/// The balancer a single device is given: it cuts nothing (one band is the frame), but a
+/// renderer has one.
+const ONE_DEVICE: &str = "none";
 
 /// The band covering the whole frame.
 pub fn whole_frame(params: &FrameParams) -> Span {
@@ -78,11 +82,27 @@ pub fn whole_frame(params: &FrameParams) -> Span {
 
 /// Renders one frame on a multi-device renderer.
 pub fn render_frame(renderer: &mut Renderer<Tracer>, params: &FrameParams) -> Result<Rendered> {
-    let frame = renderer.render_frame(params)?;
+    render_on(renderer, params, &mut |_| {})
+}
+
+/// Renders one frame on `renderer`; `progress` hears the samples done when it has one tracer.
+/// A single device's frame reports no split (no per-tracer statistics, no balancer), as
+/// nothing was split.
+fn render_on(
+    renderer: &mut Renderer<Tracer>,
+    params: &FrameParams,
+    progress: &mut dyn FnMut(u32),
+) -> Result<Rendered> {
+    let frame = renderer.render_frame_with_progress(params, progress)?;
     for f in &frame.failures {
         log::warn!("tracer {} failed in frame {} and was dropped; its lines were rendered by the others: {}", f.tracer, f.frame, f.message);
     }
-    Ok(rendered_of(renderer, params, frame))
+    let mut rendered = rendered_of(renderer, params, frame);
+    if rendered.tracers.len() == 1 {
+        rendered.tracers.clear();
+        rendered.balancer = None;
+    }
+    Ok(rendered)
 }
 
 /// A frame of `renderer` as the facade reports it: its devices, kernel, balancer and what
@@ -104,7 +124,7 @@ fn rendered_of(renderer: &Renderer<Tracer>, params: &FrameParams, frame: FrameRe
         rays: frame.tracers.iter().map(|t| t.rays).sum(),
         rejected_samples: frame.rejected_samples,
         kernel_fallbacks: frame.kernel_fallbacks,
-        spp: params.spp,
+        spp: frame.spp,
         method_report: frame.method_report,
         tracers: frame.tracers,
         film: frame.film,
@@ -144,12 +164,11 @@ fn ranks_rendered(r: &RankRenderer<Tracer>, params: &FrameParams, frame: RankFra
     }
 }
 
-/// The devices a render runs on: one tracer rendering the frame as one band, or several under
-/// the renderer's balancer. Created once; an animation brings them from frame to frame with
-/// the updater's commits.
+/// The devices a render runs on: this process's, one or several under the renderer's balancer
+/// (one renders the frame as one band), or a rank's in a job of several processes. Created
+/// once; an animation brings them from frame to frame with the updater's commits.
 pub enum Tracers {
-    One(Box<Tracer>),
-    Many(Renderer<Tracer>),
+    Local(Renderer<Tracer>),
     /// This rank's devices in a job of several processes (`crate::distributed`): every call
     /// is a collective operation of the ranks.
     Ranks(Box<RankRenderer<Tracer>>),
@@ -184,11 +203,7 @@ impl platoon_core::denoise::DeviceFilter for Tracers {
         guides: &platoon_core::denoise::Guides,
     ) -> std::result::Result<platoon_core::output::Film, String> {
         match self {
-            Tracers::One(t) => t
-                .filter_atrous_timed(film, guides)
-                .map(|(film, _)| film)
-                .map_err(|e| format!("filtering the frame on its device: {e}")),
-            Tracers::Many(r) => r.filter_atrous(film, guides),
+            Tracers::Local(r) => r.filter_atrous(film, guides),
             Tracers::Ranks(r) => r.local().filter_atrous(film, guides),
         }
     }
@@ -224,20 +239,17 @@ impl Tracers {
         Tracers::of(tracers, balancer)
     }
 
-    /// One tracer alone, or several under a renderer splitting lines by `balancer`.
-    fn of(mut tracers: Vec<Tracer>, balancer: &str) -> Result<Tracers> {
-        if tracers.len() == 1 {
-            return Ok(Tracers::One(Box::new(tracers.remove(0))));
-        }
+    /// The tracers under a renderer splitting lines by `balancer` (one alone renders the
+    /// whole frame on its worker thread).
+    fn of(tracers: Vec<Tracer>, balancer: &str) -> Result<Tracers> {
         let policy = crate::devices::balancer(balancer)?;
-        Ok(Tracers::Many(Renderer::new(tracers, policy)))
+        Ok(Tracers::Local(Renderer::new(tracers, policy)))
     }
 
     /// The devices rendering in this process.
     pub fn count(&self) -> usize {
         match self {
-            Tracers::One(_) => 1,
-            Tracers::Many(r) => r.alive().len(),
+            Tracers::Local(r) => r.alive().len(),
             Tracers::Ranks(r) => r.local().alive().len(),
         }
     }
@@ -245,8 +257,7 @@ impl Tracers {
     /// Device memory each tracer of this process holds, in bytes.
     pub fn device_bytes(&self) -> Vec<u64> {
         match self {
-            Tracers::One(t) => vec![t.device_bytes()],
-            Tracers::Many(r) => r.with_tracers(|t| t.device_bytes()),
+            Tracers::Local(r) => r.with_tracers(|t| t.device_bytes()),
             Tracers::Ranks(r) => r.local().with_tracers(|t| t.device_bytes()),
         }
     }
@@ -270,11 +281,7 @@ impl Tracers {
     /// Brings every tracer to the generation `commit` was made for.
     pub fn apply_commit(&mut self, commit: &Arc<Commit>, frame: u32) -> Result<()> {
         match self {
-            Tracers::One(t) => {
-                t.apply_commit(commit)
-                    .context("uploading the frame's changes")?;
-            }
-            Tracers::Many(r) => {
+            Tracers::Local(r) => {
                 r.apply_commit(commit, frame)
                     .context("uploading the frame's changes")?;
             }
@@ -287,7 +294,7 @@ impl Tracers {
     }
 
     /// Renders a frame of `scene` (the scene the tracers hold) after the method's preparation;
-    /// `progress` hears the samples done (one tracer only: several render on their own threads).
+    /// `progress` hears the samples done (one tracer only: several render at once).
     pub fn render(
         &mut self,
         scene: &GpuScene,
@@ -295,16 +302,12 @@ impl Tracers {
         progress: &mut dyn FnMut(u32),
     ) -> Result<Rendered> {
         match self {
-            Tracers::One(t) => {
-                let params = crate::method_update::on_tracer(t, scene, params)?;
-                render_bands(t, &params, &[whole_frame(&params)], progress)
-            }
-            Tracers::Many(r) => {
+            Tracers::Local(r) => {
                 params
                     .check_split(r.alive().len())
                     .map_err(anyhow::Error::msg)?;
                 let params = crate::method_update::on_renderer(r, scene, params)?;
-                render_frame(r, &params)
+                render_on(r, &params, progress)
             }
             Tracers::Ranks(r) => {
                 let (params, frame) = crate::distributed::render(r, scene, params)?;

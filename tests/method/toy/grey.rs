@@ -1,19 +1,25 @@
-//! A toy rendering method from outside platoon's crates, the whole of it in this file: "grey",
-//! the path tracer's image with its colour taken out, at a strength, by a pass of its own after
-//! assembly. It is one registration (`register`) away from the front door, the technique
-//! strings and the wire between ranks: its kind (`GreyKind`: its one setting, how it builds the
-//! frame's method, its sweep) and its unit (`Grey`: what the core asks of a method). Its device
-//! side is the path kernel's, which a method registered at run time gets.
+//! A toy rendering method from outside platoon's crates, the whole of it in this file and its
+//! kernel (grey.comp): "grey", the path tracer's image with its colour taken out, at a
+//! strength, by a kernel of its own at the end of each band. It is one registration
+//! (`register`) away from the front door, the technique strings and the wire between ranks:
+//! its kind (`GreyKind`: its one setting, how it builds the frame's method, its sweep), its
+//! unit (`Grey`: what the core asks of a method) and its device half (`GreyPasses`: the path
+//! tracer's passes, then its kernel on the band's sums).
 
 use std::sync::Once;
+use std::time::Duration;
 
 use platoon::core::flatten::features::KernelOption;
-use platoon::core::frame::{Band, FrameParams};
+use platoon::core::frame::{FrameParams, Span};
 use platoon::core::method::kind::MethodKind;
 use platoon::core::method::registry;
 use platoon::core::method::render_method::RenderMethod;
 use platoon::core::method::settings::{Setting, Settings, Value, ValueKind};
 use platoon::core::Method;
+use platoon::tracer::device::{
+    path_passes, vk, DeviceMethodKind, Gpu, MethodPasses, Push, Recorder, METHOD_WORDS,
+};
+use platoon::tracer::Result as DeviceResult;
 
 /// The frame's state of the method.
 #[derive(Debug, PartialEq)]
@@ -22,11 +28,6 @@ pub struct Grey {
     /// Paths end at their second diffuse vertex: a kernel option of the method, a define of
     /// the path kernel it renders with.
     pub one_bounce: bool,
-}
-
-/// A pixel's grey: its luminance (Rec. 709).
-pub fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 
 impl RenderMethod for Grey {
@@ -48,17 +49,79 @@ impl RenderMethod for Grey {
     fn approximations(&self) -> Vec<String> {
         vec![format!("colour taken out at strength {}", self.strength)]
     }
-    /// Every pixel's sums moved towards their luminance (linear, so the same on sums as on
-    /// means, and on any split).
-    fn finish(&self, _params: &FrameParams, bands: &mut [Band]) {
-        for s in bands.iter_mut().flat_map(|b| b.sums.iter_mut()) {
-            let y = luminance(*s);
-            for c in s.iter_mut() {
-                *c = (1.0 - self.strength) * *c + self.strength * y;
-            }
-        }
+}
+
+/// Its kernel, by the name it registers it under.
+const GREY_KERNEL: &str = "toy/grey.comp";
+
+/// The device half: the path tracer's passes, then at the end of the band its kernel moves the
+/// sums towards their luminance (push word 0: the strength).
+pub struct GreyPasses {
+    path: Box<dyn MethodPasses>,
+}
+
+impl MethodPasses for GreyPasses {
+    fn kernels(&self, params: &FrameParams, cpu: bool) -> Vec<&'static str> {
+        let mut kernels = self.path.kernels(params, cpu);
+        kernels.push(GREY_KERNEL);
+        kernels
+    }
+    fn prepare(&mut self, gpu: &mut Gpu, params: &FrameParams) -> DeviceResult<[u64; 4]> {
+        self.path.prepare(gpu, params)
+    }
+    fn push_words(&self, params: &FrameParams) -> [u32; METHOD_WORDS] {
+        self.path.push_words(params)
+    }
+    fn clears(&self, params: &FrameParams, span: Span) -> Vec<(vk::Buffer, u64, u64)> {
+        self.path.clears(params, span)
+    }
+    fn samples_per_pass(&self, params: &FrameParams) -> u32 {
+        self.path.samples_per_pass(params)
+    }
+    fn begin_band(&mut self, rec: &mut Recorder, push: &Push) -> DeviceResult<Duration> {
+        self.path.begin_band(rec, push)
+    }
+    fn pass(
+        &mut self,
+        rec: &mut Recorder,
+        push: &Push,
+        groups: (u32, u32),
+    ) -> DeviceResult<Duration> {
+        self.path.pass(rec, push, groups)
+    }
+    fn end_band(&mut self, rec: &mut Recorder, push: &Push) -> DeviceResult<Duration> {
+        let strength = rec
+            .params
+            .method
+            .state::<Grey>()
+            .expect("grey's frames")
+            .strength;
+        let mut method = [0; METHOD_WORDS];
+        method[0] = strength.to_bits();
+        let push = Push { method, ..*push };
+        let groups = rec.band_groups(&push);
+        rec.dispatch(GREY_KERNEL, &push, groups)
+    }
+    fn report(&mut self, counters: &[u32]) -> Vec<(String, String)> {
+        self.path.report(counters)
+    }
+    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
+        self.path.per_pixel(params, span)
+    }
+    fn destroy(&mut self, gpu: &mut Gpu) {
+        self.path.destroy(gpu);
     }
 }
+
+static GREY_DEVICE: DeviceMethodKind = DeviceMethodKind {
+    name: "grey",
+    shaders: &[(GREY_KERNEL, include_str!("grey.comp"))],
+    passes: || {
+        Box::new(GreyPasses {
+            path: path_passes(),
+        })
+    },
+};
 
 pub struct GreyKind;
 
@@ -123,10 +186,10 @@ impl MethodKind for GreyKind {
 
 pub static GREY: GreyKind = GreyKind;
 
-/// The registration: one line, once per process.
+/// The registration of both halves: one line, once per process.
 pub fn register() {
     static ONCE: Once = Once::new();
-    ONCE.call_once(|| registry::register(&GREY).expect("grey registers"));
+    ONCE.call_once(|| platoon::register_method(&GREY, Some(&GREY_DEVICE)).expect("grey registers"));
 }
 
 /// The method at `strength`, its paths ending at their second diffuse vertex with

@@ -14,6 +14,9 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// What the command takes (`--help`; printed after a mistake too).
+const USAGE: &str = "usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --many-lights | --cornell-nodes | --cornell-cut N | --spheres | --atrium | --clearcoat | --diffuse-transmission | --sheen | --volume | --iridescence | --anisotropy | --dispersion]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]";
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut out = None;
@@ -74,6 +77,22 @@ fn main() -> ExitCode {
                 .find(|(flag, _)| *flag == other)
             {
                 Some(&(_, make)) => material_scene = Some(make),
+                None if other == "--help" || other == "-h" => {
+                    println!("{USAGE}");
+                    return ExitCode::SUCCESS;
+                }
+                // A mistyped option would otherwise become the output's name.
+                None if other.starts_with('-') => {
+                    eprintln!("error: unknown option {other}\n{USAGE}");
+                    return ExitCode::FAILURE;
+                }
+                None if out.is_some() => {
+                    eprintln!(
+                        "error: one output file, not {} and {other}\n{USAGE}",
+                        out.unwrap_or_default()
+                    );
+                    return ExitCode::FAILURE;
+                }
                 None => out = Some(other.to_string()),
             },
         }
@@ -90,7 +109,7 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let Some(out) = out else {
-        eprintln!("usage: platoon-scenegen OUT.glb [--grid N] [--unique] [--glossy-glass | --conference-room | --many-lights | --cornell-nodes | --cornell-cut N | --spheres | --atrium | --clearcoat | --diffuse-transmission | --sheen | --volume | --iridescence | --anisotropy | --dispersion]\n       platoon-scenegen --adversarial DIR [--shared SCENES] [--mutants N] [--seed S]");
+        eprintln!("{USAGE}");
         return ExitCode::FAILURE;
     };
     let scene = if glossy_glass {

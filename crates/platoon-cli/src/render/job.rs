@@ -55,52 +55,30 @@ impl Job {
         };
         let p = &setup.params;
         let aovs: Vec<&str> = setup.aovs.iter().map(|a| a.name()).collect();
-        let adaptive = setup.batching.adaptive.map_or("off".into(), |a| {
-            format!(
-                "threshold {}, from {}",
-                a.threshold,
-                or(a.min_spp, "its default")
-            )
-        });
+        let adaptive_min_spp = setup
+            .batching
+            .adaptive
+            .map_or("none".into(), |a| or(a.min_spp, "its default"));
+        // The request's options that change the image come from its table (a new one is part
+        // of the job without a line here); the rest are the scene's, the camera's, the
+        // method's and the outputs'.
         let settings = format!(
-            "scene {scene}; environment {env}; camera {camera}, aperture {}, focus {}; {}x{}, \
-             {} spp, time limit {}, max depth {}, seed {}{}, filter {}, crop {}, film {}, AO \
-             distance {}; {}; \
-             kernel {}; {} sampling; {} fps; \
-             AOVs {}; denoiser {}; adaptive {adaptive}; view {}; EXR {}; {} bits, JPEG quality {}",
-            o.aperture_radius,
-            or(o.focus_distance, "auto"),
-            p.width,
-            p.height,
-            p.spp,
-            or(
-                p.time_limit.map(|t| format!("{} s", t.as_secs_f64())),
-                "none"
-            ),
-            p.path_loop.max_depth,
-            p.seed,
-            if args.animated_seed { " + frame" } else { "" },
-            p.filter.describe(),
-            p.crop.map_or("none".into(), |c| format!(
-                "{},{},{},{} of {}x{}",
-                c.x, c.y, p.width, p.height, c.image_width, c.image_height
-            )),
-            if p.transparent_film {
-                "transparent"
+            "scene {scene} ({}); environment {env}; camera {camera}; {}{}; {}; adaptive min \
+             spp {adaptive_min_spp}; {} fps; AOVs {}; view {}; EXR {}; {} bits, JPEG quality {}",
+            setup.load.describe(),
+            setup.frame_options,
+            if args.animated_seed {
+                ", seed + frame"
             } else {
-                "opaque"
+                ""
             },
-            p.ao_distance,
-            p.method.unit().describe(),
-            format!("{:?}", p.method.path().kernel).to_lowercase(),
-            setup.sampling,
+            method(&p.method),
             args.fps,
             if aovs.is_empty() {
                 "none".into()
             } else {
                 aovs.join(",")
             },
-            format!("{:?}", setup.denoiser).to_lowercase(),
             setup.image.view.describe(),
             setup.image.exr.describe(),
             setup.image.display.bits,
@@ -152,6 +130,18 @@ impl Job {
         }
         params
     }
+}
+
+/// The method as a person reads it, with every one of its settings (its kind's, by key):
+/// frames of other settings are other images.
+fn method(method: &platoon::core::Method) -> String {
+    let settings: Vec<String> = method
+        .settings()
+        .0
+        .iter()
+        .map(|(key, value)| format!("{key} {value}"))
+        .collect();
+    format!("{} ({})", method.unit().describe(), settings.join(", "))
 }
 
 /// A file as a job names it: its whole path, and its size and modification time, which change

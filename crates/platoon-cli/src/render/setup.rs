@@ -25,6 +25,12 @@ use super::args::{FrameArgs, MemoryArg, RenderArgs};
 /// parameters and the tracers' options.
 pub(super) struct Setup {
     pub(super) scene: platoon::core::Scene,
+    /// How the scene was read (its material variant, its textures' levels and budget): what
+    /// makes its images what they are beside the file.
+    pub(super) load: platoon::core::scene::gltf_load::LoadOptions,
+    /// The request's options that change the image, as a person reads them (its table's:
+    /// `platoon::request::options::image_settings`): part of a render job.
+    pub(super) frame_options: String,
     pub(super) options: PrepareOptions,
     pub(super) params: FrameParams,
     pub(super) tracers: Vec<platoon::tracer::TracerOptions>,
@@ -235,6 +241,8 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         image,
         camera: request.camera.clone(),
         scene: loaded,
+        load: request.load.clone(),
+        frame_options: platoon::request::options::image_settings(&request).join(", "),
         options,
         params: request.frame_params(placeholder),
         tracers,

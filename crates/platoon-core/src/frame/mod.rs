@@ -3,20 +3,14 @@
 //! tracers and lets the balancer live here.
 
 pub mod adaptive;
-pub mod aov;
 pub mod aov_params;
-mod crop;
-pub mod cryptomatte;
 /// CPU fake tracers for tests (this crate's, and platoon-distribute's through the feature
 /// `test-support`).
 #[cfg(any(test, feature = "test-support"))]
 pub mod fakes;
 pub mod fault;
 mod film_state;
-pub mod hit_geometry;
-pub mod light_pass;
 pub mod light_reuse;
-pub mod motion;
 mod outcome;
 mod path_loop;
 mod pixel_filter;
@@ -27,10 +21,12 @@ pub mod world_cache;
 
 use std::time::Duration;
 
-pub use crop::{Crop, Region};
+pub use crate::balance::Span;
 pub use film_state::FilmState;
-pub use path_loop::{PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH};
+pub use path_loop::{Knob, KnobValue, PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, KNOBS};
 pub use pixel_filter::PixelFilter;
+pub use platoon_aov::{aov, cryptomatte, hit_geometry, light_pass, motion};
+pub use platoon_aov::{Crop, Region};
 
 use crate::output::Film;
 use crate::scene::camera::Camera;
@@ -45,7 +41,10 @@ pub const DEFAULT_SAMPLES_PER_PASS: u32 = 16;
 /// The ambient-occlusion pass's distance by default: Cycles' (10 m).
 pub const DEFAULT_AO_DISTANCE: f32 = 10.0;
 
-#[derive(Clone, Debug, PartialEq)]
+/// What one frame renders: the same on every device and rank. Its encoding between ranks is
+/// derived (serde), but for the method (sent by its settings and state,
+/// `platoon-distribute`'s `method_wire`) and the film (each rank's span only).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FrameParams {
     pub width: u32,
     pub height: u32,
@@ -54,6 +53,7 @@ pub struct FrameParams {
     pub path_loop: PathLoop,
     /// The rendering method and its options (`crate::method`; path tracing by default, whose
     /// own options are its state: `method::path::PathTracing`).
+    #[serde(skip, default = "crate::method::Method::path_tracing")]
     pub method: crate::method::Method,
     pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
@@ -63,6 +63,7 @@ pub struct FrameParams {
     /// of each pixel (wrapping at 2^32, which a converging view does not reach).
     pub first_sample: u32,
     /// The film this frame continues (its earlier sums, its converged pixels).
+    #[serde(skip)]
     pub film: FilmState,
     pub samples_per_pass: u32,
     /// Stop adding passes once this much wall time has gone (at least one pass is rendered):
@@ -86,7 +87,7 @@ pub struct FrameParams {
 }
 
 /// What the frame's pixels hold.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Output {
     /// Radiance (the render).
     #[default]
@@ -121,6 +122,43 @@ impl Output {
 }
 
 impl FrameParams {
+    /// What is wrong with the frame, if anything: the rules every tracer holds a band to (the
+    /// renderer checks them once before a frame goes to its tracers, so a wrong frame is
+    /// refused rather than failing, and dropping, every tracer; the tracer checks them again
+    /// for a caller who renders bands on it directly). A request's rules say more, naming its
+    /// options (`platoon::Request::validate`).
+    pub fn check(&self) -> Result<(), String> {
+        if self.output.one_sample() && self.spp != 1 {
+            return Err(format!(
+                "the {:?} output is one sample per pixel: set spp to 1",
+                self.output
+            ));
+        }
+        self.path_loop.check()?;
+        let pixels = self.width as usize * self.height as usize;
+        if let Some(sums) = &self.film.accumulated {
+            if sums.len() != pixels {
+                return Err(format!(
+                    "the accumulated sums hold {} pixels, the frame {}x{}",
+                    sums.len(),
+                    self.width,
+                    self.height
+                ));
+            }
+        }
+        if let Some(c) = &self.film.converged {
+            if self.film.accumulated.is_none() || c.len() != pixels {
+                return Err(
+                    "converged pixels need the accumulated sums, one flag per pixel".into(),
+                );
+            }
+            if !self.method.is_path_tracing() {
+                return Err("adaptive sampling (converged pixels) is the path tracer's".into());
+            }
+        }
+        self.method.unit().validate(self)
+    }
+
     /// Whether the frame may be split between `devices`: a time limit cuts one device's
     /// frame only (bands cut at different times would break the image's independence from
     /// the split).
@@ -165,48 +203,6 @@ impl FrameParams {
             ao_distance: DEFAULT_AO_DISTANCE,
             output: Output::Radiance,
         }
-    }
-}
-
-/// A band of the frame: the pixels [begin, end) in row-major order. It may start and end within
-/// a line: with whole lines as the unit, the cut between two devices is off by up to half a
-/// line, which at 96 lines and 3 devices alone idles 1.5% (docs/BALANCING.md).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Span {
-    pub begin: u32,
-    pub end: u32,
-}
-
-impl Span {
-    pub fn new(begin: u32, end: u32) -> Span {
-        Span { begin, end }
-    }
-    /// Lines [y0, y1) of a frame `width` pixels wide.
-    pub fn lines(width: u32, y0: u32, y1: u32) -> Span {
-        Span::new(y0 * width, y1 * width)
-    }
-    pub fn len(&self) -> u32 {
-        self.end.saturating_sub(self.begin)
-    }
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-    /// The first line the span touches.
-    pub fn first_line(&self, width: u32) -> u32 {
-        self.begin / width.max(1)
-    }
-    /// One past the last line the span touches.
-    pub fn end_line(&self, width: u32) -> u32 {
-        if self.is_empty() {
-            self.first_line(width)
-        } else {
-            self.end.div_ceil(width.max(1))
-        }
-    }
-    /// Pixels of line `y` inside the span.
-    pub fn pixels_in_line(&self, width: u32, y: u32) -> u32 {
-        let (a, b) = (y * width, (y + 1) * width);
-        self.end.min(b).saturating_sub(self.begin.max(a))
     }
 }
 

@@ -36,6 +36,10 @@ pub struct TracerFailure {
 pub enum RenderError {
     #[error("no tracer left: {0}")]
     NoTracers(String),
+    /// The frame breaks a rule every tracer holds it to (`FrameParams::check`): refused before
+    /// any tracer renders it, so none is dropped for it.
+    #[error("{0}")]
+    Invalid(String),
     /// The bands came back not covering the frame once (a fault of the claims, never of a
     /// tracer): no frame rather than a wrong one.
     #[error("the frame's bands do not cover it exactly: {0}")]

@@ -10,7 +10,7 @@ pub const DEFAULT_MAX_DEPTH: u32 = 1024;
 /// The path depth Russian roulette starts at.
 pub const DEFAULT_RR_DEPTH: u32 = 3;
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PathLoop {
     /// Longest path in segments (Mitsuba's convention: 1 = emitters seen directly, 2 = direct light).
     pub max_depth: u32,
@@ -59,6 +59,26 @@ impl Default for PathLoop {
 }
 
 impl PathLoop {
+    /// What these knobs approximate, each as the output's metadata lists it: the biased knobs
+    /// (`Knob::biased`), each when set (a test holds every biased knob of `KNOBS` to a line
+    /// here and every unbiased one to none).
+    pub fn approximations(&self) -> Vec<String> {
+        let mut a = Vec::new();
+        if self.max_depth < DEFAULT_MAX_DEPTH {
+            a.push(format!("path depth capped at {}", self.max_depth));
+        }
+        if let Some(c) = self.clamp_indirect {
+            a.push(format!("light after the first bounce clamped at {c}"));
+        }
+        if self.deterministic_termination {
+            a.push("deterministic path termination: no path outlives log2(spp) tests".into());
+        }
+        if self.single_diffuse_bounce {
+            a.push("a single diffuse bounce of indirect light".into());
+        }
+        a
+    }
+
     /// What is wrong with these values, if anything (the tracer's band refuses them too: a
     /// frame may come from an embedder without the request's validation).
     pub fn check(&self) -> Result<(), String> {
@@ -75,5 +95,233 @@ impl PathLoop {
             return Err("the indirect clamp must be a positive radiance".into());
         }
         Ok(())
+    }
+}
+
+/// How a knob's value is written (`max-depth=2`, `rr-survival=30`, `clamp=10`, `dpt`) and held
+/// (one word: the count, the percentage, the f32's bits, 0 for a switch).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KnobValue {
+    /// A whole number of at least `min`.
+    Count { min: u32 },
+    /// A percentage in 1..=100, set as its fraction.
+    Percent,
+    /// A positive finite number.
+    Positive,
+    /// On when named.
+    Switch,
+}
+
+/// One knob of the path loop, declared once: its token (the lab's techniques: `TOKEN=VALUE`,
+/// or `TOKEN` for a switch), how its value is written, whether it changes what the estimate
+/// converges to, and what it sets. A new knob is a field, an entry here and its shader.
+pub struct Knob {
+    pub token: &'static str,
+    pub value: KnobValue,
+    pub biased: bool,
+    /// Sets the knob to `v` (the count, the fraction, the number; 1 for a switch).
+    set: fn(&mut PathLoop, f32),
+}
+
+/// Every knob of the path loop the lab sweeps.
+pub const KNOBS: &[Knob] = &[
+    // Paths of at most N segments.
+    Knob {
+        token: "max-depth",
+        value: KnobValue::Count { min: 1 },
+        biased: true,
+        set: |l, v| l.max_depth = v as u32,
+    },
+    // Russian roulette from depth N on.
+    Knob {
+        token: "rr-depth",
+        value: KnobValue::Count { min: 0 },
+        biased: false,
+        set: |l, v| l.rr_depth = v as u32,
+    },
+    // Russian roulette's survival scaled to P percent.
+    Knob {
+        token: "rr-survival",
+        value: KnobValue::Percent,
+        biased: false,
+        set: |l, v| l.rr_survival = v,
+    },
+    // Russian roulette with a fixed survival of P percent.
+    Knob {
+        token: "rr-fixed",
+        value: KnobValue::Percent,
+        biased: false,
+        set: |l, v| l.rr_fixed = Some(v),
+    },
+    // Contributions after the first bounce clamped at C.
+    Knob {
+        token: "clamp",
+        value: KnobValue::Positive,
+        biased: true,
+        set: |l, v| l.clamp_indirect = Some(v),
+    },
+    // Next-event estimation picks every light alike.
+    Knob {
+        token: "uniform-lights",
+        value: KnobValue::Switch,
+        biased: false,
+        set: |l, _| l.uniform_light_selection = true,
+    },
+    // Every effect compiled into the kernel, not only the scene's.
+    Knob {
+        token: "generic-kernel",
+        value: KnobValue::Switch,
+        biased: false,
+        set: |l, _| l.generic_kernel = true,
+    },
+    // Deterministic path termination instead of Russian roulette.
+    Knob {
+        token: "dpt",
+        value: KnobValue::Switch,
+        biased: true,
+        set: |l, _| l.deterministic_termination = true,
+    },
+    // Paths end at their second non-delta vertex.
+    Knob {
+        token: "single-bounce",
+        value: KnobValue::Switch,
+        biased: true,
+        set: |l, _| l.single_diffuse_bounce = true,
+    },
+];
+
+impl Knob {
+    /// How it is written with a placeholder for its value (`max-depth=N`, `dpt`): what a list
+    /// of the techniques shows.
+    pub fn written(&self) -> String {
+        let t = self.token;
+        match self.value {
+            KnobValue::Switch => t.to_string(),
+            KnobValue::Count { .. } => format!("{t}=N"),
+            KnobValue::Percent => format!("{t}=PERCENT"),
+            KnobValue::Positive => format!("{t}=C"),
+        }
+    }
+
+    /// The word `value` (the text after `=`, None for a bare token) holds, or what is wrong.
+    pub fn parse(&self, value: Option<&str>) -> Result<u32, String> {
+        let t = self.token;
+        match (self.value, value) {
+            (KnobValue::Switch, None) => Ok(0),
+            (KnobValue::Switch, Some(_)) => Err(format!("{t} takes no value")),
+            (KnobValue::Count { min }, v) => match v.map(str::parse::<u32>) {
+                Some(Ok(n)) if n >= min => Ok(n),
+                _ => Err(format!(
+                    "{t} needs a whole number of at least {min}, e.g. {t}=2"
+                )),
+            },
+            (KnobValue::Percent, v) => match v.map(str::parse::<u32>) {
+                Some(Ok(p @ 1..=100)) => Ok(p),
+                _ => Err(format!("{t} needs a percentage in 1..=100, e.g. {t}=50")),
+            },
+            (KnobValue::Positive, v) => match v.map(str::parse::<f32>) {
+                Some(Ok(c)) if c > 0.0 && c.is_finite() => Ok(c.to_bits()),
+                _ => Err(format!("{t} needs a positive number, e.g. {t}=10")),
+            },
+        }
+    }
+
+    /// `word` written as `parse` reads it back (`TOKEN=VALUE`, or `TOKEN` for a switch).
+    pub fn format(&self, word: u32) -> String {
+        let t = self.token;
+        match self.value {
+            KnobValue::Switch => t.to_string(),
+            KnobValue::Count { .. } | KnobValue::Percent => format!("{t}={word}"),
+            KnobValue::Positive => format!("{t}={}", f32::from_bits(word)),
+        }
+    }
+
+    /// Sets the knob of `l` to `word`.
+    pub fn apply(&self, l: &mut PathLoop, word: u32) {
+        let v = match self.value {
+            KnobValue::Count { .. } => word as f32,
+            KnobValue::Percent => word as f32 / 100.0,
+            KnobValue::Positive => f32::from_bits(word),
+            KnobValue::Switch => 1.0,
+        };
+        (self.set)(l, v)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    impl Knob {
+        fn named(token: &str) -> Option<&'static Knob> {
+            KNOBS.iter().find(|k| k.token == token)
+        }
+    }
+
+    /// Each knob sets its own field and only it: the loop differs from the default in one
+    /// field, and a knob's text reads back as its word.
+    #[test]
+    fn every_knob_sets_its_field_and_reads_back() {
+        let fields = |l: &PathLoop| {
+            [
+                format!("{}", l.max_depth),
+                format!("{}", l.rr_depth),
+                format!("{}", l.rr_survival),
+                format!("{:?}", l.rr_fixed),
+                format!("{:?}", l.clamp_indirect),
+                format!("{}", l.uniform_light_selection),
+                format!("{}", l.generic_kernel),
+                format!("{}", l.deterministic_termination),
+                format!("{}", l.single_diffuse_bounce),
+            ]
+        };
+        let defaults = fields(&PathLoop::default());
+        for (i, knob) in KNOBS.iter().enumerate() {
+            let text = match knob.value {
+                KnobValue::Switch => None,
+                KnobValue::Positive => Some("2.5"),
+                _ => Some("7"),
+            };
+            let word = knob.parse(text).unwrap();
+            assert_eq!(knob.format(word), knob.format(knob.parse(text).unwrap()));
+            let mut l = PathLoop::default();
+            knob.apply(&mut l, word);
+            let changed: Vec<usize> = (0..defaults.len())
+                .filter(|&f| fields(&l)[f] != defaults[f])
+                .collect();
+            assert_eq!(changed, [i], "{} changed {changed:?}", knob.token);
+        }
+        assert_eq!(
+            Knob::named("rr-survival").unwrap().format(30),
+            "rr-survival=30"
+        );
+        let mut l = PathLoop::default();
+        Knob::named("rr-fixed").unwrap().apply(&mut l, 80);
+        assert_eq!(l.rr_fixed, Some(0.8));
+        assert!(Knob::named("max-depth").unwrap().parse(Some("0")).is_err());
+        assert!(Knob::named("dpt").unwrap().parse(Some("1")).is_err());
+        assert!(Knob::named("clamp").unwrap().parse(Some("-1")).is_err());
+    }
+
+    /// A biased knob, set, is listed among the approximations; an unbiased one is not.
+    #[test]
+    fn every_biased_knob_and_only_those_is_an_approximation() {
+        assert!(PathLoop::default().approximations().is_empty());
+        for knob in KNOBS {
+            let text = match knob.value {
+                KnobValue::Switch => None,
+                KnobValue::Positive => Some("2.5"),
+                _ => Some("2"),
+            };
+            let mut l = PathLoop::default();
+            knob.apply(&mut l, knob.parse(text).unwrap());
+            let listed = l.approximations();
+            assert_eq!(
+                listed.len(),
+                knob.biased as usize,
+                "{}: {listed:?}",
+                knob.token
+            );
+        }
     }
 }

@@ -8,7 +8,9 @@ use std::fmt;
 
 /// The filter, with its standard width (a kernel define each, `method::variant`; the sampling
 /// in `shaders/path/pixel_filter.glsl`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub enum PixelFilter {
     /// Uniform over the pixel (1 px): the sharpest, aliasing the most.
     #[default]

@@ -23,6 +23,9 @@ pub struct FrameResult {
     /// Each pixel's radiance sum (with `FrameParams::accumulated` when the frame continued
     /// one): what a film accumulating over frames keeps.
     pub sums: Vec<[f32; 3]>,
+    /// Samples each pixel holds: the least of the bands' (below `FrameParams::spp` when a
+    /// time limit ended the frame's band early).
+    pub spp: u32,
     pub tracers: Vec<TracerStats>,
     /// Rays traced in each line of the frame (its cost map, as the balancer saw it).
     pub line_rays: Vec<u64>,
@@ -185,6 +188,18 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         self.render_frame_planned(params, true)
     }
 
+    /// Renders a frame as `render_frame` does; `progress` hears the samples each pixel holds
+    /// as passes end when one tracer renders it (several render their bands at once: no one
+    /// count says how far the frame is).
+    pub fn render_frame_with_progress(
+        &mut self,
+        params: &FrameParams,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<FrameResult, RenderError> {
+        let planned = self.plan(params, true)?;
+        self.render_bands(params, planned, true, progress)
+    }
+
     /// Renders a frame, cut anew by the balancer when `rebalance`, else in the last frame's
     /// bands (when they still fit: same frame size, same tracers). The balancer learns from the
     /// frame either way.
@@ -193,6 +208,12 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         params: &FrameParams,
         rebalance: bool,
     ) -> Result<FrameResult, RenderError> {
+        let planned = self.plan(params, rebalance)?;
+        self.render_bands(params, planned, true, &mut |_| {})
+    }
+
+    /// The frame's bands: cut anew when `rebalance`, else the last frame's when they fit.
+    fn plan(&mut self, params: &FrameParams, rebalance: bool) -> Result<Vec<Span>, RenderError> {
         if self.tracers.is_empty() {
             return Err(RenderError::NoTracers("every tracer has failed".into()));
         }
@@ -204,7 +225,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             self.last_bands.clone()
         };
         self.last_bands = planned.clone();
-        self.render_bands(params, planned, true)
+        Ok(planned)
     }
 
     /// Renders a side pass of a frame (a denoiser's guides): in the last frame's bands when
@@ -222,7 +243,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
             let at = |k: u64| (pixels as u64 * k / n) as u32;
             (0..n).map(|k| Span::new(at(k), at(k + 1))).collect()
         };
-        self.render_bands(params, bands, false)
+        self.render_bands(params, bands, false, &mut |_| {})
     }
 
     fn last_bands_fit(&self, pixels: u32) -> bool {
@@ -237,9 +258,10 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         params: &FrameParams,
         planned: Vec<Span>,
         learn: bool,
+        progress: &mut dyn FnMut(u32),
     ) -> Result<FrameResult, RenderError> {
         let start = Instant::now();
-        let part = self.render_part(params, planned, learn, (0, params.height))?;
+        let part = self.render_part(params, planned, learn, (0, params.height), progress)?;
         Ok(frame_of(params, part, start))
     }
 
@@ -267,7 +289,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                 Span::new(at(s.begin), at(s.end))
             })
             .collect();
-        self.render_part(params, planned, true, window)
+        self.render_part(params, planned, true, window, &mut |_| {})
     }
 
     /// The bands of `planned` rendered (failed tracers' by the survivors); the balancer,
@@ -278,14 +300,16 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         planned: Vec<Span>,
         learn: bool,
         window: (u32, u32),
+        progress: &mut dyn FnMut(u32),
     ) -> Result<PartResult, RenderError> {
+        params.check().map_err(RenderError::Invalid)?;
         let params = &Arc::new(params.clone());
         let mut g = Gathered::new(&self.tracers, &planned);
         // The first round: the planned bands, their tails shared when stealing; each
         // tracer's time in it, for idle and for the balancer.
         let mut times = match self.board(params, &planned) {
             Some(board) => stolen_round(&self.tracers, board, params, &mut g),
-            None => planned_round(&self.tracers, &planned, params, &mut g),
+            None => planned_round(&self.tracers, &planned, params, &mut g, progress),
         };
         self.recover(params, &mut g, &mut times)?;
         check_cover(&planned, &g.done)?;
@@ -390,7 +414,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
                 let round: Vec<Span> = (0..self.tracers.len())
                     .map(|_| shares.pop().unwrap_or_default())
                     .collect();
-                planned_round(&self.tracers, &round, params, g);
+                planned_round(&self.tracers, &round, params, g, &mut |_| {});
                 if !g.dead.is_empty() {
                     g.lost.append(&mut shares);
                     break;
@@ -451,6 +475,11 @@ pub fn frame_of(params: &FrameParams, part: PartResult, start: Instant) -> Frame
     FrameResult {
         film: assemble(params, &done),
         sums: gather_sums(params, &done),
+        spp: done
+            .iter()
+            .map(|b| b.spp(params))
+            .min()
+            .unwrap_or(params.spp),
         line_rays: line_rays_of(params, &done),
         per_pixel: per_pixel_in_order(&mut done),
         method_report: first_report(&done),
@@ -553,6 +582,25 @@ mod tests {
         );
         p.frame = frame;
         p
+    }
+
+    /// A frame that breaks a tracer's rules is refused once, before any tracer renders it:
+    /// every tracer stays, and the next frame renders.
+    #[test]
+    fn a_wrong_frame_is_refused_and_drops_no_tracer() {
+        let mut r = Renderer::new(
+            vec![Fake { slowness: 1 }, Fake { slowness: 1 }],
+            by_name("cost-aware").unwrap(),
+        );
+        let mut wrong = params(0);
+        wrong.path_loop.rr_survival = 0.0;
+        match r.render_frame(&wrong) {
+            Err(RenderError::Invalid(e)) => assert!(e.contains("survival"), "{e}"),
+            other => panic!("{:?}", other.map(|f| f.tracers.len())),
+        }
+        assert_eq!(r.alive(), vec![0, 1]);
+        assert!(r.failures().is_empty());
+        assert!(r.render_frame(&params(1)).is_ok());
     }
 
     #[test]

@@ -101,10 +101,13 @@ fn run_bands<T: BandTracer + Send + 'static>(
     tracers: &[(usize, Worker<T>)],
     work: &[Span],
     params: &Arc<FrameParams>,
+    progress: &mut dyn FnMut(u32),
 ) -> Vec<Outcome> {
+    // Samples done mean something for the frame when one tracer renders it all.
+    let report = tracers.len() == 1;
     for ((_, worker), &span) in tracers.iter().zip(work) {
         if !span.is_empty() {
-            worker.start_band(params, span);
+            worker.start_band(params, span, report);
         }
     }
     tracers
@@ -118,22 +121,24 @@ fn run_bands<T: BandTracer + Send + 'static>(
                     ..Default::default()
                 })
             } else {
-                worker.band()
+                worker.band(progress)
             };
             (slot, span, result)
         })
         .collect()
 }
 
-/// Renders `work[i]` on tracer i, all at once; returns each tracer's band time.
+/// Renders `work[i]` on tracer i, all at once; returns each tracer's band time. `progress`
+/// hears the samples done when one tracer renders.
 pub(crate) fn planned_round<T: BandTracer + Send + 'static>(
     tracers: &[(usize, Worker<T>)],
     work: &[Span],
     params: &Arc<FrameParams>,
     g: &mut Gathered,
+    progress: &mut dyn FnMut(u32),
 ) -> Vec<f64> {
     let mut times = vec![0.0; tracers.len()];
-    for (slot, span, result) in run_bands(tracers, work, params) {
+    for (slot, span, result) in run_bands(tracers, work, params, progress) {
         let id = tracers[slot].0;
         match result {
             Ok(band) => {

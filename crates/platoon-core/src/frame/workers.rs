@@ -15,9 +15,11 @@ use crate::flatten::commit::Commit;
 use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
 
 enum Job {
+    /// A band; with `report`, the samples done so far as its passes end (`Done::Progress`).
     Render {
         params: Arc<FrameParams>,
         span: Span,
+        report: bool,
     },
     /// The head of band `slot` of the board, then pieces claimed until none is left.
     Steal {
@@ -29,6 +31,8 @@ enum Job {
 }
 
 pub(crate) enum Done {
+    /// Samples of the band in progress done so far (a `Render` job with `report`).
+    Progress(u32),
     Band(Result<Band, TracerError>),
     Stolen(Stolen),
     Committed(Result<u64, TracerError>),
@@ -119,8 +123,17 @@ impl<T: BandTracer + Send + 'static> Worker<T> {
                         Err(_) => return,
                     };
                     let result = match job {
-                        Job::Render { params, span } => {
-                            Done::Band(run(|| t.render_band(&params, span, &mut |_| {})))
+                        Job::Render {
+                            params,
+                            span,
+                            report,
+                        } => {
+                            let mut progress = |done: u32| {
+                                if report {
+                                    let _ = outbox.send(Done::Progress(done));
+                                }
+                            };
+                            Done::Band(run(|| t.render_band(&params, span, &mut progress)))
                         }
                         Job::Steal {
                             params,
@@ -144,19 +157,25 @@ impl<T: BandTracer + Send + 'static> Worker<T> {
         }
     }
 
-    /// Starts rendering `span`; [`Worker::band`] waits for the result.
-    pub fn start_band(&self, params: &Arc<FrameParams>, span: Span) {
+    /// Starts rendering `span`, reporting its samples as they are done when `report`;
+    /// [`Worker::band`] waits for the result.
+    pub fn start_band(&self, params: &Arc<FrameParams>, span: Span, report: bool) {
         self.send(Job::Render {
             params: Arc::clone(params),
             span,
+            report,
         });
     }
 
-    pub fn band(&self) -> Result<Band, TracerError> {
-        match self.done.recv() {
-            Ok(Done::Band(result)) => result,
-            Ok(_) => Err("tracer thread answered out of turn".into()),
-            Err(_) => Err("tracer thread panicked".into()),
+    /// The band started last, `progress` hearing its samples done meanwhile (when reported).
+    pub fn band(&self, progress: &mut dyn FnMut(u32)) -> Result<Band, TracerError> {
+        loop {
+            match self.done.recv() {
+                Ok(Done::Progress(done)) => progress(done),
+                Ok(Done::Band(result)) => return result,
+                Ok(_) => return Err("tracer thread answered out of turn".into()),
+                Err(_) => return Err("tracer thread panicked".into()),
+            }
         }
     }
 

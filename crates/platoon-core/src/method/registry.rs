@@ -1,8 +1,10 @@
 //! The registration of every method: how it is chosen (`KINDS`: its name, settings and sweep;
 //! its frames carry its state as a `Method`, which renders it). A new method of this crate is
-//! one entry here (and one in the tracer's `method::passes_of` for its kernels); a method from
-//! outside registers its kind at run time (`register`), and its device side is the path
-//! kernel's (with its kernel options as defines) and its pass after assembly.
+//! one entry here (and one in the tracer's `method::registry::BUILT_IN` for its kernels); a
+//! method from outside registers its kind at run time (`register`; `platoon::register_method`
+//! registers it with its device half and GLSL, `platoon_tracer::device`), and without a device
+//! half its frames render with the path kernel (its kernel options as defines) and its pass
+//! after assembly.
 
 use std::sync::RwLock;
 

@@ -6,7 +6,7 @@ use std::fmt;
 
 use anyhow::{bail, Result};
 use platoon_core::denoise::Denoiser;
-use platoon_core::frame::FrameParams;
+use platoon_core::frame::{FrameParams, KNOBS};
 use platoon_core::method::kind::MethodKind;
 use platoon_core::method::path::{PathKernel, PathTracing, ResampledLight};
 use platoon_core::method::registry;
@@ -24,20 +24,10 @@ pub enum Technique {
     Bsdf,
     /// Light sampling only: emission found by BSDF rays is ignored after non-delta bounces.
     Light,
-    /// Paths of at most N segments (biased: light after N bounces is lost).
-    MaxDepth(u32),
-    /// Russian roulette from depth N on (unbiased).
-    RouletteFrom(u32),
-    /// Russian-roulette survival scaled by a factor in (0, 1] (unbiased; percent).
-    RouletteSurvival(u32),
-    /// Russian roulette with a fixed survival probability (percent) instead of one from the
-    /// throughput (unbiased).
-    RouletteFixed(u32),
-    /// Every contribution after the first bounce clamped to this largest component (biased;
-    /// the f32's bits, so the technique stays hashable).
-    Clamp(u32),
-    /// Next-event estimation picks every light alike instead of by power (unbiased).
-    UniformLights,
+    /// A knob of the path loop (`platoon_core::frame::KNOBS`: max depth, Russian roulette,
+    /// the clamp, uniform lights, the generic kernel, DPT, one bounce) with its value's word
+    /// (`Knob::parse`): its token, value and bias are the knob's own.
+    Loop { knob: usize, word: u32 },
     /// One sample per kernel pass: no path regeneration within a pass (Bikker ch. 6).
     NoRegeneration,
     /// NEE by resampled importance sampling over M candidate lights (unbiased; no MIS).
@@ -48,17 +38,10 @@ pub enum Technique {
     /// BSDF's f cos times radiance: ReSTIR DI's target, no reuse), combined with BSDF sampling
     /// by MIS; unbiased, punctual lights too.
     ResampledLight(u32),
-    /// Bikker's deterministic path termination instead of Russian roulette (biased).
-    DeterministicTermination,
-    /// Paths end at their second non-delta vertex (biased).
-    SingleDiffuseBounce,
     /// The streaming path tracer (Bikker's RR/SPT): the same estimator as MIS, other kernels.
     Streaming,
     /// Bikker's NOP: the last path of a pass not always completed (biased).
     CutLastPaths,
-    /// MIS with every effect compiled into the kernel, not only the scene's: the cost of not
-    /// specialising (same image, other time).
-    GenericKernel,
     /// MIS on the scene without one of its effects (its stand-in instead): what the effect
     /// costs in time and what removing it does to the image.
     Without(Effect),
@@ -103,6 +86,12 @@ impl Technique {
                 _ => bail!("technique {s:?}: {what} needs a whole number, e.g. {name}=2"),
             }
         };
+        if let Some((knob, k)) = KNOBS.iter().enumerate().find(|(_, k)| k.token == name) {
+            let word = k
+                .parse(value)
+                .map_err(|e| anyhow::anyhow!("technique {s:?}: {e}"))?;
+            return Ok(Technique::Loop { knob, word });
+        }
         if let Some(kind) = registry::kind(name).filter(|k| k.primary().is_some()) {
             return MethodTechnique::parse(kind, s, value.unwrap_or(""))
                 .map(Technique::Method)
@@ -126,43 +115,22 @@ impl Technique {
             "bsdf" => Technique::Bsdf,
             "light" => Technique::Light,
             "no-regeneration" => Technique::NoRegeneration,
-            "uniform-lights" => Technique::UniformLights,
-            "generic-kernel" => Technique::GenericKernel,
-            "dpt" => Technique::DeterministicTermination,
             "ris" | "mis-ris" | "resampled-light" => match number("ris (candidates)")? {
                 0 => bail!("technique {s:?}: RIS needs at least one candidate"),
                 m if name == "ris" => Technique::Ris(m),
                 m if name == "mis-ris" => Technique::MisRis(m),
                 m => Technique::ResampledLight(m),
             },
-            "single-bounce" => Technique::SingleDiffuseBounce,
             "spt" => Technique::Streaming,
             "nop" => Technique::CutLastPaths,
-            "max-depth" => match number("max-depth")? {
-                0 => bail!("technique {s:?}: a path needs at least one segment"),
-                n => Technique::MaxDepth(n),
-            },
-            "rr-depth" => Technique::RouletteFrom(number("rr-depth")?),
-            "rr-survival" => match number("rr-survival (percent)")? {
-                p @ 1..=100 => Technique::RouletteSurvival(p),
-                _ => bail!("technique {s:?}: the survival scale is a percentage in 1..=100"),
-            },
-            "rr-fixed" => match number("rr-fixed (percent)")? {
-                p @ 1..=100 => Technique::RouletteFixed(p),
-                _ => bail!("technique {s:?}: the survival probability is a percentage in 1..=100"),
-            },
-            "clamp" => match value.map(str::parse::<f32>) {
-                Some(Ok(c)) if c > 0.0 && c.is_finite() => Technique::Clamp(c.to_bits()),
-                _ => bail!("technique {s:?}: clamp needs a positive radiance, e.g. clamp=10"),
-            },
             _ => bail!(
-                "unknown technique {s:?}: known are mis, bsdf, light, max-depth=N, rr-depth=N, \
-                 rr-survival=PERCENT, rr-fixed=PERCENT, clamp=C, uniform-lights, no-regeneration, \
-                 generic-kernel, ris=M, mis-ris=M, resampled-light=M, dpt, single-bounce, spt, nop, no-textures, \
+                "unknown technique {s:?}: known are mis, bsdf, light, {}, no-regeneration, \
+                 ris=M, mis-ris=M, resampled-light=M, spt, nop, no-textures, \
                  no-normal-maps, opaque, \
                  env-mean, no-clearcoat, no-diffuse-transmission, no-sheen, no-volume, \
                  no-iridescence, no-anisotropy, no-dispersion, denoise=atrous, denoise=oidn, \
                  adaptive=T, and the methods': {}",
+                knobs_help(),
                 methods_help()
             ),
         })
@@ -170,13 +138,12 @@ impl Technique {
 
     /// Converges to something else than the reference.
     pub fn biased(&self) -> bool {
+        if let Technique::Loop { knob, .. } = *self {
+            return KNOBS[knob].biased;
+        }
         matches!(
             self,
-            Technique::MaxDepth(_)
-                | Technique::Clamp(_)
-                | Technique::Without(_)
-                | Technique::DeterministicTermination
-                | Technique::SingleDiffuseBounce
+            Technique::Without(_)
                 | Technique::CutLastPaths
                 | Technique::Method(_)
                 | Technique::Denoise(_)
@@ -208,23 +175,13 @@ impl Technique {
     /// Sets what it changes on a frame's parameters.
     pub fn apply(&self, params: &mut FrameParams) {
         match *self {
-            Technique::MaxDepth(n) => params.path_loop.max_depth = n,
-            Technique::RouletteFrom(n) => params.path_loop.rr_depth = n,
-            Technique::RouletteSurvival(p) => params.path_loop.rr_survival = p as f32 / 100.0,
-            Technique::RouletteFixed(p) => params.path_loop.rr_fixed = Some(p as f32 / 100.0),
-            Technique::Clamp(bits) => params.path_loop.clamp_indirect = Some(f32::from_bits(bits)),
+            Technique::Loop { knob, word } => KNOBS[knob].apply(&mut params.path_loop, word),
             Technique::NoRegeneration => params.samples_per_pass = 1,
-            Technique::UniformLights => params.path_loop.uniform_light_selection = true,
-            Technique::GenericKernel => params.path_loop.generic_kernel = true,
-            Technique::DeterministicTermination => {
-                params.path_loop.deterministic_termination = true
-            }
             Technique::Ris(m) => path(params).resampled_light = Some(by_luminance(m, false)),
             Technique::MisRis(m) => path(params).resampled_light = Some(by_luminance(m, true)),
             Technique::ResampledLight(m) => {
                 path(params).resampled_light = Some(ResampledLight::new(m))
             }
-            Technique::SingleDiffuseBounce => params.path_loop.single_diffuse_bounce = true,
             Technique::Streaming => path(params).kernel = PathKernel::Streaming,
             Technique::CutLastPaths => {
                 let path = path(params);
@@ -239,6 +196,12 @@ impl Technique {
             Technique::Mis | Technique::Bsdf | Technique::Light => {}
         }
     }
+}
+
+/// The path loop's knobs as techniques name them (`max-depth=N`, `dpt`...).
+fn knobs_help() -> String {
+    let written: Vec<String> = KNOBS.iter().map(|k| k.written()).collect();
+    written.join(", ")
 }
 
 /// The path tracer's state in `params`, which the sweep's techniques start from (only
@@ -266,19 +229,11 @@ impl fmt::Display for Technique {
             Technique::Mis => write!(f, "mis"),
             Technique::Bsdf => write!(f, "bsdf"),
             Technique::Light => write!(f, "light"),
-            Technique::MaxDepth(n) => write!(f, "max-depth={n}"),
-            Technique::RouletteFrom(n) => write!(f, "rr-depth={n}"),
-            Technique::RouletteSurvival(p) => write!(f, "rr-survival={p}"),
-            Technique::RouletteFixed(p) => write!(f, "rr-fixed={p}"),
-            Technique::Clamp(bits) => write!(f, "clamp={}", f32::from_bits(*bits)),
+            Technique::Loop { knob, word } => write!(f, "{}", KNOBS[*knob].format(*word)),
             Technique::NoRegeneration => write!(f, "no-regeneration"),
-            Technique::UniformLights => write!(f, "uniform-lights"),
-            Technique::GenericKernel => write!(f, "generic-kernel"),
-            Technique::DeterministicTermination => write!(f, "dpt"),
             Technique::Ris(m) => write!(f, "ris={m}"),
             Technique::MisRis(m) => write!(f, "mis-ris={m}"),
             Technique::ResampledLight(m) => write!(f, "resampled-light={m}"),
-            Technique::SingleDiffuseBounce => write!(f, "single-bounce"),
             Technique::Streaming => write!(f, "spt"),
             Technique::CutLastPaths => write!(f, "nop"),
             Technique::Without(e) => write!(f, "{}", e.name()),
@@ -299,16 +254,16 @@ mod tests {
             Technique::Mis,
             Technique::Bsdf,
             Technique::Light,
-            Technique::MaxDepth(2),
-            Technique::RouletteFrom(1),
-            Technique::RouletteSurvival(30),
-            Technique::RouletteFixed(80),
-            Technique::Clamp(2.5f32.to_bits()),
-            Technique::UniformLights,
+            Technique::parse("max-depth=2").unwrap(),
+            Technique::parse("rr-depth=1").unwrap(),
+            Technique::parse("rr-survival=30").unwrap(),
+            Technique::parse("rr-fixed=80").unwrap(),
+            Technique::parse("clamp=2.5").unwrap(),
+            Technique::parse("uniform-lights").unwrap(),
             Technique::NoRegeneration,
-            Technique::GenericKernel,
-            Technique::DeterministicTermination,
-            Technique::SingleDiffuseBounce,
+            Technique::parse("generic-kernel").unwrap(),
+            Technique::parse("dpt").unwrap(),
+            Technique::parse("single-bounce").unwrap(),
             Technique::Streaming,
             Technique::CutLastPaths,
             Technique::Ris(8),
@@ -340,7 +295,9 @@ mod tests {
         assert!(Technique::parse("max-depth").is_err());
         assert!(Technique::parse("max-depth=0").is_err());
         assert!(Technique::parse("rr-survival=0").is_err());
-        assert!(Technique::MaxDepth(2).biased() && !Technique::Bsdf.biased());
+        assert!(Technique::parse("max-depth=2").unwrap().biased() && !Technique::Bsdf.biased());
+        assert!(!Technique::parse("rr-fixed=50").unwrap().biased());
+        assert!(Technique::parse("dpt=1").is_err());
         assert!(Technique::parse("clamp=10").unwrap().biased());
         assert!(Technique::parse("clamp=-1").is_err() && Technique::parse("rr-fixed=0").is_err());
         assert!(Technique::parse("links=20").is_err() && Technique::parse("links=16+b0").is_err());

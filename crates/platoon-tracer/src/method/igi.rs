@@ -50,8 +50,8 @@ fn options(params: &FrameParams) -> IgiOptions {
 }
 
 impl MethodPasses for IgiPasses {
-    fn kernels(&self, _params: &FrameParams, _cpu: bool) -> &'static [&'static str] {
-        &[EMIT, CAMERA, GATHER]
+    fn kernels(&self, _params: &FrameParams, _cpu: bool) -> Vec<&'static str> {
+        vec![EMIT, CAMERA, GATHER]
     }
 
     /// The VPL, texel and vertex buffers (Globals' method buffers 0, 1 and 2).
@@ -121,10 +121,8 @@ impl MethodPasses for IgiPasses {
 
     /// Shoots the frame's VPLs. (The next dispatch's barrier makes them visible to the gather.)
     fn begin_band(&mut self, rec: &mut Recorder, push: &Push) -> Result<Duration> {
-        let kernel = rec.kernel(EMIT)?;
         let groups = options(rec.params).paths.div_ceil(64);
-        rec.gpu
-            .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, push, (groups, 1)) })
+        rec.dispatch(EMIT, push, (groups, 1))
     }
 
     /// The camera pass, then the gather passes over the VPLs a chunk at a time, in one

@@ -13,7 +13,6 @@ use platoon_core::method::links::{Job, Links, Solution};
 
 use super::{ensure, MethodPasses, Recorder};
 use crate::buffer::GpuBuffer;
-use crate::dispatch::record_dispatch;
 use crate::globals::{Push, METHOD_WORDS};
 use crate::gpu::Gpu;
 use crate::Result;
@@ -111,11 +110,11 @@ impl LinksPasses {
 }
 
 impl MethodPasses for LinksPasses {
-    fn kernels(&self, params: &FrameParams, _cpu: bool) -> &'static [&'static str] {
+    fn kernels(&self, params: &FrameParams, _cpu: bool) -> Vec<&'static str> {
         match job(params) {
-            Job::Shoot(_) => &[SHOOT],
-            Job::Light(_) => &[LIGHT],
-            Job::Render(_) => &[CAMERA],
+            Job::Shoot(_) => vec![SHOOT],
+            Job::Light(_) => vec![LIGHT],
+            Job::Render(_) => vec![CAMERA],
         }
     }
 
@@ -173,9 +172,7 @@ impl MethodPasses for LinksPasses {
 
     fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration> {
         let entry = self.kernels(rec.params, false)[0];
-        let kernel = rec.kernel(entry)?;
-        rec.gpu
-            .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, push, groups) })
+        rec.dispatch(entry, push, groups)
     }
 
     /// A shooting frame's hits, a lighting frame's albedos.

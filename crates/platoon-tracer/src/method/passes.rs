@@ -1,5 +1,6 @@
 //! What every method's device side implements (`MethodPasses`), what a band's passes record
-//! with (`Recorder`), and the buffers they grow on demand (`ensure`).
+//! with (`Recorder`), and the buffers they grow on demand (`ensure`): the public device-method
+//! API (`platoon_tracer::device`), which the built-in methods use as a method from outside does.
 
 use std::time::Duration;
 
@@ -8,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 use platoon_core::frame::{FrameParams, Span};
 
 use crate::buffer::GpuBuffer;
-use crate::dispatch::Dispatchable;
+use crate::dispatch::{record_dispatch, Dispatchable};
 use crate::globals::{Globals, Push, METHOD_WORDS};
 use crate::gpu::Gpu;
 use crate::memory::SceneDescriptors;
@@ -18,19 +19,19 @@ use crate::Result;
 /// render's variant, resolved once for the band (by entry file); a kernel of the variant not
 /// resolved is built when first asked for (a fallback's). The band's counters (`Stats` of
 /// shaders/common/scene.glsl), host-visible between submissions.
-pub(crate) struct Recorder<'a> {
+pub struct Recorder<'a> {
     pub params: &'a FrameParams,
     pub gpu: &'a mut Gpu,
-    pub kernels: Vec<(&'static str, Dispatchable)>,
-    pub defines: Vec<&'static str>,
-    pub scene: &'a SceneDescriptors,
-    pub stats: &'a mut GpuBuffer,
+    pub(crate) kernels: Vec<(&'static str, Dispatchable)>,
+    pub(crate) defines: Vec<&'static str>,
+    pub(crate) scene: &'a SceneDescriptors,
+    pub(crate) stats: &'a mut GpuBuffer,
     /// Passes a method could not finish in its own kernel and finished another way (the
     /// megakernel past the device's loop limit): `Band::kernel_fallbacks`.
     pub fallbacks: u32,
     /// The frame's root block (`Globals`), mapped, and what it holds.
-    pub globals: &'a mut GpuBuffer,
-    pub globals_block: Globals,
+    pub(crate) globals: &'a mut GpuBuffer,
+    pub(crate) globals_block: Globals,
 }
 
 impl Recorder<'_> {
@@ -42,6 +43,32 @@ impl Recorder<'_> {
         let k = self.gpu.kernel((entry, self.defines.clone()), self.scene)?;
         self.kernels.push((entry, k));
         Ok(k)
+    }
+
+    /// Whether the device is a CPU (lavapipe): a method may choose its kernels by it.
+    pub fn cpu(&self) -> bool {
+        self.gpu.ctx.info.cpu
+    }
+
+    /// Dispatches the kernel of `entry` over `groups` workgroups with `push`, after the writes
+    /// of the passes before it; its device time.
+    pub fn dispatch(
+        &mut self,
+        entry: &'static str,
+        push: &Push,
+        groups: (u32, u32),
+    ) -> Result<Duration> {
+        let kernel = self.kernel(entry)?;
+        self.gpu
+            .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, push, groups) })
+    }
+
+    /// Workgroups of 8 x 8 invocations covering the band of `push` (its lines, every
+    /// `stride`-th, across the frame's width): what `band_pixel` of shaders/common/scene.glsl
+    /// reads a pixel from.
+    pub fn band_groups(&self, push: &Push) -> (u32, u32) {
+        let lines = (push.y1 - push.y0).div_ceil(push.stride.max(1));
+        (self.params.width.div_ceil(8), lines.div_ceil(8))
     }
 
     /// Word `i` of the band's counters (read after the submission that wrote it).
@@ -64,12 +91,12 @@ impl Recorder<'_> {
 }
 
 /// A rendering method on one device. The band (band.rs) clears the accumulation and the
-/// method's `clears`, calls `begin_band`, then `pass` until the samples are in, and reads back
-/// the sums and `per_pixel`.
-pub(crate) trait MethodPasses {
-    /// The entry files of its kernels (shaders/) for `params` on a CPU device (`cpu`) or a
-    /// GPU, built before the band's clock starts.
-    fn kernels(&self, params: &FrameParams, cpu: bool) -> &'static [&'static str];
+/// method's `clears`, calls `begin_band`, then `pass` until the samples are in, then
+/// `end_band`, and reads back the sums and `per_pixel`.
+pub trait MethodPasses {
+    /// The entry files of its kernels (shaders/, or the sources it registered) for `params` on
+    /// a CPU device (`cpu`) or a GPU, built before the band's clock starts.
+    fn kernels(&self, params: &FrameParams, cpu: bool) -> Vec<&'static str>;
     /// Makes or grows the buffers its kernels read for `params`; returns their addresses
     /// (Globals' method buffers; 0 where unused).
     fn prepare(&mut self, _gpu: &mut Gpu, _params: &FrameParams) -> Result<[u64; 4]> {
@@ -94,6 +121,11 @@ pub(crate) trait MethodPasses {
     /// One pass: the samples [push.sample_begin, push.sample_end) of the band's pixels, over
     /// `groups` workgroups of 8 x 8; returns its device time.
     fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration>;
+    /// Work after the band's last pass, on the sums its passes left (`push`'s samples are all
+    /// the band took); returns its device time.
+    fn end_band(&mut self, _rec: &mut Recorder, _push: &Push) -> Result<Duration> {
+        Ok(Duration::ZERO)
+    }
     /// What its passes report for the output's metadata (`Band::method_report`), given the
     /// band's counters after its last pass.
     fn report(&mut self, _counters: &[u32]) -> Vec<(String, String)> {
@@ -113,7 +145,7 @@ pub(crate) trait MethodPasses {
 }
 
 /// The buffer in `slot` of at least `size` bytes, replaced when too small; its address.
-pub(crate) fn ensure(
+pub fn ensure(
     gpu: &mut Gpu,
     slot: &mut Option<GpuBuffer>,
     name: &str,

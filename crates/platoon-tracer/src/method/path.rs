@@ -35,6 +35,12 @@ pub(crate) struct PathPasses {
     reuse: LightReusePasses,
 }
 
+/// The path tracer's device half (both kernels, the world cache, light reuse): what a method
+/// that renders the path tracer's image and works on its sums wraps.
+pub fn path_passes() -> Box<dyn MethodPasses> {
+    Box::<PathPasses>::default()
+}
+
 /// Turns of the megakernel's loop-limit canary (path.glsl's loop_canary, push word 0).
 const CANARY_TURNS: u32 = 2;
 /// stats[STAT_CUT_SHORT] of path.glsl: pixels whose megakernel pass was cut short.
@@ -57,11 +63,11 @@ fn beauty_paths(output: Output) -> bool {
 }
 
 impl MethodPasses for PathPasses {
-    fn kernels(&self, params: &FrameParams, cpu: bool) -> &'static [&'static str] {
+    fn kernels(&self, params: &FrameParams, cpu: bool) -> Vec<&'static str> {
         match (path_kernel(params, cpu), world_cache::trains(params)) {
-            (PathKernel::Streaming, _) => &stream::KERNELS,
-            (_, true) => &[PATHTRACE, world_cache::TRAIN],
-            _ => &[PATHTRACE],
+            (PathKernel::Streaming, _) => stream::KERNELS.to_vec(),
+            (_, true) => vec![PATHTRACE, world_cache::TRAIN],
+            _ => vec![PATHTRACE],
         }
     }
 
@@ -98,7 +104,7 @@ impl MethodPasses for PathPasses {
     /// and the tracer's later passes stream from the start.
     fn pass(&mut self, rec: &mut Recorder, push: &Push, groups: (u32, u32)) -> Result<Duration> {
         let radiance = beauty_paths(rec.params.output);
-        if path_kernel(rec.params, rec.gpu.ctx.info.cpu) == PathKernel::Streaming
+        if path_kernel(rec.params, rec.cpu()) == PathKernel::Streaming
             || (self.cut_short && radiance)
         {
             return self.stream.pass(rec, push);

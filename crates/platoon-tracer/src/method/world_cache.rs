@@ -12,7 +12,6 @@ use platoon_core::frame::{FrameParams, Output, Span};
 
 use super::{ensure, Recorder};
 use crate::buffer::GpuBuffer;
-use crate::dispatch::record_dispatch;
 use crate::globals::Push;
 use crate::gpu::Gpu;
 use crate::Result;
@@ -84,17 +83,14 @@ impl WorldCachePasses {
         if !trains(rec.params) {
             return Ok(Duration::ZERO);
         }
-        let kernel = rec.kernel(TRAIN)?;
         // One training path a training pixel: a sample range of one, so band_pixel runs it.
         let push = Push {
             sample_begin: 0,
             sample_end: 1,
             ..*push
         };
-        let lines = (push.y1 - push.y0).div_ceil(push.stride.max(1));
-        let groups = (rec.params.width.div_ceil(8), lines.div_ceil(8));
-        rec.gpu
-            .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, &push, groups) })
+        let groups = rec.band_groups(&push);
+        rec.dispatch(TRAIN, &push, groups)
     }
 
     /// The span's records (after the band's last submission).

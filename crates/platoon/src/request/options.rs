@@ -24,6 +24,11 @@ pub struct RequestOption {
     /// Its value in a request; None where it is unset (what help shows as the default is the
     /// default request's).
     pub get: fn(&Request) -> Option<Value>,
+    /// Whether it changes the image. Where and how a frame is rendered (the devices, the
+    /// balancer, validation) does not: the image is the same bits on any split. What changes
+    /// it is part of a render job (`image_settings`: a farm's rerun takes a frame made with
+    /// another value as not done).
+    pub image: bool,
 }
 
 impl std::fmt::Debug for RequestOption {
@@ -44,6 +49,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Count(r.spp)),
+        image: true,
     },
     RequestOption {
         key: "time_limit",
@@ -58,6 +64,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| r.time_limit.map(|t| Value::Number(t.as_secs_f32())),
+        image: true,
     },
     RequestOption {
         key: "width",
@@ -69,6 +76,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Count(r.width)),
+        image: true,
     },
     RequestOption {
         key: "height",
@@ -80,6 +88,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Count(r.height)),
+        image: true,
     },
     RequestOption {
         key: "crop",
@@ -93,6 +102,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| r.crop.map(|c| Value::Word(c.to_string())),
+        image: true,
     },
     RequestOption {
         key: "ao_distance",
@@ -105,6 +115,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Number(r.ao_distance)),
+        image: true,
     },
     RequestOption {
         key: "transparent_film",
@@ -118,6 +129,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Switch(r.transparent_film)),
+        image: true,
     },
     RequestOption {
         key: "max_depth",
@@ -130,6 +142,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| r.max_depth.map(Value::Count),
+        image: true,
     },
     RequestOption {
         key: "seed",
@@ -141,6 +154,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Count(r.seed)),
+        image: true,
     },
     RequestOption {
         key: "filter",
@@ -154,6 +168,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Word(r.filter.name().into())),
+        image: true,
     },
     RequestOption {
         key: "aperture",
@@ -165,6 +180,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Number(r.aperture)),
+        image: true,
     },
     RequestOption {
         key: "focus_distance",
@@ -176,6 +192,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| r.focus_distance.map(Value::Number),
+        image: true,
     },
     RequestOption {
         key: "sampling",
@@ -189,6 +206,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Word(r.sampling.name().into())),
+        image: true,
     },
     RequestOption {
         key: "devices",
@@ -202,6 +220,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Word(r.devices.to_string())),
+        image: false,
     },
     RequestOption {
         key: "balancer",
@@ -217,6 +236,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Word(r.balancer.clone())),
+        image: false,
     },
     RequestOption {
         key: "validation",
@@ -228,6 +248,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Switch(r.validation)),
+        image: false,
     },
     RequestOption {
         key: "denoise",
@@ -242,6 +263,7 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Word(r.denoiser.name().into())),
+        image: true,
     },
     RequestOption {
         key: "adaptive_threshold",
@@ -258,8 +280,22 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| r.adaptive.map(|a| Value::Number(a.threshold)),
+        image: true,
     },
 ];
+
+/// The options that change the image as `key value` (`key default` where unset), in the table's
+/// order: with the scene, the camera, the method and the outputs, what a render job is.
+pub fn image_settings(request: &Request) -> Vec<String> {
+    OPTIONS
+        .iter()
+        .filter(|o| o.image)
+        .map(|o| match (o.get)(request) {
+            Some(v) => format!("{} {v}", o.key),
+            None => format!("{} default", o.key),
+        })
+        .collect()
+}
 
 /// The option named `key`.
 pub fn option(key: &str) -> Option<&'static RequestOption> {
@@ -270,4 +306,42 @@ pub fn option(key: &str) -> Option<&'static RequestOption> {
 /// from), if it has one.
 pub fn default_text(option: &RequestOption, base: &Request) -> Option<String> {
     (option.get)(base).map(|v| v.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every option that changes the image is part of a job's text with its value, and only
+    /// where and how the frame renders is left out.
+    #[test]
+    fn every_option_that_changes_the_image_is_in_a_jobs_settings() {
+        let left_out: Vec<&str> = OPTIONS.iter().filter(|o| !o.image).map(|o| o.key).collect();
+        assert_eq!(left_out, ["devices", "balancer", "validation"]);
+        let base = Request::default();
+        let before = image_settings(&base);
+        for o in OPTIONS.iter().filter(|o| o.image) {
+            let value = match (o.key, o.kind) {
+                ("crop", _) => Value::Word("0,0,2,2".into()),
+                ("filter", _) => Value::Word("gaussian".into()),
+                ("sampling", _) => Value::Word("bsdf".into()),
+                ("denoise", _) => Value::Word("atrous".into()),
+                (_, ValueKind::Count) => Value::Count(3),
+                (_, ValueKind::Number) => Value::Number(0.5),
+                (_, ValueKind::Switch) => Value::Switch(true),
+                (key, kind) => panic!("{key}: no test value of {kind:?}"),
+            };
+            let mut r = Request::default();
+            (o.set)(&mut r, &value).unwrap_or_else(|e| panic!("{}: {e}", o.key));
+            let after = image_settings(&r);
+            assert_ne!(after, before, "{} does not change the settings", o.key);
+            assert!(
+                after
+                    .iter()
+                    .any(|s| s.starts_with(o.key) && s.contains(&value.to_string())),
+                "{}: {after:?}",
+                o.key
+            );
+        }
+    }
 }

@@ -24,7 +24,6 @@ use state::{
 
 use super::{ensure, MethodPasses, Recorder};
 use crate::buffer::GpuBuffer;
-use crate::dispatch::record_dispatch;
 use crate::globals::{Push, METHOD_WORDS};
 use crate::gpu::Gpu;
 use crate::Result;
@@ -63,12 +62,12 @@ impl LhbPasses {
 }
 
 impl MethodPasses for LhbPasses {
-    fn kernels(&self, params: &FrameParams, _cpu: bool) -> &'static [&'static str] {
+    fn kernels(&self, params: &FrameParams, _cpu: bool) -> Vec<&'static str> {
         match (lhb(params).options.variant, tables(params).probes()) {
-            (RasterVariant::Capacity, false) => &[RASTER, BLOCKS, CAMERA],
-            (RasterVariant::Exact, false) => &[RASTER, BLOCKS, PREFIX, CAMERA],
-            (RasterVariant::Capacity, true) => &[RASTER, BLOCKS, PROBE],
-            (RasterVariant::Exact, true) => &[RASTER, BLOCKS, PREFIX, PROBE],
+            (RasterVariant::Capacity, false) => vec![RASTER, BLOCKS, CAMERA],
+            (RasterVariant::Exact, false) => vec![RASTER, BLOCKS, PREFIX, CAMERA],
+            (RasterVariant::Capacity, true) => vec![RASTER, BLOCKS, PROBE],
+            (RasterVariant::Exact, true) => vec![RASTER, BLOCKS, PREFIX, PROBE],
         }
     }
 
@@ -115,9 +114,7 @@ impl MethodPasses for LhbPasses {
         } else {
             CAMERA
         };
-        let kernel = rec.kernel(entry)?;
-        rec.gpu
-            .timed(|d, cb| unsafe { record_dispatch(d, cb, kernel, push, groups) })
+        rec.dispatch(entry, push, groups)
     }
 
     /// `lhb_build`: what the build made and cost on this device; lookups of the image passes.
