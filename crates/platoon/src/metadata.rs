@@ -59,37 +59,11 @@ pub fn metadata_of(
             facts.variant.unwrap_or("(default)").to_string(),
         ),
         ("spp".into(), rendered.spp.to_string()),
-        (
-            "time_limit_s".into(),
-            params
-                .time_limit
-                .map(|t| format!("{:.3}", t.as_secs_f64()))
-                .unwrap_or_else(|| "none".into()),
-        ),
-        ("width".into(), params.width.to_string()),
-        ("height".into(), params.height.to_string()),
-        (
-            "crop".into(),
-            match params.crop {
-                Some(c) => format!(
-                    "{},{},{},{} of {} x {}",
-                    c.x, c.y, params.width, params.height, c.image_width, c.image_height
-                ),
-                None => "none".into(),
-            },
-        ),
-        (
-            "film".into(),
-            match params.transparent_film {
-                true => "transparent (alpha: the share of camera rays finding a surface)".into(),
-                false => "opaque".into(),
-            },
-        ),
-        ("ao_distance".into(), params.ao_distance.to_string()),
-        ("seed".into(), params.seed.to_string()),
+    ];
+    // The frame options' part, as the request's table declares it.
+    m.extend(crate::request::options::frame_metadata(params));
+    m.extend([
         ("frame".into(), params.frame.to_string()),
-        ("max_depth".into(), params.path_loop.max_depth.to_string()),
-        ("filter".into(), params.filter.describe()),
         (
             "russian_roulette_depth".into(),
             params.path_loop.rr_depth.to_string(),
@@ -180,7 +154,7 @@ pub fn metadata_of(
                 .join("; "),
         ),
         ("texture_lod".into(), texture_lod(facts.features).into()),
-    ];
+    ]);
     if let Some(r) = &rendered.ranks {
         m.extend([
             ("mpi_ranks".into(), r.ranks.to_string()),

@@ -1,11 +1,13 @@
 //! The request's frame options declared once (`OPTIONS`): each one's keyword (the request's
 //! field, Python's keyword, the name its errors give), its command-line flag, its help, the
-//! kind of value it takes, and how a value is set on a request and read back. `platoon
-//! render`'s flags and `platoon.render`'s keywords are made from this table, so an option of
-//! the frame is one entry here, its field and rule in the request, and its use below.
+//! kind of value it takes, how a value is set on a request and read back, its own rule and what
+//! an image's metadata says of it. `platoon render`'s flags, `platoon.render`'s keywords, the
+//! request's rules of one option (`Request::validate`), the flag its errors name (the CLI) and
+//! the frame's part of the metadata are made from this table, so an option of the frame is one
+//! entry here, its field in the request, and its use below.
 
 use platoon_core::frame::adaptive::Adaptive;
-use platoon_core::frame::{PixelFilter, Region};
+use platoon_core::frame::{FrameParams, PixelFilter, Region};
 use platoon_core::method::settings::{Value, ValueKind};
 use platoon_tracer::Sampling;
 
@@ -29,6 +31,32 @@ pub struct RequestOption {
     /// it is part of a render job (`image_settings`: a farm's rerun takes a frame made with
     /// another value as not done).
     pub image: bool,
+    /// What is wrong with its value in `request` (checked by `Request::validate`, whose
+    /// error names the option's key, before the rules between options).
+    pub rule: fn(&Request) -> Result<(), String>,
+    /// What an image's metadata says of it: its label and its text, read from the frame the
+    /// image was rendered as (None: the frame does not hold it, or a report says it, as the
+    /// samples reached say `spp`).
+    pub metadata: Option<(&'static str, MetadataText)>,
+}
+
+/// An option's text in an image's metadata, read from the frame rendered.
+pub type MetadataText = fn(&FrameParams) -> String;
+
+/// The rule of an option any value of whose kind is right.
+fn any_value(_: &Request) -> Result<(), String> {
+    Ok(())
+}
+
+/// The most pixels a frame may have: a frame's sample and line counts are 32-bit.
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+/// `n` refused when zero.
+fn positive(n: u32) -> Result<(), String> {
+    match n {
+        0 => Err("must be positive".into()),
+        _ => Ok(()),
+    }
 }
 
 impl std::fmt::Debug for RequestOption {
@@ -50,6 +78,8 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Count(r.spp)),
         image: true,
+        rule: |r| positive(r.spp),
+        metadata: None,
     },
     RequestOption {
         key: "time_limit",
@@ -65,6 +95,15 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| r.time_limit.map(|t| Value::Number(t.as_secs_f32())),
         image: true,
+        rule: |r| match r.time_limit {
+            Some(t) if t.is_zero() => Err("must be a positive number of seconds".into()),
+            _ => Ok(()),
+        },
+        metadata: Some(("time_limit_s", |p| {
+            p.time_limit
+                .map(|t| format!("{:.3}", t.as_secs_f64()))
+                .unwrap_or_else(|| "none".into())
+        })),
     },
     RequestOption {
         key: "width",
@@ -77,6 +116,18 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Count(r.width)),
         image: true,
+        rule: |r| {
+            positive(r.width)?;
+            let pixels = r.width as u64 * r.height as u64;
+            if pixels > MAX_PIXELS {
+                return Err(format!(
+                    "{} x {} is {pixels} pixels, more than the {MAX_PIXELS} a frame may have",
+                    r.width, r.height
+                ));
+            }
+            Ok(())
+        },
+        metadata: Some(("width", |p| p.width.to_string())),
     },
     RequestOption {
         key: "height",
@@ -89,6 +140,8 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Count(r.height)),
         image: true,
+        rule: |r| positive(r.height),
+        metadata: Some(("height", |p| p.height.to_string())),
     },
     RequestOption {
         key: "crop",
@@ -103,6 +156,17 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| r.crop.map(|c| Value::Word(c.to_string())),
         image: true,
+        rule: |r| match &r.crop {
+            Some(c) => c.check(r.width, r.height),
+            None => Ok(()),
+        },
+        metadata: Some(("crop", |p| match p.crop {
+            Some(c) => format!(
+                "{},{},{},{} of {} x {}",
+                c.x, c.y, p.width, p.height, c.image_width, c.image_height
+            ),
+            None => "none".into(),
+        })),
     },
     RequestOption {
         key: "ao_distance",
@@ -116,6 +180,11 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Number(r.ao_distance)),
         image: true,
+        rule: |r| match r.ao_distance {
+            d if d.is_finite() && d > 0.0 => Ok(()),
+            d => Err(format!("must be a positive distance, not {d}")),
+        },
+        metadata: Some(("ao_distance", |p| p.ao_distance.to_string())),
     },
     RequestOption {
         key: "transparent_film",
@@ -130,6 +199,11 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Switch(r.transparent_film)),
         image: true,
+        rule: any_value,
+        metadata: Some(("film", |p| match p.transparent_film {
+            true => "transparent (alpha: the share of camera rays finding a surface)".into(),
+            false => "opaque".into(),
+        })),
     },
     RequestOption {
         key: "max_depth",
@@ -143,6 +217,11 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| r.max_depth.map(Value::Count),
         image: true,
+        rule: |r| match r.max_depth {
+            Some(0) => Err("a path has at least one segment (1: emitters seen directly)".into()),
+            _ => Ok(()),
+        },
+        metadata: Some(("max_depth", |p| p.path_loop.max_depth.to_string())),
     },
     RequestOption {
         key: "seed",
@@ -155,6 +234,8 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Count(r.seed)),
         image: true,
+        rule: any_value,
+        metadata: Some(("seed", |p| p.seed.to_string())),
     },
     RequestOption {
         key: "filter",
@@ -169,6 +250,8 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Word(r.filter.name().into())),
         image: true,
+        rule: any_value,
+        metadata: Some(("filter", |p| p.filter.describe())),
     },
     RequestOption {
         key: "aperture",
@@ -181,6 +264,11 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Number(r.aperture)),
         image: true,
+        rule: |r| match r.aperture {
+            a if a.is_finite() && a >= 0.0 => Ok(()),
+            a => Err(format!("must be a radius >= 0 (0: a pinhole), not {a}")),
+        },
+        metadata: None,
     },
     RequestOption {
         key: "focus_distance",
@@ -193,6 +281,11 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| r.focus_distance.map(Value::Number),
         image: true,
+        rule: |r| match r.focus_distance {
+            Some(f) if !(f.is_finite() && f > 0.0) => Err(format!("must be positive, not {f}")),
+            _ => Ok(()),
+        },
+        metadata: None,
     },
     RequestOption {
         key: "sampling",
@@ -207,6 +300,8 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Word(r.sampling.name().into())),
         image: true,
+        rule: any_value,
+        metadata: None,
     },
     RequestOption {
         key: "devices",
@@ -221,6 +316,8 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Word(r.devices.to_string())),
         image: false,
+        rule: any_value,
+        metadata: None,
     },
     RequestOption {
         key: "balancer",
@@ -237,6 +334,15 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Word(r.balancer.clone())),
         image: false,
+        rule: |r| match platoon_core::balance::by_name(&r.balancer) {
+            Some(_) => Ok(()),
+            None => Err(format!(
+                "unknown balancer {}: {}",
+                r.balancer,
+                platoon_core::balance::names_help()
+            )),
+        },
+        metadata: None,
     },
     RequestOption {
         key: "validation",
@@ -249,6 +355,8 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Switch(r.validation)),
         image: false,
+        rule: any_value,
+        metadata: None,
     },
     RequestOption {
         key: "denoise",
@@ -264,6 +372,8 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| Some(Value::Word(r.denoiser.name().into())),
         image: true,
+        rule: |r| r.denoiser.available(),
+        metadata: None,
     },
     RequestOption {
         key: "adaptive_threshold",
@@ -281,6 +391,8 @@ pub static OPTIONS: &[RequestOption] = &[
         },
         get: |r| r.adaptive.map(|a| Value::Number(a.threshold)),
         image: true,
+        rule: any_value,
+        metadata: None,
     },
 ];
 
@@ -294,6 +406,16 @@ pub fn image_settings(request: &Request) -> Vec<String> {
             Some(v) => format!("{} {v}", o.key),
             None => format!("{} default", o.key),
         })
+        .collect()
+}
+
+/// What the metadata of an image says of the frame options its frame holds, in the table's
+/// order.
+pub fn frame_metadata(params: &FrameParams) -> Vec<(String, String)> {
+    OPTIONS
+        .iter()
+        .filter_map(|o| o.metadata)
+        .map(|(label, text)| (label.to_string(), text(params)))
         .collect()
 }
 
@@ -311,6 +433,85 @@ pub fn default_text(option: &RequestOption, base: &Request) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A value of each option its own rule refuses: the request's validation names the
+    /// option, and the value its default has passes.
+    #[test]
+    fn each_options_rule_refuses_its_wrong_values_under_its_key() {
+        let wrong = |key: &str| -> Option<Request> {
+            let mut r = Request::default();
+            match key {
+                "spp" => r.spp = 0,
+                "width" => r.width = 0,
+                "height" => r.height = 0,
+                "time_limit" => r.time_limit = Some(std::time::Duration::ZERO),
+                "crop" => r.crop = Some(Region::parse("500,0,20,20").unwrap()),
+                "ao_distance" => r.ao_distance = -1.0,
+                "max_depth" => r.max_depth = Some(0),
+                "aperture" => r.aperture = f32::NAN,
+                "focus_distance" => r.focus_distance = Some(0.0),
+                "balancer" => r.balancer = "fastest".into(),
+                _ => return None,
+            }
+            Some(r)
+        };
+        Request::default().validate().unwrap();
+        let mut ruled = Vec::new();
+        for o in OPTIONS {
+            let Some(r) = wrong(o.key) else { continue };
+            let e = r.validate().expect_err(o.key);
+            assert_eq!(e.option, o.key, "{e}");
+            assert!((o.rule)(&r).is_err(), "{}: its own rule passes {e}", o.key);
+            ruled.push(o.key);
+        }
+        assert_eq!(ruled.len(), 10, "{ruled:?}");
+        let mut huge = Request::default();
+        (huge.width, huge.height) = (1 << 15, 1 << 14);
+        assert!(huge.validate().unwrap_err().problem.contains("pixels"));
+    }
+
+    /// Each option the metadata says reads its own value from the frame: a request of another
+    /// value gives another text for its label alone.
+    #[test]
+    fn the_metadata_says_each_options_value_from_the_frame() {
+        let camera =
+            platoon_core::scene::camera::Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
+        let base = frame_metadata(&Request::default().frame_params(camera));
+        let labels: Vec<&str> = OPTIONS
+            .iter()
+            .filter_map(|o| o.metadata.map(|m| m.0))
+            .collect();
+        assert_eq!(
+            base.iter().map(|(l, _)| l.as_str()).collect::<Vec<_>>(),
+            labels
+        );
+        for o in OPTIONS.iter().filter(|o| o.metadata.is_some()) {
+            let mut r = Request::default();
+            let value = match (o.key, o.kind) {
+                ("crop", _) => Value::Word("1,2,3,4".into()),
+                ("filter", _) => Value::Word("gaussian".into()),
+                (_, ValueKind::Count) => Value::Count(7),
+                (_, ValueKind::Number) => Value::Number(0.5),
+                (_, ValueKind::Switch) => Value::Switch(true),
+                (key, kind) => panic!("{key}: no test value of {kind:?}"),
+            };
+            (o.set)(&mut r, &value).unwrap();
+            let said = frame_metadata(&r.frame_params(camera));
+            let changed: Vec<&str> = said
+                .iter()
+                .zip(&base)
+                .filter(|(a, b)| a != b)
+                .map(|(a, _)| a.0.as_str())
+                .collect();
+            let label = o.metadata.unwrap().0;
+            // A crop's window is the frame's size too.
+            let expected: &[&str] = match o.key {
+                "crop" => &["width", "height", "crop"],
+                _ => &[label],
+            };
+            assert_eq!(changed, expected, "{}: {said:?}", o.key);
+        }
+    }
 
     /// Every option that changes the image is part of a job's text with its value, and only
     /// where and how the frame renders is left out.

@@ -8,6 +8,7 @@ use platoon_core::scene::camera::Camera;
 
 use super::error::RequestError;
 use super::form::{CameraChoice, Request};
+use super::options::OPTIONS;
 
 fn refuse(option: &'static str, problem: impl Into<String>) -> Result<(), RequestError> {
     Err(RequestError {
@@ -15,9 +16,6 @@ fn refuse(option: &'static str, problem: impl Into<String>) -> Result<(), Reques
         problem: problem.into(),
     })
 }
-
-/// The most pixels a frame may have: a frame's sample and line counts are 32-bit.
-pub const MAX_PIXELS: u64 = 1 << 28;
 
 impl Request {
     /// A time limit given in seconds (a command line's, a binding's): refused unless a
@@ -32,30 +30,12 @@ impl Request {
         }
     }
 
-    /// Every rule that needs neither the scene nor the devices.
+    /// Every rule that needs neither the scene nor the devices: each frame option's own
+    /// (`options::OPTIONS`), then those of the options outside the table and between options.
     pub fn validate(&self) -> Result<(), RequestError> {
-        for (option, v) in [
-            ("width", self.width),
-            ("height", self.height),
-            ("spp", self.spp),
-        ] {
-            if v == 0 {
-                refuse(option, "must be positive")?;
-            }
-        }
-        let pixels = self.width as u64 * self.height as u64;
-        if pixels > MAX_PIXELS {
-            refuse(
-                "width",
-                format!(
-                    "{} x {} is {pixels} pixels, more than the {MAX_PIXELS} a frame may have",
-                    self.width, self.height
-                ),
-            )?;
-        }
-        if let Some(r) = &self.crop {
-            if let Err(e) = r.check(self.width, self.height) {
-                refuse("crop", e)?;
+        for o in OPTIONS {
+            if let Err(problem) = (o.rule)(self) {
+                refuse(o.key, problem)?;
             }
         }
         if let Some(Err(e)) = self.method.path().resampled_light.map(|r| r.check()) {
@@ -87,23 +67,6 @@ impl Request {
                 )?;
             }
         }
-        if self.max_depth == Some(0) {
-            refuse(
-                "max_depth",
-                "a path has at least one segment (1: emitters seen directly)",
-            )?;
-        }
-        if let Some(t) = self.time_limit {
-            if t.is_zero() {
-                refuse("time_limit", "must be a positive number of seconds")?;
-            }
-        }
-        if !(self.ao_distance.is_finite() && self.ao_distance > 0.0) {
-            refuse(
-                "ao_distance",
-                format!("must be a positive distance, not {}", self.ao_distance),
-            )?;
-        }
         if !(self.frame_interval.is_finite() && self.frame_interval > 0.0) {
             refuse(
                 "frame_interval",
@@ -122,37 +85,10 @@ impl Request {
         if let Err((option, problem)) = self.env_light.check() {
             refuse(option, problem)?;
         }
-        if !(self.aperture.is_finite() && self.aperture >= 0.0) {
-            refuse(
-                "aperture",
-                format!(
-                    "must be a radius >= 0 (0: a pinhole), not {}",
-                    self.aperture
-                ),
-            )?;
-        }
-        if let Some(f) = self.focus_distance {
-            if !(f.is_finite() && f > 0.0) {
-                refuse("focus_distance", format!("must be positive, not {f}"))?;
-            }
-        }
         if let CameraChoice::Given(c) = &self.camera {
             if !c.camera_to_world.is_finite() {
                 refuse("camera", "the given camera's transform is not finite")?;
             }
-        }
-        if platoon_core::balance::by_name(&self.balancer).is_none() {
-            refuse(
-                "balancer",
-                format!(
-                    "unknown balancer {}: {}",
-                    self.balancer,
-                    platoon_core::balance::names_help()
-                ),
-            )?;
-        }
-        if let Err(e) = self.denoiser.available() {
-            refuse("denoiser", e)?;
         }
         self.validate_batching()
     }
