@@ -16,7 +16,7 @@ use platoon_core::flatten::commit::Commit;
 use platoon_core::frame::renderer::{
     first_report, line_rays_of, per_pixel_in_order, PartResult, Renderer,
 };
-use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError};
+use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError, ValidatedFrame};
 
 /// Messages between rank 0 and another rank, callable from several threads at once (MPI
 /// started with MPI_THREAD_MULTIPLE; channels for ranks as threads).
@@ -55,7 +55,7 @@ pub enum RankTracer<T: BandTracer + Send + 'static> {
 impl<T: BandTracer + Send + 'static> BandTracer for RankTracer<T> {
     fn render_band(
         &mut self,
-        params: &FrameParams,
+        params: &ValidatedFrame,
         span: Span,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError> {
@@ -84,7 +84,7 @@ pub struct LocalRank<T: BandTracer + Send + 'static>(pub Renderer<T>);
 impl<T: BandTracer + Send + 'static> BandTracer for LocalRank<T> {
     fn render_band(
         &mut self,
-        params: &FrameParams,
+        params: &ValidatedFrame,
         span: Span,
         _: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError> {
@@ -168,7 +168,7 @@ impl RemoteRank {
 impl BandTracer for RemoteRank {
     fn render_band(
         &mut self,
-        params: &FrameParams,
+        params: &ValidatedFrame,
         span: Span,
         _: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError> {

@@ -6,7 +6,7 @@
 use std::time::{Duration, Instant};
 
 use ash::vk;
-use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError};
+use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError, ValidatedFrame};
 
 use crate::globals::{Globals, Push};
 use crate::gpu::record_copy_to_host;
@@ -52,7 +52,8 @@ impl Tracer {
         self.render_pixels(params, span, stride, progress)
     }
 
-    /// Renders `span`, of its lines only the first and every `stride`-th after it.
+    /// Renders `span`, of its lines only the first and every `stride`-th after it: for a
+    /// caller who renders bands on the tracer directly, its frame checked first.
     fn render_pixels(
         &mut self,
         params: &FrameParams,
@@ -61,6 +62,19 @@ impl Tracer {
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
         params.check().map_err(crate::Error::Invalid)?;
+        self.render_checked(params, span, stride, progress)
+    }
+
+    /// The same for a frame whose rules passed (a renderer's `ValidatedFrame`, or checked by
+    /// `render_pixels`): what the device refuses of it is what only the device knows (the
+    /// scene's lights).
+    fn render_checked(
+        &mut self,
+        params: &FrameParams,
+        span: Span,
+        stride: u32,
+        progress: &mut dyn FnMut(u32),
+    ) -> Result<Band> {
         let by_luminance = params
             .method
             .path()
@@ -310,11 +324,11 @@ impl Tracer {
 impl BandTracer for Tracer {
     fn render_band(
         &mut self,
-        params: &FrameParams,
+        frame: &ValidatedFrame,
         span: Span,
         progress: &mut dyn FnMut(u32),
     ) -> std::result::Result<Band, TracerError> {
-        self.render_span(params, span, progress)
+        self.render_checked(frame, span, 1, progress)
             .map_err(|e| Box::new(e) as TracerError)
     }
 

@@ -5,7 +5,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use crate::flatten::commit::Commit;
-use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
+use crate::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 /// A CPU tracer whose pixels are a fixed function of (x, y, frame) added onto the
 /// accumulated sums, as the kernel continues them; `slowness` sets its speed.
@@ -16,7 +16,7 @@ pub struct Fake {
 impl BandTracer for Fake {
     fn render_band(
         &mut self,
-        p: &FrameParams,
+        p: &ValidatedFrame,
         span: Span,
         _: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError> {
@@ -58,7 +58,7 @@ pub struct Keeping(pub Arc<std::sync::Mutex<Vec<u32>>>);
 impl BandTracer for Keeping {
     fn render_band(
         &mut self,
-        p: &FrameParams,
+        p: &ValidatedFrame,
         span: Span,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError> {

@@ -1,7 +1,7 @@
 //! Fault injection: a tracer wrapper that, when told to, fails from a given frame on, as a lost
 //! device would. Healthy and failing tracers are the same type, so one renderer holds both.
 
-use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
+use crate::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 pub struct FaultInjector<T> {
     pub inner: T,
@@ -65,7 +65,7 @@ impl<T> FaultInjector<T> {
 impl<T: BandTracer> BandTracer for FaultInjector<T> {
     fn render_band(
         &mut self,
-        params: &FrameParams,
+        params: &ValidatedFrame,
         span: Span,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError> {

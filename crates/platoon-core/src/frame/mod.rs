@@ -250,11 +250,38 @@ impl Band {
 
 pub type TracerError = Box<dyn std::error::Error + Send + Sync>;
 
+/// A frame whose rules passed (`FrameParams::check`): what a renderer hands its tracers, which
+/// trust it rather than check it again. Only `ValidatedFrame::new` makes one; it reads as the
+/// frame's parameters.
+#[derive(Clone, Debug)]
+pub struct ValidatedFrame(FrameParams);
+
+impl ValidatedFrame {
+    /// `params`, if its rules pass; else what is wrong with it.
+    pub fn new(params: FrameParams) -> Result<ValidatedFrame, String> {
+        params.check()?;
+        Ok(ValidatedFrame(params))
+    }
+
+    pub fn params(&self) -> &FrameParams {
+        &self.0
+    }
+}
+
+impl std::ops::Deref for ValidatedFrame {
+    type Target = FrameParams;
+    fn deref(&self) -> &FrameParams {
+        &self.0
+    }
+}
+
 /// A device that renders bands of pixels. Implemented by platoon-tracer for Vulkan devices.
 pub trait BandTracer {
+    /// Renders the pixels `span` of `frame` (its rules checked: the tracer trusts them);
+    /// `progress` hears the samples each pixel holds as passes end.
     fn render_band(
         &mut self,
-        params: &FrameParams,
+        frame: &ValidatedFrame,
         span: Span,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band, TracerError>;

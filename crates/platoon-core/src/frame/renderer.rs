@@ -15,7 +15,7 @@ use crate::balance::steal_history::StealHistory;
 use crate::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
 use crate::denoise::{DeviceFilter, Guides};
 use crate::flatten::commit::Commit;
-use crate::frame::{assemble, gather_sums, Band, BandTracer, FrameParams, Span};
+use crate::frame::{assemble, gather_sums, Band, BandTracer, FrameParams, Span, ValidatedFrame};
 use crate::output::Film;
 
 pub struct FrameResult {
@@ -302,8 +302,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
         window: (u32, u32),
         progress: &mut dyn FnMut(u32),
     ) -> Result<PartResult, RenderError> {
-        params.check().map_err(RenderError::Invalid)?;
-        let params = &Arc::new(params.clone());
+        let params = &Arc::new(ValidatedFrame::new(params.clone()).map_err(RenderError::Invalid)?);
         let mut g = Gathered::new(&self.tracers, &planned);
         // The first round: the planned bands, their tails shared when stealing; each
         // tracer's time in it, for idle and for the balancer.
@@ -376,7 +375,7 @@ impl<T: BandTracer + Send + 'static> Renderer<T> {
     /// same frame, until nothing is lost (or no tracer is left: an error naming every failure).
     fn recover(
         &mut self,
-        params: &Arc<FrameParams>,
+        params: &Arc<ValidatedFrame>,
         g: &mut Gathered,
         times: &mut Vec<f64>,
     ) -> Result<(), RenderError> {
@@ -539,7 +538,7 @@ mod tests {
     impl BandTracer for Committing {
         fn render_band(
             &mut self,
-            p: &FrameParams,
+            p: &ValidatedFrame,
             span: Span,
             progress: &mut dyn FnMut(u32),
         ) -> Result<Band, TracerError> {

@@ -10,7 +10,7 @@ use super::outcome::{RenderError, TracerFailure, TracerStats};
 use super::workers::Worker;
 use crate::balance::span_cost;
 use crate::balance::steal::ClaimBoard;
-use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
+use crate::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 /// What a frame's rounds gather.
 pub(crate) struct Gathered {
@@ -100,7 +100,7 @@ type Outcome = (usize, Span, Result<Band, TracerError>);
 fn run_bands<T: BandTracer + Send + 'static>(
     tracers: &[(usize, Worker<T>)],
     work: &[Span],
-    params: &Arc<FrameParams>,
+    params: &Arc<ValidatedFrame>,
     progress: &mut dyn FnMut(u32),
 ) -> Vec<Outcome> {
     // Samples done mean something for the frame when one tracer renders it all.
@@ -133,7 +133,7 @@ fn run_bands<T: BandTracer + Send + 'static>(
 pub(crate) fn planned_round<T: BandTracer + Send + 'static>(
     tracers: &[(usize, Worker<T>)],
     work: &[Span],
-    params: &Arc<FrameParams>,
+    params: &Arc<ValidatedFrame>,
     g: &mut Gathered,
     progress: &mut dyn FnMut(u32),
 ) -> Vec<f64> {
@@ -157,7 +157,7 @@ pub(crate) fn planned_round<T: BandTracer + Send + 'static>(
 pub(crate) fn stolen_round<T: BandTracer + Send + 'static>(
     tracers: &[(usize, Worker<T>)],
     board: ClaimBoard,
-    params: &Arc<FrameParams>,
+    params: &Arc<ValidatedFrame>,
     g: &mut Gathered,
 ) -> Vec<f64> {
     let board = Arc::new(board);

@@ -12,18 +12,18 @@ use std::time::{Duration, Instant};
 
 use crate::balance::steal::ClaimBoard;
 use crate::flatten::commit::Commit;
-use crate::frame::{Band, BandTracer, FrameParams, Span, TracerError};
+use crate::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 enum Job {
     /// A band; with `report`, the samples done so far as its passes end (`Done::Progress`).
     Render {
-        params: Arc<FrameParams>,
+        params: Arc<ValidatedFrame>,
         span: Span,
         report: bool,
     },
     /// The head of band `slot` of the board, then pieces claimed until none is left.
     Steal {
-        params: Arc<FrameParams>,
+        params: Arc<ValidatedFrame>,
         board: Arc<ClaimBoard>,
         slot: usize,
     },
@@ -57,7 +57,7 @@ pub(crate) struct Stolen {
 /// Renders the head of `slot`'s band and claims pieces until none is left (`ClaimBoard`).
 fn steal<T: BandTracer>(
     t: &mut T,
-    params: &FrameParams,
+    params: &ValidatedFrame,
     board: &ClaimBoard,
     slot: usize,
 ) -> Stolen {
@@ -159,7 +159,7 @@ impl<T: BandTracer + Send + 'static> Worker<T> {
 
     /// Starts rendering `span`, reporting its samples as they are done when `report`;
     /// [`Worker::band`] waits for the result.
-    pub fn start_band(&self, params: &Arc<FrameParams>, span: Span, report: bool) {
+    pub fn start_band(&self, params: &Arc<ValidatedFrame>, span: Span, report: bool) {
         self.send(Job::Render {
             params: Arc::clone(params),
             span,
@@ -180,7 +180,12 @@ impl<T: BandTracer + Send + 'static> Worker<T> {
     }
 
     /// Starts rendering band `slot` of `board` with stealing; [`Worker::stolen`] waits.
-    pub fn start_stealing(&self, params: &Arc<FrameParams>, board: &Arc<ClaimBoard>, slot: usize) {
+    pub fn start_stealing(
+        &self,
+        params: &Arc<ValidatedFrame>,
+        board: &Arc<ClaimBoard>,
+        slot: usize,
+    ) {
         self.send(Job::Steal {
             params: Arc::clone(params),
             board: Arc::clone(board),
