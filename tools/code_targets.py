@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Where the code stands against issue 60's targets: lines of Rust per crate (target: none over
 10k), `FrameParams`' fields (target: at most 18, none naming one technique) and, for each of its
-fields of a name of more than one word, how many source files outside the tests name it (what adding an option like it touches;
+fields and its `FrameOptions`' of a name of more than one word, how many source files outside the tests name it (what adding an option like it touches;
 target: 4: the table, its logic, its shader, its test). Prints one line per measure and a JSON
 summary last; exits 1 only when a ceiling given with --ceilings is passed (the structure test's
 ratchet: what was reached stays reached).
@@ -27,12 +27,18 @@ def crate_lines(root):
             out[name] = sum(lines(p) for p in rust_files(src))
     return out
 
-def frame_params_fields(root):
-    path = os.path.join(root, "crates/platoon-core/src/frame/mod.rs")
-    text = open(path, encoding="utf-8").read()
-    body = text[text.index("pub struct FrameParams {"):]
+def struct_fields(root, file, name):
+    text = open(os.path.join(root, file), encoding="utf-8").read()
+    body = text[text.index(f"pub struct {name} {{"):]
     body = body[: body.index("\n}\n")]
     return re.findall(r"^\s*pub (\w+):", body, re.M)
+
+def frame_params_fields(root):
+    return struct_fields(root, "crates/platoon-core/src/frame/mod.rs", "FrameParams")
+
+def frame_options_fields(root):
+    """The options a request passes to the frame as they are (`FrameParams::options`)."""
+    return struct_fields(root, "crates/platoon-core/src/frame/options.rs", "FrameOptions")
 
 def source_files(root):
     """Non-test sources: the crates' src folders (their `tests.rs` files and `mod tests`
@@ -70,7 +76,9 @@ def main(argv):
     print(f"FrameParams: {len(fields)} fields (target 18)")
     # Names of more than one word: a common word (frame, width, film) is named everywhere for
     # other reasons, so only these say what an option touches.
-    files = naming_files(root, [f for f in fields if "_" in f])
+    options = frame_options_fields(root)
+    print(f"FrameOptions (FrameParams::options): {len(options)} fields")
+    files = naming_files(root, [f for f in fields + options if "_" in f])
     for field, n in sorted(files.items(), key=lambda kv: -kv[1]):
         print(f"  {field}: named in {n} source files (target 4)")
     summary = {

@@ -724,7 +724,7 @@ fn ao_over_floor(
     scene.cameras[0].orthographic = Some([0.05, 0.05]);
     let prepared = prepare(scene, constant_env(1.0));
     let mut params = FrameParams::new(8, 8, 64, prepared.camera);
-    params.ao_distance = distance;
+    params.options.ao_distance = distance;
     let layers = layers_on("0", &prepared, &params, &[Aov::Ao]);
     layer(&layers, "ao").channels[0].1.clone()
 }

@@ -121,7 +121,10 @@ fn a_crop_is_the_whole_renders_pixels_there_on_any_split() {
     // A thin lens, a wide filter and the AOVs: everything that reads the pixel's place.
     let whole = Request {
         aperture: 0.05,
-        filter: platoon::core::frame::PixelFilter::Gaussian,
+        frame: platoon::core::frame::FrameOptions {
+            filter: platoon::core::frame::PixelFilter::Gaussian,
+            ..Default::default()
+        },
         aovs: vec![Aov::Albedo, Aov::Depth, Aov::InstanceId],
         ..small()
     };
@@ -543,7 +546,10 @@ fn a_transparent_film_leaves_the_sky_seen_directly_out_and_says_where() {
                 platoon::core::scene::cornell::lambertian("grey", glam::Vec3::splat(0.5)),
             ))),
             env: constant_env(sky),
-            transparent_film,
+            frame: platoon::core::frame::FrameOptions {
+                transparent_film,
+                ..Default::default()
+            },
             devices: DeviceSpec::Lavapipe(tracers),
             ..small()
         }

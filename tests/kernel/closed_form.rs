@@ -265,7 +265,7 @@ fn an_edge_seen_through_each_pixel_filter_is_the_filters_integral() {
     ] {
         let mut params = FrameParams::new(w, h, 4096, prepared.camera);
         params.path_loop.max_depth = 1;
-        params.filter = filter;
+        params.options.filter = filter;
         let film = render(&prepared, &params, Sampling::Mis);
         let mut profile = Vec::new();
         for c in 0..w {
@@ -298,7 +298,10 @@ fn every_pixel_filter_gives_the_same_bits_on_one_and_three_tracers() {
                 width: 24,
                 height: 16,
                 spp: 8,
-                filter,
+                frame: platoon::core::frame::FrameOptions {
+                    filter,
+                    ..Default::default()
+                },
                 devices: DeviceSpec::Lavapipe(tracers),
                 ..Default::default()
             };

@@ -35,7 +35,7 @@ pub enum AovPass {
     /// The share of the beauty's camera rays that find a surface: a transparent film's alpha.
     Alpha,
     /// Ambient occlusion at the first hit of the beauty's camera rays: the share of
-    /// cosine-distributed rays from it that meet nothing within `FrameParams::ao_distance`.
+    /// cosine-distributed rays from it that meet nothing within the frame's AO distance (`FrameOptions`).
     Ao,
     /// A BSDF part's colour at the first hit of the beauty's camera rays: the sampled weight
     /// times the part's share of it (its directional albedo; Cycles' colour passes).

@@ -69,8 +69,8 @@ mod tests {
         let mut p = FrameParams::new(5, 4, 3, camera);
         p.path_loop.rr_fixed = Some(0.5);
         p.path_loop.clamp_indirect = Some(9.0);
-        p.transparent_film = true;
-        p.ao_distance = 2.5;
+        p.options.transparent_film = true;
+        p.options.ao_distance = 2.5;
         // Every IGI option away from its default: each must travel.
         p.method = Method::new(IgiOptions {
             paths: 7,
@@ -84,7 +84,7 @@ mod tests {
         p.frame = 12;
         p.first_sample = 13;
         p.output = Output::Aov(AovPass::Normal);
-        p.filter = PixelFilter::BlackmanHarris;
+        p.options.filter = PixelFilter::BlackmanHarris;
         p.crop = Some(Crop {
             x: 2,
             y: 3,
@@ -161,7 +161,7 @@ mod tests {
         assert_eq!(round_trip(&plain, Span::new(0, 9)), plain);
         // Every bit of a float, an infinity too (the encoding is CBOR, not JSON).
         let mut far = plain.clone();
-        far.ao_distance = f32::INFINITY;
+        far.options.ao_distance = f32::INFINITY;
         far.path_loop.rr_survival = f32::from_bits(0x3f00_0001);
         assert_eq!(round_trip(&far, Span::new(0, 9)), far);
         // An output with a value of its own: the sample whose ids a pass holds.

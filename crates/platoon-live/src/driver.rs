@@ -54,8 +54,10 @@ pub struct DriverOptions {
     /// Smallest weight of a frame in the film while objects move (see [`super::plan`]).
     pub blend_floor: f32,
     pub seed: u32,
-    /// The pixel filter every frame's camera rays are drawn from.
-    pub filter: platoon_core::frame::PixelFilter,
+    /// The options every frame takes as they are: the pixel filter its camera rays are drawn
+    /// from, a transparent film (a game request refuses one: its frames are opaque), the AO
+    /// distance (`FrameOptions`).
+    pub options: platoon_core::frame::FrameOptions,
     /// The path loop every frame's kernels run: depth, Russian roulette, clamp, light
     /// selection (`frame::PathLoop`; the frame driver's roulette scaling lowers its survival
     /// below one sample a frame).
@@ -121,7 +123,7 @@ impl DriverOptions {
     fn frame_params(&self, width: u32, height: u32, spp: u32, camera: Camera) -> FrameParams {
         let mut p = FrameParams::new(width, height, spp, camera);
         p.seed = self.seed;
-        p.filter = self.filter;
+        p.options = self.options;
         p.path_loop = self.path_loop.clone();
         p.samples_per_pass = self.samples_per_pass;
         p.method = self.method.clone();
@@ -137,7 +139,7 @@ impl DriverOptions {
             below_one: BelowOneSample::default(),
             blend_floor: 0.2,
             seed: 0,
-            filter: platoon_core::frame::PixelFilter::Box,
+            options: Default::default(),
             path_loop: PathLoop::default(),
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             method: platoon_core::method::Method::path_tracing(),

@@ -66,7 +66,7 @@ pub fn render_layers_with(
     Ok(aov::layers(aovs, &film, &params.camera, origin, context))
 }
 
-/// A transparent film's alpha for the frame `params` (its `transparent_film` set) rendered at
+/// A transparent film's alpha for the frame `params` (its film transparent) rendered at
 /// `spp`: the share of the beauty's camera rays of each pixel that find a surface.
 pub fn render_alpha(
     tracers: &mut Tracers,

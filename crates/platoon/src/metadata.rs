@@ -64,6 +64,7 @@ pub fn metadata_of(
     m.extend(crate::request::options::frame_metadata(params));
     m.extend([
         ("frame".into(), params.frame.to_string()),
+        ("max_depth".into(), params.path_loop.max_depth.to_string()),
         (
             "russian_roulette_depth".into(),
             params.path_loop.rr_depth.to_string(),

@@ -196,7 +196,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
             request.aovs.push(Aov::SampleCount);
         }
     }
-    if request.transparent_film && matches!(image_format(&out)?, ImageFormat::Jpeg) {
+    if request.frame.transparent_film && matches!(image_format(&out)?, ImageFormat::Jpeg) {
         bail!(
             "--film-transparent: {} is a JPEG, which has no alpha channel: write PNG, TIFF or EXR",
             out.display()

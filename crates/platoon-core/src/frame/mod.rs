@@ -11,6 +11,7 @@ pub mod fakes;
 pub mod fault;
 mod film_state;
 pub mod light_reuse;
+mod options;
 mod outcome;
 mod path_loop;
 mod pixel_filter;
@@ -23,6 +24,7 @@ use std::time::Duration;
 
 pub use crate::balance::Span;
 pub use film_state::FilmState;
+pub use options::{FrameOptions, DEFAULT_AO_DISTANCE};
 pub use path_loop::{Knob, KnobValue, PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, KNOBS};
 pub use pixel_filter::PixelFilter;
 pub use platoon_aov::{aov, cryptomatte, hit_geometry, light_pass, motion};
@@ -37,9 +39,6 @@ use crate::scene::camera::Camera;
 /// a pass, and longer passes keep SIMD lanes busier (14% less CPU time on lavapipe, measured in
 /// docs/PERFORMANCE.md).
 pub const DEFAULT_SAMPLES_PER_PASS: u32 = 16;
-
-/// The ambient-occlusion pass's distance by default: Cycles' (10 m).
-pub const DEFAULT_AO_DISTANCE: f32 = 10.0;
 
 /// What one frame renders: the same on every device and rank. Its encoding between ranks is
 /// derived (serde), but for the method (sent by its settings and state,
@@ -71,18 +70,12 @@ pub struct FrameParams {
     /// device; bands cut at different times would break the bit-identity of device splits.
     pub time_limit: Option<Duration>,
     pub camera: Camera,
-    /// What a sample counts for its pixel by its offset (the camera rays' distribution).
-    pub filter: PixelFilter,
+    /// The options a request sets as they are: the pixel filter, a transparent film, the AO
+    /// pass's distance (`options.rs`).
+    pub options: FrameOptions,
     /// A border render: the frame's `width` x `height` pixels are a window of a larger image
     /// (the camera frames that image). None: the frame is the whole image.
     pub crop: Option<Crop>,
-    /// A transparent film (Cycles' Film > Transparent): the environment the camera sees is
-    /// left out of the image (alpha 0 there, the `AovPass::Alpha` pass); it still lights the
-    /// scene. Compiled in only when set.
-    pub transparent_film: bool,
-    /// How far the ambient-occlusion pass (`AovPass::Ao`) looks for what occludes a point,
-    /// in scene units (Cycles' world AO distance).
-    pub ao_distance: f32,
     pub output: Output,
 }
 
@@ -197,10 +190,8 @@ impl FrameParams {
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             time_limit: None,
             camera,
-            filter: PixelFilter::Box,
+            options: FrameOptions::default(),
             crop: None,
-            transparent_film: false,
-            ao_distance: DEFAULT_AO_DISTANCE,
             output: Output::Radiance,
         }
     }

@@ -72,7 +72,7 @@ impl KernelVariant {
             (
                 "transparent-film",
                 "FILM_TRANSPARENT",
-                params.transparent_film,
+                params.options.transparent_film,
             ),
             (
                 "clamp-indirect",
@@ -127,12 +127,12 @@ impl KernelVariant {
             (
                 "gaussian-filter",
                 "PIXEL_FILTER_GAUSSIAN",
-                params.filter == PixelFilter::Gaussian,
+                params.options.filter == PixelFilter::Gaussian,
             ),
             (
                 "blackman-harris-filter",
                 "PIXEL_FILTER_BLACKMAN_HARRIS",
-                params.filter == PixelFilter::BlackmanHarris,
+                params.options.filter == PixelFilter::BlackmanHarris,
             ),
         ];
         let options = scene

@@ -81,7 +81,7 @@ impl MethodPasses for PathPasses {
         let mut words = [0; METHOD_WORDS];
         words[0] = CANARY_TURNS;
         // The ambient-occlusion pass's distance (path.glsl's ao_distance).
-        words[1] = params.ao_distance.to_bits();
+        words[1] = params.options.ao_distance.to_bits();
         WorldCachePasses::push_words(params, &mut words);
         words
     }

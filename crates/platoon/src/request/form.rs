@@ -8,7 +8,7 @@ use anyhow::Result;
 use platoon_core::denoise::Denoiser;
 use platoon_core::frame::adaptive::{Adaptive, Batching};
 use platoon_core::frame::aov::Aov;
-use platoon_core::frame::{FrameParams, PixelFilter, Region};
+use platoon_core::frame::{FrameOptions, FrameParams, Region};
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::gltf_load::LoadOptions;
 use platoon_core::scene::Scene;
@@ -101,13 +101,10 @@ pub struct Request {
     /// Longest path in segments (1: emitters only); None: effectively unbounded.
     pub max_depth: Option<u32>,
     pub seed: u32,
-    /// How a sample counts for its pixel (the camera rays' distribution in the pixel).
-    pub filter: PixelFilter,
-    /// A transparent film: the environment the camera sees is left out, the image gets an
-    /// alpha channel (`Still::alpha`).
-    pub transparent_film: bool,
-    /// How far the ambient-occlusion AOV looks for occluders, in scene units.
-    pub ao_distance: f32,
+    /// The options the frame takes as they are: the pixel filter, a transparent film (the
+    /// environment the camera sees left out, an alpha channel: `Still::alpha`), the AO
+    /// pass's distance (`FrameOptions`).
+    pub frame: FrameOptions,
     /// The method and its options (the path tracer's kernel and resampled light among them:
     /// `method::path::PathTracing`).
     pub method: Method,
@@ -158,9 +155,7 @@ impl Default for Request {
             world_cache: None,
             light_reuse: None,
             seed: 0,
-            filter: PixelFilter::Box,
-            transparent_film: false,
-            ao_distance: platoon_core::frame::DEFAULT_AO_DISTANCE,
+            frame: FrameOptions::default(),
             method: Method::path_tracing(),
             sampling: Sampling::Mis,
             devices: DeviceSpec::Auto,
@@ -214,9 +209,7 @@ impl Request {
             params.crop = Some(r.crop_of(self.width, self.height));
         }
         params.seed = self.seed;
-        params.filter = self.filter;
-        params.transparent_film = self.transparent_film;
-        params.ao_distance = self.ao_distance;
+        params.options = self.frame;
         params.method = self.method.clone();
         if let Some(d) = self.max_depth {
             params.path_loop.max_depth = d;

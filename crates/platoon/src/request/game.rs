@@ -18,7 +18,7 @@ impl Request {
         driver.spp = self.spp;
         driver.target = target;
         driver.seed = self.seed;
-        driver.filter = self.filter;
+        driver.options = self.frame;
         if let Some(d) = self.max_depth {
             driver.path_loop.max_depth = d;
         }
@@ -41,7 +41,7 @@ impl Request {
         self.validate()?;
         for (option, set) in [
             ("crop", self.crop.is_some()),
-            ("transparent_film", self.transparent_film),
+            ("transparent_film", self.frame.transparent_film),
         ] {
             if set {
                 return Err(super::error::RequestError {

@@ -175,16 +175,16 @@ pub static OPTIONS: &[RequestOption] = &[
                (Cycles' world AO distance).",
         kind: ValueKind::Number,
         set: |r, v| {
-            r.ao_distance = v.number()?;
+            r.frame.ao_distance = v.number()?;
             Ok(())
         },
-        get: |r| Some(Value::Number(r.ao_distance)),
+        get: |r| Some(Value::Number(r.frame.ao_distance)),
         image: true,
-        rule: |r| match r.ao_distance {
+        rule: |r| match r.frame.ao_distance {
             d if d.is_finite() && d > 0.0 => Ok(()),
             d => Err(format!("must be a positive distance, not {d}")),
         },
-        metadata: Some(("ao_distance", |p| p.ao_distance.to_string())),
+        metadata: Some(("ao_distance", |p| p.options.ao_distance.to_string())),
     },
     RequestOption {
         key: "transparent_film",
@@ -194,13 +194,13 @@ pub static OPTIONS: &[RequestOption] = &[
                and TIFF: straight); it still lights the scene. Not for JPEG.",
         kind: ValueKind::Switch,
         set: |r, v| {
-            r.transparent_film = v.switch()?;
+            r.frame.transparent_film = v.switch()?;
             Ok(())
         },
-        get: |r| Some(Value::Switch(r.transparent_film)),
+        get: |r| Some(Value::Switch(r.frame.transparent_film)),
         image: true,
         rule: any_value,
-        metadata: Some(("film", |p| match p.transparent_film {
+        metadata: Some(("film", |p| match p.options.transparent_film {
             true => "transparent (alpha: the share of camera rays finding a surface)".into(),
             false => "opaque".into(),
         })),
@@ -221,7 +221,8 @@ pub static OPTIONS: &[RequestOption] = &[
             Some(0) => Err("a path has at least one segment (1: emitters seen directly)".into()),
             _ => Ok(()),
         },
-        metadata: Some(("max_depth", |p| p.path_loop.max_depth.to_string())),
+        // (The metadata says it with the rest of the path loop's: `metadata.rs`.)
+        metadata: None,
     },
     RequestOption {
         key: "seed",
@@ -245,13 +246,13 @@ pub static OPTIONS: &[RequestOption] = &[
                split of the frame gives the same image.",
         kind: ValueKind::Word(&[]),
         set: |r, v| {
-            r.filter = PixelFilter::parse(v.word()?)?;
+            r.frame.filter = PixelFilter::parse(v.word()?)?;
             Ok(())
         },
-        get: |r| Some(Value::Word(r.filter.name().into())),
+        get: |r| Some(Value::Word(r.frame.filter.name().into())),
         image: true,
         rule: any_value,
-        metadata: Some(("filter", |p| p.filter.describe())),
+        metadata: Some(("filter", |p| p.options.filter.describe())),
     },
     RequestOption {
         key: "aperture",
@@ -446,7 +447,7 @@ mod tests {
                 "height" => r.height = 0,
                 "time_limit" => r.time_limit = Some(std::time::Duration::ZERO),
                 "crop" => r.crop = Some(Region::parse("500,0,20,20").unwrap()),
-                "ao_distance" => r.ao_distance = -1.0,
+                "ao_distance" => r.frame.ao_distance = -1.0,
                 "max_depth" => r.max_depth = Some(0),
                 "aperture" => r.aperture = f32::NAN,
                 "focus_distance" => r.focus_distance = Some(0.0),

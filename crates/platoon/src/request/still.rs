@@ -74,7 +74,7 @@ impl Still {
         } else {
             crate::aov::render_layers(tracers, scene, params, &wanted, origin, previous)?
         };
-        let alpha = match params.transparent_film {
+        let alpha = match params.options.transparent_film {
             true => Some(crate::aov::render_alpha(
                 tracers,
                 scene,

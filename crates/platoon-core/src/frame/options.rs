@@ -1,0 +1,33 @@
+//! The options of a frame that a request sets as they are, declared once with their defaults:
+//! what a request holds (`platoon::Request::frame`), what the frame's parameters carry to every
+//! tracer and rank (`FrameParams::options`), and what the request's table sets, checks and
+//! writes into an image's metadata (`platoon::request::options`). A new option of this kind is
+//! its field here, its entry in that table, its use (a shader) and its test.
+
+use super::pixel_filter::PixelFilter;
+
+/// The ambient-occlusion pass's distance by default: Cycles' (10 m).
+pub const DEFAULT_AO_DISTANCE: f32 = 10.0;
+
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FrameOptions {
+    /// What a sample counts for its pixel by its offset (the camera rays' distribution).
+    pub filter: PixelFilter,
+    /// A transparent film (Cycles' Film > Transparent): the environment the camera sees is
+    /// left out of the image (alpha 0 there, the `AovPass::Alpha` pass); it still lights the
+    /// scene. Compiled in only when set.
+    pub transparent_film: bool,
+    /// How far the ambient-occlusion pass (`AovPass::Ao`) looks for what occludes a point,
+    /// in scene units (Cycles' world AO distance).
+    pub ao_distance: f32,
+}
+
+impl Default for FrameOptions {
+    fn default() -> Self {
+        FrameOptions {
+            filter: PixelFilter::Box,
+            transparent_film: false,
+            ao_distance: DEFAULT_AO_DISTANCE,
+        }
+    }
+}
