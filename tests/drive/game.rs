@@ -12,7 +12,6 @@ use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
 use platoon::core::denoise::temporal::{GBuffer, Temporal};
 use platoon::core::denoise::Denoiser;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::{FrameParams, Output};
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;
@@ -23,6 +22,7 @@ use platoon::drive::plan::Join;
 use platoon::drive::scaling::BelowOneSample;
 use platoon::drive::Edit;
 use platoon::drive::{DriverOptions, FinishedFrame, FrameDriver, FrameStats, Pipeline};
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::Sampling;
 
 const W: u32 = 32;

@@ -12,12 +12,12 @@ use common::*;
 use glam::DVec3;
 use platoon::core::balance::by_name;
 use platoon::core::frame::light_reuse::LightReuse;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;
 use platoon::devices::create_tracers;
 use platoon::drive::{DriverOptions, FinishedFrame, Pipeline};
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::Sampling;
 use play::{own_frames, play, play_with};
 

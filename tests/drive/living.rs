@@ -7,8 +7,6 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
-use platoon::core::frame::fault::FaultInjector;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::{FrameParams, Output};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::environment::Environment;
@@ -17,6 +15,8 @@ use platoon::core::Scene;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::drive::Edit;
 use platoon::drive::{Pipeline, QueryScene, Updater};
+use platoon::schedule::fault::FaultInjector;
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::{Sampling, Tracer};
 
 fn new_tracer(scene: &platoon::core::flatten::GpuScene) -> Tracer {

@@ -11,13 +11,13 @@ mod play;
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::world_cache::WorldCacheOptions;
 use platoon::core::frame::FrameParams;
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;
 use platoon::devices::create_tracers;
 use platoon::drive::{DriverOptions, FinishedFrame, Pipeline};
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::Sampling;
 use play::{own_frames, play, play_with};
 

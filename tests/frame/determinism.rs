@@ -245,7 +245,7 @@ fn the_streaming_path_tracer_gives_the_megakernels_bits_with_any_number_of_slots
 #[test]
 fn the_streaming_path_tracer_continues_a_sum_as_one_longer_render() {
     use platoon::core::balance::by_name;
-    use platoon::core::frame::renderer::Renderer;
+    use platoon::schedule::renderer::Renderer;
     let prepared = cesium();
     let mut renderer = Renderer::new(
         vec![tracer(&prepared, Sampling::Mis)],

@@ -20,7 +20,6 @@ mod common;
 use common::*;
 use glam::DVec3;
 use platoon::core::balance::by_name;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
 use platoon::core::method::igi::IgiOptions;
 use platoon::core::output::Film;
@@ -30,6 +29,7 @@ use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::drive::Edit;
 use platoon::drive::Updater;
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::Sampling;
 
 /// FNV-1a over the film's size and every pixel's bits: stable across Rust versions.

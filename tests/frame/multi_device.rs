@@ -7,11 +7,11 @@ mod common;
 use common::*;
 use platoon::core::balance::steal::Stealing;
 use platoon::core::balance::{by_name, NAMES};
-use platoon::core::frame::fault::FaultInjector;
-use platoon::core::frame::renderer::{Renderer, TracerFailure};
 use platoon::core::frame::FrameParams;
 use platoon::core::method::path::PathKernel;
 use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::schedule::fault::FaultInjector;
+use platoon::schedule::renderer::{Renderer, TracerFailure};
 use platoon::tracer::{Sampling, Tracer};
 use platoon_lab::balance_bench as bb;
 

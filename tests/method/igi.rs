@@ -7,11 +7,11 @@ mod common;
 
 use common::*;
 use platoon::core::balance::by_name;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
 use platoon::core::method::igi::IgiOptions;
 use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::Sampling;
 
 fn cornell() -> platoon::Prepared {

@@ -9,13 +9,13 @@ mod common;
 use common::*;
 use platoon::core::balance::by_name;
 use platoon::core::flatten::GpuScene;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::{FrameParams, Span};
 use platoon::core::method::lhb::directions::DirectionSet;
 use platoon::core::method::lhb::oracle::{buffer_by_rays, on_an_edge, Layer};
 use platoon::core::method::lhb::{Lhb, LhbOptions, RasterVariant};
 use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::{Sampling, Tracer};
 
 fn cornell() -> platoon::Prepared {
@@ -71,7 +71,7 @@ fn device_lists(
 }
 
 fn report<'a>(r: &'a [(String, String)], key: &str) -> &'a str {
-    platoon::core::frame::renderer::report_entry(r, key).expect(key)
+    platoon::core::frame::report_entry(r, key).expect(key)
 }
 
 /// Compares every `step`-th direction's device lists with the oracle's: (texels the same,

@@ -12,8 +12,6 @@ use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::{by_name, NAMES};
 use platoon::core::flatten::GpuScene;
-use platoon::core::frame::fault::FaultInjector;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
 use platoon::core::method::links::reduce::LinkGroups;
 use platoon::core::method::links::scene_elements::SceneElements;
@@ -25,6 +23,8 @@ use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::drive::{
     DriverOptions, Edit, FrameDriver, FrameStats, GiStats, GiUpdate, Pipeline, Updater,
 };
+use platoon::schedule::fault::FaultInjector;
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::{Sampling, Tracer};
 
 fn links(options: LinksOptions) -> Method {

@@ -16,11 +16,11 @@ use super::wire::{self, Reader, WireError, Writer};
 use super::Collective;
 use platoon_core::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
 use platoon_core::flatten::commit::Commit;
-use platoon_core::frame::renderer::{
-    frame_of, line_rays_of, FrameResult, PartResult, RenderError, Renderer, TracerStats,
-};
 use platoon_core::frame::{BandTracer, FrameParams, Span};
 use platoon_core::output::Film;
+use platoon_schedule::renderer::{
+    frame_of, line_rays_of, FrameResult, PartResult, RenderError, Renderer, TracerStats,
+};
 
 #[derive(Debug, thiserror::Error)]
 pub enum RankError {
@@ -391,9 +391,9 @@ mod tests {
     use super::*;
     use crate::local::LocalGroup;
     use platoon_core::balance::{by_name, NAMES};
-    use platoon_core::frame::fakes::{Fake, Keeping};
-    use platoon_core::frame::fault::FaultInjector;
     use platoon_core::scene::camera::Camera;
+    use platoon_schedule::fakes::{Fake, Keeping};
+    use platoon_schedule::fault::FaultInjector;
 
     fn params(frame: u32) -> FrameParams {
         let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);

@@ -13,10 +13,10 @@ use std::time::{Duration, Instant};
 use super::params::{get_params, put_params};
 use super::wire::{self, Reader, WireError, Writer};
 use platoon_core::flatten::commit::Commit;
-use platoon_core::frame::renderer::{
+use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError, ValidatedFrame};
+use platoon_schedule::renderer::{
     first_report, line_rays_of, per_pixel_in_order, PartResult, Renderer,
 };
-use platoon_core::frame::{Band, BandTracer, FrameParams, Span, TracerError, ValidatedFrame};
 
 /// Messages between rank 0 and another rank, callable from several threads at once (MPI
 /// started with MPI_THREAD_MULTIPLE; channels for ranks as threads).
@@ -257,9 +257,9 @@ mod tests {
     use super::*;
     use crate::local::LocalLink;
     use platoon_core::balance::{by_name, NAMES, STEALING_NAMES};
-    use platoon_core::frame::fakes::{Fake, Keeping};
     use platoon_core::output::Film;
     use platoon_core::scene::camera::Camera;
+    use platoon_schedule::fakes::{Fake, Keeping};
 
     fn params(frame: u32) -> FrameParams {
         let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
@@ -389,7 +389,7 @@ mod tests {
 
     /// Rank 1's devices fail from frame 1 on (with stealing, whatever piece it holds then).
     fn a_rank_fails(balancer: &str) {
-        use platoon_core::frame::fault::FaultInjector;
+        use platoon_schedule::fault::FaultInjector;
         let (films, alive) = with_ranks(
             vec![FaultInjector::healthy(Fake { slowness: 1 })],
             vec![

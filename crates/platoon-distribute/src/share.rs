@@ -5,8 +5,8 @@
 use std::time::Duration;
 
 use super::wire::{self, Reader, WireError, Writer};
-use platoon_core::frame::renderer::PartResult;
 use platoon_core::frame::{FrameParams, Span};
+use platoon_schedule::renderer::PartResult;
 
 /// What a rank answers for its share.
 pub(super) enum Reply {

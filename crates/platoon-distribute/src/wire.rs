@@ -8,9 +8,9 @@ use std::hash::{Hash, Hasher};
 use std::time::Duration;
 
 use platoon_core::flatten::commit::{ArrayCommit, Commit, SceneHeader};
-use platoon_core::frame::renderer::{TracerFailure, TracerStats};
 use platoon_core::frame::{Band, FrameParams, Span};
 use platoon_core::scene::camera::Camera;
+use platoon_schedule::renderer::{TracerFailure, TracerStats};
 
 #[derive(Debug, thiserror::Error)]
 #[error("a message between ranks is cut short or malformed: {0}")]

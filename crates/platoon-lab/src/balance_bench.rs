@@ -14,10 +14,10 @@ use glam::Vec3;
 use platoon_core::balance::replay::{replay, replay_stealing, CostMap, Overhead, StolenFrame};
 use platoon_core::balance::steal::{ClaimBoard, Stealing};
 use platoon_core::balance::{by_name, NAMES};
-use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::FrameParams;
 use platoon_core::frame::Span;
 use platoon_core::scene::camera::Camera;
+use platoon_schedule::renderer::Renderer;
 use platoon_tracer::Sampling;
 
 use platoon::devices::{create_tracers, DeviceSpec};

@@ -14,7 +14,6 @@ use anyhow::{bail, Context as _, Result};
 use glam::{DVec3, Mat4};
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon_core::denoise::Denoiser;
-use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::FrameParams;
 use platoon_core::measure::median;
 use platoon_core::method::path::ResampledLight;
@@ -22,6 +21,7 @@ use platoon_core::output::Film;
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::{Placement, Scene};
 use platoon_live::{DriverOptions, Edit, FinishedFrame, Updater, REALTIME_CANDIDATES};
+use platoon_schedule::renderer::Renderer;
 use platoon_tracer::Sampling;
 
 use crate::tradeoff::metrics;

@@ -19,9 +19,9 @@ use platoon_core::frame::aov::AovPass;
 use platoon_core::frame::aov_params::aov_pass_params;
 use platoon_core::frame::hit_geometry::HitGeometry;
 use platoon_core::frame::motion::hits_before;
-use platoon_core::frame::renderer::{Renderer, TracerFailure};
 use platoon_core::frame::{BandTracer, FrameParams};
 use platoon_core::output::Film;
+use platoon_schedule::renderer::{Renderer, TracerFailure};
 
 /// What denoising a frame did and cost.
 #[derive(Clone, Debug)]

@@ -32,12 +32,12 @@ use platoon_core::error::{Error, Result};
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::hit_geometry::HitGeometry;
 use platoon_core::frame::light_reuse::{check_context, LightReuse, LightReuseState};
-use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::world_cache::{WorldCache, WorldCacheOptions};
 use platoon_core::frame::{BandTracer, FrameParams, PathLoop, DEFAULT_SAMPLES_PER_PASS};
 use platoon_core::method::path::ResampledLight;
 use platoon_core::method::Method;
 use platoon_core::scene::camera::Camera;
+use platoon_schedule::renderer::Renderer;
 
 /// How the driver renders.
 #[derive(Clone, Debug)]

@@ -10,10 +10,10 @@ use super::plan::FramePlan;
 use super::UpdateTimes;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::light_reuse::ReuseStats;
-use platoon_core::frame::renderer::{TracerFailure, TracerStats};
 use platoon_core::frame::world_cache::CacheUpdate;
 use platoon_core::output::Film;
 use platoon_core::scene::camera::Camera;
+use platoon_schedule::renderer::{TracerFailure, TracerStats};
 
 /// What one frame was and cost.
 #[derive(Clone, Debug)]

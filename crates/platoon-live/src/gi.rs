@@ -18,10 +18,10 @@ use platoon_core::balance::Balancer;
 use platoon_core::error::{Error, Result};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
-use platoon_core::frame::renderer::{Renderer, TracerFailure};
 use platoon_core::frame::{BandTracer, FrameParams};
 use platoon_core::method::render_method::DeviceFrame;
 use platoon_core::method::Method;
+use platoon_schedule::renderer::{Renderer, TracerFailure};
 
 /// Where the game loop prepares a method whose frames need it (vertex links' update).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -18,9 +18,9 @@ use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::hit_geometry::HitGeometry;
 use platoon_core::frame::light_reuse::{split_per_pixel, LightReuseState};
-use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::world_cache::WorldCache;
 use platoon_core::frame::{BandTracer, FrameParams};
+use platoon_schedule::renderer::Renderer;
 
 pub(super) struct FrameJob {
     pub frame: u32,
@@ -114,7 +114,7 @@ fn render_one<T: BandTracer + Send + 'static>(
         moved,
     } = job;
     let start = Instant::now();
-    let failed = |e: platoon_core::frame::renderer::RenderError| Error::Invalid(e.to_string());
+    let failed = |e: platoon_schedule::renderer::RenderError| Error::Invalid(e.to_string());
     let mut failures = Vec::new();
     let commit_bytes = match &commit {
         Some(c) => {

@@ -12,7 +12,6 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use glam::{DVec3, Quat, Vec3};
 use platoon::core::balance;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::environment::Environment;
@@ -20,6 +19,7 @@ use platoon::core::scene::Placement;
 use platoon::devices::{self, DeviceSpec};
 use platoon::drive::Edit;
 use platoon::drive::{Pipeline, QueryScene};
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::Sampling;
 
 fn main() -> Result<()> {

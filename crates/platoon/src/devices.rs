@@ -8,7 +8,7 @@ use std::str::FromStr;
 use anyhow::{bail, Context as _, Result};
 use platoon_core::balance::Balancer;
 use platoon_core::flatten::GpuScene;
-use platoon_core::frame::renderer::Renderer;
+use platoon_schedule::renderer::Renderer;
 use platoon_tracer::{list_devices, DeviceInfo, Sampling, Tracer, TracerOptions};
 
 #[derive(Clone, Debug, PartialEq)]

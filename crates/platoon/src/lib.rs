@@ -50,6 +50,9 @@ pub use platoon_distribute as distribute;
 /// A living scene: a game's edits, the double-buffered updater, the frame driver (the crate
 /// `platoon-live`).
 pub use platoon_live as drive;
+/// A frame scheduled over its tracers: the renderer, its rounds and workers (the crate
+/// `platoon-schedule`).
+pub use platoon_schedule as schedule;
 pub use platoon_tracer as tracer;
 pub use prepare::{
     load_scene, load_scene_with, prepare, EnvChoice, EnvLight, PrepareOptions, Prepared,

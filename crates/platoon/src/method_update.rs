@@ -4,9 +4,9 @@
 
 use anyhow::{Context as _, Result};
 use platoon_core::flatten::GpuScene;
-use platoon_core::frame::renderer::Renderer;
 use platoon_core::frame::{assemble, BandTracer, FrameParams, Span};
 use platoon_core::method::render_method::DeviceFrame;
+use platoon_schedule::renderer::Renderer;
 use platoon_tracer::Tracer;
 
 /// `params` with its method's preparation done on `tracer` (the scene `g` being the one the

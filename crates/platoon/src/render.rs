@@ -8,9 +8,9 @@ use std::sync::Arc;
 use anyhow::{Context as _, Result};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
-use platoon_core::frame::renderer::{FrameResult, Renderer};
 use platoon_core::frame::{assemble, gather_sums, Band, FrameParams, Span};
 use platoon_distribute::{Collective, RankFrame, RankRenderer};
+use platoon_schedule::renderer::{FrameResult, Renderer};
 use platoon_tracer::{Tracer, TracerOptions};
 
 use crate::rendered::{pack, Devices, Measured};
@@ -47,7 +47,7 @@ pub fn render_bands(
         rays: out.iter().map(|b| b.rays).sum(),
         rejected_samples: out.iter().map(|b| b.rejected_samples).sum(),
         kernel_fallbacks: out.iter().map(|b| b.kernel_fallbacks).sum(),
-        method_report: platoon_core::frame::renderer::first_report(&out),
+        method_report: platoon_schedule::renderer::first_report(&out),
         tracers: Vec::new(),
     };
     let devices = Devices {

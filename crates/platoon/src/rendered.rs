@@ -24,7 +24,7 @@ pub struct Rendered {
     pub device: String,
     pub kernel_defines: Vec<&'static str>,
     /// Per-tracer statistics of a multi-device frame (empty for one device).
-    pub tracers: Vec<platoon_core::frame::renderer::TracerStats>,
+    pub tracers: Vec<platoon_schedule::renderer::TracerStats>,
     pub balancer: Option<&'static str>,
     /// What the Khronos validation layer reported (with validation on).
     pub validation_messages: Vec<String>,
@@ -91,7 +91,7 @@ pub(crate) struct Measured {
     pub(crate) rejected_samples: u64,
     pub(crate) kernel_fallbacks: u32,
     pub(crate) method_report: Vec<(String, String)>,
-    pub(crate) tracers: Vec<platoon_core::frame::renderer::TracerStats>,
+    pub(crate) tracers: Vec<platoon_schedule::renderer::TracerStats>,
 }
 
 /// What rendered it.

@@ -5,9 +5,9 @@
 
 use anyhow::{Context as _, Result};
 use platoon::core::balance::by_name;
-use platoon::core::frame::renderer::Renderer;
 use platoon::core::frame::FrameParams;
 use platoon::devices::{create_tracers, DeviceSpec};
+use platoon::schedule::renderer::Renderer;
 use platoon::tracer::Sampling;
 use platoon_game::KeptFrame;
 use platoon_lab::tradeoff::metrics;

@@ -4,20 +4,11 @@
 
 pub mod adaptive;
 pub mod aov_params;
-/// CPU fake tracers for tests (this crate's, and platoon-distribute's through the feature
-/// `test-support`).
-#[cfg(any(test, feature = "test-support"))]
-pub mod fakes;
-pub mod fault;
 mod film_state;
 pub mod light_reuse;
 mod options;
-mod outcome;
 mod path_loop;
 mod pixel_filter;
-pub mod renderer;
-mod rounds;
-mod workers;
 pub mod world_cache;
 
 use std::time::Duration;
@@ -300,6 +291,14 @@ pub trait BandTracer {
     ) -> Result<Film, TracerError> {
         Err("this tracer has no device to filter a frame on".into())
     }
+}
+
+/// The value of `key` in a method's report (`Band::method_report`), if it has one.
+pub fn report_entry<'a>(report: &'a [(String, String)], key: &str) -> Option<&'a str> {
+    report
+        .iter()
+        .find(|(k, _)| k == key)
+        .map(|(_, v)| v.as_str())
 }
 
 /// The bands' sums as one image (row-major, width x height).

@@ -12,13 +12,13 @@ use anyhow::{bail, Context as _, Result};
 use glam::DVec3;
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
-use platoon_core::frame::renderer::Renderer;
 use platoon_core::Scene;
 use platoon_distribute::method_wire::travels;
 use platoon_distribute::remote::{serve as serve_bands, LocalRank, RankTracer, RemoteRank};
 use platoon_distribute::wire::{self, Reader, Writer};
 use platoon_live::queries::QueryScene;
 use platoon_live::{FrameDriver, Pipeline};
+use platoon_schedule::renderer::Renderer;
 use platoon_tracer::Sampling;
 
 use super::Ranks;

@@ -91,7 +91,7 @@ impl RenderMethod for Lhb {
     }
 
     fn report(&self, entries: &[(String, String)]) -> Report {
-        let entry = |key| crate::frame::renderer::report_entry(entries, key);
+        let entry = |key| crate::frame::report_entry(entries, key);
         let mut report = Report::default();
         if let Some(build) = entry("lhb_build") {
             report.lines.push(format!("layered hit buffers: {build}"));

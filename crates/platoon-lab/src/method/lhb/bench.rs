@@ -11,7 +11,7 @@
 use std::time::Duration;
 
 use anyhow::{Context as _, Result};
-use platoon::core::frame::renderer::report_entry;
+use platoon::core::frame::report_entry;
 use platoon::core::frame::FrameParams;
 use platoon::core::method::lhb::{Lhb, LhbOptions};
 use platoon::core::Method;

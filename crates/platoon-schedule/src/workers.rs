@@ -10,9 +10,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use crate::balance::steal::ClaimBoard;
-use crate::flatten::commit::Commit;
-use crate::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
+use platoon_core::balance::steal::ClaimBoard;
+use platoon_core::flatten::commit::Commit;
+use platoon_core::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 enum Job {
     /// A band; with `report`, the samples done so far as its passes end (`Done::Progress`).

@@ -6,11 +6,11 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use super::outcome::{RenderError, TracerFailure, TracerStats};
-use super::workers::Worker;
-use crate::balance::span_cost;
-use crate::balance::steal::ClaimBoard;
-use crate::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
+use crate::outcome::{RenderError, TracerFailure, TracerStats};
+use crate::workers::Worker;
+use platoon_core::balance::span_cost;
+use platoon_core::balance::steal::ClaimBoard;
+use platoon_core::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 /// What a frame's rounds gather.
 pub(crate) struct Gathered {
@@ -217,7 +217,7 @@ pub(crate) fn piece_overhead(line_costs: &[f64], width: u32, claimed: &[Claimed]
             excess.push((seconds - span_cost(line_costs, width, span) * per_cost).max(0.0));
         }
     }
-    (!excess.is_empty()).then(|| crate::measure::median(excess))
+    (!excess.is_empty()).then(|| platoon_core::measure::median(excess))
 }
 
 /// `spans` less the pixels of `taken` (spans that lie within them or apart).

@@ -7,16 +7,18 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-pub use super::outcome::{RenderError, TracerFailure, TracerStats};
-use super::rounds::{check_cover, piece_overhead, planned_round, stolen_round, Gathered};
-use super::workers::Worker;
-use crate::balance::steal::{unstolen_seconds, ClaimBoard, Stealing};
-use crate::balance::steal_history::StealHistory;
-use crate::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
-use crate::denoise::{DeviceFilter, Guides};
-use crate::flatten::commit::Commit;
-use crate::frame::{assemble, gather_sums, Band, BandTracer, FrameParams, Span, ValidatedFrame};
-use crate::output::Film;
+pub use crate::outcome::{RenderError, TracerFailure, TracerStats};
+use crate::rounds::{check_cover, piece_overhead, planned_round, stolen_round, Gathered};
+use crate::workers::Worker;
+use platoon_core::balance::steal::{unstolen_seconds, ClaimBoard, Stealing};
+use platoon_core::balance::steal_history::StealHistory;
+use platoon_core::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use platoon_core::denoise::{DeviceFilter, Guides};
+use platoon_core::flatten::commit::Commit;
+use platoon_core::frame::{
+    assemble, gather_sums, Band, BandTracer, FrameParams, Span, ValidatedFrame,
+};
+use platoon_core::output::Film;
 
 pub struct FrameResult {
     pub film: Film,
@@ -502,14 +504,6 @@ pub fn first_report(bands: &[Band]) -> Vec<(String, String)> {
         .unwrap_or_default()
 }
 
-/// The value of `key` in a method's report (`Band::method_report`), if it has one.
-pub fn report_entry<'a>(report: &'a [(String, String)], key: &str) -> Option<&'a str> {
-    report
-        .iter()
-        .find(|(k, _)| k == key)
-        .map(|(_, v)| v.as_str())
-}
-
 /// The bands' `per_pixel` data joined in pixel order (taken out of them).
 pub fn per_pixel_in_order(bands: &mut [Band]) -> Vec<[f32; 4]> {
     let mut order: Vec<usize> = (0..bands.len()).collect();
@@ -523,11 +517,11 @@ pub fn per_pixel_in_order(bands: &mut [Band]) -> Vec<[f32; 4]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::balance::{by_name, NAMES};
-    use crate::frame::fakes::Fake;
-    use crate::frame::fault::FaultInjector;
-    use crate::frame::TracerError;
-    use crate::scene::camera::Camera;
+    use crate::fakes::Fake;
+    use crate::fault::FaultInjector;
+    use platoon_core::balance::{by_name, NAMES};
+    use platoon_core::frame::TracerError;
+    use platoon_core::scene::camera::Camera;
 
     /// A fake that, when `refuse`, fails every scene commit, as a lost device would.
     struct Committing {
@@ -545,7 +539,10 @@ mod tests {
             self.fake.render_band(p, span, progress)
         }
 
-        fn apply_commit(&mut self, _: &crate::flatten::commit::Commit) -> Result<u64, TracerError> {
+        fn apply_commit(
+            &mut self,
+            _: &platoon_core::flatten::commit::Commit,
+        ) -> Result<u64, TracerError> {
             if self.refuse {
                 return Err("device lost".into());
             }

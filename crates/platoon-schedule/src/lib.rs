@@ -1,0 +1,15 @@
+//! A frame scheduled over its tracers (`renderer::Renderer`): the balancer's plan (a band per
+//! tracer), each band rendered on its tracer's own thread (`workers`), the rounds that share
+//! bands' tails between tracers and re-render a failed tracer's band on the others (`rounds`),
+//! and what a frame measured and lost (`outcome`). The core (`platoon_core::frame`) holds the
+//! contract this schedules: the frame's parameters, the band, the `BandTracer` a device is.
+
+/// CPU fake tracers for tests (this crate's, and platoon-distribute's through the feature
+/// `test-support`).
+#[cfg(any(test, feature = "test-support"))]
+pub mod fakes;
+pub mod fault;
+mod outcome;
+pub mod renderer;
+mod rounds;
+mod workers;
