@@ -57,7 +57,7 @@ fn last_frame(
     seed: u32,
     frames: u32,
 ) -> Film {
-    o.seed = seed;
+    o.options.seed = seed;
     let run = play(scene.clone(), camera, "lavapipe:1", o, frames);
     own_frames(&run).pop().unwrap()
 }

@@ -32,10 +32,10 @@ fn same_seed_gives_identical_images_and_other_seeds_differ() {
     // A fresh device gives the same bits too.
     let c = render(&prepared, &params, Sampling::Mis);
     assert_eq!(a, c);
-    params.seed = 1;
+    params.options.seed = 1;
     let d = render_with(&mut tracer, &params);
     assert_ne!(a, d);
-    params.seed = 0;
+    params.options.seed = 0;
     params.frame = 1;
     assert_ne!(a, render_with(&mut tracer, &params));
 }

@@ -41,7 +41,7 @@ fn a_request_renders_what_the_layers_below_render() {
         platoon::EnvChoice::Scene,
     );
     let mut params = platoon::core::frame::FrameParams::new(24, 16, 4, prepared.camera);
-    params.seed = 0;
+    params.options.seed = 0;
     let film = render(&prepared, &params, Sampling::Mis);
     assert_eq!(still.image.pixels, film.pixels);
     assert_eq!(still.rendered.film.pixels, film.pixels);

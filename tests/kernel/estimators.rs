@@ -89,7 +89,7 @@ fn blocks_with(
     (0..SEEDS)
         .map(|seed| {
             let mut params = FrameParams::new(w, h, spp, prepared.camera);
-            params.seed = seed;
+            params.options.seed = seed;
             setup(&mut params);
             let film = render_with(&mut tracer, &params);
             let mut out = Vec::new();

@@ -38,7 +38,7 @@ fn seed_means(
     (0..seeds)
         .map(|seed| {
             let mut params = FrameParams::new(size, size, spp, p.camera);
-            params.seed = seed;
+            params.options.seed = seed;
             let m = render_with(&mut tracer, &params).mean();
             (m[0] + m[1] + m[2]) / 3.0
         })

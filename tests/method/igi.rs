@@ -36,7 +36,7 @@ fn igi_indirect_light_converges_to_the_path_tracers_as_the_vpls_grow_in_number()
     params.path_loop.max_depth = 2;
     let reference = minus(&full, &render_with(&mut tracer, &params));
     params.spp = 8;
-    params.seed = 1;
+    params.options.seed = 1;
     let direct = render_with(&mut tracer, &params);
     params.path_loop.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;
     let mut errors = Vec::new();
@@ -194,7 +194,7 @@ fn the_vpls_change_with_the_frame_and_the_seed_and_not_otherwise() {
     params.frame = 1;
     assert!(render_with(&mut tracer, &params) != a);
     params.frame = 0;
-    params.seed = 9;
+    params.options.seed = 9;
     assert!(render_with(&mut tracer, &params) != a);
 }
 

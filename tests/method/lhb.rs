@@ -223,7 +223,7 @@ fn lhb_indirect_light_converges_to_the_path_tracers_with_directions_and_resoluti
     params.path_loop.max_depth = 2;
     let reference = minus(&full, &render_with(&mut tracer, &params));
     params.spp = 256;
-    params.seed = 1;
+    params.options.seed = 1;
     let mut errors = Vec::new();
     for (set, r) in [("ico20", 16), ("ico80", 64), ("ico320", 128)] {
         let o = LhbOptions {

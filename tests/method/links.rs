@@ -200,7 +200,7 @@ fn links_indirect_light_converges_with_directions_and_tessellation() {
         let prepared = prepare(cornell::tessellated(cells), platoon::EnvChoice::Scene);
         let mut tracer = tracer(&prepared, Sampling::Mis);
         let mut params = FrameParams::new(32, 32, 8, prepared.camera);
-        params.seed = 1;
+        params.options.seed = 1;
         params.path_loop.max_depth = 2;
         let direct = render_with(&mut tracer, &params);
         params.path_loop.max_depth = platoon::core::frame::DEFAULT_MAX_DEPTH;

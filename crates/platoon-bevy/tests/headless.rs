@@ -170,7 +170,7 @@ fn own_render(scene: platoon::core::Scene, camera: PCamera) -> Film {
     )
     .unwrap();
     let mut params = platoon::core::frame::FrameParams::new(W, H, 256, camera);
-    params.seed = 99;
+    params.options.seed = 99;
     platoon::render(&prepared, &options[0], &params, &mut |_| {})
         .unwrap()
         .film
@@ -613,7 +613,7 @@ fn a_character_bevy_animates_renders_as_platoon_poses_its_file() {
         )
         .unwrap();
         let mut params = platoon::core::frame::FrameParams::new(W, H, 256, camera_of(&t));
-        params.seed = 99;
+        params.options.seed = 99;
         platoon::render(&prepared_at(time), &options[0], &params, &mut |_| {})
             .unwrap()
             .film

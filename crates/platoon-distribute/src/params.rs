@@ -80,7 +80,7 @@ mod tests {
             downsample: 2,
             interleave: [2, 3],
         });
-        p.seed = 11;
+        p.options.seed = 11;
         p.frame = 12;
         p.first_sample = 13;
         p.output = Output::Aov(AovPass::Normal);

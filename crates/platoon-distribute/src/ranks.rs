@@ -537,7 +537,7 @@ mod tests {
             |_, _| Fake { slowness: 1 },
             |r| {
                 let mut p = params(0);
-                p.seed = r.rank() as u32;
+                p.options.seed = r.rank() as u32;
                 r.render_frame(&p).map(|_| ()).map_err(|e| e.to_string())
             },
         );

@@ -541,7 +541,7 @@ mod tests {
         let mut q = p.clone();
         q.film.accumulated = Some(vec![[1.0; 3]; 16].into());
         assert_eq!(fingerprint(&p), fingerprint(&q));
-        q.seed = 1;
+        q.options.seed = 1;
         assert_ne!(fingerprint(&p), fingerprint(&q));
     }
 }

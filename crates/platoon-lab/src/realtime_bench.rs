@@ -344,7 +344,7 @@ fn reference(o: &Options, scene: &Scene, start: Camera, f: u32) -> Result<Film> 
         camera_of(start, o.camera_step, f),
     );
     // Other random numbers than any game frame's.
-    params.seed = 0x5eed_0000 + f;
+    params.options.seed = 0x5eed_0000 + f;
     Ok(renderer.render_frame(&params)?.film)
 }
 
@@ -357,7 +357,7 @@ fn play(
     seed: u32,
 ) -> Result<Vec<FinishedFrame>> {
     let mut driver = DriverOptions::new(o.width, o.height);
-    driver.seed = seed;
+    driver.options.seed = seed;
     driver.target = Some(std::time::Duration::from_secs_f64(o.target_ms * 1e-3));
     technique.apply(&mut driver);
     let mut options = platoon::game::GameOptions::new(driver);

@@ -53,8 +53,7 @@ pub struct DriverOptions {
     pub below_one: BelowOneSample,
     /// Smallest weight of a frame in the film while objects move (see [`super::plan`]).
     pub blend_floor: f32,
-    pub seed: u32,
-    /// The options every frame takes as they are: the pixel filter its camera rays are drawn
+    /// The options every frame takes as they are: the seed, the pixel filter its camera rays are drawn
     /// from, a transparent film (a game request refuses one: its frames are opaque), the AO
     /// distance (`FrameOptions`).
     pub options: platoon_core::frame::FrameOptions,
@@ -122,7 +121,6 @@ impl DriverOptions {
     /// depths, samples per pass and method (what every frame and a method's preparation share).
     fn frame_params(&self, width: u32, height: u32, spp: u32, camera: Camera) -> FrameParams {
         let mut p = FrameParams::new(width, height, spp, camera);
-        p.seed = self.seed;
         p.options = self.options;
         p.path_loop = self.path_loop.clone();
         p.samples_per_pass = self.samples_per_pass;
@@ -138,7 +136,6 @@ impl DriverOptions {
             target: None,
             below_one: BelowOneSample::default(),
             blend_floor: 0.2,
-            seed: 0,
             options: Default::default(),
             path_loop: PathLoop::default(),
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,

@@ -94,7 +94,7 @@ impl Globals {
         g.params = [
             params.path_loop.max_depth.max(1),
             params.frame,
-            params.seed,
+            params.options.seed,
             params.path_loop.rr_depth,
         ];
         g

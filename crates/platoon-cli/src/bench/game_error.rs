@@ -34,7 +34,7 @@ pub fn measure(kept: &[KeptFrame], devices: &str, spp: u32) -> Result<Option<Gam
         let mut renderer = Renderer::new(tracers, by_name("cost-aware").expect("a balancer"));
         let mut params = FrameParams::new(k.shown.width, k.shown.height, spp, k.camera);
         // Other random numbers than the game's frames.
-        params.seed = 0x5eed_0000 + k.frame;
+        params.options.seed = 0x5eed_0000 + k.frame;
         let reference = renderer
             .render_frame(&params)
             .with_context(|| format!("the reference of frame {}", k.frame))?

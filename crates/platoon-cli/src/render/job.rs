@@ -126,7 +126,7 @@ impl Job {
         let mut params = setup.params.clone();
         params.camera = camera;
         if self.animated_seed {
-            params.seed = params.seed.wrapping_add(frame as u32);
+            params.options.seed = params.options.seed.wrapping_add(frame as u32);
         }
         params
     }

@@ -45,7 +45,6 @@ pub struct FrameParams {
     /// own options are its state: `method::path::PathTracing`).
     #[serde(skip, default = "crate::method::Method::path_tracing")]
     pub method: crate::method::Method,
-    pub seed: u32,
     /// The frame number in the random numbers' key. The frame driver keeps it at the frame of
     /// the last restart while a view converges, so that continuing sample indices never repeat.
     pub frame: u32,
@@ -61,8 +60,8 @@ pub struct FrameParams {
     /// device; bands cut at different times would break the bit-identity of device splits.
     pub time_limit: Option<Duration>,
     pub camera: Camera,
-    /// The options a request sets as they are: the pixel filter, a transparent film, the AO
-    /// pass's distance (`options.rs`).
+    /// The options a request sets as they are: the seed, the pixel filter, a transparent film,
+    /// the AO pass's distance (`options.rs`).
     pub options: FrameOptions,
     /// A border render: the frame's `width` x `height` pixels are a window of a larger image
     /// (the camera frames that image). None: the frame is the whole image.
@@ -174,7 +173,6 @@ impl FrameParams {
             spp,
             path_loop: PathLoop::default(),
             method: crate::method::Method::path_tracing(),
-            seed: 0,
             frame: 0,
             first_sample: 0,
             film: FilmState::default(),

@@ -1,4 +1,5 @@
-//! The options of a frame that a request sets as they are, declared once with their defaults:
+//! The options of a frame that a request sets as they are (the seed, the pixel filter, a
+//! transparent film, the AO pass's distance), declared once with their defaults:
 //! what a request holds (`platoon::Request::frame`), what the frame's parameters carry to every
 //! tracer and rank (`FrameParams::options`), and what the request's table sets, checks and
 //! writes into an image's metadata (`platoon::request::options`). A new option of this kind is
@@ -11,6 +12,9 @@ pub const DEFAULT_AO_DISTANCE: f32 = 10.0;
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FrameOptions {
+    /// The random numbers' seed: with the pixel, the sample index and the frame, what every
+    /// random number of the frame is a pure function of.
+    pub seed: u32,
     /// What a sample counts for its pixel by its offset (the camera rays' distribution).
     pub filter: PixelFilter,
     /// A transparent film (Cycles' Film > Transparent): the environment the camera sees is
@@ -25,6 +29,7 @@ pub struct FrameOptions {
 impl Default for FrameOptions {
     fn default() -> Self {
         FrameOptions {
+            seed: 0,
             filter: PixelFilter::Box,
             transparent_film: false,
             ao_distance: DEFAULT_AO_DISTANCE,

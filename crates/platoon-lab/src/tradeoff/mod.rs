@@ -88,7 +88,7 @@ pub enum Progress<'a> {
 pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress)) -> Result<Report> {
     o.validate()?;
     let mut base = FrameParams::new(o.width, o.height, 1, prepared.camera);
-    base.seed = o.seed;
+    base.options.seed = o.seed;
     // Bad references are refused before any sweep starts.
     let reference = match &o.reference {
         Some(path) => reference::user_reference(path, o.width, o.height)?,

@@ -41,7 +41,7 @@ pub fn cache_path(prepared: &Prepared, base: &FrameParams, spp: u32) -> Result<P
     (
         base.width,
         base.height,
-        base.seed,
+        base.options.seed,
         spp,
         base.path_loop.max_depth,
         base.path_loop.rr_depth,
@@ -73,7 +73,7 @@ pub fn platoon_reference(
     }
     let mut params = base.clone();
     params.spp = spp;
-    params.seed = base.seed.wrapping_add(SEED_OFFSET);
+    params.options.seed = base.options.seed.wrapping_add(SEED_OFFSET);
     let mut tracer = Tracer::new(&TracerOptions::default(), &prepared.gpu)?;
     let band = tracer
         .render(&params, 0, params.height, progress)
@@ -88,7 +88,7 @@ pub fn platoon_reference(
     }
     let meta = vec![
         ("platoon_reference_spp".to_string(), spp.to_string()),
-        ("seed".to_string(), params.seed.to_string()),
+        ("seed".to_string(), params.options.seed.to_string()),
     ];
     write_image(&path, &film, &meta)?;
     Ok(Reference {

@@ -100,8 +100,7 @@ pub struct Request {
     pub time_limit: Option<Duration>,
     /// Longest path in segments (1: emitters only); None: effectively unbounded.
     pub max_depth: Option<u32>,
-    pub seed: u32,
-    /// The options the frame takes as they are: the pixel filter, a transparent film (the
+    /// The options the frame takes as they are: the seed, the pixel filter, a transparent film (the
     /// environment the camera sees left out, an alpha channel: `Still::alpha`), the AO
     /// pass's distance (`FrameOptions`).
     pub frame: FrameOptions,
@@ -154,7 +153,6 @@ impl Default for Request {
             max_depth: None,
             world_cache: None,
             light_reuse: None,
-            seed: 0,
             frame: FrameOptions::default(),
             method: Method::path_tracing(),
             sampling: Sampling::Mis,
@@ -208,7 +206,6 @@ impl Request {
             (params.width, params.height) = (r.width, r.height);
             params.crop = Some(r.crop_of(self.width, self.height));
         }
-        params.seed = self.seed;
         params.options = self.frame;
         params.method = self.method.clone();
         if let Some(d) = self.max_depth {

@@ -17,7 +17,6 @@ impl Request {
         let mut driver = DriverOptions::new(self.width, self.height);
         driver.spp = self.spp;
         driver.target = target;
-        driver.seed = self.seed;
         driver.options = self.frame;
         if let Some(d) = self.max_depth {
             driver.path_loop.max_depth = d;

@@ -230,13 +230,13 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "The random numbers' seed.",
         kind: ValueKind::Count,
         set: |r, v| {
-            r.seed = v.count()?;
+            r.frame.seed = v.count()?;
             Ok(())
         },
-        get: |r| Some(Value::Count(r.seed)),
+        get: |r| Some(Value::Count(r.frame.seed)),
         image: true,
         rule: any_value,
-        metadata: Some(("seed", |p| p.seed.to_string())),
+        metadata: Some(("seed", |p| p.options.seed.to_string())),
     },
     RequestOption {
         key: "filter",
