@@ -112,6 +112,41 @@ fn point_light_matches_inverse_square_cosine_law() {
     );
 }
 
+/// Resampled light by emitted luminance weighs lights in solid angle, where a point light has
+/// no density: the tracer refuses it on a scene with one (the rule the lab skips such a
+/// technique by), and by contribution it renders the light's closed form.
+#[test]
+fn resampled_light_by_luminance_is_refused_where_punctual_lights_are() {
+    use platoon::core::method::path::ResampledLight;
+    let mut scene = ground(vec![], vec![]);
+    let (i, at) = (3.0, Vec3::new(0.3, 1.0, 0.2));
+    add_light(&mut scene, LightKind::Point, i, at);
+    let prepared = prepare(scene, platoon::EnvChoice::Scene);
+    let (w, h) = (16, 16);
+    let with = |contribution: bool| {
+        let mut params = FrameParams::new(w, h, 16, prepared.camera);
+        let mut r = ResampledLight::new(4);
+        r.contribution = contribution;
+        params.method.path_mut().unwrap().resampled_light = Some(r);
+        params
+    };
+    let mut t = tracer(&prepared, Sampling::Mis);
+    let refused = t.render(&with(false), 0, h, &mut |_| {}).unwrap_err();
+    assert!(refused.to_string().contains("punctual"), "{refused}");
+    let film = render_with(&mut t, &with(true));
+    for y in 0..h {
+        for x in 0..w {
+            let d = at - ground_point(&prepared, x, y, w, h);
+            let want = RHO / PI * i * (d.y / d.length()) / d.length_squared();
+            let got = film.pixels[(y * w + x) as usize][0];
+            assert!(
+                (got - want).abs() <= 0.05 * want.max(0.05),
+                "{x},{y}: {got} vs {want}"
+            );
+        }
+    }
+}
+
 #[test]
 fn directional_and_spot_lights_match_their_closed_forms() {
     let mut scene = ground(vec![], vec![]);

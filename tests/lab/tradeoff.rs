@@ -536,3 +536,42 @@ fn vertex_links_sweep_against_the_path_tracer_with_their_update_timed() {
         l[1]
     );
 }
+
+/// A technique whose resampled light weighs lights by emitted luminance is skipped on a scene
+/// with a point light, for the reason the tracer would refuse it (`ResampledLight::check_lights`),
+/// while the others run.
+#[test]
+fn resampled_light_by_luminance_is_skipped_where_punctual_lights_are() {
+    use platoon::core::scene::{LightKind, Node, PunctualLight};
+    init();
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = platoon::core::scene::cornell::scene();
+    scene.lights.push(PunctualLight {
+        name: "bulb".into(),
+        kind: LightKind::Point,
+        color: glam::Vec3::ONE,
+        intensity: 1.0,
+        range: 0.0,
+    });
+    let mut node = Node::new("bulb");
+    node.light = Some(scene.lights.len() - 1);
+    node.translation = glam::DVec3::new(0.0, 1.0, 0.0);
+    scene.nodes.push(node);
+    let lit = prepare(scene, platoon::EnvChoice::Scene);
+    assert!(lit.gpu.features.punctual_lights);
+    let o = Options {
+        width: 16,
+        height: 16,
+        reference_spp: 32,
+        ..options(dir.path(), &[4], &[Technique::Mis, Technique::Ris(4)])
+    };
+    let report = tradeoff::run(&lit, &o, &mut |_| {}).unwrap();
+    let names: Vec<&str> = report.rows.iter().map(|r| r.technique.as_str()).collect();
+    assert_eq!(names, vec!["mis"]);
+    assert_eq!(report.skipped.len(), 1, "{:?}", report.skipped);
+    let why = &report.skipped[0];
+    assert!(
+        why.starts_with("ris=4: ") && why.contains("punctual"),
+        "{why}"
+    );
+}

@@ -75,17 +75,9 @@ impl Tracer {
         stride: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
-        let by_luminance = params
-            .method
-            .path()
-            .resampled_light
-            .is_some_and(|r| !r.contribution);
-        if by_luminance && self.features.punctual_lights {
-            return Err(crate::Error::Invalid(
-                "resampled light selection by emitted luminance weighs lights in solid angle: \
-                 the scene's punctual lights have no such density (weigh by contribution)"
-                    .into(),
-            ));
+        if let Some(r) = params.method.path().resampled_light {
+            r.check_lights(self.features.punctual_lights)
+                .map_err(crate::Error::Invalid)?;
         }
         let method = params.method.unit();
         // The method's device side is taken out while it records, and kept for the next band.

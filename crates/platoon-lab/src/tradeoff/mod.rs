@@ -107,13 +107,17 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
     let mut setups = Vec::with_capacity(o.techniques.len());
     let mut skipped = Vec::new();
     for technique in &o.techniques {
-        if matches!(technique, Technique::Ris(_) | Technique::MisRis(_))
-            && prepared.gpu.features.punctual_lights
+        let mut params = base.clone();
+        technique.apply(&mut params);
+        // What the tracer would refuse of the scene's lights (`ResampledLight::check_lights`).
+        let lights = prepared.gpu.features.punctual_lights;
+        if let Some(Err(why)) = params
+            .method
+            .path()
+            .resampled_light
+            .map(|r| r.check_lights(lights))
         {
-            skipped.push(format!(
-                "{technique}: RIS weighs lights in solid angle, the scene's punctual lights have \
-                 no such density"
-            ));
+            skipped.push(format!("{technique}: {why}"));
             continue;
         }
         let key = (technique.sampling(), technique.variant());
@@ -138,8 +142,6 @@ pub fn run(prepared: &Prepared, o: &Options, progress: &mut dyn FnMut(Progress))
             }
         };
         let gpu = &scene.as_ref().unwrap_or(prepared).gpu;
-        let mut params = base.clone();
-        technique.apply(&mut params);
         params.spp = 1;
         // A method's preparation (vertex links' update) runs on the technique's tracer, once to
         // compile its kernels and once timed; that time is added to every render of the

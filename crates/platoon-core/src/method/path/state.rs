@@ -65,6 +65,20 @@ impl ResampledLight {
         }
         Ok(())
     }
+
+    /// Whether it can weigh the lights of a scene with punctual lights (`punctual`): by
+    /// emitted luminance it weighs them in solid angle, where a point, spot or directional light
+    /// has no density. What the tracer refuses and the lab skips (one rule).
+    pub fn check_lights(&self, punctual: bool) -> Result<(), String> {
+        if punctual && !self.contribution {
+            return Err(
+                "resampled light selection by emitted luminance weighs lights in solid angle: \
+                 the scene's punctual lights have no such density (weigh by contribution)"
+                    .into(),
+            );
+        }
+        Ok(())
+    }
 }
 
 impl PathTracing {
