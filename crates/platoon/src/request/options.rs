@@ -4,7 +4,8 @@
 //! an image's metadata says of it. `platoon render`'s flags, `platoon.render`'s keywords, the
 //! request's rules of one option (`Request::validate`), the flag its errors name (the CLI) and
 //! the frame's part of the metadata are made from this table, so an option of the frame is one
-//! entry here, its field in the request, and its use below.
+//! entry here, its field (in `FrameOptions` where the frame takes it as given: the request
+//! holds those, the frame carries them; else the request's own), and its use below.
 
 use platoon_core::frame::adaptive::Adaptive;
 use platoon_core::frame::{FrameParams, PixelFilter, Region};
