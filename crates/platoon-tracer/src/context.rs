@@ -1,8 +1,8 @@
 //! Vulkan instance and logical device, with the Khronos validation layer on request (every
 //! message it emits is recorded so that tests can fail on any).
 
-use std::ffi::{c_void, CStr, CString};
-use std::sync::{Arc, Mutex};
+use std::ffi::{c_void, CStr, CString, OsString};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use ash::vk;
 
@@ -251,6 +251,10 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>> {
 /// five threads at once segfaulted in getenv about one run in ten).
 static CREATION: Mutex<()> = Mutex::new(());
 
+/// LP_NUM_THREADS as the process had it before platoon's first device: what a device made
+/// without a thread count of its own gets.
+static ORIGINAL_THREADS: OnceLock<Option<OsString>> = OnceLock::new();
+
 /// Sets environment variables under the lock instance and device creation hold, so that no
 /// other thread's Vulkan loader reads the environment meanwhile (what tests and embedders set
 /// before their tracers: VK_DRIVER_FILES...).
@@ -271,22 +275,25 @@ impl Context {
         lavapipe_threads: Option<u32>,
     ) -> Result<Context> {
         let _guard = CREATION.lock().unwrap_or_else(|e| e.into_inner());
-        let previous = std::env::var_os("LP_NUM_THREADS");
-        if let Some(t) = lavapipe_threads {
+        let original = ORIGINAL_THREADS.get_or_init(|| std::env::var_os("LP_NUM_THREADS"));
+        let wanted = match lavapipe_threads {
+            Some(t) => Some(OsString::from(t.to_string())),
+            None => original.clone(),
+        };
+        // Changed only where it differs, and left as this creation wants it (the next creation
+        // sets its own): a setenv reallocates `environ` under whatever C code of another thread
+        // reads it outside this lock (Mesa reads some options lazily), so tracers of one thread
+        // count change it once in a process rather than twice per device.
+        if std::env::var_os("LP_NUM_THREADS") != wanted {
             // SAFETY: creation is serialised by CREATION; platoon reads no environment meanwhile.
-            unsafe { std::env::set_var("LP_NUM_THREADS", t.to_string()) };
-        }
-        let result = Context::create(device_index, validation);
-        if lavapipe_threads.is_some() {
-            // SAFETY: as above.
             unsafe {
-                match previous {
+                match &wanted {
                     Some(v) => std::env::set_var("LP_NUM_THREADS", v),
                     None => std::env::remove_var("LP_NUM_THREADS"),
                 }
             }
         }
-        result
+        Context::create(device_index, validation)
     }
 
     fn create(device_index: usize, validation: bool) -> Result<Context> {
