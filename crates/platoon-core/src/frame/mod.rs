@@ -242,10 +242,6 @@ impl ValidatedFrame {
         params.check()?;
         Ok(ValidatedFrame(params))
     }
-
-    pub fn params(&self) -> &FrameParams {
-        &self.0
-    }
 }
 
 impl std::ops::Deref for ValidatedFrame {
