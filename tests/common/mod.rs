@@ -164,6 +164,28 @@ use std::sync::Arc;
 
 use platoon::core::scene::{Material, Mesh, Node, Scene};
 
+/// Adds a punctual light of `kind` and `intensity` at `at`, its -Z (where spots and
+/// directional lights point) turned straight down.
+pub fn add_light(
+    scene: &mut Scene,
+    kind: platoon::core::scene::LightKind,
+    intensity: f32,
+    at: Vec3,
+) {
+    scene.lights.push(platoon::core::scene::PunctualLight {
+        name: "light".into(),
+        kind,
+        color: Vec3::ONE,
+        intensity,
+        range: 0.0,
+    });
+    let mut node = Node::new("light");
+    node.light = Some(scene.lights.len() - 1);
+    node.translation = at.as_dvec3();
+    node.rotation = glam::Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2);
+    scene.nodes.push(node);
+}
+
 pub fn mesh_from(data: &platoon_scenegen::MeshData, material: u32) -> Mesh {
     Mesh::from_arrays(
         "generated",

@@ -7,15 +7,13 @@ mod common;
 use std::f32::consts::PI;
 
 use common::*;
-use glam::{Quat, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use platoon::core::frame::FrameParams;
 use platoon::core::method::path::PathKernel;
 use platoon::core::output::Film;
 use platoon::core::scene::cornell::lambertian;
 use platoon::core::scene::texture_levels::{TextureLod, TextureOptions};
-use platoon::core::scene::{
-    AlphaMode, LightKind, Material, Node, PunctualLight, Texture, TextureRef, Wrap,
-};
+use platoon::core::scene::{AlphaMode, LightKind, Material, Texture, TextureRef, Wrap};
 use platoon::tracer::{MemoryPath, Sampling};
 
 const RHO: f32 = 0.5;
@@ -40,21 +38,6 @@ fn ground(
         Vec3::ZERO,
         1.0,
     )
-}
-
-fn add_light(scene: &mut platoon::core::Scene, kind: LightKind, intensity: f32, position: Vec3) {
-    scene.lights.push(PunctualLight {
-        name: "l".into(),
-        kind,
-        color: Vec3::ONE,
-        intensity,
-        range: 0.0,
-    });
-    let mut node = Node::new("light");
-    node.light = Some(scene.lights.len() - 1);
-    node.translation = position.as_dvec3();
-    node.rotation = Quat::from_rotation_x(-PI / 2.0); // -Z points down
-    scene.nodes.push(node);
 }
 
 /// Ground point under the centre of pixel (x, y) of a w x h view from `sphere_scene`-like

@@ -124,7 +124,7 @@ fn a_cube_twice_as_wide_lets_through_the_square() {
 /// way through the medium) times e^(-a) (the camera ray's, from the card to the top face).
 #[test]
 fn a_light_inside_a_medium_is_absorbed_on_its_way_to_the_card_and_to_the_eye() {
-    use platoon::core::scene::{LightKind, Node, PunctualLight};
+    use platoon::core::scene::LightKind;
     let (color, distance, rho, intensity) = (Vec3::new(0.5, 0.7, 0.9), 0.8f32, 0.8f32, 2.0f32);
     let medium = Material {
         thickness: 1.0,
@@ -148,17 +148,12 @@ fn a_light_inside_a_medium_is_absorbed_on_its_way_to_the_card_and_to_the_eye() {
         0.5,
     );
     scene.cameras[0].orthographic = Some([0.005, 0.005]);
-    scene.lights.push(PunctualLight {
-        name: "bulb".into(),
-        kind: LightKind::Point,
-        color: Vec3::ONE,
+    add_light(
+        &mut scene,
+        LightKind::Point,
         intensity,
-        range: 0.0,
-    });
-    let mut bulb = Node::new("bulb");
-    bulb.light = Some(0);
-    bulb.translation = glam::DVec3::new(0.0, 0.5, 0.0);
-    scene.nodes.push(bulb);
+        Vec3::new(0.0, 0.5, 0.0),
+    );
     let prepared = prepare(scene, platoon::EnvChoice::Scene);
     assert!(prepared.gpu.features.volume && prepared.gpu.features.punctual_lights);
     let a = color.map(|c| -c.ln() / distance);

@@ -542,21 +542,11 @@ fn vertex_links_sweep_against_the_path_tracer_with_their_update_timed() {
 /// while the others run.
 #[test]
 fn resampled_light_by_luminance_is_skipped_where_punctual_lights_are() {
-    use platoon::core::scene::{LightKind, Node, PunctualLight};
     init();
     let dir = tempfile::tempdir().unwrap();
     let mut scene = platoon::core::scene::cornell::scene();
-    scene.lights.push(PunctualLight {
-        name: "bulb".into(),
-        kind: LightKind::Point,
-        color: glam::Vec3::ONE,
-        intensity: 1.0,
-        range: 0.0,
-    });
-    let mut node = Node::new("bulb");
-    node.light = Some(scene.lights.len() - 1);
-    node.translation = glam::DVec3::new(0.0, 1.0, 0.0);
-    scene.nodes.push(node);
+    let point = platoon::core::scene::LightKind::Point;
+    add_light(&mut scene, point, 1.0, glam::Vec3::new(0.0, 1.0, 0.0));
     let lit = prepare(scene, platoon::EnvChoice::Scene);
     assert!(lit.gpu.features.punctual_lights);
     let o = Options {

@@ -17,7 +17,7 @@ use platoon::core::method::links::reduce::LinkGroups;
 use platoon::core::method::links::scene_elements::SceneElements;
 use platoon::core::method::links::{shoot_cpu, Job, Links, LinksOptions, Solution};
 use platoon::core::scene::camera::Camera;
-use platoon::core::scene::{cornell, LightKind, Mesh, Node, PunctualLight, Scene};
+use platoon::core::scene::{cornell, LightKind, Mesh, Scene};
 use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::drive::{
@@ -76,16 +76,7 @@ fn lit_inward_sphere() -> Scene {
         Vec3::new(0.0, 0.0, -1.0),
         1.0,
     );
-    scene.lights.push(PunctualLight {
-        name: "centre".into(),
-        kind: LightKind::Point,
-        color: Vec3::ONE,
-        intensity: 4.0,
-        range: 0.0,
-    });
-    let mut node = Node::new("light");
-    node.light = Some(0);
-    scene.nodes.push(node);
+    add_light(&mut scene, LightKind::Point, 4.0, Vec3::ZERO);
     scene
 }
 
@@ -306,17 +297,7 @@ fn one_and_three_tracers_give_the_same_bits_under_every_balancer() {
 /// light.
 fn box_with_point_light(light: Vec3) -> platoon::Prepared {
     let mut scene = cornell::tessellated(4);
-    scene.lights.push(PunctualLight {
-        name: "bulb".into(),
-        kind: LightKind::Point,
-        color: Vec3::ONE,
-        intensity: 20.0,
-        range: 0.0,
-    });
-    let mut node = Node::new("bulb");
-    node.light = Some(0);
-    node.translation = light.as_dvec3();
-    scene.nodes.push(node);
+    add_light(&mut scene, LightKind::Point, 20.0, light);
     prepare(scene, platoon::EnvChoice::Scene)
 }
 
