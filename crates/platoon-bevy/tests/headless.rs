@@ -95,6 +95,20 @@ fn run_until(app: &mut App, what: &str, done: impl Fn(&mut App) -> bool) {
     }
 }
 
+/// Runs until the mirror has built no new scene for ten updates running.
+fn settle(app: &mut App) {
+    let last = std::cell::Cell::new((u64::MAX, 0));
+    run_until(app, "the mirror to settle", |app| {
+        let rebuilds = app.world().resource::<PlatoonStats>().rebuilds;
+        let (seen, steady) = last.get();
+        last.set(match rebuilds == seen {
+            true => (seen, steady + 1),
+            false => (rebuilds, 0),
+        });
+        last.get().1 >= 10
+    });
+}
+
 /// Runs until the newest build's film holds `spp` samples a pixel; returns the film.
 fn converged(app: &mut App, spp: u32) -> Film {
     run_until(app, "a converged film", |app| {
@@ -144,6 +158,17 @@ fn file_app(file: &'static str, tracers: &str, spp: u32) -> (App, GlobalTransfor
         let loaded = world.resource::<Assets<Mesh>>();
         handles.len() >= meshes && handles.iter().all(|h| loaded.contains(*h))
     });
+    // ... and until all the file holds has loaded (its textures may come after its meshes,
+    // and a texture new to the mirror builds the scene anew) and the mirror has taken it in:
+    // a test counting rebuilds counts from here.
+    run_until(&mut app, "the file's assets", |app| {
+        let world = app.world_mut();
+        let mut q = world.query::<&bevy::world_serialization::WorldAssetRoot>();
+        let roots: Vec<_> = q.iter(world).map(|r| r.0.id()).collect();
+        let server = world.resource::<AssetServer>();
+        roots.iter().all(|&id| server.is_loaded_with_dependencies(id))
+    });
+    settle(&mut app);
     let mut q = app
         .world_mut()
         .query_filtered::<&GlobalTransform, With<Camera3d>>();
