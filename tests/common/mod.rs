@@ -73,7 +73,7 @@ pub fn render_with(tracer: &mut Tracer, params: &FrameParams) -> Film {
     let film = render_once(tracer, params);
     let path_traced = params.method.is_path_tracing()
         && params.output == platoon::core::frame::Output::Radiance
-        && params.time_limit.is_none();
+        && params.options.time_limit.is_none();
     if path_traced && params.method.path().kernel == PathKernel::Auto {
         let mut streamed = params.clone();
         streamed.method = streaming(&params.method);

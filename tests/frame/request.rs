@@ -17,6 +17,14 @@ use platoon::devices::DeviceSpec;
 use platoon::tracer::Sampling;
 use platoon::{CameraChoice, Request, RequestError, SceneSource};
 
+/// The frame options with a time limit of `limit`.
+fn limited(limit: Option<Duration>) -> platoon::core::frame::FrameOptions {
+    platoon::core::frame::FrameOptions {
+        time_limit: limit,
+        ..Default::default()
+    }
+}
+
 fn small() -> Request {
     init();
     Request {
@@ -231,7 +239,10 @@ fn every_rule_refuses_by_naming_its_option() {
         ),
         (
             Request {
-                max_depth: Some(0),
+                path_loop: platoon::core::frame::PathLoop {
+                    max_depth: 0,
+                    ..Default::default()
+                },
                 ..small()
             },
             "max_depth",
@@ -239,7 +250,7 @@ fn every_rule_refuses_by_naming_its_option() {
         ),
         (
             Request {
-                time_limit: Some(Duration::ZERO),
+                frame: limited(Some(Duration::ZERO)),
                 ..small()
             },
             "time_limit",
@@ -300,7 +311,7 @@ fn every_rule_refuses_by_naming_its_option() {
         (
             Request {
                 adaptive,
-                time_limit: Some(Duration::from_secs(1)),
+                frame: limited(Some(Duration::from_secs(1))),
                 ..small()
             },
             "time_limit",
@@ -393,7 +404,7 @@ fn every_rule_refuses_by_naming_its_option() {
     assert!(e.contains("light_reuse") && e.contains("game loop"), "{e}");
     // A rule that needs the devices: a time limit cuts one device's frame only.
     let e = Request {
-        time_limit: Some(Duration::from_secs(1)),
+        frame: limited(Some(Duration::from_secs(1))),
         devices: DeviceSpec::Lavapipe(vec![1, 1]),
         ..small()
     }
@@ -449,12 +460,28 @@ fn a_progressive_render_is_one_render_of_all_its_samples() {
         assert_eq!(spp.1, "7");
     }
     let e = platoon::Progressive::new(Request {
-        time_limit: Some(Duration::from_secs(1)),
+        frame: limited(Some(Duration::from_secs(1))),
         ..small()
     })
     .err()
     .unwrap();
     assert_eq!(e.downcast::<RequestError>().unwrap().option, "time_limit");
+}
+
+/// A game loop holds a frame time by its samples a frame: a time limit, which would cut its
+/// frames, is refused rather than left aside.
+#[test]
+fn a_game_loop_refuses_a_time_limit() {
+    let e = Request {
+        frame: limited(Some(Duration::from_secs(1))),
+        ..small()
+    }
+    .start_game(None)
+    .err()
+    .unwrap();
+    let e = e.downcast::<RequestError>().unwrap();
+    assert_eq!(e.option, "time_limit");
+    assert!(e.problem.contains("frame time"), "{e}");
 }
 
 #[test]
@@ -494,13 +521,13 @@ fn tracers_driven_directly_refuse_a_time_limit_on_several_devices() {
             .unwrap();
     let mut tracers = platoon::Tracers::new(&options, "cost-aware", &prepared.gpu).unwrap();
     let mut params = platoon::core::frame::FrameParams::new(8, 8, 1, prepared.camera);
-    params.time_limit = Some(Duration::from_secs(1));
+    params.options.time_limit = Some(Duration::from_secs(1));
     let e = tracers
         .render(&prepared.gpu, &params, &mut |_| {})
         .err()
         .unwrap();
     assert!(e.to_string().contains("one device"), "{e}");
-    params.time_limit = None;
+    params.options.time_limit = None;
     assert!(tracers.render(&prepared.gpu, &params, &mut |_| {}).is_ok());
 }
 

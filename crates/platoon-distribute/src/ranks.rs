@@ -163,7 +163,7 @@ impl<T: BandTracer + Send + 'static> RankRenderer<T> {
     /// (the fingerprint checks it); rank 0 gets the frame.
     pub fn render_frame(&mut self, params: &FrameParams) -> Result<RankFrame, RankError> {
         let start = Instant::now();
-        if params.time_limit.is_some() && self.ranks() > 1 {
+        if params.options.time_limit.is_some() && self.ranks() > 1 {
             return Err(RankError::Refused(
                 "a time limit renders on one device: shares cut at different times would \
                  break the image's independence from the split"

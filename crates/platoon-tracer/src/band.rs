@@ -16,7 +16,7 @@ use crate::Result;
 
 impl Tracer {
     /// Renders lines [y0, y1) of the frame at `params.spp` samples per pixel (fewer, in whole
-    /// passes, when `params.time_limit` runs out first; the band says how many).
+    /// passes, when `params.options.time_limit` runs out first; the band says how many).
     pub fn render(
         &mut self,
         params: &FrameParams,
@@ -202,7 +202,6 @@ impl Tracer {
         })?;
 
         let push = Push {
-            globals: globals_address,
             y0,
             y1,
             pixel_begin: span.begin,
@@ -211,17 +210,7 @@ impl Tracer {
             // What a method's first pass may key its work by, besides frame and seed.
             sample_begin: params.first_sample,
             sample_end: params.first_sample,
-            rr_survival: params
-                .path_loop
-                .rr_fixed
-                .unwrap_or(params.path_loop.rr_survival),
-            clamp_indirect: params.path_loop.clamp_indirect.unwrap_or(f32::INFINITY),
-            ris_candidates: params
-                .method
-                .path()
-                .resampled_light
-                .map_or(1, |r| r.candidates),
-            method: method.push_words(params),
+            ..Push::of_frame(params, globals_address, method.push_words(params))
         };
         let Some((_, _, _, stats_buffer, _)) = self.frame_buffers.as_mut() else {
             unreachable!("frame buffers were just created")
@@ -248,7 +237,7 @@ impl Tracer {
         // the last (up to a whole pass), as many as the time left allows at the last pass's
         // pace: a limit shorter than a whole pass ends after a sample, not a pass (issue 41,
         // defect 6). How the samples are cut into passes leaves the sums' bits as they are.
-        let mut next = if params.time_limit.is_some() {
+        let mut next = if params.options.time_limit.is_some() {
             1
         } else {
             per_pass
@@ -270,7 +259,7 @@ impl Tracer {
             let elapsed = wall.elapsed();
             let pass = elapsed - pass_start;
             pass_start = elapsed;
-            if let Some(limit) = params.time_limit {
+            if let Some(limit) = params.options.time_limit {
                 let per_sample = pass.as_secs_f64() / taken as f64;
                 let left = limit.saturating_sub(elapsed).as_secs_f64();
                 let fits = (left / per_sample.max(1e-9)).min(u32::MAX as f64) as u32;

@@ -128,6 +128,27 @@ pub struct Push {
     pub method: [u32; METHOD_WORDS],
 }
 
+impl Push {
+    /// The words every pass of a frame of `params` reads the same: the root block's address
+    /// `globals`, the path loop's roulette and clamp, the resampled light's candidates and the
+    /// method's own words; the band's lines, pixels and samples are left for its passes.
+    pub fn of_frame(params: &FrameParams, globals: u64, method: [u32; METHOD_WORDS]) -> Push {
+        let path_loop = &params.path_loop;
+        Push {
+            globals,
+            rr_survival: path_loop.rr_fixed.unwrap_or(path_loop.rr_survival),
+            clamp_indirect: path_loop.clamp_indirect.unwrap_or(f32::INFINITY),
+            ris_candidates: params
+                .method
+                .path()
+                .resampled_light
+                .map_or(1, |r| r.candidates),
+            method,
+            ..Push::default()
+        }
+    }
+}
+
 const _: () = assert!(std::mem::size_of::<Globals>() == 176 + 10 * 16);
 // Must match the push-constant block of shaders/scene.glsl.
 const _: () = assert!(std::mem::size_of::<Push>() == 80);

@@ -83,7 +83,7 @@ fn check(params: &FrameParams, batching: &Batching) -> Result<()> {
     if params.film.accumulated.is_some() {
         bail!("a frame rendered in batches starts its own sums: it cannot continue others");
     }
-    if params.time_limit.is_some() {
+    if params.options.time_limit.is_some() {
         bail!("adaptive sampling and the variance AOV take every batch: no time limit with them");
     }
     if params.spp < 2 {

@@ -64,54 +64,15 @@ pub fn metadata_of(
     m.extend(crate::request::options::frame_metadata(params));
     m.extend([
         ("frame".into(), params.frame.to_string()),
-        ("max_depth".into(), params.path_loop.max_depth.to_string()),
-        (
-            "russian_roulette_depth".into(),
-            params.path_loop.rr_depth.to_string(),
-        ),
         // 1 means no path regeneration within a kernel pass (a trade-off knob).
         (
             "samples_per_pass".into(),
             params.samples_per_pass.to_string(),
         ),
-        (
-            "russian_roulette_survival".into(),
-            match (
-                params.path_loop.deterministic_termination,
-                params.path_loop.rr_fixed,
-            ) {
-                (true, _) => "deterministic (DPT)".to_string(),
-                (false, Some(p)) => format!("fixed {p}"),
-                (false, None) => format!("throughput x {}", params.path_loop.rr_survival),
-            },
-        ),
-        (
-            "light_selection".into(),
-            match (
-                params.method.path().resampled_light,
-                params.path_loop.uniform_light_selection,
-            ) {
-                (Some(r), _) => format!(
-                    "{} over {} candidates{}",
-                    if r.mis { "MIS+RIS" } else { "RIS" },
-                    r.candidates,
-                    if r.contribution {
-                        " weighed by contribution"
-                    } else {
-                        ""
-                    }
-                ),
-                (None, true) => "uniform".into(),
-                (None, false) => "power".into(),
-            },
-        ),
-        (
-            "clamp_indirect".into(),
-            params
-                .path_loop
-                .clamp_indirect
-                .map_or_else(|| "none".into(), |c| c.to_string()),
-        ),
+    ]);
+    let method_lights = params.method.path().light_selection();
+    m.extend(params.path_loop.metadata(method_lights));
+    m.extend([
         (
             "render_time_s".into(),
             format!("{:.3}", rendered.wall_time.as_secs_f64()),

@@ -43,7 +43,7 @@ impl RenderMethod for Grey {
     fn validate(&self, _params: &FrameParams) -> Result<(), String> {
         Ok(())
     }
-    fn kernel_options(&self) -> Vec<KernelOption> {
+    fn kernel_options(&self, _params: &FrameParams) -> Vec<KernelOption> {
         vec![("grey-one-bounce", "SINGLE_DIFFUSE_BOUNCE", self.one_bounce)]
     }
     fn approximations(&self) -> Vec<String> {

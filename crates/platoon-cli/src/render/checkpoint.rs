@@ -34,7 +34,7 @@ pub(super) fn path_of(out: &Path) -> PathBuf {
 pub(super) fn key(params: &FrameParams, scene: u64, sampling: &str) -> String {
     let mut p = params.clone();
     p.first_sample = 0;
-    p.time_limit = None;
+    p.options.time_limit = None;
     let settings = platoon::distribute::wire::fingerprint(&p);
     format!("{settings:016x}-{scene:016x}-{sampling}")
 }

@@ -151,7 +151,7 @@ fn in_order(
     log: FrameLog,
 ) -> Result<Tally> {
     let speaks = frames.speaks;
-    let spp = frames.setup.params.spp as u64;
+    let spp = frames.setup.request.spp as u64;
     let bar = if speaks {
         ProgressBar::new(todo.len() as u64 * spp)
     } else {
@@ -231,7 +231,8 @@ impl Frames {
         progress: &mut dyn FnMut(u32),
     ) -> Result<()> {
         let time = job.time(frame);
-        let (aovs, denoiser) = (&self.setup.aovs, self.setup.denoiser);
+        let request = &self.setup.request;
+        let (aovs, denoiser) = (&request.aovs, request.denoiser);
         // The scene at the frame's time and the tracers holding it: prepared anew, or carried
         // from the last frame by the updater.
         let mut fresh = None;
@@ -266,10 +267,10 @@ impl Frames {
                 tracers,
             )
         };
-        let camera = self.setup.camera.in_render_space(camera, facts.origin);
-        let params = job.params(&self.setup, frame, camera);
-        let rendered = tracers.render_batched(scene, &params, &self.setup.batching, progress)?;
-        let mut meta = platoon::metadata_of(&facts, &params, &rendered, self.setup.sampling);
+        let camera = request.camera.in_render_space(camera, facts.origin);
+        let params = job.params(request, frame, camera);
+        let rendered = tracers.render_batched(scene, &params, &request.batching(), progress)?;
+        let mut meta = platoon::metadata_of(&facts, &params, &rendered, request.sampling.name());
         let interval = job.frame_interval();
         let previous = self.setup.previous_frame(time, interval, facts.origin)?;
         let scene = FrameScene {

@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::UNIX_EPOCH;
 
 use platoon::core::frame::FrameParams;
-use platoon::{CameraChoice, EnvChoice};
+use platoon::{CameraChoice, EnvChoice, Request};
 
 use super::args::FrameArgs;
 use super::outputs::noisy_path;
@@ -35,7 +35,8 @@ impl Job {
             EnvChoice::Color(c) => format!("colour {},{},{}", c.x, c.y, c.z),
         };
         let env = format!("{env}{}", o.env_light.describe());
-        let camera = match &setup.camera {
+        let request = &setup.request;
+        let camera = match &request.camera {
             CameraChoice::Given(c) => {
                 let (p, f) = (c.position(), -c.camera_to_world.z_axis.truncate());
                 format!(
@@ -53,10 +54,8 @@ impl Job {
                 .camera
                 .map_or("the scene's".into(), |i| format!("number {i}")),
         };
-        let p = &setup.params;
-        let aovs: Vec<&str> = setup.aovs.iter().map(|a| a.name()).collect();
-        let adaptive_min_spp = setup
-            .batching
+        let aovs: Vec<&str> = request.aovs.iter().map(|a| a.name()).collect();
+        let adaptive_min_spp = request
             .adaptive
             .map_or("none".into(), |a| or(a.min_spp, "its default"));
         // The request's options that change the image come from its table (a new one is part
@@ -65,14 +64,14 @@ impl Job {
         let settings = format!(
             "scene {scene} ({}); environment {env}; camera {camera}; {}{}; {}; adaptive min \
              spp {adaptive_min_spp}; {} fps; AOVs {}; view {}; EXR {}; {} bits, JPEG quality {}",
-            setup.load.describe(),
-            setup.frame_options,
+            request.load.describe(),
+            platoon::request::options::image_settings(request).join(", "),
             if args.animated_seed {
                 ", seed + frame"
             } else {
                 ""
             },
-            method(&p.method),
+            method(&request.method),
             args.fps,
             if aovs.is_empty() {
                 "none".into()
@@ -88,7 +87,7 @@ impl Job {
             settings,
             fps: args.fps,
             animated_seed: args.animated_seed,
-            denoised: setup.denoiser.describe().is_some(),
+            denoised: request.denoiser.describe().is_some(),
         }
     }
 
@@ -116,15 +115,15 @@ impl Job {
         holds(path) && (!self.denoised || holds(&noisy_path(path)))
     }
 
-    /// The frame's parameters: its camera, and its seed (plus the frame with an animated seed).
+    /// The frame's parameters: the request's, seen by `camera`, with its seed (plus the frame
+    /// with an animated seed).
     pub(super) fn params(
         &self,
-        setup: &Setup,
+        request: &Request,
         frame: i64,
         camera: platoon::core::scene::camera::Camera,
     ) -> FrameParams {
-        let mut params = setup.params.clone();
-        params.camera = camera;
+        let mut params = request.frame_params(camera);
         if self.animated_seed {
             params.options.seed = params.options.seed.wrapping_add(frame as u32);
         }

@@ -7,11 +7,8 @@ use std::rc::Rc;
 
 use anyhow::{bail, Result};
 use glam::Vec3;
-use platoon::core::denoise::Denoiser;
-use platoon::core::frame::adaptive::Batching;
 use platoon::core::frame::aov::Aov;
 use platoon::core::frame::motion::PreviousFrame;
-use platoon::core::frame::FrameParams;
 use platoon::core::output::{image_format, ImageFormat};
 use platoon::distributed::Session;
 use platoon::tracer::MemoryPath;
@@ -21,25 +18,15 @@ use crate::request_flags::{any_as_flags, as_flags};
 
 use super::args::{FrameArgs, MemoryArg, RenderArgs};
 
-/// What a render needs besides the camera: the scene loaded, how to prepare it, the frame's
-/// parameters and the tracers' options.
+/// What a render needs besides the camera: the request (what it asks for, and what the
+/// frame's parameters, the batches, the AOVs and the denoiser are made from), the scene it
+/// loaded, how to prepare it, the tracers' options and the job's ranks.
 pub(super) struct Setup {
+    /// The request the flags make, validated.
+    pub(super) request: Request,
     pub(super) scene: platoon::core::Scene,
-    /// How the scene was read (its material variant, its textures' levels and budget): what
-    /// makes its images what they are beside the file.
-    pub(super) load: platoon::core::scene::gltf_load::LoadOptions,
-    /// The request's options that change the image, as a person reads them (its table's:
-    /// `platoon::request::options::image_settings`): part of a render job.
-    pub(super) frame_options: String,
     pub(super) options: PrepareOptions,
-    pub(super) params: FrameParams,
     pub(super) tracers: Vec<platoon::tracer::TracerOptions>,
-    pub(super) balancer: String,
-    pub(super) sampling: &'static str,
-    pub(super) aovs: Vec<Aov>,
-    pub(super) denoiser: Denoiser,
-    /// Adaptive sampling and the variance AOV's batches.
-    pub(super) batching: Batching,
     /// The job's ranks, with --mpi or --mpi-frames.
     pub(super) session: Option<Rc<dyn Session>>,
     /// --mpi-frames: each rank renders whole frames on its own devices.
@@ -51,8 +38,6 @@ pub(super) struct Setup {
     pub(super) load_time: std::time::Duration,
     /// How a PNG or a video shows the image.
     pub(super) image: platoon::core::output::ImageOptions,
-    /// The scene's camera, or one given (`--camera-position`, `--look-at`, `--fov`).
-    pub(super) camera: CameraChoice,
 }
 
 /// The camera `--camera-position`, `--look-at` and `--fov` give, with the lens flags.
@@ -82,9 +67,9 @@ impl Setup {
     pub(super) fn tracers(&self, scene: &platoon::core::flatten::GpuScene) -> Result<Tracers> {
         match &self.session {
             Some(s) if !self.farm => {
-                Tracers::over_ranks(&self.tracers, &self.balancer, scene, s.clone())
+                Tracers::over_ranks(&self.tracers, &self.request.balancer, scene, s.clone())
             }
-            _ => Tracers::new(&self.tracers, &self.balancer, scene),
+            _ => Tracers::new(&self.tracers, &self.request.balancer, scene),
         }
     }
 
@@ -98,10 +83,10 @@ impl Setup {
             Some(_) => self.tracers(scene),
             None => Tracers::for_still(
                 &self.tracers,
-                &self.balancer,
+                &self.request.balancer,
                 scene,
-                &self.params.method,
-                &self.aovs,
+                &self.request.method,
+                &self.request.aovs,
             ),
         }
     }
@@ -119,9 +104,10 @@ impl Setup {
         interval: f32,
         origin: glam::DVec3,
     ) -> Result<Option<PreviousFrame>> {
-        let (scene, options, camera) = (&self.scene, &self.options, &self.camera);
+        let (scene, options, camera) = (&self.scene, &self.options, &self.request.camera);
         let times = (time, interval);
-        platoon::motion::previous_frame_for(&self.aovs, scene, options, camera, times, origin)
+        let aovs = &self.request.aovs;
+        platoon::motion::previous_frame_for(aovs, scene, options, camera, times, origin)
     }
 }
 
@@ -219,7 +205,7 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         },
     };
     request.validate().map_err(as_flags)?;
-    if mpi && request.time_limit.is_some() {
+    if mpi && request.frame.time_limit.is_some() {
         bail!("--time-limit renders on one device: shares of a frame cut at different times on the ranks would break the image's independence from the split (--mpi-frames renders whole frames, each with the limit)");
     }
     let tracers = request.tracer_options().map_err(any_as_flags)?;
@@ -233,24 +219,14 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     } else {
         None
     };
-    // The camera is the prepared scene's, or each frame's: set before rendering.
-    let placeholder = platoon::core::scene::camera::Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, 1.0);
     let setup = Setup {
+        request,
         started,
         load_time,
         image,
-        camera: request.camera.clone(),
         scene: loaded,
-        load: request.load.clone(),
-        frame_options: platoon::request::options::image_settings(&request).join(", "),
         options,
-        params: request.frame_params(placeholder),
         tracers,
-        balancer: request.balancer.clone(),
-        sampling: request.sampling.name(),
-        aovs: request.aovs.clone(),
-        denoiser: request.denoiser,
-        batching: request.batching(),
         session,
         farm,
     };

@@ -49,16 +49,12 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
     let previous = setup.previous_frame(time, interval, prepared.posed.origin)?;
     let Setup {
         started,
-        mut params,
-        sampling,
-        aovs,
-        denoiser,
-        batching,
+        request,
         image,
-        camera,
         ..
     } = setup;
-    params.camera = camera.in_render_space(prepared.camera, prepared.posed.origin);
+    let mut params = request.frame_params(request.camera_in(&prepared));
+    let (sampling, batching) = (request.sampling.name(), request.batching());
     let asked = params.spp;
     let key = checkpoint::key(&params, content, sampling);
     let plain = batching.adaptive.is_none() && !batching.variance;
@@ -110,8 +106,9 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         origin: prepared.posed.origin,
         previous: previous.as_ref(),
     };
+    let (aovs, denoiser) = (&request.aovs, request.denoiser);
     let still =
-        Still::of(&mut tracers, &scene, &params, rendered, &aovs, denoiser)?.with_metadata(meta);
+        Still::of(&mut tracers, &scene, &params, rendered, aovs, denoiser)?.with_metadata(meta);
     if !speaks {
         return Ok(());
     }

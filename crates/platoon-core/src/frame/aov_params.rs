@@ -20,7 +20,7 @@ pub fn aov_pass_params(params: &FrameParams, pass: AovPass, spp: u32) -> FramePa
         p.path_loop.rr_survival = 1.0;
     }
     p.film = FilmState::default();
-    p.time_limit = None;
+    p.options.time_limit = None;
     if let AovPass::SampleIds(sample) = pass {
         p.first_sample = params.first_sample.wrapping_add(sample);
     }

@@ -55,13 +55,9 @@ pub struct FrameParams {
     #[serde(skip)]
     pub film: FilmState,
     pub samples_per_pass: u32,
-    /// Stop adding passes once this much wall time has gone (at least one pass is rendered):
-    /// `spp` is then an upper bound and each band reports the samples it holds. For one
-    /// device; bands cut at different times would break the bit-identity of device splits.
-    pub time_limit: Option<Duration>,
     pub camera: Camera,
     /// The options a request sets as they are: the seed, the pixel filter, a transparent film,
-    /// the AO pass's distance (`options.rs`).
+    /// the AO pass's distance, a time limit (`options.rs`).
     pub options: FrameOptions,
     /// A border render: the frame's `width` x `height` pixels are a window of a larger image
     /// (the camera frames that image). None: the frame is the whole image.
@@ -146,7 +142,7 @@ impl FrameParams {
     /// frame only (bands cut at different times would break the image's independence from
     /// the split).
     pub fn check_split(&self, devices: usize) -> Result<(), String> {
-        if devices > 1 && self.time_limit.is_some() {
+        if devices > 1 && self.options.time_limit.is_some() {
             return Err(
                 "a time limit renders on one device: bands cut at different times \
                         would break the image's independence from the device split"
@@ -177,7 +173,6 @@ impl FrameParams {
             first_sample: 0,
             film: FilmState::default(),
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
-            time_limit: None,
             camera,
             options: FrameOptions::default(),
             crop: None,

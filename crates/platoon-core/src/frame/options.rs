@@ -1,11 +1,14 @@
 //! The options of a frame that a request sets as they are (the seed, the pixel filter, a
-//! transparent film, the AO pass's distance), declared once with their defaults:
+//! transparent film, the AO pass's distance, a time limit), declared once with their defaults:
 //! what a request holds (`platoon::Request::frame`), what the frame's parameters carry to every
 //! tracer and rank (`FrameParams::options`), and what the request's table sets, checks and
 //! writes into an image's metadata (`platoon::request::options`). A new option of this kind is
 //! its field here, its entry in that table, its use (a shader) and its test.
 
+use std::time::Duration;
+
 use super::pixel_filter::PixelFilter;
+use crate::flatten::features::KernelOption;
 
 /// The ambient-occlusion pass's distance by default: Cycles' (10 m).
 pub const DEFAULT_AO_DISTANCE: f32 = 10.0;
@@ -24,6 +27,11 @@ pub struct FrameOptions {
     /// How far the ambient-occlusion pass (`AovPass::Ao`) looks for what occludes a point,
     /// in scene units (Cycles' world AO distance).
     pub ao_distance: f32,
+    /// Stop adding passes once this much wall time has gone (at least one sample is
+    /// rendered): `spp` is then an upper bound and each band reports the samples it holds. For
+    /// one device (`FrameParams::check_split`): bands cut at different times would break the
+    /// bit-identity of device splits.
+    pub time_limit: Option<Duration>,
 }
 
 impl Default for FrameOptions {
@@ -33,6 +41,31 @@ impl Default for FrameOptions {
             filter: PixelFilter::Box,
             transparent_film: false,
             ao_distance: DEFAULT_AO_DISTANCE,
+            time_limit: None,
         }
+    }
+}
+
+impl FrameOptions {
+    /// The kernel defines of the options that select code, with whether each is on: part of
+    /// the kernel variant (`method::variant`).
+    pub fn kernel_options(&self) -> Vec<KernelOption> {
+        vec![
+            (
+                "transparent-film",
+                "FILM_TRANSPARENT",
+                self.transparent_film,
+            ),
+            (
+                "gaussian-filter",
+                "PIXEL_FILTER_GAUSSIAN",
+                self.filter == PixelFilter::Gaussian,
+            ),
+            (
+                "blackman-harris-filter",
+                "PIXEL_FILTER_BLACKMAN_HARRIS",
+                self.filter == PixelFilter::BlackmanHarris,
+            ),
+        ]
     }
 }

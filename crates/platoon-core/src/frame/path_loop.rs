@@ -4,6 +4,8 @@
 //! and whether its kernel is specialised. The path tracer's own options (its kernels, resampled
 //! and reused light, the world cache) are its method's state (`method::path`).
 
+use crate::flatten::features::KernelOption;
+
 /// Default path-length limit: high enough to be unbounded in practice (Russian roulette ends
 /// paths long before), low enough to stop a pathological scene. Reported in the output metadata.
 pub const DEFAULT_MAX_DEPTH: u32 = 1024;
@@ -59,6 +61,64 @@ impl Default for PathLoop {
 }
 
 impl PathLoop {
+    /// The kernel defines of the knobs that select code (each compiled in only when set),
+    /// with whether each is on: part of the kernel variant (`method::variant`).
+    pub fn kernel_options(&self) -> Vec<KernelOption> {
+        vec![
+            // Max depth 1: the kernel has no bounce code.
+            ("camera-rays-only", "CAMERA_RAYS_ONLY", self.max_depth <= 1),
+            (
+                "clamp-indirect",
+                "CLAMP_INDIRECT",
+                self.clamp_indirect.is_some(),
+            ),
+            ("fixed-roulette", "RR_FIXED", self.rr_fixed.is_some()),
+            (
+                "uniform-lights",
+                "LIGHT_SELECT_UNIFORM",
+                self.uniform_light_selection,
+            ),
+            (
+                "deterministic-termination",
+                "RR_DETERMINISTIC",
+                self.deterministic_termination,
+            ),
+            (
+                "single-diffuse-bounce",
+                "SINGLE_DIFFUSE_BOUNCE",
+                self.single_diffuse_bounce,
+            ),
+        ]
+    }
+
+    /// What an image's metadata says of the path loop, label and text, in order. How lights
+    /// are picked is `method_lights` where the method picks them its own way (the path
+    /// tracer's resampled light), else by power or uniformly.
+    pub fn metadata(&self, method_lights: Option<String>) -> Vec<(String, String)> {
+        let survival = match (self.deterministic_termination, self.rr_fixed) {
+            (true, _) => "deterministic (DPT)".to_string(),
+            (false, Some(p)) => format!("fixed {p}"),
+            (false, None) => format!("throughput x {}", self.rr_survival),
+        };
+        let lights = method_lights.unwrap_or_else(|| match self.uniform_light_selection {
+            true => "uniform".into(),
+            false => "power".into(),
+        });
+        let clamp = self
+            .clamp_indirect
+            .map_or_else(|| "none".into(), |c| c.to_string());
+        [
+            ("max_depth", self.max_depth.to_string()),
+            ("russian_roulette_depth", self.rr_depth.to_string()),
+            ("russian_roulette_survival", survival),
+            ("light_selection", lights),
+            ("clamp_indirect", clamp),
+        ]
+        .into_iter()
+        .map(|(label, text)| (label.to_string(), text))
+        .collect()
+    }
+
     /// What these knobs approximate, each as the output's metadata lists it: the biased knobs
     /// (`Knob::biased`), each when set (a test holds every biased knob of `KNOBS` to a line
     /// here and every unbiased one to none).
@@ -301,6 +361,47 @@ mod tests {
         assert!(Knob::named("max-depth").unwrap().parse(Some("0")).is_err());
         assert!(Knob::named("dpt").unwrap().parse(Some("1")).is_err());
         assert!(Knob::named("clamp").unwrap().parse(Some("-1")).is_err());
+    }
+
+    /// Each knob, set, changes the metadata's line that says it (and only it); the switches
+    /// the metadata says elsewhere (the kernel's features, the approximations) change none. A
+    /// method's own light picking takes the place of the loop's.
+    #[test]
+    fn every_knob_is_said_by_its_own_metadata_line() {
+        let says = |token: &str| -> &[&str] {
+            match token {
+                "max-depth" => &["max_depth"],
+                "rr-depth" => &["russian_roulette_depth"],
+                "rr-survival" | "rr-fixed" | "dpt" => &["russian_roulette_survival"],
+                "clamp" => &["clamp_indirect"],
+                "uniform-lights" => &["light_selection"],
+                "generic-kernel" | "single-bounce" => &[],
+                other => panic!("{other}: which metadata line says it?"),
+            }
+        };
+        let base = PathLoop::default().metadata(None);
+        for knob in KNOBS {
+            let text = match knob.value {
+                KnobValue::Switch => None,
+                KnobValue::Positive => Some("2.5"),
+                _ => Some("7"),
+            };
+            let mut l = PathLoop::default();
+            knob.apply(&mut l, knob.parse(text).unwrap());
+            let said = l.metadata(None);
+            let changed: Vec<&str> = said
+                .iter()
+                .zip(&base)
+                .filter(|(a, b)| a != b)
+                .map(|(a, _)| a.0.as_str())
+                .collect();
+            assert_eq!(changed, says(knob.token), "{}: {said:?}", knob.token);
+        }
+        let resampled = PathLoop::default().metadata(Some("RIS over 8 candidates".into()));
+        let lights = resampled
+            .iter()
+            .find(|(label, _)| label == "light_selection");
+        assert_eq!(lights.unwrap().1, "RIS over 8 candidates");
     }
 
     /// A biased knob, set, is listed among the approximations; an unbiased one is not.

@@ -33,9 +33,10 @@ pub trait RenderMethod {
     fn describe(&self) -> String;
     /// What is wrong with rendering `params` this way, if anything.
     fn validate(&self, params: &FrameParams) -> Result<(), String>;
-    /// The kernel defines of its options, each with whether it is on: appended to the scene's
-    /// features and the render options in the kernel variant (`variant::KernelVariant`).
-    fn kernel_options(&self) -> Vec<KernelOption>;
+    /// The kernel defines of its options in a frame of `params` (what it outputs may switch
+    /// some off), each with whether it is on: appended to the scene's features and the frame's
+    /// options in the kernel variant (`variant::KernelVariant`).
+    fn kernel_options(&self, params: &FrameParams) -> Vec<KernelOption>;
     /// Its biased parts, for the output's list of approximations.
     fn approximations(&self) -> Vec<String>;
     /// The pass after every band of the frame is in, on the bands' sums (what needs

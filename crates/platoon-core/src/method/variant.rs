@@ -1,11 +1,13 @@
-//! The kernel variant of a render: the scene's features, the render options that select code
-//! and the method's options, each a `#define`, derived once per render from what the three own.
+//! The kernel variant of a render: the scene's features, the camera and output, the frame's
+//! options and path loop knobs that select code and the method's options, each a `#define`,
+//! derived once per render from what declares them (`FrameOptions`, `PathLoop` and the method's
+//! `RenderMethod::kernel_options`).
 //! A scene without (say) transmission, rendered without a clamp, runs a kernel with neither.
 
 use std::fmt;
 
 use crate::flatten::features::{chosen, write_labels, SceneFeatures};
-use crate::frame::{FrameParams, Output, PixelFilter};
+use crate::frame::{FrameParams, Output};
 
 /// The defines of one kernel variant, in a stable order, each with the label `platoon info` and
 /// the output's metadata show.
@@ -32,9 +34,6 @@ impl KernelVariant {
             Output::Aov(pass) => Some(pass),
             _ => None,
         };
-        let path = params.method.path();
-        let ris = path.resampled_light;
-        let reuse = path.reused_light(params.output).map(|h| h.options);
         let render_options = [
             // An orthographic camera has no lens.
             (
@@ -43,12 +42,6 @@ impl KernelVariant {
                 params.camera.aperture_radius > 0.0 && !orthographic,
             ),
             ("orthographic", "HAS_ORTHOGRAPHIC", orthographic),
-            // Max depth 1: the kernel has no bounce code.
-            (
-                "camera-rays-only",
-                "CAMERA_RAYS_ONLY",
-                params.path_loop.max_depth <= 1,
-            ),
             (
                 "primary-hit-output",
                 "OUTPUT_PRIMARY_HIT",
@@ -69,81 +62,18 @@ impl KernelVariant {
                 "OUTPUT_AOV",
                 matches!(params.output, Output::Aov(p) if p.in_aov_kernel()),
             ),
-            (
-                "transparent-film",
-                "FILM_TRANSPARENT",
-                params.options.transparent_film,
-            ),
-            (
-                "clamp-indirect",
-                "CLAMP_INDIRECT",
-                params.path_loop.clamp_indirect.is_some(),
-            ),
-            (
-                "fixed-roulette",
-                "RR_FIXED",
-                params.path_loop.rr_fixed.is_some(),
-            ),
-            (
-                "uniform-lights",
-                "LIGHT_SELECT_UNIFORM",
-                params.path_loop.uniform_light_selection,
-            ),
-            (
-                "deterministic-termination",
-                "RR_DETERMINISTIC",
-                params.path_loop.deterministic_termination,
-            ),
-            (
-                "single-diffuse-bounce",
-                "SINGLE_DIFFUSE_BOUNCE",
-                params.path_loop.single_diffuse_bounce,
-            ),
-            ("last-paths-cut", "LAST_PATH_CUT", path.cut_last_paths),
-            ("ris-lights", "LIGHT_SELECT_RIS", ris.is_some()),
-            ("ris-mis", "RIS_MIS", ris.is_some_and(|r| r.mis)),
-            (
-                "ris-contribution",
-                "RIS_CONTRIBUTION",
-                ris.is_some_and(|r| r.contribution),
-            ),
-            // The beauty's paths read it (a light pass's too, so that the passes sum to it).
-            (
-                "world-cache",
-                "WORLD_CACHE",
-                path.world_cache.is_some()
-                    && matches!(
-                        params.output,
-                        Output::Radiance | Output::Aov(crate::frame::aov::AovPass::Light(_))
-                    ),
-            ),
-            // The beauty's first vertices only: the reservoirs it leaves are the next frame's.
-            ("light-reuse", "LIGHT_REUSE", reuse.is_some()),
-            (
-                "light-reuse-biased",
-                "LIGHT_REUSE_BIASED",
-                reuse.is_some_and(|o| !o.unbiased),
-            ),
-            (
-                "gaussian-filter",
-                "PIXEL_FILTER_GAUSSIAN",
-                params.options.filter == PixelFilter::Gaussian,
-            ),
-            (
-                "blackman-harris-filter",
-                "PIXEL_FILTER_BLACKMAN_HARRIS",
-                params.options.filter == PixelFilter::BlackmanHarris,
-            ),
         ];
         let options = scene
             .options()
             .into_iter()
             .chain(render_options)
+            .chain(params.options.kernel_options())
+            .chain(params.path_loop.kernel_options())
             .chain(aov_pass.map(|pass| {
                 let (label, define) = pass.kernel_option();
                 (label, define, true)
             }))
-            .chain(params.method.unit().kernel_options());
+            .chain(params.method.unit().kernel_options(params));
         KernelVariant {
             entries: chosen(options),
         }

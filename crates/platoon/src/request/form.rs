@@ -2,13 +2,12 @@
 //! below (the preparation's options, the frame's parameters, the tracers' options).
 
 use std::path::PathBuf;
-use std::time::Duration;
 
 use anyhow::Result;
 use platoon_core::denoise::Denoiser;
 use platoon_core::frame::adaptive::{Adaptive, Batching};
 use platoon_core::frame::aov::Aov;
-use platoon_core::frame::{FrameOptions, FrameParams, Region};
+use platoon_core::frame::{FrameOptions, FrameParams, PathLoop, Region};
 use platoon_core::scene::camera::Camera;
 use platoon_core::scene::gltf_load::LoadOptions;
 use platoon_core::scene::Scene;
@@ -96,13 +95,13 @@ pub struct Request {
     pub crop: Option<Region>,
     /// Samples per pixel (with a time limit, the most).
     pub spp: u32,
-    /// Stop at the last complete pass within this time (one device only).
-    pub time_limit: Option<Duration>,
-    /// Longest path in segments (1: emitters only); None: effectively unbounded.
-    pub max_depth: Option<u32>,
+    /// The path loop every method's kernels run: its longest path in segments (`max_depth`,
+    /// by default effectively unbounded), Russian roulette, clamp and light picking
+    /// (`PathLoop`).
+    pub path_loop: PathLoop,
     /// The options the frame takes as they are: the seed, the pixel filter, a transparent film (the
     /// environment the camera sees left out, an alpha channel: `Still::alpha`), the AO
-    /// pass's distance (`FrameOptions`).
+    /// pass's distance, a time limit (one device only) (`FrameOptions`).
     pub frame: FrameOptions,
     /// The method and its options (the path tracer's kernel and resampled light among them:
     /// `method::path::PathTracing`).
@@ -149,8 +148,7 @@ impl Default for Request {
             height: 512,
             crop: None,
             spp: 64,
-            time_limit: None,
-            max_depth: None,
+            path_loop: PathLoop::default(),
             world_cache: None,
             light_reuse: None,
             frame: FrameOptions::default(),
@@ -208,10 +206,7 @@ impl Request {
         }
         params.options = self.frame;
         params.method = self.method.clone();
-        if let Some(d) = self.max_depth {
-            params.path_loop.max_depth = d;
-        }
-        params.time_limit = self.time_limit;
+        params.path_loop = self.path_loop.clone();
         params
     }
 

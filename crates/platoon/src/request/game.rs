@@ -18,9 +18,7 @@ impl Request {
         driver.spp = self.spp;
         driver.target = target;
         driver.options = self.frame;
-        if let Some(d) = self.max_depth {
-            driver.path_loop.max_depth = d;
-        }
+        driver.path_loop = self.path_loop.clone();
         driver.method = self.method.clone();
         driver.denoise = self.denoiser;
         driver.world_cache = self.world_cache;
@@ -38,14 +36,23 @@ impl Request {
     /// Starts the game loop of this request (validated; its scene loaded and lit).
     pub fn start_game(&self, target: Option<Duration>) -> Result<FrameDriver> {
         self.validate()?;
-        for (option, set) in [
-            ("crop", self.crop.is_some()),
-            ("transparent_film", self.frame.transparent_film),
+        for (option, set, why) in [
+            ("crop", self.crop.is_some(), "renders whole frames"),
+            (
+                "transparent_film",
+                self.frame.transparent_film,
+                "renders opaque frames",
+            ),
+            (
+                "time_limit",
+                self.frame.time_limit.is_some(),
+                "holds a frame time by the samples a frame (`target`), not by cutting frames",
+            ),
         ] {
             if set {
                 return Err(super::error::RequestError {
                     option,
-                    problem: "a game loop renders whole, opaque frames".into(),
+                    problem: format!("a game loop {why}"),
                 }
                 .into());
             }

@@ -8,7 +8,7 @@
 //! holds those, the frame carries them; else the request's own), and its use below.
 
 use platoon_core::frame::adaptive::Adaptive;
-use platoon_core::frame::{FrameParams, PixelFilter, Region};
+use platoon_core::frame::{FrameParams, PixelFilter, Region, DEFAULT_MAX_DEPTH};
 use platoon_core::method::settings::{Value, ValueKind};
 use platoon_tracer::Sampling;
 
@@ -91,17 +91,18 @@ pub static OPTIONS: &[RequestOption] = &[
         kind: ValueKind::Number,
         set: |r, v| {
             let seconds = Some(v.number()? as f64);
-            r.time_limit = Request::time_limit_secs(seconds).map_err(|e| e.problem)?;
+            r.frame.time_limit = Request::time_limit_secs(seconds).map_err(|e| e.problem)?;
             Ok(())
         },
-        get: |r| r.time_limit.map(|t| Value::Number(t.as_secs_f32())),
+        get: |r| r.frame.time_limit.map(|t| Value::Number(t.as_secs_f32())),
         image: true,
-        rule: |r| match r.time_limit {
+        rule: |r| match r.frame.time_limit {
             Some(t) if t.is_zero() => Err("must be a positive number of seconds".into()),
             _ => Ok(()),
         },
         metadata: Some(("time_limit_s", |p| {
-            p.time_limit
+            p.options
+                .time_limit
                 .map(|t| format!("{:.3}", t.as_secs_f64()))
                 .unwrap_or_else(|| "none".into())
         })),
@@ -213,16 +214,20 @@ pub static OPTIONS: &[RequestOption] = &[
                effectively unbounded.",
         kind: ValueKind::Count,
         set: |r, v| {
-            r.max_depth = Some(v.count()?);
+            r.path_loop.max_depth = v.count()?;
             Ok(())
         },
-        get: |r| r.max_depth.map(Value::Count),
+        // None at its default, which help says in words.
+        get: |r| match r.path_loop.max_depth {
+            DEFAULT_MAX_DEPTH => None,
+            d => Some(Value::Count(d)),
+        },
         image: true,
-        rule: |r| match r.max_depth {
-            Some(0) => Err("a path has at least one segment (1: emitters seen directly)".into()),
+        rule: |r| match r.path_loop.max_depth {
+            0 => Err("a path has at least one segment (1: emitters seen directly)".into()),
             _ => Ok(()),
         },
-        // (The metadata says it with the rest of the path loop's: `metadata.rs`.)
+        // (The metadata says it with the rest of the path loop's: `PathLoop::metadata`.)
         metadata: None,
     },
     RequestOption {
@@ -446,10 +451,10 @@ mod tests {
                 "spp" => r.spp = 0,
                 "width" => r.width = 0,
                 "height" => r.height = 0,
-                "time_limit" => r.time_limit = Some(std::time::Duration::ZERO),
+                "time_limit" => r.frame.time_limit = Some(std::time::Duration::ZERO),
                 "crop" => r.crop = Some(Region::parse("500,0,20,20").unwrap()),
                 "ao_distance" => r.frame.ao_distance = -1.0,
-                "max_depth" => r.max_depth = Some(0),
+                "max_depth" => r.path_loop.max_depth = 0,
                 "aperture" => r.aperture = f32::NAN,
                 "focus_distance" => r.focus_distance = Some(0.0),
                 "balancer" => r.balancer = "fastest".into(),

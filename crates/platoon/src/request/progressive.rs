@@ -40,7 +40,7 @@ impl Progressive {
         for (option, set) in [
             ("adaptive", request.adaptive.is_some()),
             ("aovs", request.batching().variance),
-            ("time_limit", request.time_limit.is_some()),
+            ("time_limit", request.frame.time_limit.is_some()),
         ] {
             if set {
                 return Err(RequestError {

@@ -38,6 +38,10 @@ impl Request {
                 refuse(o.key, problem)?;
             }
         }
+        // The path loop's knobs no flag or keyword sets (an embedder's); its depth is the table's.
+        if let Err(e) = self.path_loop.check() {
+            refuse("path_loop", e)?;
+        }
         if let Some(Err(e)) = self.method.path().resampled_light.map(|r| r.check()) {
             refuse("resampled_light", e)?;
         }
@@ -103,7 +107,7 @@ impl Request {
                 log::warn!("{w}");
             }
         }
-        if self.batching().is_some() && self.time_limit.is_some() {
+        if self.batching().is_some() && self.frame.time_limit.is_some() {
             refuse(
                 "time_limit",
                 "cannot end adaptive sampling or the variance AOV's batches early",
@@ -116,7 +120,7 @@ impl Request {
                 Some("the light passes split the path tracer's image: render with method path")
             } else if self.adaptive.is_some() {
                 Some("the light passes take every pixel's samples: not with adaptive sampling")
-            } else if self.time_limit.is_some() {
+            } else if self.frame.time_limit.is_some() {
                 Some("the light passes take every pixel's samples: not with a time limit")
             } else {
                 None

@@ -60,7 +60,7 @@ impl RenderMethod for IgiOptions {
         Ok(())
     }
 
-    fn kernel_options(&self) -> Vec<KernelOption> {
+    fn kernel_options(&self, _params: &FrameParams) -> Vec<KernelOption> {
         vec![
             ("igi", "METHOD_IGI", true),
             (

@@ -45,7 +45,7 @@ impl RenderMethod for Lhb {
         Ok(())
     }
 
-    fn kernel_options(&self) -> Vec<KernelOption> {
+    fn kernel_options(&self, _params: &FrameParams) -> Vec<KernelOption> {
         vec![
             ("lhb", "METHOD_LHB", true),
             (

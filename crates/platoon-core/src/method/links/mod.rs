@@ -81,7 +81,7 @@ impl RenderMethod for Links {
         Ok(())
     }
 
-    fn kernel_options(&self) -> Vec<KernelOption> {
+    fn kernel_options(&self, _params: &FrameParams) -> Vec<KernelOption> {
         vec![
             ("links", "METHOD_LINKS", true),
             ("links-fan-light", "LINKS_FAN_LIGHT", self.options.fan_light),

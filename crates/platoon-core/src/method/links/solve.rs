@@ -73,7 +73,7 @@ pub fn solve(
         });
         (p.width, p.height, p.spp) = (width, height, spp);
         p.film.accumulated = None;
-        p.time_limit = None;
+        p.options.time_limit = None;
         p.first_sample = 0;
         run(&p).map_err(|e| Error::Invalid(format!("links update: {e}")))
     };

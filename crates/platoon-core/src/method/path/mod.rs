@@ -8,7 +8,7 @@
 use std::sync::LazyLock;
 
 use crate::flatten::features::KernelOption;
-use crate::frame::FrameParams;
+use crate::frame::{FrameParams, Output};
 use crate::method::render_method::RenderMethod;
 use crate::method::Method;
 
@@ -89,8 +89,36 @@ impl RenderMethod for PathTracing {
         }
         Ok(())
     }
-    fn kernel_options(&self) -> Vec<KernelOption> {
-        Vec::new()
+    fn kernel_options(&self, params: &FrameParams) -> Vec<KernelOption> {
+        let ris = self.resampled_light;
+        let reuse = self.reused_light(params.output).map(|h| h.options);
+        vec![
+            ("last-paths-cut", "LAST_PATH_CUT", self.cut_last_paths),
+            ("ris-lights", "LIGHT_SELECT_RIS", ris.is_some()),
+            ("ris-mis", "RIS_MIS", ris.is_some_and(|r| r.mis)),
+            (
+                "ris-contribution",
+                "RIS_CONTRIBUTION",
+                ris.is_some_and(|r| r.contribution),
+            ),
+            // The beauty's paths read it (a light pass's too, so that the passes sum to it).
+            (
+                "world-cache",
+                "WORLD_CACHE",
+                self.world_cache.is_some()
+                    && matches!(
+                        params.output,
+                        Output::Radiance | Output::Aov(crate::frame::aov::AovPass::Light(_))
+                    ),
+            ),
+            // The beauty's first vertices only: the reservoirs it leaves are the next frame's.
+            ("light-reuse", "LIGHT_REUSE", reuse.is_some()),
+            (
+                "light-reuse-biased",
+                "LIGHT_REUSE_BIASED",
+                reuse.is_some_and(|o| !o.unbiased),
+            ),
+        ]
     }
     fn approximations(&self) -> Vec<String> {
         let cut = "the last path of a pass cut where its SIMD group stopped (NOP)";

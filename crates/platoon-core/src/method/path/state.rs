@@ -82,6 +82,23 @@ impl ResampledLight {
 }
 
 impl PathTracing {
+    /// How its paths pick lights where it picks them its own way (resampled light), as an
+    /// image's metadata says it; None: as the path loop picks them.
+    pub fn light_selection(&self) -> Option<String> {
+        self.resampled_light.map(|r| {
+            format!(
+                "{} over {} candidates{}",
+                if r.mis { "MIS+RIS" } else { "RIS" },
+                r.candidates,
+                if r.contribution {
+                    " weighed by contribution"
+                } else {
+                    ""
+                }
+            )
+        })
+    }
+
     /// The history the frame's first vertices reuse light from, where they do: the beauty's,
     /// with resampled light by contribution (what compiles LIGHT_REUSE in and what the tracer
     /// prepares its buffers for: one rule).
