@@ -38,8 +38,8 @@ use bevy::light::EnvironmentMapLight;
 use bevy::prelude::*;
 use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat};
 use bevy::transform::TransformSystems;
-use platoon::drive::DriverOptions;
 use platoon::core::output::Film;
+use platoon::drive::DriverOptions;
 use platoon::game::GameOptions;
 use platoon::prepare::EnvChoice;
 

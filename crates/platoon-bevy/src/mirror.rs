@@ -16,9 +16,9 @@ use bevy::mesh::{Mesh, Mesh3d};
 use bevy::pbr::{MeshMaterial3d, StandardMaterial};
 use bevy::prelude::{Entity, GlobalTransform, MessageReader, Name, Query, Res};
 use glam::Mat4;
-use platoon::drive::Edit;
 use platoon::core::scene::environment::Environment;
 use platoon::core::scene::{Node, Placement, PunctualLight, Scene, Skin};
+use platoon::drive::Edit;
 
 use crate::convert;
 use crate::warnings::Warnings;

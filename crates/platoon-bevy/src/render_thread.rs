@@ -7,9 +7,9 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
 use anyhow::Result;
-use platoon::drive::{Edit, FinishedFrame, FrameDriver};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::Scene;
+use platoon::drive::{Edit, FinishedFrame, FrameDriver};
 use platoon::game::GameOptions;
 use platoon::prepare::{EnvChoice, EnvLight};
 

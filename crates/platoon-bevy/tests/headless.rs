@@ -10,10 +10,10 @@ use bevy::prelude::*;
 use bevy::render::settings::WgpuSettings;
 use bevy::render::RenderPlugin;
 use bevy::window::ExitCondition;
-use platoon::drive::DriverOptions;
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera as PCamera;
 use platoon::devices::DeviceSpec;
+use platoon::drive::DriverOptions;
 use platoon::game::GameOptions;
 use platoon_bevy::{PlatoonOutput, PlatoonPlugin, PlatoonScene, PlatoonSettings, PlatoonStats};
 
@@ -136,6 +136,7 @@ fn file_app(file: &'static str, tracers: &str, spp: u32) -> (App, GlobalTransfor
     let mut app = app(settings(tracers, 4, spp));
     let scene = platoon::load_scene(Some(&scenes().join(file))).unwrap();
     let meshes = scene.nodes.iter().filter(|n| n.mesh.is_some()).count();
+    let animated = !scene.animations.is_empty();
     let (lo, hi) = scene.pose(0.0).bounds();
     let (c, size) = ((lo + hi) * 0.5, (hi - lo).length());
     let target = Vec3::new(c.x, c.y, c.z);
@@ -147,6 +148,13 @@ fn file_app(file: &'static str, tracers: &str, spp: u32) -> (App, GlobalTransfor
                 assets.load(GltfAssetLabel::Scene(0).from_asset(file)),
             ));
             commands.spawn(camera_at(eye, target));
+            // Its first animation, asked for with the scene: a sub-asset asked for once the
+            // file is loaded and its other handles gone would read the file anew, its meshes
+            // then arriving as modified assets (a rebuild no game edit caused).
+            if animated {
+                let clip = assets.load(GltfAssetLabel::Animation(0).from_asset(file));
+                commands.insert_resource(FileAnimation(clip));
+            }
         },
     );
     // Until the file's meshes are in the world with their assets (a glTF mesh node is one
@@ -164,9 +172,15 @@ fn file_app(file: &'static str, tracers: &str, spp: u32) -> (App, GlobalTransfor
     run_until(&mut app, "the file's assets", |app| {
         let world = app.world_mut();
         let mut q = world.query::<&bevy::world_serialization::WorldAssetRoot>();
-        let roots: Vec<_> = q.iter(world).map(|r| r.0.id()).collect();
+        let mut ids: Vec<bevy::asset::UntypedAssetId> =
+            q.iter(world).map(|r| r.0.id().untyped()).collect();
+        ids.extend(
+            world
+                .get_resource::<FileAnimation>()
+                .map(|a| a.0.id().untyped()),
+        );
         let server = world.resource::<AssetServer>();
-        roots.iter().all(|&id| server.is_loaded_with_dependencies(id))
+        ids.iter().all(|&id| server.is_loaded_with_dependencies(id))
     });
     settle(&mut app);
     let mut q = app
@@ -175,6 +189,10 @@ fn file_app(file: &'static str, tracers: &str, spp: u32) -> (App, GlobalTransfor
     let t = *q.single(app.world()).unwrap();
     (app, t)
 }
+
+/// The first animation of an animated file a test's app loaded (`file_app`).
+#[derive(Resource)]
+struct FileAnimation(Handle<AnimationClip>);
 
 /// The camera a Bevy camera's transform (fov 0.7) converts to.
 fn camera_of(t: &GlobalTransform) -> PCamera {
@@ -593,10 +611,7 @@ fn a_character_bevy_animates_renders_as_platoon_poses_its_file() {
     // platoon as edits, and the skin renders as platoon's own animation of the file at 0.5 s.
     let (mut app, t) = file_app("CesiumMan.glb", "lavapipe:1", 16);
     let builds = app.world().resource::<PlatoonStats>().rebuilds;
-    let clip = app
-        .world()
-        .resource::<AssetServer>()
-        .load(GltfAssetLabel::Animation(0).from_asset("CesiumMan.glb"));
+    let clip = app.world().resource::<FileAnimation>().0.clone();
     app.add_systems(
         Update,
         move |mut commands: Commands,
