@@ -622,3 +622,57 @@ fn a_transparent_film_leaves_the_sky_seen_directly_out_and_says_where() {
     let three = request(true, vec![1, 1, 1]);
     assert!(three.alpha == clear.alpha && three.image == clear.image);
 }
+
+/// The Python stub's `render` gives each option of the request's table the type its kind takes
+/// in Python and the default request's value (`| None = None` where the request leaves it
+/// unset): the stub is written by hand, and cannot drift from the table unseen.
+#[test]
+fn the_python_stub_gives_each_table_option_its_type_and_default() {
+    use platoon::core::method::settings::ValueKind;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../platoon-py/python/platoon/__init__.pyi");
+    let stub = std::fs::read_to_string(&path).unwrap();
+    let signature = &stub[stub.find("def render(").unwrap()..stub.find(") -> Rendered:").unwrap()];
+    let base = Request::default();
+    for o in platoon::request::options::OPTIONS {
+        let line = signature
+            .lines()
+            .map(str::trim)
+            .find(|l| l.starts_with(&format!("{}:", o.key)))
+            .unwrap_or_else(|| panic!("the stub's render has no {}", o.key));
+        let (typed, default) = line
+            .trim_end_matches(',')
+            .split_once(':')
+            .and_then(|(_, rest)| rest.split_once('='))
+            .map(|(t, d)| (t.trim(), d.trim()))
+            .unwrap_or_else(|| panic!("{line}: not `key: type = default`"));
+        // (A crop is given as a tuple; the table's kind is how the command line writes it.)
+        let python = match (o.key, o.kind) {
+            ("crop", _) => "tuple[int, int, int, int]",
+            (_, ValueKind::Count) => "int",
+            (_, ValueKind::Number) => "float",
+            (_, ValueKind::Switch) => "bool",
+            (_, ValueKind::Tile) => "tuple[int, int]",
+            (_, ValueKind::Word(_)) => "str",
+        };
+        let (expected_type, expected_default) = match (o.get)(&base) {
+            None => (format!("{python} | None"), "None".to_string()),
+            Some(v) => (
+                python.to_string(),
+                match v {
+                    Value::Count(n) => n.to_string(),
+                    Value::Number(x) => format!("{x:?}"),
+                    Value::Switch(on) => if on { "True" } else { "False" }.to_string(),
+                    Value::Tile([m, n]) => format!("({m}, {n})"),
+                    Value::Word(w) => format!("{w:?}"),
+                },
+            ),
+        };
+        assert_eq!(
+            (typed, default),
+            (expected_type.as_str(), expected_default.as_str()),
+            "{}",
+            o.key
+        );
+    }
+}
