@@ -312,6 +312,16 @@ impl Knob {
 mod tests {
     use super::*;
 
+    /// A value of `knob`'s kind as written: `whole` for a count or a percentage, 2.5 for a
+    /// positive number, none for a switch.
+    fn a_value(knob: &Knob, whole: &'static str) -> Option<&'static str> {
+        match knob.value {
+            KnobValue::Switch => None,
+            KnobValue::Positive => Some("2.5"),
+            _ => Some(whole),
+        }
+    }
+
     impl Knob {
         fn named(token: &str) -> Option<&'static Knob> {
             KNOBS.iter().find(|k| k.token == token)
@@ -337,11 +347,7 @@ mod tests {
         };
         let defaults = fields(&PathLoop::default());
         for (i, knob) in KNOBS.iter().enumerate() {
-            let text = match knob.value {
-                KnobValue::Switch => None,
-                KnobValue::Positive => Some("2.5"),
-                _ => Some("7"),
-            };
+            let text = a_value(knob, "7");
             let word = knob.parse(text).unwrap();
             assert_eq!(knob.format(word), knob.format(knob.parse(text).unwrap()));
             let mut l = PathLoop::default();
@@ -381,11 +387,7 @@ mod tests {
         };
         let base = PathLoop::default().metadata(None);
         for knob in KNOBS {
-            let text = match knob.value {
-                KnobValue::Switch => None,
-                KnobValue::Positive => Some("2.5"),
-                _ => Some("7"),
-            };
+            let text = a_value(knob, "7");
             let mut l = PathLoop::default();
             knob.apply(&mut l, knob.parse(text).unwrap());
             let said = l.metadata(None);
@@ -409,11 +411,7 @@ mod tests {
     fn every_biased_knob_and_only_those_is_an_approximation() {
         assert!(PathLoop::default().approximations().is_empty());
         for knob in KNOBS {
-            let text = match knob.value {
-                KnobValue::Switch => None,
-                KnobValue::Positive => Some("2.5"),
-                _ => Some("2"),
-            };
+            let text = a_value(knob, "2");
             let mut l = PathLoop::default();
             knob.apply(&mut l, knob.parse(text).unwrap());
             let listed = l.approximations();
