@@ -12,28 +12,34 @@ export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$HOME/.cache/platoon-target}
 log=$(mktemp)
 trap 'rm -f "$log" "$log.oidn" "$log.py"' EXIT
 status=0
-cargo test --workspace --all-targets "$@" 2>&1 | tee "$log" || status=$?
-# The examples in the API documentation (--all-targets leaves doc tests out).
-cargo test --workspace --doc "$@" 2>&1 | tee -a "$log" || status=$?
-# Frames split between processes (docs/DISTRIBUTED.md): the CLI built with the feature `mpi`
-# and run under `mpirun -np 3` against one process, bit for bit.
-cargo test -p platoon-cli --features mpi --test mpi "$@" 2>&1 | tee -a "$log" || status=$?
-# Open Image Denoise's own tests need the library, which Debian does not package:
-# tools/oidn.sh finds it ($OIDN_DIR) or fetches the pyoidn wheel's copy into the cache.
-# Without it they are skipped, and this says why.
+# One set of features for every cargo command below, so that each reuses what the first built:
+# a command that selects other packages or features resolves its dependencies' features anew,
+# and one proc-macro built with other features (syn's, which bindgen wants with more) rebuilds
+# nearly everything above it (a separate MPI stage and OIDN stage cost 7 minutes of a fresh
+# machine's run that way, docs/PERFORMANCE.md).
+# MPI: the CLI with the feature `mpi`, whose tests run under `mpirun -np 3` against one
+# process, bit for bit (docs/DISTRIBUTED.md).
+features=platoon-cli/mpi
+# Open Image Denoise: Debian has no package; tools/oidn.sh finds it ($OIDN_DIR) or fetches the
+# pyoidn wheel's copy into the cache. Without it the build has no `oidn` and its tests say why
+# they were skipped; the Python module's tests check the refusal (built without it).
 if oidn_dir=$(tools/oidn.sh 2>"$log.oidn"); then
-    OIDN_DIR=$oidn_dir LD_LIBRARY_PATH=$oidn_dir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} \
-        cargo test -p platoon-aov --features oidn --lib denoise::oidn "$@" 2>&1 | tee -a "$log" || status=$?
+    features+=,platoon-cli/oidn
+    export OIDN_DIR=$oidn_dir
+    export LD_LIBRARY_PATH=$oidn_dir/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 else
     echo "Open Image Denoise's tests skipped: $(cat "$log.oidn")"
 fi
 rm -f "$log.oidn"
+cargo test --workspace --all-targets --features "$features" "$@" 2>&1 | tee "$log" || status=$?
+# The examples in the API documentation (--all-targets leaves doc tests out).
+cargo test --workspace --doc --features "$features" "$@" 2>&1 | tee -a "$log" || status=$?
 # The Python module (crates/platoon-py, outside the workspace): built into a virtual
 # environment by tools/python.sh, its tests under pytest against the CLI built above. pytest's
 # summary joins the total as one more "test result" line.
 # The examples the Python module's tests run beside it (scripted_game): `cargo test
 # --all-targets` builds examples as tests, under hashed names only.
-cargo build --workspace --examples 2>&1 | tee -a "$log" || status=$?
+cargo build --workspace --examples --features "$features" 2>&1 | tee -a "$log" || status=$?
 if python=$(tools/python.sh); then
     PLATOON_CLI=$CARGO_TARGET_DIR/debug/platoon "$python" -m pytest crates/platoon-py/tests -q \
         -p no:cacheprovider 2>&1 | tee "$log.py" || status=$?

@@ -172,6 +172,8 @@ def test_the_light_passes_sum_to_the_image():
     (dict(kernel="warp"), ValueError, "kernel: unknown kernel warp: one of auto, mega, spt"),
     (dict(balancer="fastest"), ValueError, "balancer: unknown balancer fastest"),
     (dict(denoise="magic"), ValueError, "denoise: unknown denoiser \"magic\""),
+    # The module is built without the feature `oidn` (tools/test.sh builds the CLI with it).
+    (dict(denoise="oidn"), ValueError, "denoise: this platoon was built without Open Image Denoise"),
     (dict(spp=-1), ValueError, "spp: expects a whole number"),
     (dict(aovs=["beauty"]), ValueError, "unknown AOV"),
     (dict(devices="lavapipe:1,1", time_limit=1.0), ValueError, "time_limit"),
