@@ -259,7 +259,7 @@ mod tests {
     use platoon_core::balance::{by_name, NAMES, STEALING_NAMES};
     use platoon_core::output::Film;
     use platoon_core::scene::camera::Camera;
-    use platoon_schedule::fakes::{Fake, Keeping};
+    use platoon_test_support::fakes::{Fake, Keeping};
 
     fn params(frame: u32) -> FrameParams {
         let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);

@@ -4,10 +4,6 @@
 //! and what a frame measured and lost (`outcome`). The core (`platoon_core::frame`) holds the
 //! contract this schedules: the frame's parameters, the band, the `BandTracer` a device is.
 
-/// CPU fake tracers for tests (this crate's, and platoon-distribute's through the feature
-/// `test-support`).
-#[cfg(any(test, feature = "test-support"))]
-pub mod fakes;
 pub mod fault;
 mod outcome;
 pub mod renderer;

@@ -1,5 +1,5 @@
-//! Tracers for the core's tests of renderers and ranks: CPU fakes whose pixels are a function
-//! of the pixel, the frame and the film they continue.
+//! Tracers for the tests of renderers (platoon-schedule) and ranks (platoon-distribute): CPU
+//! fakes whose pixels are a function of the pixel, the frame and the film they continue.
 
 use std::sync::Arc;
 use std::time::Duration;
