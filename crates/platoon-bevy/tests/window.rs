@@ -57,12 +57,15 @@ fn the_example_game_shows_platoons_frames_in_a_window() {
         let frames: u64 = title.split_whitespace().nth(2)?.parse().ok()?;
         (frames >= 30).then_some(frames)
     });
-    // The window (320 x 180, platoon's 160 x 90 image at twice its size) is mostly lit.
-    let lit = x.lit_pixels();
+    // The window (320 x 180, platoon's 160 x 90 image at twice its size) is mostly lit. Bevy
+    // may present its first frame after platoon has rendered 30 (its own pipelines come first:
+    // with Bevy unoptimised and Mesa's shader cache warm, platoon's 30 frames came within 1.5 s
+    // and the screen was still black in 5 runs of 5), so the screen is watched until then.
+    let lit = wait_for(Duration::from_secs(120), || {
+        let lit = x.lit_pixels();
+        (lit > 320 * 180 / 2).then_some(lit)
+    });
     let _ = game.kill();
     let _ = game.wait();
-    assert!(
-        lit > 320 * 180 / 2,
-        "{lit} lit pixels after {frames} frames"
-    );
+    eprintln!("{lit} lit pixels after {frames} frames or more");
 }
