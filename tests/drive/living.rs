@@ -15,9 +15,9 @@ use platoon::core::Scene;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::drive::Edit;
 use platoon::drive::{Pipeline, QueryScene, Updater};
-use platoon::schedule::fault::FaultInjector;
 use platoon::schedule::renderer::Renderer;
 use platoon::tracer::{Sampling, Tracer};
+use platoon_test_support::fault::FaultInjector;
 
 fn new_tracer(scene: &platoon::core::flatten::GpuScene) -> Tracer {
     tracer_reading(scene, Default::default())

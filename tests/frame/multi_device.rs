@@ -10,10 +10,10 @@ use platoon::core::balance::{by_name, NAMES};
 use platoon::core::frame::FrameParams;
 use platoon::core::method::path::PathKernel;
 use platoon::devices::{create_tracers, DeviceSpec};
-use platoon::schedule::fault::FaultInjector;
 use platoon::schedule::renderer::{Renderer, TracerFailure};
 use platoon::tracer::{Sampling, Tracer};
 use platoon_lab::balance_bench as bb;
+use platoon_test_support::fault::FaultInjector;
 
 fn scene() -> platoon::Prepared {
     let scene = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();

@@ -23,9 +23,9 @@ use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::drive::{
     DriverOptions, Edit, FrameDriver, FrameStats, GiStats, GiUpdate, Pipeline, Updater,
 };
-use platoon::schedule::fault::FaultInjector;
 use platoon::schedule::renderer::Renderer;
 use platoon::tracer::{Sampling, Tracer};
+use platoon_test_support::fault::FaultInjector;
 
 fn links(options: LinksOptions) -> Method {
     Method::new(Links::new(options))

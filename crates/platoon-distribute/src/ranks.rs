@@ -392,8 +392,8 @@ mod tests {
     use crate::local::LocalGroup;
     use platoon_core::balance::{by_name, NAMES};
     use platoon_core::scene::camera::Camera;
-    use platoon_schedule::fault::FaultInjector;
     use platoon_test_support::fakes::{Fake, Keeping};
+    use platoon_test_support::fault::FaultInjector;
 
     fn params(frame: u32) -> FrameParams {
         let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);

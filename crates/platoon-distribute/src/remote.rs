@@ -389,7 +389,7 @@ mod tests {
 
     /// Rank 1's devices fail from frame 1 on (with stealing, whatever piece it holds then).
     fn a_rank_fails(balancer: &str) {
-        use platoon_schedule::fault::FaultInjector;
+        use platoon_test_support::fault::FaultInjector;
         let (films, alive) = with_ranks(
             vec![FaultInjector::healthy(Fake { slowness: 1 })],
             vec![

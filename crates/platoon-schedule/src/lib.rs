@@ -4,7 +4,6 @@
 //! and what a frame measured and lost (`outcome`). The core (`platoon_core::frame`) holds the
 //! contract this schedules: the frame's parameters, the band, the `BandTracer` a device is.
 
-pub mod fault;
 mod outcome;
 pub mod renderer;
 mod rounds;

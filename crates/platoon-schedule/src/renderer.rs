@@ -517,11 +517,11 @@ pub fn per_pixel_in_order(bands: &mut [Band]) -> Vec<[f32; 4]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fault::FaultInjector;
     use platoon_core::balance::{by_name, NAMES};
     use platoon_core::frame::TracerError;
     use platoon_core::scene::camera::Camera;
     use platoon_test_support::fakes::Fake;
+    use platoon_test_support::fault::FaultInjector;
 
     /// A fake that, when `refuse`, fails every scene commit, as a lost device would.
     struct Committing {
