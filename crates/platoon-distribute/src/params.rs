@@ -44,7 +44,7 @@ mod tests {
     use crate::wire::fingerprint;
     use platoon_core::frame::aov::AovPass;
     use platoon_core::frame::light_pass::{BsdfPart, LightPass};
-    use platoon_core::frame::light_reuse::{LightReuse, ReservoirHistory};
+    use platoon_core::frame::light_reuse::{LightReuse, ReservoirHistory, ReservoirRecord};
     use platoon_core::frame::world_cache::CacheTable;
     use platoon_core::frame::{Crop, Output, PixelFilter};
     use platoon_core::method::igi::IgiOptions;
@@ -141,7 +141,13 @@ mod tests {
                 camera,
                 width: 2,
                 height: 1,
-                records: (0..6).map(|i| [i as f32, 0.5, -1.5, 2.5]).collect(),
+                records: (0..2)
+                    .map(|i| ReservoirRecord {
+                        position: [i as f32, 0.5, -1.5],
+                        light: 2.5,
+                        ..Default::default()
+                    })
+                    .collect(),
             })),
         };
         let path_traced = FrameParams {

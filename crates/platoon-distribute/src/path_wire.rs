@@ -121,7 +121,7 @@ pub(crate) fn put_light_reuse(w: &mut Writer, h: &ReservoirHistory) {
     put_camera(w, camera);
     w.u32(*width);
     w.u32(*height);
-    w.pod(bytemuck::cast_slice::<[f32; 4], f32>(records));
+    w.pod(records);
 }
 
 pub(crate) fn get_light_reuse(r: &mut Reader) -> Result<ReservoirHistory, WireError> {
@@ -133,18 +133,11 @@ pub(crate) fn get_light_reuse(r: &mut Reader) -> Result<ReservoirHistory, WireEr
     };
     let camera = get_camera(r)?;
     let (width, height) = (r.u32()?, r.u32()?);
-    let flat: Vec<f32> = r.pod()?;
-    if !flat.len().is_multiple_of(4) {
-        return Err(WireError("the light reuse's reservoirs".into()));
-    }
     Ok(ReservoirHistory {
         options,
         camera,
         width,
         height,
-        records: flat
-            .chunks_exact(4)
-            .map(|c| [c[0], c[1], c[2], c[3]])
-            .collect(),
+        records: r.pod()?,
     })
 }

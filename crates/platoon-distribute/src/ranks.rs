@@ -381,7 +381,7 @@ fn zeros(params: &FrameParams, tracers: Vec<TracerStats>, start: Instant) -> Fra
         wall_time: start.elapsed(),
         rejected_samples: 0,
         kernel_fallbacks: 0,
-        per_pixel: Vec::new(),
+        per_pixel: Default::default(),
         method_report: Vec::new(),
     }
 }

@@ -8,7 +8,7 @@ use std::hash::{Hash, Hasher};
 use std::time::Duration;
 
 use platoon_core::flatten::commit::{ArrayCommit, Commit, SceneHeader};
-use platoon_core::frame::{Band, FrameParams, Span};
+use platoon_core::frame::{Band, FrameParams, PixelData, Span};
 use platoon_core::scene::camera::Camera;
 use platoon_schedule::renderer::{TracerFailure, TracerStats};
 
@@ -210,7 +210,7 @@ pub fn fingerprint(params: &FrameParams) -> u64 {
         }
         if let Some(l) = path.light_reuse.take() {
             format!("{:?} {:?} {} {}", l.options, l.camera, l.width, l.height).hash(&mut h);
-            bytemuck::cast_slice::<[f32; 4], u32>(&l.records).hash(&mut h);
+            bytemuck::cast_slice::<_, u32>(&l.records).hash(&mut h);
         }
     }
     std::fmt::write(&mut HashWriter(&mut h), format_args!("{p:?}")).expect("hashing");
@@ -270,6 +270,29 @@ pub fn get_film_span(r: &mut Reader, p: &mut FrameParams, span: Span) -> Result<
     Ok(())
 }
 
+/// A method's per-pixel records: each kind's name, words a record and words.
+fn put_pixel_data(w: &mut Writer, d: &PixelData) {
+    let streams: Vec<_> = d.streams().collect();
+    w.u32(streams.len() as u32);
+    for (kind, record_words, words) in streams {
+        w.str(kind);
+        w.u32(record_words);
+        w.pod(words);
+    }
+}
+
+fn get_pixel_data(r: &mut Reader) -> Result<PixelData, WireError> {
+    let mut d = PixelData::default();
+    for _ in 0..r.u32()? {
+        let kind = r.string()?;
+        let record_words = r.u32()?;
+        let words: Vec<u32> = r.pod()?;
+        d.push_words(&kind, record_words, &words)
+            .map_err(WireError)?;
+    }
+    Ok(d)
+}
+
 pub fn put_band(w: &mut Writer, b: &Band) {
     w.span(b.span);
     w.pod(&b.sums);
@@ -278,7 +301,7 @@ pub fn put_band(w: &mut Writer, b: &Band) {
     w.pod(&b.line_rays);
     w.u64(b.rejected_samples);
     w.u32(b.kernel_fallbacks);
-    w.pod(&b.per_pixel);
+    put_pixel_data(w, &b.per_pixel);
     w.u32(b.method_report.len() as u32);
     for (k, v) in &b.method_report {
         w.str(k);
@@ -297,7 +320,7 @@ pub fn get_band(r: &mut Reader) -> Result<Band, WireError> {
         line_rays: r.pod()?,
         rejected_samples: r.u64()?,
         kernel_fallbacks: r.u32()?,
-        per_pixel: r.pod()?,
+        per_pixel: get_pixel_data(r)?,
         method_report: (0..r.u32()?)
             .map(|_| Ok((r.string()?, r.string()?)))
             .collect::<Result<_, WireError>>()?,
@@ -449,6 +472,8 @@ fn array_of<T: Copy, const N: usize>(v: Vec<T>) -> Result<[T; N], WireError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use platoon_core::frame::world_cache::TrainingRecord;
+    use platoon_core::method::links::ShotHit;
 
     #[test]
     fn a_band_comes_back_as_it_was_sent() {
@@ -460,7 +485,12 @@ mod tests {
             line_rays: vec![4, 5],
             rejected_samples: 1,
             kernel_fallbacks: 2,
-            per_pixel: vec![[0.5; 4]],
+            // Two kinds of records, one with a NaN (bits travel as they are).
+            per_pixel: PixelData::of(&[TrainingRecord {
+                key: 9,
+                radiance: [0.5, f32::NAN, 1.0],
+            }])
+            .with(&[ShotHit::default(); 2]),
             method_report: vec![("a".into(), "b c".into())],
             gpu_time: Duration::from_nanos(123),
             wall_time: Duration::from_millis(4),

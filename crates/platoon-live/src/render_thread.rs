@@ -17,7 +17,8 @@ use platoon_core::error::{Error, Result};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::hit_geometry::HitGeometry;
-use platoon_core::frame::light_reuse::{split_per_pixel, LightReuseState};
+use platoon_core::frame::light_reuse::{LightReuseState, ReservoirRecord};
+use platoon_core::frame::world_cache::TrainingRecord;
 use platoon_core::frame::world_cache::WorldCache;
 use platoon_core::frame::{BandTracer, FrameParams};
 use platoon_schedule::renderer::Renderer;
@@ -155,16 +156,20 @@ fn render_one<T: BandTracer + Send + 'static>(
     let render = render_start.elapsed();
     failures.extend(std::mem::take(&mut rendered.failures));
     // The records of every band, in pixel order: the same cache and reservoirs for any split.
-    let (records, reservoirs) = split_per_pixel(
-        std::mem::take(&mut rendered.per_pixel),
-        learned.cache.is_some(),
-        learned.reuse.is_some(),
-    );
-    let world_cache = learned.cache.as_mut().map(|c| c.update(&records, frame));
-    let light_reuse = learned
-        .reuse
-        .as_mut()
-        .map(|r| r.keep(reservoirs, params.camera, params.width, params.height));
+    let pixels = &rendered.per_pixel;
+    let records = pixels.records::<TrainingRecord>().map_err(Error::Invalid)?;
+    let reservoirs = pixels
+        .records::<ReservoirRecord>()
+        .map_err(Error::Invalid)?;
+    let world_cache = learned.cache.as_mut().map(|c| c.update(records, frame));
+    let light_reuse = learned.reuse.as_mut().map(|r| {
+        r.keep(
+            reservoirs.to_vec(),
+            params.camera,
+            params.width,
+            params.height,
+        )
+    });
     let (denoised, denoise) = match denoiser {
         Some(d) => {
             let frame = RenderedFrame {

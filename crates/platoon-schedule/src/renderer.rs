@@ -16,7 +16,7 @@ use platoon_core::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
 use platoon_core::denoise::{DeviceFilter, Guides};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::frame::{
-    assemble, gather_sums, Band, BandTracer, FrameParams, Span, ValidatedFrame,
+    assemble, gather_sums, Band, BandTracer, FrameParams, PixelData, Span, ValidatedFrame,
 };
 use platoon_core::output::Film;
 
@@ -40,7 +40,7 @@ pub struct FrameResult {
     /// Megakernel passes finished by the streaming kernels (`Band::kernel_fallbacks`).
     pub kernel_fallbacks: u32,
     /// What the bands left per pixel (`Band::per_pixel`), in pixel order; empty when nothing.
-    pub per_pixel: Vec<[f32; 4]>,
+    pub per_pixel: PixelData,
     /// What the method reported on the band of the frame's first pixels (`Band::method_report`).
     pub method_report: Vec<(String, String)>,
 }
@@ -505,13 +505,14 @@ pub fn first_report(bands: &[Band]) -> Vec<(String, String)> {
 }
 
 /// The bands' `per_pixel` data joined in pixel order (taken out of them).
-pub fn per_pixel_in_order(bands: &mut [Band]) -> Vec<[f32; 4]> {
+pub fn per_pixel_in_order(bands: &mut [Band]) -> PixelData {
     let mut order: Vec<usize> = (0..bands.len()).collect();
     order.sort_by_key(|&i| bands[i].span.begin);
-    order
-        .into_iter()
-        .flat_map(|i| std::mem::take(&mut bands[i].per_pixel))
-        .collect()
+    let mut joined = PixelData::default();
+    for i in order {
+        joined.append(std::mem::take(&mut bands[i].per_pixel));
+    }
+    joined
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@ use std::sync::Once;
 use std::time::Duration;
 
 use platoon::core::flatten::features::KernelOption;
-use platoon::core::frame::{FrameParams, Span};
+use platoon::core::frame::{FrameParams, PixelData, Span};
 use platoon::core::method::kind::MethodKind;
 use platoon::core::method::registry;
 use platoon::core::method::render_method::RenderMethod;
@@ -105,7 +105,7 @@ impl MethodPasses for GreyPasses {
     fn report(&mut self, counters: &[u32]) -> Vec<(String, String)> {
         self.path.report(counters)
     }
-    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
+    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> PixelData {
         self.path.per_pixel(params, span)
     }
     fn destroy(&mut self, gpu: &mut Gpu) {

@@ -23,6 +23,7 @@
 
 use std::sync::Arc;
 
+use super::pixel_data::PixelRecord;
 use crate::scene::camera::Camera;
 
 /// The reuse's settings.
@@ -114,9 +115,27 @@ pub fn check_context(resampled_light: bool, path_tracing: bool) -> Result<(), St
     }
 }
 
-/// vec4s a pixel's reservoir takes (light_reuse.glsl's record): the surface point and the
-/// light, the sample's numbers with W and M, the surface's normals.
-pub const RECORD_VEC4S: usize = 3;
+/// A pixel's reservoir as light_reuse.glsl leaves it (`reuse_write`, three vec4s): the
+/// surface point and the light, the sample's numbers with W and M, the surface's normals.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ReservoirRecord {
+    pub position: [f32; 3],
+    /// (light + 1) x 2 + whether the surface transmits: below 2, no sample kept.
+    pub light: f32,
+    /// The two numbers that placed the sample on its light.
+    pub u: [f32; 2],
+    /// The unbiased contribution weight.
+    pub w: f32,
+    /// The candidates the sample stands for.
+    pub m: f32,
+    /// The geometric and shading normals, octahedral.
+    pub normals: [f32; 4],
+}
+
+impl PixelRecord for ReservoirRecord {
+    const KIND: &'static str = "path.reservoir";
+}
 
 /// What a frame's kernels read: the settings and the previous frame's reservoirs.
 #[derive(Clone, Debug, PartialEq)]
@@ -127,8 +146,8 @@ pub struct ReservoirHistory {
     pub camera: Camera,
     pub width: u32,
     pub height: u32,
-    /// [`RECORD_VEC4S`] a pixel, in pixel order.
-    pub records: Vec<[f32; 4]>,
+    /// One a pixel, in pixel order.
+    pub records: Vec<ReservoirRecord>,
 }
 
 impl ReservoirHistory {
@@ -152,7 +171,7 @@ impl ReservoirHistory {
 
     /// Whether it holds a frame's reservoirs.
     pub fn has_frame(&self) -> bool {
-        self.width > 0 && self.records.len() == self.pixels() * RECORD_VEC4S
+        self.width > 0 && self.records.len() == self.pixels()
     }
 
     fn pixels(&self) -> usize {
@@ -193,7 +212,7 @@ impl LightReuseState {
     /// the next; records of another length (a frame that rendered no beauty) leave no history.
     pub fn keep(
         &mut self,
-        records: Vec<[f32; 4]>,
+        records: Vec<ReservoirRecord>,
         camera: Camera,
         width: u32,
         height: u32,
@@ -224,13 +243,12 @@ pub struct ReuseStats {
 }
 
 impl ReuseStats {
-    fn of(records: &[[f32; 4]]) -> ReuseStats {
+    fn of(records: &[ReservoirRecord]) -> ReuseStats {
         let (mut samples, mut m) = (0u32, 0.0f64);
-        for r in records.chunks_exact(RECORD_VEC4S) {
-            // (light + 1) x 2 + transmits: a sample from 2 on.
-            if r[0][3] >= 2.0 {
+        for r in records {
+            if r.light >= 2.0 {
                 samples += 1;
-                m += r[1][3] as f64;
+                m += r.m as f64;
             }
         }
         ReuseStats {
@@ -244,71 +262,9 @@ impl ReuseStats {
     }
 }
 
-/// What the path tracer's bands leave per pixel, one after the other in each pixel: the world
-/// cache's training record (when there are records) then the reservoir (when there are
-/// reservoirs); [`split_per_pixel`] takes them apart.
-pub fn join_per_pixel(records: Vec<[f32; 4]>, reservoirs: Vec<[f32; 4]>) -> Vec<[f32; 4]> {
-    if records.is_empty() {
-        return reservoirs;
-    }
-    if reservoirs.is_empty() {
-        return records;
-    }
-    records
-        .iter()
-        .zip(reservoirs.chunks_exact(RECORD_VEC4S))
-        .flat_map(|(r, v)| std::iter::once(*r).chain(v.iter().copied()))
-        .collect()
-}
-
-/// [`join_per_pixel`]'s data (joined in pixel order over the bands) split back into the cache's
-/// records (when `cache`) and the reservoirs (when `reuse`), each in pixel order.
-pub fn split_per_pixel(
-    per_pixel: Vec<[f32; 4]>,
-    cache: bool,
-    reuse: bool,
-) -> (Vec<[f32; 4]>, Vec<[f32; 4]>) {
-    match (cache, reuse) {
-        (true, true) => {
-            let stride = 1 + RECORD_VEC4S;
-            let mut records = Vec::with_capacity(per_pixel.len() / stride);
-            let mut reservoirs = Vec::with_capacity(per_pixel.len() / stride * RECORD_VEC4S);
-            for pixel in per_pixel.chunks_exact(stride) {
-                records.push(pixel[0]);
-                reservoirs.extend_from_slice(&pixel[1..]);
-            }
-            (records, reservoirs)
-        }
-        (false, true) => (Vec::new(), per_pixel),
-        _ => (per_pixel, Vec::new()),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn per_pixel_data_splits_into_cache_records_and_reservoirs_in_pixel_order() {
-        let per_pixel: Vec<[f32; 4]> = (0..8).map(|i| [i as f32; 4]).collect();
-        let (records, reservoirs) = split_per_pixel(per_pixel.clone(), true, true);
-        assert_eq!(records, vec![[0.0; 4], [4.0; 4]]);
-        assert_eq!(
-            reservoirs,
-            vec![[1.0; 4], [2.0; 4], [3.0; 4], [5.0; 4], [6.0; 4], [7.0; 4]]
-        );
-        assert_eq!(
-            split_per_pixel(per_pixel.clone(), false, true),
-            (Vec::new(), per_pixel.clone())
-        );
-        assert_eq!(
-            split_per_pixel(per_pixel.clone(), true, false),
-            (per_pixel.clone(), Vec::new())
-        );
-        // ... what the tracer joined.
-        let (records, reservoirs) = split_per_pixel(per_pixel.clone(), true, true);
-        assert_eq!(join_per_pixel(records, reservoirs), per_pixel);
-    }
 
     #[test]
     fn the_history_starts_over_when_the_lights_change_or_a_frame_left_none() {
@@ -321,11 +277,11 @@ mod tests {
         };
         let mut s = LightReuseState::new(LightReuse::default());
         assert!(!s.history(Some(3)).has_frame());
-        s.keep(vec![[1.0; 4]; 2 * 3 * RECORD_VEC4S], camera, 2, 3);
+        s.keep(vec![ReservoirRecord::default(); 2 * 3], camera, 2, 3);
         assert!(s.history(None).has_frame());
         assert!(s.history(Some(3)).has_frame(), "the same lights");
         assert!(!s.history(Some(4)).has_frame(), "the lights changed");
-        s.keep(vec![[1.0; 4]; 5], camera, 2, 3);
+        s.keep(vec![ReservoirRecord::default(); 5], camera, 2, 3);
         assert!(!s.history(None).has_frame(), "a frame without reservoirs");
     }
 

@@ -8,6 +8,7 @@ mod film_state;
 pub mod light_reuse;
 mod options;
 mod path_loop;
+pub mod pixel_data;
 mod pixel_filter;
 pub mod world_cache;
 
@@ -17,6 +18,7 @@ pub use crate::balance::Span;
 pub use film_state::FilmState;
 pub use options::{FrameOptions, DEFAULT_AO_DISTANCE};
 pub use path_loop::{Knob, KnobValue, PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, KNOBS};
+pub use pixel_data::{PixelData, PixelRecord};
 pub use pixel_filter::PixelFilter;
 pub use platoon_aov::{aov, cryptomatte, hit_geometry, light_pass, motion};
 pub use platoon_aov::{Crop, Region};
@@ -201,10 +203,10 @@ pub struct Band {
     /// an invocation's loops after 65535 iterations in all); their pixels were rendered by the
     /// streaming kernels, and the tracer's later passes too. The image is the same either way.
     pub kernel_fallbacks: u32,
-    /// What the method leaves per pixel of the span for its pass after assembly
-    /// (`RenderMethod::finish`), in a layout of its own (IGI's filters: three vec4s a pixel);
-    /// empty for methods without one.
-    pub per_pixel: Vec<[f32; 4]>,
+    /// What the method leaves per pixel of the span for its work after assembly
+    /// (`RenderMethod::finish`, a method's preparation, the world cache and light reuse), as
+    /// records of its own types (IGI's `IgiTexel`); empty for methods without any.
+    pub per_pixel: PixelData,
     /// What the method's passes on this device report for the output's metadata (layered hit
     /// buffers' build: bytes, overflow, time).
     pub method_report: Vec<(String, String)>,

@@ -14,6 +14,22 @@
 
 use std::sync::Arc;
 
+use super::pixel_data::PixelRecord;
+
+/// What a pixel leaves for the cells each frame (world_cache_train.comp's record, one vec4): the
+/// key bits of the cell its training path's second vertex fell in (0: the pixel did not train)
+/// and the radiance gathered from there on, per unit of throughput.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TrainingRecord {
+    pub key: u32,
+    pub radiance: [f32; 3],
+}
+
+impl PixelRecord for TrainingRecord {
+    const KIND: &'static str = "path.world_cache_training";
+}
+
 /// The cache's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorldCacheOptions {
@@ -146,13 +162,13 @@ impl WorldCache {
         Arc::clone(&self.table)
     }
 
-    /// Joins frame `frame`'s records (its bands' `per_pixel`, in pixel order: key bits and
-    /// radiance; key 0 where a pixel did not train) to the cells, in that order.
-    pub fn update(&mut self, records: &[[f32; 4]], frame: u32) -> CacheUpdate {
+    /// Joins frame `frame`'s records (its bands' `per_pixel`, in pixel order) to the cells, in
+    /// that order.
+    pub fn update(&mut self, records: &[TrainingRecord], frame: u32) -> CacheUpdate {
         let mask = self.cells.len() as u32 - 1;
         let mut u = CacheUpdate::default();
         for r in records {
-            let key = r[0].to_bits();
+            let key = r.key;
             if key == 0 {
                 continue;
             }
@@ -175,7 +191,7 @@ impl WorldCache {
             cell.count = (cell.count + 1).min(self.options.history);
             cell.trained = frame;
             let a = 1.0 / cell.count as f32;
-            for (m, x) in cell.mean.iter_mut().zip(&r[1..]) {
+            for (m, x) in cell.mean.iter_mut().zip(&r.radiance) {
                 *m += (x - *m) * a;
             }
         }
@@ -216,8 +232,11 @@ impl WorldCache {
 mod tests {
     use super::*;
 
-    fn record(key: u32, v: f32) -> [f32; 4] {
-        [f32::from_bits(key), v, v * 2.0, v * 3.0]
+    fn record(key: u32, v: f32) -> TrainingRecord {
+        TrainingRecord {
+            key,
+            radiance: [v, v * 2.0, v * 3.0],
+        }
     }
 
     fn options() -> WorldCacheOptions {
@@ -233,7 +252,7 @@ mod tests {
     fn a_cell_is_read_once_it_has_enough_samples_and_holds_their_running_mean() {
         let mut c = WorldCache::new(options(), 1.0).unwrap();
         let key = 0x0080_0007; // slot 3
-        c.update(&[record(key, 1.0), [0.0; 4]], 0);
+        c.update(&[record(key, 1.0), TrainingRecord::default()], 0);
         assert_eq!(c.table().slots[3], [0.0; 4], "one sample: not read yet");
         c.update(&[record(key, 3.0)], 1);
         let t = c.table();
@@ -259,10 +278,13 @@ mod tests {
 
     #[test]
     fn pixels_that_did_not_train_change_nothing_and_bad_options_are_refused() {
-        let records: Vec<[f32; 4]> = (0..200u32)
+        let records: Vec<TrainingRecord> = (0..200u32)
             .map(|i| record(0x0080_0001 | ((i % 7) << 1), (i as f32 * 0.37).sin().abs()))
             .collect();
-        let with_gaps: Vec<[f32; 4]> = records.iter().flat_map(|r| [*r, [0.0; 4]]).collect();
+        let with_gaps: Vec<TrainingRecord> = records
+            .iter()
+            .flat_map(|r| [*r, TrainingRecord::default()])
+            .collect();
         let (mut x, mut y) = (
             WorldCache::new(options(), 3.0).unwrap(),
             WorldCache::new(options(), 3.0).unwrap(),

@@ -9,7 +9,7 @@ use crate::method::Method;
 /// (the film) and what its bands left per pixel (`Band::per_pixel`), in pixel order.
 pub struct DeviceFrame {
     pub film: Vec<[f32; 3]>,
-    pub per_pixel: Vec<[f32; 4]>,
+    pub per_pixel: crate::frame::PixelData,
     /// Device time of its dispatches, summed over tracers.
     pub gpu_time: std::time::Duration,
 }

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use platoon_core::frame::{FrameParams, Span};
+use platoon_core::frame::{FrameParams, PixelData, Span};
 use platoon_core::method::igi::{IgiOptions, IgiTexel, IgiVertex, Vpl};
 
 use super::{ensure, MethodPasses, Recorder};
@@ -147,15 +147,18 @@ impl MethodPasses for IgiPasses {
     }
 
     /// The span's texels, after the gather (none unless the gather is filtered).
-    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
+    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> PixelData {
         if !options(params).filtered() {
-            return Vec::new();
+            return PixelData::default();
         }
         let Some(b) = self.texels.as_mut() else {
-            return Vec::new();
+            return PixelData::default();
         };
         let t = TEXEL_BYTES as usize;
-        bytemuck::pod_collect_to_vec(&b.mapped()[span.begin as usize * t..span.end as usize * t])
+        let texels: Vec<IgiTexel> = bytemuck::pod_collect_to_vec(
+            &b.mapped()[span.begin as usize * t..span.end as usize * t],
+        );
+        PixelData::of(&texels)
     }
 
     fn destroy(&mut self, gpu: &mut Gpu) {

@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use gpu_allocator::MemoryLocation;
-use platoon_core::frame::light_reuse::{ReservoirHistory, RECORD_VEC4S};
+use platoon_core::frame::light_reuse::{ReservoirHistory, ReservoirRecord};
 use platoon_core::frame::{FrameParams, Span};
 
 use super::ensure;
@@ -16,7 +16,7 @@ use crate::gpu::Gpu;
 use crate::Result;
 
 /// Bytes of a pixel's reservoir.
-const RECORD_BYTES: usize = RECORD_VEC4S * 16;
+const RECORD_BYTES: usize = std::mem::size_of::<ReservoirRecord>();
 
 #[derive(Default)]
 pub(crate) struct LightReusePasses {
@@ -40,7 +40,7 @@ fn history_block(h: &ReservoirHistory, params: &FrameParams) -> Vec<u8> {
     } else {
         0.0
     };
-    let mut bytes = Vec::with_capacity(96 + h.records.len() * 16);
+    let mut bytes = Vec::with_capacity(96 + h.records.len() * RECORD_BYTES);
     let size = [width, height, params.first_sample, h.options.neighbours];
     bytes.extend_from_slice(bytemuck::cast_slice(&size));
     let cap = (h.options.history
@@ -98,8 +98,8 @@ impl LightReusePasses {
         Ok([history_address, reservoirs])
     }
 
-    /// The span's reservoirs (after the band's last submission), [`RECORD_VEC4S`] a pixel.
-    pub fn reservoirs(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
+    /// The span's reservoirs (after the band's last submission), one a pixel.
+    pub fn reservoirs(&mut self, params: &FrameParams, span: Span) -> Vec<ReservoirRecord> {
         if params.method.path().reused_light(params.output).is_none() {
             return Vec::new();
         }

@@ -7,9 +7,9 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use gpu_allocator::MemoryLocation;
-use platoon_core::frame::{FrameParams, Span};
+use platoon_core::frame::{FrameParams, PixelData, Span};
 use platoon_core::method::links::job::ElementRays;
-use platoon_core::method::links::{Job, Links, Solution};
+use platoon_core::method::links::{ElementAlbedo, Job, Links, ShotHit, Solution};
 
 use super::{ensure, MethodPasses, Recorder};
 use crate::buffer::GpuBuffer;
@@ -176,14 +176,20 @@ impl MethodPasses for LinksPasses {
     }
 
     /// A shooting frame's hits, a lighting frame's albedos.
-    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
-        if matches!(job(params), Job::Render(_)) {
-            return Vec::new();
+    /// A shooting frame's hits, a lighting frame's albedos.
+    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> PixelData {
+        let job = job(params);
+        if matches!(job, Job::Render(_)) {
+            return PixelData::default();
         }
         let Some(b) = self.output.as_mut() else {
-            return Vec::new();
+            return PixelData::default();
         };
-        bytemuck::pod_collect_to_vec(&b.mapped()[span.begin as usize * 16..span.end as usize * 16])
+        let bytes = &b.mapped()[span.begin as usize * 16..span.end as usize * 16];
+        match job {
+            Job::Shoot(_) => PixelData::of::<ShotHit>(&bytemuck::pod_collect_to_vec(bytes)),
+            _ => PixelData::of::<ElementAlbedo>(&bytemuck::pod_collect_to_vec(bytes)),
+        }
     }
 
     fn destroy(&mut self, gpu: &mut Gpu) {

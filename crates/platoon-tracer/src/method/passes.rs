@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use platoon_core::frame::{FrameParams, Span};
+use platoon_core::frame::{FrameParams, PixelData, Span};
 
 use crate::buffer::GpuBuffer;
 use crate::dispatch::{record_dispatch, Dispatchable};
@@ -131,9 +131,10 @@ pub trait MethodPasses {
     fn report(&mut self, _counters: &[u32]) -> Vec<(String, String)> {
         Vec::new()
     }
-    /// What the span leaves for the method's pass after assembly (`Band::per_pixel`).
-    fn per_pixel(&mut self, _params: &FrameParams, _span: Span) -> Vec<[f32; 4]> {
-        Vec::new()
+    /// What the span leaves for the method's work after assembly (`Band::per_pixel`): records
+    /// of the method's types.
+    fn per_pixel(&mut self, _params: &FrameParams, _span: Span) -> PixelData {
+        PixelData::default()
     }
     /// Its buffers as the last band left them, for tests to compare with the CPU's (layered
     /// hit buffers: the work words of every texel, the layers); empty for most methods.

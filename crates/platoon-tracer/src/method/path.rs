@@ -5,8 +5,7 @@
 use std::time::Duration;
 
 use platoon_core::frame::aov::AovPass;
-use platoon_core::frame::light_reuse::join_per_pixel;
-use platoon_core::frame::{FrameParams, Output, Span};
+use platoon_core::frame::{FrameParams, Output, PixelData, Span};
 use platoon_core::method::path::PathKernel;
 use platoon_core::{KernelVariant, SceneFeatures};
 
@@ -90,12 +89,9 @@ impl MethodPasses for PathPasses {
         self.cache.train(rec, push)
     }
 
-    /// Per pixel, its world cache record then its reservoir (`light_reuse::join_per_pixel`).
-    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
-        join_per_pixel(
-            self.cache.records(params, span),
-            self.reuse.reservoirs(params, span),
-        )
+    /// Per pixel, its world cache record and its reservoir, where the frame has them.
+    fn per_pixel(&mut self, params: &FrameParams, span: Span) -> PixelData {
+        PixelData::of(&self.cache.records(params, span)).with(&self.reuse.reservoirs(params, span))
     }
 
     /// A megakernel pass, or a streaming one. Where the device cut megakernel invocations

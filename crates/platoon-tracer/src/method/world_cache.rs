@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use gpu_allocator::MemoryLocation;
-use platoon_core::frame::world_cache::CacheTable;
+use platoon_core::frame::world_cache::{CacheTable, TrainingRecord};
 use platoon_core::frame::{FrameParams, Output, Span};
 
 use super::{ensure, Recorder};
@@ -94,7 +94,7 @@ impl WorldCachePasses {
     }
 
     /// The span's records (after the band's last submission).
-    pub fn records(&mut self, params: &FrameParams, span: Span) -> Vec<[f32; 4]> {
+    pub fn records(&mut self, params: &FrameParams, span: Span) -> Vec<TrainingRecord> {
         if !trains(params) {
             return Vec::new();
         }

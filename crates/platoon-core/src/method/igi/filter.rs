@@ -52,8 +52,8 @@ impl Sample {
 }
 
 /// Adds the filtered indirect light to the bands' sums: what the IGI kernel leaves undone when
-/// its options are `filtered()`. Every band must carry its texels (`Band::per_pixel`, three
-/// vec4s a pixel).
+/// its options are `filtered()`. Every band carries its texels (`Band::per_pixel`); a pixel
+/// whose band left none (or unreadable ones) is a pixel without a diffuse hit.
 pub fn finish_bands(options: &IgiOptions, params: &FrameParams, bands: &mut [Band]) {
     if !options.filtered() {
         return;
@@ -61,9 +61,13 @@ pub fn finish_bands(options: &IgiOptions, params: &FrameParams, bands: &mut [Ban
     let (w, h) = (params.width, params.height);
     let mut texels = vec![IgiTexel::default(); w as usize * h as usize];
     for b in bands.iter() {
-        let start = b.span.begin as usize;
-        let theirs: &[IgiTexel] = bytemuck::cast_slice(&b.per_pixel);
-        texels[start..start + theirs.len()].copy_from_slice(theirs);
+        let start = (b.span.begin as usize).min(texels.len());
+        let theirs = b.per_pixel.records::<IgiTexel>().unwrap_or_default();
+        let n = theirs
+            .len()
+            .min(b.span.len() as usize)
+            .min(texels.len() - start);
+        texels[start..start + n].copy_from_slice(&theirs[..n]);
     }
     let indirect = indirect_radiance(options, w, h, &texels);
     for b in bands.iter_mut() {

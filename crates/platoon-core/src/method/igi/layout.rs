@@ -50,3 +50,7 @@ pub struct IgiTexel {
     pub normal: [f32; 3],
     pub _pad: f32,
 }
+
+impl crate::frame::PixelRecord for IgiTexel {
+    const KIND: &'static str = "igi.texel";
+}

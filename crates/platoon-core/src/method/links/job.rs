@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use super::options::LinksOptions;
 use super::reduce::LinkGroups;
+use crate::frame::PixelRecord;
 
 /// The method as a frame names it: its options and, once the update has run, its work.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -36,14 +37,46 @@ impl Links {
 pub enum Job {
     /// Rays from `elements` (a batch): pixel (d, e) is element e's ray in direction d; or, with
     /// `ElementRays::single_rays`, pixel i (lines of `RAY_WIDTH`) is entry i's one ray. Each
-    /// pixel leaves the closest hit (`Band::per_pixel`: instance and triangle bits, b1, b2;
-    /// instance `u32::MAX` for a miss).
+    /// pixel leaves its ray's closest hit (`Band::per_pixel`, a [`ShotHit`]).
     Shoot(Arc<ElementRays>),
     /// The direct irradiance at `elements` (pixel i of a frame `LIGHT_WIDTH` wide is element
-    /// i): the frame's radiance is E_d, `Band::per_pixel` the element's diffuse albedo.
+    /// i): the frame's radiance is E_d, `Band::per_pixel` the element's [`ElementAlbedo`].
     Light(Arc<ElementRays>),
     /// The image, with the indirect irradiance of `Solution` at each first diffuse vertex.
     Render(Arc<Solution>),
+}
+
+/// A shooting frame's pixel (shoot.comp's output): its ray's closest hit, instance
+/// `u32::MAX` for a miss.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ShotHit {
+    pub instance: u32,
+    pub triangle: u32,
+    /// The hit's barycentrics b1, b2 in the triangle.
+    pub b: [f32; 2],
+}
+
+impl PixelRecord for ShotHit {
+    const KIND: &'static str = "links.shot_hit";
+}
+
+impl ShotHit {
+    pub fn missed(&self) -> bool {
+        self.instance == u32::MAX
+    }
+}
+
+/// A lighting frame's pixel (light.comp's output): the element's diffuse albedo.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ElementAlbedo {
+    pub albedo: [f32; 3],
+    pub _unused: f32,
+}
+
+impl PixelRecord for ElementAlbedo {
+    const KIND: &'static str = "links.element_albedo";
 }
 
 /// Width of a lighting frame (its pixels are elements, line after line).
@@ -111,9 +144,9 @@ pub struct Solution {
 pub struct Shot {
     /// The elements as they shot (their rays' origins and frames), with the directions.
     pub rays: Arc<ElementRays>,
-    /// Every ray's closest hit as a shooting frame leaves it (as bits: instance, triangle, b1,
-    /// b2), element after element, each element's rays in direction order.
-    pub hits: Vec<[u32; 4]>,
+    /// Every ray's closest hit as a shooting frame leaves it, element after element, each
+    /// element's rays in direction order.
+    pub hits: Vec<ShotHit>,
     /// A digest of each instance's shape (`revalidate::shapes`).
     pub shapes: Vec<u64>,
     /// A digest of the arrays' layout (`revalidate::layout`): hits index into it.

@@ -36,7 +36,7 @@ pub mod scene_elements;
 pub mod shoot_cpu;
 pub mod solve;
 
-pub use job::{Job, Links, Solution};
+pub use job::{ElementAlbedo, Job, Links, ShotHit, Solution};
 pub use options::{LinksOptions, MAX_BOUNCES, MAX_DIRECTIONS};
 
 use std::sync::Arc;

@@ -195,8 +195,9 @@ pub fn stale_rays(
             let frame = frame.map(|v| Vec3::from_slice(&v[..3]));
             let mut stale = Vec::new();
             for (k, &d) in directions.iter().enumerate() {
-                let [instance, triangle, b1, b2] = shot.hits[x * n_c + k];
-                let t_end = if instance == u32::MAX {
+                let h = shot.hits[x * n_c + k];
+                let (instance, triangle, [b1, b2]) = (h.instance, h.triangle, h.b);
+                let t_end = if h.missed() {
                     f32::INFINITY
                 } else if moved[instance as usize] {
                     stale.push(first + k as u32);
@@ -205,7 +206,6 @@ pub fn stale_rays(
                     let [a, b, c] = g.triangles[triangle as usize]
                         .v
                         .map(|v| g.world_vertex(instance, v));
-                    let (b1, b2) = (f32::from_bits(b1), f32::from_bits(b2));
                     let hit = a * (1.0 - b1 - b2) + b * b1 + c * b2;
                     let t = (hit - frame[0]).length();
                     t * (1.0 + 1e-4) + 1e-4 * (1.0 + hit.abs().max_element())

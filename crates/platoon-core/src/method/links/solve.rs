@@ -16,7 +16,8 @@ use super::gather::{gather, smooth, Rgb};
 use rayon::prelude::*;
 
 use super::job::{
-    ElementRay, ElementRays, Job, Links, Shot, Solution, UpdateStats, LIGHT_WIDTH, RAY_WIDTH,
+    ElementAlbedo, ElementRay, ElementRays, Job, Links, Shot, ShotHit, Solution, UpdateStats,
+    LIGHT_WIDTH, RAY_WIDTH,
 };
 use super::options::LinksOptions;
 use super::reduce::{LinkGroups, RayHit};
@@ -28,6 +29,11 @@ use crate::flatten::GpuScene;
 use crate::frame::FrameParams;
 use crate::method::render_method::{DeviceFrame, DeviceRun};
 use crate::method::Method;
+
+/// A device frame's records that do not read back as the update's (`PixelData::records`).
+fn invalid(e: String) -> Error {
+    Error::Invalid(format!("links update: {e}"))
+}
 
 /// Rays a shooting frame carries at most: its hits are read back whole (16 bytes each).
 pub const MAX_RAYS_PER_FRAME: u64 = 1 << 22;
@@ -152,17 +158,18 @@ pub fn solve(
     let frame = device(Job::Light(rays), LIGHT_WIDTH, height, options.light_samples)?;
     stats.light_s = clock.elapsed().as_secs_f64();
     stats.light_device_s = frame.gpu_time.as_secs_f64();
-    if frame.film.len() < n || frame.per_pixel.len() < n {
+    let albedo = frame
+        .per_pixel
+        .records::<ElementAlbedo>()
+        .map_err(invalid)?;
+    if frame.film.len() < n || albedo.len() < n {
         return Err(Error::Invalid(format!(
             "links update: the lighting frame returned {} of {n} elements",
-            frame.per_pixel.len().min(frame.film.len())
+            albedo.len().min(frame.film.len())
         )));
     }
     let direct: Vec<Rgb> = frame.film[..n].to_vec();
-    let albedo: Vec<Rgb> = frame.per_pixel[..n]
-        .iter()
-        .map(|a| [a[0], a[1], a[2]])
-        .collect();
+    let albedo: Vec<Rgb> = albedo[..n].iter().map(|a| a.albedo).collect();
 
     let clock = Instant::now();
     let mut indirect = gather(&links, &albedo, &direct, options.bounces);
@@ -200,7 +207,7 @@ fn shoot(
     keep: bool,
     device: &mut Device,
     stats: &mut UpdateStats,
-) -> Result<(LinkGroups, Vec<[u32; 4]>)> {
+) -> Result<(LinkGroups, Vec<ShotHit>)> {
     let n = elements.len();
     let n_c = rays.directions.len() as u32;
     let batch = (MAX_RAYS_PER_FRAME / n_c as u64).max(1) as usize;
@@ -223,11 +230,11 @@ fn shoot(
         stats.shoot_s += clock.elapsed().as_secs_f64();
         stats.shoot_device_s += frame.gpu_time.as_secs_f64();
         let clock = Instant::now();
-        let bits: &[[u32; 4]] = bytemuck::cast_slice(&frame.per_pixel);
-        let hits = hits_of(g, elements, rays, first, bits)?;
+        let shot = frame.per_pixel.records::<ShotHit>().map_err(invalid)?;
+        let hits = hits_of(g, elements, rays, first, shot)?;
         links.append(LinkGroups::from_hits(n_c, &hits));
         if keep {
-            kept.extend_from_slice(bits);
+            kept.extend_from_slice(shot);
         }
         stats.reduce_s += clock.elapsed().as_secs_f64();
         first = end;
@@ -240,7 +247,7 @@ fn shoot(
 fn reshoot(
     rays: &ElementRays,
     stale: &[u32],
-    hits: &mut [[u32; 4]],
+    hits: &mut [ShotHit],
     device: &mut Device,
     stats: &mut UpdateStats,
 ) -> Result<()> {
@@ -264,15 +271,15 @@ fn reshoot(
         let frame = device(Job::Shoot(single), RAY_WIDTH, height, 1)?;
         stats.shoot_s += clock.elapsed().as_secs_f64();
         stats.shoot_device_s += frame.gpu_time.as_secs_f64();
-        if frame.per_pixel.len() < part.len() {
+        let shot = frame.per_pixel.records::<ShotHit>().map_err(invalid)?;
+        if shot.len() < part.len() {
             return Err(Error::Invalid(format!(
                 "links update: a shooting frame returned {} of {} rays",
-                frame.per_pixel.len(),
+                shot.len(),
                 part.len()
             )));
         }
-        let bits: &[[u32; 4]] = bytemuck::cast_slice(&frame.per_pixel);
-        for (&r, &h) in part.iter().zip(bits) {
+        for (&r, &h) in part.iter().zip(shot) {
             hits[r as usize] = h;
         }
     }
@@ -287,7 +294,7 @@ fn regroup(
     rays: &ElementRays,
     earlier: &LinkGroups,
     stale: &[u32],
-    hits: &[[u32; 4]],
+    hits: &[ShotHit],
 ) -> Result<(LinkGroups, usize)> {
     let n_c = rays.directions.len();
     let mut changed: Vec<usize> = stale.iter().map(|&r| r as usize / n_c).collect();
@@ -339,7 +346,7 @@ fn hits_of(
     elements: &SceneElements,
     rays: &ElementRays,
     first: usize,
-    per_pixel: &[[u32; 4]],
+    per_pixel: &[ShotHit],
 ) -> Result<Vec<Option<RayHit>>> {
     let n_c = rays.directions.len();
     if !per_pixel.len().is_multiple_of(n_c) {
@@ -359,8 +366,8 @@ fn hits_of(
         let e = &rays.elements[first + k];
         let frame = [e.origin, e.tangent, e.bitangent, e.normal].map(|v| Vec3::from_slice(&v[..3]));
         for (&d, h) in dirs.iter().zip(rays_of) {
-            let (instance, triangle) = (h[0], h[1]);
-            if instance == u32::MAX {
+            let (instance, triangle) = (h.instance, h.triangle);
+            if h.missed() {
                 hits.push(None);
                 continue;
             }
@@ -371,14 +378,7 @@ fn hits_of(
                 )));
             }
             let dir = ray_direction(&frame, d);
-            hits.push(link_of_hit(
-                g,
-                elements,
-                dir,
-                instance,
-                triangle,
-                [f32::from_bits(h[2]), f32::from_bits(h[3])],
-            ));
+            hits.push(link_of_hit(g, elements, dir, instance, triangle, h.b));
         }
     }
     Ok(hits)
