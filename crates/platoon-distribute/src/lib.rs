@@ -16,7 +16,6 @@ mod collective;
 pub mod local;
 pub mod method_wire;
 pub mod params;
-pub mod path_wire;
 pub mod ranks;
 pub mod remote;
 mod share;

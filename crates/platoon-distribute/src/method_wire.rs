@@ -1,6 +1,8 @@
-//! A frame's method on the wire: its name and every setting by key (`MethodKind::settings_of`),
-//! rebuilt on the receiving rank through the same registry, so this names no method. A method
-//! whose preparation cannot travel says so itself (`MethodKind::travels`).
+//! A frame's method on the wire: its name, every setting by key (`MethodKind::settings_of`) and
+//! its state beyond them as the method encodes it (`MethodKind::state_bytes`: the path tracer's
+//! world cache and reservoirs), rebuilt on the receiving rank through the same registry, so this
+//! names no method. A method whose preparation cannot travel says so itself
+//! (`MethodKind::travels`).
 
 use super::wire::{Reader, WireError, Writer};
 use platoon_core::method::registry::{kind, KINDS};
@@ -53,6 +55,13 @@ pub fn put_method(w: &mut Writer, method: &Method) -> Result<(), String> {
             }
         }
     }
+    match method.kind().state_bytes(method)? {
+        Some(state) => {
+            w.flag(true);
+            w.bytes(&state);
+        }
+        None => w.flag(false),
+    }
     Ok(())
 }
 
@@ -79,6 +88,13 @@ pub fn get_method(r: &mut Reader) -> Result<Method, WireError> {
         };
         settings.set(setting.key, value);
     }
-    kind.build(&settings)
-        .map_err(|e| WireError(format!("{name}: {e}")))
+    let method = kind
+        .build(&settings)
+        .map_err(|e| WireError(format!("{name}: {e}")))?;
+    match r.flag()? {
+        true => kind
+            .with_state(method, r.bytes()?)
+            .map_err(|e| WireError(format!("{name}: {e}"))),
+        false => Ok(method),
+    }
 }

@@ -2,14 +2,12 @@
 //! loop's workers: the frame driver on rank 0 decides each frame's camera, samples and film).
 //! The settings travel as `FrameParams` derives them (serde, in CBOR: every f32 bit, infinities
 //! included), so a new field travels without a line here; the method by its settings and its
-//! state (`method_wire`, the path tracer's `path_wire`), and the accumulated sums and the
-//! converged mask only for the span the rank renders (`wire::put_film_span`).
+//! state (`method_wire`), and the accumulated sums and the converged mask only for the span the
+//! rank renders (`wire::put_film_span`).
 
 use super::method_wire::{get_method, put_method};
-use super::path_wire::{get_path_tracing, put_path_tracing};
 use super::wire::{get_film_span, put_film_span, Reader, WireError, Writer};
 use platoon_core::frame::{FrameParams, Span};
-use platoon_core::method::path::PathTracing;
 
 /// `p` for a rank rendering `span`: everything, with the sums and mask of the span only.
 pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), String> {
@@ -18,10 +16,6 @@ pub fn put_params(w: &mut Writer, p: &FrameParams, span: Span) -> Result<(), Str
         .map_err(|e| format!("encoding the frame's parameters: {e}"))?;
     w.bytes(&settings);
     put_method(w, &p.method)?;
-    // The path tracer's state beyond its settings: what its frames carry.
-    if let Some(path) = p.method.state::<PathTracing>() {
-        put_path_tracing(w, path);
-    }
     put_film_span(w, p, span);
     Ok(())
 }
@@ -31,9 +25,6 @@ pub fn get_params(r: &mut Reader, span: Span) -> Result<FrameParams, WireError> 
     let mut p: FrameParams = ciborium::from_reader(r.bytes()?)
         .map_err(|e| WireError(format!("the frame's parameters: {e}")))?;
     p.method = get_method(r)?;
-    if let Some(path) = p.method.path_mut() {
-        *path = get_path_tracing(r)?;
-    }
     get_film_span(r, &mut p, span)?;
     Ok(p)
 }
@@ -48,7 +39,7 @@ mod tests {
     use platoon_core::frame::world_cache::CacheTable;
     use platoon_core::frame::{Crop, Output, PixelFilter};
     use platoon_core::method::igi::IgiOptions;
-    use platoon_core::method::path::{PathKernel, ResampledLight};
+    use platoon_core::method::path::{PathKernel, PathTracing, ResampledLight};
     use platoon_core::method::Method;
     use platoon_core::scene::camera::Camera;
 
@@ -158,6 +149,14 @@ mod tests {
         assert_eq!(back.method, path_traced.method);
         assert_eq!(fingerprint(&back), fingerprint(&path_traced));
         assert_ne!(fingerprint(&back), fingerprint(&p));
+        // One bit of what the path tracer's frames carry is another frame.
+        let mut other = back.clone();
+        let mut path = other.method.path().clone();
+        let mut table = (**path.world_cache.as_ref().unwrap()).clone();
+        table.slots[3][2] = f32::from_bits(table.slots[3][2].to_bits() ^ 1);
+        path.world_cache = Some(std::sync::Arc::new(table));
+        other.method = Method::new(path);
+        assert_ne!(fingerprint(&other), fingerprint(&back));
         let plain = FrameParams::new(
             3,
             3,

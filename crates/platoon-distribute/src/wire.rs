@@ -188,32 +188,25 @@ pub fn get_camera(r: &mut Reader) -> Result<Camera, WireError> {
 
 /// A hash of everything in `params` that every rank must agree on (all but the sums and
 /// masks rank 0 sends with each share, which are the frame's data, not its settings): ranks
-/// that prepared the frame differently would render a different image in their bands.
+/// that prepared the frame differently would render a different image in their bands. The
+/// frame's settings as the wire encodes them, and its method's settings and state
+/// (`MethodKind::state_bytes`: the world cache's table by its bits, where formatting a
+/// megabyte each frame would cost more than the frame), or as `Debug` writes the state of a
+/// method that has no bytes of it.
 pub fn fingerprint(params: &FrameParams) -> u64 {
-    struct HashWriter<'a>(&'a mut std::collections::hash_map::DefaultHasher);
-    impl std::fmt::Write for HashWriter<'_> {
-        fn write_str(&mut self, s: &str) -> std::fmt::Result {
-            s.hash(self.0);
-            Ok(())
-        }
-    }
-    let mut p = params.clone();
-    p.film.accumulated = None;
-    p.film.converged = None;
     let mut h = std::collections::hash_map::DefaultHasher::new();
-    // The world cache's table by its bits: formatting a megabyte each frame would cost more
-    // than the frame.
-    if let Some(path) = p.method.path_mut() {
-        if let Some(c) = path.world_cache.take() {
-            (c.cell_size.to_bits(), c.train_stride).hash(&mut h);
-            bytemuck::cast_slice::<[f32; 4], u32>(&c.slots).hash(&mut h);
-        }
-        if let Some(l) = path.light_reuse.take() {
-            format!("{:?} {:?} {} {}", l.options, l.camera, l.width, l.height).hash(&mut h);
-            bytemuck::cast_slice::<_, u32>(&l.records).hash(&mut h);
-        }
+    let mut settings = Vec::new();
+    match ciborium::into_writer(params, &mut settings) {
+        Ok(()) => settings.hash(&mut h),
+        Err(e) => format!("{e} {params:?}").hash(&mut h),
     }
-    std::fmt::write(&mut HashWriter(&mut h), format_args!("{p:?}")).expect("hashing");
+    let kind = params.method.kind();
+    kind.name().hash(&mut h);
+    format!("{:?}", kind.settings_of(&params.method)).hash(&mut h);
+    match kind.state_bytes(&params.method) {
+        Ok(Some(state)) => state.hash(&mut h),
+        _ => format!("{:?}", params.method).hash(&mut h),
+    }
     h.finish()
 }
 

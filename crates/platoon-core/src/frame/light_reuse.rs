@@ -27,7 +27,7 @@ use super::pixel_data::PixelRecord;
 use crate::scene::camera::Camera;
 
 /// The reuse's settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LightReuse {
     /// The balance heuristic over the sources' stand-in targets (unbiased); false: weights by
     /// the candidates M alone (1/M, biased; no stand-ins evaluated, but in the many-light hall
@@ -138,7 +138,7 @@ impl PixelRecord for ReservoirRecord {
 }
 
 /// What a frame's kernels read: the settings and the previous frame's reservoirs.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ReservoirHistory {
     pub options: LightReuse,
     /// The previous frame's camera and size (its reservoirs are found by reprojection); empty
@@ -147,6 +147,7 @@ pub struct ReservoirHistory {
     pub width: u32,
     pub height: u32,
     /// One a pixel, in pixel order.
+    #[serde(with = "super::pod_bytes")]
     pub records: Vec<ReservoirRecord>,
 }
 

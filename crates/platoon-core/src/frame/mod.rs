@@ -10,6 +10,7 @@ mod options;
 mod path_loop;
 pub mod pixel_data;
 mod pixel_filter;
+mod pod_bytes;
 pub mod world_cache;
 
 use std::time::Duration;

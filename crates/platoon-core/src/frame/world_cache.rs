@@ -82,11 +82,12 @@ impl WorldCacheOptions {
 
 /// What the kernels read: the cell size, the training pattern, and per slot the cell's key
 /// (as f32 bits; 0: empty) and mean reflected radiance, for cells with enough samples.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CacheTable {
     pub cell_size: f32,
     pub train_stride: u32,
     /// A power of two long.
+    #[serde(with = "super::pod_bytes")]
     pub slots: Vec<[f32; 4]>,
 }
 

@@ -39,6 +39,17 @@ pub trait MethodKind: Sync {
     fn travels(&self) -> Result<(), String> {
         Ok(())
     }
+    /// Its state in `method` beyond its settings, as bytes, for the wire and a frame's
+    /// fingerprint (the path tracer's: the last paths cut, what its frames carry from one to the
+    /// next); None where its settings say it all.
+    fn state_bytes(&self, _method: &Method) -> Result<Option<Vec<u8>>, String> {
+        Ok(None)
+    }
+    /// The method `state_bytes` gave `bytes` of, rebuilt on another rank (`settings` built
+    /// the method it starts from).
+    fn with_state(&self, _method: Method, _bytes: &[u8]) -> Result<Method, String> {
+        Err(format!("{} has no state beyond its settings", self.name()))
+    }
     /// What renders `method` when it is of this kind: its state (`Method::state`) as the
     /// core's unit. `Method::unit` asks every kind.
     fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod>;

@@ -2,7 +2,9 @@
 
 /// How the path tracer's work is cut into kernels on a device: the same estimator and random
 /// numbers either way, so the same image.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub enum PathKernel {
     /// The one measured faster on the kind of device (docs/PERFORMANCE.md).
     #[default]

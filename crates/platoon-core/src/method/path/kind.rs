@@ -49,6 +49,24 @@ impl MethodKind for PathKind {
     fn settings(&self) -> &'static [Setting] {
         SETTINGS
     }
+    /// Its whole state as serde derives it (CBOR; the world cache's table and the reservoirs
+    /// as byte strings).
+    fn state_bytes(&self, method: &Method) -> Result<Option<Vec<u8>>, String> {
+        let mut bytes = Vec::new();
+        ciborium::into_writer(method.path(), &mut bytes)
+            .map_err(|e| format!("encoding the path tracer's state: {e}"))?;
+        Ok(Some(bytes))
+    }
+    fn with_state(&self, _method: Method, bytes: &[u8]) -> Result<Method, String> {
+        let state: PathTracing =
+            ciborium::from_reader(bytes).map_err(|e| format!("the path tracer's state: {e}"))?;
+        if let Some(c) = &state.world_cache {
+            if !c.slots.len().is_power_of_two() {
+                return Err("the world cache's table is not a power of two long".into());
+            }
+        }
+        Ok(Method::new(state))
+    }
     fn build(&self, given: &Settings) -> Result<Method, String> {
         let kernel = match given.word("kernel") {
             None => PathKernel::Auto,
@@ -70,7 +88,7 @@ impl MethodKind for PathKind {
         }))
     }
     /// Its settings; the rest of its state (the last paths cut, resampled light by luminance,
-    /// what its frames carry) travels beside them (platoon-distribute's `path_wire`).
+    /// what its frames carry) travels beside them (`state_bytes`).
     fn settings_of(&self, method: &Method) -> Settings {
         let path = method.path();
         let mut s = Settings::default();

@@ -7,8 +7,9 @@ use crate::frame::light_reuse::ReservoirHistory;
 use crate::frame::world_cache::CacheTable;
 use crate::frame::Output;
 
-/// The path tracer's state in a frame (`Method::path_tracing()` is its defaults).
-#[derive(Clone, Debug, Default, PartialEq)]
+/// The path tracer's state in a frame (`Method::path_tracing()` is its defaults); between
+/// ranks as serde derives it (`PathKind::state_bytes`).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PathTracing {
     /// How its work is cut into kernels (the same image either way).
     pub kernel: PathKernel,
@@ -33,7 +34,7 @@ pub struct PathTracing {
 }
 
 /// Next-event estimation by resampled importance sampling (Talbot et al. 2005).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ResampledLight {
     /// Candidate lights per light sample (at least one).
     pub candidates: u32,
