@@ -89,10 +89,6 @@ pub fn metadata_of(
         ("features".into(), features.to_string()),
         ("kernel_defines".into(), rendered.kernel_defines.join(",")),
         (
-            "path_kernel".into(),
-            path_kernel(params.method.path().kernel),
-        ),
-        (
             "kernel_fallbacks".into(),
             rendered.kernel_fallbacks.to_string(),
         ),
@@ -162,19 +158,6 @@ fn texture_lod(features: platoon_core::SceneFeatures) -> &'static str {
     match features.texture_lod {
         true => TextureLod::RayCone.name(),
         false => TextureLod::Off.name(),
-    }
-}
-
-/// The path tracer's kernel as asked for; `auto` with what it stands for on each kind of device.
-fn path_kernel(kernel: platoon_core::method::path::PathKernel) -> String {
-    use platoon_core::method::path::PathKernel;
-    match kernel {
-        PathKernel::Auto => format!(
-            "auto ({} on CPU devices, {} on GPUs)",
-            kernel.resolved(true).name(),
-            kernel.resolved(false).name()
-        ),
-        k => k.name().into(),
     }
 }
 

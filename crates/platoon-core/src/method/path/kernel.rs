@@ -38,6 +38,18 @@ impl PathKernel {
         }
     }
 
+    /// As an image's metadata says it: `auto` with what it stands for on each kind of device.
+    pub fn label(self) -> String {
+        match self {
+            PathKernel::Auto => format!(
+                "auto ({} on CPU devices, {} on GPUs)",
+                self.resolved(true).name(),
+                self.resolved(false).name()
+            ),
+            k => k.name().into(),
+        }
+    }
+
     /// The kernel `Auto` stands for on a CPU device (`cpu`) or a GPU.
     pub fn resolved(self, cpu: bool) -> PathKernel {
         match self {

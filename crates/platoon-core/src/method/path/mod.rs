@@ -125,4 +125,8 @@ impl RenderMethod for PathTracing {
         let cut = self.cut_last_paths.then_some(cut);
         cut.into_iter().map(String::from).collect()
     }
+    /// The kernel asked for.
+    fn metadata(&self) -> Vec<(String, String)> {
+        vec![("path_kernel".into(), self.kernel.label())]
+    }
 }
