@@ -8,16 +8,17 @@ use std::sync::Arc;
 use anyhow::{Context as _, Result};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
-use platoon_core::frame::{assemble, gather_sums, Band, FrameParams, Span};
+use platoon_core::frame::{Band, FrameParams, Span};
 use platoon_distribute::{Collective, RankFrame, RankRenderer};
-use platoon_schedule::renderer::{FrameResult, Renderer};
+use platoon_schedule::renderer::{frame_of, FrameResult, PartResult, Renderer};
 use platoon_tracer::{Tracer, TracerOptions};
 
 use crate::rendered::{pack, Devices, Measured};
 pub use crate::rendered::{BatchedStats, Rendered};
 use crate::Prepared;
 
-/// Renders the frame on one tracer as the given bands (one band covering the frame is usual).
+/// Renders the frame on one tracer as the given bands (one band covering the frame is usual),
+/// assembled as the renderer assembles its tracers' bands (`frame_of`).
 pub fn render_bands(
     tracer: &mut Tracer,
     params: &FrameParams,
@@ -32,22 +33,26 @@ pub fn render_bands(
                 .context("render failed")?,
         );
     }
-    // The method's pass over the whole frame (IGI's filters: platoon_core::method::igi::filter).
-    params.method.unit().finish(params, &mut out);
+    let (wall_time, gpu_time, rays) = (
+        out.iter().map(|b| b.wall_time).sum(),
+        out.iter().map(|b| b.gpu_time).sum(),
+        out.iter().map(|b| b.rays).sum(),
+    );
+    let part = PartResult {
+        bands: out,
+        ..Default::default()
+    };
+    let frame = frame_of(params, part, std::time::Instant::now());
     let measured = Measured {
-        film: assemble(params, &out),
-        sums: gather_sums(params, &out),
-        spp: out
-            .iter()
-            .map(|b| b.spp(params))
-            .min()
-            .unwrap_or(params.spp),
-        wall_time: out.iter().map(|b| b.wall_time).sum(),
-        gpu_time: out.iter().map(|b| b.gpu_time).sum(),
-        rays: out.iter().map(|b| b.rays).sum(),
-        rejected_samples: out.iter().map(|b| b.rejected_samples).sum(),
-        kernel_fallbacks: out.iter().map(|b| b.kernel_fallbacks).sum(),
-        method_report: platoon_schedule::renderer::first_report(&out),
+        film: frame.film,
+        sums: frame.sums,
+        spp: frame.spp,
+        wall_time,
+        gpu_time,
+        rays,
+        rejected_samples: frame.rejected_samples,
+        kernel_fallbacks: frame.kernel_fallbacks,
+        method_report: frame.method_report,
         tracers: Vec::new(),
     };
     let devices = Devices {
