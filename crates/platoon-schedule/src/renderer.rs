@@ -746,4 +746,26 @@ mod tests {
         let mut r = Renderer::new(tracers, by_name("none").unwrap());
         assert!(r.render_frame(&params(0)).is_err());
     }
+
+    /// A frame's per-pixel records come out in pixel order whatever order its bands came back
+    /// in (what makes the world cache and the reservoirs the same for any split).
+    #[test]
+    fn per_pixel_records_join_in_pixel_order() {
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+        struct Pixel(u32);
+        impl platoon_core::frame::PixelRecord for Pixel {
+            const KIND: &'static str = "test.pixel";
+        }
+        let band = |begin: u32, end: u32| Band {
+            span: Span::new(begin, end),
+            per_pixel: PixelData::of(&(begin..end).map(Pixel).collect::<Vec<_>>()),
+            ..Default::default()
+        };
+        let mut bands = vec![band(6, 9), band(0, 2), band(2, 6)];
+        let joined = per_pixel_in_order(&mut bands);
+        let expected: Vec<Pixel> = (0..9).map(Pixel).collect();
+        assert_eq!(joined.records::<Pixel>().unwrap(), &expected[..]);
+        assert!(bands.iter().all(|b| b.per_pixel.is_empty()), "taken out");
+    }
 }
