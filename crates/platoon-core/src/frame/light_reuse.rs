@@ -137,6 +137,9 @@ impl PixelRecord for ReservoirRecord {
     const KIND: &'static str = "path.reservoir";
 }
 
+// Three vec4s (light_reuse.glsl's REUSE_RECORD), as the kernels write and read them.
+const _: () = assert!(std::mem::size_of::<ReservoirRecord>() == 48);
+
 /// What a frame's kernels read: the settings and the previous frame's reservoirs.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ReservoirHistory {

@@ -46,6 +46,17 @@ impl PixelData {
         d
     }
 
+    /// Data of one kind, the whole records of `T` in `bytes` (a device buffer's, in whatever
+    /// alignment it is mapped): one copy.
+    pub fn of_bytes<T: PixelRecord>(bytes: &[u8]) -> PixelData {
+        let whole = bytes.len() / std::mem::size_of::<T>() * std::mem::size_of::<T>();
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[..whole]);
+        let mut d = PixelData::default();
+        d.push_words(T::KIND, record_words::<T>(), &words)
+            .expect("whole records");
+        d
+    }
+
     /// `self` with `records` after its records of their kind.
     pub fn with<T: PixelRecord>(mut self, records: &[T]) -> PixelData {
         self.push(records);
@@ -199,6 +210,16 @@ mod tests {
         let mut joined = PixelData::of(&[Two([1.0, 2.0])]);
         joined.append(PixelData::of(&[Three([1.0, 2.0, 3.0])]));
         assert!(joined.records::<Two>().is_err());
+    }
+
+    #[test]
+    fn a_device_buffers_bytes_read_as_whole_records_at_any_alignment() {
+        let records = [Two([1.0, 2.0]), Two([3.0, -4.0])];
+        let mut bytes = vec![0u8];
+        bytes.extend_from_slice(bytemuck::cast_slice(&records));
+        bytes.push(7); // a cut record's byte: not read
+        let d = PixelData::of_bytes::<Two>(&bytes[1..]);
+        assert_eq!(d.records::<Two>().unwrap(), &records);
     }
 
     #[test]

@@ -30,6 +30,9 @@ impl PixelRecord for TrainingRecord {
     const KIND: &'static str = "path.world_cache_training";
 }
 
+// One vec4, as the kernel writes it.
+const _: () = assert!(std::mem::size_of::<TrainingRecord>() == 16);
+
 /// The cache's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorldCacheOptions {

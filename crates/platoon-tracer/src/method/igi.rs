@@ -155,10 +155,7 @@ impl MethodPasses for IgiPasses {
             return PixelData::default();
         };
         let t = TEXEL_BYTES as usize;
-        let texels: Vec<IgiTexel> = bytemuck::pod_collect_to_vec(
-            &b.mapped()[span.begin as usize * t..span.end as usize * t],
-        );
-        PixelData::of(&texels)
+        PixelData::of_bytes::<IgiTexel>(&b.mapped()[span.begin as usize * t..span.end as usize * t])
     }
 
     fn destroy(&mut self, gpu: &mut Gpu) {

@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use gpu_allocator::MemoryLocation;
 use platoon_core::frame::light_reuse::{ReservoirHistory, ReservoirRecord};
-use platoon_core::frame::{FrameParams, Span};
+use platoon_core::frame::{FrameParams, PixelData, Span};
 
 use super::ensure;
 use crate::buffer::GpuBuffer;
@@ -99,18 +99,18 @@ impl LightReusePasses {
     }
 
     /// The span's reservoirs (after the band's last submission), one a pixel.
-    pub fn reservoirs(&mut self, params: &FrameParams, span: Span) -> Vec<ReservoirRecord> {
+    pub fn reservoirs(&mut self, params: &FrameParams, span: Span) -> PixelData {
         if params.method.path().reused_light(params.output).is_none() {
-            return Vec::new();
+            return PixelData::default();
         }
         let Some(b) = self.reservoirs.as_mut() else {
-            return Vec::new();
+            return PixelData::default();
         };
         let (begin, end) = (
             span.begin as usize * RECORD_BYTES,
             span.end as usize * RECORD_BYTES,
         );
-        bytemuck::pod_collect_to_vec(&b.mapped()[begin..end])
+        PixelData::of_bytes::<ReservoirRecord>(&b.mapped()[begin..end])
     }
 
     pub fn destroy(&mut self, gpu: &mut Gpu) {

@@ -176,7 +176,6 @@ impl MethodPasses for LinksPasses {
     }
 
     /// A shooting frame's hits, a lighting frame's albedos.
-    /// A shooting frame's hits, a lighting frame's albedos.
     fn per_pixel(&mut self, params: &FrameParams, span: Span) -> PixelData {
         let job = job(params);
         if matches!(job, Job::Render(_)) {
@@ -187,8 +186,8 @@ impl MethodPasses for LinksPasses {
         };
         let bytes = &b.mapped()[span.begin as usize * 16..span.end as usize * 16];
         match job {
-            Job::Shoot(_) => PixelData::of::<ShotHit>(&bytemuck::pod_collect_to_vec(bytes)),
-            _ => PixelData::of::<ElementAlbedo>(&bytemuck::pod_collect_to_vec(bytes)),
+            Job::Shoot(_) => PixelData::of_bytes::<ShotHit>(bytes),
+            _ => PixelData::of_bytes::<ElementAlbedo>(bytes),
         }
     }
 

@@ -91,7 +91,9 @@ impl MethodPasses for PathPasses {
 
     /// Per pixel, its world cache record and its reservoir, where the frame has them.
     fn per_pixel(&mut self, params: &FrameParams, span: Span) -> PixelData {
-        PixelData::of(&self.cache.records(params, span)).with(&self.reuse.reservoirs(params, span))
+        let mut pixels = self.cache.records(params, span);
+        pixels.append(self.reuse.reservoirs(params, span));
+        pixels
     }
 
     /// A megakernel pass, or a streaming one. Where the device cut megakernel invocations

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use gpu_allocator::MemoryLocation;
 use platoon_core::frame::world_cache::{CacheTable, TrainingRecord};
-use platoon_core::frame::{FrameParams, Output, Span};
+use platoon_core::frame::{FrameParams, Output, PixelData, Span};
 
 use super::{ensure, Recorder};
 use crate::buffer::GpuBuffer;
@@ -94,14 +94,16 @@ impl WorldCachePasses {
     }
 
     /// The span's records (after the band's last submission).
-    pub fn records(&mut self, params: &FrameParams, span: Span) -> Vec<TrainingRecord> {
+    pub fn records(&mut self, params: &FrameParams, span: Span) -> PixelData {
         if !trains(params) {
-            return Vec::new();
+            return PixelData::default();
         }
         let Some(b) = self.records.as_mut() else {
-            return Vec::new();
+            return PixelData::default();
         };
-        bytemuck::pod_collect_to_vec(&b.mapped()[span.begin as usize * 16..span.end as usize * 16])
+        let record = std::mem::size_of::<TrainingRecord>();
+        let (begin, end) = (span.begin as usize * record, span.end as usize * record);
+        PixelData::of_bytes::<TrainingRecord>(&b.mapped()[begin..end])
     }
 
     pub fn destroy(&mut self, gpu: &mut Gpu) {

@@ -79,6 +79,12 @@ impl PixelRecord for ElementAlbedo {
     const KIND: &'static str = "links.element_albedo";
 }
 
+// One vec4 each, as shoot.comp and light.comp write them.
+const _: () = {
+    assert!(std::mem::size_of::<ShotHit>() == 16);
+    assert!(std::mem::size_of::<ElementAlbedo>() == 16);
+};
+
 /// Width of a lighting frame (its pixels are elements, line after line).
 pub const LIGHT_WIDTH: u32 = 64;
 /// Width of a shooting frame of single rays (revalidation's).
