@@ -9,10 +9,10 @@ mod common;
 use common::*;
 use platoon::core::balance::by_name;
 use platoon::core::flatten::GpuScene;
-use platoon::core::frame::{FrameParams, Span};
+use platoon::core::frame::{FrameParams, MethodReport, Span};
 use platoon::core::method::lhb::directions::DirectionSet;
 use platoon::core::method::lhb::oracle::{buffer_by_rays, on_an_edge, Layer};
-use platoon::core::method::lhb::{Lhb, LhbOptions, RasterVariant};
+use platoon::core::method::lhb::{Lhb, LhbBuild, LhbOptions, RasterVariant};
 use platoon::core::Method;
 use platoon::devices::{create_tracers, DeviceSpec};
 use platoon::schedule::renderer::Renderer;
@@ -43,7 +43,7 @@ fn device_lists(
     g: &GpuScene,
     prepared: &platoon::Prepared,
     o: LhbOptions,
-) -> (Vec<(String, String)>, Lists, Lhb) {
+) -> (MethodReport, Lists, Lhb) {
     let lhb = Lhb::prepared(o, g);
     let mut params = FrameParams::new(8, 8, 1, prepared.camera);
     params.method = Method::new(lhb.clone());
@@ -68,10 +68,6 @@ fn device_lists(
         .unwrap()
         .device_lists(&o, &work, &layers);
     (band.method_report, lists, lhb)
-}
-
-fn report<'a>(r: &'a [(String, String)], key: &str) -> &'a str {
-    platoon::core::frame::report_entry(r, key).expect(key)
 }
 
 /// Compares every `step`-th direction's device lists with the oracle's: (texels the same,
@@ -135,12 +131,12 @@ fn the_devices_buffers_list_what_the_rays_find_with_either_rasterizer() {
     }
 }
 
-fn report_line(r: &[(String, String)]) -> &str {
-    report(r, "lhb_build")
+fn report_line(r: &MethodReport) -> String {
+    LhbBuild::of(r).expect("the build's report").line()
 }
 
-fn report_line_lost(r: &[(String, String)]) -> u64 {
-    report(r, "lhb_lost_layers").parse().unwrap()
+fn report_line_lost(r: &MethodReport) -> u64 {
+    LhbBuild::of(r).expect("the build's report").lost
 }
 
 /// A quad of two triangles seen by the four octahedral directions facing it at 512 x 512: each
@@ -329,7 +325,7 @@ fn keeping_what_did_not_move_renders_the_bits_of_rebuilding_every_frame() {
         let band = kept
             .render_span(&params, Span::lines(16, 0, 16), &mut |_| {})
             .unwrap();
-        let built = report_line(&band.method_report).to_string();
+        let built = report_line(&band.method_report);
         println!("step {step}: {built}");
         assert_eq!(report_line_lost(&band.method_report), 0);
         let image = render_with(&mut kept, &params);

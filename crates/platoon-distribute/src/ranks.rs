@@ -382,7 +382,7 @@ fn zeros(params: &FrameParams, tracers: Vec<TracerStats>, start: Instant) -> Fra
         rejected_samples: 0,
         kernel_fallbacks: 0,
         per_pixel: Default::default(),
-        method_report: Vec::new(),
+        method_report: Default::default(),
     }
 }
 

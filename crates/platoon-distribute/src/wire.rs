@@ -8,7 +8,7 @@ use std::hash::{Hash, Hasher};
 use std::time::Duration;
 
 use platoon_core::flatten::commit::{ArrayCommit, Commit, SceneHeader};
-use platoon_core::frame::{Band, FrameParams, PixelData, Span};
+use platoon_core::frame::{Band, FrameParams, MethodReport, PixelData, Span};
 use platoon_core::scene::camera::Camera;
 use platoon_schedule::renderer::{TracerFailure, TracerStats};
 
@@ -295,11 +295,9 @@ pub fn put_band(w: &mut Writer, b: &Band) {
     w.u64(b.rejected_samples);
     w.u32(b.kernel_fallbacks);
     put_pixel_data(w, &b.per_pixel);
-    w.u32(b.method_report.len() as u32);
-    for (k, v) in &b.method_report {
-        w.str(k);
-        w.str(v);
-    }
+    let (kind, report) = b.method_report.parts();
+    w.str(kind);
+    w.bytes(report);
     w.duration(b.gpu_time);
     w.duration(b.wall_time);
 }
@@ -314,9 +312,7 @@ pub fn get_band(r: &mut Reader) -> Result<Band, WireError> {
         rejected_samples: r.u64()?,
         kernel_fallbacks: r.u32()?,
         per_pixel: get_pixel_data(r)?,
-        method_report: (0..r.u32()?)
-            .map(|_| Ok((r.string()?, r.string()?)))
-            .collect::<Result<_, WireError>>()?,
+        method_report: MethodReport::from_parts(r.string()?, r.bytes()?.to_vec()),
         gpu_time: r.duration()?,
         wall_time: r.duration()?,
     })
@@ -466,6 +462,7 @@ fn array_of<T: Copy, const N: usize>(v: Vec<T>) -> Result<[T; N], WireError> {
 mod tests {
     use super::*;
     use platoon_core::frame::world_cache::TrainingRecord;
+    use platoon_core::method::lhb::LhbBuild;
     use platoon_core::method::links::ShotHit;
 
     #[test]
@@ -484,7 +481,11 @@ mod tests {
                 radiance: [0.5, f32::NAN, 1.0],
             }])
             .with(&[ShotHit::default(); 2]),
-            method_report: vec![("a".into(), "b c".into())],
+            method_report: MethodReport::of(&LhbBuild {
+                seconds: 0.25,
+                kept: Some((false, 2)),
+                ..Default::default()
+            }),
             gpu_time: Duration::from_nanos(123),
             wall_time: Duration::from_millis(4),
         };

@@ -16,7 +16,8 @@ use platoon_core::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
 use platoon_core::denoise::{DeviceFilter, Guides};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::frame::{
-    assemble, gather_sums, Band, BandTracer, FrameParams, PixelData, Span, ValidatedFrame,
+    assemble, gather_sums, Band, BandTracer, FrameParams, MethodReport, PixelData, Span,
+    ValidatedFrame,
 };
 use platoon_core::output::Film;
 
@@ -42,7 +43,7 @@ pub struct FrameResult {
     /// What the bands left per pixel (`Band::per_pixel`), in pixel order; empty when nothing.
     pub per_pixel: PixelData,
     /// What the method reported on the band of the frame's first pixels (`Band::method_report`).
-    pub method_report: Vec<(String, String)>,
+    pub method_report: MethodReport,
 }
 
 pub struct Renderer<T: BandTracer + Send + 'static> {
@@ -495,7 +496,7 @@ pub fn frame_of(params: &FrameParams, part: PartResult, start: Instant) -> Frame
 
 /// The method's report of the band that starts first (every tracer builds what a method's
 /// report describes the same; its counts are that band's).
-pub fn first_report(bands: &[Band]) -> Vec<(String, String)> {
+pub fn first_report(bands: &[Band]) -> MethodReport {
     bands
         .iter()
         .filter(|b| !b.method_report.is_empty())

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use platoon_core::frame::FrameParams;
+use platoon_core::frame::{FrameParams, MethodReport};
 use platoon_core::output::Film;
 
 /// A rendered frame and what it cost.
@@ -29,8 +29,10 @@ pub struct Rendered {
     /// What the Khronos validation layer reported (with validation on).
     pub validation_messages: Vec<String>,
     /// The method's own metadata entries (`RenderMethod::metadata`: what its preparation
-    /// did, e.g. vertex links' update).
+    /// did, e.g. vertex links' update; and its report's, `RenderMethod::report_metadata`).
     pub method_metadata: Vec<(String, String)>,
+    /// What the method's passes reported of the frame's first band (`Band::method_report`).
+    pub method_report: MethodReport,
     /// The radiance sums behind `film` (row-major; they include `FrameParams::accumulated`).
     pub sums: Vec<[f32; 3]>,
     /// What a frame rendered in batches (`crate::batched`) knows of each pixel.
@@ -90,7 +92,7 @@ pub(crate) struct Measured {
     pub(crate) rays: u64,
     pub(crate) rejected_samples: u64,
     pub(crate) kernel_fallbacks: u32,
-    pub(crate) method_report: Vec<(String, String)>,
+    pub(crate) method_report: MethodReport,
     pub(crate) tracers: Vec<platoon_schedule::renderer::TracerStats>,
 }
 
@@ -104,6 +106,7 @@ pub(crate) struct Devices {
 
 /// The one place a frame's result is packed (batches and ranks then add their parts).
 pub(crate) fn pack(params: &FrameParams, m: Measured, d: Devices) -> Rendered {
+    let unit = params.method.unit();
     Rendered {
         film: m.film,
         sums: m.sums,
@@ -119,7 +122,8 @@ pub(crate) fn pack(params: &FrameParams, m: Measured, d: Devices) -> Rendered {
         tracers: m.tracers,
         balancer: d.balancer,
         validation_messages: d.validation_messages,
-        method_metadata: [params.method.unit().metadata(), m.method_report].concat(),
+        method_metadata: [unit.metadata(), unit.report_metadata(&m.method_report)].concat(),
+        method_report: m.method_report,
         ranks: None,
     }
 }

@@ -10,7 +10,7 @@ use std::sync::Once;
 use std::time::Duration;
 
 use platoon::core::flatten::features::KernelOption;
-use platoon::core::frame::{FrameParams, PixelData, Span};
+use platoon::core::frame::{FrameParams, MethodReport, PixelData, Span};
 use platoon::core::method::kind::MethodKind;
 use platoon::core::method::registry;
 use platoon::core::method::render_method::RenderMethod;
@@ -102,7 +102,7 @@ impl MethodPasses for GreyPasses {
         let groups = rec.band_groups(&push);
         rec.dispatch(GREY_KERNEL, &push, groups)
     }
-    fn report(&mut self, counters: &[u32]) -> Vec<(String, String)> {
+    fn report(&mut self, counters: &[u32]) -> MethodReport {
         self.path.report(counters)
     }
     fn per_pixel(&mut self, params: &FrameParams, span: Span) -> PixelData {

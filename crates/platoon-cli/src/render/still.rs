@@ -254,7 +254,7 @@ fn report_ranks(report: &platoon::distributed::RanksReport, width: u32) {
 
 /// What the method says a user should read after its render.
 fn report_method(rendered: &platoon::Rendered, method: &platoon::core::Method) {
-    let report = method.unit().report(&rendered.method_metadata);
+    let report = method.unit().report(&rendered.method_report);
     for line in &report.lines {
         eprintln!("  {line}");
     }

@@ -6,6 +6,7 @@ pub mod adaptive;
 pub mod aov_params;
 mod film_state;
 pub mod light_reuse;
+pub mod method_report;
 mod options;
 mod path_loop;
 pub mod pixel_data;
@@ -17,6 +18,7 @@ use std::time::Duration;
 
 pub use crate::balance::Span;
 pub use film_state::FilmState;
+pub use method_report::{MethodReport, ReportValue};
 pub use options::{FrameOptions, DEFAULT_AO_DISTANCE};
 pub use path_loop::{Knob, KnobValue, PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, KNOBS};
 pub use pixel_data::{PixelData, PixelRecord};
@@ -208,9 +210,9 @@ pub struct Band {
     /// (`RenderMethod::finish`, a method's preparation, the world cache and light reuse), as
     /// records of its own types (IGI's `IgiTexel`); empty for methods without any.
     pub per_pixel: PixelData,
-    /// What the method's passes on this device report for the output's metadata (layered hit
-    /// buffers' build: bytes, overflow, time).
-    pub method_report: Vec<(String, String)>,
+    /// What the method's passes on this device report (layered hit buffers' build: bytes,
+    /// overflow, time), of the method's own type.
+    pub method_report: MethodReport,
     pub gpu_time: Duration,
     pub wall_time: Duration,
 }
@@ -283,14 +285,6 @@ pub trait BandTracer {
     ) -> Result<Film, TracerError> {
         Err("this tracer has no device to filter a frame on".into())
     }
-}
-
-/// The value of `key` in a method's report (`Band::method_report`), if it has one.
-pub fn report_entry<'a>(report: &'a [(String, String)], key: &str) -> Option<&'a str> {
-    report
-        .iter()
-        .find(|(k, _)| k == key)
-        .map(|(_, v)| v.as_str())
 }
 
 /// The bands' sums as one image (row-major, width x height).

@@ -2,7 +2,7 @@
 
 use crate::flatten::features::KernelOption;
 use crate::flatten::GpuScene;
-use crate::frame::{Band, FrameParams};
+use crate::frame::{Band, FrameParams, MethodReport};
 use crate::method::Method;
 
 /// What a device frame of a method's work before its frames gave back: each pixel's average
@@ -67,10 +67,15 @@ pub trait RenderMethod {
     fn brief(&self) -> Option<String> {
         None
     }
-    /// What a user should read after a render, from the frame's report (its metadata
-    /// entries): lines to print, and warnings (layered hit buffers' build and lost layers).
-    fn report(&self, _entries: &[(String, String)]) -> Report {
+    /// What a user should read after a render, from the frame's report (`Band::method_report`
+    /// of its first band): lines to print, and warnings (layered hit buffers' build and lost
+    /// layers).
+    fn report(&self, _report: &MethodReport) -> Report {
         Report::default()
+    }
+    /// The frame's report as entries of the output's metadata.
+    fn report_metadata(&self, _report: &MethodReport) -> Vec<(String, String)> {
+        Vec::new()
     }
     /// Entries of the output's metadata beyond its description (what its preparation did).
     fn metadata(&self) -> Vec<(String, String)> {

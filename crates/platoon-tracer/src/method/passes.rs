@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use platoon_core::frame::{FrameParams, PixelData, Span};
+use platoon_core::frame::{FrameParams, MethodReport, PixelData, Span};
 
 use crate::buffer::GpuBuffer;
 use crate::dispatch::{record_dispatch, Dispatchable};
@@ -126,10 +126,10 @@ pub trait MethodPasses {
     fn end_band(&mut self, _rec: &mut Recorder, _push: &Push) -> Result<Duration> {
         Ok(Duration::ZERO)
     }
-    /// What its passes report for the output's metadata (`Band::method_report`), given the
-    /// band's counters after its last pass.
-    fn report(&mut self, _counters: &[u32]) -> Vec<(String, String)> {
-        Vec::new()
+    /// What its passes report of the band (`Band::method_report`, of the method's own type),
+    /// given the band's counters after its last pass.
+    fn report(&mut self, _counters: &[u32]) -> MethodReport {
+        MethodReport::default()
     }
     /// What the span leaves for the method's work after assembly (`Band::per_pixel`): records
     /// of the method's types.

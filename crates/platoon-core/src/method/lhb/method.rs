@@ -1,11 +1,12 @@
 //! Layered hit buffers as a rendering method: its options, the tables its preparation makes
 //! from the scene, and its place among the methods (`RenderMethod`).
 
+use super::build_report::LhbBuild;
 use super::options::RasterVariant;
 use super::prepared::Lhb;
 use crate::flatten::features::KernelOption;
 use crate::flatten::GpuScene;
-use crate::frame::{FrameParams, Output};
+use crate::frame::{FrameParams, MethodReport, Output};
 use crate::method::render_method::{DeviceRun, RenderMethod, Report};
 use crate::method::Method;
 
@@ -90,19 +91,14 @@ impl RenderMethod for Lhb {
         }))
     }
 
-    fn report(&self, entries: &[(String, String)]) -> Report {
-        let entry = |key| crate::frame::report_entry(entries, key);
-        let mut report = Report::default();
-        if let Some(build) = entry("lhb_build") {
-            report.lines.push(format!("layered hit buffers: {build}"));
-        }
-        if let Some(lost) = entry("lhb_lost_layers").filter(|l| *l != "0") {
-            report.warnings.push(format!(
-                "{lost} layers did not fit the buffers' lists and are missing from the \
-                 lookups: raise --lhb-layers or use --lhb-variant exact"
-            ));
-        }
-        report
+    fn report(&self, report: &MethodReport) -> Report {
+        LhbBuild::of(report).map(|b| b.report()).unwrap_or_default()
+    }
+
+    fn report_metadata(&self, report: &MethodReport) -> Vec<(String, String)> {
+        LhbBuild::of(report)
+            .map(|b| b.metadata())
+            .unwrap_or_default()
     }
 
     fn metadata(&self) -> Vec<(String, String)> {
@@ -132,17 +128,24 @@ mod report_tests {
     #[test]
     fn the_report_shows_the_build_and_warns_of_lost_layers_only() {
         let lhb = Lhb::new(Default::default());
-        let entries = |lost: &str| {
-            vec![
-                ("lhb_build".to_string(), "320 buffers".to_string()),
-                ("lhb_lost_layers".to_string(), lost.to_string()),
-            ]
+        let built = |lost| {
+            MethodReport::of(&LhbBuild {
+                layers: 320,
+                lost,
+                ..Default::default()
+            })
         };
-        let r = lhb.report(&entries("3"));
-        assert_eq!(r.lines, ["layered hit buffers: 320 buffers"]);
+        let r = lhb.report(&built(3));
+        assert_eq!(r.lines.len(), 1);
+        assert!(r.lines[0].starts_with("layered hit buffers: 320 layer slots, 3 lost"));
         assert_eq!(r.warnings.len(), 1);
         assert!(r.warnings[0].starts_with("3 layers did not fit"), "{r:?}");
-        assert!(lhb.report(&entries("0")).warnings.is_empty());
-        assert_eq!(lhb.report(&[]), Report::default());
+        assert!(lhb.report(&built(0)).warnings.is_empty());
+        assert_eq!(lhb.report(&MethodReport::default()), Report::default());
+        let meta = lhb.report_metadata(&built(3));
+        assert!(
+            meta.contains(&("lhb_lost_layers".into(), "3".into())),
+            "{meta:?}"
+        );
     }
 }

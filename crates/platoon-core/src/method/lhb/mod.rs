@@ -13,6 +13,8 @@
 //! of the kernels' lookups). The device side is the tracer's `method/lhb/` and shaders/lhb/;
 //! measured in docs/LHB.md.
 
+mod build_report;
+pub use build_report::LhbBuild;
 pub mod directional_map;
 pub mod directions;
 pub mod frame;

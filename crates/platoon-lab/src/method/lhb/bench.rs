@@ -11,9 +11,8 @@
 use std::time::Duration;
 
 use anyhow::{Context as _, Result};
-use platoon::core::frame::report_entry;
 use platoon::core::frame::FrameParams;
-use platoon::core::method::lhb::{Lhb, LhbOptions};
+use platoon::core::method::lhb::{Lhb, LhbBuild, LhbOptions};
 use platoon::core::Method;
 use platoon::tracer::{Tracer, TracerOptions};
 
@@ -55,10 +54,9 @@ fn device_time(band: &platoon::core::frame::Band) -> Duration {
     platoon::core::measure::device_time(band.gpu_time, band.wall_time)
 }
 
-fn entry(report: &[(String, String)], key: &str) -> Result<f64> {
-    report_entry(report, key)
-        .and_then(|v| v.parse().ok())
-        .with_context(|| format!("the band reported no {key}"))
+/// What the build of `band` made and cost (its report).
+fn build(band: &platoon::core::frame::Band) -> Result<LhbBuild> {
+    LhbBuild::of(&band.method_report).context("the band reported no layered hit buffers' build")
 }
 
 /// Measures `scene` with every one of `settings` on device 0, frames of `size` x `size` at `spp`.
@@ -78,24 +76,23 @@ pub fn measure(
         params.method = Method::new(Lhb::prepared(*o, &prepared.gpu));
         tracer.render(&params, 0, size, &mut |_| {})?;
         let band = tracer.render(&params, 0, size, &mut |_| {})?;
-        let r = &band.method_report;
-        let build_s = entry(r, "lhb_build_s")?;
+        let r = build(&band)?;
+        let build_s = r.seconds;
         let mut direct = params.clone();
         direct.path_loop.max_depth = 2;
         let cut = tracer.render(&direct, 0, size, &mut |_| {})?;
-        let direct_s =
-            (device_time(&cut).as_secs_f64() - entry(&cut.method_report, "lhb_build_s")?).max(0.0);
+        let direct_s = (device_time(&cut).as_secs_f64() - build(&cut)?.seconds).max(0.0);
         rows.push(LhbRow {
             scene: s.name.clone(),
             triangles: prepared.gpu.triangles.len(),
             setting: format!("{}@{}", o.directions, o.resolution),
             build_s,
-            bytes: entry(r, "lhb_bytes")? as u64,
-            lost: entry(r, "lhb_lost_layers")? as u64,
+            bytes: r.bytes,
+            lost: r.lost,
             image_s: (device_time(&band).as_secs_f64() - build_s).max(0.0),
             direct_s,
             queries: band.rays,
-            lookups: entry(r, "lhb_lookups")? as u64,
+            lookups: r.lookups as u64,
             path_s: device_time(&path).as_secs_f64(),
             path_rays: path.rays,
         });
@@ -177,12 +174,14 @@ pub fn walk(
         let p = path.render(&params, 0, size, &mut |_| {})?;
         rows.push(WalkRow {
             step,
-            kept_build_s: entry(&a.method_report, "lhb_build_s")?,
-            kept_what: report_entry(&a.method_report, "lhb_build")
-                .and_then(|v| v.split(':').next())
+            kept_build_s: build(&a)?.seconds,
+            kept_what: build(&a)?
+                .line()
+                .split(':')
+                .next()
                 .unwrap_or("")
                 .to_string(),
-            rebuild_s: entry(&b.method_report, "lhb_build_s")?,
+            rebuild_s: build(&b)?.seconds,
             lhb_frame_s: device_time(&a).as_secs_f64(),
             refit_s,
             path_frame_s: device_time(&p).as_secs_f64(),

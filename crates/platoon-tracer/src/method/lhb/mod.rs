@@ -9,8 +9,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use gpu_allocator::MemoryLocation;
-use platoon_core::frame::FrameParams;
-use platoon_core::method::lhb::RasterVariant;
+use platoon_core::frame::{FrameParams, MethodReport};
+use platoon_core::method::lhb::{LhbBuild, RasterVariant};
 
 mod build;
 mod kept;
@@ -117,41 +117,20 @@ impl MethodPasses for LhbPasses {
         rec.dispatch(entry, push, groups)
     }
 
-    /// `lhb_build`: what the build made and cost on this device; lookups of the image passes.
-    fn report(&mut self, counters: &[u32]) -> Vec<(String, String)> {
+    /// What the build made and cost on this device; lookups of the image passes.
+    fn report(&mut self, counters: &[u32]) -> MethodReport {
         let b = &self.build;
-        vec![
-            (
-                "lhb_build".into(),
-                format!(
-                    "{}{} {}{}, {} blocks of large triangles, {} bytes, {:.6} s device time \
-                     ({} attempts)",
-                    match b.kept {
-                        Some((true, n)) =>
-                            format!("kept part reused, {n} moving instances added: "),
-                        Some((false, n)) =>
-                            format!("kept part built, {n} moving instances added: "),
-                        None => String::new(),
-                    },
-                    b.layers,
-                    if b.exact { "layers" } else { "layer slots" },
-                    if b.lost > 0 {
-                        format!(", {} lost past the capacity", b.lost)
-                    } else {
-                        ", none lost".to_string()
-                    },
-                    b.blocks,
-                    b.bytes,
-                    b.time.as_secs_f64(),
-                    b.attempts
-                ),
-            ),
-            ("lhb_build_s".into(), format!("{:.6}", b.time.as_secs_f64())),
-            ("lhb_layers".into(), b.layers.to_string()),
-            ("lhb_lost_layers".into(), b.lost.to_string()),
-            ("lhb_bytes".into(), b.bytes.to_string()),
-            ("lhb_lookups".into(), counters[STAT_QUEUED].to_string()),
-        ]
+        MethodReport::of(&LhbBuild {
+            layers: b.layers,
+            exact: b.exact,
+            lost: b.lost,
+            blocks: b.blocks,
+            bytes: b.bytes,
+            seconds: b.time.as_secs_f64(),
+            attempts: b.attempts,
+            kept: b.kept,
+            lookups: counters[STAT_QUEUED],
+        })
     }
 
     /// Every texel's word (count, or with the exact variant the end of its layers) and the
