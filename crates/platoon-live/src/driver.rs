@@ -23,7 +23,7 @@ use super::denoising::FrameDenoiser;
 use super::finished::{FinishedFrame, FrameOutput};
 use super::gi::{GiStats, GiUpdate, PreparedMethod, Worker, WorkerJob};
 use super::plan::{Join, Motion, Planner};
-use super::render_thread::{render_loop, FrameJob, Job, Learned, Synchronous};
+use super::render_thread::{render_loop, FrameJob, Job, Synchronous};
 use super::scaling::{BelowOneSample, Workload, WorkloadScaler};
 use super::{Pipeline, QueryScene, UpdateTimes};
 use platoon_core::balance::Balancer;
@@ -31,10 +31,10 @@ use platoon_core::denoise::Denoiser;
 use platoon_core::error::{Error, Result};
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::hit_geometry::HitGeometry;
-use platoon_core::frame::light_reuse::{check_context, LightReuse, LightReuseState};
-use platoon_core::frame::world_cache::{WorldCache, WorldCacheOptions};
+use platoon_core::frame::light_reuse::LightReuse;
+use platoon_core::frame::world_cache::WorldCacheOptions;
 use platoon_core::frame::{BandTracer, FrameParams, PathLoop, DEFAULT_SAMPLES_PER_PASS};
-use platoon_core::method::path::ResampledLight;
+use platoon_core::method::path::{PathLearning, ResampledLight};
 use platoon_core::method::Method;
 use platoon_core::scene::camera::Camera;
 use platoon_schedule::renderer::Renderer;
@@ -236,30 +236,13 @@ impl FrameDriver {
         let film = Accumulation::new(options.width, options.height);
         let denoiser = (options.denoise != Denoiser::None)
             .then(|| FrameDenoiser::new(options.denoise, HitGeometry::of_flattened(first)));
-        let cache = match options.world_cache {
-            Some(o) => {
-                if !options.method.is_path_tracing() {
-                    return Err(Error::Invalid(
-                        "the world cache is the path tracer's: another method was chosen".into(),
-                    ));
-                }
-                Some(WorldCache::new(o, first.header().scene_sphere[3]).map_err(Error::Invalid)?)
-            }
-            None => None,
-        };
-        let reuse = match options.light_reuse {
-            Some(o) => {
-                check_context(
-                    options.method.path().resampled_light.is_some(),
-                    options.method.is_path_tracing(),
-                )
-                .and_then(|()| o.validate())
-                .map_err(Error::Invalid)?;
-                Some(LightReuseState::new(o))
-            }
-            None => None,
-        };
-        let learned = Learned { cache, reuse };
+        let learned = PathLearning::new(
+            &options.method,
+            options.world_cache,
+            options.light_reuse,
+            first.header().scene_sphere[3],
+        )
+        .map_err(Error::Invalid)?;
         // One frame queued at most: the game is never more than a frame ahead.
         let (jobs, inbox) = mpsc::sync_channel::<Job>(1);
         let (outbox, done) = mpsc::sync_channel(1);

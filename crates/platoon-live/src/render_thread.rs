@@ -17,10 +17,8 @@ use platoon_core::error::{Error, Result};
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::hit_geometry::HitGeometry;
-use platoon_core::frame::light_reuse::{LightReuseState, ReservoirRecord};
-use platoon_core::frame::world_cache::TrainingRecord;
-use platoon_core::frame::world_cache::WorldCache;
 use platoon_core::frame::{BandTracer, FrameParams};
+use platoon_core::method::path::{Learned, PathLearning};
 use platoon_schedule::renderer::Renderer;
 
 pub(super) struct FrameJob {
@@ -57,18 +55,11 @@ pub(super) struct Synchronous {
     pub keep_frame_scenes: bool,
 }
 
-/// What the frames learn for the frames after them: the world cache and light reuse's
-/// reservoirs (each when asked for).
-pub(super) struct Learned {
-    pub cache: Option<WorldCache>,
-    pub reuse: Option<LightReuseState>,
-}
-
 pub(super) fn render_loop<T: BandTracer + Send + 'static>(
     mut renderer: Renderer<T>,
     mut film: Accumulation,
     mut denoiser: Option<FrameDenoiser>,
-    mut learned: Learned,
+    mut learned: PathLearning,
     mut sync: Synchronous,
     inbox: Receiver<Job>,
     outbox: SyncSender<Result<FinishedFrame>>,
@@ -98,7 +89,7 @@ fn render_one<T: BandTracer + Send + 'static>(
     renderer: &mut Renderer<T>,
     film: &mut Accumulation,
     denoiser: Option<&mut FrameDenoiser>,
-    learned: &mut Learned,
+    learned: &mut PathLearning,
     sync: &mut Synchronous,
     job: FrameJob,
 ) -> Result<FinishedFrame> {
@@ -142,34 +133,20 @@ fn render_one<T: BandTracer + Send + 'static>(
     }
     let render_start = Instant::now();
     params.film.accumulated = film.continued(plan.join);
-    // (The driver refused a world cache and light reuse for another method.)
-    if let Some(path) = params.method.path_mut() {
-        path.world_cache = learned.cache.as_ref().map(|c| c.table());
-        if let Some(reuse) = &mut learned.reuse {
-            let lights = commit.as_ref().map(|c| c.header.lights as usize);
-            path.light_reuse = Some(reuse.history(lights));
-        }
-    }
+    let lights = commit.as_ref().map(|c| c.header.lights as usize);
+    learned.give(&mut params.method, lights);
     let mut rendered = renderer
         .render_frame_planned(&params, plan.rebalance)
         .map_err(failed)?;
     let render = render_start.elapsed();
     failures.extend(std::mem::take(&mut rendered.failures));
     // The records of every band, in pixel order: the same cache and reservoirs for any split.
-    let pixels = &rendered.per_pixel;
-    let records = pixels.records::<TrainingRecord>().map_err(Error::Invalid)?;
-    let reservoirs = pixels
-        .records::<ReservoirRecord>()
+    let Learned {
+        world_cache,
+        light_reuse,
+    } = learned
+        .learn(&rendered.per_pixel, &params, frame)
         .map_err(Error::Invalid)?;
-    let world_cache = learned.cache.as_mut().map(|c| c.update(records, frame));
-    let light_reuse = learned.reuse.as_mut().map(|r| {
-        r.keep(
-            reservoirs.to_vec(),
-            params.camera,
-            params.width,
-            params.height,
-        )
-    });
     let (denoised, denoise) = match denoiser {
         Some(d) => {
             let frame = RenderedFrame {

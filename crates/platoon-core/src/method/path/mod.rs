@@ -14,10 +14,12 @@ use crate::method::Method;
 
 mod kernel;
 mod kind;
+mod learning;
 mod state;
 
 pub use kernel::PathKernel;
 pub use kind::PathKind;
+pub use learning::{Learned, PathLearning};
 pub use state::{PathTracing, ResampledLight};
 
 static PATH_TRACING: LazyLock<Method> = LazyLock::new(|| Method::new(PathTracing::default()));
