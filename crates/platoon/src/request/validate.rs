@@ -4,6 +4,7 @@
 use std::time::Duration;
 
 use platoon_core::frame::aov::Aov;
+use platoon_core::method::path::check_learning;
 use platoon_core::scene::camera::Camera;
 
 use super::error::RequestError;
@@ -45,31 +46,10 @@ impl Request {
         if let Some(Err(e)) = self.method.path().resampled_light.map(|r| r.check()) {
             refuse("resampled_light", e)?;
         }
-        if let Some(c) = &self.world_cache {
-            if let Err(e) = c.validate() {
-                refuse("world_cache", e)?;
-            }
-            if self.method.unit().name() != "path" {
-                refuse(
-                    "world_cache",
-                    format!(
-                        "caches the path tracer's bounces; {} gathers its light its own way",
-                        self.method.unit().name()
-                    ),
-                )?;
-            }
-        }
-        if let Some(o) = &self.light_reuse {
-            if let Err(e) = o.validate() {
-                refuse("light_reuse", e)?;
-            }
-            if self.method.path().resampled_light.is_none() {
-                refuse(
-                    "light_reuse",
-                    "reuses resampled light's reservoirs: set resampled_light (8 candidates \
-                     are a game's choice)",
-                )?;
-            }
+        // What a game loop learns over its frames: the path tracer's rule.
+        let (cache, reuse) = (self.world_cache.as_ref(), self.light_reuse.as_ref());
+        if let Err((option, problem)) = check_learning(&self.method, cache, reuse) {
+            refuse(option, problem)?;
         }
         if !(self.frame_interval.is_finite() && self.frame_interval > 0.0) {
             refuse(

@@ -24,6 +24,41 @@ pub struct Learned {
     pub light_reuse: Option<ReuseStats>,
 }
 
+/// What is wrong with learning a world cache (`cache`) and reusing light (`reuse`) over the
+/// frames of `method`: the option it is about (`world_cache`, `light_reuse`) and the problem.
+/// One rule for a request (`Request::validate`) and the frame driver.
+pub fn check(
+    method: &Method,
+    cache: Option<&WorldCacheOptions>,
+    reuse: Option<&LightReuse>,
+) -> Result<(), (&'static str, String)> {
+    if let Some(c) = cache {
+        c.validate().map_err(|e| ("world_cache", e))?;
+        if !method.is_path_tracing() {
+            return Err((
+                "world_cache",
+                format!(
+                    "caches the path tracer's bounces; {} gathers its light its own way",
+                    method.unit().name()
+                ),
+            ));
+        }
+    }
+    if let Some(o) = reuse {
+        o.validate().map_err(|e| ("light_reuse", e))?;
+        if method.path().resampled_light.is_none() {
+            return Err((
+                "light_reuse",
+                "reuses resampled light's reservoirs: set resampled_light (8 candidates are a \
+                 game's choice)"
+                    .into(),
+            ));
+        }
+        check_context(true, method.is_path_tracing()).map_err(|e| ("light_reuse", e))?;
+    }
+    Ok(())
+}
+
 impl PathLearning {
     /// Learning a world cache (`cache`) and reusing light (`reuse`) over the frames of
     /// `method` in a scene whose bounding sphere has radius `scene_radius`; an error says why
@@ -34,29 +69,14 @@ impl PathLearning {
         reuse: Option<LightReuse>,
         scene_radius: f32,
     ) -> Result<PathLearning, String> {
-        let cache = match cache {
-            Some(o) => {
-                if !method.is_path_tracing() {
-                    return Err(
-                        "the world cache is the path tracer's: another method was chosen".into(),
-                    );
-                }
-                Some(WorldCache::new(o, scene_radius)?)
-            }
-            None => None,
-        };
-        let reuse = match reuse {
-            Some(o) => {
-                check_context(
-                    method.path().resampled_light.is_some(),
-                    method.is_path_tracing(),
-                )
-                .and_then(|()| o.validate())?;
-                Some(LightReuseState::new(o))
-            }
-            None => None,
-        };
-        Ok(PathLearning { cache, reuse })
+        check(method, cache.as_ref(), reuse.as_ref())
+            .map_err(|(option, problem)| format!("{option}: {problem}"))?;
+        Ok(PathLearning {
+            cache: cache
+                .map(|o| WorldCache::new(o, scene_radius))
+                .transpose()?,
+            reuse: reuse.map(LightReuseState::new),
+        })
     }
 
     /// `method` (a frame's) with what the frames so far learned; `lights` is the scene's light

@@ -19,7 +19,7 @@ mod state;
 
 pub use kernel::PathKernel;
 pub use kind::PathKind;
-pub use learning::{Learned, PathLearning};
+pub use learning::{check as check_learning, Learned, PathLearning};
 pub use state::{PathTracing, ResampledLight};
 
 static PATH_TRACING: LazyLock<Method> = LazyLock::new(|| Method::new(PathTracing::default()));
