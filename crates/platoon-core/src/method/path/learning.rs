@@ -175,13 +175,7 @@ mod tests {
             .slots
             .iter()
             .all(|s| s[0] == 0.0));
-        assert!(!params
-            .method
-            .path()
-            .light_reuse
-            .as_ref()
-            .unwrap()
-            .has_frame());
+        assert!(!has_history(&params.method));
         let key = 0x0080_0007; // slot 3
         let trained = TrainingRecord {
             key,
@@ -198,15 +192,14 @@ mod tests {
             path.world_cache.as_ref().unwrap().slots[3],
             [f32::from_bits(key), 1.0, 2.0, 3.0]
         );
-        assert!(path.light_reuse.as_ref().unwrap().has_frame());
+        assert!(has_history(&params.method));
         // Other lights: the reservoirs name lights by index, so the history starts over.
         learning.give(&mut params.method, Some(4));
-        assert!(!params
-            .method
-            .path()
-            .light_reuse
-            .as_ref()
-            .unwrap()
-            .has_frame());
+        assert!(!has_history(&params.method));
+    }
+
+    /// Whether `method` carries a frame's reservoirs.
+    fn has_history(method: &Method) -> bool {
+        method.path().light_reuse.as_ref().unwrap().has_frame()
     }
 }
