@@ -189,7 +189,7 @@ pub fn get_camera(r: &mut Reader) -> Result<Camera, WireError> {
 /// A hash of everything in `params` that every rank must agree on (all but the sums and
 /// masks rank 0 sends with each share, which are the frame's data, not its settings): ranks
 /// that prepared the frame differently would render a different image in their bands. The
-/// frame's settings as the wire encodes them, and its method's settings and state
+/// frame's settings as the wire encodes them, and its method's state, which holds its settings
 /// (`MethodKind::state_bytes`: the world cache's table by its bits, where formatting a
 /// megabyte each frame would cost more than the frame), or as `Debug` writes the state of a
 /// method that has no bytes of it.
@@ -202,7 +202,6 @@ pub fn fingerprint(params: &FrameParams) -> u64 {
     }
     let kind = params.method.kind();
     kind.name().hash(&mut h);
-    format!("{:?}", kind.settings_of(&params.method)).hash(&mut h);
     match kind.state_bytes(&params.method) {
         Ok(Some(state)) => state.hash(&mut h),
         _ => format!("{:?}", params.method).hash(&mut h),

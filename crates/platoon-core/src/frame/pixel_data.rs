@@ -5,6 +5,8 @@
 //! (`streams`, `push_words`), so the tracer, the renderer, the wire and the method share no
 //! convention of strides or offsets: a method reads back the type it wrote, or an error.
 
+use super::Span;
+
 /// A record a method leaves per pixel: plain data of 4-byte words (f32, u32), named by a kind
 /// unique among every method's records (`"method.record"`).
 pub trait PixelRecord: bytemuck::Pod {
@@ -46,11 +48,12 @@ impl PixelData {
         d
     }
 
-    /// Data of one kind, the whole records of `T` in `bytes` (a device buffer's, in whatever
-    /// alignment it is mapped): one copy.
-    pub fn of_bytes<T: PixelRecord>(bytes: &[u8]) -> PixelData {
-        let whole = bytes.len() / std::mem::size_of::<T>() * std::mem::size_of::<T>();
-        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes[..whole]);
+    /// Data of one kind, the records of the pixels `span` in `buffer`, which holds one `T` a
+    /// pixel (a device buffer, in whatever alignment it is mapped): one copy.
+    pub fn of_span<T: PixelRecord>(buffer: &[u8], span: Span) -> PixelData {
+        let size = std::mem::size_of::<T>();
+        let bytes = &buffer[span.begin as usize * size..span.end as usize * size];
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(bytes);
         let mut d = PixelData::default();
         d.push_words(T::KIND, record_words::<T>(), &words)
             .expect("whole records");
@@ -114,15 +117,16 @@ impl PixelData {
     /// kind unreadable (`records` says why).
     pub fn append(&mut self, other: PixelData) {
         for s in other.streams {
-            if let Err(e) = self.push_words(&s.kind, s.record_words, &s.words) {
-                if let Some(mine) = self.streams.iter_mut().find(|m| m.kind == s.kind) {
-                    mine.conflict = Some(e);
-                }
-            }
-            if let Some(c) = s.conflict {
-                if let Some(mine) = self.streams.iter_mut().find(|m| m.kind == s.kind) {
+            let pushed = self.push_words(&s.kind, s.record_words, &s.words);
+            let Some(mine) = self.streams.iter_mut().find(|m| m.kind == s.kind) else {
+                continue;
+            };
+            match (pushed, s.conflict) {
+                (Err(e), _) => mine.conflict = Some(e),
+                (Ok(()), Some(c)) => {
                     mine.conflict.get_or_insert(c);
                 }
+                (Ok(()), None) => {}
             }
         }
     }
@@ -213,13 +217,13 @@ mod tests {
     }
 
     #[test]
-    fn a_device_buffers_bytes_read_as_whole_records_at_any_alignment() {
-        let records = [Two([1.0, 2.0]), Two([3.0, -4.0])];
+    fn a_device_buffers_span_reads_as_its_records_at_any_alignment() {
+        let records = [Two([1.0, 2.0]), Two([3.0, -4.0]), Two([5.0, 6.0])];
         let mut bytes = vec![0u8];
         bytes.extend_from_slice(bytemuck::cast_slice(&records));
-        bytes.push(7); // a cut record's byte: not read
-        let d = PixelData::of_bytes::<Two>(&bytes[1..]);
-        assert_eq!(d.records::<Two>().unwrap(), &records);
+        bytes.push(7); // past the buffer's records: not read
+        let d = PixelData::of_span::<Two>(&bytes[1..], Span::new(1, 3));
+        assert_eq!(d.records::<Two>().unwrap(), &records[1..]);
     }
 
     #[test]

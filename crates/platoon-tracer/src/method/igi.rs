@@ -154,8 +154,7 @@ impl MethodPasses for IgiPasses {
         let Some(b) = self.texels.as_mut() else {
             return PixelData::default();
         };
-        let t = TEXEL_BYTES as usize;
-        PixelData::of_bytes::<IgiTexel>(&b.mapped()[span.begin as usize * t..span.end as usize * t])
+        PixelData::of_span::<IgiTexel>(b.mapped(), span)
     }
 
     fn destroy(&mut self, gpu: &mut Gpu) {

@@ -106,11 +106,7 @@ impl LightReusePasses {
         let Some(b) = self.reservoirs.as_mut() else {
             return PixelData::default();
         };
-        let (begin, end) = (
-            span.begin as usize * RECORD_BYTES,
-            span.end as usize * RECORD_BYTES,
-        );
-        PixelData::of_bytes::<ReservoirRecord>(&b.mapped()[begin..end])
+        PixelData::of_span::<ReservoirRecord>(b.mapped(), span)
     }
 
     pub fn destroy(&mut self, gpu: &mut Gpu) {

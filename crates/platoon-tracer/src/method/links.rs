@@ -184,10 +184,9 @@ impl MethodPasses for LinksPasses {
         let Some(b) = self.output.as_mut() else {
             return PixelData::default();
         };
-        let bytes = &b.mapped()[span.begin as usize * 16..span.end as usize * 16];
         match job {
-            Job::Shoot(_) => PixelData::of_bytes::<ShotHit>(bytes),
-            _ => PixelData::of_bytes::<ElementAlbedo>(bytes),
+            Job::Shoot(_) => PixelData::of_span::<ShotHit>(b.mapped(), span),
+            _ => PixelData::of_span::<ElementAlbedo>(b.mapped(), span),
         }
     }
 

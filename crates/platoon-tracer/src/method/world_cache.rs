@@ -101,9 +101,7 @@ impl WorldCachePasses {
         let Some(b) = self.records.as_mut() else {
             return PixelData::default();
         };
-        let record = std::mem::size_of::<TrainingRecord>();
-        let (begin, end) = (span.begin as usize * record, span.end as usize * record);
-        PixelData::of_bytes::<TrainingRecord>(&b.mapped()[begin..end])
+        PixelData::of_span::<TrainingRecord>(b.mapped(), span)
     }
 
     pub fn destroy(&mut self, gpu: &mut Gpu) {

@@ -4,10 +4,7 @@
 //! left, joined in pixel order (`learn`), so the cache and the reservoirs are the same whatever
 //! the split between devices.
 
-use super::PathTracing;
-use crate::frame::light_reuse::{
-    check_context, LightReuse, LightReuseState, ReservoirRecord, ReuseStats,
-};
+use crate::frame::light_reuse::{LightReuse, LightReuseState, ReservoirRecord, ReuseStats};
 use crate::frame::world_cache::{CacheUpdate, TrainingRecord, WorldCache, WorldCacheOptions};
 use crate::frame::{FrameParams, PixelData};
 use crate::method::Method;
@@ -54,7 +51,6 @@ pub fn check(
                     .into(),
             ));
         }
-        check_context(true, method.is_path_tracing()).map_err(|e| ("light_reuse", e))?;
     }
     Ok(())
 }
@@ -85,14 +81,9 @@ impl PathLearning {
         let Some(path) = method.path_mut() else {
             return;
         };
-        let PathTracing {
-            world_cache,
-            light_reuse,
-            ..
-        } = path;
-        *world_cache = self.cache.as_ref().map(|c| c.table());
+        path.world_cache = self.cache.as_ref().map(|c| c.table());
         if let Some(reuse) = &mut self.reuse {
-            *light_reuse = Some(reuse.history(lights));
+            path.light_reuse = Some(reuse.history(lights));
         }
     }
 
@@ -124,7 +115,7 @@ impl PathLearning {
 mod tests {
     use super::*;
     use crate::method::igi::IgiOptions;
-    use crate::method::path::ResampledLight;
+    use crate::method::path::{PathTracing, ResampledLight};
     use crate::scene::camera::Camera;
 
     fn resampled() -> Method {
