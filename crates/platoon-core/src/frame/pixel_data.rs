@@ -5,7 +5,7 @@
 //! (`streams`, `push_words`), so the tracer, the renderer, the wire and the method share no
 //! convention of strides or offsets: a method reads back the type it wrote, or an error.
 
-use super::Span;
+use crate::balance::Span;
 
 /// A record a method leaves per pixel: plain data of 4-byte words (f32, u32), named by a kind
 /// unique among every method's records (`"method.record"`).
