@@ -86,6 +86,53 @@ fn the_viewer_refuses_a_denoiser_the_build_lacks() {
     );
 }
 
+/// What a method learns over the frames is refused before any window where it cannot hold:
+/// another method's flag, light reuse without resampled light, a mode it lacks; the flag alone
+/// is its first mode.
+#[test]
+fn the_viewer_refuses_learning_its_method_cannot_do() {
+    for (args, says) in [
+        (
+            &["--method", "igi", "--world-cache"][..],
+            "--world-cache sets path tracing: add --method path",
+        ),
+        (
+            &["--light-reuse"],
+            "--light-reuse: reuses resampled light's reservoirs",
+        ),
+        (
+            &["--light-reuse", "sometimes"],
+            "is not one of unbiased, biased",
+        ),
+    ] {
+        let o = platoon()
+            .arg("view")
+            .args(args)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .unwrap();
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+    // Learning that holds goes on to the display, which is missing.
+    let o = platoon()
+        .args([
+            "view",
+            "--resampled-light",
+            "4",
+            "--light-reuse",
+            "--world-cache",
+        ])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("no display"), "{err}");
+}
+
 #[test]
 fn the_viewer_shows_frames_under_xvfb_and_flies_on_key_presses() {
     let x = Xvfb::start(90..200, "320x240x24");

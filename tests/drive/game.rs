@@ -630,8 +630,9 @@ fn the_game_loop_over_ranks_is_the_one_process_loop_bit_for_bit() {
 fn the_game_loop_over_ranks_trains_the_one_process_world_cache() {
     game_over_ranks_and_alone(platoon::core::Method::path_tracing(), |d| {
         d.method = resampled(4);
-        d.light_reuse = Some(Default::default());
-        d.world_cache = Some(platoon::core::frame::world_cache::WorldCacheOptions {
+        let path = d.method.path_mut().unwrap();
+        path.learning.light_reuse = Some(Default::default());
+        path.learning.world_cache = Some(platoon::core::frame::world_cache::WorldCacheOptions {
             resolution: 16,
             ..Default::default()
         });

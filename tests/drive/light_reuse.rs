@@ -11,8 +11,9 @@ mod play;
 use common::*;
 use glam::DVec3;
 use platoon::core::balance::by_name;
-use platoon::core::frame::light_reuse::LightReuse;
+use platoon::core::frame::light_reuse::{LightReuse, ReuseStats};
 use platoon::core::frame::FrameParams;
+use platoon::core::method::path::Learned;
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;
 use platoon::devices::create_tracers;
@@ -72,7 +73,7 @@ fn mean_over(f: &Film, lit: &[usize]) -> f64 {
 fn options(w: u32, h: u32, reuse: Option<LightReuse>) -> DriverOptions {
     let mut o = DriverOptions::new(w, h);
     o.method = resampled(4);
-    o.light_reuse = reuse;
+    o.method.path_mut().unwrap().learning.light_reuse = reuse;
     o.path_loop.max_depth = 2;
     o
 }
@@ -148,9 +149,18 @@ fn one_and_three_tracers_reuse_the_same_reservoirs() {
         for (a, b) in runs[0].iter().zip(&runs[1]) {
             let f = a.stats.frame;
             assert!(a.film == b.film, "{balancer}, frame {f}: the films differ");
-            assert_eq!(a.stats.light_reuse, b.stats.light_reuse, "frame {f}");
+            assert_eq!(reused(a), reused(b), "frame {f}");
         }
-        let last = runs[0].last().unwrap().stats.light_reuse.unwrap();
+        let last = reused(runs[0].last().unwrap());
         assert!(last.samples > 500 && last.mean_candidates > 8.0, "{last:?}");
     }
+}
+
+/// What a frame's reservoirs hold.
+fn reused(f: &FinishedFrame) -> ReuseStats {
+    let learned = f
+        .stats
+        .learned::<Learned>()
+        .expect("the path tracer's report");
+    learned.light_reuse.expect("light reuse's")
 }

@@ -11,8 +11,9 @@ mod play;
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
-use platoon::core::frame::world_cache::WorldCacheOptions;
+use platoon::core::frame::world_cache::{CacheUpdate, WorldCacheOptions};
 use platoon::core::frame::FrameParams;
+use platoon::core::method::path::Learned;
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;
 use platoon::devices::create_tracers;
@@ -66,9 +67,9 @@ fn inside_a_glowing_sphere_the_cache_gives_the_closed_form_with_less_noise() {
     let mut options = DriverOptions::new(24, 24);
     let (scene, camera) = glowing_sphere();
     let plain = play(scene.clone(), camera, "lavapipe:1", options.clone(), frames);
-    options.world_cache = Some(cache_options(8, 1));
+    options.method.path_mut().unwrap().learning.world_cache = Some(cache_options(8, 1));
     let cached = play(scene, camera, "lavapipe:1", options, frames);
-    let stats = cached.last().unwrap().stats.world_cache.unwrap();
+    let stats = cache(cached.last().unwrap());
     eprintln!("cache after {frames} frames: {stats:?}");
     assert!(stats.cells > 50 && stats.records > 400, "{stats:?}");
     // Each frame's own estimate, the cache read from the second frame on.
@@ -104,7 +105,7 @@ fn cornell() -> (platoon::core::Scene, Camera) {
 #[test]
 fn one_tracer_and_three_train_the_same_cache_and_show_the_same_bits() {
     let mut options = DriverOptions::new(32, 32);
-    options.world_cache = Some(cache_options(16, 2));
+    options.method.path_mut().unwrap().learning.world_cache = Some(cache_options(16, 2));
     let runs: Vec<Vec<FinishedFrame>> = ["lavapipe:1", "lavapipe:1,1,1"]
         .iter()
         .map(|spec| {
@@ -115,9 +116,9 @@ fn one_tracer_and_three_train_the_same_cache_and_show_the_same_bits() {
     for (a, b) in runs[0].iter().zip(&runs[1]) {
         let f = a.stats.frame;
         assert!(a.film == b.film, "frame {f}: the films differ");
-        assert_eq!(a.stats.world_cache, b.stats.world_cache, "frame {f}");
+        assert_eq!(cache(a), cache(b), "frame {f}");
     }
-    let last = runs[0].last().unwrap().stats.world_cache.unwrap();
+    let last = cache(runs[0].last().unwrap());
     assert!(last.cells > 100, "{last:?}");
 }
 
@@ -128,7 +129,7 @@ fn the_cache_bias_in_the_cornell_box_is_bounded_and_its_noise_lower() {
     let mut options = DriverOptions::new(w, h);
     options.spp = 8;
     let plain = play(scene.clone(), camera, "lavapipe:1", options.clone(), frames);
-    options.world_cache = Some(cache_options(32, 1));
+    options.method.path_mut().unwrap().learning.world_cache = Some(cache_options(32, 1));
     let cached = play(scene.clone(), camera, "lavapipe:1", options, frames);
     // The reference: the path tracer at 1024 samples.
     let (_, first) = Pipeline::new(scene, 0.0, DVec3::ZERO).unwrap();
@@ -201,8 +202,8 @@ fn every_technique_at_once_gives_the_same_bits_on_one_and_three_tracers_under_ev
     // atrous-device`.
     let mut options = DriverOptions::new(24, 24);
     options.method = resampled(8);
-    options.light_reuse = Some(Default::default());
-    options.world_cache = Some(cache_options(16, 2));
+    options.method.path_mut().unwrap().learning.light_reuse = Some(Default::default());
+    options.method.path_mut().unwrap().learning.world_cache = Some(cache_options(16, 2));
     options.denoise = platoon::core::denoise::Denoiser::AtrousDevice;
     let (scene, camera) = cornell();
     let moving = |f: u32| {
@@ -235,15 +236,18 @@ fn every_technique_at_once_gives_the_same_bits_on_one_and_three_tracers_under_ev
                 a.denoised == b.denoised,
                 "{balancer}, frame {f}: denoised differently"
             );
-            assert_eq!(
-                a.stats.world_cache, b.stats.world_cache,
-                "{balancer}, frame {f}"
-            );
-            assert_eq!(
-                a.stats.light_reuse, b.stats.light_reuse,
-                "{balancer}, frame {f}"
-            );
+            // The cache's update and the reservoirs' stats.
+            assert_eq!(a.stats.learned, b.stats.learned, "{balancer}, frame {f}");
         }
     }
-    assert!(one.last().unwrap().stats.world_cache.unwrap().cells > 0);
+    assert!(cache(one.last().unwrap()).cells > 0);
+}
+
+/// What a frame's training paths did to the cache.
+fn cache(f: &FinishedFrame) -> CacheUpdate {
+    let learned = f
+        .stats
+        .learned::<Learned>()
+        .expect("the path tracer's report");
+    learned.world_cache.expect("the world cache's")
 }

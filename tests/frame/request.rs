@@ -13,6 +13,7 @@ use platoon::core::frame::aov::Aov;
 use platoon::core::method::registry;
 use platoon::core::method::settings::{Settings, Value};
 use platoon::core::scene::camera::Camera;
+use platoon::core::Method;
 use platoon::devices::DeviceSpec;
 use platoon::tracer::Sampling;
 use platoon::{CameraChoice, Request, RequestError, SceneSource};
@@ -23,6 +24,18 @@ fn limited(limit: Option<Duration>) -> platoon::core::frame::FrameOptions {
         time_limit: limit,
         ..Default::default()
     }
+}
+
+/// `method` (the path tracer) learning over a game's frames as `cache` and `reuse` say.
+fn learning(
+    mut method: Method,
+    cache: Option<platoon::core::frame::world_cache::WorldCacheOptions>,
+    reuse: Option<platoon::core::frame::light_reuse::LightReuse>,
+) -> Method {
+    let path = method.path_mut().expect("the path tracer");
+    path.learning.world_cache = cache;
+    path.learning.light_reuse = reuse;
+    method
 }
 
 fn small() -> Request {
@@ -336,19 +349,14 @@ fn every_rule_refuses_by_naming_its_option() {
         ),
         (
             Request {
-                world_cache: Some(Default::default()),
-                method: igi.clone(),
-                ..small()
-            },
-            "world_cache",
-            "igi gathers its light",
-        ),
-        (
-            Request {
-                world_cache: Some(platoon::core::frame::world_cache::WorldCacheOptions {
-                    train_stride: 0,
-                    ..Default::default()
-                }),
+                method: learning(
+                    Method::path_tracing(),
+                    Some(platoon::core::frame::world_cache::WorldCacheOptions {
+                        train_stride: 0,
+                        ..Default::default()
+                    }),
+                    None,
+                ),
                 ..small()
             },
             "world_cache",
@@ -356,7 +364,7 @@ fn every_rule_refuses_by_naming_its_option() {
         ),
         (
             Request {
-                light_reuse: Some(Default::default()),
+                method: learning(Method::path_tracing(), None, Some(Default::default())),
                 ..small()
             },
             "light_reuse",
@@ -364,11 +372,14 @@ fn every_rule_refuses_by_naming_its_option() {
         ),
         (
             Request {
-                light_reuse: Some(platoon::core::frame::light_reuse::LightReuse {
-                    history: 0,
-                    ..Default::default()
-                }),
-                method: resampled(8),
+                method: learning(
+                    resampled(8),
+                    None,
+                    Some(platoon::core::frame::light_reuse::LightReuse {
+                        history: 0,
+                        ..Default::default()
+                    }),
+                ),
                 ..small()
             },
             "light_reuse",
@@ -382,7 +393,7 @@ fn every_rule_refuses_by_naming_its_option() {
     }
     // The world cache learns over a game's frames: a still and a progressive render refuse it.
     let cached = Request {
-        world_cache: Some(Default::default()),
+        method: learning(Method::path_tracing(), Some(Default::default()), None),
         ..small()
     };
     cached.validate().unwrap();
@@ -395,8 +406,7 @@ fn every_rule_refuses_by_naming_its_option() {
     }
     // ... nor has a still a previous frame's reservoirs to reuse.
     let reusing = Request {
-        method: resampled(8),
-        light_reuse: Some(Default::default()),
+        method: learning(resampled(8), None, Some(Default::default())),
         ..small()
     };
     reusing.validate().unwrap();
@@ -653,7 +663,7 @@ fn the_python_stub_gives_each_table_option_its_type_and_default() {
             (_, ValueKind::Number) => "float",
             (_, ValueKind::Switch) => "bool",
             (_, ValueKind::Tile) => "tuple[int, int]",
-            (_, ValueKind::Word(_)) => "str",
+            (_, ValueKind::Word(_) | ValueKind::Mode(_)) => "str",
         };
         let (expected_type, expected_default) = match (o.get)(&base) {
             None => (format!("{python} | None"), "None".to_string()),

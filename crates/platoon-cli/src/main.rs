@@ -8,6 +8,7 @@ mod bytes_arg;
 mod devices;
 mod display_args;
 mod info;
+mod learning_args;
 mod method_args;
 mod render;
 mod request_args;

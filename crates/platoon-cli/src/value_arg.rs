@@ -9,6 +9,11 @@ use platoon::core::method::settings::{Value, ValueKind};
 pub fn of_kind(arg: Arg, kind: ValueKind) -> Arg {
     match kind {
         ValueKind::Switch => arg.action(ArgAction::SetTrue),
+        // The flag alone is its first choice.
+        ValueKind::Mode(choices) => arg
+            .num_args(0..=1)
+            .default_missing_value(choices[0])
+            .value_parser(move |text: &str| Value::parse(kind, text)),
         kind => arg.value_parser(move |text: &str| Value::parse(kind, text)),
     }
 }

@@ -71,16 +71,9 @@ pub struct ViewArgs {
     /// --denoise say otherwise. Biased by the denoiser; the title says so.
     #[arg(long)]
     realtime: bool,
-    /// The path tracer's bounces after the first read a world cache trained as the frames go
-    /// (hashed cells in world space; biased, the title says so).
-    #[arg(long)]
-    world_cache: bool,
-    /// Resampled light reuses the previous frame's reservoirs where each pixel's surface was
-    /// and around it (ReSTIR DI's temporal and spatial reuse): unbiased (the default), or
-    /// biased (a little cheaper, darker where a neighbour cannot see the light; the title
-    /// says so). Needs --resampled-light or --realtime.
-    #[arg(long, num_args = 0..=1, default_missing_value = "unbiased")]
-    light_reuse: Option<platoon::core::frame::light_reuse::LightReuse>,
+    // What the method learns over the frames (the path tracer's --world-cache, --light-reuse).
+    #[command(flatten)]
+    learning: crate::learning_args::LearningArgs,
     /// Close after this many frames (for scripts and tests).
     #[arg(long)]
     frames: Option<u32>,
@@ -97,6 +90,8 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
         // The game loop's rule, on the flags before the request validates them.
         args.denoise = platoon::drive::realtime(&mut method, args.denoise);
     }
+    // After the real-time settings, whose resampled light light reuse needs.
+    let method = args.learning.apply(method)?;
     args.denoise
         .available()
         .map_err(|e| anyhow!("--denoise: {e}"))?;
@@ -129,8 +124,6 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
         height: h,
         method,
         denoiser: args.denoise,
-        world_cache: args.world_cache.then(Default::default),
-        light_reuse: args.light_reuse,
         ..args.options.request()?
     };
     request.validate().map_err(crate::request_flags::as_flags)?;
@@ -331,11 +324,10 @@ impl Viewer {
             if let Some(gi) = &s.gi {
                 below += &format!(", lighting {} generations old", gi.age);
             }
-            if let Some(c) = &s.world_cache {
-                below += &format!(", world cache ({} cells)", c.cells);
-            }
-            if let Some(r) = &self.driver.options().light_reuse {
-                below += &format!(", {}", r.label());
+            if let Some(learned) = &s.learned {
+                for line in self.driver.options().method.unit().report(learned).lines {
+                    below += &format!(", {line}");
+                }
             }
             if let Some(d) = &s.denoise {
                 below += &format!(

@@ -36,10 +36,10 @@ mod tests {
     use platoon_core::frame::aov::AovPass;
     use platoon_core::frame::light_pass::{BsdfPart, LightPass};
     use platoon_core::frame::light_reuse::{LightReuse, ReservoirHistory, ReservoirRecord};
-    use platoon_core::frame::world_cache::CacheTable;
+    use platoon_core::frame::world_cache::{CacheTable, WorldCacheOptions};
     use platoon_core::frame::{Crop, Output, PixelFilter};
     use platoon_core::method::igi::IgiOptions;
-    use platoon_core::method::path::{PathKernel, PathTracing, ResampledLight};
+    use platoon_core::method::path::{LearningOptions, PathKernel, PathTracing, ResampledLight};
     use platoon_core::method::Method;
     use platoon_core::scene::camera::Camera;
 
@@ -140,6 +140,16 @@ mod tests {
                     })
                     .collect(),
             })),
+            learning: LearningOptions {
+                world_cache: Some(WorldCacheOptions {
+                    stale_frames: 3,
+                    ..Default::default()
+                }),
+                light_reuse: Some(LightReuse {
+                    history: 4,
+                    ..Default::default()
+                }),
+            },
         };
         let path_traced = FrameParams {
             method: Method::new(path),

@@ -20,7 +20,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use anyhow::{Context, Result};
-use platoon::core::method::path::{PathTracing, ResampledLight};
+use platoon::core::method::path::{LearningOptions, PathTracing, ResampledLight};
 use platoon_game::{play, GameOptions, PlayOptions};
 
 fn main() -> Result<()> {
@@ -72,10 +72,12 @@ fn main() -> Result<()> {
     }
     game.driver.method = platoon::core::Method::new(PathTracing {
         resampled_light: resampled_light.map(ResampledLight::new),
+        learning: LearningOptions {
+            world_cache: world_cache.then(Default::default),
+            light_reuse,
+        },
         ..Default::default()
     });
-    game.driver.world_cache = world_cache.then(Default::default);
-    game.driver.light_reuse = light_reuse;
     if realtime {
         game.driver.realtime();
     }

@@ -149,18 +149,18 @@ impl Technique {
         if self.atrous {
             driver.denoise = Denoiser::Atrous;
         }
+        let path = driver
+            .method
+            .path_mut()
+            .expect("the bench renders by path tracing");
         if self.resampled {
-            let path = driver
-                .method
-                .path_mut()
-                .expect("the bench renders by path tracing");
             path.resampled_light = Some(ResampledLight::new(REALTIME_CANDIDATES));
         }
         if self.reuse {
-            driver.light_reuse = Some(Default::default());
+            path.learning.light_reuse = Some(Default::default());
         }
         if self.world_cache {
-            driver.world_cache = Some(Default::default());
+            path.learning.world_cache = Some(Default::default());
         }
     }
 }

@@ -31,10 +31,8 @@ use platoon_core::denoise::Denoiser;
 use platoon_core::error::{Error, Result};
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::hit_geometry::HitGeometry;
-use platoon_core::frame::light_reuse::LightReuse;
-use platoon_core::frame::world_cache::WorldCacheOptions;
 use platoon_core::frame::{BandTracer, FrameParams, PathLoop, DEFAULT_SAMPLES_PER_PASS};
-use platoon_core::method::path::{PathLearning, ResampledLight};
+use platoon_core::method::path::ResampledLight;
 use platoon_core::method::Method;
 use platoon_core::scene::camera::Camera;
 use platoon_schedule::renderer::Renderer;
@@ -78,13 +76,6 @@ pub struct DriverOptions {
     /// the still view that follows converges to exact sums), instead of blending the new
     /// samples in (a game's: moving objects keep the history). Off by default.
     pub restart_on_change: bool,
-    /// The path tracer's bounces after the first read a world cache trained as the frames go
-    /// (`frame::world_cache`; biased); None by default.
-    pub world_cache: Option<WorldCacheOptions>,
-    /// With the path tracer's resampled light: the first vertex's light sample reuses the previous frame's
-    /// reservoirs where its surface was and around it (`frame::light_reuse`, ReSTIR DI's
-    /// temporal and spatial reuse); None by default.
-    pub light_reuse: Option<LightReuse>,
     /// Each finished frame carries its generation's flattened scene
     /// ([`FinishedFrame::scene`]): what a still render of the same frame needs, to measure the
     /// game's error against (`bench game`). A copy of the scene per changed generation.
@@ -140,8 +131,6 @@ impl DriverOptions {
             path_loop: PathLoop::default(),
             samples_per_pass: DEFAULT_SAMPLES_PER_PASS,
             method: platoon_core::method::Method::path_tracing(),
-            world_cache: None,
-            light_reuse: None,
             keep_frame_scenes: false,
             queries: false,
             gi_update: GiUpdate::default(),
@@ -236,13 +225,10 @@ impl FrameDriver {
         let film = Accumulation::new(options.width, options.height);
         let denoiser = (options.denoise != Denoiser::None)
             .then(|| FrameDenoiser::new(options.denoise, HitGeometry::of_flattened(first)));
-        let learned = PathLearning::new(
-            &options.method,
-            options.world_cache,
-            options.light_reuse,
-            first.header().scene_sphere[3],
-        )
-        .map_err(Error::Invalid)?;
+        // What the method learns over the frames (the path tracer's world cache, light reuse).
+        let learning = (options.method.unit())
+            .learning(first.header().scene_sphere[3])
+            .map_err(Error::Invalid)?;
         // One frame queued at most: the game is never more than a frame ahead.
         let (jobs, inbox) = mpsc::sync_channel::<Job>(1);
         let (outbox, done) = mpsc::sync_channel(1);
@@ -253,7 +239,7 @@ impl FrameDriver {
         };
         let render = std::thread::Builder::new()
             .name("platoon render".into())
-            .spawn(move || render_loop(renderer, film, denoiser, learned, sync, inbox, outbox))
+            .spawn(move || render_loop(renderer, film, denoiser, learning, sync, inbox, outbox))
             .map_err(|e| Error::Invalid(format!("starting the render thread: {e}")))?;
         Ok(FrameDriver {
             pipeline,

@@ -9,8 +9,7 @@ use super::gi::GiStats;
 use super::plan::FramePlan;
 use super::UpdateTimes;
 use platoon_core::flatten::GpuScene;
-use platoon_core::frame::light_reuse::ReuseStats;
-use platoon_core::frame::world_cache::CacheUpdate;
+use platoon_core::frame::{MethodReport, ReportValue};
 use platoon_core::output::Film;
 use platoon_core::scene::camera::Camera;
 use platoon_schedule::renderer::{TracerFailure, TracerStats};
@@ -48,13 +47,19 @@ pub struct FrameStats {
     pub gi: Option<GiStats>,
     /// What denoising the frame did and cost ([`DriverOptions::denoise`]).
     pub denoise: Option<DenoiseStats>,
-    /// What the frame's training paths did to the world cache ([`DriverOptions::world_cache`]).
-    pub world_cache: Option<CacheUpdate>,
-    /// What the frame's reservoirs hold ([`DriverOptions::light_reuse`]).
-    pub light_reuse: Option<ReuseStats>,
+    /// What the frame taught the method, for a method that learns over frames (the path
+    /// tracer's world cache and light reuse: `RenderMethod::learning`); its type is the
+    /// method's (`learned`), its lines for a user `RenderMethod::report`'s.
+    pub learned: Option<MethodReport>,
 }
 
 impl FrameStats {
+    /// What the frame taught, as the method's type `T` (None: it learns nothing, or other
+    /// things).
+    pub fn learned<T: ReportValue>(&self) -> Option<T> {
+        self.learned.as_ref()?.read::<T>()?.ok()
+    }
+
     /// Seconds each line took, when one tracer rendered the whole frame: its band's time spread
     /// over the lines in proportion to their rays (what `bench balance` replays). None with
     /// several tracers, whose times are in different devices' units.

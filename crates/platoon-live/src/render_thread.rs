@@ -18,7 +18,7 @@ use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::hit_geometry::HitGeometry;
 use platoon_core::frame::{BandTracer, FrameParams};
-use platoon_core::method::path::{Learned, PathLearning};
+use platoon_core::method::learning::FrameLearning;
 use platoon_schedule::renderer::Renderer;
 
 pub(super) struct FrameJob {
@@ -59,7 +59,7 @@ pub(super) fn render_loop<T: BandTracer + Send + 'static>(
     mut renderer: Renderer<T>,
     mut film: Accumulation,
     mut denoiser: Option<FrameDenoiser>,
-    mut learned: PathLearning,
+    mut learning: Option<Box<dyn FrameLearning>>,
     mut sync: Synchronous,
     inbox: Receiver<Job>,
     outbox: SyncSender<Result<FinishedFrame>>,
@@ -74,7 +74,7 @@ pub(super) fn render_loop<T: BandTracer + Send + 'static>(
                 &mut renderer,
                 &mut film,
                 denoiser.as_mut(),
-                &mut learned,
+                &mut learning,
                 &mut sync,
                 *job,
             ),
@@ -89,7 +89,7 @@ fn render_one<T: BandTracer + Send + 'static>(
     renderer: &mut Renderer<T>,
     film: &mut Accumulation,
     denoiser: Option<&mut FrameDenoiser>,
-    learned: &mut PathLearning,
+    learning: &mut Option<Box<dyn FrameLearning>>,
     sync: &mut Synchronous,
     job: FrameJob,
 ) -> Result<FinishedFrame> {
@@ -134,18 +134,18 @@ fn render_one<T: BandTracer + Send + 'static>(
     let render_start = Instant::now();
     params.film.accumulated = film.continued(plan.join);
     let lights = commit.as_ref().map(|c| c.header.lights as usize);
-    learned.give(&mut params.method, lights);
+    if let Some(l) = learning.as_mut() {
+        l.give(&mut params.method, lights);
+    }
     let mut rendered = renderer
         .render_frame_planned(&params, plan.rebalance)
         .map_err(failed)?;
     let render = render_start.elapsed();
     failures.extend(std::mem::take(&mut rendered.failures));
     // The records of every band, in pixel order: the same cache and reservoirs for any split.
-    let Learned {
-        world_cache,
-        light_reuse,
-    } = learned
-        .learn(&rendered.per_pixel, &params, frame)
+    let learned = (learning.as_mut())
+        .map(|l| l.learn(&rendered.per_pixel, &params, frame))
+        .transpose()
         .map_err(Error::Invalid)?;
     let (denoised, denoise) = match denoiser {
         Some(d) => {
@@ -197,8 +197,7 @@ fn render_one<T: BandTracer + Send + 'static>(
             device_messages: renderer.with_tracers(|t| t.messages()).concat(),
             gi,
             denoise,
-            world_cache,
-            light_reuse,
+            learned,
         },
     })
 }

@@ -221,7 +221,7 @@ fn value_of(kind: ValueKind, v: &Bound<'_, PyAny>) -> Result<Value, String> {
                 Err(_) => Err(wrong("(m, n) or \"MxN\"")),
             },
         },
-        ValueKind::Word(_) => match v.extract::<String>() {
+        ValueKind::Word(_) | ValueKind::Mode(_) => match v.extract::<String>() {
             Ok(s) => Value::parse(kind, &s),
             Err(_) => Err(wrong("a string")),
         },

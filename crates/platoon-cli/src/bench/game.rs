@@ -53,14 +53,9 @@ pub struct GameArgs {
     /// measures their error at equal time).
     #[arg(long)]
     pub realtime: bool,
-    /// The path tracer's bounces after the first read a world cache trained as the frames go
-    /// (biased).
-    #[arg(long)]
-    pub world_cache: bool,
-    /// Resampled light reuses the previous frame's reservoirs (ReSTIR DI's temporal and
-    /// spatial reuse): unbiased (the default) or biased.
-    #[arg(long, num_args = 0..=1, default_missing_value = "unbiased")]
-    pub light_reuse: Option<platoon::core::frame::light_reuse::LightReuse>,
+    // What the path tracer learns over the frames (--world-cache, --light-reuse).
+    #[command(flatten)]
+    pub learning: crate::learning_args::LearningArgs,
     /// The last frames measured against still renders of the same frames (their scene, their
     /// camera): the error at the frame time the loop held.
     #[arg(long, default_value_t = 4)]
@@ -162,11 +157,11 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
         resampled_light: o.resampled_light.map(ResampledLight::new),
         ..Default::default()
     });
-    game.driver.world_cache = o.world_cache.then(Default::default);
-    game.driver.light_reuse = o.light_reuse;
     if o.realtime {
         game.driver.realtime();
     }
+    // After the real-time settings, whose resampled light light reuse needs.
+    game.driver.method = o.learning.apply(game.driver.method.clone())?;
     game.ranks = ranks.clone();
     game.driver
         .denoise
@@ -180,8 +175,8 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
             .path()
             .resampled_light
             .map(|r| r.candidates),
-        world_cache: game.driver.world_cache.is_some(),
-        light_reuse: game.driver.light_reuse,
+        world_cache: game.driver.method.path().learning.world_cache.is_some(),
+        light_reuse: game.driver.method.path().learning.light_reuse,
     };
     eprintln!(
         "playing {} frames of the game at {}x{} on {} ({}), holding {} ms a frame",

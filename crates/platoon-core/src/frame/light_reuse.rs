@@ -238,7 +238,7 @@ impl LightReuseState {
 }
 
 /// What a frame's reservoirs hold.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ReuseStats {
     /// Pixels whose reservoir kept a light sample.
     pub samples: u32,

@@ -34,7 +34,7 @@ impl PixelRecord for TrainingRecord {
 const _: () = assert!(std::mem::size_of::<TrainingRecord>() == 16);
 
 /// The cache's settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WorldCacheOptions {
     /// Cells across the diameter of the scene's bounding sphere.
     pub resolution: u32,
@@ -116,7 +116,7 @@ struct Cell {
 }
 
 /// What one frame's records did to the cache.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct CacheUpdate {
     pub records: u32,
     /// Records whose slot another cell holds (dropped).

@@ -50,6 +50,27 @@ pub trait MethodKind: Sync {
     fn with_state(&self, _method: Method, _bytes: &[u8]) -> Result<Method, String> {
         Err(format!("{} has no state beyond its settings", self.name()))
     }
+    /// Its settings of what it learns over a game loop's frames (the path tracer's world cache
+    /// and light reuse): offered where there are frames to learn over (`platoon view`, the
+    /// game bench), not by a still's render.
+    fn learning_settings(&self) -> &'static [Setting] {
+        &[]
+    }
+    /// `method` (of this kind) learning over frames as `given` says (keys of
+    /// `learning_settings`); an error names the setting as `build`'s do.
+    fn with_learning(&self, method: Method, given: &Settings) -> Result<Method, String> {
+        match given.0.first() {
+            None => Ok(method),
+            Some((key, _)) => Err(format!(
+                "{key}: {} learns nothing over frames",
+                self.title()
+            )),
+        }
+    }
+    /// The learning settings `method` (of this kind) has on.
+    fn learning_of(&self, _method: &Method) -> Settings {
+        Settings::default()
+    }
     /// What renders `method` when it is of this kind: its state (`Method::state`) as the
     /// core's unit. `Method::unit` asks every kind.
     fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod>;
@@ -68,11 +89,12 @@ impl PartialEq for dyn MethodKind {
 }
 
 impl dyn MethodKind + '_ {
-    /// `error` of `build` as the setting it is about and the problem, where it begins with a
+    /// `error` of `build` or `with_learning` as the setting it is about and the problem, where it begins with a
     /// setting's key (`kernel: unknown kernel warp...`).
     pub fn split_setting<'e>(&self, error: &'e str) -> Option<(&'static Setting, &'e str)> {
         let (key, problem) = error.split_once(": ")?;
-        self.setting(key).map(|s| (s, problem))
+        let learning = || self.learning_settings().iter().find(|s| s.key == key);
+        self.setting(key).or_else(learning).map(|s| (s, problem))
     }
 
     /// The setting named `key`.

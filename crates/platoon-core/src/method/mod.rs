@@ -13,6 +13,7 @@
 mod choice;
 pub mod igi;
 pub mod kind;
+pub mod learning;
 pub mod lhb;
 pub mod links;
 pub mod path;

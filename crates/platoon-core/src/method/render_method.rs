@@ -81,4 +81,14 @@ pub trait RenderMethod {
     fn metadata(&self) -> Vec<(String, String)> {
         Vec::new()
     }
+    /// What it learns over a game loop's frames as its state asks (the path tracer's world
+    /// cache and light reuse), in a scene whose bounding sphere has radius `scene_radius`: the
+    /// learner a frame driver holds; None when its frames stand alone, an error when its
+    /// state's learning settings cannot hold.
+    fn learning(
+        &self,
+        _scene_radius: f32,
+    ) -> Result<Option<Box<dyn crate::method::learning::FrameLearning>>, String> {
+        Ok(None)
+    }
 }

@@ -18,6 +18,9 @@ pub enum ValueKind {
     /// One word: of `choices`, or any the method parses when `choices` is empty (layered hit
     /// buffers' direction sets: ico320, oct32, halton144...).
     Word(&'static [&'static str]),
+    /// One word of `choices`, the first when the flag is given alone (`--light-reuse` is
+    /// `--light-reuse unbiased`).
+    Mode(&'static [&'static str]),
 }
 
 /// A value of a setting.
@@ -71,11 +74,13 @@ impl Value {
                     n.trim().parse().map_err(|_| bad())?,
                 ]))
             }
-            ValueKind::Word(choices) if !choices.is_empty() && !choices.contains(&text) => {
+            ValueKind::Word(choices) | ValueKind::Mode(choices)
+                if !choices.is_empty() && !choices.contains(&text) =>
+            {
                 Err(format!("{text:?} is not one of {}", choices.join(", ")))
             }
             ValueKind::Word(_) if text.is_empty() => Err("an empty word".into()),
-            ValueKind::Word(_) => Ok(Value::Word(text.to_string())),
+            ValueKind::Word(_) | ValueKind::Mode(_) => Ok(Value::Word(text.to_string())),
         }
     }
 }
@@ -196,11 +201,13 @@ impl Value {
 pub fn token_form(s: &Setting) -> Option<String> {
     let token = s.token;
     match s.kind {
-        ValueKind::Word(choices) if !choices.is_empty() => Some(choices.join("|")),
+        ValueKind::Word(choices) | ValueKind::Mode(choices) if !choices.is_empty() => {
+            Some(choices.join("|"))
+        }
         ValueKind::Switch => token.map(str::to_string),
         ValueKind::Count => token.map(|t| format!("{t}N")),
         ValueKind::Number => token.map(|t| format!("{t}X")),
         ValueKind::Tile => token.map(|t| format!("{t}MxN")),
-        ValueKind::Word(_) => token.map(|t| format!("{t}WORD")),
+        ValueKind::Word(_) | ValueKind::Mode(_) => token.map(|t| format!("{t}WORD")),
     }
 }

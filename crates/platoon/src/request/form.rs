@@ -120,15 +120,6 @@ pub struct Request {
     pub aovs: Vec<Aov>,
     /// A denoiser run after assembly (biased).
     pub denoiser: Denoiser,
-    /// A game loop's path tracer reads a world cache for the bounces after the first, trained
-    /// as the frames go (biased; `platoon_core::frame::world_cache`). A still has no frames to
-    /// train it: refused there.
-    pub world_cache: Option<platoon_core::frame::world_cache::WorldCacheOptions>,
-    /// With the path tracer's resampled light, a game loop's first vertices reuse the previous frame's
-    /// reservoirs where their surface was and around it (ReSTIR DI's temporal and spatial
-    /// reuse; unbiased unless its options say otherwise; `platoon_core::frame::light_reuse`).
-    /// A still has no previous frame: refused there.
-    pub light_reuse: Option<platoon_core::frame::light_reuse::LightReuse>,
     pub adaptive: Option<Adaptive>,
 }
 
@@ -149,8 +140,6 @@ impl Default for Request {
             crop: None,
             spp: 64,
             path_loop: PathLoop::default(),
-            world_cache: None,
-            light_reuse: None,
             frame: FrameOptions::default(),
             method: Method::path_tracing(),
             sampling: Sampling::Mis,

@@ -21,8 +21,6 @@ impl Request {
         driver.path_loop = self.path_loop.clone();
         driver.method = self.method.clone();
         driver.denoise = self.denoiser;
-        driver.world_cache = self.world_cache;
-        driver.light_reuse = self.light_reuse;
         GameOptions {
             driver,
             devices: self.devices.clone(),

@@ -47,8 +47,7 @@ impl Request {
             refuse("resampled_light", e)?;
         }
         // What a game loop learns over its frames: the path tracer's rule.
-        let (cache, reuse) = (self.world_cache.as_ref(), self.light_reuse.as_ref());
-        if let Err((option, problem)) = check_learning(&self.method, cache, reuse) {
+        if let Err((option, problem)) = check_learning(self.method.path()) {
             refuse(option, problem)?;
         }
         if !(self.frame_interval.is_finite() && self.frame_interval > 0.0) {
@@ -118,26 +117,19 @@ impl Request {
         Ok(())
     }
 
-    /// A still or a progressive render has no frames to train a world cache with, nor a
-    /// previous frame's reservoirs to reuse.
+    /// A still or a progressive render has no frames to learn over (the path tracer's world
+    /// cache, a previous frame's reservoirs to reuse): refused, naming the method's learning
+    /// setting.
     pub fn refuse_frame_to_frame(&self) -> Result<(), RequestError> {
-        if self.world_cache.is_some() {
-            return Err(RequestError {
-                option: "world_cache",
-                problem: "the cache learns over a game loop's frames (view, the game): a still \
-                          has none to train it"
+        match self.method.kind().learning_of(&self.method).0.first() {
+            Some((option, _)) => Err(RequestError {
+                option,
+                problem: "learns over a game loop's frames (view, the game): a still has none \
+                          to learn from"
                     .into(),
-            });
+            }),
+            None => Ok(()),
         }
-        if self.light_reuse.is_some() {
-            return Err(RequestError {
-                option: "light_reuse",
-                problem: "reuses the previous frame's reservoirs over a game loop's frames \
-                          (view, the game): a still has none"
-                    .into(),
-            });
-        }
-        Ok(())
     }
 
     /// The rules that need the number of devices the request renders on.

@@ -2,6 +2,7 @@
 //! keywords `kernel`, `resampled_light`), made into its state and read back for the wire.
 
 use super::kernel::PathKernel;
+use super::learning::check;
 use super::state::{PathTracing, ResampledLight};
 use crate::method::kind::MethodKind;
 use crate::method::render_method::RenderMethod;
@@ -26,6 +27,28 @@ static SETTINGS: &[Setting] = &[
         help: "next-event estimation resamples this many candidate lights toward their \
                unshadowed contribution (ReSTIR DI's candidates, without reuse; unbiased): for \
                scenes of many lights (8-32). Default: one light drawn by power.",
+    },
+];
+
+/// What it learns over a game loop's frames (`LearningOptions`).
+static LEARNING: &[Setting] = &[
+    Setting {
+        key: "world_cache",
+        flag: "world-cache",
+        token: None,
+        kind: ValueKind::Switch,
+        help: "the bounces after the first read a world cache trained as the frames go (hashed \
+               cells in world space; biased, reported as such).",
+    },
+    Setting {
+        key: "light_reuse",
+        flag: "light-reuse",
+        token: None,
+        kind: ValueKind::Mode(&["unbiased", "biased"]),
+        help: "resampled light reuses the previous frame's reservoirs where each pixel's \
+               surface was and around it (ReSTIR DI's temporal and spatial reuse): unbiased \
+               (the default), or biased (a little cheaper, darker where a neighbour cannot see \
+               the light). Needs --resampled-light or --realtime.",
     },
 ];
 
@@ -95,6 +118,35 @@ impl MethodKind for PathKind {
         s.set("kernel", Value::Word(path.kernel.name().into()));
         if let Some(r) = path.resampled_light {
             s.set("resampled_light", Value::Count(r.candidates));
+        }
+        s
+    }
+    fn learning_settings(&self) -> &'static [Setting] {
+        LEARNING
+    }
+    fn with_learning(&self, mut method: Method, given: &Settings) -> Result<Method, String> {
+        let Some(path) = method.path_mut() else {
+            return Err("the path tracer's learning for another method".into());
+        };
+        if given.switch("world_cache") == Some(true) {
+            path.learning.world_cache = Some(Default::default());
+        }
+        if let Some(mode) = given.word("light_reuse") {
+            path.learning.light_reuse =
+                Some(mode.parse().map_err(|e| format!("light_reuse: {e}"))?);
+        }
+        check(path).map_err(|(key, problem)| format!("{key}: {problem}"))?;
+        Ok(method)
+    }
+    fn learning_of(&self, method: &Method) -> Settings {
+        let learning = method.path().learning;
+        let mut s = Settings::default();
+        if learning.world_cache.is_some() {
+            s.set("world_cache", Value::Switch(true));
+        }
+        if let Some(r) = learning.light_reuse {
+            let mode = if r.unbiased { "unbiased" } else { "biased" };
+            s.set("light_reuse", Value::Word(mode.into()));
         }
         s
     }

@@ -1,12 +1,15 @@
 //! What the path tracer learns over a game loop's frames and gives each next one: the world
-//! cache's table and light reuse's reservoirs, each when asked for. A frame driver holds one,
-//! gives the frame its state before it renders (`give`) and learns from the records its bands
-//! left, joined in pixel order (`learn`), so the cache and the reservoirs are the same whatever
-//! the split between devices.
+//! cache's table and light reuse's reservoirs, each when its state's learning settings ask
+//! (`LearningOptions`; `platoon view --world-cache --light-reuse`). Its learner
+//! (`PathLearning`, the `FrameLearning` a frame driver holds) gives the frame its state before
+//! it renders and learns from the records its bands left, joined in pixel order, so the cache
+//! and the reservoirs are the same whatever the split between devices.
 
-use crate::frame::light_reuse::{LightReuse, LightReuseState, ReservoirRecord, ReuseStats};
-use crate::frame::world_cache::{CacheUpdate, TrainingRecord, WorldCache, WorldCacheOptions};
-use crate::frame::{FrameParams, PixelData};
+use super::state::{LearningOptions, PathTracing};
+use crate::frame::light_reuse::{LightReuseState, ReservoirRecord, ReuseStats};
+use crate::frame::world_cache::{CacheUpdate, TrainingRecord, WorldCache};
+use crate::frame::{FrameParams, MethodReport, PixelData, ReportValue};
+use crate::method::learning::FrameLearning;
 use crate::method::Method;
 
 pub struct PathLearning {
@@ -14,36 +17,38 @@ pub struct PathLearning {
     reuse: Option<LightReuseState>,
 }
 
-/// What a frame taught.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// What a frame taught (the path tracer's report of a driver's frame).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Learned {
     pub world_cache: Option<CacheUpdate>,
     pub light_reuse: Option<ReuseStats>,
 }
 
-/// What is wrong with learning a world cache (`cache`) and reusing light (`reuse`) over the
-/// frames of `method`: the option it is about (`world_cache`, `light_reuse`) and the problem.
-/// One rule for a request (`Request::validate`) and the frame driver.
-pub fn check(
-    method: &Method,
-    cache: Option<&WorldCacheOptions>,
-    reuse: Option<&LightReuse>,
-) -> Result<(), (&'static str, String)> {
-    if let Some(c) = cache {
-        c.validate().map_err(|e| ("world_cache", e))?;
-        if !method.is_path_tracing() {
-            return Err((
-                "world_cache",
-                format!(
-                    "caches the path tracer's bounces; {} gathers its light its own way",
-                    method.unit().name()
-                ),
-            ));
-        }
+impl ReportValue for Learned {
+    const KIND: &'static str = "path.learned";
+}
+
+impl Learned {
+    /// What `report` says a frame taught, where it is the path tracer's.
+    pub fn of(report: &MethodReport) -> Option<Learned> {
+        report.read::<Learned>().and_then(Result::ok)
     }
-    if let Some(o) = reuse {
+}
+
+/// What is wrong with what `path` learns over frames: the setting it is about
+/// (`world_cache`, `light_reuse`) and the problem. One rule for a request (`Request::validate`),
+/// the settings and the frame driver.
+pub fn check(path: &PathTracing) -> Result<(), (&'static str, String)> {
+    let LearningOptions {
+        world_cache,
+        light_reuse,
+    } = &path.learning;
+    if let Some(c) = world_cache {
+        c.validate().map_err(|e| ("world_cache", e))?;
+    }
+    if let Some(o) = light_reuse {
         o.validate().map_err(|e| ("light_reuse", e))?;
-        if method.path().resampled_light.is_none() {
+        if path.resampled_light.is_none() {
             return Err((
                 "light_reuse",
                 "reuses resampled light's reservoirs: set resampled_light (8 candidates are a \
@@ -56,28 +61,26 @@ pub fn check(
 }
 
 impl PathLearning {
-    /// Learning a world cache (`cache`) and reusing light (`reuse`) over the frames of
-    /// `method` in a scene whose bounding sphere has radius `scene_radius`; an error says why
-    /// not (another method, light reuse without resampled light, bad settings).
-    pub fn new(
-        method: &Method,
-        cache: Option<WorldCacheOptions>,
-        reuse: Option<LightReuse>,
-        scene_radius: f32,
-    ) -> Result<PathLearning, String> {
-        check(method, cache.as_ref(), reuse.as_ref())
-            .map_err(|(option, problem)| format!("{option}: {problem}"))?;
+    /// Learning what `path` asks over frames in a scene whose bounding sphere has radius
+    /// `scene_radius`; an error says why not (light reuse without resampled light, bad
+    /// settings).
+    pub fn new(path: &PathTracing, scene_radius: f32) -> Result<PathLearning, String> {
+        check(path).map_err(|(option, problem)| format!("{option}: {problem}"))?;
+        let LearningOptions {
+            world_cache,
+            light_reuse,
+        } = path.learning;
         Ok(PathLearning {
-            cache: cache
+            cache: world_cache
                 .map(|o| WorldCache::new(o, scene_radius))
                 .transpose()?,
-            reuse: reuse.map(LightReuseState::new),
+            reuse: light_reuse.map(LightReuseState::new),
         })
     }
+}
 
-    /// `method` (a frame's) with what the frames so far learned; `lights` is the scene's light
-    /// count where a commit changed the scene (reservoirs of other lights are dropped).
-    pub fn give(&mut self, method: &mut Method, lights: Option<usize>) {
+impl FrameLearning for PathLearning {
+    fn give(&mut self, method: &mut Method, lights: Option<usize>) {
         let Some(path) = method.path_mut() else {
             return;
         };
@@ -87,17 +90,15 @@ impl PathLearning {
         }
     }
 
-    /// Learns from the frame `params`' records (`pixels`, its bands' joined in pixel order);
-    /// `frame` is its number in the cache's staleness.
-    pub fn learn(
+    fn learn(
         &mut self,
         pixels: &PixelData,
         params: &FrameParams,
         frame: u32,
-    ) -> Result<Learned, String> {
+    ) -> Result<MethodReport, String> {
         let records = pixels.records::<TrainingRecord>()?;
         let reservoirs = pixels.records::<ReservoirRecord>()?;
-        Ok(Learned {
+        Ok(MethodReport::of(&Learned {
             world_cache: self.cache.as_mut().map(|c| c.update(records, frame)),
             light_reuse: self.reuse.as_mut().map(|r| {
                 r.keep(
@@ -107,36 +108,64 @@ impl PathLearning {
                     params.height,
                 )
             }),
-        })
+        }))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::light_reuse::LightReuse;
+    use crate::frame::world_cache::WorldCacheOptions;
     use crate::method::igi::IgiOptions;
     use crate::method::path::{PathTracing, ResampledLight};
     use crate::scene::camera::Camera;
 
-    fn resampled() -> Method {
-        Method::new(PathTracing {
+    fn resampled(learning: LearningOptions) -> PathTracing {
+        PathTracing {
             resampled_light: Some(ResampledLight::new(8)),
+            learning,
             ..Default::default()
-        })
+        }
     }
 
     #[test]
-    fn another_method_or_reuse_without_resampled_light_is_refused() {
-        let cache = Some(WorldCacheOptions::default());
+    fn reuse_without_resampled_light_and_bad_settings_are_refused() {
+        let reuse = LearningOptions {
+            light_reuse: Some(LightReuse::default()),
+            ..Default::default()
+        };
+        let plain = PathTracing {
+            learning: reuse,
+            ..Default::default()
+        };
+        assert_eq!(check(&plain).unwrap_err().0, "light_reuse");
+        assert!(Method::new(plain).unit().learning(1.0).is_err());
+        let coarse = LearningOptions {
+            world_cache: Some(WorldCacheOptions {
+                resolution: 0,
+                ..Default::default()
+            }),
+            ..Default::default()
+        };
+        assert_eq!(check(&resampled(coarse)).unwrap_err().0, "world_cache");
+        let both = LearningOptions {
+            world_cache: Some(WorldCacheOptions::default()),
+            light_reuse: Some(LightReuse::default()),
+        };
+        assert!(check(&resampled(both)).is_ok());
+        // Nothing asked: the method learns nothing.
+        assert!(Method::path_tracing()
+            .unit()
+            .learning(1.0)
+            .unwrap()
+            .is_none());
+        // A frame of another method is given nothing.
+        let mut learner = Method::new(resampled(both)).unit().learning(1.0);
+        let learner = learner.as_mut().unwrap().as_mut().unwrap();
         let igi = Method::new(IgiOptions::default());
-        assert!(PathLearning::new(&igi, cache, None, 1.0).is_err());
-        let reuse = Some(LightReuse::default());
-        assert!(PathLearning::new(&Method::path_tracing(), None, reuse, 1.0).is_err());
-        assert!(PathLearning::new(&resampled(), cache, reuse, 1.0).is_ok());
-        // Nothing asked: nothing given, for any method.
-        let mut none = PathLearning::new(&igi, None, None, 1.0).unwrap();
         let mut m = igi.clone();
-        none.give(&mut m, None);
+        learner.give(&mut m, None);
         assert_eq!(m, igi);
     }
 
@@ -147,15 +176,18 @@ mod tests {
             min_samples: 1,
             ..Default::default()
         };
-        let reuse = Some(LightReuse::default());
-        let mut learning = PathLearning::new(&resampled(), Some(options), reuse, 1.0).unwrap();
+        let path = resampled(LearningOptions {
+            world_cache: Some(options),
+            light_reuse: Some(LightReuse::default()),
+        });
+        let mut learning = PathLearning::new(&path, 1.0).unwrap();
         let mut params = FrameParams::new(
             2,
             1,
             1,
             Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0),
         );
-        params.method = resampled();
+        params.method = Method::new(path);
         learning.give(&mut params.method, Some(3));
         assert!(params
             .method
@@ -174,7 +206,7 @@ mod tests {
         };
         let pixels = PixelData::of(&[trained, TrainingRecord::default()])
             .with(&[ReservoirRecord::default(); 2]);
-        let learned = learning.learn(&pixels, &params, 0).unwrap();
+        let learned = Learned::of(&learning.learn(&pixels, &params, 0).unwrap()).unwrap();
         assert_eq!(learned.world_cache.unwrap().records, 1);
         assert_eq!(learned.light_reuse, Some(ReuseStats::default()));
         learning.give(&mut params.method, None);

@@ -8,8 +8,9 @@
 use std::sync::LazyLock;
 
 use crate::flatten::features::KernelOption;
-use crate::frame::{FrameParams, Output};
-use crate::method::render_method::RenderMethod;
+use crate::frame::{FrameParams, MethodReport, Output};
+use crate::method::learning::FrameLearning;
+use crate::method::render_method::{RenderMethod, Report};
 use crate::method::Method;
 
 mod kernel;
@@ -20,7 +21,7 @@ mod state;
 pub use kernel::PathKernel;
 pub use kind::PathKind;
 pub use learning::{check as check_learning, Learned, PathLearning};
-pub use state::{PathTracing, ResampledLight};
+pub use state::{LearningOptions, PathTracing, ResampledLight};
 
 static PATH_TRACING: LazyLock<Method> = LazyLock::new(|| Method::new(PathTracing::default()));
 
@@ -130,5 +131,29 @@ impl RenderMethod for PathTracing {
     /// The kernel asked for.
     fn metadata(&self) -> Vec<(String, String)> {
         vec![("path_kernel".into(), self.kernel.label())]
+    }
+    fn learning(&self, scene_radius: f32) -> Result<Option<Box<dyn FrameLearning>>, String> {
+        if !self.learning.any() {
+            return Ok(None);
+        }
+        let learner = PathLearning::new(self, scene_radius)?;
+        Ok(Some(Box::new(learner)))
+    }
+    /// What a game loop's frame taught (`Learned`): the cache's cells, the light reused.
+    fn report(&self, report: &MethodReport) -> Report {
+        let Some(learned) = Learned::of(report) else {
+            return Report::default();
+        };
+        let mut lines = Vec::new();
+        if let Some(c) = learned.world_cache {
+            lines.push(format!("world cache ({} cells)", c.cells));
+        }
+        if let (Some(_), Some(r)) = (learned.light_reuse, self.learning.light_reuse) {
+            lines.push(r.label().into());
+        }
+        Report {
+            lines,
+            warnings: Vec::new(),
+        }
     }
 }

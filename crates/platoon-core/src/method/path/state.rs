@@ -3,8 +3,8 @@
 use std::sync::Arc;
 
 use super::kernel::PathKernel;
-use crate::frame::light_reuse::ReservoirHistory;
-use crate::frame::world_cache::CacheTable;
+use crate::frame::light_reuse::{LightReuse, ReservoirHistory};
+use crate::frame::world_cache::{CacheTable, WorldCacheOptions};
 use crate::frame::Output;
 
 /// The path tracer's state in a frame (`Method::path_tracing()` is its defaults); between
@@ -31,6 +31,9 @@ pub struct PathTracing {
     /// ReSTIR DI's temporal and spatial reuse; unbiased unless its options say otherwise).
     /// Compiled in only when set.
     pub light_reuse: Option<Arc<ReservoirHistory>>,
+    /// What it learns over a game loop's frames (the world cache, light reuse), which the
+    /// frame driver's learner (`RenderMethod::learning`) gives each frame as the two above.
+    pub learning: LearningOptions,
 }
 
 /// Next-event estimation by resampled importance sampling (Talbot et al. 2005).
@@ -108,5 +111,24 @@ impl PathTracing {
         self.light_reuse
             .as_ref()
             .filter(|_| by_contribution && output == Output::Radiance)
+    }
+}
+
+/// What the path tracer learns over a game loop's frames; nothing by default (a still has no
+/// frames to learn over and refuses it).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LearningOptions {
+    /// The bounces after the first read a world cache trained as the frames go
+    /// (`frame::world_cache`; biased).
+    pub world_cache: Option<WorldCacheOptions>,
+    /// With resampled light: the first vertex's light sample reuses the previous frame's
+    /// reservoirs where its surface was and around it (`frame::light_reuse`, ReSTIR DI's
+    /// temporal and spatial reuse).
+    pub light_reuse: Option<LightReuse>,
+}
+
+impl LearningOptions {
+    pub fn any(&self) -> bool {
+        self.world_cache.is_some() || self.light_reuse.is_some()
     }
 }
