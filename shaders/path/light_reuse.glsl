@@ -1,4 +1,4 @@
-// Light reuse (LIGHT_REUSE, with RIS_CONTRIBUTION; crates/platoon-core/src/frame/light_reuse.rs):
+// Light reuse (LIGHT_REUSE, with RIS_CONTRIBUTION; crates/platoon-core/src/method/path/light_reuse.rs):
 // ReSTIR DI's temporal and spatial reuse (Bitterli et al. 2020) at the first vertex of a
 // frame's first sample. The pixel's fresh candidates (path/resampled_light.glsl's) are combined
 // with the previous frame's reservoir where the surface was then (its reprojection) and with a

@@ -1,4 +1,4 @@
-// The world cache (issue 43; crates/platoon-core/src/frame/world_cache.rs keeps it): the
+// The world cache (issue 43; crates/platoon-core/src/method/path/world_cache.rs keeps it): the
 // radiance a surface reflects, averaged over cells of a grid in world space, one per side
 // of a surface (the axis its geometric normal faces most). With WORLD_CACHE a path reaching
 // its second vertex in a cell the cache knows takes the cell's light and ends there: the bounces

@@ -632,10 +632,12 @@ fn the_game_loop_over_ranks_trains_the_one_process_world_cache() {
         d.method = resampled(4);
         let path = d.method.path_mut().unwrap();
         path.learning.light_reuse = Some(Default::default());
-        path.learning.world_cache = Some(platoon::core::frame::world_cache::WorldCacheOptions {
-            resolution: 16,
-            ..Default::default()
-        });
+        path.learning.world_cache = Some(
+            platoon::core::method::path::world_cache::WorldCacheOptions {
+                resolution: 16,
+                ..Default::default()
+            },
+        );
     });
 }
 

@@ -1,4 +1,4 @@
-//! Light reuse (issue 43, `frame::light_reuse`: ReSTIR DI's temporal and spatial reuse of
+//! Light reuse (issue 43, `method::path::light_reuse`: ReSTIR DI's temporal and spatial reuse of
 //! resampled direct light from the previous frame's reservoirs): the unbiased setting converges
 //! to the path tracer's mean with less noise a frame than resampling alone; one tracer and
 //! three show the same bits.
@@ -11,8 +11,8 @@ mod play;
 use common::*;
 use glam::DVec3;
 use platoon::core::balance::by_name;
-use platoon::core::frame::light_reuse::{LightReuse, ReuseStats};
 use platoon::core::frame::FrameParams;
+use platoon::core::method::path::light_reuse::{LightReuse, ReuseStats};
 use platoon::core::method::path::Learned;
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;

@@ -1,4 +1,4 @@
-//! The world cache (issue 43, `frame::world_cache`): its light agrees with the closed form
+//! The world cache (issue 43, `method::path::world_cache`): its light agrees with the closed form
 //! where the radiance a surface reflects is the same everywhere (inside a glowing sphere), with
 //! less noise than the paths it stands for; its bias in the Cornell box is measured and bounded
 //! against the path tracer; one tracer and three train the same cache and show the same bits.
@@ -11,8 +11,8 @@ mod play;
 use common::*;
 use glam::{DVec3, Vec3};
 use platoon::core::balance::by_name;
-use platoon::core::frame::world_cache::{CacheUpdate, WorldCacheOptions};
 use platoon::core::frame::FrameParams;
+use platoon::core::method::path::world_cache::{CacheUpdate, WorldCacheOptions};
 use platoon::core::method::path::Learned;
 use platoon::core::output::Film;
 use platoon::core::scene::camera::Camera;

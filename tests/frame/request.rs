@@ -29,8 +29,8 @@ fn limited(limit: Option<Duration>) -> platoon::core::frame::FrameOptions {
 /// `method` (the path tracer) learning over a game's frames as `cache` and `reuse` say.
 fn learning(
     mut method: Method,
-    cache: Option<platoon::core::frame::world_cache::WorldCacheOptions>,
-    reuse: Option<platoon::core::frame::light_reuse::LightReuse>,
+    cache: Option<platoon::core::method::path::world_cache::WorldCacheOptions>,
+    reuse: Option<platoon::core::method::path::light_reuse::LightReuse>,
 ) -> Method {
     let path = method.path_mut().expect("the path tracer");
     path.learning.world_cache = cache;
@@ -351,10 +351,12 @@ fn every_rule_refuses_by_naming_its_option() {
             Request {
                 method: learning(
                     Method::path_tracing(),
-                    Some(platoon::core::frame::world_cache::WorldCacheOptions {
-                        train_stride: 0,
-                        ..Default::default()
-                    }),
+                    Some(
+                        platoon::core::method::path::world_cache::WorldCacheOptions {
+                            train_stride: 0,
+                            ..Default::default()
+                        },
+                    ),
                     None,
                 ),
                 ..small()
@@ -375,7 +377,7 @@ fn every_rule_refuses_by_naming_its_option() {
                 method: learning(
                     resampled(8),
                     None,
-                    Some(platoon::core::frame::light_reuse::LightReuse {
+                    Some(platoon::core::method::path::light_reuse::LightReuse {
                         history: 0,
                         ..Default::default()
                     }),
@@ -423,6 +425,24 @@ fn every_rule_refuses_by_naming_its_option() {
     let e = e.downcast::<RequestError>().unwrap();
     assert_eq!(e.option, "time_limit");
     assert!(e.problem.contains("one device"), "{e}");
+}
+
+/// The metadata says how the method picks lights where it picks them its own way (the path
+/// tracer's resampled light), in place of the path loop's own line.
+#[test]
+fn the_metadata_says_the_methods_light_selection() {
+    let still = Request {
+        method: resampled(8),
+        ..small()
+    }
+    .render(&mut |_| {})
+    .unwrap();
+    let lights = still.metadata.iter().find(|(k, _)| k == "light_selection");
+    let lights = lights.map(|(_, v)| v.as_str()).unwrap_or_default();
+    assert!(lights.starts_with("MIS+RIS over 8 candidates"), "{lights}");
+    let plain = small().render(&mut |_| {}).unwrap();
+    let lights = plain.metadata.iter().find(|(k, _)| k == "light_selection");
+    assert_eq!(lights.unwrap().1, "power");
 }
 
 /// A still on one device says how far it is as its passes end (what the CLI's progress bar

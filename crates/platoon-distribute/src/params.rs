@@ -35,10 +35,10 @@ mod tests {
     use crate::wire::fingerprint;
     use platoon_core::frame::aov::AovPass;
     use platoon_core::frame::light_pass::{BsdfPart, LightPass};
-    use platoon_core::frame::light_reuse::{LightReuse, ReservoirHistory, ReservoirRecord};
-    use platoon_core::frame::world_cache::{CacheTable, WorldCacheOptions};
     use platoon_core::frame::{Crop, Output, PixelFilter};
     use platoon_core::method::igi::IgiOptions;
+    use platoon_core::method::path::light_reuse::{LightReuse, ReservoirHistory, ReservoirRecord};
+    use platoon_core::method::path::world_cache::{CacheTable, WorldCacheOptions};
     use platoon_core::method::path::{LearningOptions, PathKernel, PathTracing, ResampledLight};
     use platoon_core::method::Method;
     use platoon_core::scene::camera::Camera;

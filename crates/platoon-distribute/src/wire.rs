@@ -460,9 +460,9 @@ fn array_of<T: Copy, const N: usize>(v: Vec<T>) -> Result<[T; N], WireError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use platoon_core::frame::world_cache::TrainingRecord;
     use platoon_core::method::lhb::LhbBuild;
     use platoon_core::method::links::ShotHit;
+    use platoon_core::method::path::world_cache::TrainingRecord;
 
     #[test]
     fn a_band_comes_back_as_it_was_sent() {

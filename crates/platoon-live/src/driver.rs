@@ -32,7 +32,6 @@ use platoon_core::error::{Error, Result};
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::hit_geometry::HitGeometry;
 use platoon_core::frame::{BandTracer, FrameParams, PathLoop, DEFAULT_SAMPLES_PER_PASS};
-use platoon_core::method::path::ResampledLight;
 use platoon_core::method::Method;
 use platoon_core::scene::camera::Camera;
 use platoon_schedule::renderer::Renderer;
@@ -82,17 +81,13 @@ pub struct DriverOptions {
     pub keep_frame_scenes: bool,
 }
 
-/// Candidate lights of a game's resampled direct light ([`DriverOptions::realtime`]): most of
-/// the gain in the many-light hall (tests/kernel/estimators.rs) for a few evaluations of the BSDF.
-pub const REALTIME_CANDIDATES: u32 = 8;
-
 /// [`DriverOptions::realtime`]'s rule on a method and a denoiser (for front ends that
-/// validate them before any driver exists): the path tracer's resampled light where it has
-/// none, over [`REALTIME_CANDIDATES`] lights; the à-trous denoiser where none is chosen.
+/// validate them before any driver exists): the method's own real-time settings where its
+/// options leave them open (`RenderMethod::realtime`: the path tracer's resampled light over
+/// `REALTIME_CANDIDATES` lights); the à-trous denoiser where none is chosen.
 pub fn realtime(method: &mut Method, denoise: Denoiser) -> Denoiser {
-    if let Some(path) = method.path_mut() {
-        path.resampled_light
-            .get_or_insert(ResampledLight::new(REALTIME_CANDIDATES));
+    if let Some(m) = method.unit().realtime() {
+        *method = m;
     }
     match denoise {
         Denoiser::None => Denoiser::Atrous,
@@ -101,8 +96,8 @@ pub fn realtime(method: &mut Method, denoise: Denoiser) -> Denoiser {
 }
 
 impl DriverOptions {
-    /// A game's real-time settings where these options leave them open: the path tracer's
-    /// resampled direct light over [`REALTIME_CANDIDATES`] lights and the à-trous denoiser over
+    /// A game's real-time settings where these options leave them open: the method's (the
+    /// path tracer's resampled direct light) and the à-trous denoiser over
     /// the history (biased by the denoiser, reported as such).
     pub fn realtime(&mut self) {
         self.denoise = realtime(&mut self.method, self.denoise);
@@ -480,6 +475,7 @@ pub fn render_size(width: u32, height: u32, resolution: f32) -> (u32, u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use platoon_core::method::path::REALTIME_CANDIDATES;
 
     #[test]
     fn every_frame_runs_the_options_path_loop_and_method() {

@@ -24,13 +24,14 @@ pub mod updater;
 pub mod walk;
 
 pub use denoising::DenoiseStats;
-pub use driver::{realtime, DriverOptions, FrameDriver, REALTIME_CANDIDATES};
+pub use driver::{realtime, DriverOptions, FrameDriver};
 pub use edit::Edit;
 pub use finished::{FinishedFrame, FrameOutput, FrameStats};
 pub use gi::{GiStats, GiUpdate};
 pub use pipeline::{Pipeline, UpdaterThreads};
 /// The core's CPU ray queries over a flattened scene, which a game asks of a living one.
 pub use platoon_core::flatten::queries::{self, QueryHit, QueryScene};
+pub use platoon_core::method::path::REALTIME_CANDIDATES;
 pub use refinement::{Refinement, StaticBuild};
 pub use updater::{Generation, UpdateTimes, Updater, UpdaterOptions};
 

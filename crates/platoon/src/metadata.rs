@@ -70,7 +70,7 @@ pub fn metadata_of(
             params.samples_per_pass.to_string(),
         ),
     ]);
-    let method_lights = params.method.path().light_selection();
+    let method_lights = params.method.unit().light_selection();
     m.extend(params.path_loop.metadata(method_lights));
     m.extend([
         (

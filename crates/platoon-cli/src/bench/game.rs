@@ -308,7 +308,7 @@ struct Techniques {
     denoise: Denoiser,
     resampled_light: Option<u32>,
     world_cache: bool,
-    light_reuse: Option<platoon::core::frame::light_reuse::LightReuse>,
+    light_reuse: Option<platoon::core::method::path::light_reuse::LightReuse>,
 }
 
 fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {

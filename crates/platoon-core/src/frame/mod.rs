@@ -5,14 +5,12 @@
 pub mod adaptive;
 pub mod aov_params;
 mod film_state;
-pub mod light_reuse;
 pub mod method_report;
 mod options;
 mod path_loop;
 pub mod pixel_data;
 mod pixel_filter;
-mod pod_bytes;
-pub mod world_cache;
+pub(crate) mod pod_bytes;
 
 use std::time::Duration;
 

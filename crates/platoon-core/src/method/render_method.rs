@@ -81,6 +81,21 @@ pub trait RenderMethod {
     fn metadata(&self) -> Vec<(String, String)> {
         Vec::new()
     }
+    /// The rules of its options that need no frame (what a request refuses before it loads
+    /// anything): the setting it is about and the problem.
+    fn check_options(&self) -> Result<(), (&'static str, String)> {
+        Ok(())
+    }
+    /// How its paths pick lights where they pick them its own way (the path tracer's resampled
+    /// light), as the metadata's `light_selection` says it; None: as the path loop picks them.
+    fn light_selection(&self) -> Option<String> {
+        None
+    }
+    /// It with a game's real-time settings where its options leave them open (the path
+    /// tracer's resampled light); None where it has none.
+    fn realtime(&self) -> Option<Method> {
+        None
+    }
     /// What it learns over a game loop's frames as its state asks (the path tracer's world
     /// cache and light reuse), in a scene whose bounding sphere has radius `scene_radius`: the
     /// learner a frame driver holds; None when its frames stand alone, an error when its

@@ -1,4 +1,4 @@
-//! Light reuse on one device (`platoon_core::frame::light_reuse`): the previous frame's
+//! Light reuse on one device (`platoon_core::method::path::light_reuse`): the previous frame's
 //! reservoirs of the whole image, with its camera and the reuse's settings, uploaded once a
 //! frame (method buffer 2, read by the path kernels with LIGHT_REUSE), and the reservoirs the
 //! frame's first vertices leave (method buffer 3, three vec4s a pixel of the frame), which the
@@ -7,8 +7,8 @@
 use std::sync::Arc;
 
 use gpu_allocator::MemoryLocation;
-use platoon_core::frame::light_reuse::{ReservoirHistory, ReservoirRecord};
 use platoon_core::frame::{FrameParams, PixelData, Span};
+use platoon_core::method::path::light_reuse::{ReservoirHistory, ReservoirRecord};
 
 use super::ensure;
 use crate::buffer::GpuBuffer;

@@ -1,4 +1,4 @@
-//! The world cache on one device (`platoon_core::frame::world_cache`): the frame's table
+//! The world cache on one device (`platoon_core::method::path::world_cache`): the frame's table
 //! uploaded once (method buffer 0, read by the path kernels with WORLD_CACHE), and the band's
 //! training paths (shaders/path/world_cache_train.comp) before its beauty passes, whose
 //! records (method buffer 1, a vec4 per pixel) the band leaves per pixel.
@@ -7,8 +7,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use gpu_allocator::MemoryLocation;
-use platoon_core::frame::world_cache::{CacheTable, TrainingRecord};
 use platoon_core::frame::{FrameParams, Output, PixelData, Span};
+use platoon_core::method::path::world_cache::{CacheTable, TrainingRecord};
 
 use super::{ensure, Recorder};
 use crate::buffer::GpuBuffer;

@@ -4,7 +4,6 @@
 use std::time::Duration;
 
 use platoon_core::frame::aov::Aov;
-use platoon_core::method::path::check_learning;
 use platoon_core::scene::camera::Camera;
 
 use super::error::RequestError;
@@ -43,11 +42,9 @@ impl Request {
         if let Err(e) = self.path_loop.check() {
             refuse("path_loop", e)?;
         }
-        if let Some(Err(e)) = self.method.path().resampled_light.map(|r| r.check()) {
-            refuse("resampled_light", e)?;
-        }
-        // What a game loop learns over its frames: the path tracer's rule.
-        if let Err((option, problem)) = check_learning(self.method.path()) {
+        // The method's own rules (the path tracer's resampled light and what it learns over
+        // a game's frames).
+        if let Err((option, problem)) = self.method.unit().check_options() {
             refuse(option, problem)?;
         }
         if !(self.frame_interval.is_finite() && self.frame_interval > 0.0) {

@@ -5,9 +5,9 @@
 //! it renders and learns from the records its bands left, joined in pixel order, so the cache
 //! and the reservoirs are the same whatever the split between devices.
 
+use super::light_reuse::{LightReuseState, ReservoirRecord, ReuseStats};
 use super::state::{LearningOptions, PathTracing};
-use crate::frame::light_reuse::{LightReuseState, ReservoirRecord, ReuseStats};
-use crate::frame::world_cache::{CacheUpdate, TrainingRecord, WorldCache};
+use super::world_cache::{CacheUpdate, TrainingRecord, WorldCache};
 use crate::frame::{FrameParams, MethodReport, PixelData, ReportValue};
 use crate::method::learning::FrameLearning;
 use crate::method::Method;
@@ -115,9 +115,9 @@ impl FrameLearning for PathLearning {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::frame::light_reuse::LightReuse;
-    use crate::frame::world_cache::WorldCacheOptions;
     use crate::method::igi::IgiOptions;
+    use crate::method::path::light_reuse::LightReuse;
+    use crate::method::path::world_cache::WorldCacheOptions;
     use crate::method::path::{PathTracing, ResampledLight};
     use crate::scene::camera::Camera;
 

@@ -3,7 +3,9 @@
 //! ([`PathKernel`], `kernel`; the same image either way), the last paths of a pass cut
 //! short, resampled direct light, and what its frames carry from one to the next (the world
 //! cache's table, light reuse's reservoirs). The path loop it shares with the methods that
-//! continue its paths (depth, roulette, clamp...) is the frame's (`frame::PathLoop`).
+//! continue its paths (depth, roulette, clamp...) is the frame's (`frame::PathLoop`). What it
+//! learns over a game loop's frames is here too: the world cache (`world_cache`), light reuse
+//! (`light_reuse`) and the learner that carries them from frame to frame (`learning.rs`).
 
 use std::sync::LazyLock;
 
@@ -16,12 +18,18 @@ use crate::method::Method;
 mod kernel;
 mod kind;
 mod learning;
+pub mod light_reuse;
 mod state;
+pub mod world_cache;
 
 pub use kernel::PathKernel;
 pub use kind::PathKind;
-pub use learning::{check as check_learning, Learned, PathLearning};
+pub use learning::{Learned, PathLearning};
 pub use state::{LearningOptions, PathTracing, ResampledLight};
+
+/// Candidate lights of a game's resampled direct light (`RenderMethod::realtime`): most of the
+/// gain in the many-light hall (tests/kernel/estimators.rs) for a few evaluations of the BSDF.
+pub const REALTIME_CANDIDATES: u32 = 8;
 
 static PATH_TRACING: LazyLock<Method> = LazyLock::new(|| Method::new(PathTracing::default()));
 
@@ -71,7 +79,7 @@ impl RenderMethod for PathTracing {
         }
         if let Some(h) = &self.light_reuse {
             let by_contribution = self.resampled_light.is_some_and(|r| r.contribution);
-            crate::frame::light_reuse::check_context(by_contribution, true)?;
+            light_reuse::check_context(by_contribution, true)?;
             if params.crop.is_some() {
                 return Err(
                     "light reuse finds the previous frame's reservoirs in the whole \
@@ -131,6 +139,21 @@ impl RenderMethod for PathTracing {
     /// The kernel asked for.
     fn metadata(&self) -> Vec<(String, String)> {
         vec![("path_kernel".into(), self.kernel.label())]
+    }
+    fn check_options(&self) -> Result<(), (&'static str, String)> {
+        if let Some(Err(e)) = self.resampled_light.map(|r| r.check()) {
+            return Err(("resampled_light", e));
+        }
+        learning::check(self)
+    }
+    fn light_selection(&self) -> Option<String> {
+        PathTracing::light_selection(self)
+    }
+    /// Resampled direct light over [`REALTIME_CANDIDATES`] lights where it has none.
+    fn realtime(&self) -> Option<Method> {
+        let mut path = self.clone();
+        (path.resampled_light).get_or_insert(ResampledLight::new(REALTIME_CANDIDATES));
+        Some(Method::new(path))
     }
     fn learning(&self, scene_radius: f32) -> Result<Option<Box<dyn FrameLearning>>, String> {
         if !self.learning.any() {

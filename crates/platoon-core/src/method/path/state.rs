@@ -3,8 +3,8 @@
 use std::sync::Arc;
 
 use super::kernel::PathKernel;
-use crate::frame::light_reuse::{LightReuse, ReservoirHistory};
-use crate::frame::world_cache::{CacheTable, WorldCacheOptions};
+use super::light_reuse::{LightReuse, ReservoirHistory};
+use super::world_cache::{CacheTable, WorldCacheOptions};
 use crate::frame::Output;
 
 /// The path tracer's state in a frame (`Method::path_tracing()` is its defaults); between
@@ -24,10 +24,10 @@ pub struct PathTracing {
     /// light drawn by power. Compiled in only when set.
     pub resampled_light: Option<ResampledLight>,
     /// The world cache the bounces after the first read, and its training pattern
-    /// (`frame::world_cache`; biased). None: paths go on. Compiled in only when set.
+    /// (`method::path::world_cache`; biased). None: paths go on. Compiled in only when set.
     pub world_cache: Option<Arc<CacheTable>>,
     /// With resampled light by contribution: the first vertex's light sample reuses the
-    /// previous frame's reservoirs around the pixel's reprojection (`frame::light_reuse`;
+    /// previous frame's reservoirs around the pixel's reprojection (`method::path::light_reuse`;
     /// ReSTIR DI's temporal and spatial reuse; unbiased unless its options say otherwise).
     /// Compiled in only when set.
     pub light_reuse: Option<Arc<ReservoirHistory>>,
@@ -119,10 +119,10 @@ impl PathTracing {
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LearningOptions {
     /// The bounces after the first read a world cache trained as the frames go
-    /// (`frame::world_cache`; biased).
+    /// (`method::path::world_cache`; biased).
     pub world_cache: Option<WorldCacheOptions>,
     /// With resampled light: the first vertex's light sample reuses the previous frame's
-    /// reservoirs where its surface was and around it (`frame::light_reuse`, ReSTIR DI's
+    /// reservoirs where its surface was and around it (`method::path::light_reuse`, ReSTIR DI's
     /// temporal and spatial reuse).
     pub light_reuse: Option<LightReuse>,
 }

@@ -14,7 +14,7 @@
 
 use std::sync::Arc;
 
-use super::pixel_data::PixelRecord;
+use crate::frame::PixelRecord;
 
 /// What a pixel leaves for the cells each frame (world_cache_train.comp's record, one vec4): the
 /// key bits of the cell its training path's second vertex fell in (0: the pixel did not train)
@@ -90,7 +90,7 @@ pub struct CacheTable {
     pub cell_size: f32,
     pub train_stride: u32,
     /// A power of two long.
-    #[serde(with = "super::pod_bytes")]
+    #[serde(with = "crate::frame::pod_bytes")]
     pub slots: Vec<[f32; 4]>,
 }
 

@@ -23,7 +23,7 @@
 
 use std::sync::Arc;
 
-use super::pixel_data::PixelRecord;
+use crate::frame::PixelRecord;
 use crate::scene::camera::Camera;
 
 /// The reuse's settings.
@@ -150,7 +150,7 @@ pub struct ReservoirHistory {
     pub width: u32,
     pub height: u32,
     /// One a pixel, in pixel order.
-    #[serde(with = "super::pod_bytes")]
+    #[serde(with = "crate::frame::pod_bytes")]
     pub records: Vec<ReservoirRecord>,
 }
 
