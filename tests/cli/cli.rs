@@ -508,7 +508,13 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     assert!(out.contains("relative MSE"), "{out}");
     let csv = std::fs::read_to_string(dir.path().join("game.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8);
-    for bad in [["--target-ms", "0"], ["--size", "0x5"]] {
+    assert_eq!(json["method"], "path tracing", "{json}");
+    // The method's flags are the render's: refused as there, naming the flag.
+    for bad in [
+        ["--target-ms", "0"],
+        ["--size", "0x5"],
+        ["--resampled-light", "0"],
+    ] {
         let o = Cli::new("bench").arg("game").arg(bad[0]).arg(bad[1]).run();
         assert!(!o.status.success());
         assert!(stderr(&o).contains(bad[0]), "{}", stderr(&o));

@@ -53,14 +53,20 @@ fn camera(line: &str) -> [f32; 3] {
     [v[0], v[1], v[2]]
 }
 
-#[test]
-fn without_a_display_the_viewer_says_so_and_fails() {
-    let o = platoon()
+/// `platoon view` with `args` on a machine without a display.
+fn headless(args: &[&str]) -> std::process::Output {
+    platoon()
         .arg("view")
+        .args(args)
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn without_a_display_the_viewer_says_so_and_fails() {
+    let o = headless(&[]);
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("no display"), "{err}");
@@ -72,12 +78,7 @@ fn the_viewer_refuses_a_denoiser_the_build_lacks() {
     if cfg!(feature = "oidn") {
         return;
     }
-    let o = platoon()
-        .args(["view", "--denoise", "oidn"])
-        .env_remove("DISPLAY")
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .unwrap();
+    let o = headless(&["--denoise", "oidn"]);
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
@@ -105,30 +106,13 @@ fn the_viewer_refuses_learning_its_method_cannot_do() {
             "is not one of unbiased, biased",
         ),
     ] {
-        let o = platoon()
-            .arg("view")
-            .args(args)
-            .env_remove("DISPLAY")
-            .env_remove("WAYLAND_DISPLAY")
-            .output()
-            .unwrap();
+        let o = headless(args);
         assert!(!o.status.success());
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains(says), "{args:?}: {err}");
     }
     // Learning that holds goes on to the display, which is missing.
-    let o = platoon()
-        .args([
-            "view",
-            "--resampled-light",
-            "4",
-            "--light-reuse",
-            "--world-cache",
-        ])
-        .env_remove("DISPLAY")
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .unwrap();
+    let o = headless(&["--resampled-light", "4", "--light-reuse", "--world-cache"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("no display"), "{err}");
 }

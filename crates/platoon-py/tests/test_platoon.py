@@ -261,12 +261,23 @@ def interrupted(code):
     import signal
     import sys
     import time
-    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    # Ctrl-C as at a terminal: a runner started in the background (nohup, `cmd &` in a script)
+    # passes SIGINT on ignored, and a Python started so never raises KeyboardInterrupt.
+    def default_sigint():
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True,
+                         preexec_fn=default_sigint)
     assert p.stdout.readline().strip() == "rendering"
     time.sleep(1.5)
     sent = time.monotonic()
     p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=60)
+    try:
+        out, _ = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        # Not left rendering behind the tests.
+        p.kill()
+        p.communicate()
+        raise
     assert time.monotonic() - sent < 20, "Ctrl-C waited for the render"
     return p.returncode, out
 

@@ -7,8 +7,6 @@ use std::time::Duration;
 use anyhow::{bail, Result};
 use platoon::core::denoise::Denoiser;
 use platoon::core::measure::{median, percentile};
-use platoon::core::method::path::{PathTracing, ResampledLight};
-use platoon::core::Method;
 use platoon_game::{play, FrameRecord, GameOptions, PlayOptions};
 
 /// `platoon bench game`'s settings.
@@ -44,10 +42,10 @@ pub struct GameArgs {
     /// first device, or oidn in a build with `--features oidn`): its cost joins the frame time the loop holds.
     #[arg(long, default_value = "none")]
     pub denoise: Denoiser,
-    /// Next-event estimation resamples this many candidate lights toward their unshadowed
-    /// contribution (unbiased).
-    #[arg(long)]
-    pub resampled_light: Option<u32>,
+    // The rendering method and its settings (`--method`, the path tracer's --resampled-light,
+    // --kernel...), as `render` and `view` take them.
+    #[command(flatten)]
+    pub method: crate::method_args::MethodArgs,
     /// A game's real-time settings: resampled direct light over 8 candidates and the a-trous
     /// denoiser, unless --resampled-light or --denoise say otherwise (`platoon bench realtime`
     /// measures their error at equal time).
@@ -150,13 +148,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
     game.devices = o.devices.parse().map_err(anyhow::Error::msg)?;
     game.balancer = o.balancer.clone();
     game.driver.denoise = o.denoise;
-    if o.resampled_light == Some(0) {
-        bail!("--resampled-light needs at least one candidate light");
-    }
-    game.driver.method = Method::new(PathTracing {
-        resampled_light: o.resampled_light.map(ResampledLight::new),
-        ..Default::default()
-    });
+    game.driver.method = o.method.method()?;
     if o.realtime {
         game.driver.realtime();
     }
@@ -168,6 +160,7 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
         .available()
         .map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
     let techniques = Techniques {
+        method: game.driver.method.unit().describe(),
         denoise: game.driver.denoise,
         resampled_light: game
             .driver
@@ -305,6 +298,8 @@ pub fn summarize(records: &[FrameRecord], target_ms: f64) -> Summary {
 
 /// What the game rendered with beyond plain path tracing.
 struct Techniques {
+    /// The method and its options (`RenderMethod::describe`).
+    method: String,
     denoise: Denoiser,
     resampled_light: Option<u32>,
     world_cache: bool,
@@ -313,7 +308,7 @@ struct Techniques {
 
 fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
     format!(
-        "game bench: {} frames at {}x{} on {}, target {:.1} ms\n\
+        "game bench: {} frames at {}x{} by {} on {}, target {:.1} ms\n\
          settled after {} frames; then frame time median {:.2} ms, p99 {:.2} ms \
          (render thread {:.2} ms), {:.1}% of frames within +-10% of the target\n\
          samples per frame (median) {}, update {:.2} ms a frame of which {:.1}% hidden behind \
@@ -321,6 +316,7 @@ fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
         s.frames,
         o.size.0,
         o.size.1,
+        t.method,
         o.devices,
         o.target_ms,
         s.settle_frames,
@@ -377,6 +373,7 @@ fn json(o: &GameArgs, t: &Techniques, s: &Summary) -> serde_json::Value {
         "update_ms_median": s.update_ms_median,
         "update_hidden_fraction": s.update_hidden_fraction,
         "idle_percent_median": s.idle_percent_median,
+        "method": t.method,
         "denoise": t.denoise.name(),
         "resampled_light": t.resampled_light,
         "world_cache": t.world_cache,
