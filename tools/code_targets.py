@@ -4,7 +4,8 @@
 fields and its `FrameOptions`' of a name of more than one word, how many source files outside the
 tests name it, and the same for the render options themselves (`FrameOptions`' fields and the
 path loop's knobs, `PathLoop`'s): what adding an option like it touches (target: 4: the table,
-its logic, its shader, its test). Prints one line per measure and a JSON
+its logic, its shader, its test), and the files that list most options of a kind by hand (what
+a new one must join besides). Prints one line per measure and a JSON
 summary last; exits 1 only when a ceiling given with --ceilings is passed (the structure test's
 ratchet: what was reached stays reached).
 Usage: tools/code_targets.py [--ceilings FILE] [repo-root]"""
@@ -69,6 +70,20 @@ def naming_files(root, fields):
         out[field] = sum(1 for t in texts.values() if pattern.search(t))
     return out
 
+def enumerating_files(root, fields):
+    """Source files that name more than half of `fields`, and at least three (a file that
+    treats two options apart is no list): the hand-kept lists a new option of their kind must
+    join (the declaration, its table, a mirror such as the push constants' GLSL block or the
+    Python stub)."""
+    patterns = [re.compile(r"\b" + f + r"\b") for f in fields]
+    out = []
+    for p in source_files(root):
+        text = open(p, encoding="utf-8").read().split("#[cfg(test)]\nmod tests")[0]
+        named = sum(1 for pat in patterns if pat.search(text))
+        if 2 * named > len(fields) and named >= 3:
+            out.append(os.path.relpath(p, root))
+    return sorted(out)
+
 def main(argv):
     ceilings = None
     if len(argv) > 1 and argv[1] == "--ceilings":
@@ -97,6 +112,13 @@ def main(argv):
     option_files = {f: named[f] for f in options + knobs if "_" in f}
     for field, n in sorted(option_files.items(), key=lambda kv: -kv[1]):
         print(f"  {field}: named in {n} source files (target 4)")
+    # The hand-kept lists of each kind of option: what adding one touches beyond its logic,
+    # its shader and its test.
+    enumerating = {}
+    for kind, group in (("frame options", options), ("path loop knobs", knobs)):
+        listed = enumerating_files(root, [f for f in group if "_" in f])
+        enumerating[kind] = len(listed)
+        print(f"files listing most {kind} by hand: {len(listed)}: {', '.join(listed)}")
     summary = {
         "largest_crate_lines": max(crates.values()),
         "crates_over_10k": sorted(n for n, l in crates.items() if l > 10000),
@@ -104,12 +126,13 @@ def main(argv):
         "most_files_naming_a_frame_option": max(files.values()),
         "most_files_naming_a_render_option": max(option_files.values()),
         "render_options_within_4_files": sum(1 for n in option_files.values() if n <= 4),
+        "most_files_listing_one_kind_of_option": max(enumerating.values()),
     }
     print(json.dumps(summary))
     if ceilings is not None:
         passed = []
         for key in ("largest_crate_lines", "frame_params_fields", "most_files_naming_a_frame_option",
-                    "most_files_naming_a_render_option"):
+                    "most_files_naming_a_render_option", "most_files_listing_one_kind_of_option"):
             if summary[key] > ceilings[key]:
                 passed.append(f"{key} {summary[key]} over its ceiling {ceilings[key]}")
         extra = set(summary["crates_over_10k"]) - set(ceilings["crates_over_10k"])
