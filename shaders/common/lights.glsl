@@ -176,14 +176,18 @@ bool sample_one_light(vec3 p, inout Rng rng, out LightSample ls) {
 }
 
 #ifdef LIGHT_SELECT_RIS
-// Resampled importance sampling (Talbot et al. 2005): pc.ris_candidates lights are drawn as
+// Candidate lights per light sample: the path tracer's push word 5 (its `PathPasses::
+// push_words`; only the path tracer compiles LIGHT_SELECT_RIS in).
+uint ris_candidates() { return max(pc.method_words[5], 1u); }
+
+// Resampled importance sampling (Talbot et al. 2005): ris_candidates() lights are drawn as
 // NEE draws one, each weighed by its unshadowed emitted luminance over its pdf, and one is kept
 // in proportion (a weighted reservoir). Its pdf becomes luminance x M / (sum of the weights):
 // the estimator f Le / pdf is then the RIS estimator. With RIS_MIS it is combined with BSDF
 // sampling by MIS weights computed from the candidate's own pdf (Bikker's MIS+RIS). The scene's lights must share a measure
 // (solid angle: emissive triangles and the environment; the tracer refuses punctual lights).
 bool sample_light(vec3 p, inout Rng rng, out LightSample ls) {
-    uint m = max(pc.ris_candidates, 1u);
+    uint m = ris_candidates();
     float wsum = 0.0;
     bool found = false;
     for (uint j = 0u; j < m; j++) {

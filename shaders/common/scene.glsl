@@ -98,11 +98,10 @@ layout(push_constant) uniform Push {
     float rr_survival;
     // Largest component of a contribution after the first bounce, with CLAMP_INDIRECT.
     float clamp_indirect;
-    // Candidates of resampled light selection, with LIGHT_SELECT_RIS.
-    uint ris_candidates;
     // The rendering method's words (MethodPasses::push_words): each method's shaders name
-    // them (IGI: igi/igi.glsl).
-    uint method_words[8];
+    // them (IGI: igi/igi.glsl; the path tracer: path/path.glsl, path/world_cache.glsl and
+    // common/lights.glsl's resampled light).
+    uint method_words[9];
 } pc;
 
 #include "common/scene_arrays.glsl"

@@ -194,7 +194,7 @@ bool reuse_light(Surface s, vec3 t, vec3 b, Bsdf bsdf, vec3 wo, vec3 ng_wo, inou
     q.distance = distance(s.position, F.cam_origin.xyz);
 
     // Source 0: the fresh candidates (path/resampled_light.glsl's), as a reservoir.
-    uint m = max(pc.ris_candidates, 1u);
+    uint m = ris_candidates();
     Reservoir sources[REUSE_MAX_SOURCES];
     ReuseSurface surfaces[REUSE_MAX_SOURCES];
     float fresh_target = 0.0;

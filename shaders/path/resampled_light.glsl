@@ -1,5 +1,5 @@
 // Resampled direct light (RIS_CONTRIBUTION, with LIGHT_SELECT_RIS): the first stage of ReSTIR DI
-// (Bitterli et al. 2020) without reuse. pc.ris_candidates lights are drawn as NEE draws one
+// (Bitterli et al. 2020) without reuse. ris_candidates() lights are drawn as NEE draws one
 // (the power CDF), each weighed by its unshadowed contribution at the shading point (luminance
 // of the BSDF's f cos times its radiance) over its pdf, and one is kept in proportion; it then
 // takes one shadow ray. Its pdf becomes target x M / (sum of the weights), so f Le / pdf is the
@@ -19,7 +19,7 @@ float contribution_target(Bsdf bsdf, vec3 wo, vec3 t, vec3 b, vec3 n, vec3 ng_wo
 // (`wsum`); false when none weighs anything. Light reuse (path/light_reuse.glsl) starts from it.
 bool resample_candidates(vec3 p, Bsdf bsdf, vec3 wo, vec3 t, vec3 b, vec3 n, vec3 ng_wo,
                          inout Rng rng, out LightSample ls, out float kept, out float wsum) {
-    uint m = max(pc.ris_candidates, 1u);
+    uint m = ris_candidates();
     wsum = 0.0;
     kept = 0.0;
     for (uint j = 0u; j < m; j++) {
@@ -41,6 +41,6 @@ bool sample_light_toward(vec3 p, Bsdf bsdf, vec3 wo, vec3 t, vec3 b, vec3 n, vec
     float kept, wsum;
     if (!resample_candidates(p, bsdf, wo, t, b, n, ng_wo, rng, ls, kept, wsum)) return false;
     ls.mis_pdf = ls.pdf;
-    ls.pdf = kept * float(max(pc.ris_candidates, 1u)) / wsum;
+    ls.pdf = kept * float(ris_candidates()) / wsum;
     return ls.pdf > 0.0;
 }

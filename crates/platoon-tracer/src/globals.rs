@@ -103,7 +103,7 @@ impl Globals {
 
 /// Push-constant words a rendering method has for its options (`Push::method`; its shaders
 /// name them).
-pub const METHOD_WORDS: usize = 8;
+pub const METHOD_WORDS: usize = 9;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -122,27 +122,20 @@ pub struct Push {
     pub rr_survival: f32,
     /// FrameParams::clamp_indirect (read with CLAMP_INDIRECT).
     pub clamp_indirect: f32,
-    /// The path tracer's `ResampledLight::candidates` (read with LIGHT_SELECT_RIS).
-    pub ris_candidates: u32,
     /// The rendering method's words (`MethodPasses::push_words`; its shaders name them).
     pub method: [u32; METHOD_WORDS],
 }
 
 impl Push {
     /// The words every pass of a frame of `params` reads the same: the root block's address
-    /// `globals`, the path loop's roulette and clamp, the resampled light's candidates and the
-    /// method's own words; the band's lines, pixels and samples are left for its passes.
+    /// `globals`, the path loop's roulette and clamp and the method's own words; the band's
+    /// lines, pixels and samples are left for its passes.
     pub fn of_frame(params: &FrameParams, globals: u64, method: [u32; METHOD_WORDS]) -> Push {
         let path_loop = &params.path_loop;
         Push {
             globals,
             rr_survival: path_loop.rr_fixed.unwrap_or(path_loop.rr_survival),
             clamp_indirect: path_loop.clamp_indirect.unwrap_or(f32::INFINITY),
-            ris_candidates: params
-                .method
-                .path()
-                .resampled_light
-                .map_or(1, |r| r.candidates),
             method,
             ..Push::default()
         }

@@ -82,6 +82,9 @@ impl MethodPasses for PathPasses {
         // The ambient-occlusion pass's distance (path.glsl's ao_distance).
         words[1] = params.options.ao_distance.to_bits();
         WorldCachePasses::push_words(params, &mut words);
+        // Resampled light's candidates (common/lights.glsl's ris_candidates).
+        let resampled = params.method.path().resampled_light;
+        words[5] = resampled.map_or(1, |r| r.candidates);
         words
     }
 
