@@ -105,6 +105,13 @@ impl Globals {
 /// name them).
 pub const METHOD_WORDS: usize = 9;
 
+/// A method's push words: `first`, then zeros.
+pub fn method_words(first: &[u32]) -> [u32; METHOD_WORDS] {
+    let mut words = [0; METHOD_WORDS];
+    words[..first.len()].copy_from_slice(first);
+    words
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Push {

@@ -34,7 +34,7 @@ pub use method::{kernel_label, kernel_spirv, path_kernel};
 /// (`register`, `DeviceMethodKind`). The built-in methods are written against it too.
 pub mod device {
     pub use crate::buffer::GpuBuffer;
-    pub use crate::globals::{Push, METHOD_WORDS};
+    pub use crate::globals::{method_words, Push, METHOD_WORDS};
     pub use crate::gpu::Gpu;
     pub use crate::method::registry::{refusal, register, DeviceMethodKind};
     pub use crate::method::{ensure, path_passes, MethodPasses, Recorder};

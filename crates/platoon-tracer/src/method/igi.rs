@@ -14,7 +14,7 @@ use platoon_core::method::igi::{IgiOptions, IgiTexel, IgiVertex, Vpl};
 use super::{ensure, MethodPasses, Recorder};
 use crate::buffer::GpuBuffer;
 use crate::dispatch::record_dispatch;
-use crate::globals::{Push, METHOD_WORDS};
+use crate::globals::{method_words, Push, METHOD_WORDS};
 use crate::gpu::Gpu;
 use crate::Result;
 
@@ -90,16 +90,14 @@ impl MethodPasses for IgiPasses {
     /// passes fill in their VPL range.
     fn push_words(&self, params: &FrameParams) -> [u32; METHOD_WORDS] {
         let o = options(params);
-        [
+        method_words(&[
             o.paths,
             o.bounces,
             o.min_distance.to_bits(),
             o.downsample,
             o.interleave[0],
             o.interleave[1],
-            0,
-            0,
-        ]
+        ])
     }
 
     /// A filtered gather adds onto the span's texels.

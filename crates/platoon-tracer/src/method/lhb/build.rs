@@ -9,7 +9,7 @@ use super::state::{
     MAX_GROUPS_X, PREFIX, RASTER, STAT_LAYERS, STAT_QUEUED,
 };
 use crate::dispatch::record_dispatch;
-use crate::globals::Push;
+use crate::globals::{method_words, Push};
 use crate::method::Recorder;
 use crate::Result;
 use platoon_core::method::lhb::RasterVariant;
@@ -30,7 +30,7 @@ impl LhbPasses {
         let capacity = self.queue_capacity;
         let with = |first: u32, [begin, end]: [u32; 2]| {
             let mut p = *push;
-            p.method = [pass, first, capacity, begin, end, 0, 0, 0];
+            p.method = method_words(&[pass, first, capacity, begin, end]);
             p
         };
         if pass != FILL {
@@ -111,7 +111,7 @@ impl LhbPasses {
             self.build.time += rec.gpu.timed(|d, cb| unsafe {
                 for (stage, groups) in [(0, rows), (1, dirs), (2, 1), (3, rows)] {
                     let mut p = *push;
-                    p.method = [stage, 0, 0, 0, 0, 0, 0, 0];
+                    p.method = method_words(&[stage]);
                     record_dispatch(d, cb, prefix, &p, (groups, 1));
                 }
             })?;
