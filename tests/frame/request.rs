@@ -445,6 +445,37 @@ fn the_metadata_says_the_methods_light_selection() {
     assert_eq!(lights.unwrap().1, "power");
 }
 
+/// A still of the path tracer lets the host's copy of the scene's large arrays go once its
+/// devices hold them (a big scene is not held twice); a method that reads the scene on the
+/// host (vertex links' preparation) keeps it.
+#[test]
+fn only_a_method_reading_the_scene_on_its_devices_only_gives_up_the_hosts_copy() {
+    use platoon::core::flatten::arrays::SceneArray;
+    let request = small();
+    let options = request.tracer_options().unwrap();
+    for (name, kept) in [("path", false), ("links", true)] {
+        let mut prepared = prepare(
+            platoon::core::scene::cornell::scene(),
+            platoon::EnvChoice::Scene,
+        );
+        assert!(!prepared.gpu.bytes_of(SceneArray::Triangles).is_empty());
+        let method = registry::kind(name)
+            .unwrap()
+            .build(&Settings::default())
+            .unwrap();
+        let _tracers = platoon::Tracers::for_still(
+            &options,
+            &request.balancer,
+            &mut prepared.gpu,
+            &method,
+            &[],
+        )
+        .unwrap();
+        let triangles = prepared.gpu.bytes_of(SceneArray::Triangles);
+        assert_eq!(!triangles.is_empty(), kept, "{name}");
+    }
+}
+
 /// A still on one device says how far it is as its passes end (what the CLI's progress bar
 /// and Python's callback show), though it renders through the renderer on a worker thread:
 /// increasing sample counts up to all of them, and the image of a render that heard nothing.

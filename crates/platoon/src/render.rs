@@ -224,11 +224,11 @@ impl Tracers {
         )
     }
 
-    /// The tracers of a still of `method` with `aovs`, holding `scene`. The path tracer reads
-    /// the scene on its devices only, so `scene` gives up its host copy of each large array
-    /// once every tracer holds it (`Tracer::new_releasing`) and a big scene is not held twice;
-    /// other methods (links and LHB read it on the host) and motion vectors (the frame's
-    /// geometry) keep it.
+    /// The tracers of a still of `method` with `aovs`, holding `scene`. A method that reads
+    /// the scene on its devices only (`RenderMethod::reads_scene_on_host`: the path tracer's)
+    /// lets `scene` give up its host copy of each large array once every tracer holds it
+    /// (`Tracer::new_releasing`), so a big scene is not held twice; the others (links and LHB
+    /// read it on the host) and motion vectors (the frame's geometry) keep it.
     pub fn for_still(
         options: &[TracerOptions],
         balancer: &str,
@@ -236,7 +236,8 @@ impl Tracers {
         method: &platoon_core::method::Method,
         aovs: &[platoon_core::frame::aov::Aov],
     ) -> Result<Tracers> {
-        if !method.is_path_tracing() || aovs.contains(&platoon_core::frame::aov::Aov::Motion) {
+        let host = method.unit().reads_scene_on_host();
+        if host || aovs.contains(&platoon_core::frame::aov::Aov::Motion) {
             return Tracers::new(options, balancer, scene);
         }
         let tracers =

@@ -81,6 +81,12 @@ pub trait RenderMethod {
     fn metadata(&self) -> Vec<(String, String)> {
         Vec::new()
     }
+    /// Whether it reads the scene on the host beside its devices (vertex links' and layered hit
+    /// buffers' preparations do): a still of a method that does not lets the host's copy of
+    /// the large arrays go once its devices hold them.
+    fn reads_scene_on_host(&self) -> bool {
+        true
+    }
     /// The rules of its options that need no frame (what a request refuses before it loads
     /// anything): the setting it is about and the problem.
     fn check_options(&self) -> Result<(), (&'static str, String)> {

@@ -140,6 +140,10 @@ impl RenderMethod for PathTracing {
     fn metadata(&self) -> Vec<(String, String)> {
         vec![("path_kernel".into(), self.kernel.label())]
     }
+    /// Its kernels read the scene on the devices only.
+    fn reads_scene_on_host(&self) -> bool {
+        false
+    }
     fn check_options(&self) -> Result<(), (&'static str, String)> {
         if let Some(Err(e)) = self.resampled_light.map(|r| r.check()) {
             return Err(("resampled_light", e));
