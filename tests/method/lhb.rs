@@ -132,11 +132,11 @@ fn the_devices_buffers_list_what_the_rays_find_with_either_rasterizer() {
 }
 
 fn report_line(r: &MethodReport) -> String {
-    LhbBuild::of(r).expect("the build's report").line()
+    (r.value::<LhbBuild>()).expect("the build's report").line()
 }
 
 fn report_line_lost(r: &MethodReport) -> u64 {
-    LhbBuild::of(r).expect("the build's report").lost
+    (r.value::<LhbBuild>()).expect("the build's report").lost
 }
 
 /// A quad of two triangles seen by the four octahedral directions facing it at 512 x 512: each

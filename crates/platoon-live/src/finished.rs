@@ -57,7 +57,7 @@ impl FrameStats {
     /// What the frame taught, as the method's type `T` (None: it learns nothing, or other
     /// things).
     pub fn learned<T: ReportValue>(&self) -> Option<T> {
-        self.learned.as_ref()?.read::<T>()?.ok()
+        self.learned.as_ref()?.value::<T>()
     }
 
     /// Seconds each line took, when one tracer rendered the whole frame: its band's time spread

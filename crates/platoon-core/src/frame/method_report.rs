@@ -39,6 +39,12 @@ impl MethodReport {
         })
     }
 
+    /// The report as `T` where it is one and its bytes read (what a reader that only shows or
+    /// measures it wants: anything else is no `T`).
+    pub fn value<T: ReportValue>(&self) -> Option<T> {
+        self.read::<T>()?.ok()
+    }
+
     pub fn is_empty(&self) -> bool {
         self.kind.is_empty()
     }
@@ -90,5 +96,8 @@ mod tests {
         assert_eq!(again, r);
         let cut = MethodReport::from_parts(kind.into(), bytes[..bytes.len() - 1].to_vec());
         assert!(cut.read::<Built>().unwrap().is_err());
+        // A value is the report's where it reads, none where it does not.
+        assert_eq!(r.value::<Built>(), Some(built));
+        assert!(cut.value::<Built>().is_none() && r.value::<Other>().is_none());
     }
 }

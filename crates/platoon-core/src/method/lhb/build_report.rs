@@ -2,7 +2,7 @@
 //! made and cost on the device, and the lookups of the image passes; the image's metadata and
 //! the lines a user reads are made from it here.
 
-use crate::frame::{MethodReport, ReportValue};
+use crate::frame::ReportValue;
 use crate::method::render_method::Report;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -51,11 +51,6 @@ impl LhbBuild {
             self.seconds,
             self.attempts
         )
-    }
-
-    /// The report's build, if it holds one (an unreadable one is none).
-    pub fn of(report: &MethodReport) -> Option<LhbBuild> {
-        report.read::<LhbBuild>().and_then(Result::ok)
     }
 
     pub fn metadata(&self) -> Vec<(String, String)> {

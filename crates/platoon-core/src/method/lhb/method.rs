@@ -92,11 +92,13 @@ impl RenderMethod for Lhb {
     }
 
     fn report(&self, report: &MethodReport) -> Report {
-        LhbBuild::of(report).map(|b| b.report()).unwrap_or_default()
+        (report.value::<LhbBuild>())
+            .map(|b| b.report())
+            .unwrap_or_default()
     }
 
     fn report_metadata(&self, report: &MethodReport) -> Vec<(String, String)> {
-        LhbBuild::of(report)
+        (report.value::<LhbBuild>())
             .map(|b| b.metadata())
             .unwrap_or_default()
     }

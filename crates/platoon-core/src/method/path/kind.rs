@@ -145,8 +145,7 @@ impl MethodKind for PathKind {
             s.set("world_cache", Value::Switch(true));
         }
         if let Some(r) = learning.light_reuse {
-            let mode = if r.unbiased { "unbiased" } else { "biased" };
-            s.set("light_reuse", Value::Word(mode.into()));
+            s.set("light_reuse", Value::Word(r.mode().into()));
         }
         s
     }

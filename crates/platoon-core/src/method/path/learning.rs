@@ -28,13 +28,6 @@ impl ReportValue for Learned {
     const KIND: &'static str = "path.learned";
 }
 
-impl Learned {
-    /// What `report` says a frame taught, where it is the path tracer's.
-    pub fn of(report: &MethodReport) -> Option<Learned> {
-        report.read::<Learned>().and_then(Result::ok)
-    }
-}
-
 /// What is wrong with what `path` learns over frames: the setting it is about
 /// (`world_cache`, `light_reuse`) and the problem. One rule for a request (`Request::validate`),
 /// the settings and the frame driver.
@@ -206,7 +199,9 @@ mod tests {
         };
         let pixels = PixelData::of(&[trained, TrainingRecord::default()])
             .with(&[ReservoirRecord::default(); 2]);
-        let learned = Learned::of(&learning.learn(&pixels, &params, 0).unwrap()).unwrap();
+        let learned = (learning.learn(&pixels, &params, 0).unwrap())
+            .value::<Learned>()
+            .unwrap();
         assert_eq!(learned.world_cache.unwrap().records, 1);
         assert_eq!(learned.light_reuse, Some(ReuseStats::default()));
         learning.give(&mut params.method, None);

@@ -75,6 +75,15 @@ impl LightReuse {
         Ok(())
     }
 
+    /// Its mode's name, which `from_str` reads back (`unbiased`, `biased`).
+    pub fn mode(&self) -> &'static str {
+        if self.unbiased {
+            "unbiased"
+        } else {
+            "biased"
+        }
+    }
+
     /// The kernel option's label (the view's title and `bench game` name the biased one).
     pub fn label(&self) -> &'static str {
         if self.unbiased {

@@ -168,7 +168,7 @@ impl RenderMethod for PathTracing {
     }
     /// What a game loop's frame taught (`Learned`): the cache's cells, the light reused.
     fn report(&self, report: &MethodReport) -> Report {
-        let Some(learned) = Learned::of(report) else {
+        let Some(learned) = report.value::<Learned>() else {
             return Report::default();
         };
         let mut lines = Vec::new();

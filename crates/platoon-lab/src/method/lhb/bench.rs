@@ -56,7 +56,8 @@ fn device_time(band: &platoon::core::frame::Band) -> Duration {
 
 /// What the build of `band` made and cost (its report).
 fn build(band: &platoon::core::frame::Band) -> Result<LhbBuild> {
-    LhbBuild::of(&band.method_report).context("the band reported no layered hit buffers' build")
+    (band.method_report.value::<LhbBuild>())
+        .context("the band reported no layered hit buffers' build")
 }
 
 /// Measures `scene` with every one of `settings` on device 0, frames of `size` x `size` at `spp`.
