@@ -77,7 +77,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Gl
     vec4 env_color;    // rgb, w = integral of the env sampling function
     uvec4 dims;        // width, height, env width, env height
     uvec4 counts;      // lights, instances, top-level root item, env kind (0 none, 1 constant, 2 map)
-    uvec4 params;      // max depth, frame, seed, russian-roulette start depth
+    uvec4 params;      // frame, seed (the path loop's depths are push words)
     vec4 scene_sphere; // the scene's bounding sphere: centre, radius
     uvec4 crop;        // the frame's first pixel in the camera's image, that image's size
 };
@@ -93,16 +93,16 @@ layout(push_constant) uniform Push {
     uint sample_end;
     // Lines y0, y0 + stride, y0 + 2 * stride, ... below y1 (1: a contiguous band).
     uint stride;
-    // Russian-roulette survival scale in (0, 1] (FrameParams::rr_survival), or with RR_FIXED
-    // the fixed survival probability (FrameParams::rr_fixed).
-    float rr_survival;
-    // Largest component of a contribution after the first bounce, with CLAMP_INDIRECT.
-    float clamp_indirect;
+    // The path loop's words: read by the accessors of generated/loop_words.glsl, which the
+    // tracer makes from the loop's table (LOOP_WORDS, platoon-core's frame module).
+    uint loop_words[6];
     // The rendering method's words (MethodPasses::push_words): each method's shaders name
     // them (IGI: igi/igi.glsl; the path tracer: path/path.glsl, path/world_cache.glsl and
     // common/lights.glsl's resampled light).
     uint method_words[9];
 } pc;
+
+#include "generated/loop_words.glsl"
 
 #include "common/scene_arrays.glsl"
 
@@ -155,10 +155,8 @@ uint instance_count() { return F.counts.y; }
 uint tlas_root() { return F.counts.z; }
 uint env_kind() { return F.counts.w; }
 uvec2 env_size() { return F.dims.zw; }
-uint max_depth() { return F.params.x; }
-uint frame_index() { return F.params.y; }
-uint render_seed() { return F.params.z; }
-uint rr_depth() { return F.params.w; }
+uint frame_index() { return F.params.x; }
+uint render_seed() { return F.params.y; }
 // A frame pixel's place in the image the camera frames (a border render is a window of it,
 // FrameParams::crop): camera rays and random numbers are the image pixel's.
 uvec2 image_pixel(uvec2 pixel) { return pixel + F.crop.xy; }

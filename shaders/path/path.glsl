@@ -54,7 +54,7 @@ float emission_weight(bool after_delta, float bsdf_pdf, float light_pdf) {
 vec3 clamped_light(vec3 c, uint depth) {
 #ifdef CLAMP_INDIRECT
     float m = max3(c);
-    if (depth >= 1u && m > pc.clamp_indirect) c *= pc.clamp_indirect / m;
+    if (depth >= 1u && m > clamp_indirect()) c *= clamp_indirect() / m;
 #endif
     return c;
 }
@@ -463,9 +463,9 @@ bool path_shade(inout Path p, bool found, Hit hit, inout Rng rng, out ShadowRay 
         p.throughput *= 2.0;
 #else
 #ifdef RR_FIXED
-        float survive = pc.rr_survival;
+        float survive = rr_survival();
 #else
-        float survive = min(max3(p.throughput) * pc.rr_survival, 0.95);
+        float survive = min(max3(p.throughput) * rr_survival(), 0.95);
 #endif
         if (rng_next(rng) >= survive) return false;
         p.throughput /= survive;

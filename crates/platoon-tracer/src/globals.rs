@@ -3,7 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use platoon_core::flatten::arrays::SceneArray;
-use platoon_core::frame::FrameParams;
+use platoon_core::frame::{FrameParams, LOOP_WORDS};
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -91,12 +91,7 @@ impl Globals {
         g.dims[0] = params.width;
         g.dims[1] = params.height;
         g.crop = [crop.x, crop.y, crop.image_width, crop.image_height];
-        g.params = [
-            params.path_loop.max_depth.max(1),
-            params.frame,
-            params.options.seed,
-            params.path_loop.rr_depth,
-        ];
+        g.params = [params.frame, params.options.seed, 0, 0];
         g
     }
 }
@@ -124,31 +119,58 @@ pub struct Push {
     pub sample_begin: u32,
     pub sample_end: u32,
     pub stride: u32,
-    /// FrameParams::rr_survival, or with RR_FIXED the fixed survival probability (a push
-    /// constant: read per bounce).
-    pub rr_survival: f32,
-    /// FrameParams::clamp_indirect (read with CLAMP_INDIRECT).
-    pub clamp_indirect: f32,
+    /// The path loop's words (`LOOP_WORDS`, then zeros), read through the accessors
+    /// `loop_words_glsl` writes.
+    pub loop_words: [u32; PATH_LOOP_WORDS],
     /// The rendering method's words (`MethodPasses::push_words`; its shaders name them).
     pub method: [u32; METHOD_WORDS],
 }
 
 impl Push {
     /// The words every pass of a frame of `params` reads the same: the root block's address
-    /// `globals`, the path loop's roulette and clamp and the method's own words; the band's
-    /// lines, pixels and samples are left for its passes.
+    /// `globals`, the path loop's words and the method's own; the band's lines, pixels and
+    /// samples are left for its passes.
     pub fn of_frame(params: &FrameParams, globals: u64, method: [u32; METHOD_WORDS]) -> Push {
-        let path_loop = &params.path_loop;
+        let mut loop_words = [0; PATH_LOOP_WORDS];
+        for (word, declared) in loop_words.iter_mut().zip(LOOP_WORDS) {
+            *word = (declared.of)(&params.path_loop);
+        }
         Push {
             globals,
-            rr_survival: path_loop.rr_fixed.unwrap_or(path_loop.rr_survival),
-            clamp_indirect: path_loop.clamp_indirect.unwrap_or(f32::INFINITY),
+            loop_words,
             method,
             ..Push::default()
         }
     }
 }
 
+/// Push words for the path loop (`LOOP_WORDS` fills the first): room for two knobs more
+/// without a new block.
+pub const PATH_LOOP_WORDS: usize = 6;
+const _: () = assert!(LOOP_WORDS.len() <= PATH_LOOP_WORDS);
+
+/// Where the kernel includes `loop_words_glsl` from (after the push block,
+/// shaders/common/scene.glsl): a source made here, not a file of shaders/.
+pub(crate) const LOOP_WORDS_INCLUDE: &str = "generated/loop_words.glsl";
+
+/// The GLSL accessor of each of the path loop's words, by its name in `LOOP_WORDS`
+/// (`uint max_depth()`, `float rr_survival()`), reading `pc.loop_words`.
+pub(crate) fn loop_words_glsl() -> String {
+    let mut glsl = String::from(
+        "// Made by crates/platoon-tracer/src/globals.rs (loop_words_glsl) from the path loop's\n\
+         // words, crates/platoon-core/src/frame/path_loop.rs (LOOP_WORDS).\n",
+    );
+    for (i, word) in LOOP_WORDS.iter().enumerate() {
+        let read = format!("pc.loop_words[{i}]");
+        let (ty, value) = match word.float {
+            true => ("float", format!("uintBitsToFloat({read})")),
+            false => ("uint", read),
+        };
+        glsl.push_str(&format!("{ty} {}() {{ return {value}; }}\n", word.name));
+    }
+    glsl
+}
+
 const _: () = assert!(std::mem::size_of::<Globals>() == 176 + 10 * 16);
 // Must match the push-constant block of shaders/scene.glsl.
-const _: () = assert!(std::mem::size_of::<Push>() == 80);
+const _: () = assert!(std::mem::size_of::<Push>() == 96);

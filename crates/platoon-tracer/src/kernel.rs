@@ -17,9 +17,18 @@ use crate::{Error, Result, VkContext};
 /// its defines.
 const SOURCES: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
-/// Whether shaders/ has a file named `name`.
+/// The sources made here rather than kept in shaders/ (what a table of the code declares,
+/// which a hand-kept GLSL mirror would repeat): the path loop's accessors.
+fn generated_sources() -> [(&'static str, String); 1] {
+    [(
+        crate::globals::LOOP_WORDS_INCLUDE,
+        crate::globals::loop_words_glsl(),
+    )]
+}
+
+/// Whether shaders/ has a file named `name`, or the tracer makes one (`generated_sources`).
 pub(crate) fn built_in_source(name: &str) -> bool {
-    SOURCES.iter().any(|(n, _)| *n == name)
+    SOURCES.iter().any(|(n, _)| *n == name) || generated_sources().iter().any(|(n, _)| *n == name)
 }
 
 /// The sources of methods registered from outside platoon's crates (`method::registry`), by
@@ -53,21 +62,33 @@ fn sources() -> Result<Vec<(&'static str, String)>> {
 
 /// shaders/'s files: the embedded ones, or with $PLATOON_SHADER_DIR set, the files of that
 /// folder read now (kernel work on lavapipe then needs no rebuild per edit; the SPIR-V cache is
-/// keyed by the text, so edits are never served stale). As many as `SOURCES`, in its order.
+/// keyed by the text, so edits are never served stale); then the generated ones. As many as
+/// `built_in_count`, `SOURCES`' in its order first.
 fn built_in_sources() -> Result<Vec<(&'static str, String)>> {
-    let Some(dir) = std::env::var_os("PLATOON_SHADER_DIR") else {
-        return Ok(SOURCES.iter().map(|(n, s)| (*n, s.to_string())).collect());
+    let mut sources: Vec<(&'static str, String)> = match std::env::var_os("PLATOON_SHADER_DIR") {
+        None => SOURCES.iter().map(|(n, s)| (*n, s.to_string())).collect(),
+        Some(dir) => {
+            let dir = PathBuf::from(dir);
+            SOURCES
+                .iter()
+                .map(|(n, _)| {
+                    let path = dir.join(n);
+                    std::fs::read_to_string(&path)
+                        .map(|s| (*n, s))
+                        .map_err(|e| {
+                            Error::Shader(format!("{} (PLATOON_SHADER_DIR): {e}", path.display()))
+                        })
+                })
+                .collect::<Result<_>>()?
+        }
     };
-    let dir = PathBuf::from(dir);
-    SOURCES
-        .iter()
-        .map(|(n, _)| {
-            let path = dir.join(n);
-            std::fs::read_to_string(&path)
-                .map(|s| (*n, s))
-                .map_err(|e| Error::Shader(format!("{} (PLATOON_SHADER_DIR): {e}", path.display())))
-        })
-        .collect()
+    sources.extend(generated_sources());
+    Ok(sources)
+}
+
+/// How many sources `built_in_sources` gives.
+fn built_in_count() -> usize {
+    SOURCES.len() + generated_sources().len()
 }
 
 /// A hash of the kernel's sources (embedded, or $PLATOON_SHADER_DIR's): what renders cached
@@ -165,7 +186,7 @@ pub(crate) fn spirv(entry: &str, defines: &[&str]) -> Result<Vec<u32>> {
     // A kernel of shaders/ includes only shaders/'s files: its key leaves out the registered
     // methods' (their registration does not make it compile again).
     let keyed = if built_in_source(entry) {
-        &sources[..SOURCES.len()]
+        &sources[..built_in_count()]
     } else {
         &sources[..]
     };

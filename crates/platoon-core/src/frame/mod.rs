@@ -18,7 +18,9 @@ pub use crate::balance::Span;
 pub use film_state::FilmState;
 pub use method_report::{MethodReport, ReportValue};
 pub use options::{FrameOptions, DEFAULT_AO_DISTANCE};
-pub use path_loop::{Knob, KnobValue, PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, KNOBS};
+pub use path_loop::{
+    Knob, KnobValue, LoopWord, PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, KNOBS, LOOP_WORDS,
+};
 pub use pixel_data::{PixelData, PixelRecord};
 pub use pixel_filter::PixelFilter;
 pub use platoon_aov::{aov, cryptomatte, hit_geometry, light_pass, motion};
