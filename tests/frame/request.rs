@@ -684,56 +684,71 @@ fn a_transparent_film_leaves_the_sky_seen_directly_out_and_says_where() {
     assert!(three.alpha == clear.alpha && three.image == clear.image);
 }
 
-/// The Python stub's `render` gives each option of the request's table the type its kind takes
-/// in Python and the default request's value (`| None = None` where the request leaves it
-/// unset): the stub is written by hand, and cannot drift from the table unseen.
+/// The Python stub's `render` keywords of the request's table, each with the type its kind
+/// takes in Python and the default request's value (`| None = None` where the request leaves
+/// it unset), in the table's order: made here, between the stub's `<made from the request's
+/// table>` lines, so a new option of the table is not written into the stub by hand. With
+/// `PLATOON_BLESS=1` the test writes them (`PLATOON_BLESS=1 cargo test -p platoon --test
+/// request python_stub`); without, it fails where they differ.
 #[test]
-fn the_python_stub_gives_each_table_option_its_type_and_default() {
-    use platoon::core::method::settings::ValueKind;
+fn the_python_stubs_table_keywords_are_made_from_the_table() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../platoon-py/python/platoon/__init__.pyi");
     let stub = std::fs::read_to_string(&path).unwrap();
-    let signature = &stub[stub.find("def render(").unwrap()..stub.find(") -> Rendered:").unwrap()];
-    let base = Request::default();
-    for o in platoon::request::options::OPTIONS {
-        let line = signature
-            .lines()
-            .map(str::trim)
-            .find(|l| l.starts_with(&format!("{}:", o.key)))
-            .unwrap_or_else(|| panic!("the stub's render has no {}", o.key));
-        let (typed, default) = line
-            .trim_end_matches(',')
-            .split_once(':')
-            .and_then(|(_, rest)| rest.split_once('='))
-            .map(|(t, d)| (t.trim(), d.trim()))
-            .unwrap_or_else(|| panic!("{line}: not `key: type = default`"));
-        // (A crop is given as a tuple; the table's kind is how the command line writes it.)
-        let python = match (o.key, o.kind) {
-            ("crop", _) => "tuple[int, int, int, int]",
-            (_, ValueKind::Count) => "int",
-            (_, ValueKind::Number) => "float",
-            (_, ValueKind::Switch) => "bool",
-            (_, ValueKind::Tile) => "tuple[int, int]",
-            (_, ValueKind::Word(_) | ValueKind::Mode(_)) => "str",
-        };
-        let (expected_type, expected_default) = match (o.get)(&base) {
-            None => (format!("{python} | None"), "None".to_string()),
-            Some(v) => (
-                python.to_string(),
-                match v {
-                    Value::Count(n) => n.to_string(),
-                    Value::Number(x) => format!("{x:?}"),
-                    Value::Switch(on) => if on { "True" } else { "False" }.to_string(),
-                    Value::Tile([m, n]) => format!("({m}, {n})"),
-                    Value::Word(w) => format!("{w:?}"),
-                },
-            ),
-        };
-        assert_eq!(
-            (typed, default),
-            (expected_type.as_str(), expected_default.as_str()),
-            "{}",
-            o.key
+    let begin = "    # <made from the request's table: PLATOON_BLESS=1 cargo test -p platoon --test request python_stub>\n";
+    let end = "    # </made from the request's table>\n";
+    let (Some(from), Some(to)) = (stub.find(begin), stub.find(end)) else {
+        panic!(
+            "{}: no lines {begin:?} and {end:?} in render",
+            path.display()
         );
+    };
+    let from = from + begin.len();
+    let made: String = platoon::request::options::OPTIONS
+        .iter()
+        .map(|o| format!("    {}: {},\n", o.key, python_keyword(o)))
+        .collect();
+    if stub[from..to] == made {
+        return;
+    }
+    if std::env::var_os("PLATOON_BLESS").is_some() {
+        let written = format!("{}{made}{}", &stub[..from], &stub[to..]);
+        let tmp = path.with_extension("pyi.tmp");
+        std::fs::write(&tmp, written).unwrap();
+        std::fs::rename(&tmp, &path).unwrap();
+        return;
+    }
+    panic!(
+        "{}: render's keywords of the table are\n{}\nwhere the table makes\n{made}\
+         (PLATOON_BLESS=1 cargo test -p platoon --test request python_stub writes them)",
+        path.display(),
+        &stub[from..to]
+    );
+}
+
+/// `TYPE = DEFAULT` of a table option as a keyword of the Python stub's `render`.
+fn python_keyword(o: &platoon::request::options::RequestOption) -> String {
+    use platoon::core::method::settings::ValueKind;
+    // (A crop is given as a tuple; the table's kind is how the command line writes it.)
+    let python = match (o.key, o.kind) {
+        ("crop", _) => "tuple[int, int, int, int]",
+        (_, ValueKind::Count) => "int",
+        (_, ValueKind::Number) => "float",
+        (_, ValueKind::Switch) => "bool",
+        (_, ValueKind::Tile) => "tuple[int, int]",
+        (_, ValueKind::Word(_) | ValueKind::Mode(_)) => "str",
+    };
+    match (o.get)(&Request::default()) {
+        None => format!("{python} | None = None"),
+        Some(v) => {
+            let default = match v {
+                Value::Count(n) => n.to_string(),
+                Value::Number(x) => format!("{x:?}"),
+                Value::Switch(on) => if on { "True" } else { "False" }.to_string(),
+                Value::Tile([m, n]) => format!("({m}, {n})"),
+                Value::Word(w) => format!("{w:?}"),
+            };
+            format!("{python} = {default}")
+        }
     }
 }
