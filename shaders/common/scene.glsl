@@ -77,7 +77,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Gl
     vec4 env_color;    // rgb, w = integral of the env sampling function
     uvec4 dims;        // width, height, env width, env height
     uvec4 counts;      // lights, instances, top-level root item, env kind (0 none, 1 constant, 2 map)
-    uvec4 params;      // frame, seed (the path loop's depths are push words)
+    uvec4 params;      // frame (the options the kernel reads are push words, pc.frame_words)
     vec4 scene_sphere; // the scene's bounding sphere: centre, radius
     uvec4 crop;        // the frame's first pixel in the camera's image, that image's size
 };
@@ -93,16 +93,17 @@ layout(push_constant) uniform Push {
     uint sample_end;
     // Lines y0, y0 + stride, y0 + 2 * stride, ... below y1 (1: a contiguous band).
     uint stride;
-    // The path loop's words: read by the accessors of generated/loop_words.glsl, which the
-    // tracer makes from the loop's table (LOOP_WORDS, platoon-core's frame module).
-    uint loop_words[6];
+    // What the kernel reads of the frame's options and path loop: read by the accessors of
+    // generated/frame_words.glsl (a function per word, by its name there), which the
+    // tracer makes from their tables (OPTION_WORDS, LOOP_WORDS: platoon-core's frame module).
+    uint frame_words[8];
     // The rendering method's words (MethodPasses::push_words): each method's shaders name
     // them (IGI: igi/igi.glsl; the path tracer: path/path.glsl, path/world_cache.glsl and
     // common/lights.glsl's resampled light).
     uint method_words[9];
 } pc;
 
-#include "generated/loop_words.glsl"
+#include "generated/frame_words.glsl"
 
 #include "common/scene_arrays.glsl"
 
@@ -156,7 +157,6 @@ uint tlas_root() { return F.counts.z; }
 uint env_kind() { return F.counts.w; }
 uvec2 env_size() { return F.dims.zw; }
 uint frame_index() { return F.params.x; }
-uint render_seed() { return F.params.y; }
 // A frame pixel's place in the image the camera frames (a border render is a window of it,
 // FrameParams::crop): camera rays and random numbers are the image pixel's.
 uvec2 image_pixel(uvec2 pixel) { return pixel + F.crop.xy; }

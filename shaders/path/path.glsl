@@ -26,8 +26,6 @@
 // The megakernel's push words (PathPasses::push_words in crates/platoon-tracer/src/method/path.rs):
 // how many turns the loop-limit canary takes (2).
 uint loop_canary() { return pc.method_words[0]; }
-// ... and the ambient-occlusion pass's distance (FrameParams::ao_distance, aov.glsl).
-float ao_distance() { return uintBitsToFloat(pc.method_words[1]); }
 // stats[STAT_CUT_SHORT]: pixels whose pass the megakernel could not finish (scene.glsl's Stats).
 const uint STAT_CUT_SHORT = 1u;
 // A pixel's accumulation w: 0 rendering; PIXEL_CUT_SHORT its megakernel pass ran past the

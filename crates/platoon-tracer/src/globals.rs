@@ -3,7 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use platoon_core::flatten::arrays::SceneArray;
-use platoon_core::frame::{FrameParams, LOOP_WORDS};
+use platoon_core::frame::{kernel_word_names, FrameParams, LOOP_WORDS, OPTION_WORDS};
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -91,7 +91,7 @@ impl Globals {
         g.dims[0] = params.width;
         g.dims[1] = params.height;
         g.crop = [crop.x, crop.y, crop.image_width, crop.image_height];
-        g.params = [params.frame, params.options.seed, 0, 0];
+        g.params = [params.frame, 0, 0, 0];
         g
     }
 }
@@ -119,58 +119,59 @@ pub struct Push {
     pub sample_begin: u32,
     pub sample_end: u32,
     pub stride: u32,
-    /// The path loop's words (`LOOP_WORDS`, then zeros), read through the accessors
-    /// `loop_words_glsl` writes.
-    pub loop_words: [u32; PATH_LOOP_WORDS],
+    /// The words the kernel reads of the frame's options and path loop
+    /// (`FrameParams::kernel_words`, then zeros), read through the accessors
+    /// `frame_words_glsl` writes.
+    pub frame_words: [u32; FRAME_WORDS],
     /// The rendering method's words (`MethodPasses::push_words`; its shaders name them).
     pub method: [u32; METHOD_WORDS],
 }
 
 impl Push {
     /// The words every pass of a frame of `params` reads the same: the root block's address
-    /// `globals`, the path loop's words and the method's own; the band's lines, pixels and
+    /// `globals`, the frame's words and the method's own; the band's lines, pixels and
     /// samples are left for its passes.
     pub fn of_frame(params: &FrameParams, globals: u64, method: [u32; METHOD_WORDS]) -> Push {
-        let mut loop_words = [0; PATH_LOOP_WORDS];
-        for (word, declared) in loop_words.iter_mut().zip(LOOP_WORDS) {
-            *word = (declared.of)(&params.path_loop);
+        let mut frame_words = [0; FRAME_WORDS];
+        for (word, value) in frame_words.iter_mut().zip(params.kernel_words()) {
+            *word = value;
         }
         Push {
             globals,
-            loop_words,
+            frame_words,
             method,
             ..Push::default()
         }
     }
 }
 
-/// Push words for the path loop (`LOOP_WORDS` fills the first): room for two knobs more
-/// without a new block.
-pub const PATH_LOOP_WORDS: usize = 6;
-const _: () = assert!(LOOP_WORDS.len() <= PATH_LOOP_WORDS);
+/// Push words for what the kernel reads of the frame's options and path loop: room for two
+/// more without a new block.
+pub const FRAME_WORDS: usize = 8;
+const _: () = assert!(OPTION_WORDS.len() + LOOP_WORDS.len() <= FRAME_WORDS);
 
-/// Where the kernel includes `loop_words_glsl` from (after the push block,
+/// Where the kernel includes `frame_words_glsl` from (after the push block,
 /// shaders/common/scene.glsl): a source made here, not a file of shaders/.
-pub(crate) const LOOP_WORDS_INCLUDE: &str = "generated/loop_words.glsl";
+pub(crate) const FRAME_WORDS_INCLUDE: &str = "generated/frame_words.glsl";
 
-/// The GLSL accessor of each of the path loop's words, by its name in `LOOP_WORDS`
-/// (`uint max_depth()`, `float rr_survival()`), reading `pc.loop_words`.
-pub(crate) fn loop_words_glsl() -> String {
+/// The GLSL accessor of each word of the frame, by its name in `OPTION_WORDS` and
+/// `LOOP_WORDS` (`uint NAME()`, or `float NAME()` for an f32), reading `pc.frame_words`.
+pub(crate) fn frame_words_glsl() -> String {
     let mut glsl = String::from(
-        "// Made by crates/platoon-tracer/src/globals.rs (loop_words_glsl) from the path loop's\n\
-         // words, crates/platoon-core/src/frame/path_loop.rs (LOOP_WORDS).\n",
+        "// Made by crates/platoon-tracer/src/globals.rs (frame_words_glsl) from the frame's\n\
+         // words, OPTION_WORDS and LOOP_WORDS of crates/platoon-core/src/frame/.\n",
     );
-    for (i, word) in LOOP_WORDS.iter().enumerate() {
-        let read = format!("pc.loop_words[{i}]");
-        let (ty, value) = match word.float {
+    for (i, (name, float)) in kernel_word_names().enumerate() {
+        let read = format!("pc.frame_words[{i}]");
+        let (ty, value) = match float {
             true => ("float", format!("uintBitsToFloat({read})")),
             false => ("uint", read),
         };
-        glsl.push_str(&format!("{ty} {}() {{ return {value}; }}\n", word.name));
+        glsl.push_str(&format!("{ty} {name}() {{ return {value}; }}\n"));
     }
     glsl
 }
 
 const _: () = assert!(std::mem::size_of::<Globals>() == 176 + 10 * 16);
 // Must match the push-constant block of shaders/scene.glsl.
-const _: () = assert!(std::mem::size_of::<Push>() == 96);
+const _: () = assert!(std::mem::size_of::<Push>() == 104);

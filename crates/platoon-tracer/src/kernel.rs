@@ -18,11 +18,11 @@ use crate::{Error, Result, VkContext};
 const SOURCES: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
 /// The sources made here rather than kept in shaders/ (what a table of the code declares,
-/// which a hand-kept GLSL mirror would repeat): the path loop's accessors.
+/// which a hand-kept GLSL mirror would repeat): the accessors of the frame's words.
 fn generated_sources() -> [(&'static str, String); 1] {
     [(
-        crate::globals::LOOP_WORDS_INCLUDE,
-        crate::globals::loop_words_glsl(),
+        crate::globals::FRAME_WORDS_INCLUDE,
+        crate::globals::frame_words_glsl(),
     )]
 }
 

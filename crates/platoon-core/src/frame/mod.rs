@@ -5,6 +5,7 @@
 pub mod adaptive;
 pub mod aov_params;
 mod film_state;
+mod kernel_word;
 pub mod method_report;
 mod options;
 mod path_loop;
@@ -16,10 +17,11 @@ use std::time::Duration;
 
 pub use crate::balance::Span;
 pub use film_state::FilmState;
+pub use kernel_word::KernelWord;
 pub use method_report::{MethodReport, ReportValue};
-pub use options::{FrameOptions, DEFAULT_AO_DISTANCE};
+pub use options::{FrameOptions, DEFAULT_AO_DISTANCE, OPTION_WORDS};
 pub use path_loop::{
-    Knob, KnobValue, LoopWord, PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, KNOBS, LOOP_WORDS,
+    Knob, KnobValue, PathLoop, DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, KNOBS, LOOP_WORDS,
 };
 pub use pixel_data::{PixelData, PixelRecord};
 pub use pixel_filter::PixelFilter;
@@ -105,7 +107,24 @@ impl Output {
     }
 }
 
+/// The accessors of the words the kernel reads of a frame (`FrameParams::kernel_words`), in
+/// the same order: each one's name and whether it is an f32.
+pub fn kernel_word_names() -> impl Iterator<Item = (&'static str, bool)> {
+    let options = OPTION_WORDS.iter().map(|w| (w.name, w.float));
+    options.chain(LOOP_WORDS.iter().map(|w| (w.name, w.float)))
+}
+
 impl FrameParams {
+    /// The words the kernel reads of this frame's options and path loop, the options' first
+    /// (`OPTION_WORDS`, then `LOOP_WORDS`): what the tracer pushes, read by the accessors
+    /// `kernel_word_names` names.
+    pub fn kernel_words(&self) -> Vec<u32> {
+        let options = OPTION_WORDS.iter().map(|w| (w.of)(&self.options));
+        options
+            .chain(LOOP_WORDS.iter().map(|w| (w.of)(&self.path_loop)))
+            .collect()
+    }
+
     /// What is wrong with the frame, if anything: the rules every tracer holds a band to (the
     /// renderer checks them once before a frame goes to its tracers, so a wrong frame is
     /// refused rather than failing, and dropping, every tracer; the tracer checks them again

@@ -3,10 +3,12 @@
 //! what a request holds (`platoon::Request::frame`), what the frame's parameters carry to every
 //! tracer and rank (`FrameParams::options`), and what the request's table sets, checks and
 //! writes into an image's metadata (`platoon::request::options`). A new option of this kind is
-//! its field here, its entry in that table, its use (a shader) and its test.
+//! its field here (and a word of `OPTION_WORDS` when the kernel reads its value), its entry in
+//! that table, its use (a shader) and its test.
 
 use std::time::Duration;
 
+use super::kernel_word::KernelWord;
 use super::pixel_filter::PixelFilter;
 use crate::flatten::features::KernelOption;
 
@@ -33,6 +35,24 @@ pub struct FrameOptions {
     /// bit-identity of device splits.
     pub time_limit: Option<Duration>,
 }
+
+/// What the kernel reads of the frame's options, in order (`KernelWord`); the options that
+/// select code say their defines instead (`FrameOptions::kernel_options`).
+pub const OPTION_WORDS: &[KernelWord<FrameOptions>] = &[
+    // What every random number of the frame is a pure function of, with the pixel, the
+    // sample index and the frame.
+    KernelWord {
+        name: "render_seed",
+        float: false,
+        of: |o| o.seed,
+    },
+    // The ambient-occlusion pass's reach (path/aov.glsl).
+    KernelWord {
+        name: "ao_distance",
+        float: true,
+        of: |o| o.ao_distance.to_bits(),
+    },
+];
 
 impl Default for FrameOptions {
     fn default() -> Self {

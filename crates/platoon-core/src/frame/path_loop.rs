@@ -4,6 +4,7 @@
 //! and whether its kernel is specialised. The path tracer's own options (its kernels, resampled
 //! and reused light, the world cache) are its method's state (`method::path`).
 
+use super::kernel_word::KernelWord;
 use crate::flatten::features::KernelOption;
 
 /// Default path-length limit: high enough to be unbounded in practice (Russian roulette ends
@@ -158,38 +159,28 @@ impl PathLoop {
     }
 }
 
-/// A word of the path loop that the kernel reads per frame, in the push constants' order:
-/// its accessor's name in GLSL (`max_depth()`), whether the word holds an f32's bits, and its
-/// value for a loop. The tracer lays the words out and writes their accessors from this
-/// table (`platoon-tracer/src/globals.rs`, `loop_words_glsl`), so a knob the kernel reads is
-/// declared here and read in its shader, with no mirror of the push block to join.
-pub struct LoopWord {
-    pub name: &'static str,
-    pub float: bool,
-    pub of: fn(&PathLoop) -> u32,
-}
-
-/// What the kernel reads of the path loop, in order.
-pub const LOOP_WORDS: &[LoopWord] = &[
+/// What the kernel reads of the path loop, in order (`KernelWord`): a knob the kernel reads
+/// is its field, its entry in `KNOBS`, a word here and its shader.
+pub const LOOP_WORDS: &[KernelWord<PathLoop>] = &[
     // At least one segment: a depth of 0 renders as 1.
-    LoopWord {
+    KernelWord {
         name: "max_depth",
         float: false,
         of: |l| l.max_depth.max(1),
     },
-    LoopWord {
+    KernelWord {
         name: "rr_depth",
         float: false,
         of: |l| l.rr_depth,
     },
     // With RR_FIXED the fixed survival probability, else the survival scale.
-    LoopWord {
+    KernelWord {
         name: "rr_survival",
         float: true,
         of: |l| l.rr_fixed.unwrap_or(l.rr_survival).to_bits(),
     },
     // Read with CLAMP_INDIRECT only.
-    LoopWord {
+    KernelWord {
         name: "clamp_indirect",
         float: true,
         of: |l| l.clamp_indirect.unwrap_or(f32::INFINITY).to_bits(),

@@ -79,8 +79,6 @@ impl MethodPasses for PathPasses {
     fn push_words(&self, params: &FrameParams) -> [u32; METHOD_WORDS] {
         let mut words = [0; METHOD_WORDS];
         words[0] = CANARY_TURNS;
-        // The ambient-occlusion pass's distance (path.glsl's ao_distance).
-        words[1] = params.options.ao_distance.to_bits();
         WorldCachePasses::push_words(params, &mut words);
         // Resampled light's candidates (common/lights.glsl's ris_candidates).
         let resampled = params.method.path().resampled_light;
