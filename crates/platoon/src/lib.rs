@@ -63,5 +63,5 @@ pub use render::{
     render, render_bands, render_frame, whole_frame, BatchedStats, Rendered, Tracers,
 };
 pub use request::{
-    CameraChoice, FrameScene, Interrupted, Progressive, Request, RequestError, SceneSource, Still,
+    CameraChoice, FrameShown, Interrupted, Progressive, Request, RequestError, SceneSource, Still,
 };

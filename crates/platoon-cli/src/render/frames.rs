@@ -13,7 +13,6 @@ use platoon::animation::{frame_path, task_index, Animation};
 use platoon::Tracers;
 
 use super::args::{FrameArgs, RenderArgs};
-use platoon::{FrameScene, Still};
 
 use super::frame_log::FrameLog;
 use super::job::Job;
@@ -231,18 +230,19 @@ impl Frames {
         progress: &mut dyn FnMut(u32),
     ) -> Result<()> {
         let time = job.time(frame);
+        let interval = job.frame_interval();
         let request = &self.setup.request;
-        let (aovs, denoiser) = (&request.aovs, request.denoiser);
+        let ranks = self.setup.ranks();
         // The scene at the frame's time and the tracers holding it: prepared anew, or carried
         // from the last frame by the updater.
         let mut fresh = None;
-        let (scene, camera, facts, tracers) = if self.fresh {
+        let (shown, camera, tracers) = if self.fresh {
             let mut options = self.setup.options.clone();
             options.time = time;
             let prepared = platoon::prepare(self.setup.scene.clone(), &options)?;
-            let tracers = self.setup.tracers(&prepared.gpu)?;
+            let tracers = request.tracers(&prepared.gpu, ranks)?;
             let (prepared, tracers) = fresh.insert((prepared, tracers));
-            (&prepared.gpu, prepared.camera, prepared.facts(), tracers)
+            (prepared.shown(interval), prepared.camera, tracers)
         } else {
             if self.carried.is_none() {
                 let mut options = self.setup.options.clone();
@@ -251,7 +251,7 @@ impl Frames {
                 if let (Some(note), true) = (&animation.note, self.speaks) {
                     eprintln!("note: {note}");
                 }
-                let tracers = self.setup.tracers(animation.scene())?;
+                let tracers = request.tracers(animation.scene(), ranks)?;
                 self.carried = Some((animation, tracers));
             }
             let (animation, tracers) = self.carried.as_mut().expect("made above");
@@ -260,33 +260,23 @@ impl Frames {
                 tracers.apply_commit(&generation.commit, generation.id as u32)?;
             }
             let animation = &*animation;
-            (
-                animation.scene(),
-                animation.camera(),
-                animation.facts(),
-                tracers,
-            )
+            (animation.shown(interval), animation.camera(), tracers)
         };
-        let camera = request.camera.in_render_space(camera, facts.origin);
+        let camera = request.camera.in_render_space(camera, shown.facts.origin);
         let params = job.params(request, frame, camera);
-        let rendered = tracers.render_batched(scene, &params, &request.batching(), progress)?;
-        let mut meta = platoon::metadata_of(&facts, &params, &rendered, request.sampling.name());
-        let interval = job.frame_interval();
-        let previous = self.setup.previous_frame(time, interval, facts.origin)?;
-        let scene = FrameScene {
-            gpu: scene,
-            origin: facts.origin,
-            previous: previous.as_ref(),
-        };
-        let still = Still::of(tracers, &scene, &params, rendered, aovs, denoiser)?;
+        let rendered = request.render_frame(tracers, shown.gpu, &params, progress)?;
+        let mut more = vec![
+            ("animation_frame".into(), frame.to_string()),
+            ("animation_time".into(), time.to_string()),
+            ("job".into(), job.of_frame(frame)),
+        ];
+        more.extend(outputs::entries(&self.setup.image, path));
+        // Every rank makes the outputs: their AOVs are split between the ranks as the image is.
+        let still = request.outputs(tracers, &shown, &params, rendered, more)?;
         if !self.writes {
             return Ok(());
         }
-        meta.push(("animation_frame".into(), frame.to_string()));
-        meta.push(("animation_time".into(), time.to_string()));
-        meta.push(("job".into(), job.of_frame(frame)));
-        meta.extend(outputs::entries(&self.setup.image, path));
-        outputs::write(&still.with_metadata(meta), path, &self.setup.image)?;
+        outputs::write(&still, path, &self.setup.image)?;
         Ok(())
     }
 }

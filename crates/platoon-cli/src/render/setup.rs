@@ -8,25 +8,24 @@ use std::rc::Rc;
 use anyhow::{bail, Result};
 use glam::Vec3;
 use platoon::core::frame::aov::Aov;
-use platoon::core::frame::motion::PreviousFrame;
 use platoon::core::output::{image_format, ImageFormat};
 use platoon::distributed::Session;
 use platoon::tracer::MemoryPath;
-use platoon::{CameraChoice, PrepareOptions, Request, SceneSource, Tracers};
+use platoon::{CameraChoice, PrepareOptions, Request, SceneSource};
 
 use crate::request_flags::{any_as_flags, as_flags};
 
 use super::args::{FrameArgs, MemoryArg, RenderArgs};
 
 /// What a render needs besides the camera: the request (what it asks for, and what the
-/// frame's parameters, the batches, the AOVs and the denoiser are made from), the scene it
-/// loaded, how to prepare it, the tracers' options and the job's ranks.
+/// frame's parameters, the batches, the AOVs and the denoiser are made from; its steps render
+/// it), the scene it loaded, how to prepare it (at an animation frame's time) and the job's
+/// ranks.
 pub(super) struct Setup {
     /// The request the flags make, validated.
     pub(super) request: Request,
     pub(super) scene: platoon::core::Scene,
     pub(super) options: PrepareOptions,
-    pub(super) tracers: Vec<platoon::tracer::TracerOptions>,
     /// The job's ranks, with --mpi or --mpi-frames.
     pub(super) session: Option<Rc<dyn Session>>,
     /// --mpi-frames: each rank renders whole frames on its own devices.
@@ -63,51 +62,15 @@ fn given_camera(
 }
 
 impl Setup {
-    /// The tracers of this process holding `scene`: over the job's ranks with --mpi.
-    pub(super) fn tracers(&self, scene: &platoon::core::flatten::GpuScene) -> Result<Tracers> {
-        match &self.session {
-            Some(s) if !self.farm => {
-                Tracers::over_ranks(&self.tracers, &self.request.balancer, scene, s.clone())
-            }
-            _ => Tracers::new(&self.tracers, &self.request.balancer, scene),
-        }
-    }
-
-    /// The tracers of a still holding `scene` (`Tracers::for_still`, which may take its large
-    /// arrays off the host); over the job's ranks with --mpi, which keep them.
-    pub(super) fn still_tracers(
-        &self,
-        scene: &mut platoon::core::flatten::GpuScene,
-    ) -> Result<Tracers> {
-        match &self.session {
-            Some(_) => self.tracers(scene),
-            None => Tracers::for_still(
-                &self.tracers,
-                &self.request.balancer,
-                scene,
-                &self.request.method,
-                &self.request.aovs,
-            ),
-        }
+    /// The ranks a frame's bands are split between: the job's with --mpi (a farm's ranks each
+    /// render whole frames on their own devices).
+    pub(super) fn ranks(&self) -> Option<Rc<dyn Session>> {
+        self.session.clone().filter(|_| !self.farm)
     }
 
     /// Whether this process writes and reports (rank 0 of a job, or a process alone).
     pub(super) fn speaks(&self) -> bool {
         self.session.as_ref().is_none_or(|s| s.rank() == 0)
-    }
-
-    /// The frame `interval` seconds before `time`, in the render space around `origin`, when
-    /// motion vectors are asked for.
-    pub(super) fn previous_frame(
-        &self,
-        time: f32,
-        interval: f32,
-        origin: glam::DVec3,
-    ) -> Result<Option<PreviousFrame>> {
-        let (scene, options, camera) = (&self.scene, &self.options, &self.request.camera);
-        let times = (time, interval);
-        let aovs = &self.request.aovs;
-        platoon::motion::previous_frame_for(aovs, scene, options, camera, times, origin)
     }
 }
 
@@ -208,7 +171,8 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
     if mpi && request.frame.time_limit.is_some() {
         bail!("--time-limit renders on one device: shares of a frame cut at different times on the ranks would break the image's independence from the split (--mpi-frames renders whole frames, each with the limit)");
     }
-    let tracers = request.tracer_options().map_err(any_as_flags)?;
+    // Refused now, naming the flag: the tracers are made from it after the scene is read.
+    request.tracer_options().map_err(any_as_flags)?;
     let loading = std::time::Instant::now();
     let loaded = super::stage::during("reading the scene", || request.load_scene())?;
     let load_time = loading.elapsed();
@@ -226,7 +190,6 @@ pub(super) fn setup(a: RenderArgs) -> Result<(Setup, PathBuf, FrameArgs)> {
         image,
         scene: loaded,
         options,
-        tracers,
         session,
         farm,
     };

@@ -4,11 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use platoon::core::frame::adaptive::Batching;
 use platoon::core::frame::FrameParams;
 use platoon::Tracers;
-
-use platoon::{FrameScene, Still};
 
 use super::checkpoint;
 use super::frame_log::FrameLog;
@@ -18,9 +15,17 @@ use super::setup::Setup;
 /// The still render of `run`.
 pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> Result<()> {
     let speaks = setup.speaks();
-    let mut prepared = super::stage::during("building BVHs and flattening", || {
-        platoon::prepare(setup.scene.clone(), &setup.options)
-    })?;
+    let ranks = setup.ranks();
+    let Setup {
+        started,
+        request,
+        image,
+        scene,
+        load_time,
+        ..
+    } = setup;
+    let mut prepared =
+        super::stage::during("building BVHs and flattening", || request.prepare(scene))?;
     if speaks {
         for w in &prepared.scene.warnings {
             eprintln!("warning: {w}");
@@ -33,10 +38,10 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
     let content = prepared.gpu.content_hash();
     let uploading = std::time::Instant::now();
     let mut tracers = super::stage::during("uploading to the devices", || {
-        setup.still_tracers(&mut prepared.gpu)
+        request.still_tracers(&mut prepared.gpu, ranks)
     })?;
     let mut cost = platoon::cost::RenderCost {
-        load: setup.load_time,
+        load: load_time,
         prepare: prepared.prepare_time,
         bvh: prepared.gpu.build_times.meshes + prepared.gpu.build_times.instances,
         upload: uploading.elapsed(),
@@ -44,15 +49,6 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         instances: prepared.gpu.instances.len(),
         ..Default::default()
     };
-    let time = setup.options.time;
-    let interval = platoon::request::DEFAULT_FRAME_INTERVAL;
-    let previous = setup.previous_frame(time, interval, prepared.posed.origin)?;
-    let Setup {
-        started,
-        request,
-        image,
-        ..
-    } = setup;
     let mut params = request.frame_params(request.camera_in(&prepared));
     let (sampling, batching) = (request.sampling.name(), request.batching());
     let asked = params.spp;
@@ -66,7 +62,12 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         false => 0,
     };
     let mut first_pass = None;
-    let mut rendered = render_frame(&mut tracers, &prepared.gpu, &params, &batching, &mut || {
+    let frame = Frame {
+        request: &request,
+        gpu: &prepared.gpu,
+        params: &params,
+    };
+    let mut rendered = render_frame(&mut tracers, &frame, &mut || {
         first_pass.get_or_insert(started.elapsed());
     })?;
     cost.first_pixel = first_pass.unwrap_or(started.elapsed());
@@ -81,13 +82,12 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         params.film.accumulated = None;
     }
     let interrupted = platoon::tracer::stop::requested();
-    let mut meta = platoon::metadata(&prepared, &params, &rendered, sampling);
-    meta.extend(outputs::entries(&image, &out));
+    let mut more = outputs::entries(&image, &out);
     if interrupted {
-        meta.push(("interrupted".into(), "Ctrl-C: the samples so far".into()));
+        more.push(("interrupted".into(), "Ctrl-C: the samples so far".into()));
     }
     if resumed > 0 {
-        meta.push(("resumed".into(), format!("from {resumed} samples a pixel")));
+        more.push(("resumed".into(), format!("from {resumed} samples a pixel")));
     }
     let told = match (speaks, plain) {
         (true, true) => checkpoint::keep(
@@ -101,14 +101,8 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
         )?,
         _ => None,
     };
-    let scene = FrameScene {
-        gpu: &prepared.gpu,
-        origin: prepared.posed.origin,
-        previous: previous.as_ref(),
-    };
-    let (aovs, denoiser) = (&request.aovs, request.denoiser);
-    let still =
-        Still::of(&mut tracers, &scene, &params, rendered, aovs, denoiser)?.with_metadata(meta);
+    let shown = prepared.shown(request.frame_interval);
+    let still = request.outputs(&mut tracers, &shown, &params, rendered, more)?;
     if !speaks {
         return Ok(());
     }
@@ -166,25 +160,35 @@ pub(super) fn still(setup: Setup, out: PathBuf, log: FrameLog, resume: bool) -> 
     Ok(())
 }
 
+/// The frame a still renders: the request's, of the scene `gpu`.
+struct Frame<'a> {
+    request: &'a platoon::Request,
+    gpu: &'a platoon::core::flatten::GpuScene,
+    params: &'a FrameParams,
+}
+
 /// Renders a frame with a progress bar over its samples (one tracer) or a spinner (several,
 /// which render on their own threads), then prints the tracers' shares. `passed` hears each
 /// pass of samples one tracer finishes (several tracers: none).
 fn render_frame(
     tracers: &mut Tracers,
-    scene: &platoon::core::flatten::GpuScene,
-    params: &FrameParams,
-    batching: &Batching,
+    frame: &Frame,
     passed: &mut dyn FnMut(),
 ) -> Result<platoon::Rendered> {
+    let Frame {
+        request,
+        gpu,
+        params,
+    } = *frame;
     let rendered = if tracers.rank() != 0 {
-        tracers.render_batched(scene, params, batching, &mut |_| {})?
+        request.render_frame(tracers, gpu, params, &mut |_| {})?
     } else if tracers.count() == 1 && tracers.ranks() == 1 {
         let bar = ProgressBar::new(params.spp as u64);
         bar.set_style(
             ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} spp {msg}")
                 .unwrap(),
         );
-        let r = tracers.render_batched(scene, params, batching, &mut |done| {
+        let r = request.render_frame(tracers, gpu, params, &mut |done| {
             if done > 0 {
                 passed();
             }
@@ -199,7 +203,7 @@ fn render_frame(
             n => format!("rendering on {n} ranks"),
         });
         spinner.enable_steady_tick(std::time::Duration::from_millis(200));
-        let r = tracers.render_batched(scene, params, batching, &mut |_| {});
+        let r = request.render_frame(tracers, gpu, params, &mut |_| {});
         spinner.finish_and_clear();
         r?
     };

@@ -124,6 +124,11 @@ impl Animation {
         self.camera
     }
 
+    /// The scene graph the animation moves (lit as prepared; posed at each frame's time).
+    pub fn graph(&self) -> &Scene {
+        self.updater.scene()
+    }
+
     pub fn time(&self) -> f32 {
         self.options.time
     }

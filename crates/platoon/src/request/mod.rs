@@ -4,7 +4,9 @@
 //! ([`Request::validate`], every rule once, errors naming the option) and turned into what the
 //! layers below take: the preparation's options, the frame's parameters, the tracers' options,
 //! the batching. The CLI turns its arguments into one, a binding its keyword arguments;
-//! [`Request::render`] renders a still in this process ([`still`]).
+//! [`Request::render`] renders a still in this process ([`still`]) by the request's steps
+//! ([`steps`]: prepare, tracers, render a frame, its outputs), which the CLI's stills,
+//! animations and farms call one by one.
 //!
 //! ```no_run
 //! # fn main() -> anyhow::Result<()> {
@@ -25,10 +27,12 @@ mod form;
 mod game;
 pub mod options;
 mod progressive;
+pub mod steps;
 pub mod still;
 mod validate;
 
 pub use error::{Interrupted, RequestError};
 pub use form::{CameraChoice, Request, SceneSource, DEFAULT_FRAME_INTERVAL};
 pub use progressive::Progressive;
-pub use still::{FrameScene, Still};
+pub use steps::FrameShown;
+pub use still::Still;

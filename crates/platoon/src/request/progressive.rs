@@ -12,7 +12,7 @@ use platoon_core::frame::FrameParams;
 
 use super::error::{Interrupted, RequestError};
 use super::form::Request;
-use super::still::{FrameScene, Still};
+use super::still::Still;
 use crate::{Prepared, Tracers};
 
 pub struct Progressive {
@@ -52,13 +52,11 @@ impl Progressive {
                 .into());
             }
         }
-        let scene = request.load_scene()?;
-        let options = request.prepare_options(&scene)?;
-        let prepared = crate::prepare(scene, &options)?;
+        let prepared = request.prepare(request.load_scene()?)?;
         for w in &prepared.scene.warnings {
             log::warn!("{w}");
         }
-        let tracers = Tracers::new(&request.tracer_options()?, &request.balancer, &prepared.gpu)?;
+        let tracers = request.tracers(&prepared.gpu, None)?;
         Ok(Progressive {
             request,
             prepared,
@@ -108,26 +106,8 @@ impl Progressive {
         self.sums = Some(rendered.sums.clone().into());
         rendered.wall_time = self.wall_time;
         let params = self.params();
-        let meta = crate::metadata(
-            &self.prepared,
-            &params,
-            &rendered,
-            self.request.sampling.name(),
-        );
-        let previous = self.request.previous_frame(&self.prepared)?;
-        let scene = FrameScene {
-            gpu: &self.prepared.gpu,
-            origin: self.prepared.posed.origin,
-            previous: previous.as_ref(),
-        };
-        let still = Still::of(
-            &mut self.tracers,
-            &scene,
-            &params,
-            rendered,
-            &self.request.aovs,
-            self.request.denoiser,
-        )?;
-        Ok(still.with_metadata(meta))
+        let shown = self.prepared.shown(self.request.frame_interval);
+        self.request
+            .outputs(&mut self.tracers, &shown, &params, rendered, Vec::new())
     }
 }

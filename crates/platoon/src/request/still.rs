@@ -1,7 +1,7 @@
 //! A still: a frame's outputs (the image, denoised when asked, the raw one kept; the AOV
 //! layers; the metadata), made after its render on the tracers that rendered it
-//! ([`Still::of`]: the CLI's stills, animations and ranks use it), and a request rendered as
-//! one in this process ([`Request::render`]).
+//! ([`Request::outputs`]), and a request rendered as one in this process
+//! ([`Request::render`]).
 
 use anyhow::Result;
 use glam::DVec3;
@@ -13,7 +13,7 @@ use platoon_core::frame::FrameParams;
 use platoon_core::output::Film;
 
 use super::form::Request;
-use crate::{Prepared, Rendered, Tracers};
+use crate::{Rendered, Tracers};
 
 /// A rendered frame's outputs.
 pub struct Still {
@@ -37,7 +37,7 @@ pub struct Still {
 /// space centred on the world point `origin`, and the frame before (motion vectors; None when
 /// not asked for).
 #[derive(Clone, Copy)]
-pub struct FrameScene<'a> {
+pub(crate) struct FrameScene<'a> {
     pub gpu: &'a GpuScene,
     pub origin: DVec3,
     pub previous: Option<&'a PreviousFrame>,
@@ -47,7 +47,7 @@ impl Still {
     /// The outputs of `rendered`, the frame `params` of `scene` on `tracers`: the AOVs `aovs`
     /// and the denoiser's guides rendered on the same tracers (so their bits do not depend on
     /// the split), and the image denoised. The metadata is empty until `with_metadata`.
-    pub fn of(
+    pub(crate) fn of(
         tracers: &mut Tracers,
         scene: &FrameScene,
         params: &FrameParams,
@@ -133,64 +133,25 @@ impl Still {
 }
 
 impl Request {
-    /// The frame `frame_interval` before this one of `prepared`, when motion vectors are asked
-    /// for (its preparation's options are made again only then).
-    pub fn previous_frame(&self, prepared: &Prepared) -> Result<Option<PreviousFrame>> {
-        if !self.aovs.contains(&Aov::Motion) {
-            return Ok(None);
-        }
-        crate::motion::previous_frame_for(
-            &self.aovs,
-            &prepared.scene,
-            &self.prepare_options(&prepared.scene)?,
-            &self.camera,
-            (self.time, self.frame_interval),
-            prepared.posed.origin,
-        )
-    }
-
     /// Renders the request as a still in this process, on its devices: validated, the scene
     /// loaded and prepared (its warnings and notes logged), the frame rendered in the batches
     /// its outputs need, its AOVs and denoiser run; `progress` hears the samples done (one
-    /// device; several render on their own threads).
+    /// device; several render on their own threads). Its steps are the request's calls of
+    /// `steps.rs`, which the CLI takes one by one.
     pub fn render(&self, progress: &mut dyn FnMut(u32)) -> Result<Still> {
         self.validate()?;
         self.refuse_frame_to_frame()?;
-        let scene = self.load_scene()?;
-        let options = self.prepare_options(&scene)?;
-        let mut prepared = crate::prepare(scene, &options)?;
+        let mut prepared = self.prepare(self.load_scene()?)?;
         for w in &prepared.scene.warnings {
             log::warn!("{w}");
         }
         if let Some(note) = &prepared.note {
             log::info!("{note}");
         }
-        let options = self.tracer_options()?;
-        let mut tracers = Tracers::for_still(
-            &options,
-            &self.balancer,
-            &mut prepared.gpu,
-            &self.method,
-            &self.aovs,
-        )?;
+        let mut tracers = self.still_tracers(&mut prepared.gpu, None)?;
         let params = self.frame_params(self.camera_in(&prepared));
-        let rendered =
-            tracers.render_batched(&prepared.gpu, &params, &self.batching(), progress)?;
-        let meta = crate::metadata(&prepared, &params, &rendered, self.sampling.name());
-        let previous = self.previous_frame(&prepared)?;
-        let scene = FrameScene {
-            gpu: &prepared.gpu,
-            origin: prepared.posed.origin,
-            previous: previous.as_ref(),
-        };
-        let still = Still::of(
-            &mut tracers,
-            &scene,
-            &params,
-            rendered,
-            &self.aovs,
-            self.denoiser,
-        )?;
-        Ok(still.with_metadata(meta))
+        let rendered = self.render_frame(&mut tracers, &prepared.gpu, &params, progress)?;
+        let shown = prepared.shown(self.frame_interval);
+        self.outputs(&mut tracers, &shown, &params, rendered, Vec::new())
     }
 }
