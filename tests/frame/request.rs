@@ -222,7 +222,7 @@ fn every_rule_refuses_by_naming_its_option() {
                 ..small()
             },
             "aovs",
-            "method path",
+            "method igi's is not one (render with method path)",
         ),
         (
             Request {
@@ -319,7 +319,7 @@ fn every_rule_refuses_by_naming_its_option() {
                 ..small()
             },
             "adaptive",
-            "path tracer",
+            "method igi's kernels render every pixel's samples",
         ),
         (
             Request {

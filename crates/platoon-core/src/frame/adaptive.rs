@@ -47,9 +47,8 @@ impl Adaptive {
         if spp < 2 || self.min_spp == Some(0) {
             return Err("adaptive sampling needs at least 2 samples per pixel".into());
         }
-        // Converged pixels skip their samples in the path tracer's kernel alone.
-        if !method.is_path_tracing() {
-            return Err("adaptive sampling is the path tracer's (method path)".into());
+        if !method.unit().skips_converged_pixels() {
+            return Err(refused_by(method));
         }
         Ok(())
     }
@@ -291,6 +290,16 @@ impl Batched {
             })
             .collect()
     }
+}
+
+/// Why adaptive sampling is refused to `method`: its kernels render every pixel's samples
+/// (`RenderMethod::skips_converged_pixels`).
+pub fn refused_by(method: &crate::method::Method) -> String {
+    format!(
+        "adaptive sampling: method {}'s kernels render every pixel's samples, skipping no \
+         converged pixel",
+        method.unit().name()
+    )
 }
 
 #[cfg(test)]

@@ -155,8 +155,11 @@ impl FrameParams {
                     "converged pixels need the accumulated sums, one flag per pixel".into(),
                 );
             }
-            if !self.method.is_path_tracing() {
-                return Err("adaptive sampling (converged pixels) is the path tracer's".into());
+            if !self.method.unit().skips_converged_pixels() {
+                return Err(format!(
+                    "converged pixels: method {}'s kernels render every pixel's samples",
+                    self.method.unit().name()
+                ));
             }
         }
         self.method.unit().validate(self)

@@ -61,6 +61,21 @@ pub fn names() -> String {
     names.join(", ")
 }
 
+/// The names of the methods, comma-separated, whose state as their defaults build it `can`
+/// says yes of (what a refusal offers instead; a method whose build needs a setting is left
+/// out).
+pub fn names_that(can: fn(&dyn RenderMethod) -> bool) -> String {
+    let able: Vec<&str> = all()
+        .into_iter()
+        .filter(|k| {
+            let state = k.build(&crate::method::settings::Settings::default());
+            state.is_ok_and(|m| can(m.unit()))
+        })
+        .map(|k| k.name())
+        .collect();
+    able.join(", ")
+}
+
 impl Method {
     /// How it is chosen: its settings and what it asks of the layers above.
     pub fn kind(&self) -> &'static dyn MethodKind {

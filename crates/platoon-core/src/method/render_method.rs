@@ -87,6 +87,18 @@ pub trait RenderMethod {
     fn reads_scene_on_host(&self) -> bool {
         true
     }
+    /// Whether its kernels skip the pixels adaptive sampling found converged (the path
+    /// tracer's do): a method whose kernels render every pixel's samples is refused adaptive
+    /// sampling.
+    fn skips_converged_pixels(&self) -> bool {
+        false
+    }
+    /// Whether its image is the sum of the light passes (`Aov::Light`: the beauty's paths
+    /// rendered again by the path tracer's kernel, each pass keeping one kind of light): true
+    /// where its beauty is those paths, as the path tracer's is.
+    fn splits_into_light_passes(&self) -> bool {
+        false
+    }
     /// The rules of its options that need no frame (what a request refuses before it loads
     /// anything): the setting it is about and the problem.
     fn check_options(&self) -> Result<(), (&'static str, String)> {

@@ -4,6 +4,7 @@
 use std::time::Duration;
 
 use platoon_core::frame::aov::Aov;
+use platoon_core::method::registry;
 use platoon_core::scene::camera::Camera;
 
 use super::error::RequestError;
@@ -91,13 +92,22 @@ impl Request {
         }
         if self.aovs.iter().any(|a| a.is_light()) {
             // Each pass renders the beauty's paths again: they sum to the beauty only when
-            // every pixel takes the same samples, traced by the path tracer.
-            let why = if !self.method.is_path_tracing() {
-                Some("the light passes split the path tracer's image: render with method path")
+            // every pixel takes the same samples, on the paths the method's beauty is.
+            let method = self.method.unit();
+            let why = if !method.splits_into_light_passes() {
+                let able = registry::names_that(|m| m.splits_into_light_passes());
+                Some(format!(
+                    "the light passes split an image of paths: method {}'s is not one (render \
+                     with method {able})",
+                    method.name()
+                ))
             } else if self.adaptive.is_some() {
-                Some("the light passes take every pixel's samples: not with adaptive sampling")
+                Some(
+                    "the light passes take every pixel's samples: not with adaptive sampling"
+                        .into(),
+                )
             } else if self.frame.time_limit.is_some() {
-                Some("the light passes take every pixel's samples: not with a time limit")
+                Some("the light passes take every pixel's samples: not with a time limit".into())
             } else {
                 None
             };

@@ -144,6 +144,14 @@ impl RenderMethod for PathTracing {
     fn reads_scene_on_host(&self) -> bool {
         false
     }
+    /// Its megakernel skips converged pixels (`FrameParams::converged`).
+    fn skips_converged_pixels(&self) -> bool {
+        true
+    }
+    /// Its beauty is the paths the light passes render again.
+    fn splits_into_light_passes(&self) -> bool {
+        true
+    }
     fn check_options(&self) -> Result<(), (&'static str, String)> {
         if let Some(Err(e)) = self.resampled_light.map(|r| r.check()) {
             return Err(("resampled_light", e));
