@@ -222,7 +222,7 @@ fn every_rule_refuses_by_naming_its_option() {
                 ..small()
             },
             "aovs",
-            "method igi's is not one (render with method path)",
+            "method igi's is not theirs (render with method path)",
         ),
         (
             Request {

@@ -97,8 +97,8 @@ impl Request {
             let why = if !method.splits_into_light_passes() {
                 let able = registry::names_that(|m| m.splits_into_light_passes());
                 Some(format!(
-                    "the light passes split an image of paths: method {}'s is not one (render \
-                     with method {able})",
+                    "the light passes split the image of the paths they render again: method \
+                     {}'s is not theirs (render with method {able})",
                     method.name()
                 ))
             } else if self.adaptive.is_some() {
