@@ -509,6 +509,34 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     let csv = std::fs::read_to_string(dir.path().join("game.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8);
     assert_eq!(json["method"], "path tracing", "{json}");
+    assert_eq!(
+        json["settings"],
+        serde_json::json!({"kernel": "auto"})
+    );
+    // The method's settings and what it learns over frames, said as their flags name them.
+    let o = Cli::new("bench")
+        .arg("game")
+        .flag("--frames", "2")
+        .flag("--size", "8x6")
+        .flag("--devices", "lavapipe:1")
+        .flag("--character", &character)
+        .flag("--resampled-light", "4")
+        .arg("--light-reuse")
+        .arg("--world-cache")
+        .flag("--reference-spp", "0")
+        .arg("--json")
+        .out(dir.path())
+        .run();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let json: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+    let settings = serde_json::json!({
+        "kernel": "auto",
+        "resampled_light": 4,
+        "world_cache": true,
+        "light_reuse": "unbiased",
+    });
+    assert_eq!(json["settings"], settings, "{json}");
     // The method's flags are the render's: refused as there, naming the flag.
     for bad in [
         ["--target-ms", "0"],

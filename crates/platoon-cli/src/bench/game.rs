@@ -7,6 +7,7 @@ use std::time::Duration;
 use anyhow::{bail, Result};
 use platoon::core::denoise::Denoiser;
 use platoon::core::measure::{median, percentile};
+use platoon::core::method::settings::Value;
 use platoon_game::{play, FrameRecord, GameOptions, PlayOptions};
 
 /// `platoon bench game`'s settings.
@@ -159,17 +160,13 @@ fn bench(o: &GameArgs, ranks: Option<platoon::distributed::Ranks>) -> Result<()>
         .denoise
         .available()
         .map_err(|e| anyhow::anyhow!("--denoise: {e}"))?;
+    let method = &game.driver.method;
+    let mut settings = method.settings().0;
+    settings.extend(method.kind().learning_of(method).0);
     let techniques = Techniques {
-        method: game.driver.method.unit().describe(),
+        method: method.unit().describe(),
         denoise: game.driver.denoise,
-        resampled_light: game
-            .driver
-            .method
-            .path()
-            .resampled_light
-            .map(|r| r.candidates),
-        world_cache: game.driver.method.path().learning.world_cache.is_some(),
-        light_reuse: game.driver.method.path().learning.light_reuse,
+        settings,
     };
     eprintln!(
         "playing {} frames of the game at {}x{} on {} ({}), holding {} ms a frame",
@@ -296,14 +293,40 @@ pub fn summarize(records: &[FrameRecord], target_ms: f64) -> Summary {
     }
 }
 
-/// What the game rendered with beyond plain path tracing.
+/// What the game rendered with: the method, its settings and what it learns over frames
+/// (the flags' names with `_`: `resampled_light`, `world_cache`...), and the denoiser.
 struct Techniques {
     /// The method and its options (`RenderMethod::describe`).
     method: String,
     denoise: Denoiser,
-    resampled_light: Option<u32>,
-    world_cache: bool,
-    light_reuse: Option<platoon::core::method::path::light_reuse::LightReuse>,
+    settings: Vec<(&'static str, Value)>,
+}
+
+impl Techniques {
+    /// The settings as a line (`kernel megakernel, resampled_light 4, world_cache on`).
+    fn settings_line(&self) -> String {
+        let said: Vec<String> = self
+            .settings
+            .iter()
+            .map(|(k, v)| format!("{k} {v}"))
+            .collect();
+        said.join(", ")
+    }
+
+    /// The settings as a JSON object, each value of its kind.
+    fn settings_json(&self) -> serde_json::Value {
+        let values = self.settings.iter().map(|(k, v)| {
+            let json = match v {
+                Value::Count(n) => serde_json::json!(n),
+                Value::Number(x) => serde_json::json!(x),
+                Value::Switch(on) => serde_json::json!(on),
+                Value::Tile(t) => serde_json::json!(t),
+                Value::Word(w) => serde_json::json!(w),
+            };
+            (k.to_string(), json)
+        });
+        serde_json::Value::Object(values.collect())
+    }
 }
 
 fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
@@ -312,7 +335,7 @@ fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
          settled after {} frames; then frame time median {:.2} ms, p99 {:.2} ms \
          (render thread {:.2} ms), {:.1}% of frames within +-10% of the target\n\
          samples per frame (median) {}, update {:.2} ms a frame of which {:.1}% hidden behind \
-         rendering, tracers idle {:.2}% (median){}{}{}{}",
+         rendering, tracers idle {:.2}% (median){}{}",
         s.frames,
         o.size.0,
         o.size.1,
@@ -328,21 +351,9 @@ fn text(o: &GameArgs, t: &Techniques, s: &Summary) -> String {
         s.update_ms_median,
         100.0 * s.update_hidden_fraction,
         s.idle_percent_median,
-        if t.world_cache {
-            "\nthe bounces after the first read the world cache"
-        } else {
-            ""
-        },
-        match t.resampled_light {
-            Some(m) => format!("\ndirect light resampled from {m} candidate lights"),
-            None => String::new(),
-        },
-        match t.light_reuse {
-            Some(r) => format!(
-                "\n... reusing the previous frame's reservoirs ({})",
-                r.label()
-            ),
-            None => String::new(),
+        match t.settings.is_empty() {
+            true => String::new(),
+            false => format!("\nthe method's settings: {}", t.settings_line()),
         },
         match t.denoise {
             Denoiser::None => String::new(),
@@ -375,9 +386,7 @@ fn json(o: &GameArgs, t: &Techniques, s: &Summary) -> serde_json::Value {
         "idle_percent_median": s.idle_percent_median,
         "method": t.method,
         "denoise": t.denoise.name(),
-        "resampled_light": t.resampled_light,
-        "world_cache": t.world_cache,
-        "light_reuse": t.light_reuse.map(|r| r.label()),
+        "settings": t.settings_json(),
         "denoise_ms_median": s.denoise_ms_median,
     })
 }
