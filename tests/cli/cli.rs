@@ -509,10 +509,7 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     let csv = std::fs::read_to_string(dir.path().join("game.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8);
     assert_eq!(json["method"], "path tracing", "{json}");
-    assert_eq!(
-        json["settings"],
-        serde_json::json!({"kernel": "auto"})
-    );
+    assert_eq!(json["settings"], serde_json::json!({"kernel": "auto"}));
     // The method's settings and what it learns over frames, said as their flags name them.
     let o = Cli::new("bench")
         .arg("game")

@@ -445,15 +445,16 @@ fn the_metadata_says_the_methods_light_selection() {
     assert_eq!(lights.unwrap().1, "power");
 }
 
-/// A still of the path tracer lets the host's copy of the scene's large arrays go once its
-/// devices hold them (a big scene is not held twice); a method that reads the scene on the
-/// host (vertex links' preparation) keeps it.
+/// A still of the path tracer or IGI lets the host's copy of the scene's large arrays go once
+/// its devices hold them (a big scene is not held twice); a method that reads the scene on the
+/// host (vertex links' preparation) keeps it. Without the copy IGI's still is the bits of one
+/// rendered with it.
 #[test]
 fn only_a_method_reading_the_scene_on_its_devices_only_gives_up_the_hosts_copy() {
     use platoon::core::flatten::arrays::SceneArray;
     let request = small();
     let options = request.tracer_options().unwrap();
-    for (name, kept) in [("path", false), ("links", true)] {
+    for (name, kept) in [("path", false), ("igi", false), ("links", true)] {
         let mut prepared = prepare(
             platoon::core::scene::cornell::scene(),
             platoon::EnvChoice::Scene,
@@ -474,6 +475,28 @@ fn only_a_method_reading_the_scene_on_its_devices_only_gives_up_the_hosts_copy()
         let triangles = prepared.gpu.bytes_of(SceneArray::Triangles);
         assert_eq!(!triangles.is_empty(), kept, "{name}");
     }
+    let igi = Request {
+        method: registry::kind("igi")
+            .unwrap()
+            .build(&Settings(vec![("vpls", Value::Count(30))]))
+            .unwrap(),
+        aovs: vec![Aov::Albedo],
+        ..small()
+    };
+    let released = igi.render(&mut |_| {}).unwrap();
+    let prepared = igi.prepare(igi.load_scene().unwrap()).unwrap();
+    let mut kept = igi.tracers(&prepared.gpu, None).unwrap();
+    let params = igi.frame_params(igi.camera_in(&prepared));
+    let rendered = igi
+        .render_frame(&mut kept, &prepared.gpu, &params, &mut |_| {})
+        .unwrap();
+    let shown = prepared.shown(igi.frame_interval);
+    let still = igi
+        .outputs(&mut kept, &shown, &params, rendered, Vec::new())
+        .unwrap();
+    assert!(!prepared.gpu.bytes_of(SceneArray::Triangles).is_empty());
+    assert_eq!(released.image.pixels, still.image.pixels);
+    assert_eq!(released.layers[0].channels, still.layers[0].channels);
 }
 
 /// A still on one device says how far it is as its passes end (what the CLI's progress bar

@@ -83,6 +83,12 @@ impl RenderMethod for IgiOptions {
         IgiOptions::approximations(self)
     }
 
+    /// Its VPLs are shot, and its pixels gathered and filtered, on the devices and from the
+    /// bands: nothing reads the scene on the host.
+    fn reads_scene_on_host(&self) -> bool {
+        false
+    }
+
     fn finish(&self, params: &FrameParams, bands: &mut [Band]) {
         filter::finish_bands(self, params, bands);
     }
