@@ -957,7 +957,7 @@ fn adaptive_sampling_writes_its_sample_counts_and_says_so_in_the_metadata() {
         .flag("--adaptive-threshold", "0.1")
         .flag("--method", "igi")
         .out(&other)
-        .fails_naming("path tracer", &other);
+        .fails_naming("skipping no converged pixel", &other);
 }
 
 /// `--denoise oidn` works in a build with the feature `oidn` and is refused, before rendering
