@@ -129,7 +129,11 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
     request.validate().map_err(crate::request_flags::as_flags)?;
     let target = Duration::from_secs_f64(args.target_ms.max(1.0) * 1e-3);
     let mut options = request.game_options(Some(target));
-    let prepared = args.scene.prepare()?;
+    // The scene as the game starts from it, and its camera and size, without the flattening
+    // and BVHs a still's preparation makes (the game's updater makes its own).
+    let scene = request.game_scene()?;
+    let camera = request.game_camera(&scene)?;
+    let (lo, hi) = scene.pose(request.time).bounds();
     options.driver.gi_update = match args.gi_update {
         GiUpdateArg::Sync => GiUpdate::Synchronous,
         GiUpdateArg::Async => GiUpdate::Asynchronous,
@@ -138,16 +142,11 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
         roulette: args.roulette_scaling,
         resolution: args.resolution_scaling,
     };
-    let animation = prepared
-        .scene
-        .animations
-        .first()
-        .map_or(0.0, |a| a.duration());
-    let (lo, hi) = prepared.posed.bounds();
-    let driver = start(prepared.scene.clone(), &options)?;
+    let animation = scene.animations.first().map_or(0.0, |a| a.duration());
+    let driver = start(scene, &options)?;
     let mut app = Viewer {
         driver,
-        camera: Fly::from(prepared.camera, (hi - lo).length().max(1e-3)),
+        camera: Fly::from(camera, (hi - lo).length().max(1e-3)),
         window: None,
         surface: None,
         keys: Vec::new(),

@@ -5,6 +5,8 @@
 use std::time::Duration;
 
 use anyhow::Result;
+use platoon_core::scene::camera::Camera;
+use platoon_core::scene::Scene;
 use platoon_live::{DriverOptions, FrameDriver};
 
 use super::form::Request;
@@ -55,11 +57,28 @@ impl Request {
                 .into());
             }
         }
+        crate::game::start(self.game_scene()?, &self.game_options(target))
+    }
+
+    /// The scene a game loop of this request starts from: loaded and lit as a still's would
+    /// be (its warnings logged), not flattened: the game's updater flattens it.
+    pub fn game_scene(&self) -> Result<Scene> {
         let mut scene = self.load_scene()?;
-        crate::prepare::light(&mut scene, &self.env, &self.env_light)?;
+        let (_, note) = crate::prepare::light(&mut scene, &self.env, &self.env_light)?;
         for w in &scene.warnings {
             log::warn!("{w}");
         }
-        crate::game::start(scene, &self.game_options(target))
+        if let Some(note) = note {
+            log::info!("{note}");
+        }
+        Ok(scene)
+    }
+
+    /// The camera a game of `scene` starts with: the request's, in world space (the game's
+    /// render space before its origin first moves) at the request's time.
+    pub fn game_camera(&self, scene: &Scene) -> Result<Camera> {
+        let posed = scene.pose(self.time);
+        let camera = crate::prepare::camera_at(scene, &posed, &self.prepare_options(scene)?)?;
+        Ok(self.camera.in_render_space(camera, glam::DVec3::ZERO))
     }
 }
