@@ -775,3 +775,54 @@ fn python_keyword(o: &platoon::request::options::RequestOption) -> String {
         }
     }
 }
+
+/// A game starts from the scene lit as a still's (not flattened) and the request's camera in
+/// world space: the scene's camera where a still's preparation keeps its render space at the
+/// world's origin (the built-in box), a given camera as given, and a scene far from the origin
+/// seen from where its camera is in the world, which a still's render space moves.
+#[test]
+fn a_game_starts_from_the_lit_scene_and_the_requests_camera_in_world_space() {
+    use platoon::core::scene::environment::Environment;
+    let lit = Request {
+        env: platoon::EnvChoice::Color(glam::Vec3::splat(0.5)),
+        ..small()
+    };
+    let sky = lit.game_scene().unwrap().environment;
+    assert!(matches!(sky, Some(Environment::Constant(c)) if c == glam::Vec3::splat(0.5)));
+    let request = small();
+    let scene = request.game_scene().unwrap();
+    let prepared = request.prepare(request.load_scene().unwrap()).unwrap();
+    assert_eq!(prepared.posed.origin, glam::DVec3::ZERO);
+    let camera = request.game_camera(&scene).unwrap();
+    assert_eq!(camera.camera_to_world, prepared.camera.camera_to_world);
+    let given = Camera::look_at(
+        glam::Vec3::new(0.1, 0.2, 3.0),
+        glam::Vec3::ZERO,
+        40f32.to_radians(),
+    );
+    let looking = Request {
+        camera: CameraChoice::Given(given),
+        ..small()
+    };
+    let camera = looking.game_camera(&scene).unwrap();
+    assert_eq!(camera.camera_to_world, given.camera_to_world);
+    // The box moved 1e5 along x: the game sees it there, a still from around its camera.
+    let mut far = platoon::core::scene::cornell::scene();
+    for node in &mut far.nodes {
+        if node.parent.is_none() {
+            node.translation.x += 1e5;
+        }
+    }
+    let camera = request.game_camera(&far).unwrap();
+    assert!(
+        (camera.position().x - 1e5).abs() < 10.0,
+        "{:?}",
+        camera.position()
+    );
+    let still = request.prepare(far).unwrap();
+    assert!(
+        still.camera.position().x.abs() < 10.0,
+        "{:?}",
+        still.camera.position()
+    );
+}
