@@ -74,9 +74,10 @@ impl RenderMethod for PathTracing {
         if self.cut_last_paths && self.kernel == PathKernel::Streaming {
             return Err("cutting the last paths of a pass (NOP) is the megakernel's: the streaming kernels follow every path to its end".into());
         }
-        if let Some(r) = self.resampled_light {
-            r.check()?;
-        }
+        // Its options' own rules, as a request checks them before loading (a frame may come
+        // from an embedder who built the state by hand).
+        self.check_options()
+            .map_err(|(key, problem)| format!("{key}: {problem}"))?;
         if let Some(h) = &self.light_reuse {
             let by_contribution = self.resampled_light.is_some_and(|r| r.contribution);
             light_reuse::check_context(by_contribution, true)?;
@@ -190,5 +191,34 @@ impl RenderMethod for PathTracing {
             lines,
             warnings: Vec::new(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::frame::FrameParams;
+    use crate::method::path::{LearningOptions, ResampledLight};
+    use crate::scene::camera::Camera;
+
+    /// A frame holds the path tracer's options to the rules a request checks before it loads
+    /// anything (`check_options`): a frame may come from an embedder who built the state by
+    /// hand, and the refusal names the setting.
+    #[test]
+    fn a_frame_holds_the_options_rules_a_request_checks() {
+        let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, 1.0);
+        let mut params = FrameParams::new(4, 4, 1, camera);
+        assert!(params.check().is_ok());
+        let path = params.method.path_mut().unwrap();
+        path.resampled_light = Some(ResampledLight::new(0));
+        let e = params.check().unwrap_err();
+        assert!(e.starts_with("resampled_light"), "{e}");
+        let path = params.method.path_mut().unwrap();
+        path.resampled_light = None;
+        path.learning = LearningOptions {
+            light_reuse: Some(Default::default()),
+            ..Default::default()
+        };
+        let e = params.check().unwrap_err();
+        assert!(e.starts_with("light_reuse"), "{e}");
     }
 }
