@@ -196,6 +196,9 @@ fn in_order(
 /// for each).
 struct Frames {
     setup: Setup,
+    /// The scene read, until the animation takes it (not kept beside the animation's copy:
+    /// a large scene's meshes and textures would be held twice for the whole sequence).
+    to_animate: Option<platoon::core::Scene>,
     carried: Option<(Animation, Tracers)>,
     fresh: bool,
     /// Whether this process writes the frames it renders (rank 0 of a job, a process alone,
@@ -206,14 +209,17 @@ struct Frames {
 }
 
 impl Frames {
-    fn new(setup: Setup, fresh: bool, writes: bool, speaks: bool) -> Result<Frames> {
+    fn new(mut setup: Setup, fresh: bool, writes: bool, speaks: bool) -> Result<Frames> {
         if speaks {
             for w in &setup.scene.warnings {
                 eprintln!("warning: {w}");
             }
         }
+        // Prepared anew, every frame reads the scene; carried, the animation holds it.
+        let to_animate = (!fresh).then(|| std::mem::take(&mut setup.scene));
         Ok(Frames {
             setup,
+            to_animate,
             carried: None,
             fresh,
             writes,
@@ -247,7 +253,12 @@ impl Frames {
             if self.carried.is_none() {
                 let mut options = self.setup.options.clone();
                 options.time = time;
-                let animation = Animation::new(self.setup.scene.clone(), &options)?;
+                // Taken by the first frame: a frame after one that could not animate the
+                // scene fails too, saying so.
+                let Some(scene) = self.to_animate.take() else {
+                    bail!("the scene could not be animated (the first frame's error says why)");
+                };
+                let animation = Animation::new(scene, &options)?;
                 if let (Some(note), true) = (&animation.note, self.speaks) {
                     eprintln!("note: {note}");
                 }
