@@ -469,19 +469,31 @@ fn bench_dynamic_prints_the_issue_figures_as_json_and_writes_csv_and_plot() {
 fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     let dir = tempfile::tempdir().unwrap();
     let character = common::shared("scenes/CesiumMan.glb");
-    let o = Cli::new("bench")
-        .arg("game")
-        .flag("--frames", "8")
-        .flag("--size", "16x12")
-        .flag("--target-ms", "30")
-        .flag("--devices", "lavapipe:1,1")
-        .flag("--character", &character)
-        .arg("--json")
-        .out(dir.path())
-        .run();
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = String::from_utf8_lossy(&o.stdout);
-    let json: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+    // `bench game --json` with `flags` (after the character and the output folder): what it
+    // printed and its JSON line.
+    let game = |flags: &[&str]| {
+        let o = Cli::new("bench")
+            .arg("game")
+            .flag("--character", &character)
+            .args(flags)
+            .arg("--json")
+            .out(dir.path())
+            .run();
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = String::from_utf8_lossy(&o.stdout).to_string();
+        let json: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+        (out, json)
+    };
+    let (out, json) = game(&[
+        "--frames",
+        "8",
+        "--size",
+        "16x12",
+        "--target-ms",
+        "30",
+        "--devices",
+        "lavapipe:1,1",
+    ]);
     assert_eq!(json["target_ms"], 30.0);
     assert_eq!(json["frames"], 8);
     for key in [
@@ -511,22 +523,20 @@ fn bench_game_prints_how_closely_the_target_is_held_as_json() {
     assert_eq!(json["method"], "path tracing", "{json}");
     assert_eq!(json["settings"], serde_json::json!({"kernel": "auto"}));
     // The method's settings and what it learns over frames, said as their flags name them.
-    let o = Cli::new("bench")
-        .arg("game")
-        .flag("--frames", "2")
-        .flag("--size", "8x6")
-        .flag("--devices", "lavapipe:1")
-        .flag("--character", &character)
-        .flag("--resampled-light", "4")
-        .arg("--light-reuse")
-        .arg("--world-cache")
-        .flag("--reference-spp", "0")
-        .arg("--json")
-        .out(dir.path())
-        .run();
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = String::from_utf8_lossy(&o.stdout);
-    let json: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+    let (_, json) = game(&[
+        "--frames",
+        "2",
+        "--size",
+        "8x6",
+        "--devices",
+        "lavapipe:1",
+        "--resampled-light",
+        "4",
+        "--light-reuse",
+        "--world-cache",
+        "--reference-spp",
+        "0",
+    ]);
     let settings = serde_json::json!({
         "kernel": "auto",
         "resampled_light": 4,
