@@ -17,18 +17,20 @@ use crate::{Error, Result, VkContext};
 /// its defines.
 const SOURCES: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
-/// The sources made here rather than kept in shaders/ (what a table of the code declares,
-/// which a hand-kept GLSL mirror would repeat): the accessors of the frame's words.
-fn generated_sources() -> [(&'static str, String); 1] {
-    [(
-        crate::globals::FRAME_WORDS_INCLUDE,
-        crate::globals::frame_words_glsl(),
-    )]
-}
+/// What writes a generated source's text.
+type Writer = fn() -> String;
 
-/// Whether shaders/ has a file named `name`, or the tracer makes one (`generated_sources`).
+/// The sources made here rather than kept in shaders/ (what a table of the code declares,
+/// which a hand-kept GLSL mirror would repeat), by name and what writes them: the accessors
+/// of the frame's words.
+const GENERATED: &[(&str, Writer)] = &[(
+    crate::globals::FRAME_WORDS_INCLUDE,
+    crate::globals::frame_words_glsl,
+)];
+
+/// Whether shaders/ has a file named `name`, or the tracer makes one (`GENERATED`).
 pub(crate) fn built_in_source(name: &str) -> bool {
-    SOURCES.iter().any(|(n, _)| *n == name) || generated_sources().iter().any(|(n, _)| *n == name)
+    SOURCES.iter().any(|(n, _)| *n == name) || GENERATED.iter().any(|(n, _)| *n == name)
 }
 
 /// The sources of methods registered from outside platoon's crates (`method::registry`), by
@@ -82,13 +84,13 @@ fn built_in_sources() -> Result<Vec<(&'static str, String)>> {
                 .collect::<Result<_>>()?
         }
     };
-    sources.extend(generated_sources());
+    sources.extend(GENERATED.iter().map(|(n, write)| (*n, write())));
     Ok(sources)
 }
 
 /// How many sources `built_in_sources` gives.
 fn built_in_count() -> usize {
-    SOURCES.len() + generated_sources().len()
+    SOURCES.len() + GENERATED.len()
 }
 
 /// A hash of the kernel's sources (embedded, or $PLATOON_SHADER_DIR's): what renders cached

@@ -1,7 +1,6 @@
 //! The frame before, as motion vectors measure against it (`platoon_core::frame::motion`).
 
 use anyhow::Result;
-use platoon_core::frame::aov::Aov;
 use platoon_core::frame::motion::PreviousFrame;
 use platoon_core::scene::Scene;
 
@@ -21,20 +20,4 @@ pub fn previous_frame(
     let posed = scene.pose_around(time, origin);
     let camera = choice.in_render_space(camera_at(scene, &posed, options)?, origin);
     Ok(PreviousFrame { posed, camera })
-}
-
-/// The frame before, `interval` seconds before `time`, when `aovs` ask for motion vectors
-/// (None otherwise): [`previous_frame`] at `time - interval`.
-pub fn previous_frame_for(
-    aovs: &[Aov],
-    scene: &Scene,
-    options: &PrepareOptions,
-    choice: &CameraChoice,
-    (time, interval): (f32, f32),
-    origin: glam::DVec3,
-) -> Result<Option<PreviousFrame>> {
-    if !aovs.contains(&Aov::Motion) {
-        return Ok(None);
-    }
-    previous_frame(scene, options, choice, time - interval, origin).map(Some)
 }

@@ -294,7 +294,7 @@ impl Batched {
 
 /// Why adaptive sampling is refused to `method`: its kernels render every pixel's samples
 /// (`RenderMethod::skips_converged_pixels`).
-pub fn refused_by(method: &crate::method::Method) -> String {
+fn refused_by(method: &crate::method::Method) -> String {
     format!(
         "adaptive sampling: method {}'s kernels render every pixel's samples, skipping no \
          converged pixel",

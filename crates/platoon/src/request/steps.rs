@@ -10,6 +10,7 @@ use std::rc::Rc;
 
 use anyhow::Result;
 use platoon_core::flatten::GpuScene;
+use platoon_core::frame::aov::Aov;
 use platoon_core::frame::FrameParams;
 use platoon_core::scene::Scene;
 
@@ -117,14 +118,17 @@ impl Request {
     ) -> Result<Still> {
         let mut meta = crate::metadata_of(&shown.facts, params, &rendered, self.sampling.name());
         meta.extend(more);
-        let previous = crate::motion::previous_frame_for(
-            &self.aovs,
-            shown.scene,
-            &self.prepare_options(shown.scene)?,
-            &self.camera,
-            (shown.time, shown.interval),
-            shown.facts.origin,
-        )?;
+        // The frame before, posed again only when motion vectors are asked for.
+        let previous = match self.aovs.contains(&Aov::Motion) {
+            true => Some(crate::motion::previous_frame(
+                shown.scene,
+                &self.prepare_options(shown.scene)?,
+                &self.camera,
+                shown.time - shown.interval,
+                shown.facts.origin,
+            )?),
+            false => None,
+        };
         let scene = FrameScene {
             gpu: shown.gpu,
             origin: shown.facts.origin,
