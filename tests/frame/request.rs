@@ -793,7 +793,7 @@ fn a_game_starts_from_the_lit_scene_and_the_requests_camera_in_world_space() {
     let scene = request.game_scene().unwrap();
     let prepared = request.prepare(request.load_scene().unwrap()).unwrap();
     assert_eq!(prepared.posed.origin, glam::DVec3::ZERO);
-    let camera = request.game_camera(&scene).unwrap();
+    let camera = request.game_camera(&scene, &scene.pose(0.0)).unwrap();
     assert_eq!(camera.camera_to_world, prepared.camera.camera_to_world);
     let given = Camera::look_at(
         glam::Vec3::new(0.1, 0.2, 3.0),
@@ -804,7 +804,7 @@ fn a_game_starts_from_the_lit_scene_and_the_requests_camera_in_world_space() {
         camera: CameraChoice::Given(given),
         ..small()
     };
-    let camera = looking.game_camera(&scene).unwrap();
+    let camera = looking.game_camera(&scene, &scene.pose(0.0)).unwrap();
     assert_eq!(camera.camera_to_world, given.camera_to_world);
     // The box moved 1e5 along x: the game sees it there, a still from around its camera.
     let mut far = platoon::core::scene::cornell::scene();
@@ -813,7 +813,7 @@ fn a_game_starts_from_the_lit_scene_and_the_requests_camera_in_world_space() {
             node.translation.x += 1e5;
         }
     }
-    let camera = request.game_camera(&far).unwrap();
+    let camera = request.game_camera(&far, &far.pose(0.0)).unwrap();
     assert!(
         (camera.position().x - 1e5).abs() < 10.0,
         "{:?}",

@@ -132,8 +132,11 @@ pub fn run(mut args: ViewArgs) -> Result<()> {
     // The scene as the game starts from it, and its camera and size, without the flattening
     // and BVHs a still's preparation makes (the game's updater makes its own).
     let scene = request.game_scene()?;
-    let camera = request.game_camera(&scene)?;
-    let (lo, hi) = scene.pose(request.time).bounds();
+    let posed = scene.pose(request.time);
+    let camera = request.game_camera(&scene, &posed)?;
+    let (lo, hi) = posed.bounds();
+    // Not held for the session: the game poses the scene itself.
+    drop(posed);
     options.driver.gi_update = match args.gi_update {
         GiUpdateArg::Sync => GiUpdate::Synchronous,
         GiUpdateArg::Async => GiUpdate::Asynchronous,

@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use anyhow::Result;
 use platoon_core::scene::camera::Camera;
-use platoon_core::scene::Scene;
+use platoon_core::scene::{Posed, Scene};
 use platoon_live::{DriverOptions, FrameDriver};
 
 use super::form::Request;
@@ -75,10 +75,10 @@ impl Request {
     }
 
     /// The camera a game of `scene` starts with: the request's, in world space (the game's
-    /// render space before its origin first moves) at the request's time.
-    pub fn game_camera(&self, scene: &Scene) -> Result<Camera> {
-        let posed = scene.pose(self.time);
-        let camera = crate::prepare::camera_at(scene, &posed, &self.prepare_options(scene)?)?;
+    /// render space before its origin first moves), in `posed`, the scene posed at the
+    /// request's time (`scene.pose(time)`, which the caller may read too: its bounds).
+    pub fn game_camera(&self, scene: &Scene, posed: &Posed) -> Result<Camera> {
+        let camera = crate::prepare::camera_at(scene, posed, &self.prepare_options(scene)?)?;
         Ok(self.camera.in_render_space(camera, glam::DVec3::ZERO))
     }
 }
