@@ -118,11 +118,9 @@ impl FrameParams {
     /// The words the kernel reads of this frame's options and path loop, the options' first
     /// (`OPTION_WORDS`, then `LOOP_WORDS`): what the tracer pushes, read by the accessors
     /// `kernel_word_names` names.
-    pub fn kernel_words(&self) -> Vec<u32> {
+    pub fn kernel_words(&self) -> impl Iterator<Item = u32> + '_ {
         let options = OPTION_WORDS.iter().map(|w| (w.of)(&self.options));
-        options
-            .chain(LOOP_WORDS.iter().map(|w| (w.of)(&self.path_loop)))
-            .collect()
+        options.chain(LOOP_WORDS.iter().map(|w| (w.of)(&self.path_loop)))
     }
 
     /// What is wrong with the frame, if anything: the rules every tracer holds a band to (the
