@@ -63,12 +63,6 @@ fn a_method_from_outside_is_registered_once_by_name() {
         fn sweep(&self) -> &'static [&'static str] {
             &[]
         }
-        fn unit<'a>(
-            &self,
-            _: &'a platoon::core::Method,
-        ) -> Option<&'a dyn platoon::core::method::render_method::RenderMethod> {
-            None
-        }
     }
     static THIEF: Stranger = Stranger("thief", TAKEN);
     static FREE_KIND: Stranger = Stranger("free", &[]);

@@ -31,8 +31,8 @@ pub struct Grey {
 }
 
 impl RenderMethod for Grey {
-    fn name(&self) -> &'static str {
-        "grey"
+    fn kind(&self) -> &'static dyn MethodKind {
+        &GreyKind
     }
     fn describe(&self) -> String {
         format!(
@@ -143,9 +143,6 @@ const SETTINGS: &[Setting] = &[
 ];
 
 impl MethodKind for GreyKind {
-    fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod> {
-        method.state::<Grey>().map(|s| s as &dyn RenderMethod)
-    }
     fn name(&self) -> &'static str {
         "grey"
     }

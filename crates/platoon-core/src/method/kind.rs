@@ -2,7 +2,6 @@
 //! make the frame's `Method`, and what it asks of the layers above (whether it travels between
 //! ranks, the sweep it is compared in). One entry of `registry::KINDS` per method.
 
-use super::render_method::RenderMethod;
 use super::settings::{Setting, Settings};
 use super::Method;
 
@@ -71,9 +70,6 @@ pub trait MethodKind: Sync {
     fn learning_of(&self, _method: &Method) -> Settings {
         Settings::default()
     }
-    /// What renders `method` when it is of this kind: its state (`Method::state`) as the
-    /// core's unit. `Method::unit` asks every kind.
-    fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod>;
 }
 
 impl std::fmt::Debug for dyn MethodKind {

@@ -14,7 +14,6 @@ use crate::method::lhb::LhbKind;
 use crate::method::links::LinksKind;
 use crate::method::path::PathKind;
 use crate::method::render_method::RenderMethod;
-use crate::method::Method;
 
 /// Every method, the default first.
 pub static KINDS: &[&dyn MethodKind] = &[&PathKind, &IgiKind, &LinksKind, &LhbKind];
@@ -74,32 +73,6 @@ pub fn names_that(can: fn(&dyn RenderMethod) -> bool) -> String {
         .map(|k| k.name())
         .collect();
     able.join(", ")
-}
-
-impl Method {
-    /// How it is chosen: its settings and what it asks of the layers above.
-    pub fn kind(&self) -> &'static dyn MethodKind {
-        self.kind_and_unit().0
-    }
-
-    /// The method's unit: what renders it.
-    pub fn unit(&self) -> &dyn RenderMethod {
-        self.kind_and_unit().1
-    }
-
-    fn kind_and_unit(&self) -> (&'static dyn MethodKind, &dyn RenderMethod) {
-        let of = |k: &'static dyn MethodKind| k.unit(self).map(|u| (k, u));
-        KINDS
-            .iter()
-            .find_map(|k| of(*k))
-            .or_else(|| all().into_iter().find_map(of))
-            .expect("a frame's method is of a registered kind")
-    }
-
-    /// Its settings, all of them.
-    pub fn settings(&self) -> crate::method::settings::Settings {
-        self.kind().settings_of(self)
-    }
 }
 
 #[cfg(test)]

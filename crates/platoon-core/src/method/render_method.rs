@@ -1,9 +1,15 @@
-//! What every rendering method provides to the core.
+//! What every rendering method provides to the core, and how a frame's `Method` is read as the
+//! unit that renders it.
+
+use std::any::Any;
+use std::sync::Arc;
 
 use crate::flatten::features::KernelOption;
 use crate::flatten::GpuScene;
 use crate::frame::{Band, FrameParams, MethodReport};
-use crate::method::Method;
+use crate::method::kind::MethodKind;
+use crate::method::settings::Settings;
+use crate::method::{Method, MethodState};
 
 /// What a device frame of a method's work before its frames gave back: each pixel's average
 /// (the film) and what its bands left per pixel (`Band::per_pixel`), in pixel order.
@@ -27,8 +33,12 @@ pub type DeviceRun<'a> = dyn FnMut(&FrameParams) -> Result<DeviceFrame, String> 
 /// A rendering method as the core sees it: plain data and CPU passes; its device side is the
 /// tracer's (`platoon-tracer/src/method/`).
 pub trait RenderMethod {
+    /// How it is chosen: its name, settings and what it asks of the layers above.
+    fn kind(&self) -> &'static dyn MethodKind;
     /// Its name on the command line and in the tracer's registry.
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &'static str {
+        self.kind().name()
+    }
     /// The method and its options, for the output's metadata.
     fn describe(&self) -> String;
     /// What is wrong with rendering `params` this way, if anything.
@@ -123,5 +133,43 @@ pub trait RenderMethod {
         _scene_radius: f32,
     ) -> Result<Option<Box<dyn crate::method::learning::FrameLearning>>, String> {
         Ok(None)
+    }
+}
+
+/// Reads a `Method`'s state, of the type `Method::new` was given, as the unit it is.
+struct ReadUnit(for<'a> fn(&'a dyn MethodState) -> &'a dyn RenderMethod);
+
+fn read_unit<T: RenderMethod + MethodState>(state: &dyn MethodState) -> &dyn RenderMethod {
+    let state: &T = state
+        .as_any()
+        .downcast_ref()
+        .expect("the state Method::new was given");
+    state
+}
+
+impl Method {
+    /// The method whose state is `state` (a unit's options: `IgiOptions`, `Links`...), which
+    /// renders it.
+    pub fn new<T: RenderMethod + MethodState>(state: T) -> Method {
+        Method::of_parts(Arc::new(state), const { &ReadUnit(read_unit::<T>) })
+    }
+
+    /// The method's unit: what renders it.
+    pub fn unit(&self) -> &dyn RenderMethod {
+        let (state, read) = self.parts();
+        let read: &ReadUnit = (read as &dyn Any)
+            .downcast_ref()
+            .expect("made by Method::new");
+        (read.0)(state)
+    }
+
+    /// How it is chosen: its settings and what it asks of the layers above.
+    pub fn kind(&self) -> &'static dyn MethodKind {
+        self.unit().kind()
+    }
+
+    /// Its settings, all of them.
+    pub fn settings(&self) -> Settings {
+        self.kind().settings_of(self)
     }
 }

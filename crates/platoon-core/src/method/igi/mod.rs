@@ -22,11 +22,12 @@ pub use options::{Grid, IgiOptions, DEPTH_THRESHOLD, MAX_BOUNCES, NORMAL_THRESHO
 
 use crate::flatten::features::KernelOption;
 use crate::frame::{Band, FrameParams, Output};
+use crate::method::kind::MethodKind;
 use crate::method::render_method::RenderMethod;
 
 impl RenderMethod for IgiOptions {
-    fn name(&self) -> &'static str {
-        "igi"
+    fn kind(&self) -> &'static dyn MethodKind {
+        &IgiKind
     }
 
     fn brief(&self) -> Option<String> {

@@ -4,7 +4,6 @@
 use super::directions::DirectionSet;
 use super::{Lhb, LhbOptions, RasterVariant};
 use crate::method::kind::MethodKind;
-use crate::method::render_method::RenderMethod;
 use crate::method::settings::{Setting, Settings, Value, ValueKind};
 use crate::method::Method;
 
@@ -65,9 +64,6 @@ const SETTINGS: &[Setting] = &[
 ];
 
 impl MethodKind for LhbKind {
-    fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod> {
-        method.state::<Lhb>().map(|s| s as &dyn RenderMethod)
-    }
     fn name(&self) -> &'static str {
         "lhb"
     }

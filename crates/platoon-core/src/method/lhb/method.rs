@@ -2,17 +2,19 @@
 //! from the scene, and its place among the methods (`RenderMethod`).
 
 use super::build_report::LhbBuild;
+use super::kind::LhbKind;
 use super::options::RasterVariant;
 use super::prepared::Lhb;
 use crate::flatten::features::KernelOption;
 use crate::flatten::GpuScene;
 use crate::frame::{FrameParams, MethodReport, Output};
+use crate::method::kind::MethodKind;
 use crate::method::render_method::{DeviceRun, RenderMethod, Report};
 use crate::method::Method;
 
 impl RenderMethod for Lhb {
-    fn name(&self) -> &'static str {
-        "lhb"
+    fn kind(&self) -> &'static dyn MethodKind {
+        &LhbKind
     }
 
     fn describe(&self) -> String {

@@ -3,7 +3,6 @@
 
 use super::{Links, LinksOptions};
 use crate::method::kind::MethodKind;
-use crate::method::render_method::RenderMethod;
 use crate::method::settings::{Setting, Settings, Value, ValueKind};
 use crate::method::Method;
 
@@ -56,9 +55,6 @@ const SETTINGS: &[Setting] = &[
 ];
 
 impl MethodKind for LinksKind {
-    fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod> {
-        method.state::<Links>().map(|s| s as &dyn RenderMethod)
-    }
     fn name(&self) -> &'static str {
         "links"
     }

@@ -44,12 +44,13 @@ use std::sync::Arc;
 use crate::flatten::features::KernelOption;
 use crate::flatten::GpuScene;
 use crate::frame::{FrameParams, Output};
+use crate::method::kind::MethodKind;
 use crate::method::render_method::{DeviceRun, RenderMethod};
 use crate::method::Method;
 
 impl RenderMethod for Links {
-    fn name(&self) -> &'static str {
-        "links"
+    fn kind(&self) -> &'static dyn MethodKind {
+        &LinksKind
     }
 
     fn describe(&self) -> String {

@@ -5,7 +5,6 @@ use super::kernel::PathKernel;
 use super::learning::check;
 use super::state::{PathTracing, ResampledLight};
 use crate::method::kind::MethodKind;
-use crate::method::render_method::RenderMethod;
 use crate::method::settings::{Setting, Settings, Value, ValueKind};
 use crate::method::Method;
 
@@ -55,11 +54,6 @@ static LEARNING: &[Setting] = &[
 pub struct PathKind;
 
 impl MethodKind for PathKind {
-    fn unit<'a>(&self, method: &'a Method) -> Option<&'a dyn RenderMethod> {
-        method
-            .state::<PathTracing>()
-            .map(|s| s as &dyn RenderMethod)
-    }
     fn name(&self) -> &'static str {
         "path"
     }

@@ -11,6 +11,7 @@ use std::sync::LazyLock;
 
 use crate::flatten::features::KernelOption;
 use crate::frame::{FrameParams, MethodReport, Output};
+use crate::method::kind::MethodKind;
 use crate::method::learning::FrameLearning;
 use crate::method::render_method::{RenderMethod, Report};
 use crate::method::Method;
@@ -64,8 +65,8 @@ impl Default for Method {
 }
 
 impl RenderMethod for PathTracing {
-    fn name(&self) -> &'static str {
-        "path"
+    fn kind(&self) -> &'static dyn MethodKind {
+        &PathKind
     }
     fn describe(&self) -> String {
         "path tracing".into()
