@@ -37,15 +37,15 @@ def struct_fields(root, file, name):
     return re.findall(r"^\s*pub (\w+):", body, re.M)
 
 def frame_params_fields(root):
-    return struct_fields(root, "crates/platoon-core/src/frame/mod.rs", "FrameParams")
+    return struct_fields(root, "crates/platoon-frame/src/frame/mod.rs", "FrameParams")
 
 def frame_options_fields(root):
     """The options a request passes to the frame as they are (`FrameParams::options`)."""
-    return struct_fields(root, "crates/platoon-core/src/frame/options.rs", "FrameOptions")
+    return struct_fields(root, "crates/platoon-frame/src/frame/options.rs", "FrameOptions")
 
 def path_loop_fields(root):
     """The path loop's knobs (`FrameParams::path_loop`), each a render option."""
-    return struct_fields(root, "crates/platoon-core/src/frame/path_loop.rs", "PathLoop")
+    return struct_fields(root, "crates/platoon-frame/src/frame/path_loop.rs", "PathLoop")
 
 def source_files(root):
     """Non-test sources: the crates' src folders (their `tests.rs` files and `mod tests`

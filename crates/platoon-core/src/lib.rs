@@ -6,12 +6,13 @@
 //! - [`flatten`]: a posed scene made into the plain GPU-ready arrays of [`flatten::GpuScene`]
 //!   (BVHs, materials and textures, lights and their selection CDF, the feature set) and the
 //!   CPU's ray queries over them: the crate `platoon-accel`, re-exported here;
-//! - [`frame`]: frame parameters, bands of lines, the multi-tracer frame loop and fault injection;
-//!   its outputs beside the beauty (`frame::aov`, `cryptomatte`, `light_pass`, `motion`,
-//!   `hit_geometry`, `Crop`) and the [`denoise`]rs they guide are the crate `platoon-aov`,
-//!   re-exported where they were;
-//! - [`method`]: the rendering methods (path tracing, instant global illumination): their
-//!   options, the kernel variant a render runs, the passes after assembly;
+//! - [`frame`]: frame parameters and the bands of pixels a tracer renders: the frame contract,
+//!   crate `platoon-frame`, re-exported here; its outputs beside the beauty (`frame::aov`,
+//!   `cryptomatte`, `light_pass`, `motion`, `hit_geometry`, `Crop`) and the [`denoise`]rs they
+//!   guide are the crate `platoon-aov`, re-exported where they were;
+//! - [`method`]: the rendering methods (IGI, vertex links, layered hit buffers) and the list of
+//!   the built-in ones (`method::registry`); what renders a frame, how a method is chosen and
+//!   the reference method (path tracing) are the frame contract's, re-exported there;
 //! - [`balance`]: the line balancers and the replay of recorded costs: the crate
 //!   `platoon-balance`, re-exported here;
 //! - [`measure`]: summaries of measurements;
@@ -22,9 +23,10 @@
 //! driver) is the crate `platoon-live`, frames split between processes (MPI ranks) the crate
 //! `platoon-distribute`. The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
-pub mod frame;
 pub mod measure;
 pub mod method;
+
+pub use platoon_frame::frame;
 
 pub use platoon_accel as flatten;
 pub use platoon_aov::denoise;

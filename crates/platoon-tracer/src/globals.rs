@@ -159,7 +159,7 @@ pub(crate) const FRAME_WORDS_INCLUDE: &str = "generated/frame_words.glsl";
 pub(crate) fn frame_words_glsl() -> String {
     let mut glsl = String::from(
         "// Made by crates/platoon-tracer/src/globals.rs (frame_words_glsl) from the frame's\n\
-         // words, OPTION_WORDS and LOOP_WORDS of crates/platoon-core/src/frame/.\n",
+         // words, OPTION_WORDS and LOOP_WORDS of crates/platoon-frame/src/frame/.\n",
     );
     for (i, (name, float)) in kernel_word_names().enumerate() {
         let read = format!("pc.frame_words[{i}]");

@@ -78,27 +78,3 @@ impl fmt::Debug for Method {
         write!(f, "{:?}", self.state)
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::method::igi::IgiOptions;
-    use crate::method::path::PathTracing;
-
-    #[test]
-    fn methods_are_equal_when_their_units_and_states_are() {
-        let igi = |vpls| Method::new(IgiOptions::with_vpls(vpls));
-        assert_eq!(igi(30), igi(30));
-        assert_ne!(igi(30), igi(31));
-        assert_ne!(igi(30), Method::path_tracing());
-        assert_ne!(Method::path_tracing(), igi(30));
-        assert_eq!(Method::default(), Method::path_tracing());
-        assert!(Method::default().is_path_tracing() && !igi(30).is_path_tracing());
-        assert_eq!(
-            igi(30).state::<IgiOptions>(),
-            Some(&IgiOptions::with_vpls(30))
-        );
-        assert!(igi(30).state::<PathTracing>().is_none());
-        assert_eq!(igi(30).unit().name(), "igi");
-    }
-}

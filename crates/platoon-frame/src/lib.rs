@@ -1,0 +1,24 @@
+//! platoon-frame: the frame contract, what the tracer and the schedule depend on (no Vulkan).
+//!
+//! - [`frame`]: what one frame renders (`FrameParams`: the film, camera, crop, the request's
+//!   options, the path loop, the method), the bands of pixels a tracer renders of it
+//!   (`Band`, `BandTracer`, a `ValidatedFrame` it trusts), adaptive sampling and what a
+//!   method leaves per pixel or reports;
+//! - [`method`]: what renders a frame (`Method`, the unit's `RenderMethod`), how a method is
+//!   chosen (`MethodKind`, its settings and technique strings), what it learns over frames,
+//!   the kernel variant a frame runs, and the reference method every other one continues
+//!   the paths of: the path tracer (`method::path`), a frame's default.
+//!
+//! The other methods' core halves, and the list of the built-in ones, are platoon-core's;
+//! the core re-exports this crate's modules where they were (`platoon_core::frame`,
+//! `platoon_core::method::path`...).
+
+pub mod frame;
+pub mod method;
+
+use platoon_accel as flatten;
+use platoon_aov::denoise;
+use platoon_balance as balance;
+use platoon_image as output;
+use platoon_scene as scene;
+use platoon_scene::error;
