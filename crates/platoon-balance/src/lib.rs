@@ -5,12 +5,14 @@
 //! Cycles' damped time equalising, and platoon's own cost-aware cut. One policy per file.
 //!
 //! It knows no frame, method or device: only [`Span`]s and what each tracer measured of them
-//! (the scene crate lends [`replay`] its error type for a user's recorded costs). The core
-//! re-exports it as `platoon_core::balance`, its `Span` as `platoon_core::frame::Span`.
+//! (the scene crate lends [`replay`] its error type for a user's recorded costs), and the
+//! summaries of measurements the benches share ([`measure`]). The core re-exports it as
+//! `platoon_core::balance`, its `Span` as `platoon_core::frame::Span`.
 
 mod cost_aware;
 mod cycles;
 mod equal_split;
+pub mod measure;
 mod perfect;
 mod perfect_smooth;
 mod policy;

@@ -15,7 +15,7 @@
 //!   the reference method (path tracing) are the frame contract's, re-exported there;
 //! - [`balance`]: the line balancers and the replay of recorded costs: the crate
 //!   `platoon-balance`, re-exported here;
-//! - [`measure`]: summaries of measurements;
+//! - [`measure`]: summaries of measurements (platoon-balance's);
 //! - [`output`]: films and image files, and [`colour`] (exposure and view transforms): the crate
 //!   `platoon-image`, re-exported here.
 //!
@@ -23,7 +23,6 @@
 //! driver) is the crate `platoon-live`, frames split between processes (MPI ranks) the crate
 //! `platoon-distribute`. The tracer crate consumes [`flatten::GpuScene`] and knows nothing of glTF.
 
-pub mod measure;
 pub mod method;
 
 pub use platoon_frame::frame;
@@ -31,6 +30,7 @@ pub use platoon_frame::frame;
 pub use platoon_accel as flatten;
 pub use platoon_aov::denoise;
 pub use platoon_balance as balance;
+pub use platoon_balance::measure;
 pub use platoon_scene as scene;
 pub use platoon_scene::{byte_size, error, input};
 

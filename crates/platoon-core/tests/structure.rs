@@ -116,6 +116,27 @@ fn the_facade_depends_on_no_generator_parser_or_lab() {
     }
 }
 
+/// The schedule of a frame over its tracers, and the fixtures that stand in for tracers, are
+/// built on the frame contract alone (issue 60: "frame contract (what the tracer depends on)"):
+/// they name no method's code, so neither depends on the crate of the methods.
+#[test]
+fn the_schedule_and_the_fixtures_know_the_frame_contract_not_the_methods() {
+    let root = manifest_dir().join("../..");
+    for krate in ["platoon-schedule", "platoon-test-support"] {
+        let deps = dependencies(&root.join(format!("crates/{krate}/Cargo.toml")));
+        assert!(
+            deps.iter().any(|d| d == "platoon-frame"),
+            "{krate}: {deps:?}"
+        );
+        assert!(
+            !deps
+                .iter()
+                .any(|d| d == "platoon-core" || d == "platoon-tracer"),
+            "crates/{krate}/Cargo.toml depends on the methods' crate: {deps:?}"
+        );
+    }
+}
+
 /// The `.rs` files under `dir`, recursively.
 fn rust_files(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
     for entry in std::fs::read_dir(dir).expect("read a source folder") {

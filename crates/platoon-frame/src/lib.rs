@@ -16,9 +16,12 @@
 pub mod frame;
 pub mod method;
 
-use platoon_accel as flatten;
-use platoon_aov::denoise;
-use platoon_balance as balance;
-use platoon_image as output;
-use platoon_scene as scene;
-use platoon_scene::error;
+// What the contract is made of, by the names the core gives them too, so that a crate built on
+// the contract alone (the schedule) reads it as one.
+pub use platoon_accel as flatten;
+pub use platoon_aov::denoise;
+pub use platoon_balance as balance;
+pub use platoon_balance::measure;
+pub use platoon_image as output;
+pub use platoon_scene as scene;
+pub use platoon_scene::error;

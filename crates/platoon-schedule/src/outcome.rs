@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use platoon_core::frame::Span;
+use platoon_frame::frame::Span;
 
 /// One tracer's part in a frame.
 #[derive(Clone, Debug)]

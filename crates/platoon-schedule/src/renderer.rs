@@ -10,16 +10,16 @@ use std::time::{Duration, Instant};
 pub use crate::outcome::{RenderError, TracerFailure, TracerStats};
 use crate::rounds::{check_cover, piece_overhead, planned_round, stolen_round, Gathered};
 use crate::workers::Worker;
-use platoon_core::balance::steal::{unstolen_seconds, ClaimBoard, Stealing};
-use platoon_core::balance::steal_history::StealHistory;
-use platoon_core::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
-use platoon_core::denoise::{DeviceFilter, Guides};
-use platoon_core::flatten::commit::Commit;
-use platoon_core::frame::{
+use platoon_frame::balance::steal::{unstolen_seconds, ClaimBoard, Stealing};
+use platoon_frame::balance::steal_history::StealHistory;
+use platoon_frame::balance::{idle_fraction, Balancer, FrameMeasure, TracerFrame};
+use platoon_frame::denoise::{DeviceFilter, Guides};
+use platoon_frame::flatten::commit::Commit;
+use platoon_frame::frame::{
     assemble, gather_sums, Band, BandTracer, FrameParams, MethodReport, PixelData, Span,
     ValidatedFrame,
 };
-use platoon_core::output::Film;
+use platoon_frame::output::Film;
 
 pub struct FrameResult {
     pub film: Film,
@@ -519,9 +519,9 @@ pub fn per_pixel_in_order(bands: &mut [Band]) -> PixelData {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use platoon_core::balance::{by_name, NAMES};
-    use platoon_core::frame::TracerError;
-    use platoon_core::scene::camera::Camera;
+    use platoon_frame::balance::{by_name, NAMES};
+    use platoon_frame::frame::TracerError;
+    use platoon_frame::scene::camera::Camera;
     use platoon_test_support::fakes::Fake;
     use platoon_test_support::fault::FaultInjector;
 
@@ -543,7 +543,7 @@ mod tests {
 
         fn apply_commit(
             &mut self,
-            _: &platoon_core::flatten::commit::Commit,
+            _: &platoon_frame::flatten::commit::Commit,
         ) -> Result<u64, TracerError> {
             if self.refuse {
                 return Err("device lost".into());
@@ -755,7 +755,7 @@ mod tests {
         #[repr(C)]
         #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
         struct Pixel(u32);
-        impl platoon_core::frame::PixelRecord for Pixel {
+        impl platoon_frame::frame::PixelRecord for Pixel {
             const KIND: &'static str = "test.pixel";
         }
         let band = |begin: u32, end: u32| Band {

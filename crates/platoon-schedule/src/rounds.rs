@@ -8,9 +8,9 @@ use std::time::Duration;
 
 use crate::outcome::{RenderError, TracerFailure, TracerStats};
 use crate::workers::Worker;
-use platoon_core::balance::span_cost;
-use platoon_core::balance::steal::ClaimBoard;
-use platoon_core::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
+use platoon_frame::balance::span_cost;
+use platoon_frame::balance::steal::ClaimBoard;
+use platoon_frame::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 /// What a frame's rounds gather.
 pub(crate) struct Gathered {
@@ -217,7 +217,7 @@ pub(crate) fn piece_overhead(line_costs: &[f64], width: u32, claimed: &[Claimed]
             excess.push((seconds - span_cost(line_costs, width, span) * per_cost).max(0.0));
         }
     }
-    (!excess.is_empty()).then(|| platoon_core::measure::median(excess))
+    (!excess.is_empty()).then(|| platoon_frame::measure::median(excess))
 }
 
 /// `spans` less the pixels of `taken` (spans that lie within them or apart).

@@ -10,9 +10,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use platoon_core::balance::steal::ClaimBoard;
-use platoon_core::flatten::commit::Commit;
-use platoon_core::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
+use platoon_frame::balance::steal::ClaimBoard;
+use platoon_frame::flatten::commit::Commit;
+use platoon_frame::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 enum Job {
     /// A band; with `report`, the samples done so far as its passes end (`Done::Progress`).

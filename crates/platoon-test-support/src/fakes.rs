@@ -4,8 +4,8 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use platoon_core::flatten::commit::Commit;
-use platoon_core::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
+use platoon_frame::flatten::commit::Commit;
+use platoon_frame::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 /// A CPU tracer whose pixels are a fixed function of (x, y, frame) added onto the
 /// accumulated sums, as the kernel continues them; `slowness` sets its speed.

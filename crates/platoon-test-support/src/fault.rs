@@ -1,7 +1,7 @@
 //! Fault injection: a tracer wrapper that, when told to, fails from a given frame on, as a lost
 //! device would. Healthy and failing tracers are the same type, so one renderer holds both.
 
-use platoon_core::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
+use platoon_frame::frame::{Band, BandTracer, Span, TracerError, ValidatedFrame};
 
 pub struct FaultInjector<T> {
     pub inner: T,
@@ -91,7 +91,7 @@ impl<T: BandTracer> BandTracer for FaultInjector<T> {
 
     fn apply_commit(
         &mut self,
-        commit: &platoon_core::flatten::commit::Commit,
+        commit: &platoon_frame::flatten::commit::Commit,
     ) -> Result<u64, TracerError> {
         self.inner.apply_commit(commit)
     }
