@@ -417,19 +417,9 @@ fn every_part() -> Scene {
     )
 }
 
-#[test]
-fn the_light_passes_sum_to_the_beauty_and_each_holds_its_part() {
-    let request = platoon::Request {
-        scene: platoon::SceneSource::Scene(Box::new(every_part())),
-        env: constant_env(0.5),
-        width: 40,
-        height: 24,
-        spp: 8,
-        devices: DeviceSpec::Lavapipe(vec![1]),
-        aovs: Aov::parse_list("light").unwrap(),
-        ..Default::default()
-    };
-    let still = request.render(&mut |_| {}).unwrap();
+/// How far the sum of a still's light passes is off its beauty, the worst pixel's channel
+/// relative to its value (at least 1); every pass holds some light, none a negative or a NaN.
+fn passes_off_the_beauty(still: &platoon::Still) -> f64 {
     let mut sum = vec![[0.0f64; 3]; still.image.pixels.len()];
     for pass in LightPass::ALL {
         let l = layer(&still.layers, pass.name());
@@ -451,9 +441,44 @@ fn the_light_passes_sum_to_the_beauty_and_each_holds_its_part() {
             worst = worst.max((got - want).abs() / want.max(1.0));
         }
     }
+    worst
+}
+
+#[test]
+fn the_light_passes_sum_to_the_beauty_and_each_holds_its_part() {
+    let request = platoon::Request {
+        scene: platoon::SceneSource::Scene(Box::new(every_part())),
+        env: constant_env(0.5),
+        width: 40,
+        height: 24,
+        spp: 8,
+        devices: DeviceSpec::Lavapipe(vec![1]),
+        aovs: Aov::parse_list("light").unwrap(),
+        ..Default::default()
+    };
+    let still = request.render(&mut |_| {}).unwrap();
+    let worst = passes_off_the_beauty(&still);
     assert!(
         worst < 1e-5,
         "the passes' sum is off the beauty by {worst:e}"
+    );
+    // The passes are the beauty's own paths, its method's state kept (resampled light here,
+    // which picks other lights than the path loop would): they sum to that beauty too.
+    let mut resampled = request.method.clone();
+    resampled
+        .path_mut()
+        .expect("the path tracer")
+        .resampled_light = Some(platoon::core::method::path::ResampledLight::new(4));
+    let resampled = platoon::Request {
+        method: resampled,
+        ..request.clone()
+    }
+    .render(&mut |_| {})
+    .unwrap();
+    let worst = passes_off_the_beauty(&resampled);
+    assert!(
+        worst < 1e-5,
+        "resampled light: the passes' sum is off the beauty by {worst:e}"
     );
     // The streaming kernels carry a path's share between their kernels: the same passes.
     let streamed = platoon::Request {

@@ -75,11 +75,10 @@ impl Tracer {
         stride: u32,
         progress: &mut dyn FnMut(u32),
     ) -> Result<Band> {
-        if let Some(r) = params.method.path().resampled_light {
-            r.check_lights(self.features.punctual_lights)
-                .map_err(crate::Error::Invalid)?;
-        }
         let method = params.method.unit();
+        method
+            .check_scene(&self.features)
+            .map_err(crate::Error::Invalid)?;
         // The method's device side is taken out while it records, and kept for the next band.
         let name = method.name();
         let mut passes = self

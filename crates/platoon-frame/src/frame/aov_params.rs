@@ -10,8 +10,9 @@ use crate::method::Method;
 pub fn aov_pass_params(params: &FrameParams, pass: AovPass, spp: u32) -> FrameParams {
     let mut p = params.clone();
     p.output = Output::Aov(pass);
-    // A light pass keeps the path tracer's state: its paths must be the beauty's.
-    if !p.method.is_path_tracing() {
+    // A method whose image is the sum of the light passes keeps its state (a light pass's paths
+    // must be the beauty's); another's passes are the reference's, the path tracer's.
+    if !p.method.unit().splits_into_light_passes() {
         p.method = Method::path_tracing();
     }
     p.spp = spp;

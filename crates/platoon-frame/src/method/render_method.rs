@@ -4,7 +4,7 @@
 use std::any::Any;
 use std::sync::Arc;
 
-use crate::flatten::features::KernelOption;
+use crate::flatten::features::{KernelOption, SceneFeatures};
 use crate::flatten::GpuScene;
 use crate::frame::{Band, FrameParams, MethodReport};
 use crate::method::kind::MethodKind;
@@ -108,6 +108,12 @@ pub trait RenderMethod {
     /// where its beauty is those paths, as the path tracer's is.
     fn splits_into_light_passes(&self) -> bool {
         false
+    }
+    /// What it refuses of the scene a tracer holds (`features`: the path tracer's resampled
+    /// light weighed by emitted luminance refuses punctual lights), checked at each band since
+    /// only the tracer knows the scene it holds.
+    fn check_scene(&self, _features: &SceneFeatures) -> Result<(), String> {
+        Ok(())
     }
     /// The rules of its options that need no frame (what a request refuses before it loads
     /// anything): the setting it is about and the problem.

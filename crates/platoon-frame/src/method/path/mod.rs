@@ -9,7 +9,7 @@
 
 use std::sync::LazyLock;
 
-use crate::flatten::features::KernelOption;
+use crate::flatten::features::{KernelOption, SceneFeatures};
 use crate::frame::{FrameParams, MethodReport, Output};
 use crate::method::kind::MethodKind;
 use crate::method::learning::FrameLearning;
@@ -67,6 +67,12 @@ impl Default for Method {
 impl RenderMethod for PathTracing {
     fn kind(&self) -> &'static dyn MethodKind {
         &PathKind
+    }
+    fn check_scene(&self, features: &SceneFeatures) -> Result<(), String> {
+        match self.resampled_light {
+            Some(r) => r.check_lights(features.punctual_lights),
+            None => Ok(()),
+        }
     }
     fn describe(&self) -> String {
         "path tracing".into()
