@@ -52,10 +52,7 @@ impl Progressive {
                 .into());
             }
         }
-        let prepared = request.prepare(request.load_scene()?)?;
-        for w in &prepared.scene.warnings {
-            log::warn!("{w}");
-        }
+        let prepared = request.load_and_prepare()?;
         let tracers = request.tracers(&prepared.gpu, None)?;
         Ok(Progressive {
             request,

@@ -1,4 +1,5 @@
-//! A render's steps, each a call of its request: the scene prepared ([`Request::prepare`]),
+//! A render's steps, each a call of its request: the scene prepared ([`Request::prepare`],
+//! [`Request::load_and_prepare`]),
 //! the tracers holding it ([`Request::tracers`], [`Request::still_tracers`]), the frame
 //! rendered in the batches its outputs need ([`Request::render_frame`]) and its outputs made
 //! ([`Request::outputs`]). [`Request::render`] and [`crate::Progressive`] run them; so do the
@@ -64,6 +65,19 @@ impl Request {
     pub fn prepare(&self, scene: Scene) -> Result<Prepared> {
         let options = self.prepare_options(&scene)?;
         crate::prepare(scene, &options)
+    }
+
+    /// The request's scene read and prepared for a render in this process, its warnings and
+    /// its note logged: where a still and a progressive render start.
+    pub fn load_and_prepare(&self) -> Result<Prepared> {
+        let prepared = self.prepare(self.load_scene()?)?;
+        for w in &prepared.scene.warnings {
+            log::warn!("{w}");
+        }
+        if let Some(note) = &prepared.note {
+            log::info!("{note}");
+        }
+        Ok(prepared)
     }
 
     /// The tracers holding `gpu` on the request's devices; with `ranks`, a frame's bands split

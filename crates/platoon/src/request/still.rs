@@ -141,13 +141,7 @@ impl Request {
     pub fn render(&self, progress: &mut dyn FnMut(u32)) -> Result<Still> {
         self.validate()?;
         self.refuse_frame_to_frame()?;
-        let mut prepared = self.prepare(self.load_scene()?)?;
-        for w in &prepared.scene.warnings {
-            log::warn!("{w}");
-        }
-        if let Some(note) = &prepared.note {
-            log::info!("{note}");
-        }
+        let mut prepared = self.load_and_prepare()?;
         let mut tracers = self.still_tracers(&mut prepared.gpu, None)?;
         let params = self.frame_params(self.camera_in(&prepared));
         let rendered = self.render_frame(&mut tracers, &prepared.gpu, &params, progress)?;
