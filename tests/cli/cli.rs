@@ -178,6 +178,36 @@ fn info_prints_counts_and_features() {
     );
 }
 
+/// Whether a device offers ray queries over acceleration structures is told apart (issue 61):
+/// Debian 12's lavapipe (Mesa 22.3) does not, bookworm-backports' Mesa 25 (`tools/mesa25.sh`,
+/// unpacked beside it) does; listed together, as a frame split between the two would take them.
+#[test]
+fn the_devices_say_which_offer_ray_queries() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let script = Command::new(root.join("tools/mesa25.sh"))
+        .output()
+        .expect("run tools/mesa25.sh");
+    let why = String::from_utf8_lossy(&script.stderr);
+    assert!(script.status.success(), "tools/mesa25.sh: {why}");
+    let mesa25 = String::from_utf8_lossy(&script.stdout).trim().to_string();
+    let system = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
+    let both = format!("{system}:{mesa25}");
+    let o = Cli::new("devices").run_with_env(&[
+        ("VK_DRIVER_FILES", Some(&both)),
+        ("VK_ICD_FILENAMES", Some(&both)),
+    ]);
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{said}");
+    let line = |mesa: &str| {
+        said.lines()
+            .find(|l| l.contains(&format!("Mesa {mesa}")))
+            .unwrap_or_else(|| panic!("no device of Mesa {mesa}: {said}"))
+            .to_string()
+    };
+    assert!(line("22.3").ends_with("ray queries: no"), "{said}");
+    assert!(line("25.").ends_with("ray queries: yes"), "{said}");
+}
+
 #[test]
 fn bad_inputs_fail_cleanly() {
     let dir = tempfile::tempdir().unwrap();

@@ -8,8 +8,11 @@ pub fn run() -> Result<()> {
         bail!("no Vulkan devices found (install mesa-vulkan-drivers for lavapipe)");
     }
     for d in &devices {
+        // Ray queries: the device's own traversal of acceleration structures (issue 61), what
+        // a user with a GPU or a newer lavapipe asks first.
+        let queries = if d.ray_queries { "yes" } else { "no" };
         println!(
-            "{}: {} ({}), driver {}, Vulkan {}",
+            "{}: {} ({}), driver {}, Vulkan {}, ray queries: {queries}",
             d.index, d.name, d.device_type, d.driver, d.api_version
         );
     }

@@ -27,6 +27,8 @@ pub struct DeviceInfo {
     pub mesa: Option<(u32, u32)>,
     /// What the device's memory holds: its heaps and the largest allocation and buffer.
     pub memory: DeviceMemory,
+    /// Whether it offers ray queries over acceleration structures (`ray_query.rs`).
+    pub ray_queries: bool,
 }
 
 impl DeviceInfo {
@@ -204,6 +206,7 @@ fn describe(instance: &ash::Instance, index: usize, pd: vk::PhysicalDevice) -> D
         cpu: p.device_type == vk::PhysicalDeviceType::CPU,
         mesa,
         memory,
+        ray_queries: crate::ray_query::offered(instance, pd),
         name,
         device_type: device_type.into(),
         driver: format!("{driver_name} {driver_info}").trim().to_string(),

@@ -15,6 +15,7 @@ mod kernel;
 mod memory;
 pub mod memory_budget;
 mod method;
+mod ray_query;
 pub mod stop;
 mod tracer;
 

@@ -111,6 +111,7 @@ mod tests {
                 max_allocation: 1 << 30,
                 max_buffer: Some(4 << 30),
             },
+            ray_queries: false,
         }
     }
 

@@ -211,6 +211,7 @@ mod tests {
             cpu,
             mesa: None,
             memory: Default::default(),
+            ray_queries: false,
         }
     }
 
