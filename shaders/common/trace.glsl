@@ -1,7 +1,14 @@
-// The top level of the two-level traversal: instances' boxes, then each instance's bottom level
-// in object space (traverse_blas in intersect.glsl, or what a kernel defines VISIT_BLAS as before
-// including this: IGI's imperfect visibility, igi/visibility.glsl).
+// What a ray hits: trace(), the one entry point of every kernel. platoon's own traversal is the
+// top level of the two-level BVH here, instances' boxes, then each instance's bottom level in
+// object space (traverse_blas in intersect.glsl, or what a kernel defines VISIT_BLAS as before
+// including this: IGI's imperfect visibility, igi/visibility.glsl). With TRAVERSAL_RAY_QUERY
+// (a tracer of `--traversal ray-query`), the device's ray queries traverse its acceleration
+// structures instead (crates/platoon-tracer/src/structures.rs), but where a kernel visits the
+// bottom levels its own way, which a query cannot.
 
+#if defined(TRAVERSAL_RAY_QUERY) && !defined(VISIT_BLAS)
+#define TRACE_BY_RAY_QUERY
+#endif
 #ifndef VISIT_BLAS
 #define VISIT_BLAS traverse_blas
 #endif
@@ -57,6 +64,45 @@ RayTri instance_ray(Ray ray, uint i) {
     return ray_tri_setup(o, d);
 }
 
+#endif
+
+#ifdef TRACE_BY_RAY_QUERY
+#extension GL_EXT_ray_query : require
+// STRUCTURE_BINDING of crates/platoon-tracer/src/memory.rs.
+layout(set = 0, binding = 17) uniform accelerationStructureEXT scene_structures;
+
+// The nearest hit whose surface covers the ray there, by a ray query: opaque triangles are hits
+// outright; alpha-tested ones (a scene that has them builds no geometry opaque) come back as
+// candidates, each confirmed where its coverage lets the ray stop, as trace() below tests it at
+// the nearest. A hit's triangle is its mesh's first (the instance's custom index) plus the
+// primitive's index, its instance the query's instance id: what the own traversal reports.
+bool trace(Ray ray, bool any_hit, out Hit hit) {
+    hit = Hit(ray.tmax, 0.0, 0.0, 0u, 0u);
+    if (instance_count() == 0u) return false;
+    rayQueryEXT q;
+    uint flags = any_hit ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT;
+    rayQueryInitializeEXT(q, scene_structures, flags, 0xffu, ray.origin, 0.0, ray.dir, ray.tmax);
+    while (rayQueryProceedEXT(q)) {
+#ifdef HAS_ALPHA_TEST
+        uint instance = uint(rayQueryGetIntersectionInstanceIdEXT(q, false));
+        uint tri = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(q, false)
+            + rayQueryGetIntersectionPrimitiveIndexEXT(q, false));
+        vec2 b = rayQueryGetIntersectionBarycentricsEXT(q, false);
+        bool tested = tri_pos_at(3u * tri).w == CORNER_ALPHA_TESTED;
+        if (!tested || !alpha_rejects(instance_ray(ray, instance), tri, b.x, b.y))
+            rayQueryConfirmIntersectionEXT(q);
+#endif
+    }
+    if (rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionNoneEXT)
+        return false;
+    vec2 b = rayQueryGetIntersectionBarycentricsEXT(q, true);
+    hit = Hit(rayQueryGetIntersectionTEXT(q, true), b.x, b.y,
+        uint(rayQueryGetIntersectionInstanceIdEXT(q, true)),
+        uint(rayQueryGetIntersectionInstanceCustomIndexEXT(q, true)
+            + rayQueryGetIntersectionPrimitiveIndexEXT(q, true)));
+    return true;
+}
+#elif defined(HAS_ALPHA_TEST)
 // The nearest hit whose surface covers the ray there (an any-hit search ends at the first
 // opaque triangle, or at an alpha-tested one that covers). The traversal takes alpha-tested
 // triangles as hits; when the nearest is one that lets this ray through, the search starts

@@ -52,6 +52,16 @@ impl GpuBuffer {
         })
     }
 
+    /// No buffer (what a holder keeps before it makes one); destroying it does nothing.
+    pub fn empty() -> GpuBuffer {
+        GpuBuffer {
+            buffer: vk::Buffer::null(),
+            allocation: None,
+            address: 0,
+            size: 0,
+        }
+    }
+
     /// The buffer's bytes when its memory is mapped (host-visible).
     pub fn mapped_mut(&mut self) -> Option<&mut [u8]> {
         let size = self.size as usize;

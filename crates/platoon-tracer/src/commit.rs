@@ -20,6 +20,14 @@ impl Tracer {
     /// Brings this tracer's scene to the next generation: `commit` holds what changed since the
     /// scene it has (with the bytes). Call between frames.
     pub fn apply_commit(&mut self, commit: &Commit) -> Result<CommitStats> {
+        if self.structures.is_some() && !commit.arrays.is_empty() {
+            // Its structures would go on placing the scene as it was.
+            return Err(Error::Invalid(format!(
+                "device {}: the ray-query traversal does not follow a living scene's changes \
+                 yet (issue 61): render scenes that change with --traversal own",
+                self.gpu.ctx.info.name
+            )));
+        }
         let mut stats = CommitStats::default();
         let mut writes: Vec<(usize, u64, &[u8])> = Vec::new();
         for a in &commit.arrays {

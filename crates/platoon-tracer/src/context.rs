@@ -89,6 +89,9 @@ pub(crate) struct Context {
     pub info: DeviceInfo,
     pub properties: vk::PhysicalDeviceProperties,
     pub timestamp_bits: u32,
+    /// With ray queries enabled: the alignment of an acceleration structure build's scratch
+    /// memory (`minAccelerationStructureScratchOffsetAlignment`); None without them.
+    pub scratch_alignment: Option<u64>,
     debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     pub validation_messages: Arc<Mutex<Vec<String>>>,
 }
@@ -272,10 +275,12 @@ pub fn set_environment(vars: &[(&str, &std::ffi::OsStr)]) {
 
 impl Context {
     /// `lavapipe_threads`: llvmpipe worker threads of this context's own thread pool.
+    /// `ray_queries`: the device's ray queries enabled (refused where it offers none).
     pub fn new(
         device_index: usize,
         validation: bool,
         lavapipe_threads: Option<u32>,
+        ray_queries: bool,
     ) -> Result<Context> {
         let _guard = CREATION.lock().unwrap_or_else(|e| e.into_inner());
         let original = ORIGINAL_THREADS.get_or_init(|| std::env::var_os("LP_NUM_THREADS"));
@@ -296,10 +301,10 @@ impl Context {
                 }
             }
         }
-        Context::create(device_index, validation)
+        Context::create(device_index, validation, ray_queries)
     }
 
-    fn create(device_index: usize, validation: bool) -> Result<Context> {
+    fn create(device_index: usize, validation: bool, ray_queries: bool) -> Result<Context> {
         let entry = load_entry()?;
         let instance = create_instance(&entry, validation)?;
         let messages = Arc::new(Mutex::new(Vec::new()));
@@ -363,14 +368,35 @@ impl Context {
         let mut enable12 =
             vk::PhysicalDeviceVulkan12Features::default().buffer_device_address(true);
         let features = vk::PhysicalDeviceFeatures::default().shader_int64(true);
-        let create = vk::DeviceCreateInfo::default()
+        if ray_queries && !info.ray_queries {
+            return Err(unsupported(crate::ray_query::NOT_OFFERED));
+        }
+        let extensions: Vec<*const std::ffi::c_char> = if ray_queries {
+            crate::ray_query::EXTENSIONS
+                .iter()
+                .map(|n| n.as_ptr())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mut structures = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default()
+            .acceleration_structure(true);
+        let mut queries = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
+        let mut create = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_features(&features)
+            .enabled_extension_names(&extensions)
             .push_next(&mut enable12);
+        if ray_queries {
+            create = create.push_next(&mut structures).push_next(&mut queries);
+        }
         let device = unsafe { instance.create_device(physical, &create, None) }
             .ctx("creating the logical device")?;
         let queue = unsafe { device.get_device_queue(queue_family as u32, 0) };
+        let scratch_alignment =
+            ray_queries.then(|| crate::ray_query::scratch_alignment(&instance, physical));
         Ok(Context {
+            scratch_alignment,
             entry,
             instance,
             physical,

@@ -17,6 +17,7 @@ pub mod memory_budget;
 mod method;
 mod ray_query;
 pub mod stop;
+mod structures;
 mod tracer;
 
 pub use commit::CommitStats;
@@ -27,6 +28,7 @@ pub use memory::{
     SCENE_ARRAYS,
 };
 pub use method::{kernel_label, kernel_spirv, path_kernel};
+pub use ray_query::Traversal;
 
 /// The device-method API: what a rendering method's device half implements (`MethodPasses`)
 /// and records a band with (`Recorder`), the buffers it grows (`ensure`, `GpuBuffer`), the

@@ -114,8 +114,13 @@ pub fn defines(paths: &[ArrayPath]) -> Vec<&'static str> {
 /// shaders/common/scene.glsl), after the scene arrays' bindings.
 pub(crate) const FRAME_BINDING: u32 = SCENE_ARRAYS.len() as u32;
 
+/// The binding of the scene's top-level acceleration structure, with ray queries
+/// (`TRAVERSAL_RAY_QUERY` in shaders/common/trace.glsl).
+pub(crate) const STRUCTURE_BINDING: u32 = FRAME_BINDING + 1;
+
 /// The descriptor set binding the scene arrays read through texel or storage buffers (binding
-/// i = `SCENE_ARRAYS[i]`), the buffer views of the texel ones, and the frame block.
+/// i = `SCENE_ARRAYS[i]`), the buffer views of the texel ones, the frame block and, with ray
+/// queries, the scene's top-level acceleration structure.
 pub(crate) struct SceneDescriptors {
     pub layout: vk::DescriptorSetLayout,
     pub pool: vk::DescriptorPool,
@@ -132,13 +137,14 @@ fn descriptor_type(path: ArrayPath) -> Option<vk::DescriptorType> {
 }
 
 impl SceneDescriptors {
-    /// Binds `buffers[i]` at binding i wherever `paths[i]` is a descriptor path, and `frame`
-    /// (the tracer's `Globals`) at `FRAME_BINDING`.
+    /// Binds `buffers[i]` at binding i wherever `paths[i]` is a descriptor path, `frame` (the
+    /// tracer's `Globals`) at `FRAME_BINDING` and `structure` at `STRUCTURE_BINDING`.
     pub fn new(
         device: &ash::Device,
         buffers: &[vk::Buffer],
         paths: &[ArrayPath],
         frame: vk::Buffer,
+        structure: Option<vk::AccelerationStructureKHR>,
     ) -> Result<Self> {
         let mut bound: Vec<(u32, vk::DescriptorType)> = paths
             .iter()
@@ -146,6 +152,12 @@ impl SceneDescriptors {
             .filter_map(|(i, &p)| descriptor_type(p).map(|t| (i as u32, t)))
             .collect();
         bound.push((FRAME_BINDING, vk::DescriptorType::UNIFORM_BUFFER));
+        if structure.is_some() {
+            bound.push((
+                STRUCTURE_BINDING,
+                vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+            ));
+        }
         let bindings: Vec<vk::DescriptorSetLayoutBinding> = bound
             .iter()
             .map(|&(i, ty)| {
@@ -174,12 +186,17 @@ impl SceneDescriptors {
             vk::DescriptorPoolSize::default()
                 .ty(vk::DescriptorType::UNIFORM_BUFFER)
                 .descriptor_count(1),
+            vk::DescriptorPoolSize::default()
+                .ty(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+                .descriptor_count(1),
         ];
+        // The structures' size only where the device has their extension.
+        let sizes = &sizes[..if structure.is_some() { 4 } else { 3 }];
         let pool = unsafe {
             device.create_descriptor_pool(
                 &vk::DescriptorPoolCreateInfo::default()
                     .max_sets(1)
-                    .pool_sizes(&sizes),
+                    .pool_sizes(sizes),
                 None,
             )
         }
@@ -210,6 +227,19 @@ impl SceneDescriptors {
             .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
             .buffer_info(&info);
         unsafe { device.update_descriptor_sets(&[write], &[]) };
+        if let Some(structure) = structure {
+            let structures = [structure];
+            let mut info = vk::WriteDescriptorSetAccelerationStructureKHR::default()
+                .acceleration_structures(&structures);
+            // No buffer or image info: the count is given by hand.
+            let write = vk::WriteDescriptorSet::default()
+                .dst_set(d.set)
+                .dst_binding(STRUCTURE_BINDING)
+                .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+                .descriptor_count(1)
+                .push_next(&mut info);
+            unsafe { device.update_descriptor_sets(&[write], &[]) };
+        }
         Ok(d)
     }
 

@@ -40,3 +40,58 @@ pub(crate) fn offered(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool 
     unsafe { instance.get_physical_device_features2(pd, &mut features) };
     structures.acceleration_structure == vk::TRUE && queries.ray_query == vk::TRUE
 }
+
+/// The kernels' define of the ray-query traversal (`shaders/common/trace.glsl`).
+pub(crate) const DEFINE: &str = "TRAVERSAL_RAY_QUERY";
+
+/// Why a device refuses the ray-query traversal.
+pub(crate) const NOT_OFFERED: &str = "no ray queries (VK_KHR_ray_query over \
+    VK_KHR_acceleration_structure; lavapipe offers them from Mesa 24.1 on, tools/mesa25.sh \
+    fetches one beside Debian 12's 22.3): use --traversal own";
+
+/// `minAccelerationStructureScratchOffsetAlignment` of `pd` (at least 1).
+pub(crate) fn scratch_alignment(instance: &ash::Instance, pd: vk::PhysicalDevice) -> u64 {
+    let mut structures = vk::PhysicalDeviceAccelerationStructurePropertiesKHR::default();
+    let mut properties = vk::PhysicalDeviceProperties2::default().push_next(&mut structures);
+    unsafe { instance.get_physical_device_properties2(pd, &mut properties) };
+    (structures.min_acceleration_structure_scratch_offset_alignment as u64).max(1)
+}
+
+/// How a tracer's kernels find what a ray hits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Traversal {
+    /// The device's choice: platoon's own for now (the rule by measurement is issue 61's).
+    #[default]
+    Auto,
+    /// platoon's own traversal of its BVHs (every device).
+    Own,
+    /// The device's ray queries over acceleration structures built on it (a device that offers
+    /// them; `DeviceInfo::ray_queries`).
+    RayQuery,
+}
+
+impl Traversal {
+    pub const NAMES: [&'static str; 3] = ["auto", "own", "ray-query"];
+
+    pub fn by_name(name: &str) -> Option<Traversal> {
+        match name {
+            "auto" => Some(Traversal::Auto),
+            "own" => Some(Traversal::Own),
+            "ray-query" => Some(Traversal::RayQuery),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Traversal::Auto => "auto",
+            Traversal::Own => "own",
+            Traversal::RayQuery => "ray-query",
+        }
+    }
+
+    /// Whether a tracer of this choice traces with ray queries.
+    pub(crate) fn ray_queries(self) -> bool {
+        self == Traversal::RayQuery
+    }
+}

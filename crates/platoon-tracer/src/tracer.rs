@@ -4,6 +4,7 @@ use std::collections::HashMap;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
+use platoon_core::flatten::arrays::SceneArray;
 use platoon_core::flatten::commit::SceneHeader;
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::FrameParams;
@@ -17,6 +18,8 @@ use crate::kernel::Sampling;
 use crate::memory::{self, ArrayPath, MemoryPath, SceneDescriptors, SCENE_ARRAYS};
 use crate::memory_budget;
 use crate::method::MethodPasses;
+use crate::ray_query::Traversal;
+use crate::structures::{SceneShape, Structures};
 use crate::Result;
 
 #[derive(Clone, Debug, Default)]
@@ -37,6 +40,9 @@ pub struct TracerOptions {
     /// Device memory the scene's arrays may take, in bytes (below what the device has): a
     /// scene over it is refused before upload (`memory_budget`).
     pub memory_limit: Option<u64>,
+    /// How the kernels find what a ray hits: platoon's own traversal or the device's ray
+    /// queries (`ray_query.rs`; refused on a device that offers none).
+    pub traversal: Traversal,
 }
 
 pub(crate) struct SceneBuffers {
@@ -60,6 +66,8 @@ pub struct Tracer {
     pub(crate) memory: MemoryPath,
     /// The device denoiser's planes (filter.rs), made on its first frame.
     pub(crate) filter_planes: Option<GpuBuffer>,
+    /// The scene's acceleration structures, where the kernels trace with ray queries.
+    pub(crate) structures: Option<Structures>,
 }
 
 // Vulkan handles are used from one thread at a time; the tracer moves to its own thread.
@@ -76,8 +84,22 @@ impl Tracer {
             .map(|(i, d)| (i, 0, *d))
             .collect();
         tracer.write_arrays(&writes)?;
+        if options.traversal.ray_queries() {
+            tracer.build_structures(&SceneShape::of(scene))?;
+        }
         tracer.bind_scene_arrays()?;
         Ok(tracer)
+    }
+
+    /// The scene's acceleration structures, from the triangle positions this tracer holds.
+    fn build_structures(&mut self, shape: &SceneShape) -> Result<()> {
+        let positions = SCENE_ARRAYS
+            .iter()
+            .position(|a| a.array == SceneArray::TrianglePositions)
+            .expect("an array of every scene");
+        let positions = self.scene.list[positions].address;
+        self.structures = Some(Structures::build(&mut self.gpu, shape, positions)?);
+        Ok(())
     }
 
     /// Tracers for `options`, each holding `scene`, which gives up its host copy of each large
@@ -90,6 +112,11 @@ impl Tracer {
             .iter()
             .map(|o| Tracer::without_arrays(o, scene))
             .collect::<Result<Vec<_>>>()?;
+        // What the structures are built from, kept past the release of the arrays.
+        let shape = options
+            .iter()
+            .any(|o| o.traversal.ray_queries())
+            .then(|| SceneShape::of(scene));
         for (i, info) in SCENE_ARRAYS.iter().enumerate() {
             let bytes = scene.bytes_of(info.array);
             if !bytes.is_empty() {
@@ -99,7 +126,10 @@ impl Tracer {
             }
             scene.release(info.array);
         }
-        for t in &mut tracers {
+        for (t, o) in tracers.iter_mut().zip(options) {
+            if let (Some(shape), true) = (&shape, o.traversal.ray_queries()) {
+                t.build_structures(shape)?;
+            }
             t.bind_scene_arrays()?;
         }
         Ok(tracers)
@@ -108,7 +138,12 @@ impl Tracer {
     /// A tracer with `scene`'s arrays made (their memory checked and allocated, nothing
     /// written yet) and its header read.
     fn without_arrays(options: &TracerOptions, scene: &GpuScene) -> Result<Tracer> {
-        let ctx = Context::new(options.device, options.validation, options.lavapipe_threads)?;
+        let ctx = Context::new(
+            options.device,
+            options.validation,
+            options.lavapipe_threads,
+            options.traversal.ray_queries(),
+        )?;
         let mut gpu = Gpu::new(ctx)?;
         gpu.stream_slots = options.stream_slots;
         let globals_buffer = gpu.buffer(
@@ -132,6 +167,7 @@ impl Tracer {
             sampling: options.sampling,
             memory: options.memory,
             filter_planes: None,
+            structures: None,
         };
         tracer.check_memory(scene, options.memory_limit)?;
         for (info, data) in SCENE_ARRAYS.iter().zip(memory::scene_array_bytes(scene)) {
@@ -168,6 +204,7 @@ impl Tracer {
             &buffers,
             &self.scene.paths,
             self.globals_buffer.buffer,
+            self.structures.as_ref().map(Structures::top),
         )?);
         Ok(())
     }
@@ -207,6 +244,9 @@ impl Tracer {
         let mut d = KernelVariant::new(self.features, params).defines();
         d.extend(self.sampling.define());
         d.extend(memory::defines(&self.scene.paths));
+        if self.structures.is_some() {
+            d.push(crate::ray_query::DEFINE);
+        }
         d
     }
 
@@ -214,9 +254,13 @@ impl Tracer {
     /// On a CPU device (lavapipe) all memory is the host's: the arrays live in mapped memory
     /// and are written in place, with no staging copy and no transfer to wait for.
     pub(crate) fn array_buffer(&mut self, name: &str, capacity: u64) -> Result<GpuBuffer> {
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+        let mut usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST;
+        if self.gpu.ctx.scratch_alignment.is_some() {
+            // With ray queries the triangle positions are what the structures are built from.
+            usage |= vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR;
+        }
         let location = if self.gpu.ctx.info.cpu {
             MemoryLocation::CpuToGpu
         } else {
@@ -328,6 +372,9 @@ impl Drop for Tracer {
         }
         for m in self.methods.values_mut() {
             m.destroy(&mut self.gpu);
+        }
+        if let Some(mut s) = self.structures.take() {
+            s.destroy(&mut self.gpu);
         }
         for b in &mut self.scene.list {
             self.gpu.destroy_buffer(b);

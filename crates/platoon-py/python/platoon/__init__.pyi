@@ -56,6 +56,7 @@ def render(
     aperture: float = 0.0,
     focus_distance: float | None = None,
     sampling: str = "mis",
+    traversal: str = "auto",
     devices: str = "auto",
     balancer: str = "cost-aware",
     validation: bool = False,

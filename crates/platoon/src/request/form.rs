@@ -12,7 +12,7 @@ use platoon_core::scene::camera::Camera;
 use platoon_core::scene::gltf_load::LoadOptions;
 use platoon_core::scene::Scene;
 use platoon_core::Method;
-use platoon_tracer::{MemoryPath, Sampling, TracerOptions};
+use platoon_tracer::{MemoryPath, Sampling, TracerOptions, Traversal};
 
 use super::error::RequestError;
 use crate::devices::DeviceSpec;
@@ -111,6 +111,9 @@ pub struct Request {
     /// How lines are split between devices (`platoon_core::balance::NAMES`).
     pub balancer: String,
     pub memory: MemoryPath,
+    /// How each device's kernels find what a ray hits: platoon's own traversal or the device's
+    /// ray queries (`--traversal`; refused on a device that offers none, naming it).
+    pub traversal: Traversal,
     /// Device memory the scene may take on each device, in bytes: a scene over it (or over
     /// what the device has) is refused before upload, naming the device and the sizes.
     pub device_memory_limit: Option<u64>,
@@ -146,6 +149,7 @@ impl Default for Request {
             devices: DeviceSpec::Auto,
             balancer: "cost-aware".into(),
             memory: MemoryPath::Auto,
+            traversal: Traversal::Auto,
             device_memory_limit: None,
             validation: false,
             aovs: Vec::new(),
@@ -214,6 +218,7 @@ impl Request {
             crate::devices::tracer_options(&self.devices, self.validation, self.sampling)?;
         for t in &mut tracers {
             t.memory = self.memory;
+            t.traversal = self.traversal;
             t.memory_limit = self.device_memory_limit;
         }
         self.validate_devices(tracers.len())?;

@@ -10,7 +10,7 @@
 use platoon_core::frame::adaptive::Adaptive;
 use platoon_core::frame::{FrameParams, PixelFilter, Region, DEFAULT_MAX_DEPTH};
 use platoon_core::method::settings::{Value, ValueKind};
-use platoon_tracer::Sampling;
+use platoon_tracer::{Sampling, Traversal};
 
 use super::form::Request;
 
@@ -306,6 +306,26 @@ pub static OPTIONS: &[RequestOption] = &[
             Ok(())
         },
         get: |r| Some(Value::Word(r.sampling.name().into())),
+        image: true,
+        rule: any_value,
+        metadata: None,
+    },
+    RequestOption {
+        key: "traversal",
+        flag: "traversal",
+        help: "How each device finds what a ray hits: platoon's own BVH traversal (own), the \
+               device's ray queries over acceleration structures built on it (ray-query: a GPU \
+               with ray tracing, lavapipe from Mesa 24.1; `platoon devices` says which), or \
+               auto (own, until measurements choose per device). The image agrees within noise.",
+        kind: ValueKind::Word(&Traversal::NAMES),
+        set: |r, v| {
+            let name = v.word()?;
+            r.traversal = Traversal::by_name(name).ok_or_else(|| {
+                format!("unknown traversal {name}: one of {}", Traversal::NAMES.join(", "))
+            })?;
+            Ok(())
+        },
+        get: |r| Some(Value::Word(r.traversal.name().into())),
         image: true,
         rule: any_value,
         metadata: None,

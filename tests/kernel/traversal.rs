@@ -1,0 +1,228 @@
+//! The two traversals (issue 61): platoon's own BVH and the device's ray queries over the
+//! acceleration structures built on it. They run on bookworm-backports' Mesa 25 lavapipe
+//! (`tools/mesa25.sh` unpacks it beside Debian 12's 22.3, which offers no ray queries): the
+//! same scenes within noise, a closed form on the ray queries, the same bits on one and three
+//! tracers, a frame split between one tracer of each, and a clear refusal where a device has
+//! none.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+use std::path::Path;
+use std::sync::OnceLock;
+
+use common::*;
+use glam::Vec3;
+use platoon::core::balance::by_name;
+use platoon::core::frame::FrameParams;
+use platoon::core::output::Film;
+use platoon::core::scene::cornell::lambertian;
+use platoon::core::scene::{AlphaMode, Material};
+use platoon::schedule::renderer::Renderer;
+use platoon::tracer::{Tracer, TracerOptions, Traversal};
+use platoon::Prepared;
+
+/// The devices of both drivers: (Debian 12's lavapipe, Mesa 25's), by their index.
+fn devices() -> (usize, usize) {
+    static DEVICES: OnceLock<(usize, usize)> = OnceLock::new();
+    *DEVICES.get_or_init(|| {
+        init();
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let script = std::process::Command::new(root.join("tools/mesa25.sh"))
+            .output()
+            .expect("run tools/mesa25.sh");
+        let why = String::from_utf8_lossy(&script.stderr);
+        assert!(script.status.success(), "tools/mesa25.sh: {why}");
+        let mesa25 = String::from_utf8_lossy(&script.stdout).trim().to_string();
+        let both = format!("{LAVAPIPE_ICD}:{mesa25}");
+        let both = std::ffi::OsStr::new(&both);
+        platoon::tracer::set_environment(&[("VK_DRIVER_FILES", both), ("VK_ICD_FILENAMES", both)]);
+        let list = platoon::tracer::list_devices().expect("the devices");
+        let index = |queries: bool| {
+            list.iter()
+                .find(|d| d.ray_queries == queries)
+                .unwrap_or_else(|| panic!("no device with ray queries {queries}: {list:?}"))
+                .index
+        };
+        (index(false), index(true))
+    })
+}
+
+/// A tracer on Mesa 25's lavapipe traversing by `traversal`, with validation.
+fn tracer_by(prepared: &Prepared, traversal: Traversal) -> Tracer {
+    let options = TracerOptions {
+        device: devices().1,
+        validation: true,
+        traversal,
+        ..Default::default()
+    };
+    Tracer::new(&options, &prepared.gpu).expect("a tracer")
+}
+
+/// `params` rendered by each traversal on Mesa 25 (each in both path kernels, the same bits:
+/// `render_with`).
+fn both(prepared: &Prepared, params: &FrameParams) -> (Film, Film) {
+    let own = render_with(&mut tracer_by(prepared, Traversal::Own), params);
+    let queried = render_with(&mut tracer_by(prepared, Traversal::RayQuery), params);
+    (own, queried)
+}
+
+/// The two images agree within noise: the same random numbers walk the same paths but where
+/// the two intersection tests round a hit apart, so the pixels' paired differences average to
+/// zero within four standard errors; and they are images of something.
+fn assert_within_noise(what: &str, own: &Film, queried: &Film) {
+    let diffs = own
+        .pixels
+        .iter()
+        .zip(&queried.pixels)
+        .map(|(a, b)| luminance(*a) - luminance(*b));
+    let (m, se) = mean_and_stderr(diffs);
+    let level = mean(own);
+    eprintln!(
+        "{what}: own {level}, ray queries {}, difference {m} ± {se}",
+        mean(queried)
+    );
+    assert!(level > 0.01, "{what}: a black image");
+    assert!(
+        m.abs() <= 4.0 * se + 1e-4 * level,
+        "{what}: the traversals differ by {m} ± {se} (image {level})"
+    );
+}
+
+/// A ground lit by a sky under a cover whose alpha is under its mask's cutoff (the ray passes)
+/// beside one above it (the ray stops), and a blended pane: the candidates a ray query tests,
+/// on four meshes.
+fn alpha_tested() -> Prepared {
+    let quad = platoon_scenegen::quad(1.0, 1.0);
+    let cover = |alpha: f32, alpha_mode: AlphaMode| Material {
+        name: "cover".into(),
+        base_color: Vec3::splat(0.6).extend(alpha),
+        alpha_mode,
+        ..lambertian("cover", Vec3::ONE)
+    };
+    let scene = scene_of(
+        vec![
+            (mesh_from(&quad, 0), Vec3::ZERO, 8.0),
+            (mesh_from(&quad, 1), Vec3::new(-1.2, 0.6, 0.0), 1.5),
+            (mesh_from(&quad, 2), Vec3::new(1.2, 0.6, 0.0), 1.5),
+            (mesh_from(&quad, 3), Vec3::new(0.0, 1.2, 0.0), 1.5),
+        ],
+        vec![
+            lambertian("ground", Vec3::splat(0.7)),
+            cover(0.3, AlphaMode::Mask(0.5)),
+            cover(0.9, AlphaMode::Mask(0.5)),
+            cover(0.4, AlphaMode::Blend),
+        ],
+        Vec3::new(0.0, 4.0, 4.0),
+        Vec3::ZERO,
+        0.9,
+    );
+    // Unmerged: a mesh and an instance each, so a hit's triangle is its mesh's first plus the
+    // primitive's index (static geometry merged would be one mesh).
+    let options = platoon::PrepareOptions {
+        env: constant_env(1.0),
+        merge_static: false,
+        ..Default::default()
+    };
+    let prepared = platoon::prepare(scene, &options).expect("prepare");
+    assert!(prepared.gpu.features.alpha_mask && prepared.gpu.features.alpha_blend);
+    assert_eq!(prepared.gpu.regions.len(), 4);
+    prepared
+}
+
+#[test]
+fn the_traversals_agree_on_the_box_a_character_and_alpha_tested_covers() {
+    let box_ = prepare(platoon::core::scene::cornell::scene(), constant_env(0.0));
+    let cesium = prepare(
+        platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap(),
+        platoon::EnvChoice::File(shared("envmaps/forest.exr")),
+    );
+    for (what, prepared, spp) in [
+        ("the box", box_, 32),
+        ("CesiumMan", cesium, 16),
+        ("alpha-tested covers", alpha_tested(), 16),
+    ] {
+        let params = FrameParams::new(32, 32, spp, prepared.camera);
+        let (own, queried) = both(&prepared, &params);
+        assert_within_noise(what, &own, &queried);
+    }
+}
+
+#[test]
+fn the_white_furnace_holds_with_ray_queries() {
+    const L: f32 = 0.8;
+    let prepared = prepare(
+        sphere_scene(lambertian("white", Vec3::ONE)),
+        constant_env(L),
+    );
+    let params = FrameParams::new(32, 32, 64, prepared.camera);
+    let film = render_with(&mut tracer_by(&prepared, Traversal::RayQuery), &params);
+    let inside = sphere_pixels(32, 32, 0.9);
+    let (m, se) = mean_and_stderr(inside.iter().map(|&i| luminance(film.pixels[i])));
+    assert!(
+        (m - L as f64).abs() < 0.005 + 4.0 * se,
+        "sphere mean {m} ± {se} vs the sky {L}"
+    );
+}
+
+#[test]
+fn ray_query_tracers_split_a_frame_as_one_and_beside_the_own_traversal() {
+    let prepared = alpha_tested();
+    let params = FrameParams::new(24, 24, 8, prepared.camera);
+    let render = |traversals: &[Traversal]| {
+        let tracers = traversals
+            .iter()
+            .map(|&t| tracer_by(&prepared, t))
+            .collect();
+        let mut renderer = Renderer::new(tracers, by_name("none").unwrap());
+        renderer.render_frame(&params).unwrap().sums
+    };
+    use Traversal::{Own, RayQuery};
+    let queried = render(&[RayQuery]);
+    assert!(
+        render(&[RayQuery, RayQuery, RayQuery]) == queried,
+        "three ray-query tracers changed the bits"
+    );
+    // One of each: the halves are each traversal's own image's.
+    let own = render(&[Own]);
+    let split = render(&[Own, RayQuery]);
+    let half = 12 * 24;
+    assert!(split[..half] == own[..half], "the own traversal's half");
+    assert!(split[half..] == queried[half..], "the ray queries' half");
+}
+
+#[test]
+fn a_device_without_ray_queries_is_refused_naming_it() {
+    let prepared = prepare(platoon::core::scene::cornell::scene(), constant_env(0.0));
+    let options = TracerOptions {
+        device: devices().0,
+        traversal: Traversal::RayQuery,
+        ..Default::default()
+    };
+    let Err(e) = Tracer::new(&options, &prepared.gpu) else {
+        panic!("Mesa 22.3's lavapipe took the ray-query traversal");
+    };
+    let e = e.to_string();
+    assert!(
+        e.contains("llvmpipe") && e.contains("no ray queries"),
+        "{e}"
+    );
+    assert!(e.contains("--traversal own"), "{e}");
+}
+
+/// Until the structures follow a living scene's commits, a ray-query tracer refuses one rather
+/// than go on placing the scene as it was.
+#[test]
+fn a_ray_query_tracer_refuses_a_change_of_the_scene() {
+    let before = alpha_tested();
+    let mut after = alpha_tested();
+    after.gpu.instances[1].object_to_world[1][3] += 0.5;
+    let commit = platoon::core::flatten::commit::Commit::between(&before.gpu, &after.gpu);
+    assert!(!commit.arrays.is_empty());
+    let mut own = tracer_by(&before, Traversal::Own);
+    own.apply_commit(&commit)
+        .expect("the own traversal follows it");
+    let mut queried = tracer_by(&before, Traversal::RayQuery);
+    let e = queried.apply_commit(&commit).unwrap_err().to_string();
+    assert!(e.contains("--traversal own"), "{e}");
+}
