@@ -83,8 +83,11 @@ bool intersect_triangle(RayTri r, vec3 v0, vec3 v1, vec3 v2, float tmax, out flo
 #if defined(HAS_ALPHA_MASK) || defined(HAS_ALPHA_BLEND)
 #define HAS_ALPHA_TEST
 // Hits at or before this distance are not taken (trace() moves it past an alpha-tested
-// triangle that let the ray through, and traverses again).
+// triangle that let the ray through, and traverses again), but for opaque triangles at it
+// within TMIN_SLACK: a surface coplanar with the one let through, whose distance rounds apart
+// in its own instance's space (found against the ray queries, tests/kernel/traversal.rs).
 float g_tmin = 0.0;
+const float TMIN_SLACK = 0.999999;
 #endif
 
 // Slab test, conservative by 2*gamma(3) (Ize 2013) so that rounding never culls a real hit.
@@ -98,7 +101,7 @@ float intersect_aabb(RayTri r, vec3 bmin, vec3 bmax, float tmax) {
     float tn = max(max3(min(t0, t1)), 0.0);
     float tf = min3(max(t0, t1)) * 1.0000003577;
 #ifdef HAS_ALPHA_TEST
-    return (max(tn, g_tmin) <= tf && tn < tmax) ? tn : INF;
+    return (max(tn, g_tmin * TMIN_SLACK) <= tf && tn < tmax) ? tn : INF;
 #else
     return (tn <= tf && tn < tmax) ? tn : INF;
 #endif
@@ -200,7 +203,10 @@ bool traverse_blas(RayTri r, uint root, uint instance, bool any_hit, inout Hit h
             vec3 v1 = tri_pos_at(3u * index + 1u).xyz, v2 = tri_pos_at(3u * index + 2u).xyz;
             if (intersect_triangle(r, p0.xyz, v1, v2, hit.t, t, b1, b2)
 #ifdef HAS_ALPHA_TEST
-                && t > g_tmin
+                // Past the alpha-tested triangle trace() let the ray through; an opaque one
+                // at its distance, within rounding, is still a hit (coplanar with it: a decal's
+                // wall), which the first traversal may have culled by its box's rounding.
+                && (t > g_tmin || (p0.w != CORNER_ALPHA_TESTED && t >= g_tmin * TMIN_SLACK))
 #endif
             ) {
                 hit = Hit(t, b1, b2, instance, index);

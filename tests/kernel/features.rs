@@ -229,6 +229,62 @@ fn alpha_masked_geometry_neither_shows_nor_shadows() {
     assert!(film.mean()[0] < 0.5 * (RHO * L) as f64);
 }
 
+/// A fully transparent alpha-masked quad lying on an opaque one (a decal on its wall, coplanar)
+/// changes nothing: the traversal that moves past the masked triangle keeps the opaque one at
+/// the same distance, whether both are one merged mesh (the same distance, to the bit) or two
+/// instances (distances that round apart in each instance's space). The device's ray queries
+/// showed it: the image was brighter where rays went through both (tests/kernel/traversal.rs).
+#[test]
+fn a_transparent_decal_on_a_wall_leaves_the_wall_whole() {
+    let quad = platoon_scenegen::quad(1.0, 1.0);
+    let decal = Material {
+        name: "decal".into(),
+        base_color: Vec3::ONE.extend(0.2),
+        alpha_mode: AlphaMode::Mask(0.5),
+        ..lambertian("decal", Vec3::ONE)
+    };
+    // A far alpha-tested speck, so that both scenes compile the alpha test.
+    let speck = Material {
+        alpha_mode: AlphaMode::Mask(0.5),
+        ..lambertian("speck", Vec3::ONE)
+    };
+    let scene = |with_decal: bool| {
+        let mut meshes = vec![
+            (mesh_from(&quad, 0), Vec3::ZERO, 8.0),
+            (mesh_from(&quad, 1), Vec3::new(0.4, 0.6, 0.0), 1.5),
+            (mesh_from(&quad, 3), Vec3::new(0.0, -50.0, 0.0), 0.1),
+        ];
+        if with_decal {
+            meshes.push((mesh_from(&quad, 2), Vec3::new(-1.2, 0.6, 0.0), 1.5));
+        }
+        let materials = vec![
+            lambertian("ground", Vec3::splat(0.7)),
+            lambertian("wall", Vec3::splat(0.6)),
+            decal.clone(),
+            speck.clone(),
+        ];
+        scene_of(meshes, materials, Vec3::new(0.0, 4.0, 4.0), Vec3::ZERO, 0.9)
+    };
+    for merge_static in [true, false] {
+        let image = |with_decal: bool| {
+            let options = platoon::PrepareOptions {
+                env: constant_env(1.0),
+                merge_static,
+                ..Default::default()
+            };
+            let prepared = platoon::prepare(scene(with_decal), &options).unwrap();
+            assert!(prepared.gpu.features.alpha_mask);
+            let mut params = FrameParams::new(24, 24, 16, prepared.camera);
+            params.path_loop.max_depth = 3;
+            render(&prepared, &params, Sampling::Mis)
+        };
+        assert!(
+            image(true) == image(false),
+            "merged {merge_static}: the decal changed the image"
+        );
+    }
+}
+
 #[test]
 fn texture_larger_than_the_storage_buffer_range_renders_on_every_path() {
     const L: f32 = 1.0;
