@@ -6,7 +6,7 @@
 
 pub use super::arrays::ARRAY_COUNT;
 use super::arrays::{SceneArray, ARRAYS};
-use super::GpuScene;
+use super::{GpuScene, MeshRegion};
 
 /// Indices of the arrays that hold mesh data (vertices, triangle positions, triangles, their
 /// light indices, bottom-level nodes, vertex extras): what a camera-only frame must not send.
@@ -159,6 +159,10 @@ impl ArrayCommit {
 pub struct Commit {
     pub arrays: Vec<ArrayCommit>,
     pub header: SceneHeader,
+    /// Where each mesh lives in the arrays after it (`GpuScene::regions`): what a tracer's
+    /// acceleration structures are built over (a bottom level per mesh; the ray-query
+    /// traversal).
+    pub regions: Vec<MeshRegion>,
 }
 
 /// Merges chunk-sized pieces into ranges.
@@ -195,6 +199,7 @@ impl Commit {
         Commit {
             arrays,
             header: new.header(),
+            regions: new.regions.clone(),
         }
     }
 
@@ -222,6 +227,7 @@ impl Commit {
         Commit {
             arrays,
             header: scene.header(),
+            regions: scene.regions.clone(),
         }
     }
 

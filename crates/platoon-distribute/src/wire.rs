@@ -8,6 +8,7 @@ use std::hash::{Hash, Hasher};
 use std::time::Duration;
 
 use platoon_core::flatten::commit::{ArrayCommit, Commit, SceneHeader};
+use platoon_core::flatten::MeshRegion;
 use platoon_core::frame::{Band, FrameParams, MethodReport, PixelData, Span};
 use platoon_core::scene::camera::Camera;
 use platoon_schedule::renderer::{TracerFailure, TracerStats};
@@ -368,6 +369,21 @@ pub fn put_commit(w: &mut Writer, c: &Commit) {
         w.bytes(&a.data);
     }
     put_header(w, &c.header);
+    let regions: Vec<u32> = c.regions.iter().flat_map(region_words).collect();
+    w.pod(&regions);
+}
+
+/// A mesh region as the wire sends it: its seven words in field order.
+fn region_words(r: &MeshRegion) -> [u32; 7] {
+    [
+        r.vertex_base,
+        r.vertex_count,
+        r.triangle_base,
+        r.triangle_count,
+        r.node_base,
+        r.node_capacity,
+        r.root,
+    ]
 }
 
 pub fn get_commit(r: &mut Reader) -> Result<Commit, WireError> {
@@ -395,9 +411,27 @@ pub fn get_commit(r: &mut Reader) -> Result<Commit, WireError> {
             data,
         });
     }
+    let header = get_header(r)?;
+    let words: Vec<u32> = r.pod()?;
+    if !words.len().is_multiple_of(7) {
+        return Err(WireError("mesh regions of a commit cut short".into()));
+    }
+    let regions = words
+        .chunks_exact(7)
+        .map(|w| MeshRegion {
+            vertex_base: w[0],
+            vertex_count: w[1],
+            triangle_base: w[2],
+            triangle_count: w[3],
+            node_base: w[4],
+            node_capacity: w[5],
+            root: w[6],
+        })
+        .collect();
     Ok(Commit {
         arrays,
-        header: get_header(r)?,
+        header,
+        regions,
     })
 }
 
@@ -542,6 +576,15 @@ mod tests {
                 data: vec![1, 2, 3, 4, 5],
             }],
             header,
+            regions: vec![MeshRegion {
+                vertex_base: 1,
+                vertex_count: 2,
+                triangle_base: 3,
+                triangle_count: 4,
+                node_base: 5,
+                node_capacity: 6,
+                root: 7,
+            }],
         };
         let mut w = Writer::default();
         put_commit(&mut w, &commit);

@@ -298,6 +298,7 @@ impl Updater {
                 commit: Arc::new(Commit {
                     arrays: Vec::new(),
                     header: self.state.header(),
+                    regions: self.state.regions.clone(),
                 }),
                 times: UpdateTimes::default(),
                 refitted: 0,

@@ -1,6 +1,7 @@
 //! Applying a commit: the tracer's copy of the scene follows the core's next flattened scene by
 //! uploading only the changed ranges ([`platoon_core::flatten::commit::Commit`]). An array that
-//! outgrew its buffer gets a new one with slack, uploaded whole, and the arrays are bound again.
+//! outgrew its buffer gets a new one with slack, uploaded whole, and the arrays are bound again;
+//! a ray-query tracer's acceleration structures follow (`structures.rs`).
 
 use platoon_core::flatten::commit::Commit;
 
@@ -20,14 +21,6 @@ impl Tracer {
     /// Brings this tracer's scene to the next generation: `commit` holds what changed since the
     /// scene it has (with the bytes). Call between frames.
     pub fn apply_commit(&mut self, commit: &Commit) -> Result<CommitStats> {
-        if self.structures.is_some() && !commit.arrays.is_empty() {
-            // Its structures would go on placing the scene as it was.
-            return Err(Error::Invalid(format!(
-                "device {}: the ray-query traversal does not follow a living scene's changes \
-                 yet (issue 61): render scenes that change with --traversal own",
-                self.gpu.ctx.info.name
-            )));
-        }
         let mut stats = CommitStats::default();
         let mut writes: Vec<(usize, u64, &[u8])> = Vec::new();
         for a in &commit.arrays {
@@ -53,6 +46,8 @@ impl Tracer {
         if stats.reallocated > 0 {
             self.bind_scene_arrays()?;
         }
+        // With ray queries: the changed meshes' structures and the instances' again.
+        self.follow_with_structures(commit)?;
         self.refresh_globals(&commit.header);
         Ok(stats)
     }

@@ -228,19 +228,24 @@ impl SceneDescriptors {
             .buffer_info(&info);
         unsafe { device.update_descriptor_sets(&[write], &[]) };
         if let Some(structure) = structure {
-            let structures = [structure];
-            let mut info = vk::WriteDescriptorSetAccelerationStructureKHR::default()
-                .acceleration_structures(&structures);
-            // No buffer or image info: the count is given by hand.
-            let write = vk::WriteDescriptorSet::default()
-                .dst_set(d.set)
-                .dst_binding(STRUCTURE_BINDING)
-                .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
-                .descriptor_count(1)
-                .push_next(&mut info);
-            unsafe { device.update_descriptor_sets(&[write], &[]) };
+            d.write_structure(device, structure);
         }
         Ok(d)
+    }
+
+    /// Points `STRUCTURE_BINDING` at `structure` (a set made with one, between frames).
+    pub fn write_structure(&self, device: &ash::Device, structure: vk::AccelerationStructureKHR) {
+        let structures = [structure];
+        let mut info = vk::WriteDescriptorSetAccelerationStructureKHR::default()
+            .acceleration_structures(&structures);
+        // No buffer or image info: the count is given by hand.
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(STRUCTURE_BINDING)
+            .descriptor_type(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR)
+            .descriptor_count(1)
+            .push_next(&mut info);
+        unsafe { device.update_descriptor_sets(&[write], &[]) };
     }
 
     /// Points the bindings at `buffers` (the same paths as the set was made for): after a

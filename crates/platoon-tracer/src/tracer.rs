@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use platoon_core::flatten::arrays::SceneArray;
-use platoon_core::flatten::commit::SceneHeader;
+use platoon_core::flatten::commit::{Commit, SceneHeader};
 use platoon_core::flatten::GpuScene;
 use platoon_core::frame::FrameParams;
 use platoon_core::{KernelVariant, SceneFeatures};
@@ -19,7 +19,7 @@ use crate::memory::{self, ArrayPath, MemoryPath, SceneDescriptors, SCENE_ARRAYS}
 use crate::memory_budget;
 use crate::method::MethodPasses;
 use crate::ray_query::Traversal;
-use crate::structures::{SceneShape, Structures};
+use crate::structures::{ArraysOf, SceneShape, Structures};
 use crate::Result;
 
 #[derive(Clone, Debug, Default)]
@@ -85,20 +85,36 @@ impl Tracer {
             .collect();
         tracer.write_arrays(&writes)?;
         if options.traversal.ray_queries() {
-            tracer.build_structures(&SceneShape::of(scene))?;
+            tracer.build_structures(SceneShape::of(scene))?;
         }
         tracer.bind_scene_arrays()?;
         Ok(tracer)
     }
 
     /// The scene's acceleration structures, from the triangle positions this tracer holds.
-    fn build_structures(&mut self, shape: &SceneShape) -> Result<()> {
-        let positions = SCENE_ARRAYS
-            .iter()
-            .position(|a| a.array == SceneArray::TrianglePositions)
-            .expect("an array of every scene");
-        let positions = self.scene.list[positions].address;
+    fn build_structures(&mut self, shape: SceneShape) -> Result<()> {
+        let positions = self.scene.list[array_index(SceneArray::TrianglePositions)].address;
         self.structures = Some(Structures::build(&mut self.gpu, shape, positions)?);
+        Ok(())
+    }
+
+    /// The structures brought to the scene after `commit` (its arrays written and bound), the
+    /// descriptor set naming a new top level.
+    pub(crate) fn follow_with_structures(&mut self, commit: &Commit) -> Result<()> {
+        let Some(structures) = self.structures.as_mut() else {
+            return Ok(());
+        };
+        let positions = self.scene.list[array_index(SceneArray::TrianglePositions)].address;
+        let arrays = ArraysOf {
+            positions: array_index(SceneArray::TrianglePositions),
+            instances: array_index(SceneArray::Instances),
+        };
+        if structures.follow(&mut self.gpu, commit, positions, &arrays)? {
+            let top = structures.top();
+            if let Some(d) = &self.scene.descriptors {
+                d.write_structure(self.gpu.device(), top);
+            }
+        }
         Ok(())
     }
 
@@ -128,7 +144,7 @@ impl Tracer {
         }
         for (t, o) in tracers.iter_mut().zip(options) {
             if let (Some(shape), true) = (&shape, o.traversal.ray_queries()) {
-                t.build_structures(shape)?;
+                t.build_structures(shape.clone())?;
             }
             t.bind_scene_arrays()?;
         }
@@ -387,4 +403,12 @@ impl Drop for Tracer {
             d.destroy(self.gpu.device());
         }
     }
+}
+
+/// The index of `array` among the scene's arrays (`SCENE_ARRAYS`, a commit's `array`).
+fn array_index(array: SceneArray) -> usize {
+    SCENE_ARRAYS
+        .iter()
+        .position(|a| a.array == array)
+        .expect("an array of every scene")
 }

@@ -553,6 +553,7 @@ mod tests {
                 ("crop", _) => Value::Word("0,0,2,2".into()),
                 ("filter", _) => Value::Word("gaussian".into()),
                 ("sampling", _) => Value::Word("bsdf".into()),
+                ("traversal", _) => Value::Word("ray-query".into()),
                 ("denoise", _) => Value::Word("atrous".into()),
                 (_, ValueKind::Count) => Value::Count(3),
                 (_, ValueKind::Number) => Value::Number(0.5),
