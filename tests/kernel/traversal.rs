@@ -265,3 +265,64 @@ fn ray_query_structures_follow_a_living_scenes_commits() {
         assert_within_noise(what, &render_with(&mut own, &params), &followed);
     }
 }
+
+/// A living scene on ray queries: CesiumMan walking through the tessellated box (its skin and
+/// its placement each step), a box added and then removed, generation by generation from the
+/// game loop's updater: each generation's image, on tracers that followed every commit, is the
+/// bits of a ray-query tracer made on that generation, and within noise of the own traversal's.
+#[test]
+fn a_living_scene_on_ray_queries_walks_as_the_own_traversal_does() {
+    use platoon::core::scene::camera::Camera;
+    use platoon::drive::walk::{walk_edits, walk_in_a_room};
+    use platoon::drive::{Edit, Updater};
+    let man = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
+    let (scene, node) = walk_in_a_room(&man, 4).unwrap();
+    let camera = Camera::look_at(Vec3::new(2.8, 2.2, -3.0), Vec3::new(2.4, 1.2, 2.8), 0.9);
+    let mut updater = Updater::new(scene, 0.0, glam::DVec3::ZERO).unwrap();
+    let by = |traversal: Traversal, scene: &platoon::core::flatten::GpuScene| {
+        let options = TracerOptions {
+            device: devices().1,
+            validation: true,
+            traversal,
+            ..Default::default()
+        };
+        Tracer::new(&options, scene).unwrap()
+    };
+    let mut own = by(Traversal::Own, updater.flattened());
+    let mut queried = by(Traversal::RayQuery, updater.flattened());
+    let mut prop = None;
+    for step in 1..5 {
+        for e in walk_edits(node, step) {
+            updater.apply(e).unwrap();
+        }
+        match step {
+            2 => {
+                let placement =
+                    platoon::core::scene::Placement::at(glam::DVec3::new(2.0, 0.3, 1.5));
+                let added = Edit::AddInstance { mesh: 0, placement };
+                prop = updater.apply(added).unwrap();
+            }
+            4 => {
+                let removed = Edit::RemoveInstance(prop.expect("the box added"));
+                updater.apply(removed).unwrap();
+            }
+            _ => {}
+        }
+        let g = updater.update().unwrap();
+        own.apply_commit(&g.commit).unwrap();
+        queried.apply_commit(&g.commit).unwrap();
+        let mut params = FrameParams::new(24, 24, 16, camera);
+        params.frame = step as u32;
+        let followed = render_with(&mut queried, &params);
+        let fresh = render_with(&mut by(Traversal::RayQuery, updater.flattened()), &params);
+        assert!(
+            followed == fresh,
+            "step {step}: the followed structures' image differs"
+        );
+        assert_within_noise(
+            &format!("step {step}"),
+            &render_with(&mut own, &params),
+            &followed,
+        );
+    }
+}

@@ -44,6 +44,7 @@ impl Selection for Live {
         "devices",
         "balancer",
         "validation",
+        "traversal",
     ]);
     fn base() -> Request {
         Request {

@@ -26,10 +26,10 @@
 use anyhow::Result;
 use glam::DVec3;
 
-use crate::devices::{create_tracers, DeviceSpec};
+use crate::devices::{tracer_options, tracers_from_options, DeviceSpec};
 use platoon_core::Scene;
 use platoon_live::{DriverOptions, FrameDriver, GiUpdate, Pipeline, UpdaterThreads};
-use platoon_tracer::Sampling;
+use platoon_tracer::{Sampling, Traversal};
 
 /// Everything [`start`] needs besides the scene.
 #[derive(Clone, Debug)]
@@ -43,6 +43,9 @@ pub struct GameOptions {
     pub time: f32,
     /// Vulkan's validation layer on every tracer (slow; for tests).
     pub validation: bool,
+    /// How each device's kernels find what a ray hits (platoon's own BVH or the device's ray
+    /// queries; `Traversal::Auto` by default).
+    pub traversal: Traversal,
 }
 
 impl GameOptions {
@@ -55,6 +58,7 @@ impl GameOptions {
             updater: UpdaterThreads::default(),
             time: 0.0,
             validation: false,
+            traversal: Traversal::Auto,
         }
     }
 }
@@ -66,13 +70,17 @@ pub fn start(scene: Scene, options: &GameOptions) -> Result<FrameDriver> {
     let balancer = crate::devices::balancer(&options.balancer)?;
     let (pipeline, first) =
         Pipeline::with_updater_threads(scene, options.time, DVec3::ZERO, &options.updater)?;
-    let tracers = create_tracers(&options.devices, &first, options.validation, Sampling::Mis)?;
+    let mut tracer_options = tracer_options(&options.devices, options.validation, Sampling::Mis)?;
+    for t in &mut tracer_options {
+        t.traversal = options.traversal;
+    }
+    let tracers = tracers_from_options(&tracer_options, &first)?;
     // A method updated asynchronously (vertex links) gets tracers of its own on the same
     // devices, which hold the update's snapshot while the others render the newest scene.
     let update_tracers = if options.driver.gi_update == GiUpdate::Asynchronous
         && !options.driver.method.unit().ready()
     {
-        create_tracers(&options.devices, &first, options.validation, Sampling::Mis)?
+        tracers_from_options(&tracer_options, &first)?
     } else {
         Vec::new()
     };

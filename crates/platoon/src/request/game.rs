@@ -29,6 +29,7 @@ impl Request {
             balancer: self.balancer.clone(),
             time: self.time,
             validation: self.validation,
+            traversal: self.traversal,
             ..GameOptions::new(DriverOptions::new(self.width, self.height))
         }
     }
