@@ -326,3 +326,40 @@ fn a_living_scene_on_ray_queries_walks_as_the_own_traversal_does() {
         );
     }
 }
+
+/// The other methods trace through the same `trace()`: IGI's particles and gathers, vertex
+/// links' shots and layered hit buffers' paths give, on ray queries, the built-in box's image
+/// within noise of their own traversal's (IGI), or within 1% where a method's solution is
+/// shared by many pixels (a link's light at a vertex, a buffer's texel), so that a shot
+/// rounded apart moves a region together rather than one pixel.
+#[test]
+fn the_other_methods_render_with_ray_queries_as_with_the_own_traversal() {
+    let device = devices().1;
+    for (name, per_pixel) in [("igi", true), ("links", false), ("lhb", false)] {
+        let kind = platoon::core::method::registry::kind(name).expect("a built-in method");
+        let method = kind.build(&Default::default()).expect("its defaults");
+        let render = |traversal: Traversal| {
+            let request = platoon::Request {
+                width: 24,
+                height: 24,
+                spp: 8,
+                method: method.clone(),
+                devices: platoon::devices::DeviceSpec::Indices(vec![device]),
+                traversal,
+                ..Default::default()
+            };
+            request.render(&mut |_| {}).expect("a render").image
+        };
+        let (own, queried) = (render(Traversal::Own), render(Traversal::RayQuery));
+        if per_pixel {
+            assert_within_noise(name, &own, &queried);
+        } else {
+            let (a, b) = (mean(&own), mean(&queried));
+            eprintln!("{name}: own {a}, ray queries {b}");
+            assert!(
+                a > 0.01 && (a - b).abs() < 0.01 * a,
+                "{name}: {a} against {b}"
+            );
+        }
+    }
+}
