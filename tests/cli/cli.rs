@@ -183,15 +183,7 @@ fn info_prints_counts_and_features() {
 /// unpacked beside it) does; listed together, as a frame split between the two would take them.
 #[test]
 fn the_devices_say_which_offer_ray_queries() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let script = Command::new(root.join("tools/mesa25.sh"))
-        .output()
-        .expect("run tools/mesa25.sh");
-    let why = String::from_utf8_lossy(&script.stderr);
-    assert!(script.status.success(), "tools/mesa25.sh: {why}");
-    let mesa25 = String::from_utf8_lossy(&script.stdout).trim().to_string();
-    let system = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
-    let both = format!("{system}:{mesa25}");
+    let both = format!("{}:{}", common::LAVAPIPE_ICD, common::mesa25_icd());
     let o = Cli::new("devices").run_with_env(&[
         ("VK_DRIVER_FILES", Some(&both)),
         ("VK_ICD_FILENAMES", Some(&both)),

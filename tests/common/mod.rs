@@ -35,6 +35,18 @@ pub fn init() {
     });
 }
 
+/// The ICD file of a lavapipe with ray queries: bookworm-backports' Mesa 25, which
+/// `tools/mesa25.sh` unpacks beside Debian 12's 22.3 on first use (issue 61's tests).
+pub fn mesa25_icd() -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let script = std::process::Command::new(root.join("tools/mesa25.sh"))
+        .output()
+        .expect("run tools/mesa25.sh");
+    let why = String::from_utf8_lossy(&script.stderr);
+    assert!(script.status.success(), "tools/mesa25.sh: {why}");
+    String::from_utf8_lossy(&script.stdout).trim().to_string()
+}
+
 pub fn shared(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../../shared")

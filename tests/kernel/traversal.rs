@@ -8,7 +8,6 @@
 #[path = "../common/mod.rs"]
 mod common;
 
-use std::path::Path;
 use std::sync::OnceLock;
 
 use common::*;
@@ -27,14 +26,7 @@ fn devices() -> (usize, usize) {
     static DEVICES: OnceLock<(usize, usize)> = OnceLock::new();
     *DEVICES.get_or_init(|| {
         init();
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-        let script = std::process::Command::new(root.join("tools/mesa25.sh"))
-            .output()
-            .expect("run tools/mesa25.sh");
-        let why = String::from_utf8_lossy(&script.stderr);
-        assert!(script.status.success(), "tools/mesa25.sh: {why}");
-        let mesa25 = String::from_utf8_lossy(&script.stdout).trim().to_string();
-        let both = format!("{LAVAPIPE_ICD}:{mesa25}");
+        let both = format!("{LAVAPIPE_ICD}:{}", mesa25_icd());
         let both = std::ffi::OsStr::new(&both);
         platoon::tracer::set_environment(&[("VK_DRIVER_FILES", both), ("VK_ICD_FILENAMES", both)]);
         let list = platoon::tracer::list_devices().expect("the devices");

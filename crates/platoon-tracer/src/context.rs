@@ -274,6 +274,11 @@ pub fn set_environment(vars: &[(&str, &std::ffi::OsStr)]) {
 }
 
 impl Context {
+    /// Whether the device's ray queries are enabled (the context was made for them).
+    pub fn ray_queries(&self) -> bool {
+        self.scratch_alignment.is_some()
+    }
+
     /// `lavapipe_threads`: llvmpipe worker threads of this context's own thread pool.
     /// `ray_queries`: the device's ray queries enabled (refused where it offers none).
     pub fn new(

@@ -10,6 +10,7 @@ use std::collections::HashMap;
 
 use ash::vk;
 use gpu_allocator::MemoryLocation;
+use platoon_core::flatten::arrays::SceneArray;
 use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::{GpuInstance, GpuScene, MeshRegion};
 use platoon_core::SceneFeatures;
@@ -73,12 +74,6 @@ fn opaque(features: &SceneFeatures) -> bool {
     !(features.alpha_mask || features.alpha_blend)
 }
 
-/// Where a commit's arrays are among the scene's (`ArrayCommit::array`).
-pub(crate) struct ArraysOf {
-    pub positions: usize,
-    pub instances: usize,
-}
-
 impl Structures {
     /// The structures of a scene of `shape`, built from its triangle positions at `positions`
     /// (the device address of the tracer's copy, already written). Alpha-tested triangles are
@@ -119,7 +114,6 @@ impl Structures {
         gpu: &mut Gpu,
         commit: &Commit,
         positions: u64,
-        arrays: &ArraysOf,
     ) -> Result<bool> {
         let opaque = opaque(&commit.header.features);
         let all = commit.regions != self.shape.regions
@@ -128,7 +122,7 @@ impl Structures {
         let mut meshes = Vec::new();
         let mut instances = false;
         for a in &commit.arrays {
-            if a.array == arrays.positions && !all {
+            if a.array == SceneArray::TrianglePositions.index() && !all {
                 for &(offset, length) in &a.ranges {
                     let (first, end) = (
                         offset / TRIANGLE_BYTES,
@@ -140,7 +134,7 @@ impl Structures {
                     }));
                 }
             }
-            if a.array == arrays.instances {
+            if a.array == SceneArray::Instances.index() {
                 instances = true;
                 let mut bytes: Vec<u8> = bytemuck::cast_slice(&self.shape.instances).to_vec();
                 bytes.resize(a.len as usize, 0);
@@ -160,10 +154,7 @@ impl Structures {
             self.shape.regions = commit.regions.clone();
             self.shape.opaque = opaque;
             self.positions = positions;
-            for mut b in std::mem::take(&mut self.bottom).into_iter().flatten() {
-                self.free(gpu, &mut b);
-            }
-            self.destroy_top(gpu);
+            self.destroy(gpu);
             self.build_all(gpu)?;
         } else {
             for i in meshes {
@@ -201,29 +192,19 @@ impl Structures {
         self.build_top(gpu)
     }
 
-    /// Mesh `i`'s bottom level.
+    /// Mesh `i`'s bottom level, from its triangles' corners in the positions.
     fn build_mesh(&self, gpu: &mut Gpu, i: usize) -> Result<Structure> {
         let region = &self.shape.regions[i];
         let first = self.positions + TRIANGLE_BYTES * region.triangle_base as u64;
-        self.build_bottom(gpu, first, region.triangle_count, self.shape.opaque)
-    }
-
-    fn build_bottom(
-        &self,
-        gpu: &mut Gpu,
-        first: u64,
-        count: u32,
-        opaque: bool,
-    ) -> Result<Structure> {
         let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
             .vertex_format(vk::Format::R32G32B32_SFLOAT)
             .vertex_data(vk::DeviceOrHostAddressConstKHR {
                 device_address: first,
             })
             .vertex_stride(16)
-            .max_vertex(3 * count - 1)
+            .max_vertex(3 * region.triangle_count - 1)
             .index_type(vk::IndexType::NONE_KHR);
-        let flags = if opaque {
+        let flags = if self.shape.opaque {
             vk::GeometryFlagsKHR::OPAQUE
         } else {
             vk::GeometryFlagsKHR::NO_DUPLICATE_ANY_HIT_INVOCATION
@@ -236,7 +217,7 @@ impl Structures {
             gpu,
             vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
             geometry,
-            count,
+            region.triangle_count,
         )
     }
 

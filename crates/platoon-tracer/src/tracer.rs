@@ -19,7 +19,7 @@ use crate::memory::{self, ArrayPath, MemoryPath, SceneDescriptors, SCENE_ARRAYS}
 use crate::memory_budget;
 use crate::method::MethodPasses;
 use crate::ray_query::Traversal;
-use crate::structures::{ArraysOf, SceneShape, Structures};
+use crate::structures::{SceneShape, Structures};
 use crate::Result;
 
 #[derive(Clone, Debug, Default)]
@@ -91,9 +91,15 @@ impl Tracer {
         Ok(tracer)
     }
 
+    /// The device address of this tracer's triangle positions: what the structures are
+    /// built from.
+    fn positions(&self) -> u64 {
+        self.scene.list[SceneArray::TrianglePositions.index()].address
+    }
+
     /// The scene's acceleration structures, from the triangle positions this tracer holds.
     fn build_structures(&mut self, shape: SceneShape) -> Result<()> {
-        let positions = self.scene.list[array_index(SceneArray::TrianglePositions)].address;
+        let positions = self.positions();
         self.structures = Some(Structures::build(&mut self.gpu, shape, positions)?);
         Ok(())
     }
@@ -101,15 +107,11 @@ impl Tracer {
     /// The structures brought to the scene after `commit` (its arrays written and bound), the
     /// descriptor set naming a new top level.
     pub(crate) fn follow_with_structures(&mut self, commit: &Commit) -> Result<()> {
+        let positions = self.positions();
         let Some(structures) = self.structures.as_mut() else {
             return Ok(());
         };
-        let positions = self.scene.list[array_index(SceneArray::TrianglePositions)].address;
-        let arrays = ArraysOf {
-            positions: array_index(SceneArray::TrianglePositions),
-            instances: array_index(SceneArray::Instances),
-        };
-        if structures.follow(&mut self.gpu, commit, positions, &arrays)? {
+        if structures.follow(&mut self.gpu, commit, positions)? {
             let top = structures.top();
             if let Some(d) = &self.scene.descriptors {
                 d.write_structure(self.gpu.device(), top);
@@ -273,7 +275,7 @@ impl Tracer {
         let mut usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST;
-        if self.gpu.ctx.scratch_alignment.is_some() {
+        if self.gpu.ctx.ray_queries() {
             // With ray queries the triangle positions are what the structures are built from.
             usage |= vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR;
         }
@@ -403,12 +405,4 @@ impl Drop for Tracer {
             d.destroy(self.gpu.device());
         }
     }
-}
-
-/// The index of `array` among the scene's arrays (`SCENE_ARRAYS`, a commit's `array`).
-fn array_index(array: SceneArray) -> usize {
-    SCENE_ARRAYS
-        .iter()
-        .position(|a| a.array == array)
-        .expect("an array of every scene")
 }
