@@ -168,6 +168,12 @@ fn info_prints_counts_and_features() {
         text.contains("memory:       texel buffers for all 16"),
         "{text}"
     );
+    // What `--traversal auto` takes on the device: the own traversal on lavapipe.
+    assert!(
+        text.contains("traversal:    auto (own on CPU devices"),
+        "{text}"
+    );
+    assert!(text.contains("): own on llvmpipe"), "{text}");
     let o = Cli::new("devices").run();
     let said = String::from_utf8_lossy(&o.stdout);
     assert!(said.contains("llvmpipe"), "{said}");
@@ -181,6 +187,7 @@ fn info_prints_counts_and_features() {
 /// Whether a device offers ray queries over acceleration structures is told apart (issue 61):
 /// Debian 12's lavapipe (Mesa 22.3) does not, bookworm-backports' Mesa 25 (`tools/mesa25.sh`,
 /// unpacked beside it) does; listed together, as a frame split between the two would take them.
+/// `platoon info` says what `auto` takes on each device.
 #[test]
 fn the_devices_say_which_offer_ray_queries() {
     let both = format!("{}:{}", common::LAVAPIPE_ICD, common::mesa25_icd());
@@ -196,8 +203,16 @@ fn the_devices_say_which_offer_ray_queries() {
             .unwrap_or_else(|| panic!("no device of Mesa {mesa}: {said}"))
             .to_string()
     };
-    assert!(line("22.3").ends_with("ray queries: no"), "{said}");
-    assert!(line("25.").ends_with("ray queries: yes"), "{said}");
+    // And what `--traversal auto` takes on each: the own traversal on a CPU device, with ray
+    // queries or without (lavapipe 25's measured slower).
+    assert!(
+        line("22.3").ends_with("ray queries: no (--traversal auto: own)"),
+        "{said}"
+    );
+    assert!(
+        line("25.").ends_with("ray queries: yes (--traversal auto: own)"),
+        "{said}"
+    );
 }
 
 #[test]

@@ -355,3 +355,27 @@ fn the_other_methods_render_with_ray_queries_as_with_the_own_traversal() {
         }
     }
 }
+
+/// The metadata names what each device traced with, in the devices' order: `auto` is the own
+/// traversal on lavapipe (Mesa 25's ray queries measured slower there), the ray queries where
+/// asked for.
+#[test]
+fn the_metadata_names_each_devices_traversal() {
+    let (old, new) = devices();
+    let render = |devices: Vec<usize>, traversal: Traversal| {
+        let request = platoon::Request {
+            width: 8,
+            height: 8,
+            spp: 1,
+            devices: platoon::devices::DeviceSpec::Indices(devices),
+            traversal,
+            ..Default::default()
+        };
+        let still = request.render(&mut |_| {}).expect("a render");
+        let entry = still.metadata.iter().find(|(k, _)| k == "traversal");
+        entry.expect("a traversal entry").1.clone()
+    };
+    assert_eq!(render(vec![new], Traversal::RayQuery), "ray-query");
+    assert_eq!(render(vec![new, old], Traversal::Auto), "own, own");
+    assert_eq!(render(vec![old], Traversal::Own), "own");
+}

@@ -1,6 +1,7 @@
 //! `platoon devices`: the Vulkan devices a render can use.
 
 use anyhow::{bail, Result};
+use platoon::tracer::Traversal;
 
 pub fn run() -> Result<()> {
     let devices = platoon::tracer::list_devices()?;
@@ -11,8 +12,9 @@ pub fn run() -> Result<()> {
         // Ray queries: the device's own traversal of acceleration structures (issue 61), what
         // a user with a GPU or a newer lavapipe asks first.
         let queries = if d.ray_queries { "yes" } else { "no" };
+        let auto = Traversal::Auto.resolved(d, 0).name();
         println!(
-            "{}: {} ({}), driver {}, Vulkan {}, ray queries: {queries}",
+            "{}: {} ({}), driver {}, Vulkan {}, ray queries: {queries} (--traversal auto: {auto})",
             d.index, d.name, d.device_type, d.driver, d.api_version
         );
     }

@@ -6,6 +6,7 @@ use anyhow::Result;
 use platoon::core::flatten::{
     GpuScene, LIGHT_DIRECTIONAL, LIGHT_ENVIRONMENT, LIGHT_POINT, LIGHT_SPOT, LIGHT_TRIANGLE,
 };
+use platoon::tracer::Traversal;
 use platoon::Prepared;
 
 use crate::scene_args::SceneArgs;
@@ -98,6 +99,7 @@ pub fn describe(p: &Prepared) -> String {
         platoon::tracer::kernel_label(g.features)
     );
     let _ = writeln!(out, "memory:       {}", memory_paths(g));
+    let _ = writeln!(out, "traversal:    {}", traversals(g));
     for w in &s.warnings {
         let _ = writeln!(out, "warning:      {w}");
     }
@@ -105,6 +107,21 @@ pub fn describe(p: &Prepared) -> String {
         let _ = writeln!(out, "note:         {n}");
     }
     out
+}
+
+/// What `--traversal auto` resolves to on each device for this scene.
+fn traversals(g: &GpuScene) -> String {
+    let Ok(devices) = platoon::tracer::list_devices() else {
+        return "decided per device (no Vulkan device found)".into();
+    };
+    let each: Vec<String> = devices
+        .iter()
+        .map(|d| {
+            let t = Traversal::Auto.resolved(d, g.triangle_count as u64);
+            format!("{} on {}", t.name(), d.name)
+        })
+        .collect();
+    format!("{}: {}", Traversal::Auto.label(), each.join(", "))
 }
 
 /// How device 0 would read the scene arrays under the default policy.

@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use ash::vk;
 
-use crate::{Error, Result, VkContext};
+use crate::{Error, Result, Traversal, VkContext};
 
 /// One physical device as `platoon devices` lists it.
 #[derive(Clone, Debug)]
@@ -38,6 +38,30 @@ impl DeviceInfo {
             max_storage_buffer_range: self.max_storage_buffer_range,
             max_texel_buffer_elements: self.max_texel_buffer_elements,
             texel_fastest: crate::memory::texel_fastest(self.cpu, self.mesa),
+        }
+    }
+}
+
+#[cfg(test)]
+impl DeviceInfo {
+    /// A device of 2 GiB, storage buffers and texel buffers of 2^27, no ray queries.
+    pub(crate) fn for_tests(cpu: bool) -> DeviceInfo {
+        DeviceInfo {
+            index: 1,
+            name: "test device".into(),
+            device_type: String::new(),
+            driver: String::new(),
+            api_version: "1.3.0".into(),
+            max_storage_buffer_range: 1 << 27,
+            max_texel_buffer_elements: 1 << 27,
+            cpu,
+            mesa: None,
+            memory: DeviceMemory {
+                device_local: 2 << 30,
+                max_allocation: 1 << 30,
+                max_buffer: Some(4 << 30),
+            },
+            ray_queries: false,
         }
     }
 }
@@ -280,12 +304,14 @@ impl Context {
     }
 
     /// `lavapipe_threads`: llvmpipe worker threads of this context's own thread pool.
-    /// `ray_queries`: the device's ray queries enabled (refused where it offers none).
+    /// `traversal`: the device's ray queries enabled where it resolves to them on the device
+    /// for a scene of `triangles` (refused where it asks for them and the device has none).
     pub fn new(
         device_index: usize,
         validation: bool,
         lavapipe_threads: Option<u32>,
-        ray_queries: bool,
+        traversal: Traversal,
+        triangles: u64,
     ) -> Result<Context> {
         let _guard = CREATION.lock().unwrap_or_else(|e| e.into_inner());
         let original = ORIGINAL_THREADS.get_or_init(|| std::env::var_os("LP_NUM_THREADS"));
@@ -306,10 +332,15 @@ impl Context {
                 }
             }
         }
-        Context::create(device_index, validation, ray_queries)
+        Context::create(device_index, validation, traversal, triangles)
     }
 
-    fn create(device_index: usize, validation: bool, ray_queries: bool) -> Result<Context> {
+    fn create(
+        device_index: usize,
+        validation: bool,
+        traversal: Traversal,
+        triangles: u64,
+    ) -> Result<Context> {
         let entry = load_entry()?;
         let instance = create_instance(&entry, validation)?;
         let messages = Arc::new(Mutex::new(Vec::new()));
@@ -341,6 +372,7 @@ impl Context {
             });
         };
         let info = describe(&instance, device_index, physical);
+        let ray_queries = traversal.resolved(&info, triangles) == Traversal::RayQuery;
         let properties = unsafe { instance.get_physical_device_properties(physical) };
         let unsupported = |message: &str| Error::Unsupported {
             device: info.name.clone(),

@@ -93,26 +93,9 @@ fn texture_hint(largest: &str) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::context::DeviceMemory;
 
     fn device(cpu: bool) -> DeviceInfo {
-        DeviceInfo {
-            index: 1,
-            name: "test device".into(),
-            device_type: String::new(),
-            driver: String::new(),
-            api_version: "1.3.0".into(),
-            max_storage_buffer_range: 1 << 27,
-            max_texel_buffer_elements: 1 << 27,
-            cpu,
-            mesa: None,
-            memory: DeviceMemory {
-                device_local: 2 << 30,
-                max_allocation: 1 << 30,
-                max_buffer: Some(4 << 30),
-            },
-            ray_queries: false,
-        }
+        DeviceInfo::for_tests(cpu)
     }
 
     #[test]

@@ -8,6 +8,8 @@ use std::ffi::CStr;
 
 use ash::vk;
 
+use crate::context::DeviceInfo;
+
 /// The device extensions ray queries need on a Vulkan 1.2 device: the queries, the structures
 /// they traverse and the deferred host operations the structures' extension requires to be
 /// enabled with it.
@@ -41,6 +43,10 @@ pub(crate) fn offered(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool 
     structures.acceleration_structure == vk::TRUE && queries.ray_query == vk::TRUE
 }
 
+/// A custom index holds 24 bits: the ray-query traversal takes scenes of fewer triangles (an
+/// instance's custom index is its mesh's first triangle).
+pub(crate) const MAX_TRIANGLES: u64 = 1 << 24;
+
 /// The kernels' define of the ray-query traversal (`shaders/common/trace.glsl`).
 pub(crate) const DEFINE: &str = "TRAVERSAL_RAY_QUERY";
 
@@ -60,7 +66,8 @@ pub(crate) fn scratch_alignment(instance: &ash::Instance, pd: vk::PhysicalDevice
 /// How a tracer's kernels find what a ray hits.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Traversal {
-    /// The device's choice: platoon's own for now (the rule by measurement is issue 61's).
+    /// The device's choice (`resolved`): platoon's own on CPU devices, where it was measured
+    /// faster, and on devices without ray queries; the ray queries on a GPU that offers them.
     #[default]
     Auto,
     /// platoon's own traversal of its BVHs (every device).
@@ -90,8 +97,63 @@ impl Traversal {
         }
     }
 
-    /// Whether a tracer of this choice traces with ray queries.
-    pub(crate) fn ray_queries(self) -> bool {
-        self == Traversal::RayQuery
+    /// What this choice stands for on `device` for a scene of `triangles`. `Auto` takes the
+    /// own traversal on a CPU device: lavapipe 25's ray queries were 0.8-41x its time on the
+    /// bench scenes (docs/PERFORMANCE.md); and the ray queries on a GPU that offers them, as
+    /// every GPU renderer with ray-tracing hardware does (Cycles' OptiX, Falcor, bevy_solari),
+    /// unless the scene is over what they take (`MAX_TRIANGLES`).
+    pub fn resolved(self, device: &DeviceInfo, triangles: u64) -> Traversal {
+        match self {
+            Traversal::Auto if device.ray_queries && !device.cpu && triangles < MAX_TRIANGLES => {
+                Traversal::RayQuery
+            }
+            Traversal::Auto => Traversal::Own,
+            t => t,
+        }
+    }
+
+    /// As an image's metadata and `platoon info` say it: `auto` with what it stands for.
+    pub fn label(self) -> String {
+        match self {
+            Traversal::Auto => "auto (own on CPU devices and devices without ray queries, \
+                                ray-query on GPUs that offer them)"
+                .into(),
+            t => t.name().into(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn device(cpu: bool, ray_queries: bool) -> DeviceInfo {
+        DeviceInfo {
+            ray_queries,
+            ..DeviceInfo::for_tests(cpu)
+        }
+    }
+
+    #[test]
+    fn auto_takes_the_ray_queries_on_a_gpu_that_offers_them_and_the_own_traversal_elsewhere() {
+        use Traversal::*;
+        let resolved = |cpu, queries, triangles| Auto.resolved(&device(cpu, queries), triangles);
+        assert_eq!(resolved(false, true, 1000), RayQuery);
+        assert_eq!(
+            resolved(true, true, 1000),
+            Own,
+            "lavapipe 25 measured slower"
+        );
+        assert_eq!(resolved(false, false, 1000), Own);
+        assert_eq!(
+            resolved(false, true, MAX_TRIANGLES),
+            Own,
+            "over the custom index"
+        );
+        // A choice named is kept (and refused by the device where it cannot be).
+        for t in [Own, RayQuery] {
+            assert_eq!(t.resolved(&device(true, false), 1000), t);
+        }
+        assert!(Auto.label().starts_with("auto (own on CPU devices"));
     }
 }

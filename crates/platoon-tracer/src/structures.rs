@@ -17,6 +17,7 @@ use platoon_core::SceneFeatures;
 
 use crate::buffer::GpuBuffer;
 use crate::gpu::Gpu;
+use crate::ray_query::MAX_TRIANGLES;
 use crate::{Error, Result, VkContext};
 
 /// One acceleration structure and the buffer it lives in.
@@ -39,9 +40,6 @@ pub(crate) struct Structures {
     top: Structure,
     instances: GpuBuffer,
 }
-
-/// A custom index holds 24 bits: the ray-query traversal takes scenes of fewer triangles.
-const MAX_TRIANGLES: u64 = 1 << 24;
 
 /// The bytes of one triangle's corners in the triangle positions (three vec4).
 const TRIANGLE_BYTES: u64 = 48;

@@ -84,7 +84,7 @@ impl Tracer {
             .map(|(i, d)| (i, 0, *d))
             .collect();
         tracer.write_arrays(&writes)?;
-        if options.traversal.ray_queries() {
+        if tracer.gpu.ctx.ray_queries() {
             tracer.build_structures(SceneShape::of(scene))?;
         }
         tracer.bind_scene_arrays()?;
@@ -131,9 +131,9 @@ impl Tracer {
             .map(|o| Tracer::without_arrays(o, scene))
             .collect::<Result<Vec<_>>>()?;
         // What the structures are built from, kept past the release of the arrays.
-        let shape = options
+        let shape = tracers
             .iter()
-            .any(|o| o.traversal.ray_queries())
+            .any(|t| t.gpu.ctx.ray_queries())
             .then(|| SceneShape::of(scene));
         for (i, info) in SCENE_ARRAYS.iter().enumerate() {
             let bytes = scene.bytes_of(info.array);
@@ -144,8 +144,8 @@ impl Tracer {
             }
             scene.release(info.array);
         }
-        for (t, o) in tracers.iter_mut().zip(options) {
-            if let (Some(shape), true) = (&shape, o.traversal.ray_queries()) {
+        for t in &mut tracers {
+            if let (Some(shape), true) = (&shape, t.gpu.ctx.ray_queries()) {
                 t.build_structures(shape.clone())?;
             }
             t.bind_scene_arrays()?;
@@ -160,7 +160,8 @@ impl Tracer {
             options.device,
             options.validation,
             options.lavapipe_threads,
-            options.traversal.ray_queries(),
+            options.traversal,
+            scene.triangle_count as u64,
         )?;
         let mut gpu = Gpu::new(ctx)?;
         gpu.stream_slots = options.stream_slots;
@@ -244,6 +245,15 @@ impl Tracer {
 
     pub fn device_info(&self) -> &DeviceInfo {
         &self.gpu.ctx.info
+    }
+
+    /// How this tracer's kernels find what a ray hits (its options' choice as the device
+    /// resolved it).
+    pub fn traversal(&self) -> Traversal {
+        match self.gpu.ctx.ray_queries() {
+            true => Traversal::RayQuery,
+            false => Traversal::Own,
+        }
     }
 
     /// Warnings and errors reported by the validation layer so far (empty without validation).

@@ -88,6 +88,8 @@ pub fn metadata_of(
         ),
         ("features".into(), features.to_string()),
         ("kernel_defines".into(), rendered.kernel_defines.join(",")),
+        // Per device, in the order of `device`: what `--traversal` resolved to on each.
+        ("traversal".into(), rendered.traversals.join(", ")),
         (
             "kernel_fallbacks".into(),
             rendered.kernel_fallbacks.to_string(),

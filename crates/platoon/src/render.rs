@@ -58,6 +58,7 @@ pub fn render_bands(
     let devices = Devices {
         names: vec![tracer.device_info().name.clone()],
         kernel_defines: tracer.kernel_defines(params),
+        traversals: vec![tracer.traversal().name()],
         balancer: None,
         validation_messages: tracer.validation_messages(),
     };
@@ -138,6 +139,7 @@ fn rendered_of(renderer: &Renderer<Tracer>, params: &FrameParams, frame: FrameRe
     let devices = Devices {
         names: renderer.with_tracers(|t| t.device_info().name.clone()),
         kernel_defines: defines,
+        traversals: renderer.with_tracers(|t| t.traversal().name()),
         balancer: Some(renderer.balancer_name()),
         validation_messages: renderer.with_tracers(|t| t.validation_messages()).concat(),
     };

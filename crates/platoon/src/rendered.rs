@@ -23,6 +23,8 @@ pub struct Rendered {
     /// The devices, comma-separated.
     pub device: String,
     pub kernel_defines: Vec<&'static str>,
+    /// How each device found what a ray hits (`Tracer::traversal`), in the order of `device`.
+    pub traversals: Vec<&'static str>,
     /// Per-tracer statistics of a multi-device frame (empty for one device).
     pub tracers: Vec<platoon_schedule::renderer::TracerStats>,
     pub balancer: Option<&'static str>,
@@ -100,6 +102,7 @@ pub(crate) struct Measured {
 pub(crate) struct Devices {
     pub(crate) names: Vec<String>,
     pub(crate) kernel_defines: Vec<&'static str>,
+    pub(crate) traversals: Vec<&'static str>,
     pub(crate) balancer: Option<&'static str>,
     pub(crate) validation_messages: Vec<String>,
 }
@@ -119,6 +122,7 @@ pub(crate) fn pack(params: &FrameParams, m: Measured, d: Devices) -> Rendered {
         kernel_fallbacks: m.kernel_fallbacks,
         device: d.names.join(", "),
         kernel_defines: d.kernel_defines,
+        traversals: d.traversals,
         tracers: m.tracers,
         balancer: d.balancer,
         validation_messages: d.validation_messages,

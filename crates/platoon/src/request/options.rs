@@ -316,7 +316,9 @@ pub static OPTIONS: &[RequestOption] = &[
         help: "How each device finds what a ray hits: platoon's own BVH traversal (own), the \
                device's ray queries over acceleration structures built on it (ray-query: a GPU \
                with ray tracing, lavapipe from Mesa 24.1; `platoon devices` says which), or \
-               auto (own, until measurements choose per device). The image agrees within noise.",
+               auto (own on CPU devices, where it measured faster, and on devices without ray \
+               queries; ray-query on GPUs that offer them). The image agrees within noise; the \
+               metadata says which each device took.",
         kind: ValueKind::Word(&Traversal::NAMES),
         set: |r, v| {
             let name = v.word()?;
