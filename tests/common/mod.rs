@@ -369,3 +369,32 @@ pub fn over_black_floor(material: Material, cos_view: f64) -> Prepared {
         Vec3::new(s, c, 0.0) * 10.0,
     )
 }
+
+/// The Cornell box with a glossy plastic floor and a rough metal tall box, open to a dim sky.
+pub fn glossy_cornell() -> platoon::Prepared {
+    let mut scene = platoon::core::scene::cornell::scene();
+    let floor = scene.materials.len() as u32;
+    scene.materials.push(Material {
+        name: "plastic".into(),
+        base_color: Vec3::new(0.7, 0.7, 0.6).extend(1.0),
+        metallic: 0.0,
+        roughness: 0.25,
+        ..Material::default()
+    });
+    scene.materials.push(Material {
+        name: "metal".into(),
+        base_color: Vec3::new(0.9, 0.7, 0.4).extend(1.0),
+        metallic: 1.0,
+        roughness: 0.35,
+        ..Material::default()
+    });
+    let mesh = std::sync::Arc::make_mut(&mut scene.meshes[0]);
+    let n = mesh.triangle_materials.len();
+    mesh.triangle_materials[0] = floor;
+    mesh.triangle_materials[1] = floor;
+    // The tall box is the last of the mesh's quads.
+    for m in &mut mesh.triangle_materials[n - 10..] {
+        *m = floor + 1;
+    }
+    prepare(scene, constant_env(0.3))
+}
