@@ -7,6 +7,8 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "traversal/refits.rs"]
+mod refits;
 #[path = "traversal/scenes.rs"]
 mod scenes;
 
@@ -219,22 +221,24 @@ fn a_device_without_ray_queries_is_refused_naming_it() {
     assert!(e.contains("--traversal own"), "{e}");
 }
 
+/// CesiumMan posed at `time` under a white sky, unmerged.
+fn cesium_at(time: f32) -> Prepared {
+    let options = platoon::PrepareOptions {
+        env: constant_env(1.0),
+        time,
+        merge_static: false,
+        ..Default::default()
+    };
+    let scene = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
+    platoon::prepare(scene, &options).expect("prepare")
+}
+
 /// A ray-query tracer's structures follow a living scene's commits: a cover moved (its
 /// instance), a skin deforming (its mesh's triangles), a mesh added (every mesh's place): the
 /// image after the commit is the bits of a tracer made on the changed scene, and within noise
 /// of the own traversal's after the same commit.
 #[test]
 fn ray_query_structures_follow_a_living_scenes_commits() {
-    let cesium_at = |time: f32| {
-        let options = platoon::PrepareOptions {
-            env: constant_env(1.0),
-            time,
-            merge_static: false,
-            ..Default::default()
-        };
-        let scene = platoon::load_scene(Some(&shared("scenes/CesiumMan.glb"))).unwrap();
-        platoon::prepare(scene, &options).expect("prepare")
-    };
     let cases = [
         (
             "a cover moved",
@@ -321,6 +325,11 @@ fn a_living_scene_on_ray_queries_walks_as_the_own_traversal_does() {
             &followed,
         );
     }
+    // The skin's bottom level was built to be refitted at its first step and refitted after,
+    // where the core refitted its BVH.
+    let counts = queried.structure_counts().expect("structures");
+    eprintln!("the walk's structures: {counts:?}");
+    assert!(counts.refitted > 0, "{counts:?}");
 }
 
 /// The other methods trace through the same `trace()`: IGI's particles and gathers, vertex

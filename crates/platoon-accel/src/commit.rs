@@ -163,6 +163,15 @@ pub struct Commit {
     /// acceleration structures are built over (a bottom level per mesh; the ray-query
     /// traversal).
     pub regions: Vec<MeshRegion>,
+    /// The meshes (by region) whose BVH the core built again in this commit rather than
+    /// refitted (its SAH cost drifted past `RefitPolicy`'s bound, or its leaves' layout
+    /// changed): a device's structure of the mesh is built again with it where it would be
+    /// refitted otherwise. Empty for a commit between two scenes, which cannot tell.
+    pub rebuilt: Vec<u32>,
+    /// The meshes (by region) the core deformed in this commit, refitted or rebuilt (a skin's
+    /// pose): what a device keeps refittable where it builds every structure again (a mesh
+    /// added). Empty for a commit between two scenes.
+    pub deformed: Vec<u32>,
 }
 
 /// Merges chunk-sized pieces into ranges.
@@ -200,6 +209,8 @@ impl Commit {
             arrays,
             header: new.header(),
             regions: new.regions.clone(),
+            rebuilt: Vec::new(),
+            deformed: Vec::new(),
         }
     }
 
@@ -228,6 +239,8 @@ impl Commit {
             arrays,
             header: scene.header(),
             regions: scene.regions.clone(),
+            rebuilt: Vec::new(),
+            deformed: Vec::new(),
         }
     }
 

@@ -371,6 +371,8 @@ pub fn put_commit(w: &mut Writer, c: &Commit) {
     put_header(w, &c.header);
     let regions: Vec<u32> = c.regions.iter().flat_map(region_words).collect();
     w.pod(&regions);
+    w.pod(&c.rebuilt);
+    w.pod(&c.deformed);
 }
 
 /// A mesh region as the wire sends it: its seven words in field order.
@@ -428,10 +430,14 @@ pub fn get_commit(r: &mut Reader) -> Result<Commit, WireError> {
             root: w[6],
         })
         .collect();
+    let rebuilt: Vec<u32> = r.pod()?;
+    let deformed: Vec<u32> = r.pod()?;
     Ok(Commit {
         arrays,
         header,
         regions,
+        rebuilt,
+        deformed,
     })
 }
 
@@ -585,6 +591,8 @@ mod tests {
                 node_capacity: 6,
                 root: 7,
             }],
+            rebuilt: vec![0],
+            deformed: vec![0, 3],
         };
         let mut w = Writer::default();
         put_commit(&mut w, &commit);

@@ -299,6 +299,8 @@ impl Updater {
                     arrays: Vec::new(),
                     header: self.state.header(),
                     regions: self.state.regions.clone(),
+                    rebuilt: Vec::new(),
+                    deformed: Vec::new(),
                 }),
                 times: UpdateTimes::default(),
                 refitted: 0,
@@ -389,7 +391,12 @@ impl Updater {
             times.flatten = start.elapsed();
             times.top_level = self.state.build_times.instances;
             let start = Instant::now();
-            let commit = Commit::of_ranges(&self.state, ranges);
+            let mut commit = Commit::of_ranges(&self.state, ranges);
+            commit.rebuilt = (levels.deformed.iter())
+                .filter(|d| d.2)
+                .map(|d| d.0 as u32)
+                .collect();
+            commit.deformed = levels.deformed.iter().map(|d| d.0 as u32).collect();
             times.commit = start.elapsed();
             commit
         } else {
@@ -398,7 +405,8 @@ impl Updater {
             times.flatten = start.elapsed();
             times.top_level = next.build_times.instances;
             let start = Instant::now();
-            let commit = Commit::between(&self.state, &next);
+            let mut commit = Commit::between(&self.state, &next);
+            commit.deformed = levels.deformed.iter().map(|d| d.0 as u32).collect();
             times.commit = start.elapsed();
             self.state = next;
             self.layout = layout;

@@ -29,6 +29,7 @@ pub use memory::{
 };
 pub use method::{kernel_label, kernel_spirv, path_kernel};
 pub use ray_query::Traversal;
+pub use structures::StructureCounts;
 
 /// The device-method API: what a rendering method's device half implements (`MethodPasses`)
 /// and records a band with (`Recorder`), the buffers it grows (`ensure`, `GpuBuffer`), the

@@ -247,6 +247,11 @@ impl Tracer {
         &self.gpu.ctx.info
     }
 
+    /// What this tracer's acceleration structures went through (None without ray queries).
+    pub fn structure_counts(&self) -> Option<crate::StructureCounts> {
+        self.structures.as_ref().map(|s| s.counts)
+    }
+
     /// How this tracer's kernels find what a ray hits (its options' choice as the device
     /// resolved it).
     pub fn traversal(&self) -> Traversal {

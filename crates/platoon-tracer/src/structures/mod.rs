@@ -4,7 +4,10 @@
 //! plus the primitive's index: the instance's custom index holds that first one), and a top
 //! level of the scene's instances in their own order (a hit's instance is the query's instance
 //! id). Built on the device (lavapipe offers no host builds) when the tracer takes the scene,
-//! and again where a living scene's commit changed what they hold (`follow`).
+//! and brought to a living scene's commits (`follow`): the bottom levels of deforming meshes
+//! refitted, the top level built again (`bottom.rs` builds, refits and compacts).
+
+mod bottom;
 
 use std::collections::HashMap;
 
@@ -15,6 +18,8 @@ use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::{GpuInstance, GpuScene, MeshRegion};
 use platoon_core::SceneFeatures;
 
+pub use self::bottom::StructureCounts;
+use self::bottom::{Bottom, Job, MAX_REFITS};
 use crate::buffer::GpuBuffer;
 use crate::gpu::Gpu;
 use crate::ray_query::MAX_TRIANGLES;
@@ -36,9 +41,10 @@ pub(crate) struct Structures {
     /// The device address of the triangle positions the bottom levels were built from.
     positions: u64,
     /// Each mesh's bottom level (by its index in the shape's regions); None for an empty mesh.
-    bottom: Vec<Option<Structure>>,
+    bottom: Vec<Option<Bottom>>,
     top: Structure,
     instances: GpuBuffer,
+    pub(crate) counts: StructureCounts,
 }
 
 /// The bytes of one triangle's corners in the triangle positions (three vec4).
@@ -86,8 +92,9 @@ impl Structures {
             bottom: Vec::new(),
             top: Structure::none(),
             instances: GpuBuffer::empty(),
+            counts: StructureCounts::default(),
         };
-        match s.build_all(gpu) {
+        match s.build_all(gpu, &[]) {
             Ok(()) => Ok(s),
             Err(e) => {
                 s.destroy(gpu);
@@ -103,10 +110,10 @@ impl Structures {
 
     /// Brings the structures to the scene after `commit` (the tracer's arrays written, its
     /// triangle positions now at `positions`): the bottom levels of the meshes whose triangles
-    /// changed (a deforming mesh) built again, all of them where the meshes themselves changed
-    /// (added, removed, moved in the arrays) or the positions moved to a new buffer, and the top
-    /// level again over the instances as they are. Returns whether the top level is a new one
-    /// (the descriptor set must name it).
+    /// changed (a deforming mesh) refitted or built again, all of them built again where the
+    /// meshes themselves changed (added, removed, moved in the arrays) or the positions moved to
+    /// a new buffer, and the top level again over the instances as they are. Returns whether
+    /// the top level is a new one (the descriptor set must name it).
     pub(crate) fn follow(
         &mut self,
         gpu: &mut Gpu,
@@ -114,24 +121,22 @@ impl Structures {
         positions: u64,
     ) -> Result<bool> {
         let opaque = opaque(&commit.header.features);
-        let all = commit.regions != self.shape.regions
+        // Where the meshes' triangles lie (a region's nodes and root follow its BVH, which a
+        // deforming mesh's pose rebuilds: the top level reads the new root).
+        let places = |regions: &[MeshRegion]| -> Vec<(u32, u32)> {
+            regions
+                .iter()
+                .map(|r| (r.triangle_base, r.triangle_count))
+                .collect()
+        };
+        let all = places(&commit.regions) != places(&self.shape.regions)
             || positions != self.positions
             || opaque != self.shape.opaque;
-        let mut meshes = Vec::new();
+        let roots = commit.regions != self.shape.regions;
+        self.shape.regions = commit.regions.clone();
+        let (meshes, whole) = rewritten_meshes(commit);
         let mut instances = false;
         for a in &commit.arrays {
-            if a.array == SceneArray::TrianglePositions.index() && !all {
-                for &(offset, length) in &a.ranges {
-                    let (first, end) = (
-                        offset / TRIANGLE_BYTES,
-                        (offset + length).div_ceil(TRIANGLE_BYTES),
-                    );
-                    meshes.extend(self.shape.regions.iter().enumerate().filter_map(|(i, r)| {
-                        let (base, count) = (r.triangle_base as u64, r.triangle_count as u64);
-                        (count > 0 && base < end && first < base + count).then_some(i)
-                    }));
-                }
-            }
             if a.array == SceneArray::Instances.index() {
                 instances = true;
                 let mut bytes: Vec<u8> = bytemuck::cast_slice(&self.shape.instances).to_vec();
@@ -142,34 +147,53 @@ impl Structures {
                 self.shape.instances = bytemuck::pod_collect_to_vec(&bytes);
             }
         }
-        meshes.sort_unstable();
-        meshes.dedup();
-        if !all && meshes.is_empty() && !instances {
+        if !all && meshes.is_empty() && !instances && !roots {
             return Ok(false);
         }
         gpu.wait_idle()?;
         if all {
-            self.shape.regions = commit.regions.clone();
             self.shape.opaque = opaque;
             self.positions = positions;
-            self.destroy(gpu);
-            self.build_all(gpu)?;
-        } else {
-            for i in meshes {
-                if let Some(mut old) = self.bottom[i].take() {
-                    self.free(gpu, &mut old);
-                }
-                self.bottom[i] = Some(self.build_mesh(gpu, i)?);
+            // Those of deforming meshes refittable: as the core says, or as the rewritten
+            // triangles say where the core does not and they were not rewritten whole.
+            let mut deforming: Vec<usize> = commit.deformed.iter().map(|&i| i as usize).collect();
+            if !whole {
+                deforming.extend(&meshes);
             }
+            self.destroy(gpu);
+            self.build_all(gpu, &deforming)?;
+        } else {
+            // A deforming mesh's bottom level is refitted as the core refits its BVH, and built
+            // again (refittable from then on) where the core built its BVH again or it was not
+            // built to be refitted (its first deformation) or has been refitted long enough.
+            let jobs: Vec<(usize, Job)> = meshes
+                .into_iter()
+                .map(|i| {
+                    let refit = self.bottom[i].as_ref().is_some_and(|b| {
+                        b.refittable
+                            && b.refits < MAX_REFITS
+                            && !commit.rebuilt.contains(&(i as u32))
+                    });
+                    (
+                        i,
+                        if refit {
+                            Job::Refit
+                        } else {
+                            Job::Build { refittable: true }
+                        },
+                    )
+                })
+                .collect();
+            self.run(gpu, &jobs)?;
             self.destroy_top(gpu);
             self.build_top(gpu)?;
         }
         Ok(true)
     }
 
-    /// Every mesh's bottom level, then the top level: one submission each (the fence orders
-    /// them), each with its own scratch.
-    fn build_all(&mut self, gpu: &mut Gpu) -> Result<()> {
+    /// Every mesh's bottom level (in batches, `bottom.rs`), then the top level; those of
+    /// `deforming` meshes built to be refitted, the others compacted.
+    fn build_all(&mut self, gpu: &mut Gpu, deforming: &[usize]) -> Result<()> {
         let triangles = self.shape.triangles();
         if triangles >= MAX_TRIANGLES {
             return Err(Error::Unsupported {
@@ -180,43 +204,16 @@ impl Structures {
                 ),
             });
         }
-        for i in 0..self.shape.regions.len() {
-            let built = match self.shape.regions[i].triangle_count {
-                0 => None,
-                _ => Some(self.build_mesh(gpu, i)?),
-            };
-            self.bottom.push(built);
-        }
-        self.build_top(gpu)
-    }
-
-    /// Mesh `i`'s bottom level, from its triangles' corners in the positions.
-    fn build_mesh(&self, gpu: &mut Gpu, i: usize) -> Result<Structure> {
-        let region = &self.shape.regions[i];
-        let first = self.positions + TRIANGLE_BYTES * region.triangle_base as u64;
-        let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
-            .vertex_format(vk::Format::R32G32B32_SFLOAT)
-            .vertex_data(vk::DeviceOrHostAddressConstKHR {
-                device_address: first,
+        let jobs: Vec<(usize, Job)> = (self.shape.regions.iter().enumerate())
+            .filter(|(_, r)| r.triangle_count > 0)
+            .map(|(i, _)| {
+                let refittable = deforming.contains(&i);
+                (i, Job::Build { refittable })
             })
-            .vertex_stride(16)
-            .max_vertex(3 * region.triangle_count - 1)
-            .index_type(vk::IndexType::NONE_KHR);
-        let flags = if self.shape.opaque {
-            vk::GeometryFlagsKHR::OPAQUE
-        } else {
-            vk::GeometryFlagsKHR::NO_DUPLICATE_ANY_HIT_INVOCATION
-        };
-        let geometry = vk::AccelerationStructureGeometryKHR::default()
-            .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
-            .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })
-            .flags(flags);
-        self.build_one(
-            gpu,
-            vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
-            geometry,
-            region.triangle_count,
-        )
+            .collect();
+        self.bottom = (0..self.shape.regions.len()).map(|_| None).collect();
+        self.run(gpu, &jobs)?;
+        self.build_top(gpu)
     }
 
     /// The top level over the instances, each placing the bottom level of its mesh (which it
@@ -233,7 +230,10 @@ impl Structures {
             .regions
             .iter()
             .zip(&self.bottom)
-            .filter_map(|(r, b)| b.as_ref().map(|b| (r.root, (address(b), r.triangle_base))))
+            .filter_map(|(r, b)| {
+                let b = b.as_ref()?;
+                Some((r.root, (address(&b.structure), r.triangle_base)))
+            })
             .collect();
         let any = meshes.values().next().map_or(0, |m| m.0);
         let records: Vec<vk::AccelerationStructureInstanceKHR> = if meshes.is_empty() {
@@ -263,23 +263,18 @@ impl Structures {
         let geometry = vk::AccelerationStructureGeometryKHR::default()
             .geometry_type(vk::GeometryTypeKHR::INSTANCES)
             .geometry(vk::AccelerationStructureGeometryDataKHR { instances: data });
-        self.top = self.build_one(
-            gpu,
-            vk::AccelerationStructureTypeKHR::TOP_LEVEL,
-            geometry,
-            records.len() as u32,
-        )?;
+        self.top = self.build_top_level(gpu, geometry, records.len() as u32)?;
         Ok(())
     }
 
-    /// One structure of `ty` over `geometry` of `count` primitives, built and waited for.
-    fn build_one(
+    /// The top level over `geometry` of `count` instances, built and waited for.
+    fn build_top_level(
         &self,
         gpu: &mut Gpu,
-        ty: vk::AccelerationStructureTypeKHR,
         geometry: vk::AccelerationStructureGeometryKHR,
         count: u32,
     ) -> Result<Structure> {
+        let ty = vk::AccelerationStructureTypeKHR::TOP_LEVEL;
         let geometries = [geometry];
         let mut info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
             .ty(ty)
@@ -295,53 +290,62 @@ impl Structures {
                 &mut sizes,
             )
         };
-        let buffer = gpu.buffer(
+        let mut structure = self.create(gpu, ty, sizes.acceleration_structure_size)?;
+        // The scratch's address rounded up to the device's alignment.
+        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        let scratch = gpu.buffer(
+            "structure scratch",
+            sizes.build_scratch_size + align,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        );
+        let built = scratch.and_then(|mut scratch| {
+            info = info
+                .dst_acceleration_structure(structure.handle)
+                .scratch_data(vk::DeviceOrHostAddressKHR {
+                    device_address: scratch.address.next_multiple_of(align),
+                });
+            let range =
+                [vk::AccelerationStructureBuildRangeInfoKHR::default().primitive_count(count)];
+            let loader = &self.loader;
+            let built = gpu.submit(|d, cb| unsafe {
+                loader.cmd_build_acceleration_structures(cb, &[info], &[&range]);
+                bottom::built_barrier(d, cb);
+            });
+            gpu.destroy_buffer(&mut scratch);
+            built
+        });
+        if let Err(e) = built {
+            self.free(gpu, &mut structure);
+            return Err(e);
+        }
+        Ok(structure)
+    }
+
+    /// A structure of `ty` and `size` bytes in a buffer of its own (nothing built in it yet).
+    fn create(
+        &self,
+        gpu: &mut Gpu,
+        ty: vk::AccelerationStructureTypeKHR,
+        size: u64,
+    ) -> Result<Structure> {
+        let mut buffer = gpu.buffer(
             "acceleration structure",
-            sizes.acceleration_structure_size,
+            size,
             vk::BufferUsageFlags::ACCELERATION_STRUCTURE_STORAGE_KHR,
             MemoryLocation::GpuOnly,
         )?;
         let create = vk::AccelerationStructureCreateInfoKHR::default()
             .buffer(buffer.buffer)
-            .size(sizes.acceleration_structure_size)
+            .size(size)
             .ty(ty);
-        let handle = unsafe { self.loader.create_acceleration_structure(&create, None) }
-            .ctx("creating an acceleration structure")?;
-        // The scratch's address rounded up to the device's alignment.
-        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
-        let mut scratch = gpu.buffer(
-            "structure scratch",
-            sizes.build_scratch_size + align,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuOnly,
-        )?;
-        info = info
-            .dst_acceleration_structure(handle)
-            .scratch_data(vk::DeviceOrHostAddressKHR {
-                device_address: scratch.address.next_multiple_of(align),
-            });
-        let range = [vk::AccelerationStructureBuildRangeInfoKHR::default().primitive_count(count)];
-        let loader = &self.loader;
-        let built = gpu.submit(|d, cb| unsafe {
-            loader.cmd_build_acceleration_structures(cb, &[info], &[&range]);
-            // What the build wrote, for the builds and kernels of later submissions.
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR)
-                .dst_access_mask(vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR);
-            d.cmd_pipeline_barrier(
-                cb,
-                vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
-                vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR
-                    | vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
-        });
-        gpu.destroy_buffer(&mut scratch);
-        built?;
-        Ok(Structure { handle, buffer })
+        match unsafe { self.loader.create_acceleration_structure(&create, None) } {
+            Ok(handle) => Ok(Structure { handle, buffer }),
+            Err(e) => {
+                gpu.destroy_buffer(&mut buffer);
+                Err(e).ctx("creating an acceleration structure")
+            }
+        }
     }
 
     /// Frees one structure and its buffer.
@@ -361,10 +365,33 @@ impl Structures {
     /// Frees the structures and their buffers (the device idle).
     pub(crate) fn destroy(&mut self, gpu: &mut Gpu) {
         for mut b in std::mem::take(&mut self.bottom).into_iter().flatten() {
-            self.free(gpu, &mut b);
+            self.free(gpu, &mut b.structure);
         }
         self.destroy_top(gpu);
     }
+}
+
+/// The meshes (by their places after `commit`) whose triangles it rewrote, in order, and
+/// whether it rewrote the triangles whole (which says nothing of which meshes moved).
+fn rewritten_meshes(commit: &Commit) -> (Vec<usize>, bool) {
+    let Some(a) = (commit.arrays.iter()).find(|a| a.array == SceneArray::TrianglePositions.index())
+    else {
+        return (Vec::new(), false);
+    };
+    let mut meshes = Vec::new();
+    for &(offset, length) in &a.ranges {
+        let (first, end) = (
+            offset / TRIANGLE_BYTES,
+            (offset + length).div_ceil(TRIANGLE_BYTES),
+        );
+        meshes.extend(commit.regions.iter().enumerate().filter_map(|(i, r)| {
+            let (base, count) = (r.triangle_base as u64, r.triangle_count as u64);
+            (count > 0 && base < end && first < base + count).then_some(i)
+        }));
+    }
+    meshes.sort_unstable();
+    meshes.dedup();
+    (meshes, a.is_whole())
 }
 
 impl Structure {

@@ -1,0 +1,356 @@
+//! The bottom levels' builds on the device: in batches (one submission for many meshes, each
+//! with its part of one scratch buffer), compacted after where they will not be refitted, and
+//! refitted in place where a deforming mesh's triangles moved (Vulkan's update mode), as the
+//! core refits its own BVH of the mesh; built again where the core built its BVH again (its
+//! quality fell) or after `MAX_REFITS` refits in a row.
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::{Structure, Structures, TRIANGLE_BYTES};
+use crate::gpu::Gpu;
+use crate::{Result, VkContext};
+
+/// What is done to one mesh's bottom level.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Job {
+    /// Built afresh: compacted after, or kept refittable (`ALLOW_UPDATE`, not compacted) for a
+    /// mesh that deforms.
+    Build { refittable: bool },
+    /// Refitted in place to the mesh's triangles as they are now (a refittable one).
+    Refit,
+}
+
+/// A mesh's bottom level and how it follows the mesh.
+pub(super) struct Bottom {
+    pub(super) structure: Structure,
+    /// Built with `ALLOW_UPDATE`: a deforming mesh's, refitted when it moves.
+    pub(super) refittable: bool,
+    /// Refits since it was built.
+    pub(super) refits: u32,
+}
+
+/// What a tracer's bottom levels went through so far (`Tracer::structure_counts`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StructureCounts {
+    /// Bottom levels built, and refitted in place.
+    pub built: u64,
+    pub refitted: u64,
+    /// Bytes of the bottom levels compacted, before and after.
+    pub compacted_from: u64,
+    pub compacted_to: u64,
+}
+
+/// Refits in a row after which a bottom level is built again whatever the core did: the
+/// core's own bound on refits in a row (`RefitPolicy::max_refits`).
+pub(super) const MAX_REFITS: u32 = 64;
+
+/// Scratch memory one submission of builds may take: a large scene's builds go in several.
+const SCRATCH_BUDGET: u64 = 256 << 20;
+
+/// The build flags of a bottom level: fast traversal, and either refits or compaction.
+fn flags(refittable: bool) -> vk::BuildAccelerationStructureFlagsKHR {
+    vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE
+        | if refittable {
+            vk::BuildAccelerationStructureFlagsKHR::ALLOW_UPDATE
+        } else {
+            vk::BuildAccelerationStructureFlagsKHR::ALLOW_COMPACTION
+        }
+}
+
+/// What the builds of one submission wrote, for the builds, copies and kernels after them.
+pub(super) unsafe fn built_barrier(d: &ash::Device, cb: vk::CommandBuffer) {
+    let barrier = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR)
+        .dst_access_mask(vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR);
+    d.cmd_pipeline_barrier(
+        cb,
+        vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
+        vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR
+            | vk::PipelineStageFlags::COMPUTE_SHADER,
+        vk::DependencyFlags::empty(),
+        &[barrier],
+        &[],
+        &[],
+    );
+}
+
+impl Structures {
+    /// Mesh `i`'s triangles as a bottom level's geometry: their corners in the positions.
+    fn geometry(&self, i: usize) -> vk::AccelerationStructureGeometryKHR<'static> {
+        let region = &self.shape.regions[i];
+        let first = self.positions + TRIANGLE_BYTES * region.triangle_base as u64;
+        let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
+            .vertex_format(vk::Format::R32G32B32_SFLOAT)
+            .vertex_data(vk::DeviceOrHostAddressConstKHR {
+                device_address: first,
+            })
+            .vertex_stride(16)
+            .max_vertex(3 * region.triangle_count - 1)
+            .index_type(vk::IndexType::NONE_KHR);
+        let flags = if self.shape.opaque {
+            vk::GeometryFlagsKHR::OPAQUE
+        } else {
+            vk::GeometryFlagsKHR::NO_DUPLICATE_ANY_HIT_INVOCATION
+        };
+        vk::AccelerationStructureGeometryKHR::default()
+            .geometry_type(vk::GeometryTypeKHR::TRIANGLES)
+            .geometry(vk::AccelerationStructureGeometryDataKHR { triangles })
+            .flags(flags)
+    }
+
+    /// Does `jobs` (meshes with triangles, each once), in batches of `SCRATCH_BUDGET` scratch
+    /// at most (the device idle: a refit rewrites a structure kernels read).
+    pub(super) fn run(&mut self, gpu: &mut Gpu, jobs: &[(usize, Job)]) -> Result<()> {
+        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        let scratch: Vec<u64> = jobs
+            .iter()
+            .map(|&(i, job)| {
+                let sizes = self.sizes(i, job != Job::Build { refittable: false });
+                match job {
+                    Job::Refit => sizes.update_scratch_size,
+                    Job::Build { .. } => sizes.build_scratch_size,
+                }
+                .next_multiple_of(align)
+            })
+            .collect();
+        let mut start = 0;
+        while start < jobs.len() {
+            let mut end = start + 1;
+            let mut total = scratch[start];
+            while end < jobs.len() && total + scratch[end] <= SCRATCH_BUDGET {
+                total += scratch[end];
+                end += 1;
+            }
+            self.run_batch(gpu, &jobs[start..end], &scratch[start..end])?;
+            start = end;
+        }
+        Ok(())
+    }
+
+    /// The sizes of mesh `i`'s bottom level and of its build's and refit's scratch.
+    fn sizes(
+        &self,
+        i: usize,
+        refittable: bool,
+    ) -> vk::AccelerationStructureBuildSizesInfoKHR<'static> {
+        let geometries = [self.geometry(i)];
+        let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+            .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
+            .flags(flags(refittable))
+            .geometries(&geometries);
+        let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
+        unsafe {
+            self.loader.get_acceleration_structure_build_sizes(
+                vk::AccelerationStructureBuildTypeKHR::DEVICE,
+                &info,
+                &[self.shape.regions[i].triangle_count],
+                &mut sizes,
+            )
+        };
+        sizes
+    }
+
+    /// One batch: each built mesh's new structure made (the old one freed), every build and
+    /// refit in one submission, then the built ones that will not be refitted compacted.
+    fn run_batch(&mut self, gpu: &mut Gpu, batch: &[(usize, Job)], scratch: &[u64]) -> Result<()> {
+        for &(i, job) in batch {
+            if let Job::Build { refittable } = job {
+                let size = self.sizes(i, refittable).acceleration_structure_size;
+                let structure =
+                    self.create(gpu, vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL, size)?;
+                let new = Bottom {
+                    structure,
+                    refittable,
+                    refits: 0,
+                };
+                if let Some(mut old) = self.bottom[i].replace(new) {
+                    self.free(gpu, &mut old.structure);
+                }
+                self.counts.built += 1;
+            } else if let Some(b) = &mut self.bottom[i] {
+                b.refits += 1;
+                self.counts.refitted += 1;
+            }
+        }
+        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        let total: u64 = scratch.iter().sum();
+        let mut memory = gpu.buffer(
+            "structure scratch",
+            total + align,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
+        let compacted: Vec<usize> = batch
+            .iter()
+            .filter(|(_, job)| *job == Job::Build { refittable: false })
+            .map(|&(i, _)| i)
+            .collect();
+        let recorded = self.record_batch(gpu, batch, scratch, memory.address, &compacted);
+        gpu.destroy_buffer(&mut memory);
+        let pool = recorded?;
+        match pool {
+            Some(pool) => {
+                let compacted_sizes = self.compacted_sizes(gpu, pool, compacted.len());
+                unsafe { gpu.device().destroy_query_pool(pool, None) };
+                self.compact(gpu, &compacted, &compacted_sizes?)
+            }
+            None => Ok(()),
+        }
+    }
+
+    /// Records and runs the batch's builds and refits, scratch from `address` on; with
+    /// `compacted` meshes, their compacted sizes written to the query pool it returns.
+    fn record_batch(
+        &self,
+        gpu: &mut Gpu,
+        batch: &[(usize, Job)],
+        scratch: &[u64],
+        address: u64,
+        compacted: &[usize],
+    ) -> Result<Option<vk::QueryPool>> {
+        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        let mut at = address.next_multiple_of(align);
+        let geometries: Vec<[vk::AccelerationStructureGeometryKHR; 1]> =
+            batch.iter().map(|&(i, _)| [self.geometry(i)]).collect();
+        let handle = |i: usize| {
+            self.bottom[i]
+                .as_ref()
+                .map_or(vk::AccelerationStructureKHR::null(), |b| b.structure.handle)
+        };
+        let infos: Vec<vk::AccelerationStructureBuildGeometryInfoKHR> = batch
+            .iter()
+            .zip(&geometries)
+            .zip(scratch)
+            .map(|((&(i, job), g), &need)| {
+                let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+                    .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
+                    .flags(flags(job != Job::Build { refittable: false }))
+                    .geometries(g)
+                    .dst_acceleration_structure(handle(i))
+                    .scratch_data(vk::DeviceOrHostAddressKHR { device_address: at });
+                at += need;
+                match job {
+                    Job::Refit => info
+                        .mode(vk::BuildAccelerationStructureModeKHR::UPDATE)
+                        .src_acceleration_structure(handle(i)),
+                    Job::Build { .. } => info.mode(vk::BuildAccelerationStructureModeKHR::BUILD),
+                }
+            })
+            .collect();
+        let ranges: Vec<[vk::AccelerationStructureBuildRangeInfoKHR; 1]> = batch
+            .iter()
+            .map(|&(i, _)| {
+                [vk::AccelerationStructureBuildRangeInfoKHR::default()
+                    .primitive_count(self.shape.regions[i].triangle_count)]
+            })
+            .collect();
+        let ranges: Vec<&[vk::AccelerationStructureBuildRangeInfoKHR]> =
+            ranges.iter().map(|r| &r[..]).collect();
+        let pool = if compacted.is_empty() {
+            None
+        } else {
+            let info = vk::QueryPoolCreateInfo::default()
+                .query_type(vk::QueryType::ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR)
+                .query_count(compacted.len() as u32);
+            Some(
+                unsafe { gpu.device().create_query_pool(&info, None) }
+                    .ctx("creating a query pool")?,
+            )
+        };
+        let handles: Vec<vk::AccelerationStructureKHR> =
+            compacted.iter().map(|&i| handle(i)).collect();
+        let loader = &self.loader;
+        let ran = gpu.submit(|d, cb| unsafe {
+            if let Some(pool) = pool {
+                d.cmd_reset_query_pool(cb, pool, 0, handles.len() as u32);
+            }
+            loader.cmd_build_acceleration_structures(cb, &infos, &ranges);
+            built_barrier(d, cb);
+            if let Some(pool) = pool {
+                loader.cmd_write_acceleration_structures_properties(
+                    cb,
+                    &handles,
+                    vk::QueryType::ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR,
+                    pool,
+                    0,
+                );
+            }
+        });
+        if let Err(e) = ran {
+            if let Some(pool) = pool {
+                unsafe { gpu.device().destroy_query_pool(pool, None) };
+            }
+            return Err(e);
+        }
+        Ok(pool)
+    }
+
+    /// The compacted sizes the batch's queries wrote.
+    fn compacted_sizes(&self, gpu: &Gpu, pool: vk::QueryPool, count: usize) -> Result<Vec<u64>> {
+        let mut sizes = vec![0u64; count];
+        unsafe {
+            gpu.device().get_query_pool_results(
+                pool,
+                0,
+                &mut sizes,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .ctx("reading the structures' compacted sizes")?;
+        Ok(sizes)
+    }
+
+    /// Each of `meshes`' bottom levels copied into one of its compacted size (one
+    /// submission), the uncompacted ones freed.
+    fn compact(&mut self, gpu: &mut Gpu, meshes: &[usize], sizes: &[u64]) -> Result<()> {
+        let mut copies = Vec::with_capacity(meshes.len());
+        for &size in sizes {
+            match self.create(gpu, vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL, size) {
+                Ok(s) => copies.push(s),
+                Err(e) => {
+                    for mut s in copies {
+                        self.free(gpu, &mut s);
+                    }
+                    return Err(e);
+                }
+            }
+        }
+        let sources: Vec<vk::AccelerationStructureKHR> = meshes
+            .iter()
+            .map(|&i| {
+                self.bottom[i]
+                    .as_ref()
+                    .map_or(vk::AccelerationStructureKHR::null(), |b| b.structure.handle)
+            })
+            .collect();
+        let loader = &self.loader;
+        let copied = gpu.submit(|d, cb| unsafe {
+            for (src, dst) in sources.iter().zip(&copies) {
+                let copy = vk::CopyAccelerationStructureInfoKHR::default()
+                    .src(*src)
+                    .dst(dst.handle)
+                    .mode(vk::CopyAccelerationStructureModeKHR::COMPACT);
+                loader.cmd_copy_acceleration_structure(cb, &copy);
+            }
+            built_barrier(d, cb);
+        });
+        if let Err(e) = copied {
+            for mut s in copies {
+                self.free(gpu, &mut s);
+            }
+            return Err(e);
+        }
+        for (&i, s) in meshes.iter().zip(copies) {
+            self.counts.compacted_to += s.buffer.size;
+            let old = self.bottom[i]
+                .as_mut()
+                .map(|b| std::mem::replace(&mut b.structure, s));
+            if let Some(mut old) = old {
+                self.counts.compacted_from += old.buffer.size;
+                self.free(gpu, &mut old);
+            }
+        }
+        Ok(())
+    }
+}
