@@ -39,6 +39,9 @@ pub struct Options {
     /// on the last core, the rest on the others (when there are two or more). Without it the
     /// system places the threads, and often puts the updater beside the render on one core.
     pub pin_threads: bool,
+    /// How the tracer finds what a ray hits: with ray queries every commit also refits the
+    /// skins' bottom levels and builds the top level on the device (issue 61).
+    pub traversal: platoon_tracer::Traversal,
 }
 
 impl Default for Options {
@@ -54,6 +57,7 @@ impl Default for Options {
             device: 0,
             never_wait: false,
             pin_threads: true,
+            traversal: platoon_tracer::Traversal::Own,
         }
     }
 }
@@ -228,6 +232,7 @@ fn run_frames(o: &Options, kind: RunKind) -> Result<Run> {
     let options = TracerOptions {
         device: o.device,
         lavapipe_threads: Some(o.lavapipe_threads),
+        traversal: o.traversal,
         ..Default::default()
     };
     let mut tracer = Tracer::new(&options, &first)?;

@@ -81,8 +81,12 @@ impl GpuBuffer {
         &mut slice[..size]
     }
 
+    /// Frees the buffer and its memory; it is empty after (a second destroy does nothing).
     pub fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
-        unsafe { device.destroy_buffer(self.buffer, None) };
+        let buffer = std::mem::replace(&mut self.buffer, vk::Buffer::null());
+        if buffer != vk::Buffer::null() {
+            unsafe { device.destroy_buffer(buffer, None) };
+        }
         if let Some(a) = self.allocation.take() {
             let _ = allocator.free(a);
         }

@@ -21,6 +21,10 @@ impl Tracer {
     /// Brings this tracer's scene to the next generation: `commit` holds what changed since the
     /// scene it has (with the bytes). Call between frames.
     pub fn apply_commit(&mut self, commit: &Commit) -> Result<CommitStats> {
+        // The structures' builds of the last commit read the arrays about to be written.
+        if let Some(s) = self.structures.as_mut() {
+            s.settle(&mut self.gpu)?;
+        }
         let mut stats = CommitStats::default();
         let mut writes: Vec<(usize, u64, &[u8])> = Vec::new();
         for a in &commit.arrays {

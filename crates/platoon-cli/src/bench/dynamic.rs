@@ -31,6 +31,10 @@ pub struct DynamicArgs {
     /// the tracer's (it often puts both on one core).
     #[arg(long)]
     no_pin: bool,
+    /// How the tracer finds what a ray hits (own, ray-query, auto): with ray queries each
+    /// commit refits the skins' bottom levels and builds the top level on the device.
+    #[arg(long, default_value = "own", value_parser = parse_traversal)]
+    traversal: platoon::tracer::Traversal,
     /// Print one JSON object after the text.
     #[arg(long)]
     json: bool,
@@ -53,6 +57,7 @@ pub fn run(a: &DynamicArgs) -> Result<()> {
         device: a.device,
         never_wait: a.never_wait,
         pin_threads: !a.no_pin,
+        traversal: a.traversal,
         ..Default::default()
     };
     let report = db::run(&options)?;
@@ -66,4 +71,11 @@ pub fn run(a: &DynamicArgs) -> Result<()> {
         println!("{}", db::json(&report.summary));
     }
     Ok(())
+}
+
+fn parse_traversal(name: &str) -> Result<platoon::tracer::Traversal, String> {
+    platoon::tracer::Traversal::by_name(name).ok_or_else(|| {
+        let names = platoon::tracer::Traversal::NAMES.join(", ");
+        format!("unknown traversal {name}: one of {names}")
+    })
 }

@@ -8,6 +8,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::{Structure, Structures, TRIANGLE_BYTES};
+use crate::buffer::GpuBuffer;
 use crate::gpu::Gpu;
 use crate::{Result, VkContext};
 
@@ -47,6 +48,17 @@ pub(super) const MAX_REFITS: u32 = 64;
 
 /// Scratch memory one submission of builds may take: a large scene's builds go in several.
 const SCRATCH_BUDGET: u64 = 256 << 20;
+
+/// A buffer of `bytes` of scratch, with room to align its start.
+pub(super) fn scratch_buffer(gpu: &mut Gpu, bytes: u64) -> Result<GpuBuffer> {
+    let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+    gpu.buffer(
+        "structure scratch",
+        bytes + align,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+    )
+}
 
 /// The build flags of a bottom level: fast traversal, and either refits or compaction.
 fn flags(refittable: bool) -> vk::BuildAccelerationStructureFlagsKHR {
@@ -100,20 +112,10 @@ impl Structures {
     }
 
     /// Does `jobs` (meshes with triangles, each once), in batches of `SCRATCH_BUDGET` scratch
-    /// at most (the device idle: a refit rewrites a structure kernels read).
+    /// at most, each submitted and waited for (the device idle: a refit rewrites a structure
+    /// kernels read), the built ones that will not be refitted compacted.
     pub(super) fn run(&mut self, gpu: &mut Gpu, jobs: &[(usize, Job)]) -> Result<()> {
-        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
-        let scratch: Vec<u64> = jobs
-            .iter()
-            .map(|&(i, job)| {
-                let sizes = self.sizes(i, job != Job::Build { refittable: false });
-                match job {
-                    Job::Refit => sizes.update_scratch_size,
-                    Job::Build { .. } => sizes.build_scratch_size,
-                }
-                .next_multiple_of(align)
-            })
-            .collect();
+        let scratch = self.scratch_sizes(gpu, jobs);
         let mut start = 0;
         while start < jobs.len() {
             let mut end = start + 1;
@@ -126,6 +128,21 @@ impl Structures {
             start = end;
         }
         Ok(())
+    }
+
+    /// The scratch each job takes, each rounded up to the device's alignment.
+    pub(super) fn scratch_sizes(&self, gpu: &Gpu, jobs: &[(usize, Job)]) -> Vec<u64> {
+        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        jobs.iter()
+            .map(|&(i, job)| {
+                let sizes = self.sizes(i, job != Job::Build { refittable: false });
+                match job {
+                    Job::Refit => sizes.update_scratch_size,
+                    Job::Build { .. } => sizes.build_scratch_size,
+                }
+                .next_multiple_of(align)
+            })
+            .collect()
     }
 
     /// The sizes of mesh `i`'s bottom level and of its build's and refit's scratch.
@@ -154,6 +171,29 @@ impl Structures {
     /// One batch: each built mesh's new structure made (the old one freed), every build and
     /// refit in one submission, then the built ones that will not be refitted compacted.
     fn run_batch(&mut self, gpu: &mut Gpu, batch: &[(usize, Job)], scratch: &[u64]) -> Result<()> {
+        self.prepare(gpu, batch)?;
+        let mut memory = scratch_buffer(gpu, scratch.iter().sum())?;
+        let compacted: Vec<usize> = batch
+            .iter()
+            .filter(|(_, job)| *job == Job::Build { refittable: false })
+            .map(|&(i, _)| i)
+            .collect();
+        let recorded = self.record_batch(gpu, batch, scratch, memory.address, &compacted);
+        gpu.destroy_buffer(&mut memory);
+        let pool = recorded?;
+        match pool {
+            Some(pool) => {
+                let compacted_sizes = self.compacted_sizes(gpu, pool, compacted.len());
+                unsafe { gpu.device().destroy_query_pool(pool, None) };
+                self.compact(gpu, &compacted, &compacted_sizes?)
+            }
+            None => Ok(()),
+        }
+    }
+
+    /// Makes the structures `batch` builds (each built mesh's new one, the old one freed) and
+    /// counts its builds and refits.
+    pub(super) fn prepare(&mut self, gpu: &mut Gpu, batch: &[(usize, Job)]) -> Result<()> {
         for &(i, job) in batch {
             if let Job::Build { refittable } = job {
                 let size = self.sizes(i, refittable).acceleration_structure_size;
@@ -173,30 +213,7 @@ impl Structures {
                 self.counts.refitted += 1;
             }
         }
-        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
-        let total: u64 = scratch.iter().sum();
-        let mut memory = gpu.buffer(
-            "structure scratch",
-            total + align,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuOnly,
-        )?;
-        let compacted: Vec<usize> = batch
-            .iter()
-            .filter(|(_, job)| *job == Job::Build { refittable: false })
-            .map(|&(i, _)| i)
-            .collect();
-        let recorded = self.record_batch(gpu, batch, scratch, memory.address, &compacted);
-        gpu.destroy_buffer(&mut memory);
-        let pool = recorded?;
-        match pool {
-            Some(pool) => {
-                let compacted_sizes = self.compacted_sizes(gpu, pool, compacted.len());
-                unsafe { gpu.device().destroy_query_pool(pool, None) };
-                self.compact(gpu, &compacted, &compacted_sizes?)
-            }
-            None => Ok(()),
-        }
+        Ok(())
     }
 
     /// Records and runs the batch's builds and refits, scratch from `address` on; with
@@ -209,44 +226,6 @@ impl Structures {
         address: u64,
         compacted: &[usize],
     ) -> Result<Option<vk::QueryPool>> {
-        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
-        let mut at = address.next_multiple_of(align);
-        let geometries: Vec<[vk::AccelerationStructureGeometryKHR; 1]> =
-            batch.iter().map(|&(i, _)| [self.geometry(i)]).collect();
-        let handle = |i: usize| {
-            self.bottom[i]
-                .as_ref()
-                .map_or(vk::AccelerationStructureKHR::null(), |b| b.structure.handle)
-        };
-        let infos: Vec<vk::AccelerationStructureBuildGeometryInfoKHR> = batch
-            .iter()
-            .zip(&geometries)
-            .zip(scratch)
-            .map(|((&(i, job), g), &need)| {
-                let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
-                    .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
-                    .flags(flags(job != Job::Build { refittable: false }))
-                    .geometries(g)
-                    .dst_acceleration_structure(handle(i))
-                    .scratch_data(vk::DeviceOrHostAddressKHR { device_address: at });
-                at += need;
-                match job {
-                    Job::Refit => info
-                        .mode(vk::BuildAccelerationStructureModeKHR::UPDATE)
-                        .src_acceleration_structure(handle(i)),
-                    Job::Build { .. } => info.mode(vk::BuildAccelerationStructureModeKHR::BUILD),
-                }
-            })
-            .collect();
-        let ranges: Vec<[vk::AccelerationStructureBuildRangeInfoKHR; 1]> = batch
-            .iter()
-            .map(|&(i, _)| {
-                [vk::AccelerationStructureBuildRangeInfoKHR::default()
-                    .primitive_count(self.shape.regions[i].triangle_count)]
-            })
-            .collect();
-        let ranges: Vec<&[vk::AccelerationStructureBuildRangeInfoKHR]> =
-            ranges.iter().map(|r| &r[..]).collect();
         let pool = if compacted.is_empty() {
             None
         } else {
@@ -259,16 +238,16 @@ impl Structures {
             )
         };
         let handles: Vec<vk::AccelerationStructureKHR> =
-            compacted.iter().map(|&i| handle(i)).collect();
-        let loader = &self.loader;
+            compacted.iter().map(|&i| self.handle(i)).collect();
+        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
         let ran = gpu.submit(|d, cb| unsafe {
             if let Some(pool) = pool {
                 d.cmd_reset_query_pool(cb, pool, 0, handles.len() as u32);
             }
-            loader.cmd_build_acceleration_structures(cb, &infos, &ranges);
+            self.record(cb, batch, scratch, address.next_multiple_of(align));
             built_barrier(d, cb);
             if let Some(pool) = pool {
-                loader.cmd_write_acceleration_structures_properties(
+                self.loader.cmd_write_acceleration_structures_properties(
                     cb,
                     &handles,
                     vk::QueryType::ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR,
@@ -284,6 +263,60 @@ impl Structures {
             return Err(e);
         }
         Ok(pool)
+    }
+
+    /// Mesh `i`'s bottom level (null for an empty mesh).
+    fn handle(&self, i: usize) -> vk::AccelerationStructureKHR {
+        self.bottom[i]
+            .as_ref()
+            .map_or(vk::AccelerationStructureKHR::null(), |b| b.structure.handle)
+    }
+
+    /// Records `batch`'s builds and refits (their structures made by `prepare`), their scratch
+    /// from `address` on (aligned), in `scratch`'s sizes.
+    pub(super) unsafe fn record(
+        &self,
+        cb: vk::CommandBuffer,
+        batch: &[(usize, Job)],
+        scratch: &[u64],
+        address: u64,
+    ) {
+        let mut at = address;
+        let geometries: Vec<[vk::AccelerationStructureGeometryKHR; 1]> =
+            batch.iter().map(|&(i, _)| [self.geometry(i)]).collect();
+        let infos: Vec<vk::AccelerationStructureBuildGeometryInfoKHR> = batch
+            .iter()
+            .zip(&geometries)
+            .zip(scratch)
+            .map(|((&(i, job), g), &need)| {
+                let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+                    .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
+                    .flags(flags(job != Job::Build { refittable: false }))
+                    .geometries(g)
+                    .dst_acceleration_structure(self.handle(i))
+                    .scratch_data(vk::DeviceOrHostAddressKHR { device_address: at });
+                at += need;
+                match job {
+                    Job::Refit => info
+                        .mode(vk::BuildAccelerationStructureModeKHR::UPDATE)
+                        .src_acceleration_structure(self.handle(i)),
+                    Job::Build { .. } => info.mode(vk::BuildAccelerationStructureModeKHR::BUILD),
+                }
+            })
+            .collect();
+        let ranges: Vec<[vk::AccelerationStructureBuildRangeInfoKHR; 1]> = batch
+            .iter()
+            .map(|&(i, _)| {
+                [vk::AccelerationStructureBuildRangeInfoKHR::default()
+                    .primitive_count(self.shape.regions[i].triangle_count)]
+            })
+            .collect();
+        let ranges: Vec<&[vk::AccelerationStructureBuildRangeInfoKHR]> =
+            ranges.iter().map(|r| &r[..]).collect();
+        if !infos.is_empty() {
+            self.loader
+                .cmd_build_acceleration_structures(cb, &infos, &ranges);
+        }
     }
 
     /// The compacted sizes the batch's queries wrote.
@@ -316,14 +349,8 @@ impl Structures {
                 }
             }
         }
-        let sources: Vec<vk::AccelerationStructureKHR> = meshes
-            .iter()
-            .map(|&i| {
-                self.bottom[i]
-                    .as_ref()
-                    .map_or(vk::AccelerationStructureKHR::null(), |b| b.structure.handle)
-            })
-            .collect();
+        let sources: Vec<vk::AccelerationStructureKHR> =
+            meshes.iter().map(|&i| self.handle(i)).collect();
         let loader = &self.loader;
         let copied = gpu.submit(|d, cb| unsafe {
             for (src, dst) in sources.iter().zip(&copies) {

@@ -7,6 +7,7 @@
 //! and brought to a living scene's commits (`follow`): the bottom levels of deforming meshes
 //! refitted, the top level built again (`bottom.rs` builds, refits and compacts).
 
+mod behind;
 mod bottom;
 
 use std::collections::HashMap;
@@ -18,12 +19,21 @@ use platoon_core::flatten::commit::Commit;
 use platoon_core::flatten::{GpuInstance, GpuScene, MeshRegion};
 use platoon_core::SceneFeatures;
 
+use self::behind::Behind;
 pub use self::bottom::StructureCounts;
 use self::bottom::{Bottom, Job, MAX_REFITS};
 use crate::buffer::GpuBuffer;
 use crate::gpu::Gpu;
 use crate::ray_query::MAX_TRIANGLES;
 use crate::{Error, Result, VkContext};
+
+const TOP_LEVEL: vk::AccelerationStructureTypeKHR = vk::AccelerationStructureTypeKHR::TOP_LEVEL;
+
+/// A top level made and waiting for its build: its instances and scratch.
+struct TopBuild {
+    count: u32,
+    scratch: GpuBuffer,
+}
 
 /// One acceleration structure and the buffer it lives in.
 struct Structure {
@@ -45,6 +55,8 @@ pub(crate) struct Structures {
     top: Structure,
     instances: GpuBuffer,
     pub(crate) counts: StructureCounts,
+    /// Where a living scene's builds go without the host waiting (made at the first).
+    behind: Option<Behind>,
 }
 
 /// The bytes of one triangle's corners in the triangle positions (three vec4).
@@ -93,6 +105,7 @@ impl Structures {
             top: Structure::none(),
             instances: GpuBuffer::empty(),
             counts: StructureCounts::default(),
+            behind: None,
         };
         match s.build_all(gpu, &[]) {
             Ok(()) => Ok(s),
@@ -184,11 +197,54 @@ impl Structures {
                     )
                 })
                 .collect();
-            self.run(gpu, &jobs)?;
-            self.destroy_top(gpu);
-            self.build_top(gpu)?;
+            self.follow_behind(gpu, &jobs)?;
         }
         Ok(true)
+    }
+
+    /// `jobs` (refits and builds of deforming meshes) and the top level, in one submission the
+    /// host does not wait for (`behind.rs`).
+    fn follow_behind(&mut self, gpu: &mut Gpu, jobs: &[(usize, Job)]) -> Result<()> {
+        let mut behind = match self.behind.take() {
+            Some(b) => b,
+            None => Behind::new(gpu)?,
+        };
+        let submitted = self.submit_behind(gpu, &mut behind, jobs);
+        self.behind = Some(behind);
+        submitted
+    }
+
+    fn submit_behind(
+        &mut self,
+        gpu: &mut Gpu,
+        behind: &mut Behind,
+        jobs: &[(usize, Job)],
+    ) -> Result<()> {
+        behind.settle(gpu)?;
+        let scratch = self.scratch_sizes(gpu, jobs);
+        self.prepare(gpu, jobs)?;
+        let bottoms = bottom::scratch_buffer(gpu, scratch.iter().sum())?;
+        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        let at = bottoms.address.next_multiple_of(align);
+        behind.keep(bottoms);
+        let top = self.prepare_top(gpu)?;
+        let submitted = behind.submit(gpu, |d, cb| unsafe {
+            self.record(cb, jobs, &scratch, at);
+            bottom::built_barrier(d, cb);
+            self.record_top(cb, &top, align);
+            bottom::built_barrier(d, cb);
+        });
+        behind.keep(top.scratch);
+        submitted
+    }
+
+    /// Waits for the builds submitted behind, if any (before the arrays they read are
+    /// written again, or the structures they write freed).
+    pub(crate) fn settle(&mut self, gpu: &mut Gpu) -> Result<()> {
+        match &mut self.behind {
+            Some(b) => b.settle(gpu),
+            None => Ok(()),
+        }
     }
 
     /// Every mesh's bottom level (in batches, `bottom.rs`), then the top level; those of
@@ -216,9 +272,24 @@ impl Structures {
         self.build_top(gpu)
     }
 
-    /// The top level over the instances, each placing the bottom level of its mesh (which it
-    /// names by the root of the mesh's BVH) with the mesh's first triangle as custom index.
+    /// The top level over the instances as they are, built and waited for.
     fn build_top(&mut self, gpu: &mut Gpu) -> Result<()> {
+        let mut build = self.prepare_top(gpu)?;
+        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        let built = gpu.submit(|d, cb| unsafe {
+            self.record_top(cb, &build, align);
+            bottom::built_barrier(d, cb);
+        });
+        gpu.destroy_buffer(&mut build.scratch);
+        built
+    }
+
+    /// A new top level made over the instances (the old one freed: the device idle), each
+    /// placing the bottom level of its mesh (which it names by the root of the mesh's BVH) with
+    /// the mesh's first triangle as custom index: its instance records written, its scratch
+    /// made, nothing built yet.
+    fn prepare_top(&mut self, gpu: &mut Gpu) -> Result<TopBuild> {
+        self.destroy_top(gpu);
         let address = |b: &Structure| unsafe {
             self.loader.get_acceleration_structure_device_address(
                 &vk::AccelerationStructureDeviceAddressInfoKHR::default()
@@ -255,31 +326,33 @@ impl Structures {
         // SAFETY: the records are plain `repr(C)` data the device reads as bytes.
         let raw = unsafe { std::slice::from_raw_parts(records.as_ptr() as *const u8, bytes) };
         self.instances.mapped()[..bytes].copy_from_slice(raw);
+        let count = records.len() as u32;
+        let sizes = self.top_sizes(count);
+        self.top = self.create(gpu, TOP_LEVEL, sizes.acceleration_structure_size)?;
+        Ok(TopBuild {
+            count,
+            scratch: bottom::scratch_buffer(gpu, sizes.build_scratch_size)?,
+        })
+    }
+
+    /// The top level's geometry: the instance records written by `prepare_top`.
+    fn top_geometry(&self) -> vk::AccelerationStructureGeometryKHR<'static> {
         let data = vk::AccelerationStructureGeometryInstancesDataKHR::default()
             .array_of_pointers(false)
             .data(vk::DeviceOrHostAddressConstKHR {
                 device_address: self.instances.address,
             });
-        let geometry = vk::AccelerationStructureGeometryKHR::default()
+        vk::AccelerationStructureGeometryKHR::default()
             .geometry_type(vk::GeometryTypeKHR::INSTANCES)
-            .geometry(vk::AccelerationStructureGeometryDataKHR { instances: data });
-        self.top = self.build_top_level(gpu, geometry, records.len() as u32)?;
-        Ok(())
+            .geometry(vk::AccelerationStructureGeometryDataKHR { instances: data })
     }
 
-    /// The top level over `geometry` of `count` instances, built and waited for.
-    fn build_top_level(
-        &self,
-        gpu: &mut Gpu,
-        geometry: vk::AccelerationStructureGeometryKHR,
-        count: u32,
-    ) -> Result<Structure> {
-        let ty = vk::AccelerationStructureTypeKHR::TOP_LEVEL;
-        let geometries = [geometry];
-        let mut info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
-            .ty(ty)
+    /// The sizes of a top level over `count` instances and of its build's scratch.
+    fn top_sizes(&self, count: u32) -> vk::AccelerationStructureBuildSizesInfoKHR<'static> {
+        let geometries = [self.top_geometry()];
+        let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+            .ty(TOP_LEVEL)
             .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
-            .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
             .geometries(&geometries);
         let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
         unsafe {
@@ -290,36 +363,25 @@ impl Structures {
                 &mut sizes,
             )
         };
-        let mut structure = self.create(gpu, ty, sizes.acceleration_structure_size)?;
-        // The scratch's address rounded up to the device's alignment.
-        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
-        let scratch = gpu.buffer(
-            "structure scratch",
-            sizes.build_scratch_size + align,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuOnly,
-        );
-        let built = scratch.and_then(|mut scratch| {
-            info = info
-                .dst_acceleration_structure(structure.handle)
-                .scratch_data(vk::DeviceOrHostAddressKHR {
-                    device_address: scratch.address.next_multiple_of(align),
-                });
-            let range =
-                [vk::AccelerationStructureBuildRangeInfoKHR::default().primitive_count(count)];
-            let loader = &self.loader;
-            let built = gpu.submit(|d, cb| unsafe {
-                loader.cmd_build_acceleration_structures(cb, &[info], &[&range]);
-                bottom::built_barrier(d, cb);
+        sizes
+    }
+
+    /// Records the build of the top level `prepare_top` made.
+    unsafe fn record_top(&self, cb: vk::CommandBuffer, build: &TopBuild, align: u64) {
+        let geometries = [self.top_geometry()];
+        let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+            .ty(TOP_LEVEL)
+            .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
+            .mode(vk::BuildAccelerationStructureModeKHR::BUILD)
+            .geometries(&geometries)
+            .dst_acceleration_structure(self.top.handle)
+            .scratch_data(vk::DeviceOrHostAddressKHR {
+                device_address: build.scratch.address.next_multiple_of(align),
             });
-            gpu.destroy_buffer(&mut scratch);
-            built
-        });
-        if let Err(e) = built {
-            self.free(gpu, &mut structure);
-            return Err(e);
-        }
-        Ok(structure)
+        let range =
+            [vk::AccelerationStructureBuildRangeInfoKHR::default().primitive_count(build.count)];
+        self.loader
+            .cmd_build_acceleration_structures(cb, &[info], &[&range]);
     }
 
     /// A structure of `ty` and `size` bytes in a buffer of its own (nothing built in it yet).
@@ -362,8 +424,11 @@ impl Structures {
         gpu.destroy_buffer(&mut self.instances);
     }
 
-    /// Frees the structures and their buffers (the device idle).
+    /// Frees the structures and their buffers (the device idle), and what builds behind.
     pub(crate) fn destroy(&mut self, gpu: &mut Gpu) {
+        if let Some(mut b) = self.behind.take() {
+            b.destroy(gpu);
+        }
         for mut b in std::mem::take(&mut self.bottom).into_iter().flatten() {
             self.free(gpu, &mut b.structure);
         }
