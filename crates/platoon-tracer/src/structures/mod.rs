@@ -163,8 +163,8 @@ impl Structures {
         if !all && meshes.is_empty() && !instances && !roots {
             return Ok(false);
         }
-        gpu.wait_idle()?;
         if all {
+            gpu.wait_idle()?;
             self.shape.opaque = opaque;
             self.positions = positions;
             // Those of deforming meshes refittable: as the core says, or as the rewritten
