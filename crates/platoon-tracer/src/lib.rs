@@ -7,6 +7,7 @@ mod band;
 mod buffer;
 mod commit;
 mod context;
+mod device_info;
 mod dispatch;
 mod filter;
 mod globals;
@@ -21,7 +22,8 @@ mod structures;
 mod tracer;
 
 pub use commit::CommitStats;
-pub use context::{list_devices, set_environment, DeviceInfo, DeviceMemory};
+pub use context::{list_devices, set_environment};
+pub use device_info::{DeviceInfo, DeviceMemory};
 pub use kernel::{cache_dir, sources_hash, Sampling};
 pub use memory::{
     choose as choose_memory_paths, scene_array_bytes, ArrayPath, MemoryLimits, MemoryPath,

@@ -8,7 +8,7 @@ use std::ffi::CStr;
 
 use ash::vk;
 
-use crate::context::DeviceInfo;
+use crate::device_info::DeviceInfo;
 
 /// The device extensions ray queries need on a Vulkan 1.2 device: the queries, the structures
 /// they traverse and the deferred host operations the structures' extension requires to be

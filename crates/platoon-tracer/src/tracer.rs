@@ -11,7 +11,8 @@ use platoon_core::frame::FrameParams;
 use platoon_core::{KernelVariant, SceneFeatures};
 
 use crate::buffer::GpuBuffer;
-use crate::context::{Context, DeviceInfo};
+use crate::context::Context;
+use crate::device_info::DeviceInfo;
 use crate::globals::Globals;
 use crate::gpu::Gpu;
 use crate::kernel::Sampling;
@@ -249,7 +250,7 @@ impl Tracer {
 
     /// What this tracer's acceleration structures went through (None without ray queries).
     pub fn structure_counts(&self) -> Option<crate::StructureCounts> {
-        self.structures.as_ref().map(|s| s.counts)
+        self.structures.as_ref().map(|s| s.counts())
     }
 
     /// How this tracer's kernels find what a ray hits (its options' choice as the device

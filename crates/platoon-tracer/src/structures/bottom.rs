@@ -7,7 +7,9 @@
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::{Structure, Structures, TRIANGLE_BYTES};
+use platoon_core::flatten::MeshRegion;
+
+use super::structure::Structure;
 use crate::buffer::GpuBuffer;
 use crate::gpu::Gpu;
 use crate::{Result, VkContext};
@@ -87,11 +89,57 @@ pub(super) unsafe fn built_barrier(d: &ash::Device, cb: vk::CommandBuffer) {
     );
 }
 
-impl Structures {
+/// The bytes of one triangle's corners in the triangle positions (three vec4).
+pub(super) const TRIANGLE_BYTES: u64 = 48;
+
+/// The meshes bottom levels are built over: their places in the triangle positions, whether
+/// every triangle is opaque, and the positions' device address.
+#[derive(Clone, Copy)]
+pub(super) struct Meshes<'a> {
+    pub(super) regions: &'a [MeshRegion],
+    pub(super) opaque: bool,
+    pub(super) positions: u64,
+}
+
+/// A scene's bottom levels on one device, a mesh each (by its index in the regions; None for an
+/// empty mesh), and what they went through.
+pub(super) struct Bottoms {
+    loader: ash::khr::acceleration_structure::Device,
+    list: Vec<Option<Bottom>>,
+    pub(super) counts: StructureCounts,
+}
+
+impl Bottoms {
+    pub(super) fn new(loader: ash::khr::acceleration_structure::Device) -> Bottoms {
+        Bottoms {
+            loader,
+            list: Vec::new(),
+            counts: StructureCounts::default(),
+        }
+    }
+
+    /// Mesh `i`'s bottom level, if it has one.
+    pub(super) fn get(&self, i: usize) -> Option<&Bottom> {
+        self.list.get(i).and_then(Option::as_ref)
+    }
+
+    /// The device address of mesh `i`'s bottom level, if it has one.
+    pub(super) fn address(&self, i: usize) -> Option<u64> {
+        self.get(i).map(|b| b.structure.address(&self.loader))
+    }
+
+    /// Frees every bottom level and makes room for `meshes` (none built).
+    pub(super) fn reset(&mut self, gpu: &mut Gpu, meshes: usize) {
+        for mut b in std::mem::take(&mut self.list).into_iter().flatten() {
+            b.structure.free(&self.loader, gpu);
+        }
+        self.list = (0..meshes).map(|_| None).collect();
+    }
+
     /// Mesh `i`'s triangles as a bottom level's geometry: their corners in the positions.
-    fn geometry(&self, i: usize) -> vk::AccelerationStructureGeometryKHR<'static> {
-        let region = &self.shape.regions[i];
-        let first = self.positions + TRIANGLE_BYTES * region.triangle_base as u64;
+    fn geometry(&self, meshes: &Meshes, i: usize) -> vk::AccelerationStructureGeometryKHR<'static> {
+        let region = &meshes.regions[i];
+        let first = meshes.positions + TRIANGLE_BYTES * region.triangle_base as u64;
         let triangles = vk::AccelerationStructureGeometryTrianglesDataKHR::default()
             .vertex_format(vk::Format::R32G32B32_SFLOAT)
             .vertex_data(vk::DeviceOrHostAddressConstKHR {
@@ -100,7 +148,7 @@ impl Structures {
             .vertex_stride(16)
             .max_vertex(3 * region.triangle_count - 1)
             .index_type(vk::IndexType::NONE_KHR);
-        let flags = if self.shape.opaque {
+        let flags = if meshes.opaque {
             vk::GeometryFlagsKHR::OPAQUE
         } else {
             vk::GeometryFlagsKHR::NO_DUPLICATE_ANY_HIT_INVOCATION
@@ -114,8 +162,13 @@ impl Structures {
     /// Does `jobs` (meshes with triangles, each once), in batches of `SCRATCH_BUDGET` scratch
     /// at most, each submitted and waited for (the device idle: a refit rewrites a structure
     /// kernels read), the built ones that will not be refitted compacted.
-    pub(super) fn run(&mut self, gpu: &mut Gpu, jobs: &[(usize, Job)]) -> Result<()> {
-        let scratch = self.scratch_sizes(gpu, jobs);
+    pub(super) fn run(
+        &mut self,
+        gpu: &mut Gpu,
+        meshes: &Meshes,
+        jobs: &[(usize, Job)],
+    ) -> Result<()> {
+        let scratch = self.scratch_sizes(gpu, meshes, jobs);
         let mut start = 0;
         while start < jobs.len() {
             let mut end = start + 1;
@@ -124,18 +177,23 @@ impl Structures {
                 total += scratch[end];
                 end += 1;
             }
-            self.run_batch(gpu, &jobs[start..end], &scratch[start..end])?;
+            self.run_batch(gpu, meshes, &jobs[start..end], &scratch[start..end])?;
             start = end;
         }
         Ok(())
     }
 
     /// The scratch each job takes, each rounded up to the device's alignment.
-    pub(super) fn scratch_sizes(&self, gpu: &Gpu, jobs: &[(usize, Job)]) -> Vec<u64> {
+    pub(super) fn scratch_sizes(
+        &self,
+        gpu: &Gpu,
+        meshes: &Meshes,
+        jobs: &[(usize, Job)],
+    ) -> Vec<u64> {
         let align = gpu.ctx.scratch_alignment.unwrap_or(256);
         jobs.iter()
             .map(|&(i, job)| {
-                let sizes = self.sizes(i, job != Job::Build { refittable: false });
+                let sizes = self.sizes(meshes, i, job != Job::Build { refittable: false });
                 match job {
                     Job::Refit => sizes.update_scratch_size,
                     Job::Build { .. } => sizes.build_scratch_size,
@@ -148,10 +206,11 @@ impl Structures {
     /// The sizes of mesh `i`'s bottom level and of its build's and refit's scratch.
     fn sizes(
         &self,
+        meshes: &Meshes,
         i: usize,
         refittable: bool,
     ) -> vk::AccelerationStructureBuildSizesInfoKHR<'static> {
-        let geometries = [self.geometry(i)];
+        let geometries = [self.geometry(meshes, i)];
         let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
             .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
             .flags(flags(refittable))
@@ -161,7 +220,7 @@ impl Structures {
             self.loader.get_acceleration_structure_build_sizes(
                 vk::AccelerationStructureBuildTypeKHR::DEVICE,
                 &info,
-                &[self.shape.regions[i].triangle_count],
+                &[meshes.regions[i].triangle_count],
                 &mut sizes,
             )
         };
@@ -170,15 +229,21 @@ impl Structures {
 
     /// One batch: each built mesh's new structure made (the old one freed), every build and
     /// refit in one submission, then the built ones that will not be refitted compacted.
-    fn run_batch(&mut self, gpu: &mut Gpu, batch: &[(usize, Job)], scratch: &[u64]) -> Result<()> {
-        self.prepare(gpu, batch)?;
+    fn run_batch(
+        &mut self,
+        gpu: &mut Gpu,
+        meshes: &Meshes,
+        batch: &[(usize, Job)],
+        scratch: &[u64],
+    ) -> Result<()> {
+        self.prepare(gpu, meshes, batch)?;
         let mut memory = scratch_buffer(gpu, scratch.iter().sum())?;
         let compacted: Vec<usize> = batch
             .iter()
             .filter(|(_, job)| *job == Job::Build { refittable: false })
             .map(|&(i, _)| i)
             .collect();
-        let recorded = self.record_batch(gpu, batch, scratch, memory.address, &compacted);
+        let recorded = self.record_batch(gpu, meshes, batch, scratch, memory.address, &compacted);
         gpu.destroy_buffer(&mut memory);
         let pool = recorded?;
         match pool {
@@ -193,22 +258,33 @@ impl Structures {
 
     /// Makes the structures `batch` builds (each built mesh's new one, the old one freed) and
     /// counts its builds and refits.
-    pub(super) fn prepare(&mut self, gpu: &mut Gpu, batch: &[(usize, Job)]) -> Result<()> {
+    pub(super) fn prepare(
+        &mut self,
+        gpu: &mut Gpu,
+        meshes: &Meshes,
+        batch: &[(usize, Job)],
+    ) -> Result<()> {
         for &(i, job) in batch {
             if let Job::Build { refittable } = job {
-                let size = self.sizes(i, refittable).acceleration_structure_size;
-                let structure =
-                    self.create(gpu, vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL, size)?;
+                let size = self
+                    .sizes(meshes, i, refittable)
+                    .acceleration_structure_size;
+                let structure = Structure::create(
+                    &self.loader,
+                    gpu,
+                    vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+                    size,
+                )?;
                 let new = Bottom {
                     structure,
                     refittable,
                     refits: 0,
                 };
-                if let Some(mut old) = self.bottom[i].replace(new) {
-                    self.free(gpu, &mut old.structure);
+                if let Some(mut old) = self.list[i].replace(new) {
+                    old.structure.free(&self.loader, gpu);
                 }
                 self.counts.built += 1;
-            } else if let Some(b) = &mut self.bottom[i] {
+            } else if let Some(b) = &mut self.list[i] {
                 b.refits += 1;
                 self.counts.refitted += 1;
             }
@@ -221,6 +297,7 @@ impl Structures {
     fn record_batch(
         &self,
         gpu: &mut Gpu,
+        meshes: &Meshes,
         batch: &[(usize, Job)],
         scratch: &[u64],
         address: u64,
@@ -244,7 +321,7 @@ impl Structures {
             if let Some(pool) = pool {
                 d.cmd_reset_query_pool(cb, pool, 0, handles.len() as u32);
             }
-            self.record(cb, batch, scratch, address.next_multiple_of(align));
+            self.record(cb, meshes, batch, scratch, address.next_multiple_of(align));
             built_barrier(d, cb);
             if let Some(pool) = pool {
                 self.loader.cmd_write_acceleration_structures_properties(
@@ -267,7 +344,7 @@ impl Structures {
 
     /// Mesh `i`'s bottom level (null for an empty mesh).
     fn handle(&self, i: usize) -> vk::AccelerationStructureKHR {
-        self.bottom[i]
+        self.list[i]
             .as_ref()
             .map_or(vk::AccelerationStructureKHR::null(), |b| b.structure.handle)
     }
@@ -277,13 +354,16 @@ impl Structures {
     pub(super) unsafe fn record(
         &self,
         cb: vk::CommandBuffer,
+        meshes: &Meshes,
         batch: &[(usize, Job)],
         scratch: &[u64],
         address: u64,
     ) {
         let mut at = address;
-        let geometries: Vec<[vk::AccelerationStructureGeometryKHR; 1]> =
-            batch.iter().map(|&(i, _)| [self.geometry(i)]).collect();
+        let geometries: Vec<[vk::AccelerationStructureGeometryKHR; 1]> = batch
+            .iter()
+            .map(|&(i, _)| [self.geometry(meshes, i)])
+            .collect();
         let infos: Vec<vk::AccelerationStructureBuildGeometryInfoKHR> = batch
             .iter()
             .zip(&geometries)
@@ -308,7 +388,7 @@ impl Structures {
             .iter()
             .map(|&(i, _)| {
                 [vk::AccelerationStructureBuildRangeInfoKHR::default()
-                    .primitive_count(self.shape.regions[i].triangle_count)]
+                    .primitive_count(meshes.regions[i].triangle_count)]
             })
             .collect();
         let ranges: Vec<&[vk::AccelerationStructureBuildRangeInfoKHR]> =
@@ -339,11 +419,16 @@ impl Structures {
     fn compact(&mut self, gpu: &mut Gpu, meshes: &[usize], sizes: &[u64]) -> Result<()> {
         let mut copies = Vec::with_capacity(meshes.len());
         for &size in sizes {
-            match self.create(gpu, vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL, size) {
+            match Structure::create(
+                &self.loader,
+                gpu,
+                vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+                size,
+            ) {
                 Ok(s) => copies.push(s),
                 Err(e) => {
                     for mut s in copies {
-                        self.free(gpu, &mut s);
+                        s.free(&self.loader, gpu);
                     }
                     return Err(e);
                 }
@@ -364,18 +449,18 @@ impl Structures {
         });
         if let Err(e) = copied {
             for mut s in copies {
-                self.free(gpu, &mut s);
+                s.free(&self.loader, gpu);
             }
             return Err(e);
         }
         for (&i, s) in meshes.iter().zip(copies) {
             self.counts.compacted_to += s.buffer.size;
-            let old = self.bottom[i]
+            let old = self.list[i]
                 .as_mut()
                 .map(|b| std::mem::replace(&mut b.structure, s));
             if let Some(mut old) = old {
                 self.counts.compacted_from += old.buffer.size;
-                self.free(gpu, &mut old);
+                old.free(&self.loader, gpu);
             }
         }
         Ok(())

@@ -9,6 +9,7 @@
 
 mod behind;
 mod bottom;
+mod structure;
 
 use std::collections::HashMap;
 
@@ -21,11 +22,12 @@ use platoon_core::SceneFeatures;
 
 use self::behind::Behind;
 pub use self::bottom::StructureCounts;
-use self::bottom::{Bottom, Job, MAX_REFITS};
+use self::bottom::{Bottoms, Job, Meshes, MAX_REFITS, TRIANGLE_BYTES};
+use self::structure::Structure;
 use crate::buffer::GpuBuffer;
 use crate::gpu::Gpu;
 use crate::ray_query::MAX_TRIANGLES;
-use crate::{Error, Result, VkContext};
+use crate::{Error, Result};
 
 const TOP_LEVEL: vk::AccelerationStructureTypeKHR = vk::AccelerationStructureTypeKHR::TOP_LEVEL;
 
@@ -33,12 +35,6 @@ const TOP_LEVEL: vk::AccelerationStructureTypeKHR = vk::AccelerationStructureTyp
 struct TopBuild {
     count: u32,
     scratch: GpuBuffer,
-}
-
-/// One acceleration structure and the buffer it lives in.
-struct Structure {
-    handle: vk::AccelerationStructureKHR,
-    buffer: GpuBuffer,
 }
 
 /// A scene's structures on one device: what the kernels' ray queries traverse, and what they
@@ -50,17 +46,13 @@ pub(crate) struct Structures {
     shape: SceneShape,
     /// The device address of the triangle positions the bottom levels were built from.
     positions: u64,
-    /// Each mesh's bottom level (by its index in the shape's regions); None for an empty mesh.
-    bottom: Vec<Option<Bottom>>,
+    /// Each mesh's bottom level (by its index in the shape's regions).
+    bottoms: Bottoms,
     top: Structure,
     instances: GpuBuffer,
-    pub(crate) counts: StructureCounts,
     /// Where a living scene's builds go without the host waiting (made at the first).
     behind: Option<Behind>,
 }
-
-/// The bytes of one triangle's corners in the triangle positions (three vec4).
-const TRIANGLE_BYTES: u64 = 48;
 
 /// What the structures are built from, taken from a scene before its large arrays go: its
 /// meshes' places, its instances and whether every triangle is opaque (none alpha-tested).
@@ -98,13 +90,12 @@ impl Structures {
     pub(crate) fn build(gpu: &mut Gpu, shape: SceneShape, positions: u64) -> Result<Structures> {
         let loader = ash::khr::acceleration_structure::Device::new(&gpu.ctx.instance, gpu.device());
         let mut s = Structures {
+            bottoms: Bottoms::new(loader.clone()),
             loader,
             shape,
             positions,
-            bottom: Vec::new(),
             top: Structure::none(),
             instances: GpuBuffer::empty(),
-            counts: StructureCounts::default(),
             behind: None,
         };
         match s.build_all(gpu, &[]) {
@@ -114,6 +105,11 @@ impl Structures {
                 Err(e)
             }
         }
+    }
+
+    /// What the bottom levels went through.
+    pub(crate) fn counts(&self) -> StructureCounts {
+        self.bottoms.counts
     }
 
     /// The top level, which the kernels' descriptor set binds.
@@ -182,7 +178,7 @@ impl Structures {
             let jobs: Vec<(usize, Job)> = meshes
                 .into_iter()
                 .map(|i| {
-                    let refit = self.bottom[i].as_ref().is_some_and(|b| {
+                    let refit = self.bottoms.get(i).is_some_and(|b| {
                         b.refittable
                             && b.refits < MAX_REFITS
                             && !commit.rebuilt.contains(&(i as u32))
@@ -221,15 +217,25 @@ impl Structures {
         jobs: &[(usize, Job)],
     ) -> Result<()> {
         behind.settle(gpu)?;
-        let scratch = self.scratch_sizes(gpu, jobs);
-        self.prepare(gpu, jobs)?;
+        let meshes = Meshes {
+            regions: &self.shape.regions,
+            opaque: self.shape.opaque,
+            positions: self.positions,
+        };
+        let scratch = self.bottoms.scratch_sizes(gpu, &meshes, jobs);
+        self.bottoms.prepare(gpu, &meshes, jobs)?;
         let bottoms = bottom::scratch_buffer(gpu, scratch.iter().sum())?;
         let align = gpu.ctx.scratch_alignment.unwrap_or(256);
         let at = bottoms.address.next_multiple_of(align);
         behind.keep(bottoms);
         let top = self.prepare_top(gpu)?;
+        let meshes = Meshes {
+            regions: &self.shape.regions,
+            opaque: self.shape.opaque,
+            positions: self.positions,
+        };
         let submitted = behind.submit(gpu, |d, cb| unsafe {
-            self.record(cb, jobs, &scratch, at);
+            self.bottoms.record(cb, &meshes, jobs, &scratch, at);
             bottom::built_barrier(d, cb);
             self.record_top(cb, &top, align);
             bottom::built_barrier(d, cb);
@@ -267,8 +273,13 @@ impl Structures {
                 (i, Job::Build { refittable })
             })
             .collect();
-        self.bottom = (0..self.shape.regions.len()).map(|_| None).collect();
-        self.run(gpu, &jobs)?;
+        self.bottoms.reset(gpu, self.shape.regions.len());
+        let meshes = Meshes {
+            regions: &self.shape.regions,
+            opaque: self.shape.opaque,
+            positions: self.positions,
+        };
+        self.bottoms.run(gpu, &meshes, &jobs)?;
         self.build_top(gpu)
     }
 
@@ -290,21 +301,8 @@ impl Structures {
     /// made, nothing built yet.
     fn prepare_top(&mut self, gpu: &mut Gpu) -> Result<TopBuild> {
         self.destroy_top(gpu);
-        let address = |b: &Structure| unsafe {
-            self.loader.get_acceleration_structure_device_address(
-                &vk::AccelerationStructureDeviceAddressInfoKHR::default()
-                    .acceleration_structure(b.handle),
-            )
-        };
-        let meshes: HashMap<u32, (u64, u32)> = self
-            .shape
-            .regions
-            .iter()
-            .zip(&self.bottom)
-            .filter_map(|(r, b)| {
-                let b = b.as_ref()?;
-                Some((r.root, (address(&b.structure), r.triangle_base)))
-            })
+        let meshes: HashMap<u32, (u64, u32)> = (self.shape.regions.iter().enumerate())
+            .filter_map(|(i, r)| Some((r.root, (self.bottoms.address(i)?, r.triangle_base))))
             .collect();
         let any = meshes.values().next().map_or(0, |m| m.0);
         let records: Vec<vk::AccelerationStructureInstanceKHR> = if meshes.is_empty() {
@@ -328,7 +326,12 @@ impl Structures {
         self.instances.mapped()[..bytes].copy_from_slice(raw);
         let count = records.len() as u32;
         let sizes = self.top_sizes(count);
-        self.top = self.create(gpu, TOP_LEVEL, sizes.acceleration_structure_size)?;
+        self.top = Structure::create(
+            &self.loader,
+            gpu,
+            TOP_LEVEL,
+            sizes.acceleration_structure_size,
+        )?;
         Ok(TopBuild {
             count,
             scratch: bottom::scratch_buffer(gpu, sizes.build_scratch_size)?,
@@ -384,43 +387,8 @@ impl Structures {
             .cmd_build_acceleration_structures(cb, &[info], &[&range]);
     }
 
-    /// A structure of `ty` and `size` bytes in a buffer of its own (nothing built in it yet).
-    fn create(
-        &self,
-        gpu: &mut Gpu,
-        ty: vk::AccelerationStructureTypeKHR,
-        size: u64,
-    ) -> Result<Structure> {
-        let mut buffer = gpu.buffer(
-            "acceleration structure",
-            size,
-            vk::BufferUsageFlags::ACCELERATION_STRUCTURE_STORAGE_KHR,
-            MemoryLocation::GpuOnly,
-        )?;
-        let create = vk::AccelerationStructureCreateInfoKHR::default()
-            .buffer(buffer.buffer)
-            .size(size)
-            .ty(ty);
-        match unsafe { self.loader.create_acceleration_structure(&create, None) } {
-            Ok(handle) => Ok(Structure { handle, buffer }),
-            Err(e) => {
-                gpu.destroy_buffer(&mut buffer);
-                Err(e).ctx("creating an acceleration structure")
-            }
-        }
-    }
-
-    /// Frees one structure and its buffer.
-    fn free(&self, gpu: &mut Gpu, s: &mut Structure) {
-        if s.handle != vk::AccelerationStructureKHR::null() {
-            unsafe { self.loader.destroy_acceleration_structure(s.handle, None) };
-        }
-        gpu.destroy_buffer(&mut s.buffer);
-    }
-
     fn destroy_top(&mut self, gpu: &mut Gpu) {
-        let mut top = std::mem::replace(&mut self.top, Structure::none());
-        self.free(gpu, &mut top);
+        self.top.free(&self.loader, gpu);
         gpu.destroy_buffer(&mut self.instances);
     }
 
@@ -429,9 +397,7 @@ impl Structures {
         if let Some(mut b) = self.behind.take() {
             b.destroy(gpu);
         }
-        for mut b in std::mem::take(&mut self.bottom).into_iter().flatten() {
-            self.free(gpu, &mut b.structure);
-        }
+        self.bottoms.reset(gpu, 0);
         self.destroy_top(gpu);
     }
 }
@@ -457,15 +423,6 @@ fn rewritten_meshes(commit: &Commit) -> (Vec<usize>, bool) {
     meshes.sort_unstable();
     meshes.dedup();
     (meshes, a.is_whole())
-}
-
-impl Structure {
-    fn none() -> Structure {
-        Structure {
-            handle: vk::AccelerationStructureKHR::null(),
-            buffer: GpuBuffer::empty(),
-        }
-    }
 }
 
 /// `inst` as the top level's record: its object-to-world rows, its mesh's bottom level (by the
