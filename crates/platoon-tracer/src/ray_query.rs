@@ -98,7 +98,7 @@ impl Traversal {
     }
 
     /// What this choice stands for on `device` for a scene of `triangles`. `Auto` takes the
-    /// own traversal on a CPU device: lavapipe 25's ray queries were 0.8-41x its time on the
+    /// own traversal on a CPU device: lavapipe 25's ray queries were 0.7-60x its time on the
     /// bench scenes (docs/PERFORMANCE.md); and the ray queries on a GPU that offers them, as
     /// every GPU renderer with ray-tracing hardware does (Cycles' OptiX, Falcor, bevy_solari),
     /// unless the scene is over what they take (`MAX_TRIANGLES`).
