@@ -398,3 +398,60 @@ pub fn glossy_cornell() -> platoon::Prepared {
     }
     prepare(scene, constant_env(0.3))
 }
+
+/// A smooth clear dielectric of index 1.5 (the white furnace's glass).
+pub fn smooth_glass() -> Material {
+    Material {
+        name: "glass".into(),
+        metallic: 0.0,
+        roughness: 0.0,
+        transmission: 1.0,
+        ior: 1.5,
+        ..Material::default()
+    }
+}
+
+/// The mean luminance of each `block` x `block` square of `film`, row by row (the film's sides
+/// multiples of `block`).
+pub fn block_means(film: &Film, block: u32) -> Vec<f64> {
+    let (w, h) = (film.width, film.height);
+    let mut out = Vec::new();
+    for by in 0..h / block {
+        for bx in 0..w / block {
+            let mut s = 0.0;
+            for y in by * block..(by + 1) * block {
+                for x in bx * block..(bx + 1) * block {
+                    s += luminance(film.pixels[(y * w + x) as usize]);
+                }
+            }
+            out.push(s / (block * block) as f64);
+        }
+    }
+    out
+}
+
+/// MIS's block means (one list per seed, `block_means`) against each other estimator's: every
+/// block within 5 standard errors of the difference (at least 1e-4); returns the largest
+/// disagreement in standard errors.
+pub fn assert_blocks_agree(mis: &[Vec<f64>], others: &[(&str, &[Vec<f64>])]) -> f64 {
+    let summary = |v: &[Vec<f64>], b: usize| mean_and_stderr(v.iter().map(|s| s[b]));
+    let mut worst = 0.0f64;
+    for b in 0..mis[0].len() {
+        let m = summary(mis, b);
+        for (name, other) in others {
+            let o = summary(other, b);
+            let sigma = (m.1 * m.1 + o.1 * o.1).sqrt().max(1e-4);
+            let z = (m.0 - o.0).abs() / sigma;
+            worst = worst.max(z);
+            assert!(
+                z < 5.0,
+                "block {b}: mis {:.4} ± {:.4} vs {name} {:.4} ± {:.4} ({z:.1} sigma)",
+                m.0,
+                m.1,
+                o.0,
+                o.1
+            );
+        }
+    }
+    worst
+}

@@ -104,15 +104,7 @@ fn russian_roulette_scaled_down_stays_unbiased_and_traces_fewer_rays() {
 
 #[test]
 fn smooth_glass_furnace_conserves_energy_exactly() {
-    let glass = Material {
-        name: "glass".into(),
-        metallic: 0.0,
-        roughness: 0.0,
-        transmission: 1.0,
-        ior: 1.5,
-        ..Material::default()
-    };
-    let (values, _) = furnace(glass, 64, Sampling::Mis);
+    let (values, _) = furnace(smooth_glass(), 64, Sampling::Mis);
     let (m, se) = mean_and_stderr(values.into_iter());
     eprintln!("smooth glass: {m} ± {se}");
     assert!(

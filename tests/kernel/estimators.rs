@@ -62,20 +62,7 @@ fn blocks_with(
             let mut params = FrameParams::new(w, h, spp, prepared.camera);
             params.options.seed = seed;
             setup(&mut params);
-            let film = render_with(&mut tracer, &params);
-            let mut out = Vec::new();
-            for by in 0..h / BLOCK {
-                for bx in 0..w / BLOCK {
-                    let mut s = 0.0;
-                    for y in by * BLOCK..(by + 1) * BLOCK {
-                        for x in bx * BLOCK..(bx + 1) * BLOCK {
-                            s += luminance(film.pixels[(y * w + x) as usize]);
-                        }
-                    }
-                    out.push(s / (BLOCK * BLOCK) as f64);
-                }
-            }
-            out
+            block_means(&render_with(&mut tracer, &params), BLOCK)
         })
         .collect()
 }
@@ -88,24 +75,7 @@ fn assert_estimators_agree(prepared: &platoon::Prepared) {
     let mis = blocks(prepared, Sampling::Mis);
     let bsdf = blocks(prepared, Sampling::Bsdf);
     let light = blocks(prepared, Sampling::Light);
-    let mut worst = 0.0f64;
-    for b in 0..mis[0].len() {
-        let m = summary(&mis, b);
-        for (name, other) in [("bsdf", &bsdf), ("light", &light)] {
-            let o = summary(other, b);
-            let sigma = (m.1 * m.1 + o.1 * o.1).sqrt().max(1e-4);
-            let z = (m.0 - o.0).abs() / sigma;
-            worst = worst.max(z);
-            assert!(
-                z < 5.0,
-                "block {b}: mis {:.4} ± {:.4} vs {name} {:.4} ± {:.4} ({z:.1} sigma)",
-                m.0,
-                m.1,
-                o.0,
-                o.1
-            );
-        }
-    }
+    let worst = assert_blocks_agree(&mis, &[("bsdf", &bsdf), ("light", &light)]);
     let total = |v: &Vec<Vec<f64>>| mean_and_stderr(v.iter().map(|b| b.iter().sum::<f64>()));
     let (m, b, l) = (total(&mis), total(&bsdf), total(&light));
     eprintln!(

@@ -42,6 +42,36 @@ pub struct Gpu {
 /// Storage-buffer bindings of the method set (set 1).
 pub(crate) const METHOD_BINDINGS: u32 = 6;
 
+/// Records `record` into `cb` (reset first) and submits it to `queue`, `fence` signalled when it
+/// is done; does not wait.
+pub(crate) fn record_and_submit(
+    device: &ash::Device,
+    queue: vk::Queue,
+    cb: vk::CommandBuffer,
+    fence: vk::Fence,
+    record: impl FnOnce(&ash::Device, vk::CommandBuffer),
+) -> Result<()> {
+    unsafe {
+        device
+            .reset_command_buffer(cb, vk::CommandBufferResetFlags::empty())
+            .ctx("resetting a command buffer")?;
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        device
+            .begin_command_buffer(cb, &begin)
+            .ctx("beginning a command buffer")?;
+        record(device, cb);
+        device
+            .end_command_buffer(cb)
+            .ctx("ending a command buffer")?;
+        let cbs = [cb];
+        let submit = vk::SubmitInfo::default().command_buffers(&cbs);
+        device
+            .queue_submit(queue, &[submit], fence)
+            .ctx("submitting work")
+    }
+}
+
 impl Gpu {
     pub(crate) fn new(ctx: Context) -> Result<Gpu> {
         let device = ctx.device.clone();
@@ -116,25 +146,14 @@ impl Gpu {
     /// Submits `record` on the command buffer and waits for it.
     pub fn submit(&mut self, record: impl FnOnce(&ash::Device, vk::CommandBuffer)) -> Result<()> {
         let device = &self.ctx.device;
-        let cb = self.command_buffer;
+        record_and_submit(
+            device,
+            self.ctx.queue,
+            self.command_buffer,
+            self.fence,
+            record,
+        )?;
         unsafe {
-            device
-                .reset_command_buffer(cb, vk::CommandBufferResetFlags::empty())
-                .ctx("resetting a command buffer")?;
-            let begin = vk::CommandBufferBeginInfo::default()
-                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-            device
-                .begin_command_buffer(cb, &begin)
-                .ctx("beginning a command buffer")?;
-            record(device, cb);
-            device
-                .end_command_buffer(cb)
-                .ctx("ending a command buffer")?;
-            let cbs = [cb];
-            let submit = vk::SubmitInfo::default().command_buffers(&cbs);
-            device
-                .queue_submit(self.ctx.queue, &[submit], self.fence)
-                .ctx("submitting work")?;
             device
                 .wait_for_fences(&[self.fence], true, u64::MAX)
                 .ctx("waiting for the device")?;

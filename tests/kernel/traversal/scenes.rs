@@ -72,17 +72,9 @@ fn the_closed_forms_hold_with_ray_queries() {
         let params = FrameParams::new(32, 32, spp, prepared.camera);
         render_with(&mut tracer_by(&prepared, Traversal::RayQuery), &params)
     };
-    let glass = Material {
-        name: "glass".into(),
-        metallic: 0.0,
-        roughness: 0.0,
-        transmission: 1.0,
-        ior: 1.5,
-        ..Material::default()
-    };
     for (what, material, slack) in [
         ("white furnace", lambertian("white", Vec3::ONE), 0.005),
-        ("smooth glass furnace", glass, 0.01),
+        ("smooth glass furnace", smooth_glass(), 0.01),
     ] {
         let film = on_queries(sphere_scene(material), 64);
         let inside = sphere_pixels(32, 32, 0.9);
@@ -134,38 +126,11 @@ fn the_estimators_agree_on_ray_queries() {
             .map(|seed| {
                 let mut params = FrameParams::new(32, 32, 64, prepared.camera);
                 params.options.seed = seed;
-                let film = render_once(&mut tracer, &params);
-                (0..16)
-                    .map(|b| {
-                        let (bx, by) = ((b % 4) * 8, (b / 4) * 8);
-                        let sum: f64 = (by..by + 8)
-                            .flat_map(|y| (bx..bx + 8).map(move |x| y * 32 + x))
-                            .map(|i| luminance(film.pixels[i]))
-                            .sum();
-                        sum / 64.0
-                    })
-                    .collect()
+                block_means(&render_once(&mut tracer, &params), 8)
             })
             .collect()
     };
-    let summary = |v: &[Vec<f64>], b: usize| mean_and_stderr(v.iter().map(|s| s[b]));
     let mis = blocks(Sampling::Mis);
-    for (name, other) in [
-        ("bsdf", blocks(Sampling::Bsdf)),
-        ("light", blocks(Sampling::Light)),
-    ] {
-        for b in 0..16 {
-            let (m, o) = (summary(&mis, b), summary(&other, b));
-            let sigma = (m.1 * m.1 + o.1 * o.1).sqrt().max(1e-4);
-            let z = (m.0 - o.0).abs() / sigma;
-            assert!(
-                z < 5.0,
-                "block {b}: mis {:.4} ± {:.4} vs {name} {:.4} ± {:.4} ({z:.1} sigma)",
-                m.0,
-                m.1,
-                o.0,
-                o.1
-            );
-        }
-    }
+    let (bsdf, light) = (blocks(Sampling::Bsdf), blocks(Sampling::Light));
+    assert_blocks_agree(&mis, &[("bsdf", &bsdf), ("light", &light)]);
 }

@@ -83,26 +83,13 @@ impl Behind {
     ) -> Result<()> {
         debug_assert!(!self.pending, "builds submitted behind unsettled ones");
         let device = gpu.device();
-        let cb = self.command_buffer;
-        unsafe {
-            device
-                .reset_command_buffer(cb, vk::CommandBufferResetFlags::empty())
-                .ctx("resetting a command buffer")?;
-            let begin = vk::CommandBufferBeginInfo::default()
-                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-            device
-                .begin_command_buffer(cb, &begin)
-                .ctx("beginning a command buffer")?;
-            record(device, cb);
-            device
-                .end_command_buffer(cb)
-                .ctx("ending a command buffer")?;
-            let cbs = [cb];
-            let submit = vk::SubmitInfo::default().command_buffers(&cbs);
-            device
-                .queue_submit(gpu.ctx.queue, &[submit], self.fence)
-                .ctx("submitting the structures' builds")?;
-        }
+        crate::gpu::record_and_submit(
+            device,
+            gpu.ctx.queue,
+            self.command_buffer,
+            self.fence,
+            record,
+        )?;
         self.pending = true;
         Ok(())
     }

@@ -9,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 
 use platoon_core::flatten::MeshRegion;
 
-use super::structure::Structure;
+use super::structure::{self, Structure};
 use crate::buffer::GpuBuffer;
 use crate::gpu::Gpu;
 use crate::{Result, VkContext};
@@ -210,21 +210,13 @@ impl Bottoms {
         i: usize,
         refittable: bool,
     ) -> vk::AccelerationStructureBuildSizesInfoKHR<'static> {
-        let geometries = [self.geometry(meshes, i)];
-        let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
-            .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
-            .flags(flags(refittable))
-            .geometries(&geometries);
-        let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
-        unsafe {
-            self.loader.get_acceleration_structure_build_sizes(
-                vk::AccelerationStructureBuildTypeKHR::DEVICE,
-                &info,
-                &[meshes.regions[i].triangle_count],
-                &mut sizes,
-            )
-        };
-        sizes
+        structure::build_sizes(
+            &self.loader,
+            vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
+            flags(refittable),
+            self.geometry(meshes, i),
+            meshes.regions[i].triangle_count,
+        )
     }
 
     /// One batch: each built mesh's new structure made (the old one freed), every build and

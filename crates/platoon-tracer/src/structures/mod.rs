@@ -352,21 +352,13 @@ impl Structures {
 
     /// The sizes of a top level over `count` instances and of its build's scratch.
     fn top_sizes(&self, count: u32) -> vk::AccelerationStructureBuildSizesInfoKHR<'static> {
-        let geometries = [self.top_geometry()];
-        let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
-            .ty(TOP_LEVEL)
-            .flags(vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE)
-            .geometries(&geometries);
-        let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
-        unsafe {
-            self.loader.get_acceleration_structure_build_sizes(
-                vk::AccelerationStructureBuildTypeKHR::DEVICE,
-                &info,
-                &[count],
-                &mut sizes,
-            )
-        };
-        sizes
+        structure::build_sizes(
+            &self.loader,
+            TOP_LEVEL,
+            vk::BuildAccelerationStructureFlagsKHR::PREFER_FAST_TRACE,
+            self.top_geometry(),
+            count,
+        )
     }
 
     /// Records the build of the top level `prepare_top` made.

@@ -14,6 +14,32 @@ pub(super) struct Structure {
     pub(super) buffer: GpuBuffer,
 }
 
+/// The sizes of a structure of `ty` built with `flags` over `geometry` of `count` primitives,
+/// and of its build's and update's scratch.
+pub(super) fn build_sizes(
+    loader: &Loader,
+    ty: vk::AccelerationStructureTypeKHR,
+    flags: vk::BuildAccelerationStructureFlagsKHR,
+    geometry: vk::AccelerationStructureGeometryKHR,
+    count: u32,
+) -> vk::AccelerationStructureBuildSizesInfoKHR<'static> {
+    let geometries = [geometry];
+    let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
+        .ty(ty)
+        .flags(flags)
+        .geometries(&geometries);
+    let mut sizes = vk::AccelerationStructureBuildSizesInfoKHR::default();
+    unsafe {
+        loader.get_acceleration_structure_build_sizes(
+            vk::AccelerationStructureBuildTypeKHR::DEVICE,
+            &info,
+            &[count],
+            &mut sizes,
+        )
+    };
+    sizes
+}
+
 impl Structure {
     /// No structure (a null handle, an empty buffer).
     pub(super) fn none() -> Structure {
