@@ -8,8 +8,10 @@
 #   `patchelf --set-rpath` so that they find each other and the NVIDIA driver keeps the
 #   system's libraries), and shared/ with scenes/CesiumMan.glb
 #   and envmaps/courtyard.exr.
-# Measures: the devices; storage against texel buffers on the GPU (1080p, depth 8); bench
-# kernel; bench balance in real mode on the GPU beside lavapipe (Brigade's hybrid case); a
+# Measures: the devices; storage against texel buffers on the GPU (1080p, depth 8); both
+# traversals (issue 61: the own BVH and the device's ray queries, where the GPU offers them;
+# the device tool's notes say its H100/H200 offer ray-tracing pipelines but no ray queries);
+# bench kernel; bench balance in real mode on the GPU beside lavapipe (Brigade's hybrid case); a
 # still on the GPU alone and on both. Writes gpu.log and balance.csv/png to $OUT.
 set -u
 for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
@@ -52,6 +54,20 @@ for s in cornell-48 field room atrium; do
       --memory $m --out /tmp/$s.exr
   done
 done
+echo "== traversals (issue 61): own against ray-query on the GPU, 1080p, 64 spp, depth 8"
+if $P devices | grep "^$G:" | grep -q "ray queries: yes"; then
+  for s in cornell-48 room atrium; do
+    env=""; [ $s = atrium ] && env="--env-color 0.5,0.6,0.8"
+    for t in own ray-query own ray-query; do
+      echo "-- $s $t"
+      r /tmp/bf/$s.glb $env --devices $G --width 1920 --height 1080 --spp 64 --max-depth 8 \
+        --traversal $t --out /tmp/$s-$t.exr
+    done
+  done
+else
+  echo "-- the GPU offers no ray queries: the refusal"
+  r --devices $G --width 64 --height 64 --spp 1 --traversal ray-query --out /tmp/rq.png
+fi
 echo "== a still on the GPU alone, then GPU + lavapipe (room, 1080p, 256 spp)"
 for d in $G "$G,$L"; do
   echo "-- devices $d"
