@@ -11,9 +11,9 @@ use glam::{DVec3, Quat, Vec3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use platoon::drive::{Edit, FinishedFrame};
 use platoon::core::scene::camera::Camera;
 use platoon::core::scene::Placement;
+use platoon::drive::{Edit, FinishedFrame};
 
 use crate::{arrays, keywords, to_py, wait, DeviceThread, PlatoonError};
 

@@ -145,7 +145,8 @@ pub(crate) fn wait<T: Send>(py: Python<'_>, mut result: mpsc::Receiver<T>) -> Py
 }
 
 /// The Vulkan devices platoon can render on, in the order `devices="0,1"` numbers them: a
-/// list of dicts (index, name, type, driver, api).
+/// list of dicts (index, name, type, driver, api, ray_queries: whether it offers them,
+/// auto_traversal: what `traversal="auto"` takes on it).
 #[pyfunction]
 fn devices(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let found = py
@@ -159,6 +160,9 @@ fn devices(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         entry.set_item("type", &d.device_type)?;
         entry.set_item("driver", &d.driver)?;
         entry.set_item("api", &d.api_version)?;
+        entry.set_item("ray_queries", d.ray_queries)?;
+        let auto = platoon::tracer::Traversal::Auto.resolved(&d, 0);
+        entry.set_item("auto_traversal", auto.name())?;
         list.append(entry)?;
     }
     Ok(list)

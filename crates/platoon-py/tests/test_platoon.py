@@ -215,6 +215,8 @@ def test_a_hundred_renders_keep_memory_flat():
 def test_devices_and_methods_describe_themselves():
     found = platoon.devices()
     assert found and found[0]["index"] == 0 and "llvmpipe" in found[0]["name"]
+    # Debian 12's lavapipe offers no ray queries, and auto takes the own traversal on a CPU.
+    assert found[0]["ray_queries"] is False and found[0]["auto_traversal"] == "own"
     m = platoon.methods()
     assert list(m)[0] == "path" and "vpls" in m["igi"]
 

@@ -167,7 +167,9 @@ class Game:
         """The scene's animation time."""
 
 def devices() -> list[dict[str, Any]]:
-    """The Vulkan devices, in the order `devices="0,1"` numbers them."""
+    """The Vulkan devices, in the order `devices="0,1"` numbers them: index, name, type, driver,
+    api, ray_queries (whether the device offers them) and auto_traversal (what
+    `traversal="auto"` takes on it: "own" or "ray-query")."""
 
 def options() -> dict[str, str]:
     """The frame's options `render` takes as keyword arguments: {keyword: help}."""
