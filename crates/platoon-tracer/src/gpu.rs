@@ -15,6 +15,7 @@ use crate::context::Context;
 use crate::dispatch::{timestamp, Dispatchable};
 use crate::kernel::{Kernel, PipelineCache};
 use crate::memory::SceneDescriptors;
+use crate::submission::Submission;
 use crate::{Result, VkContext};
 
 /// A kernel variant: its entry file (shaders/, `kernel::SOURCES`) and its defines.
@@ -25,9 +26,7 @@ pub(crate) type KernelKey = (&'static str, Vec<&'static str>);
 pub struct Gpu {
     pub(crate) ctx: ManuallyDrop<Context>,
     pub(crate) allocator: ManuallyDrop<Allocator>,
-    command_pool: vk::CommandPool,
-    command_buffer: vk::CommandBuffer,
-    fence: vk::Fence,
+    submission: Submission,
     query_pool: Option<vk::QueryPool>,
     pipeline_cache: PipelineCache,
     kernels: HashMap<KernelKey, Kernel>,
@@ -42,36 +41,6 @@ pub struct Gpu {
 /// Storage-buffer bindings of the method set (set 1).
 pub(crate) const METHOD_BINDINGS: u32 = 6;
 
-/// Records `record` into `cb` (reset first) and submits it to `queue`, `fence` signalled when it
-/// is done; does not wait.
-pub(crate) fn record_and_submit(
-    device: &ash::Device,
-    queue: vk::Queue,
-    cb: vk::CommandBuffer,
-    fence: vk::Fence,
-    record: impl FnOnce(&ash::Device, vk::CommandBuffer),
-) -> Result<()> {
-    unsafe {
-        device
-            .reset_command_buffer(cb, vk::CommandBufferResetFlags::empty())
-            .ctx("resetting a command buffer")?;
-        let begin = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        device
-            .begin_command_buffer(cb, &begin)
-            .ctx("beginning a command buffer")?;
-        record(device, cb);
-        device
-            .end_command_buffer(cb)
-            .ctx("ending a command buffer")?;
-        let cbs = [cb];
-        let submit = vk::SubmitInfo::default().command_buffers(&cbs);
-        device
-            .queue_submit(queue, &[submit], fence)
-            .ctx("submitting work")
-    }
-}
-
 impl Gpu {
     pub(crate) fn new(ctx: Context) -> Result<Gpu> {
         let device = ctx.device.clone();
@@ -83,18 +52,7 @@ impl Gpu {
             buffer_device_address: true,
             allocation_sizes: Default::default(),
         })?;
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(ctx.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let command_pool = unsafe { device.create_command_pool(&pool_info, None) }
-            .ctx("creating a command pool")?;
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(command_pool)
-            .command_buffer_count(1);
-        let command_buffer = unsafe { device.allocate_command_buffers(&alloc) }
-            .ctx("allocating a command buffer")?[0];
-        let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
-            .ctx("creating a fence")?;
+        let submission = Submission::new(&device, ctx.queue_family)?;
         let query_pool = if ctx.timestamp_bits > 0 {
             let info = vk::QueryPoolCreateInfo::default()
                 .query_type(vk::QueryType::TIMESTAMP)
@@ -123,9 +81,7 @@ impl Gpu {
         Ok(Gpu {
             ctx: ManuallyDrop::new(ctx),
             allocator: ManuallyDrop::new(allocator),
-            command_pool,
-            command_buffer,
-            fence,
+            submission,
             query_pool,
             pipeline_cache,
             kernels: HashMap::new(),
@@ -146,22 +102,8 @@ impl Gpu {
     /// Submits `record` on the command buffer and waits for it.
     pub fn submit(&mut self, record: impl FnOnce(&ash::Device, vk::CommandBuffer)) -> Result<()> {
         let device = &self.ctx.device;
-        record_and_submit(
-            device,
-            self.ctx.queue,
-            self.command_buffer,
-            self.fence,
-            record,
-        )?;
-        unsafe {
-            device
-                .wait_for_fences(&[self.fence], true, u64::MAX)
-                .ctx("waiting for the device")?;
-            device
-                .reset_fences(&[self.fence])
-                .ctx("resetting a fence")?;
-        }
-        Ok(())
+        self.submission.submit(device, self.ctx.queue, record)?;
+        self.submission.wait(device)
     }
 
     /// Submits `record` between two timestamps; returns the device time between them (zero on
@@ -373,8 +315,7 @@ impl Drop for Gpu {
                 device.destroy_query_pool(q, None);
             }
             device.destroy_descriptor_set_layout(self.method_layout, None);
-            device.destroy_fence(self.fence, None);
-            device.destroy_command_pool(self.command_pool, None);
+            self.submission.destroy(&device);
             ManuallyDrop::drop(&mut self.allocator);
             ManuallyDrop::drop(&mut self.ctx);
         }

@@ -19,6 +19,7 @@ mod method;
 mod ray_query;
 pub mod stop;
 mod structures;
+mod submission;
 mod tracer;
 
 pub use commit::CommitStats;

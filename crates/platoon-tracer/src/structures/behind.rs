@@ -8,13 +8,12 @@ use ash::vk;
 
 use crate::buffer::GpuBuffer;
 use crate::gpu::Gpu;
-use crate::{Result, VkContext};
+use crate::submission::Submission;
+use crate::Result;
 
 /// A command buffer and fence of the structures' own, and what the work in flight uses.
 pub(super) struct Behind {
-    pool: vk::CommandPool,
-    command_buffer: vk::CommandBuffer,
-    fence: vk::Fence,
+    submission: Submission,
     /// Work submitted and not yet waited for.
     pending: bool,
     /// Buffers the work in flight reads or writes (its scratch).
@@ -23,44 +22,17 @@ pub(super) struct Behind {
 
 impl Behind {
     pub(super) fn new(gpu: &Gpu) -> Result<Behind> {
-        let device = gpu.device();
-        let info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(gpu.ctx.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let pool = unsafe { device.create_command_pool(&info, None) }
-            .ctx("creating the structures' command pool")?;
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(pool)
-            .command_buffer_count(1);
-        let made = unsafe { device.allocate_command_buffers(&alloc) }
-            .ctx("allocating the structures' command buffer")
-            .and_then(|cbs| {
-                let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
-                    .ctx("creating the structures' fence")?;
-                Ok((cbs[0], fence))
-            });
-        match made {
-            Ok((command_buffer, fence)) => Ok(Behind {
-                pool,
-                command_buffer,
-                fence,
-                pending: false,
-                used: Vec::new(),
-            }),
-            Err(e) => {
-                unsafe { device.destroy_command_pool(pool, None) };
-                Err(e)
-            }
-        }
+        Ok(Behind {
+            submission: Submission::new(gpu.device(), gpu.ctx.queue_family)?,
+            pending: false,
+            used: Vec::new(),
+        })
     }
 
     /// Waits for the work in flight, if any, and frees what it used.
     pub(super) fn settle(&mut self, gpu: &mut Gpu) -> Result<()> {
         if self.pending {
-            let device = gpu.device();
-            unsafe { device.wait_for_fences(&[self.fence], true, u64::MAX) }
-                .ctx("waiting for the structures' builds")?;
-            unsafe { device.reset_fences(&[self.fence]) }.ctx("resetting a fence")?;
+            self.submission.wait(gpu.device())?;
             self.pending = false;
         }
         for mut b in self.used.drain(..) {
@@ -82,14 +54,8 @@ impl Behind {
         record: impl FnOnce(&ash::Device, vk::CommandBuffer),
     ) -> Result<()> {
         debug_assert!(!self.pending, "builds submitted behind unsettled ones");
-        let device = gpu.device();
-        crate::gpu::record_and_submit(
-            device,
-            gpu.ctx.queue,
-            self.command_buffer,
-            self.fence,
-            record,
-        )?;
+        self.submission
+            .submit(gpu.device(), gpu.ctx.queue, record)?;
         self.pending = true;
         Ok(())
     }
@@ -97,9 +63,6 @@ impl Behind {
     /// Waits for the work in flight and frees the command buffer, fence and buffers.
     pub(super) fn destroy(&mut self, gpu: &mut Gpu) {
         let _ = self.settle(gpu);
-        unsafe {
-            gpu.device().destroy_fence(self.fence, None);
-            gpu.device().destroy_command_pool(self.pool, None);
-        }
+        self.submission.destroy(gpu.device());
     }
 }
