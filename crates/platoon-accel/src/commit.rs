@@ -151,6 +151,13 @@ impl ArrayCommit {
             (o, piece)
         })
     }
+
+    /// Writes each range's bytes into `array`, a copy of the array (`len` bytes) as it was.
+    pub fn write_into(&self, array: &mut [u8]) {
+        for (offset, piece) in self.pieces() {
+            array[offset as usize..offset as usize + piece.len()].copy_from_slice(piece);
+        }
+    }
 }
 
 /// Everything that changed between two flattened scenes, with the bytes: what a tracer uploads

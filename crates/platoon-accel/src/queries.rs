@@ -56,10 +56,7 @@ impl QueryScene {
         for a in &commit.arrays {
             let words = &mut self.arrays[a.array];
             words.resize((a.len / 4) as usize, 0);
-            let bytes: &mut [u8] = bytemuck::cast_slice_mut(words);
-            for (offset, piece) in a.pieces() {
-                bytes[offset as usize..offset as usize + piece.len()].copy_from_slice(piece);
-            }
+            a.write_into(bytemuck::cast_slice_mut(words));
         }
         self.header = commit.header;
         debug_assert_eq!(self.arrays.len(), ARRAY_COUNT);

@@ -24,6 +24,21 @@ pub(super) enum Job {
     Refit,
 }
 
+impl Job {
+    /// Whether the structure it leaves is refittable (built with `ALLOW_UPDATE`): all but a
+    /// build meant for compaction.
+    fn refittable(self) -> bool {
+        self != Job::Build { refittable: false }
+    }
+}
+
+/// What one job needs: its structure's size (for a build) and its scratch (aligned).
+#[derive(Clone, Copy)]
+pub(super) struct JobSize {
+    structure: u64,
+    pub(super) scratch: u64,
+}
+
 /// A mesh's bottom level and how it follows the mesh.
 pub(super) struct Bottom {
     pub(super) structure: Structure,
@@ -51,9 +66,14 @@ pub(super) const MAX_REFITS: u32 = 64;
 /// Scratch memory one submission of builds may take: a large scene's builds go in several.
 const SCRATCH_BUDGET: u64 = 256 << 20;
 
+/// The alignment a build's scratch address needs on `gpu`'s device.
+pub(super) fn scratch_alignment(gpu: &Gpu) -> u64 {
+    gpu.ctx.scratch_alignment.unwrap_or(256)
+}
+
 /// A buffer of `bytes` of scratch, with room to align its start.
 pub(super) fn scratch_buffer(gpu: &mut Gpu, bytes: u64) -> Result<GpuBuffer> {
-    let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+    let align = scratch_alignment(gpu);
     gpu.buffer(
         "structure scratch",
         bytes + align,
@@ -168,43 +188,42 @@ impl Bottoms {
         meshes: &Meshes,
         jobs: &[(usize, Job)],
     ) -> Result<()> {
-        let scratch = self.scratch_sizes(gpu, meshes, jobs);
+        let sizes = self.sizes(gpu, meshes, jobs);
         let mut start = 0;
         while start < jobs.len() {
             let mut end = start + 1;
-            let mut total = scratch[start];
-            while end < jobs.len() && total + scratch[end] <= SCRATCH_BUDGET {
-                total += scratch[end];
+            let mut total = sizes[start].scratch;
+            while end < jobs.len() && total + sizes[end].scratch <= SCRATCH_BUDGET {
+                total += sizes[end].scratch;
                 end += 1;
             }
-            self.run_batch(gpu, meshes, &jobs[start..end], &scratch[start..end])?;
+            self.run_batch(gpu, meshes, &jobs[start..end], &sizes[start..end])?;
             start = end;
         }
         Ok(())
     }
 
-    /// The scratch each job takes, each rounded up to the device's alignment.
-    pub(super) fn scratch_sizes(
-        &self,
-        gpu: &Gpu,
-        meshes: &Meshes,
-        jobs: &[(usize, Job)],
-    ) -> Vec<u64> {
-        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+    /// What each job needs (the driver asked once a job): its structure's size and its
+    /// scratch, rounded up to the device's alignment.
+    pub(super) fn sizes(&self, gpu: &Gpu, meshes: &Meshes, jobs: &[(usize, Job)]) -> Vec<JobSize> {
+        let align = scratch_alignment(gpu);
         jobs.iter()
             .map(|&(i, job)| {
-                let sizes = self.sizes(meshes, i, job != Job::Build { refittable: false });
-                match job {
+                let sizes = self.build_sizes(meshes, i, job.refittable());
+                let scratch = match job {
                     Job::Refit => sizes.update_scratch_size,
                     Job::Build { .. } => sizes.build_scratch_size,
+                };
+                JobSize {
+                    structure: sizes.acceleration_structure_size,
+                    scratch: scratch.next_multiple_of(align),
                 }
-                .next_multiple_of(align)
             })
             .collect()
     }
 
     /// The sizes of mesh `i`'s bottom level and of its build's and refit's scratch.
-    fn sizes(
+    fn build_sizes(
         &self,
         meshes: &Meshes,
         i: usize,
@@ -226,16 +245,16 @@ impl Bottoms {
         gpu: &mut Gpu,
         meshes: &Meshes,
         batch: &[(usize, Job)],
-        scratch: &[u64],
+        sizes: &[JobSize],
     ) -> Result<()> {
-        self.prepare(gpu, meshes, batch)?;
-        let mut memory = scratch_buffer(gpu, scratch.iter().sum())?;
+        self.prepare(gpu, batch, sizes)?;
+        let mut memory = scratch_buffer(gpu, sizes.iter().map(|s| s.scratch).sum())?;
         let compacted: Vec<usize> = batch
             .iter()
-            .filter(|(_, job)| *job == Job::Build { refittable: false })
+            .filter(|(_, job)| !job.refittable())
             .map(|&(i, _)| i)
             .collect();
-        let recorded = self.record_batch(gpu, meshes, batch, scratch, memory.address, &compacted);
+        let recorded = self.record_batch(gpu, meshes, batch, sizes, memory.address, &compacted);
         gpu.destroy_buffer(&mut memory);
         let pool = recorded?;
         match pool {
@@ -253,19 +272,16 @@ impl Bottoms {
     pub(super) fn prepare(
         &mut self,
         gpu: &mut Gpu,
-        meshes: &Meshes,
         batch: &[(usize, Job)],
+        sizes: &[JobSize],
     ) -> Result<()> {
-        for &(i, job) in batch {
+        for (&(i, job), size) in batch.iter().zip(sizes) {
             if let Job::Build { refittable } = job {
-                let size = self
-                    .sizes(meshes, i, refittable)
-                    .acceleration_structure_size;
                 let structure = Structure::create(
                     &self.loader,
                     gpu,
                     vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL,
-                    size,
+                    size.structure,
                 )?;
                 let new = Bottom {
                     structure,
@@ -291,7 +307,7 @@ impl Bottoms {
         gpu: &mut Gpu,
         meshes: &Meshes,
         batch: &[(usize, Job)],
-        scratch: &[u64],
+        sizes: &[JobSize],
         address: u64,
         compacted: &[usize],
     ) -> Result<Option<vk::QueryPool>> {
@@ -308,12 +324,12 @@ impl Bottoms {
         };
         let handles: Vec<vk::AccelerationStructureKHR> =
             compacted.iter().map(|&i| self.handle(i)).collect();
-        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        let align = scratch_alignment(gpu);
         let ran = gpu.submit(|d, cb| unsafe {
             if let Some(pool) = pool {
                 d.cmd_reset_query_pool(cb, pool, 0, handles.len() as u32);
             }
-            self.record(cb, meshes, batch, scratch, address.next_multiple_of(align));
+            self.record(cb, meshes, batch, sizes, address.next_multiple_of(align));
             built_barrier(d, cb);
             if let Some(pool) = pool {
                 self.loader.cmd_write_acceleration_structures_properties(
@@ -342,13 +358,13 @@ impl Bottoms {
     }
 
     /// Records `batch`'s builds and refits (their structures made by `prepare`), their scratch
-    /// from `address` on (aligned), in `scratch`'s sizes.
+    /// from `address` on (aligned), in `sizes`' scratch.
     pub(super) unsafe fn record(
         &self,
         cb: vk::CommandBuffer,
         meshes: &Meshes,
         batch: &[(usize, Job)],
-        scratch: &[u64],
+        sizes: &[JobSize],
         address: u64,
     ) {
         let mut at = address;
@@ -359,15 +375,15 @@ impl Bottoms {
         let infos: Vec<vk::AccelerationStructureBuildGeometryInfoKHR> = batch
             .iter()
             .zip(&geometries)
-            .zip(scratch)
-            .map(|((&(i, job), g), &need)| {
+            .zip(sizes)
+            .map(|((&(i, job), g), size)| {
                 let info = vk::AccelerationStructureBuildGeometryInfoKHR::default()
                     .ty(vk::AccelerationStructureTypeKHR::BOTTOM_LEVEL)
-                    .flags(flags(job != Job::Build { refittable: false }))
+                    .flags(flags(job.refittable()))
                     .geometries(g)
                     .dst_acceleration_structure(self.handle(i))
                     .scratch_data(vk::DeviceOrHostAddressKHR { device_address: at });
-                at += need;
+                at += size.scratch;
                 match job {
                     Job::Refit => info
                         .mode(vk::BuildAccelerationStructureModeKHR::UPDATE)

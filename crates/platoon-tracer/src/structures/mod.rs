@@ -75,6 +75,15 @@ impl SceneShape {
     fn triangles(&self) -> u64 {
         self.regions.iter().map(|r| r.triangle_count as u64).sum()
     }
+
+    /// Its meshes as bottom levels are built over them, from the positions at `positions`.
+    fn meshes(&self, positions: u64) -> Meshes<'_> {
+        Meshes {
+            regions: &self.regions,
+            opaque: self.opaque,
+            positions,
+        }
+    }
 }
 
 /// Whether a scene of `features` has only opaque triangles (none alpha-tested).
@@ -150,9 +159,7 @@ impl Structures {
                 instances = true;
                 let mut bytes: Vec<u8> = bytemuck::cast_slice(&self.shape.instances).to_vec();
                 bytes.resize(a.len as usize, 0);
-                for (offset, piece) in a.pieces() {
-                    bytes[offset as usize..offset as usize + piece.len()].copy_from_slice(piece);
-                }
+                a.write_into(&mut bytes);
                 self.shape.instances = bytemuck::pod_collect_to_vec(&bytes);
             }
         }
@@ -217,25 +224,18 @@ impl Structures {
         jobs: &[(usize, Job)],
     ) -> Result<()> {
         behind.settle(gpu)?;
-        let meshes = Meshes {
-            regions: &self.shape.regions,
-            opaque: self.shape.opaque,
-            positions: self.positions,
-        };
-        let scratch = self.bottoms.scratch_sizes(gpu, &meshes, jobs);
-        self.bottoms.prepare(gpu, &meshes, jobs)?;
-        let bottoms = bottom::scratch_buffer(gpu, scratch.iter().sum())?;
-        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        let sizes = self
+            .bottoms
+            .sizes(gpu, &self.shape.meshes(self.positions), jobs);
+        self.bottoms.prepare(gpu, jobs, &sizes)?;
+        let bottoms = bottom::scratch_buffer(gpu, sizes.iter().map(|s| s.scratch).sum())?;
+        let align = bottom::scratch_alignment(gpu);
         let at = bottoms.address.next_multiple_of(align);
         behind.keep(bottoms);
         let top = self.prepare_top(gpu)?;
-        let meshes = Meshes {
-            regions: &self.shape.regions,
-            opaque: self.shape.opaque,
-            positions: self.positions,
-        };
+        let meshes = self.shape.meshes(self.positions);
         let submitted = behind.submit(gpu, |d, cb| unsafe {
-            self.bottoms.record(cb, &meshes, jobs, &scratch, at);
+            self.bottoms.record(cb, &meshes, jobs, &sizes, at);
             bottom::built_barrier(d, cb);
             self.record_top(cb, &top, align);
             bottom::built_barrier(d, cb);
@@ -274,11 +274,7 @@ impl Structures {
             })
             .collect();
         self.bottoms.reset(gpu, self.shape.regions.len());
-        let meshes = Meshes {
-            regions: &self.shape.regions,
-            opaque: self.shape.opaque,
-            positions: self.positions,
-        };
+        let meshes = self.shape.meshes(self.positions);
         self.bottoms.run(gpu, &meshes, &jobs)?;
         self.build_top(gpu)
     }
@@ -286,7 +282,7 @@ impl Structures {
     /// The top level over the instances as they are, built and waited for.
     fn build_top(&mut self, gpu: &mut Gpu) -> Result<()> {
         let mut build = self.prepare_top(gpu)?;
-        let align = gpu.ctx.scratch_alignment.unwrap_or(256);
+        let align = bottom::scratch_alignment(gpu);
         let built = gpu.submit(|d, cb| unsafe {
             self.record_top(cb, &build, align);
             bottom::built_barrier(d, cb);
